@@ -1,0 +1,23 @@
+//! Pure flight dynamics models from the 2021 AFIT thesis that ported them to Rust:
+//!
+//! * [`palmer`]: Grant Palmer's Cessna 172 point-mass model, 4th-order Runge-Kutta, `f64`.
+//! * [`bourg`]: David Bourg's 6-DoF rigid-body aircraft of 8 lifting elements,
+//!   quaternion attitude, explicit Euler, `f32`.
+//!
+//! Every step is a pure function of (parameters, controls, state, dt): no I/O, no
+//! allocation, no global state, no panics. The crate is `#![no_std]` without the
+//! default `std` feature; with `std`, transcendental functions come from the
+//! platform libm so results match the original programs bit for bit.
+//!
+//! [`script`] parses the `START-END action` control scripts shared by the tests
+//! and the `sim-cli` binary (needs the `alloc` feature).
+#![cfg_attr(not(feature = "std"), no_std)]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
+pub mod bourg;
+pub mod math;
+pub mod palmer;
+#[cfg(feature = "alloc")]
+pub mod script;
