@@ -3,3 +3,5 @@
 //! packets; the FlightControl → EquationsOfMotion → MakePacket → SendPacket
 //! systems run in a fixed order; geodesy from the model's earth frame to WGS-84;
 //! many aircraft of both models per world, stepped in parallel.
+
+pub mod geodesy;
