@@ -139,6 +139,10 @@ pub fn ground_track_deg(velocity: Vector3<f64>) -> f64 {
 ///
 /// At rest (zero velocity) the model itself uses `track = 0` (north) and
 /// `climb = 0`; so does this function. Non-finite input gives NaN output.
+///
+/// The result is relative to the model's axes; what FlightGear should get at
+/// the aircraft's position is
+/// [`GeodeticOrigin::attitude_at`](super::GeodeticOrigin::attitude_at)`(position, result)`.
 #[must_use]
 pub fn palmer_attitude(velocity_m_s: Vector3<f64>, alpha_deg: f64, bank_deg: f64) -> Attitude {
     let (vx, vy, vz) = (velocity_m_s.x, velocity_m_s.y, velocity_m_s.z);
@@ -181,6 +185,11 @@ pub fn palmer_attitude(velocity_m_s: Vector3<f64>, alpha_deg: f64, bank_deg: f64
 ///
 /// In the model's gimbal-lock branch (|pitch| = 90°, roll forced to 0) the
 /// same mapping still holds. NaN input gives NaN output.
+///
+/// The result is relative to the model's axes; what FlightGear should get at
+/// the aircraft's position is
+/// [`GeodeticOrigin::attitude_at`](super::GeodeticOrigin::attitude_at)`(position_m, result)`
+/// (Bourg's position in feet times [`METRES_PER_FOOT`](super::METRES_PER_FOOT)).
 #[must_use]
 pub fn bourg_attitude(euler_deg: Vector3<f32>) -> Attitude {
     Attitude {
