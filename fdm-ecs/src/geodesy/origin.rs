@@ -27,8 +27,9 @@ pub struct Geodetic {
     /// of 251 m, the Wright-Patterson runway's elevation above sea level) is
     /// passed through unchanged as the altitude of the model's `z = 0` there.
     /// Treating a sea-level height as an ellipsoidal one only scales the
-    /// tangent-plane geometry by (geoid undulation / Earth radius), about
-    /// 5e-6 for the 33 m undulation at Wright-Patterson: 0.5 m at 100 km.
+    /// horizontal geometry by (geoid undulation / Earth radius); undulations
+    /// stay within about ±110 m worldwide, so that is below 1.7e-5, i.e.
+    /// under 1.7 m at 100 km from the origin.
     pub alt_m: f64,
 }
 
@@ -212,7 +213,9 @@ impl GeodeticOrigin {
     /// Exact (tangent plane → ECEF by rotation and translation, then the
     /// closed-form [`ecef_to_geodetic`]); round trips through
     /// [`GeodeticOrigin::geodetic_to_model`] agree to nanometres. Any
-    /// non-finite component gives a [`Geodetic`] of three NaNs; never panics.
+    /// non-finite component gives a [`Geodetic`] of three NaNs, and so can a
+    /// finite position so large (beyond about 1e308 m) that the ECEF sum
+    /// overflows; never panics.
     #[must_use]
     pub fn model_to_geodetic(&self, position_m: Vector3<f64>) -> Geodetic {
         ecef_to_geodetic(self.model_to_ecef(position_m))

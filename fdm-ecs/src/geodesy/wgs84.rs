@@ -62,7 +62,10 @@ pub fn geodetic_to_ecef(geodetic: Geodetic) -> Vector3<f64> {
 ///
 /// Longitude is in `[-180, 180]`, latitude in `[-90, 90]`. On the polar axis
 /// (x = y = 0) the longitude is 0. Any non-finite component gives a
-/// [`Geodetic`] whose three fields are NaN. Never panics.
+/// [`Geodetic`] whose three fields are NaN. Finite input always gives finite
+/// latitude and longitude, and a finite height unless the distance from the
+/// centre overflows `f64` (beyond 1.3e308 m), where the height is +∞.
+/// Never panics.
 #[must_use]
 pub fn ecef_to_geodetic(ecef_m: Vector3<f64>) -> Geodetic {
     if !(ecef_m.x.is_finite() && ecef_m.y.is_finite() && ecef_m.z.is_finite()) {
