@@ -66,7 +66,11 @@ fn golden_datagram_byte_for_byte() {
 fn spec_table_tiles_408_bytes() {
     let mut next = 0;
     for f in fields() {
-        assert_eq!(f.offset, next, "{} does not follow the previous field", f.name);
+        assert_eq!(
+            f.offset, next,
+            "{} does not follow the previous field",
+            f.name
+        );
         assert_eq!(f.offset % f.kind.size(), 0, "{} misaligned", f.name);
         next += f.len * f.kind.size();
     }
@@ -116,10 +120,18 @@ fn every_field_lands_at_its_spec_offset() {
                     );
                 }
             }
-            assert_eq!(fdm.encode_bincode(), bytes, "bincode, {}", f.element_name(i));
+            assert_eq!(
+                fdm.encode_bincode(),
+                bytes,
+                "bincode, {}",
+                f.element_name(i)
+            );
             if f.name == "version" {
                 let err = FgNetFdm::decode(&bytes).expect_err("version 0x51525354 is rejected");
-                assert_eq!(err.to_string(), "FGNetFDM version 1364349780 (0x51525354), need 24");
+                assert_eq!(
+                    err.to_string(),
+                    "FGNetFDM version 1364349780 (0x51525354), need 24"
+                );
             } else {
                 let back = FgNetFdm::decode(&bytes).expect("decodes");
                 assert_eq!((f.get)(&back, i), value, "decode of {}", f.element_name(i));

@@ -79,9 +79,21 @@ fn nobody_listening_is_counted_and_reported_once() {
     eprintln!("nobody listening, {N} frames: {stats:?}");
     assert_eq!(stats.sent + stats.failed, N, "{stats:?}");
     assert_eq!(stats.sent, sent);
-    assert_eq!(first.len(), 1, "exactly one first-failure report: {first:?}");
-    assert_eq!(first[0].1.kind(), ErrorKind::ConnectionRefused, "{:?}", first[0]);
-    assert!(first[0].0 >= 1, "the first send itself succeeds; its ICMP error shows up later");
+    assert_eq!(
+        first.len(),
+        1,
+        "exactly one first-failure report: {first:?}"
+    );
+    assert_eq!(
+        first[0].1.kind(),
+        ErrorKind::ConnectionRefused,
+        "{:?}",
+        first[0]
+    );
+    assert!(
+        first[0].0 >= 1,
+        "the first send itself succeeds; its ICMP error shows up later"
+    );
     assert_eq!(stats.failed, failed + 1);
     // Linux reports each ICMP port-unreachable once, on the next send, so
     // with nobody listening a large share of the frames fail.
@@ -104,7 +116,13 @@ fn nobody_listening_is_counted_and_reported_once() {
 
 #[test]
 fn bad_addresses_give_typed_errors_naming_them() {
-    for addr in ["not an address", "127.0.0.1", "127.0.0.1:99999", ":5500", ""] {
+    for addr in [
+        "not an address",
+        "127.0.0.1",
+        "127.0.0.1:99999",
+        ":5500",
+        "",
+    ] {
         match Sender::connect(addr) {
             Err(e @ SenderError::Resolve { .. }) => {
                 let msg = e.to_string();
