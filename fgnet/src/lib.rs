@@ -44,6 +44,19 @@
 //! about 20 ns over [`FgNetFdm::encode_into`] (zeroing and copying 408 bytes),
 //! which is why [`Sender`] encodes into a buffer it keeps.
 //!
+//! # Interoperability
+//!
+//! `tests/fgnet_interop.rs` checks both directions over UDP against the PyPI
+//! package flightgear-python 2.1.0 (`flightgear_python.fdm_v24`), bit for
+//! bit. Its `fdm_v24.fdm_struct.parse`/`build` do not touch angles. Its
+//! `FDMConnection` receive path, however, adds `math.degrees(x) *
+//! 1.09349403e-9` radians (a relative +6.265e-8) to longitude, latitude,
+//! phi, theta, psi, alpha, beta and the three angular rates of every
+//! datagram it receives, to undo the shrink caused by FlightGear's float
+//! radians-to-degrees constant, and does not remove it when it sends the
+//! datagram back. Values read through `FDMConnection` therefore differ from
+//! what this crate sent by exactly that amount; the test predicts it exactly.
+//!
 //! # Example
 //!
 //! ```
