@@ -20,29 +20,30 @@
 //! # Encoder choice
 //!
 //! [`FgNetFdm::encode`], [`FgNetFdm::encode_into`] and [`FgNetFdm::decode`]
-//! are hand-written: one `to_be_bytes`/`from_be_bytes` per field at offsets
-//! that inlining turns into constants. The serde + bincode 2 path
+//! are hand-written: one `to_be_bytes`/`from_be_bytes` per field, in wire
+//! order, on a fixed-size `[u8; 408]`. The serde + bincode 2 path
 //! (`bincode::config::standard().with_big_endian().with_fixed_int_encoding()`,
 //! arrays as serde tuples, so no length prefixes) is kept as
 //! [`FgNetFdm::encode_bincode`] and [`FgNetFdm::decode_bincode`]; tests assert
 //! that both give identical bytes and identical decoded values (NaN payloads
 //! included). The hand-written path is clearly better on speed, so it is the
-//! one used. Criterion medians (`benches/fgnet_encode.rs`, `cargo bench --bench
-//! fgnet_encode -- --warm-up-time 1 --measurement-time 5`, on the project's
-//! shared 2-core x86-64 machine):
+//! one used. Criterion medians of two runs (`benches/fgnet_encode.rs`,
+//! `cargo bench --bench fgnet_encode -- --warm-up-time 1 --measurement-time 5`,
+//! on the project's 2-core x86-64 machine shared with other builds):
 //!
 //! | operation | hand-written | serde + bincode 2 |
 //! | --- | ---: | ---: |
 //! | encode into an existing buffer | 18 ns (`encode_into`) | |
-//! | encode returning `[u8; 408]` | 40 ns (`encode`) | 162 ns (`encode_bincode`) |
-//! | decode with validation | 26 ns (`decode`) | 248 ns (`decode_bincode`) |
+//! | encode returning `[u8; 408]` | 40-46 ns (`encode`) | 157-162 ns (`encode_bincode`) |
+//! | decode with validation | 26-28 ns (`decode`) | 248-260 ns (`decode_bincode`) |
 //!
-//! bincode goes through serde's visitor for each of the 60 fields and checks
-//! the remaining slice length and propagates a `Result` per write, which
-//! costs about 2.5 ns per field; the hand-written code has no error paths
-//! because the buffer is a `[u8; 408]`. Returning the array by value costs
-//! about 20 ns over [`FgNetFdm::encode_into`] (zeroing and copying 408 bytes),
-//! which is why [`Sender`] encodes into a buffer it keeps.
+//! The bincode path goes through serde's per-field calls with a `Result` and
+//! a remaining-length check on every write or read, which is the likely
+//! source of its roughly 2.5 ns per field; the hand-written code works on a
+//! `[u8; 408]` with constant offsets and has no error paths. Returning the
+//! array by value measured about 25 ns more than [`FgNetFdm::encode_into`]
+//! (a zeroed 408-byte array, then copied out), which is why [`Sender`]
+//! encodes into a buffer it keeps.
 //!
 //! # Interoperability
 //!
