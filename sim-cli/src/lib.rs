@@ -4,7 +4,10 @@
 //! Library part of the binary, so the pieces can be unit-tested (work in progress).
 
 pub mod args;
+pub mod csv;
 pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
 pub mod origin;
+pub mod progress;
+pub mod report;
