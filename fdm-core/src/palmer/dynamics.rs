@@ -15,7 +15,7 @@
 //!   mass first).
 //!
 //! Read the other way (`(vtotal * vtotal)` grouped, and/or `(ds * Fx) / mass`),
-//! the final states differ from the reference by 2.3e-13 to 4.5e-13 m.
+//! the final positions differ from the reference by 2.3e-13 to 4.5e-13 m.
 //!
 //! The only rearrangement is hoisting values that do not depend on the RK stage
 //! (`cos`/`sin` of the bank, the aspect ratio, the pre-stall/post-stall lift
