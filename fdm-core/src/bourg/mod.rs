@@ -59,6 +59,9 @@ pub use model::{
     drag_coefficient, lift_coefficient, loads, rudder_drag_coefficient, rudder_lift_coefficient,
     step, try_step, BourgState, BourgState64, BourgStateOf, Loads, Loads64, LoadsOf, StepError,
 };
+/// The nalgebra types of the public API, re-exported so users need not depend
+/// on nalgebra themselves.
+pub use nalgebra::{Matrix3, Quaternion, Vector3};
 
 /// A discrete control input of the Bourg model: one key press (thesis
 /// appendix B) or one script action.
