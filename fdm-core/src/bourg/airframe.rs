@@ -6,6 +6,7 @@ use core::fmt;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
+use super::controls::RUDDER_DEFLECTION_DEG;
 use super::float::BourgFloat;
 use super::ops::{degrees_to_radians, determinant, inverse, normalize};
 
@@ -240,8 +241,8 @@ pub struct MassPropertiesOf<F: BourgFloat> {
     /// Each element's position relative to the CG (body axes), ft.
     pub cg_offsets_ft: [Vector3<F>; 8],
     /// Each element's unit normal (body axes) at its rigged incidence and
-    /// dihedral. The rudder's (element 6) is recomputed every frame from the
-    /// current rudder incidence.
+    /// dihedral. The loads use the rudder's (element 6) at the current rudder
+    /// incidence instead ([`AircraftOf::rudder_normal`]).
     pub normals: [Vector3<F>; 8],
     /// Inertia tensor about the CG, body axes, slug·ft².
     pub inertia: Matrix3<F>,
@@ -334,6 +335,9 @@ impl<F: BourgFloat> MassPropertiesOf<F> {
 pub struct AircraftOf<F: BourgFloat> {
     airframe: AirframeOf<F>,
     mass: MassPropertiesOf<F>,
+    /// The rudder's normal for the incidences the controls produce (rigging
+    /// + 0, +16, −16 degrees), so the loads need not recompute it each frame.
+    rudder_normals: [(F, Vector3<F>); 3],
 }
 
 /// The `f32` aircraft (the original's type).
@@ -348,20 +352,47 @@ impl<F: BourgFloat> AircraftOf<F> {
     /// [`AirframeError`] from [`AirframeOf::validate`].
     pub fn new(airframe: AirframeOf<F>) -> Result<Self, AirframeError> {
         airframe.validate()?;
-        Ok(Self {
-            mass: MassPropertiesOf::from_airframe(&airframe),
-            airframe,
-        })
+        Ok(Self::from_valid(airframe))
     }
 
     /// Bourg's airplane ([`AirframeOf::bourg_default`]).
     #[must_use]
     pub fn bourg_default() -> Self {
-        let airframe = AirframeOf::bourg_default();
+        Self::from_valid(AirframeOf::bourg_default())
+    }
+
+    fn from_valid(airframe: AirframeOf<F>) -> Self {
+        let rudder = &airframe.elements[6];
+        let deflection = F::from_f64(f64::from(RUDDER_DEFLECTION_DEG));
+        let normal_at = |deflection: F| {
+            let incidence = rudder.incidence_deg + deflection;
+            (incidence, element_normal(incidence, rudder.dihedral_deg))
+        };
         Self {
             mass: MassPropertiesOf::from_airframe(&airframe),
+            rudder_normals: [
+                normal_at(F::ZERO),
+                normal_at(deflection),
+                normal_at(-deflection),
+            ],
             airframe,
         }
+    }
+
+    /// The rudder's (element 6's) unit normal at an incidence in degrees:
+    /// [`element_normal`] of the incidence and the rudder's dihedral, taken
+    /// from a table precomputed for the incidences the controls produce
+    /// (identical values; `+0` and `−0` give the same normal) and computed
+    /// otherwise.
+    #[inline]
+    #[must_use]
+    pub fn rudder_normal(&self, incidence_deg: F) -> Vector3<F> {
+        for (incidence, normal) in &self.rudder_normals {
+            if *incidence == incidence_deg {
+                return *normal;
+            }
+        }
+        element_normal(incidence_deg, self.airframe.elements[6].dihedral_deg)
     }
 
     /// The airframe.

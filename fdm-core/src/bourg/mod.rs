@@ -56,8 +56,9 @@ pub use controls::{
 };
 pub use float::BourgFloat;
 pub use model::{
-    drag_coefficient, lift_coefficient, loads, rudder_drag_coefficient, rudder_lift_coefficient,
-    step, try_step, BourgState, BourgState64, BourgStateOf, Loads, Loads64, LoadsOf, StepError,
+    airfoil_coefficients, drag_coefficient, lift_coefficient, loads, rudder_coefficients,
+    rudder_drag_coefficient, rudder_lift_coefficient, step, try_step, BourgState, BourgState64,
+    BourgStateOf, Loads, Loads64, LoadsOf, StepError,
 };
 /// The nalgebra types of the public API, re-exported so users need not depend
 /// on nalgebra themselves.

@@ -6,7 +6,7 @@ use core::fmt;
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::airframe::{element_normal, AircraftOf, Flap};
+use super::airframe::{AircraftOf, Flap};
 use super::controls::BourgControlsOf;
 use super::float::BourgFloat;
 use super::ops::{
@@ -127,61 +127,82 @@ pub type Loads = LoadsOf<f32>;
 /// The `f64` loads.
 pub type Loads64 = LoadsOf<f64>;
 
-/// Linear interpolation in an airfoil table, as the original: the first
-/// interval `a[i] ≤ angle < a[i+1]` gives
-/// `t[i] − (a[i] − angle)·(t[i] − t[i+1])/(a[i] − a[i+1])`; no interval (outside
-/// the table, or NaN) gives `None`.
+/// The airfoil tables' interval search, as the original: the first `i` with
+/// `a[i] ≤ angle < a[i+1]`; `None` outside the table or for NaN.
 #[inline(always)]
-fn interpolate<F: BourgFloat, const N: usize>(a: &[F; N], t: &[F; N], angle: F) -> Option<F> {
-    for i in 0..N - 1 {
-        if a[i] <= angle && a[i + 1] > angle {
-            return Some(t[i] - (a[i] - angle) * (t[i] - t[i + 1]) / (a[i] - a[i + 1]));
-        }
-    }
-    None
+fn interval<F: BourgFloat, const N: usize>(a: &[F; N], angle: F) -> Option<usize> {
+    (0..N - 1).find(|&i| a[i] <= angle && a[i + 1] > angle)
 }
 
-/// Lift coefficient of a wing or elevator element (`LiftCoefficient`) at an
-/// angle of attack in degrees, from the table of `flap`; 0 outside −8..24°.
+/// The original's linear interpolation in interval `i`:
+/// `t[i] − (a[i] − angle)·(t[i] − t[i+1])/(a[i] − a[i+1])`.
+#[inline(always)]
+fn lerp<F: BourgFloat, const N: usize>(a: &[F; N], t: &[F; N], i: usize, angle: F) -> F {
+    t[i] - (a[i] - angle) * (t[i] - t[i + 1]) / (a[i] - a[i + 1])
+}
+
+/// Lift and drag coefficients of a wing or elevator element at an angle of
+/// attack in degrees, from the tables of `flap` (`LiftCoefficient`,
+/// `DragCoefficient`; both use the same angle table, so the interval is
+/// searched once). Outside −8..24° (or for NaN): CL 0, CD 0.75.
+#[inline]
+#[must_use]
+pub fn airfoil_coefficients<F: BourgFloat>(angle_deg: F, flap: Flap) -> (F, F) {
+    let (cl, cd) = match flap {
+        Flap::Neutral => (&F::CL_NEUTRAL, &F::CD_NEUTRAL),
+        Flap::TrailingEdgeDown => (&F::CL_TRAILING_EDGE_DOWN, &F::CD_TRAILING_EDGE_DOWN),
+        Flap::TrailingEdgeUp => (&F::CL_TRAILING_EDGE_UP, &F::CD_TRAILING_EDGE_UP),
+    };
+    let a = &F::AIRFOIL_ALPHA_DEG;
+    match interval(a, angle_deg) {
+        Some(i) => (lerp(a, cl, i, angle_deg), lerp(a, cd, i, angle_deg)),
+        None => (F::ZERO, F::CD_OUTSIDE),
+    }
+}
+
+/// Lift coefficient of a wing or elevator element (`LiftCoefficient`); see
+/// [`airfoil_coefficients`].
 #[must_use]
 pub fn lift_coefficient<F: BourgFloat>(angle_deg: F, flap: Flap) -> F {
-    let table = match flap {
-        Flap::Neutral => &F::CL_NEUTRAL,
-        Flap::TrailingEdgeDown => &F::CL_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &F::CL_TRAILING_EDGE_UP,
-    };
-    interpolate(&F::AIRFOIL_ALPHA_DEG, table, angle_deg).unwrap_or(F::ZERO)
+    airfoil_coefficients(angle_deg, flap).0
 }
 
-/// Drag coefficient of a wing or elevator element (`DragCoefficient`) at an
-/// angle of attack in degrees, from the table of `flap`; 0.75 outside −8..24°.
+/// Drag coefficient of a wing or elevator element (`DragCoefficient`); see
+/// [`airfoil_coefficients`].
 #[must_use]
 pub fn drag_coefficient<F: BourgFloat>(angle_deg: F, flap: Flap) -> F {
-    let table = match flap {
-        Flap::Neutral => &F::CD_NEUTRAL,
-        Flap::TrailingEdgeDown => &F::CD_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &F::CD_TRAILING_EDGE_UP,
-    };
-    interpolate(&F::AIRFOIL_ALPHA_DEG, table, angle_deg).unwrap_or(F::CD_OUTSIDE)
+    airfoil_coefficients(angle_deg, flap).1
 }
 
-/// Rudder lift coefficient (`RudderLiftCoefficient`), symmetric: the table
-/// at `|angle|`, negated for `angle < 0`; 0 outside ±24°. It jumps from +0.16
-/// at 0° to −0.16 just below.
+/// Rudder lift and drag coefficients (`RudderLiftCoefficient`,
+/// `RudderDragCoefficient`), symmetric: the tables at `|angle|`, the lift
+/// negated for `angle < 0`. So CL jumps from +0.16 at 0° to −0.16 just below.
+/// Outside ±24° (or for NaN): CL 0, CD 0.75.
+#[inline]
 #[must_use]
-pub fn rudder_lift_coefficient<F: BourgFloat>(angle_deg: F) -> F {
-    match interpolate(&F::RUDDER_ALPHA_DEG, &F::RUDDER_CL, F::abs(angle_deg)) {
-        Some(cl) if angle_deg < F::ZERO => -cl,
-        Some(cl) => cl,
-        None => F::ZERO,
+pub fn rudder_coefficients<F: BourgFloat>(angle_deg: F) -> (F, F) {
+    let a = &F::RUDDER_ALPHA_DEG;
+    let abs = F::abs(angle_deg);
+    match interval(a, abs) {
+        Some(i) => {
+            let cl = lerp(a, &F::RUDDER_CL, i, abs);
+            let cl = if angle_deg < F::ZERO { -cl } else { cl };
+            (cl, lerp(a, &F::RUDDER_CD, i, abs))
+        }
+        None => (F::ZERO, F::CD_OUTSIDE),
     }
 }
 
-/// Rudder drag coefficient (`RudderDragCoefficient`): the table at `|angle|`;
-/// 0.75 outside ±24°.
+/// Rudder lift coefficient; see [`rudder_coefficients`].
+#[must_use]
+pub fn rudder_lift_coefficient<F: BourgFloat>(angle_deg: F) -> F {
+    rudder_coefficients(angle_deg).0
+}
+
+/// Rudder drag coefficient; see [`rudder_coefficients`].
 #[must_use]
 pub fn rudder_drag_coefficient<F: BourgFloat>(angle_deg: F) -> F {
-    interpolate(&F::RUDDER_ALPHA_DEG, &F::RUDDER_CD, F::abs(angle_deg)).unwrap_or(F::CD_OUTSIDE)
+    rudder_coefficients(angle_deg).1
 }
 
 /// The forces and moments of one frame (the original's `CalcAirplaneLoads`).
@@ -194,10 +215,16 @@ pub fn rudder_drag_coefficient<F: BourgFloat>(angle_deg: F) -> F {
 /// direction `Normalize((drag ^ normal) ^ drag)`; the angle of attack
 /// `deg(asin(clamp(drag·normal, −1, 1)))`; the dynamic pressure times area
 /// `0.5·rho·V·V·area`; the element force from the airfoil tables (rudder tables
-/// for element 6, whose normal is recomputed from the current rudder incidence;
-/// `drag·0.5·q` for the fuselage, element 7); running sums of the forces and of
-/// `cg_offset[i] ^ force`. Then thrust along body x is added, the force is
-/// rotated to the earth frame and gravity `−32.174·mass` is added to its z.
+/// for element 6, whose normal is that of the current rudder incidence,
+/// [`AircraftOf::rudder_normal`]; `drag·0.5·q` for the fuselage, element 7);
+/// running sums of the forces and of `cg_offset[i] ^ force`. Then thrust along
+/// body x is added, the force is rotated to the earth frame and gravity
+/// `−32.174·mass` is added to its z.
+///
+/// Every value is computed with the original's expression in its operation
+/// order, and the sums run in element order, so the `f32` result is bit-identical
+/// to the C++ (the implementation evaluates the independent per-element
+/// quantities element-wise in phases, which changes no value).
 ///
 /// Pure: no allocation, no panics. NaN or infinite inputs propagate to NaN
 /// outputs (table lookups of a NaN angle give CL 0, CD 0.75).
@@ -211,57 +238,80 @@ pub fn loads<F: BourgFloat>(
     let elements = &aircraft.airframe().elements;
     let zero = Vector3::new(F::ZERO, F::ZERO, F::ZERO);
 
-    let mut fb = zero;
-    let mut mb = zero;
-    let thrust = Vector3::new(F::ONE, F::ZERO, F::ZERO) * controls.thrust_lb;
-    let mut drag = zero;
+    // The original is one loop over the elements. Each element's quantities
+    // depend on the others only through the carried drag direction and the
+    // running sums, so they are computed here phase by phase for all eight
+    // elements: every value comes from the same expression on the same inputs
+    // (bit-identical), but the eight dependency chains (sqrt, divisions, asin)
+    // are independent and the CPU can overlap them. The sums stay in element
+    // order.
+    let mut normals = mass.normals;
+    normals[6] = aircraft.rudder_normal(controls.rudder_incidence_deg(&elements[6]));
+
+    let mut local_speed = [F::ZERO; 8];
+    let mut drag_candidate = [zero; 8];
+    for i in 0..8 {
+        let local_velocity =
+            state.velocity_body + cross(&state.angular_velocity, &mass.cg_offsets_ft[i]);
+        local_speed[i] = magnitude(&local_velocity);
+        drag_candidate[i] = -local_velocity / local_speed[i];
+    }
+
+    // `vDragVector` is declared once before the loop: an element whose local
+    // speed is not above 1 ft/s keeps the previous element's drag direction
+    // (zero before the first update).
+    let mut drag = [zero; 8];
+    let mut carried = zero;
+    for i in 0..8 {
+        if local_speed[i] > F::ONE {
+            carried = drag_candidate[i];
+        }
+        drag[i] = carried;
+    }
+
+    let mut lift = [zero; 8];
+    let mut sin_attack = [F::ZERO; 8];
+    for i in 0..8 {
+        lift[i] = normalize(&cross(&cross(&drag[i], &normals[i]), &drag[i]));
+        let mut s = dot(&drag[i], &normals[i]);
+        if s > F::ONE {
+            s = F::ONE;
+        }
+        if s < -F::ONE {
+            s = -F::ONE;
+        }
+        sin_attack[i] = s;
+    }
+
+    let attack_deg = sin_attack.map(|s| radians_to_degrees(F::asin(s)));
+
     let mut stalling = false;
-
+    let mut resultant = [zero; 8];
     for (i, element) in elements.iter().enumerate() {
-        let normal = if i == 6 {
-            element_normal(controls.rudder_incidence_deg(element), element.dihedral_deg)
-        } else {
-            mass.normals[i]
-        };
-        let cg_offset = &mass.cg_offsets_ft[i];
-
-        let local_velocity = state.velocity_body + cross(&state.angular_velocity, cg_offset);
-        let local_speed = magnitude(&local_velocity);
-        if local_speed > F::ONE {
-            drag = -local_velocity / local_speed;
-        }
-
-        let lift = normalize(&cross(&cross(&drag, &normal), &drag));
-
-        let mut sin_attack = dot(&drag, &normal);
-        if sin_attack > F::ONE {
-            sin_attack = F::ONE;
-        }
-        if sin_attack < -F::ONE {
-            sin_attack = -F::ONE;
-        }
-        let attack_deg = radians_to_degrees(F::asin(sin_attack));
-
-        let q_area = F::HALF * F::RHO_SLUG_FT3 * local_speed * local_speed * element.area_ft2;
-        let resultant = match i {
+        let q_area = F::HALF * F::RHO_SLUG_FT3 * local_speed[i] * local_speed[i] * element.area_ft2;
+        let (a, l, d) = (attack_deg[i], &lift[i], &drag[i]);
+        resultant[i] = match i {
             6 => {
-                (lift * rudder_lift_coefficient(attack_deg)
-                    + drag * rudder_drag_coefficient(attack_deg))
-                    * q_area
+                let (cl, cd) = rudder_coefficients(a);
+                (l * cl + d * cd) * q_area
             }
-            7 => drag * F::HALF * q_area,
+            7 => d * F::HALF * q_area,
             _ => {
-                let flap = controls.element_flap(i, element);
-                let cl = lift_coefficient(attack_deg, flap);
+                let (cl, cd) = airfoil_coefficients(a, controls.element_flap(i, element));
                 if i <= 3 && cl == F::ZERO {
                     stalling = true;
                 }
-                (lift * cl + drag * drag_coefficient(attack_deg, flap)) * q_area
+                (l * cl + d * cd) * q_area
             }
         };
+    }
 
-        fb += resultant;
-        mb += cross(cg_offset, &resultant);
+    let thrust = Vector3::new(F::ONE, F::ZERO, F::ZERO) * controls.thrust_lb;
+    let mut fb = zero;
+    let mut mb = zero;
+    for (r, cg_offset) in resultant.iter().zip(&mass.cg_offsets_ft) {
+        fb += r;
+        mb += cross(cg_offset, r);
     }
 
     fb += thrust;
