@@ -1,7 +1,6 @@
 //! The float types the Bourg model can run in: [`BourgFloat`], implemented for
 //! `f32` (the original program's type, bit-exact) and `f64`.
 
-use core::fmt::Display;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use nalgebra::{ClosedAddAssign, ClosedDivAssign, ClosedMulAssign, ClosedSubAssign, Scalar};
@@ -49,7 +48,6 @@ pub trait BourgFloat:
     + Copy
     + Default
     + PartialOrd
-    + Display
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>

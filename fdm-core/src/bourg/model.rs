@@ -344,9 +344,13 @@ pub fn loads<F: BourgFloat>(
 /// the previous frame, `dt` the time step in seconds (the reference runs use
 /// `1.0f32 / 30.0`).
 ///
+/// The input state's `speed` and `euler_angles_deg` are not read (they are
+/// outputs); everything else is.
+///
 /// Pure: no allocation, no panics, `no_std`. NaN or infinite inputs do not
-/// panic; they propagate to NaN in the returned state. Use [`try_step`] to get
-/// a [`StepError`] instead.
+/// panic; they propagate: a non-finite value in a field the dynamics read (or
+/// in the thrust or `dt`) gives a state with non-finite fields. Use
+/// [`try_step`] to get a [`StepError`] instead.
 ///
 /// ```
 /// use fdm_core::bourg::{step, Aircraft, BourgAction, BourgControls, BourgState};
