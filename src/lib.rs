@@ -21,3 +21,5 @@ pub const REFERENCE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/reference"
 pub fn read_reference(name: &str) -> std::io::Result<String> {
     std::fs::read_to_string(std::path::Path::new(REFERENCE_DIR).join(name))
 }
+
+pub mod oop;

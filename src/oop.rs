@@ -1,0 +1,307 @@
+//! The object-oriented baseline the thesis argues against: a fleet is a
+//! `Vec<Box<dyn Aircraft>>` of objects that each own all their data, stepped
+//! one after the other through a virtual call.
+//!
+//! This is the design of Bourg's C++ original and of the "plane objects" of
+//! a typical game loop, ported idiomatically:
+//!
+//! * every aircraft is its own heap object (`Box<dyn Aircraft>`), reached
+//!   through the fleet's vector of pointers;
+//! * every object owns a private copy of its parameters: [`PalmerObject`]
+//!   holds its [`PalmerAircraft`] (128 bytes) inline, [`BourgObject`] its
+//!   [`bourg::Aircraft`] (the eight elements with the mass properties, 680
+//!   bytes) in a second heap allocation of its own, as an object holding its
+//!   elements in a `Vec` would;
+//! * the object also owns its controls and state, and advances itself with
+//!   [`Aircraft::step`], a dynamically dispatched call.
+//!
+//! The arithmetic is the same pure step function of `fdm-core` that
+//! fdm-ecs's EquationsOfMotion calls, so a fleet flown this way and the same
+//! fleet flown through the ECS end in bit-identical states
+//! (`tests/oop_ecs_parity.rs`), and the benchmark `benches/fleet.rs` measures
+//! only what the data layout and the dispatch cost. The objects of a fleet are
+//! allocated in one loop, so the heap is as orderly as it ever gets; in a
+//! long-running program they would be scattered further.
+//!
+//! ```
+//! use fdm_suite::fdm_core::palmer::{PalmerControls, PalmerState};
+//! use fdm_suite::oop::{Fleet, FleetState, PalmerObject, TimeSteps};
+//!
+//! let mut fleet = Fleet::new();
+//! let full_power = PalmerControls { throttle: 1.0, ..PalmerControls::default() };
+//! fleet.push(Box::new(PalmerObject::cessna_172(full_power, PalmerState::at_rest())));
+//! fleet.step_sequential(&TimeSteps::at_fps(30));
+//! let FleetState::Palmer(state) = fleet.aircraft()[0].state() else { unreachable!() };
+//! assert!(state.velocity_mps.x > 0.0);
+//! ```
+
+use fdm_core::bourg::{self, BourgControls, BourgState};
+use fdm_core::palmer::{self, PalmerAircraft, PalmerControls, PalmerState};
+use rayon::prelude::*;
+
+/// The time steps of one frame rate, computed once per frame as the original
+/// programs do: Palmer `1.0 / fps` (f64), Bourg `1.0f32 / fps as f32`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeSteps {
+    /// Palmer's step, s.
+    pub palmer_s: f64,
+    /// Bourg's step, s.
+    pub bourg_s: f32,
+}
+
+impl TimeSteps {
+    /// The steps for `fps` frames per second (`fps` > 0; 0 gives infinite steps).
+    #[must_use]
+    #[allow(clippy::cast_precision_loss)] // the original's own conversion
+    pub fn at_fps(fps: u32) -> Self {
+        Self {
+            palmer_s: 1.0 / f64::from(fps),
+            bourg_s: 1.0f32 / fps as f32,
+        }
+    }
+}
+
+/// A borrowed view of an object's state, whichever its model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FleetState<'a> {
+    /// A Palmer aircraft's state.
+    Palmer(&'a PalmerState),
+    /// A Bourg aircraft's state.
+    Bourg(&'a BourgState),
+}
+
+/// An aircraft object: owns its parameters, controls and state and advances
+/// itself. Fleets hold `Box<dyn Aircraft>`, so every call is virtual.
+pub trait Aircraft: Send + Sync {
+    /// Advances the object by one frame with its model's step.
+    fn step(&mut self, dt: &TimeSteps);
+
+    /// The model's name, `"palmer"` or `"bourg"`.
+    fn model(&self) -> &'static str;
+
+    /// The object's current state.
+    fn state(&self) -> FleetState<'_>;
+}
+
+/// A Palmer Cessna 172 as an object: its own parameter copy, controls and state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PalmerObject {
+    aircraft: PalmerAircraft,
+    controls: PalmerControls,
+    state: PalmerState,
+}
+
+impl PalmerObject {
+    /// An object with these parameters, controls and initial state.
+    #[must_use]
+    pub const fn new(
+        aircraft: PalmerAircraft,
+        controls: PalmerControls,
+        state: PalmerState,
+    ) -> Self {
+        Self {
+            aircraft,
+            controls,
+            state,
+        }
+    }
+
+    /// A Cessna 172 ([`PalmerAircraft::cessna_172`]) with these controls and state.
+    #[must_use]
+    pub const fn cessna_172(controls: PalmerControls, state: PalmerState) -> Self {
+        Self::new(PalmerAircraft::cessna_172(), controls, state)
+    }
+}
+
+impl Aircraft for PalmerObject {
+    fn step(&mut self, dt: &TimeSteps) {
+        self.state = palmer::step(&self.aircraft, &self.controls, &self.state, dt.palmer_s);
+    }
+
+    fn model(&self) -> &'static str {
+        "palmer"
+    }
+
+    fn state(&self) -> FleetState<'_> {
+        FleetState::Palmer(&self.state)
+    }
+}
+
+/// A Bourg aircraft as an object: its own airframe and mass properties (on
+/// the heap, as the elements of an object-oriented port would be), controls
+/// and state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BourgObject {
+    aircraft: Box<bourg::Aircraft>,
+    controls: BourgControls,
+    state: BourgState,
+}
+
+impl BourgObject {
+    /// An object with a copy of `aircraft`, these controls and initial state.
+    #[must_use]
+    pub fn new(aircraft: &bourg::Aircraft, controls: BourgControls, state: BourgState) -> Self {
+        Self {
+            aircraft: Box::new(*aircraft),
+            controls,
+            state,
+        }
+    }
+
+    /// Bourg's airplane ([`bourg::Aircraft::bourg_default`]) with these
+    /// controls and state.
+    #[must_use]
+    pub fn bourg_default(controls: BourgControls, state: BourgState) -> Self {
+        Self::new(&bourg::Aircraft::bourg_default(), controls, state)
+    }
+}
+
+impl Aircraft for BourgObject {
+    fn step(&mut self, dt: &TimeSteps) {
+        self.state = bourg::step(&self.aircraft, &self.controls, &self.state, dt.bourg_s);
+    }
+
+    fn model(&self) -> &'static str {
+        "bourg"
+    }
+
+    fn state(&self) -> FleetState<'_> {
+        FleetState::Bourg(&self.state)
+    }
+}
+
+/// A fleet of aircraft objects (any mix of models).
+#[derive(Default)]
+pub struct Fleet {
+    aircraft: Vec<Box<dyn Aircraft>>,
+}
+
+impl std::fmt::Debug for Fleet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Fleet")
+            .field("aircraft", &self.aircraft.len())
+            .finish()
+    }
+}
+
+impl Fleet {
+    /// An empty fleet.
+    #[must_use]
+    pub const fn new() -> Self {
+        Self {
+            aircraft: Vec::new(),
+        }
+    }
+
+    /// Palmer Cessnas, one object per `(controls, state)`.
+    #[must_use]
+    pub fn palmer(fleet: &[(PalmerControls, PalmerState)]) -> Self {
+        Self {
+            aircraft: fleet
+                .iter()
+                .map(|&(c, s)| Box::new(PalmerObject::cessna_172(c, s)) as Box<dyn Aircraft>)
+                .collect(),
+        }
+    }
+
+    /// Bourg airplanes, one object (with its own airframe copy) per
+    /// `(controls, state)`.
+    #[must_use]
+    pub fn bourg(fleet: &[(BourgControls, BourgState)]) -> Self {
+        let aircraft = bourg::Aircraft::bourg_default();
+        Self {
+            aircraft: fleet
+                .iter()
+                .map(|&(c, s)| Box::new(BourgObject::new(&aircraft, c, s)) as Box<dyn Aircraft>)
+                .collect(),
+        }
+    }
+
+    /// Adds an object.
+    pub fn push(&mut self, aircraft: Box<dyn Aircraft>) {
+        self.aircraft.push(aircraft);
+    }
+
+    /// The objects, in insertion order.
+    #[must_use]
+    pub fn aircraft(&self) -> &[Box<dyn Aircraft>] {
+        &self.aircraft
+    }
+
+    /// Number of objects.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.aircraft.len()
+    }
+
+    /// Whether the fleet is empty.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.aircraft.is_empty()
+    }
+
+    /// One frame: every object's [`Aircraft::step`], in order, on this thread.
+    pub fn step_sequential(&mut self, dt: &TimeSteps) {
+        for aircraft in &mut self.aircraft {
+            aircraft.step(dt);
+        }
+    }
+
+    /// One frame on rayon's current pool (`par_iter_mut` over the objects).
+    /// Each object only touches itself, so the result is the same as
+    /// [`step_sequential`](Self::step_sequential).
+    pub fn step_parallel(&mut self, dt: &TimeSteps) {
+        self.aircraft
+            .par_iter_mut()
+            .for_each(|aircraft| aircraft.step(dt));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn objects_step_like_the_pure_functions() {
+        let dt = TimeSteps::at_fps(30);
+        let pc = PalmerControls {
+            throttle: 1.0,
+            alpha_deg: 4.0,
+            ..PalmerControls::default()
+        };
+        let mut fleet = Fleet::new();
+        fleet.push(Box::new(PalmerObject::cessna_172(
+            pc,
+            PalmerState::at_rest(),
+        )));
+        fleet.push(Box::new(BourgObject::bourg_default(
+            BourgControls::initial(),
+            BourgState::initial(),
+        )));
+        let cessna = PalmerAircraft::cessna_172();
+        let plane = bourg::Aircraft::bourg_default();
+        let (mut ps, mut bs) = (PalmerState::at_rest(), BourgState::initial());
+        for frame in 0..60 {
+            if frame % 2 == 0 {
+                fleet.step_sequential(&dt);
+            } else {
+                fleet.step_parallel(&dt);
+            }
+            ps = palmer::step(&cessna, &pc, &ps, dt.palmer_s);
+            bs = bourg::step(&plane, &BourgControls::initial(), &bs, dt.bourg_s);
+        }
+        assert_eq!(fleet.len(), 2);
+        assert!(!fleet.is_empty());
+        assert_eq!(fleet.aircraft()[0].model(), "palmer");
+        assert_eq!(fleet.aircraft()[1].model(), "bourg");
+        assert_eq!(fleet.aircraft()[0].state(), FleetState::Palmer(&ps));
+        assert_eq!(fleet.aircraft()[1].state(), FleetState::Bourg(&bs));
+    }
+
+    #[test]
+    fn time_steps_follow_the_originals() {
+        let dt = TimeSteps::at_fps(30);
+        assert_eq!(dt.palmer_s, 1.0 / 30.0);
+        assert_eq!(dt.bourg_s, 1.0f32 / 30.0);
+    }
+}
