@@ -17,11 +17,21 @@
 //! Read the other way (`(vtotal * vtotal)` grouped, and/or `(ds * Fx) / mass`),
 //! the final positions differ from the reference by 2.3e-13 to 4.5e-13 m.
 //!
-//! The only rearrangement is hoisting values that do not depend on the RK stage
-//! (`cos`/`sin` of the bank, the aspect ratio, the pre-stall/post-stall lift
-//! coefficient with its flap increment, the propeller's `rps * diameter`) out of
-//! the four stages; they are computed by the same operations, so the bits are
-//! the same.
+//! The only rearrangements leave every value's operations untouched, so the
+//! bits are the same (`tests/palmer_step_oracle.rs` checks `step` against the
+//! plain form on random inputs):
+//!
+//! * values that do not depend on the RK stage are hoisted out of the four
+//!   stages: `cos`/`sin` of the bank, the aspect ratio, the pre-stall or
+//!   post-stall lift coefficient with its flap increment, `0.5 * cl`, the
+//!   drag coefficient `cdp + cl * cl / (pi * AR * e)` (and `0.5 * cd`) of that
+//!   lift coefficient (recomputed in a stage below 5 m, where ground effect
+//!   changes it), the propeller's `rps * diameter` and the weight `mass * G`;
+//! * each stage's pressure (`pow`) is computed one stage early: a stage's
+//!   altitude depends on the vertical force of the stage before the previous
+//!   one, so the `pow` overlaps with the previous stage's forces.
+//!
+//! Measured with `benches/palmer_step.rs` (see `BENCHMARKS.md`).
 
 use core::f64::consts::PI;
 use core::fmt;
@@ -46,10 +56,19 @@ struct StageInvariants {
     sin_w: f64,
     /// Lift coefficient from alpha and flaps (without ground effect).
     cl_without_ground_effect: f64,
+    /// `0.5 * cl` of that lift coefficient (the first product of step 8's lift).
+    half_cl_without_ground_effect: f64,
+    /// Step 9's drag coefficient `cdp + cl * cl / (pi * aspect_ratio * eff)`
+    /// of that lift coefficient, times 0.5 (the first product of the drag).
+    half_cd_without_ground_effect: f64,
     /// `engine_rps * prop_diameter`.
     rps_times_diameter: f64,
     /// `pi * aspect_ratio * eff`.
     induced_drag_divisor: f64,
+    /// `mass * G` (step 11's weight term).
+    weight: f64,
+    /// The throttle (step 6).
+    throttle: f64,
 }
 
 impl StageInvariants {
@@ -71,29 +90,42 @@ impl StageInvariants {
         }
         // Step 9, the aspect ratio.
         let aspect_ratio = aircraft.wing_span_m * aircraft.wing_span_m / aircraft.wing_area_m2;
+        let induced_drag_divisor = PI * aspect_ratio * aircraft.eff;
         Self {
             // Step 10, bank.
             cos_w: cos(bank_rad),
             sin_w: sin(bank_rad),
             cl_without_ground_effect: cl,
+            half_cl_without_ground_effect: 0.5 * cl,
+            half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / induced_drag_divisor),
             rps_times_diameter: aircraft.engine_rps * aircraft.prop_diameter_m,
-            induced_drag_divisor: PI * aspect_ratio * aircraft.eff,
+            induced_drag_divisor,
+            weight: aircraft.mass_kg * GRAVITY_MPS2,
+            throttle: controls.throttle,
         }
     }
 }
 
+/// Step 4's pressure at altitude `z`: `101325 * pow(1 - 0.0065 * z / 288.15, 5.25)`.
+#[inline(always)]
+fn pressure_at(z: f64) -> f64 {
+    let grp = 1.0 - 0.0065 * z / 288.15;
+    101_325.0 * pow(grp, 5.25)
+}
+
 /// The spec's `rhs(q, delta_q, ds, q_scale)`: the change of `q` over `ds`
-/// (already multiplied by `ds`) at the intermediate state `q + q_scale * delta_q`.
+/// (already multiplied by `ds`) at the intermediate state `q + q_scale * delta_q`,
+/// given [`pressure_at`] that state's altitude `q[5] + q_scale * delta_q[5]`.
 #[inline(always)]
 #[allow(clippy::similar_names)] // names follow the spec: cosW/cosP/cosT, sinW/...
 fn rhs(
     aircraft: &PalmerAircraft,
-    controls: &PalmerControls,
     k: &StageInvariants,
     q: &Q,
     delta_q: &Q,
     ds: f64,
     q_scale: f64,
+    pressure: f64,
 ) -> Q {
     // Step 2.
     let new_q: Q = core::array::from_fn(|i| q[i] + q_scale * delta_q[i]);
@@ -105,10 +137,8 @@ fn rhs(
     let vh = sqrt(vx * vx + vy * vy);
     let vtotal = sqrt(vx * vx + vy * vy + vz * vz);
 
-    // Step 4: atmosphere.
+    // Step 4: atmosphere (the pressure at this `z` comes from [`pressure_at`]).
     let temperature = 288.15 - 0.0065 * z;
-    let grp = 1.0 - 0.0065 * z / 288.15;
-    let pressure = 101_325.0 * pow(grp, 5.25);
     let density = 0.00348 * pressure / temperature;
 
     // Step 5: power drop-off.
@@ -117,24 +147,34 @@ fn rhs(
 
     // Step 6: thrust.
     let advance_ratio = vtotal / k.rps_times_diameter;
-    let thrust = controls.throttle
+    let thrust = k.throttle
         * factor
         * aircraft.engine_power_w
         * (aircraft.prop_a + aircraft.prop_b * advance_ratio * advance_ratio)
         / k.rps_times_diameter;
 
-    // Step 7: lift coefficient; ground effect below 5 m.
-    let mut cl = k.cl_without_ground_effect;
-    if z < 5.0 {
-        cl += 0.25;
-    }
+    // Step 7: lift coefficient; ground effect below 5 m. Step 9's drag
+    // coefficient depends on nothing else, so away from the ground both come
+    // precomputed (as `0.5 * cl` and `0.5 * cd`, the first products of steps
+    // 8 and 9).
+    let (half_cl, half_cd) = if z < 5.0 {
+        let cl = k.cl_without_ground_effect + 0.25;
+        (
+            0.5 * cl,
+            0.5 * (aircraft.cdp + cl * cl / k.induced_drag_divisor),
+        )
+    } else {
+        (
+            k.half_cl_without_ground_effect,
+            k.half_cd_without_ground_effect,
+        )
+    };
 
     // Step 8 (`vtotal^2` multiplied in place, see the module docs).
-    let lift = 0.5 * cl * density * vtotal * vtotal * aircraft.wing_area_m2;
+    let lift = half_cl * density * vtotal * vtotal * aircraft.wing_area_m2;
 
     // Step 9.
-    let cd = aircraft.cdp + cl * cl / k.induced_drag_divisor;
-    let drag = 0.5 * cd * density * vtotal * vtotal * aircraft.wing_area_m2;
+    let drag = half_cd * density * vtotal * vtotal * aircraft.wing_area_m2;
 
     // Step 10.
     let (cos_w, sin_w) = (k.cos_w, k.sin_w);
@@ -153,7 +193,7 @@ fn rhs(
     let fx = cos_t * cos_p * (thrust - drag) + (sin_t * sin_w - cos_t * sin_p * cos_w) * lift;
     let fy = sin_t * cos_p * (thrust - drag) + (-cos_t * sin_w - sin_t * sin_p * cos_w) * lift;
     let mut fz = sin_p * (thrust - drag) + cos_p * cos_w * lift;
-    fz += aircraft.mass_kg * GRAVITY_MPS2; // `Fz = Fz + mass * G`
+    fz += k.weight; // `Fz = Fz + mass * G`
 
     // Step 12: the ground holds the aircraft up.
     if z <= 0.0 && fz <= 0.0 {
@@ -210,7 +250,8 @@ pub fn derivatives(
 ) -> PalmerDerivative {
     let k = StageInvariants::new(aircraft, controls);
     let q = to_q(state);
-    let dq = rhs(aircraft, controls, &k, &q, &q, 1.0, 0.0);
+    let pressure = pressure_at(q[5] + 0.0 * q[5]);
+    let dq = rhs(aircraft, &k, &q, &q, 1.0, 0.0, pressure);
     PalmerDerivative {
         velocity_mps: Vector3::new(dq[1], dq[3], dq[5]),
         acceleration_mps2: Vector3::new(dq[0], dq[2], dq[4]),
@@ -252,10 +293,20 @@ pub fn step(
     let k = StageInvariants::new(aircraft, controls);
     let q = to_q(state);
     let ds = dt_s;
-    let dq1 = rhs(aircraft, controls, &k, &q, &q, ds, 0.0);
-    let dq2 = rhs(aircraft, controls, &k, &q, &dq1, ds, 0.5);
-    let dq3 = rhs(aircraft, controls, &k, &q, &dq2, ds, 0.5);
-    let dq4 = rhs(aircraft, controls, &k, &q, &dq3, ds, 1.0);
+    // Stage k's altitude is `q[5] + q_scale_k * dq_(k-1)[5]` with
+    // `dq_(k-1)[5] = ds * (q[4] + q_scale_(k-1) * dq_(k-2)[4])`: it depends on
+    // the vertical force of stage k-2, not k-1. So each stage's pressure (the
+    // `pow`, the slowest operation) is computed one stage early, from the same
+    // operations on the same values as `rhs` would use, and overlaps with the
+    // previous stage's forces instead of lengthening the chain.
+    let p1 = pressure_at(q[5] + 0.0 * q[5]);
+    let p2 = pressure_at(q[5] + 0.5 * (ds * (q[4] + 0.0 * q[4])));
+    let dq1 = rhs(aircraft, &k, &q, &q, ds, 0.0, p1);
+    let p3 = pressure_at(q[5] + 0.5 * (ds * (q[4] + 0.5 * dq1[4])));
+    let dq2 = rhs(aircraft, &k, &q, &dq1, ds, 0.5, p2);
+    let p4 = pressure_at(q[5] + 1.0 * (ds * (q[4] + 0.5 * dq2[4])));
+    let dq3 = rhs(aircraft, &k, &q, &dq2, ds, 0.5, p3);
+    let dq4 = rhs(aircraft, &k, &q, &dq3, ds, 1.0, p4);
     let next: Q =
         core::array::from_fn(|j| q[j] + (dq1[j] + 2.0 * dq2[j] + 2.0 * dq3[j] + dq4[j]) / 6.0);
     PalmerState {
@@ -399,7 +450,7 @@ mod tests {
         let d = derivatives(&CESSNA, &controls, &state);
         let k = StageInvariants::new(&CESSNA, &controls);
         let q = to_q(&state);
-        let dq1 = rhs(&CESSNA, &controls, &k, &q, &q, dt, 0.0);
+        let dq1 = rhs(&CESSNA, &k, &q, &q, dt, 0.0, pressure_at(q[5]));
         // `ds * (F / m)` with ds = 1 is exactly `F / m`: the stage is dt times it.
         assert_eq!(dq1[1], dt * d.velocity_mps.x);
         assert_eq!(dq1[3], dt * d.velocity_mps.y);
