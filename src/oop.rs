@@ -61,13 +61,13 @@ impl TimeSteps {
     }
 }
 
-/// A borrowed view of an object's state, whichever its model.
+/// An object's state, whichever its model.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum FleetState<'a> {
+pub enum FleetState {
     /// A Palmer aircraft's state.
-    Palmer(&'a PalmerState),
+    Palmer(PalmerState),
     /// A Bourg aircraft's state.
-    Bourg(&'a BourgState),
+    Bourg(BourgState),
 }
 
 /// An aircraft object: owns its parameters, controls and state and advances
@@ -79,8 +79,12 @@ pub trait Aircraft: Send + Sync {
     /// The model's name, `"palmer"` or `"bourg"`.
     fn model(&self) -> &'static str;
 
-    /// The object's current state.
-    fn state(&self) -> FleetState<'_>;
+    /// A copy of the object's current state.
+    fn state(&self) -> FleetState;
+
+    /// Replaces the object's state; `false` (and no change) when `state` is
+    /// of another model.
+    fn set_state(&mut self, state: FleetState) -> bool;
 }
 
 /// A Palmer Cessna 172 as an object: its own parameter copy, controls and state.
@@ -122,8 +126,18 @@ impl Aircraft for PalmerObject {
         "palmer"
     }
 
-    fn state(&self) -> FleetState<'_> {
-        FleetState::Palmer(&self.state)
+    fn state(&self) -> FleetState {
+        FleetState::Palmer(self.state)
+    }
+
+    fn set_state(&mut self, state: FleetState) -> bool {
+        match state {
+            FleetState::Palmer(state) => {
+                self.state = state;
+                true
+            }
+            FleetState::Bourg(_) => false,
+        }
     }
 }
 
@@ -165,8 +179,18 @@ impl Aircraft for BourgObject {
         "bourg"
     }
 
-    fn state(&self) -> FleetState<'_> {
-        FleetState::Bourg(&self.state)
+    fn state(&self) -> FleetState {
+        FleetState::Bourg(self.state)
+    }
+
+    fn set_state(&mut self, state: FleetState) -> bool {
+        match state {
+            FleetState::Bourg(state) => {
+                self.state = state;
+                true
+            }
+            FleetState::Palmer(_) => false,
+        }
     }
 }
 
@@ -226,6 +250,17 @@ impl Fleet {
     #[must_use]
     pub fn aircraft(&self) -> &[Box<dyn Aircraft>] {
         &self.aircraft
+    }
+
+    /// The objects, in insertion order, mutably.
+    pub fn aircraft_mut(&mut self) -> &mut [Box<dyn Aircraft>] {
+        &mut self.aircraft
+    }
+
+    /// Copies of every object's state, in insertion order.
+    #[must_use]
+    pub fn states(&self) -> Vec<FleetState> {
+        self.aircraft.iter().map(|a| a.state()).collect()
     }
 
     /// Number of objects.
@@ -294,8 +329,15 @@ mod tests {
         assert!(!fleet.is_empty());
         assert_eq!(fleet.aircraft()[0].model(), "palmer");
         assert_eq!(fleet.aircraft()[1].model(), "bourg");
-        assert_eq!(fleet.aircraft()[0].state(), FleetState::Palmer(&ps));
-        assert_eq!(fleet.aircraft()[1].state(), FleetState::Bourg(&bs));
+        assert_eq!(
+            fleet.states(),
+            [FleetState::Palmer(ps), FleetState::Bourg(bs)]
+        );
+        let palmer = &mut fleet.aircraft_mut()[0];
+        assert!(!palmer.set_state(FleetState::Bourg(bs)));
+        assert!(palmer.set_state(FleetState::Palmer(PalmerState::at_rest())));
+        assert_eq!(palmer.state(), FleetState::Palmer(PalmerState::at_rest()));
+        assert!(!fleet.aircraft_mut()[1].set_state(FleetState::Palmer(ps)));
     }
 
     #[test]
