@@ -66,6 +66,9 @@ mod simulation;
 pub mod systems;
 
 pub use components::FlightGearLink;
+/// The ECS crate this shell is built on (for `Entity`, `World` and queries).
+pub use hecs;
+pub use hecs::{Entity, World};
 pub use resources::{Execution, Resources};
 pub use schedule::{Schedule, System};
 pub use simulation::Simulation;

@@ -170,6 +170,13 @@ impl Simulation {
         self.schedule.run(&mut self.world, &mut self.resources);
     }
 
+    /// [`run_frame`](Self::run_frame), calling `observer` with each system's
+    /// name and the world right after that system has run (tracing, tests).
+    pub fn run_frame_observed(&mut self, observer: impl FnMut(&'static str, &World)) {
+        self.schedule
+            .run_observed(&mut self.world, &mut self.resources, observer);
+    }
+
     /// Runs `frames` frames.
     pub fn run_frames(&mut self, frames: u64) {
         for _ in 0..frames {
