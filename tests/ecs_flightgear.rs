@@ -35,7 +35,11 @@ fn assert_drained(socket: &UdpSocket) {
     socket.set_nonblocking(true).unwrap();
     let mut buf = [0u8; 2048];
     let err = socket.recv(&mut buf).unwrap_err();
-    assert_eq!(err.kind(), ErrorKind::WouldBlock, "an extra datagram arrived");
+    assert_eq!(
+        err.kind(),
+        ErrorKind::WouldBlock,
+        "an extra datagram arrived"
+    );
     socket.set_nonblocking(false).unwrap();
 }
 
@@ -109,6 +113,12 @@ fn send_failures_are_counted_reported_once_and_do_not_stop_the_run() {
     assert_eq!(first.kind(), ErrorKind::ConnectionRefused);
     assert!(sim.take_send_failure(e).is_none(), "reported once");
     sim.run_frames(4);
-    assert!(sim.take_send_failure(e).is_none(), "later failures only counted");
-    assert_eq!(sim.send_stats(e).unwrap().failed + sim.send_stats(e).unwrap().sent, 14);
+    assert!(
+        sim.take_send_failure(e).is_none(),
+        "later failures only counted"
+    );
+    assert_eq!(
+        sim.send_stats(e).unwrap().failed + sim.send_stats(e).unwrap().sent,
+        14
+    );
 }

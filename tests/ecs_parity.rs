@@ -115,7 +115,15 @@ fn bourg_reference_scripts_through_the_ecs_are_bit_identical_to_fdm_core() {
 
     let direct: Vec<_> = cases
         .iter()
-        .map(|case| bourg_direct(&aircraft, &case.script, start, resources.dt_bourg_s(), frames))
+        .map(|case| {
+            bourg_direct(
+                &aircraft,
+                &case.script,
+                start,
+                resources.dt_bourg_s(),
+                frames,
+            )
+        })
         .collect();
 
     for mode in MODES {
@@ -141,7 +149,8 @@ fn bourg_reference_scripts_through_the_ecs_are_bit_identical_to_fdm_core() {
                 }
                 sim.run_frame();
                 for (i, &e) in entities.iter().enumerate() {
-                    let (want_controls, want_state) = &direct[i][usize::try_from(frame - 1).unwrap()];
+                    let (want_controls, want_state) =
+                        &direct[i][usize::try_from(frame - 1).unwrap()];
                     let what = format!(
                         "{mode:?} {} {} frame {frame}",
                         if keyboard { "keys" } else { "script" },
@@ -182,9 +191,16 @@ fn bourg_thrust_resources_default_to_the_core_constants_and_are_honoured() {
 
     // With the default resources FlightControl's thrust steps are
     // `BourgControls::apply`'s, bit for bit, from any thrust.
-    let thrusts = (0..=64)
-        .map(|i| i as f32 * 50.0)
-        .chain([-1.0, 0.5, 99.9, 2950.25, 2999.9, 3000.1, 1e9, f32::NAN]);
+    let thrusts = (0..=64).map(|i| i as f32 * 50.0).chain([
+        -1.0,
+        0.5,
+        99.9,
+        2950.25,
+        2999.9,
+        3000.1,
+        1e9,
+        f32::NAN,
+    ]);
     for thrust in thrusts {
         for &action in BourgAction::ALL {
             let c = BourgControls {
@@ -199,8 +215,18 @@ fn bourg_thrust_resources_default_to_the_core_constants_and_are_honoured() {
                 "{thrust} {action:?}"
             );
             assert_eq!(
-                (ecs.port_aileron, ecs.starboard_aileron, ecs.elevators, ecs.landing_flaps),
-                (core.port_aileron, core.starboard_aileron, core.elevators, core.landing_flaps)
+                (
+                    ecs.port_aileron,
+                    ecs.starboard_aileron,
+                    ecs.elevators,
+                    ecs.landing_flaps
+                ),
+                (
+                    core.port_aileron,
+                    core.starboard_aileron,
+                    core.elevators,
+                    core.landing_flaps
+                )
             );
         }
     }

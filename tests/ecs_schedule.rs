@@ -8,13 +8,15 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use fdm_suite::fdm_core::bourg::{self, Aircraft, BourgAction, BourgControls, BourgState};
-use fdm_suite::fdm_core::palmer::{self, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_suite::fdm_core::palmer::{
+    self, PalmerAction, PalmerAircraft, PalmerControls, PalmerState,
+};
 use fdm_suite::fdm_core::script::Script;
 use fdm_suite::fdm_ecs::components::{BourgInput, FgNetFdm, FlightGearLink, Geodetic, PalmerInput};
 use fdm_suite::fdm_ecs::systems::{bourg_display, palmer_display};
+use fdm_suite::fdm_ecs::{Entity, World};
 use fdm_suite::fdm_ecs::{Resources, Schedule, Simulation};
 use fdm_suite::fgnet::DATAGRAM_LEN;
-use fdm_suite::fdm_ecs::{Entity, World};
 
 fn receiver() -> (UdpSocket, String) {
     let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
@@ -31,7 +33,11 @@ fn get<T: fdm_suite::fdm_ecs::hecs::Component + Clone>(world: &World, e: Entity)
 
 #[test]
 fn the_thesis_schedule_declares_the_four_systems_in_order() {
-    let names: Vec<_> = Schedule::thesis().systems().iter().map(|s| s.name).collect();
+    let names: Vec<_> = Schedule::thesis()
+        .systems()
+        .iter()
+        .map(|s| s.name)
+        .collect();
     assert_eq!(
         names,
         [
@@ -70,8 +76,11 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
         Some(FlightGearLink::connect(&addr).unwrap()),
     );
     // Frames 1-3 pitch up by script, plus key presses queued below.
-    sim.set_script(b, Arc::new(Script::<BourgAction>::parse("1-3 pitch-up\n").unwrap()))
-        .unwrap();
+    sim.set_script(
+        b,
+        Arc::new(Script::<BourgAction>::parse("1-3 pitch-up\n").unwrap()),
+    )
+    .unwrap();
 
     let origin = sim.resources().origin;
 
@@ -140,7 +149,12 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
         });
         assert_eq!(
             trace,
-            ["FlightControl", "EquationsOfMotion", "MakePacket", "SendPacket"]
+            [
+                "FlightControl",
+                "EquationsOfMotion",
+                "MakePacket",
+                "SendPacket"
+            ]
         );
         assert_eq!(sim.frame(), frame);
 
@@ -163,7 +177,8 @@ fn frame_counter_numbers_frames_from_one_for_scripts() {
         None,
     );
     // A single-frame rule on frame 1 and one on frame 3.
-    let script = Script::<BourgAction>::parse("1-1 thrust-up\n3-3 thrust-down\n3-3 thrust-down\n").unwrap();
+    let script =
+        Script::<BourgAction>::parse("1-1 thrust-up\n3-3 thrust-down\n3-3 thrust-down\n").unwrap();
     sim.set_script(e, Arc::new(script)).unwrap();
     let mut thrust = Vec::new();
     for _ in 0..4 {
@@ -188,8 +203,11 @@ fn script_actions_come_before_queued_keys_and_input_is_per_model() {
     );
     // Script first: 19 +1 (script) = 20, +1 (key) = 20 (limit), -1 (key) = 19.
     // Keys first would give 19 +1 = 20, -1 = 19, +1 (script) = 20.
-    sim.set_script(p, Arc::new(Script::<PalmerAction>::parse("1-1 alpha-up\n").unwrap()))
-        .unwrap();
+    sim.set_script(
+        p,
+        Arc::new(Script::<PalmerAction>::parse("1-1 alpha-up\n").unwrap()),
+    )
+    .unwrap();
     sim.push_input(p, PalmerAction::AlphaUp).unwrap();
     sim.push_input(p, PalmerAction::AlphaDown).unwrap();
     sim.run_frame();

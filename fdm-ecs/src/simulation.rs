@@ -92,12 +92,7 @@ impl Simulation {
     ) -> Entity {
         let display = palmer_display(&aircraft, &controls, &state, &self.resources.origin);
         let mut builder = EntityBuilder::new();
-        builder.add_bundle((
-            PalmerParams(aircraft),
-            controls,
-            state,
-            PalmerInput::new(),
-        ));
+        builder.add_bundle((PalmerParams(aircraft), controls, state, PalmerInput::new()));
         self.spawn(builder, display, link)
     }
 
