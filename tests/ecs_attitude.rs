@@ -12,7 +12,10 @@ use fdm_suite::fdm_core::bourg::{Aircraft, BourgAction, BourgControls, BourgStat
 use fdm_suite::fdm_core::palmer::{PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_suite::fdm_core::script::Script;
 use fdm_suite::fdm_ecs::components::{Attitude, FgNetFdm, Geodetic};
-use fdm_suite::fdm_ecs::geodesy::{ground_track_deg, WGS84_A_M, WGS84_F};
+use fdm_suite::fdm_ecs::geodesy::{
+    ground_track_deg, palmer_attitude, GeodeticOrigin, WGS84_A_M, WGS84_F,
+};
+use fdm_suite::fdm_ecs::systems::model_ned_to_local_ned;
 use fdm_suite::fdm_ecs::{Entity, Resources, Simulation};
 use geographiclib_rs::{Geodesic, InverseGeodesic};
 
@@ -309,4 +312,65 @@ fn positive_pitch_is_nose_up() {
     }
     // Holding pitch-up, the nose ends up well above the horizon.
     assert!(*bourg_pitch.last().unwrap() > 20.0, "{bourg_pitch:?}");
+}
+
+#[test]
+fn make_packet_rotation_is_the_geodesy_modules_bit_for_bit() {
+    // MakePacket reuses the geodetic position it has just computed instead of
+    // converting again inside `GeodeticOrigin::model_ned_to_local_ned`.
+    let origins = [
+        GeodeticOrigin::default(),
+        GeodeticOrigin::new(65.0, 25.0, 10.0).unwrap(),
+        GeodeticOrigin::new(-33.9, 151.2, 0.0).unwrap(),
+        GeodeticOrigin::new(89.9, -179.9, 3000.0).unwrap(),
+    ];
+    for origin in &origins {
+        for i in 0..200 {
+            let k = f64::from(i);
+            let position_m = Vector3::new(
+                (k * 7919.0) % 200_000.0 - 100_000.0,
+                (k * 104_729.0) % 200_000.0 - 100_000.0,
+                (k * 37.0) % 12_000.0,
+            );
+            let here = origin.model_to_geodetic(position_m);
+            let ours = model_ned_to_local_ned(origin, &here);
+            let theirs = origin.model_ned_to_local_ned(position_m);
+            assert_eq!(
+                ours.map(f64::to_bits),
+                theirs.map(f64::to_bits),
+                "{origin:?} {position_m}"
+            );
+        }
+    }
+
+    // And so the attitude and position in the world are `attitude_at`'s.
+    let origin = origins[1];
+    let mut sim = Simulation::new(Resources::new(30).unwrap().with_origin(origin));
+    let controls = PalmerControls {
+        throttle: 1.0,
+        alpha_deg: 6.0,
+        bank_deg: -12.0,
+        ..PalmerControls::default()
+    };
+    let e = sim.spawn_palmer(
+        Arc::new(PalmerAircraft::cessna_172()),
+        controls,
+        PalmerState {
+            position_m: [30_000.0, 60_000.0, 900.0].into(),
+            velocity_mps: [40.0, -20.0, 3.0].into(),
+            ..PalmerState::at_rest()
+        },
+        None,
+    );
+    sim.run_frames(5);
+    let state = sim.palmer_state(e).unwrap();
+    let want = origin.attitude_at(
+        state.position_m,
+        palmer_attitude(state.velocity_mps, controls.alpha_deg, controls.bank_deg),
+    );
+    assert_eq!(sim.attitude(e).unwrap(), want);
+    assert_eq!(
+        sim.geodetic(e).unwrap(),
+        origin.model_to_geodetic(state.position_m)
+    );
 }
