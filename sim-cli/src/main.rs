@@ -1,6 +1,43 @@
-//! `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft (not implemented yet).
+//! `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft (see the library docs).
+//!
+//! This file only maps outcomes to exit statuses (cli.md): 0 success, 2 bad usage or
+//! input, 1 anything else, always with at most one `sim-cli: error: ...` line on
+//! stderr and never a panic message or backtrace for user errors.
 
-fn main() {
-    eprintln!("sim-cli: not implemented yet");
-    std::process::exit(1);
+use std::panic::{self, AssertUnwindSafe};
+use std::process::ExitCode;
+
+use clap::error::ErrorKind;
+use clap::Parser;
+use sim_cli::args::Cli;
+
+fn main() -> ExitCode {
+    sim_cli::terminal::install_panic_hook();
+    // The hook has already restored the terminal and printed one line; a panic is
+    // a bug, which the contract files under "any other failure".
+    panic::catch_unwind(AssertUnwindSafe(real_main)).unwrap_or(ExitCode::from(1))
+}
+
+fn real_main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
+            // Help and version go to stdout with status 0.
+            return match e.print() {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(_) => ExitCode::from(1),
+            };
+        }
+        Err(e) => {
+            eprintln!("sim-cli: error: {}", sim_cli::clap_error_line(&e));
+            return ExitCode::from(2);
+        }
+    };
+    match sim_cli::run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("sim-cli: error: {}", e.one_line());
+            ExitCode::from(e.exit_code())
+        }
+    }
 }

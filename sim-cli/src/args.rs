@@ -1,0 +1,317 @@
+//! The command line (clap derive). Only syntax and per-value ranges live here;
+//! checks that involve several options, files or the terminal are in [`crate::config`].
+//!
+//! Every value parser returns a one-line message so clap's error, which `main`
+//! squeezes onto one line, stays readable; clap exits usage errors with status 2.
+//!
+//! The subcommand name `fleet` is reserved for a later many-aircraft mode; do not
+//! use it for anything else.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::fgaddr::{parse_fg_target, FgTarget};
+use crate::origin::{parse_origin, Origin, DEFAULT_ORIGIN};
+
+/// Highest accepted `--fps`. Far above any useful real-time rate; it only keeps
+/// dt = 1/N away from values where f32 (Bourg) loses all meaning.
+pub const MAX_FPS: f64 = 10_000.0;
+
+/// Longest accepted run in frames (`--frames`, or `--duration` × `--fps` rounded).
+/// About 1e9 frames is hours of CPU even for Palmer; more is surely a typo.
+pub const MAX_FRAMES: u64 = 1_000_000_000;
+
+/// `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft.
+#[derive(Debug, Parser)]
+#[command(
+    name = "sim-cli",
+    version,
+    about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, or headless from scripts",
+    long_about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, \
+                  or headless from scripts.\n\n\
+                  Exit status: 0 success, 2 bad usage or bad input file, 1 any other failure.",
+    after_help = "Run `sim-cli palmer --help` or `sim-cli bourg --help` for the flight options \
+                  (frame rate, headless runs, scripts, JSON report, CSV, FlightGear target, origin)."
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)
+    Palmer(PalmerArgs),
+    /// Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)
+    Bourg(BourgArgs),
+    /// Print the fgfs (FlightGear 2020.3) command line that shows a model flown by sim-cli
+    FgfsCommand(FgfsArgs),
+}
+
+/// Which model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModelKind {
+    /// Palmer's Cessna 172.
+    Palmer,
+    /// Bourg's 6-DoF aircraft.
+    Bourg,
+}
+
+impl ModelKind {
+    /// The lowercase name used on the command line and in the JSON report.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Palmer => "palmer",
+            Self::Bourg => "bourg",
+        }
+    }
+}
+
+/// Options both models share (cli.md "Options both models share").
+#[derive(Debug, Clone, Args)]
+pub struct CommonArgs {
+    /// Frames per second; each frame advances the model by dt = 1/N seconds
+    #[arg(long, value_name = "N", default_value_t = 30.0, value_parser = parse_fps, allow_negative_numbers = true)]
+    pub fps: f64,
+
+    /// No keyboard and no real-time pacing: run as fast as possible, then report
+    #[arg(long)]
+    pub headless: bool,
+
+    /// Length of a headless run in frames (needs --headless)
+    #[arg(long, value_name = "N", conflicts_with = "duration", value_parser = parse_frames, allow_negative_numbers = true)]
+    pub frames: Option<u64>,
+
+    /// Length of a headless run in seconds; frames = round(SECONDS × fps) (needs --headless)
+    #[arg(long, value_name = "SECONDS", value_parser = parse_duration, allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// Scripted controls: lines `START-END ACTION`, frames counted from 1, both ends inclusive
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+
+    /// With --headless: print the final state as one JSON object on stdout
+    #[arg(long)]
+    pub json: bool,
+
+    /// Write the state as CSV to FILE: a header, the initial state as frame 0, then one row per frame
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+
+    /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame
+    /// [default: 127.0.0.1:5500 when interactive; headless sends only when given]
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    pub fg: Option<FgTarget>,
+
+    /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
+    #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
+    pub origin: Origin,
+}
+
+/// `sim-cli palmer`.
+#[derive(Debug, Clone, Args)]
+pub struct PalmerArgs {
+    /// Options both models share.
+    #[command(flatten)]
+    pub common: CommonArgs,
+
+    /// Throttle at frame 0, as a fraction of full power (0..1)
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_negative_numbers = true)]
+    pub throttle: f64,
+
+    /// Angle of attack at frame 0, degrees (-16..20)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_negative_numbers = true)]
+    pub alpha: f64,
+
+    /// Bank angle at frame 0, degrees, positive banks right (-20..20)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_negative_numbers = true)]
+    pub bank: f64,
+
+    /// Flap setting at frame 0, degrees (0, 20 or 40)
+    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_negative_numbers = true)]
+    pub flaps: u8,
+}
+
+/// `sim-cli bourg`.
+#[derive(Debug, Clone, Args)]
+pub struct BourgArgs {
+    /// Options both models share.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// `sim-cli fgfs-command`.
+#[derive(Debug, Clone, Args)]
+pub struct FgfsArgs {
+    /// The model that will be flown (chooses the aircraft shown and the start position)
+    #[arg(value_enum)]
+    pub model: ModelKind,
+
+    /// Packet rate FlightGear should poll at; use the --fps you fly with
+    #[arg(long, value_name = "N", default_value_t = 30.0, value_parser = parse_fps, allow_negative_numbers = true)]
+    pub fps: f64,
+
+    /// Address FlightGear listens on, as given to sim-cli --fg [default: all interfaces, port 5500]
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    pub fg: Option<FgTarget>,
+
+    /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
+    #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
+    pub origin: Origin,
+}
+
+fn parse_finite(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("`{text}` is not a finite number")),
+    }
+}
+
+fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
+    let v = parse_finite(text)?;
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is outside {lo}..{hi}{unit}"))
+    }
+}
+
+/// `--fps`: finite, > 0, at most [`MAX_FPS`].
+pub fn parse_fps(text: &str) -> Result<f64, String> {
+    let v = parse_finite(text)?;
+    if v > 0.0 && v <= MAX_FPS {
+        Ok(v)
+    } else {
+        Err(format!("must be greater than 0 and at most {MAX_FPS}"))
+    }
+}
+
+/// `--frames`: a whole number from 0 to [`MAX_FRAMES`].
+pub fn parse_frames(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(v) if v <= MAX_FRAMES => Ok(v),
+        Ok(_) => Err(format!("must be at most {MAX_FRAMES}")),
+        Err(_) => Err(format!(
+            "`{text}` is not a whole number of frames (0..{MAX_FRAMES})"
+        )),
+    }
+}
+
+/// `--duration`: finite seconds, >= 0. The frame limit is checked once the fps is known.
+pub fn parse_duration(text: &str) -> Result<f64, String> {
+    let v = parse_finite(text)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err("must not be negative".to_owned())
+    }
+}
+
+/// `--throttle`: fraction in 0..1.
+pub fn parse_throttle(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
+}
+
+/// `--alpha`: degrees in -16..20 (the range the alpha keys clamp to).
+pub fn parse_alpha(text: &str) -> Result<f64, String> {
+    parse_in_range(text, -16.0, 20.0, " degrees")
+}
+
+/// `--bank`: degrees in -20..20 (the range the bank keys clamp to).
+pub fn parse_bank(text: &str) -> Result<f64, String> {
+    parse_in_range(text, -20.0, 20.0, " degrees")
+}
+
+/// `--flaps`: exactly 0, 20 or 40 degrees, the model's three notches.
+pub fn parse_flaps(text: &str) -> Result<u8, String> {
+    match text.trim() {
+        "0" => Ok(0),
+        "20" => Ok(20),
+        "40" => Ok(40),
+        _ => Err(format!("`{text}` is not a flap setting (0, 20 or 40)")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn defaults() {
+        let cli = Cli::try_parse_from(["sim-cli", "palmer"]).unwrap();
+        let Command::Palmer(p) = cli.command else {
+            panic!("not palmer")
+        };
+        assert_eq!(p.common.fps, 30.0);
+        assert_eq!(p.common.origin, Origin::default());
+        assert_eq!(p.common.fg, None);
+        assert_eq!((p.throttle, p.alpha, p.bank, p.flaps), (0.0, 0.0, 0.0, 0));
+    }
+
+    #[test]
+    fn negative_values_are_values() {
+        let cli = Cli::try_parse_from([
+            "sim-cli",
+            "palmer",
+            "--alpha",
+            "-5",
+            "--bank",
+            "-20",
+            "--origin",
+            "-33.9,18.6,0",
+        ])
+        .unwrap();
+        let Command::Palmer(p) = cli.command else {
+            panic!("not palmer")
+        };
+        assert_eq!((p.alpha, p.bank), (-5.0, -20.0));
+        assert_eq!(p.common.origin.lat_deg, -33.9);
+    }
+
+    #[test]
+    fn value_parsers() {
+        assert!(parse_fps("0").is_err());
+        assert!(parse_fps("-1").is_err());
+        assert!(parse_fps("NaN").is_err());
+        assert!(parse_fps("inf").is_err());
+        assert!(parse_fps("10001").is_err());
+        assert_eq!(parse_fps("29.97"), Ok(29.97));
+        assert!(parse_frames("-1").is_err());
+        assert!(parse_frames("1.5").is_err());
+        assert!(parse_frames("1000000001").is_err());
+        assert_eq!(parse_frames("0"), Ok(0));
+        assert!(parse_duration("-0.1").is_err());
+        assert!(parse_duration("nan").is_err());
+        assert!(parse_throttle("1.01").is_err());
+        assert!(parse_alpha("-16.5").is_err());
+        assert_eq!(parse_alpha("20"), Ok(20.0));
+        assert!(parse_bank("21").is_err());
+        assert!(parse_flaps("10").is_err());
+        assert_eq!(parse_flaps("40"), Ok(40));
+    }
+
+    #[test]
+    fn frames_and_duration_conflict() {
+        let err = Cli::try_parse_from([
+            "sim-cli",
+            "bourg",
+            "--headless",
+            "--frames",
+            "1",
+            "--duration",
+            "1",
+        ])
+        .unwrap_err();
+        assert_eq!(err.kind(), clap::error::ErrorKind::ArgumentConflict);
+    }
+}

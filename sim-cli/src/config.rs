@@ -1,0 +1,335 @@
+//! From parsed arguments to a validated run configuration: everything that can be
+//! wrong with the input is found here, before anything runs, and reported as a
+//! usage error (exit status 2).
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::net::SocketAddrV4;
+use std::path::Path;
+
+use fdm_core::bourg::BourgAction;
+use fdm_core::palmer::PalmerAction;
+use fdm_core::script::{Script, ScriptAction};
+
+use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
+use crate::csv::CsvWriter;
+use crate::error::CliError;
+use crate::fgaddr::FgTarget;
+use crate::origin::Origin;
+
+/// How the run is driven.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// As fast as possible for a fixed number of frames, then report.
+    Headless {
+        /// Frames to step.
+        frames: u64,
+        /// Print the JSON report on stdout.
+        json: bool,
+    },
+    /// Keyboard in, HUD out, paced at the frame rate, until the user quits.
+    Interactive,
+}
+
+/// What both models need to run, validated.
+#[derive(Debug)]
+pub struct RunConfig {
+    /// Frames per second (> 0, finite, at most [`crate::args::MAX_FPS`]).
+    pub fps: f64,
+    /// Headless or interactive.
+    pub mode: Mode,
+    /// The CSV output, already created (so an unwritable path failed as a usage error).
+    pub csv: Option<CsvWriter<BufWriter<File>>>,
+    /// Where to send FlightGear datagrams, resolved; `None` sends nothing.
+    pub fg: Option<SocketAddrV4>,
+    /// Geodetic position of the model's earth-frame origin.
+    pub origin: Origin,
+}
+
+impl RunConfig {
+    /// Palmer's step: dt = 1/fps in `f64` (cli.md).
+    #[must_use]
+    pub fn dt_f64(&self) -> f64 {
+        1.0 / self.fps
+    }
+
+    /// Bourg's step: `1.0f32 / fps as f32` exactly as cli.md states.
+    #[must_use]
+    pub fn dt_f32(&self) -> f32 {
+        1.0_f32 / self.fps as f32
+    }
+}
+
+/// Palmer's controls at frame 0 (`--throttle`, `--alpha`, `--bank`, `--flaps`), validated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PalmerInitialControls {
+    /// Throttle fraction, 0..1.
+    pub throttle: f64,
+    /// Angle of attack, degrees, -16..20.
+    pub alpha_deg: f64,
+    /// Bank, degrees, -20..20.
+    pub bank_deg: f64,
+    /// Flaps, degrees: 0, 20 or 40.
+    pub flaps_deg: u8,
+}
+
+/// A validated `sim-cli palmer` run.
+#[derive(Debug)]
+pub struct PalmerConfig {
+    /// Shared settings.
+    pub run: RunConfig,
+    /// Scripted controls (empty without `--script`).
+    pub script: Script<PalmerAction>,
+    /// Controls at frame 0.
+    pub controls: PalmerInitialControls,
+}
+
+/// A validated `sim-cli bourg` run.
+#[derive(Debug)]
+pub struct BourgConfig {
+    /// Shared settings.
+    pub run: RunConfig,
+    /// Scripted controls (empty without `--script`).
+    pub script: Script<BourgAction>,
+}
+
+/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV file.
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input.
+pub fn prepare_palmer(args: PalmerArgs) -> Result<PalmerConfig, CliError> {
+    let (run, script) = prepare(args.common)?;
+    Ok(PalmerConfig {
+        run,
+        script,
+        controls: PalmerInitialControls {
+            throttle: args.throttle,
+            alpha_deg: args.alpha,
+            bank_deg: args.bank,
+            flaps_deg: args.flaps,
+        },
+    })
+}
+
+/// Validates `sim-cli bourg` arguments, reads the script and creates the CSV file.
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input.
+pub fn prepare_bourg(args: BourgArgs) -> Result<BourgConfig, CliError> {
+    let (run, script) = prepare(args.common)?;
+    Ok(BourgConfig { run, script })
+}
+
+/// The mode implied by the options, or why they do not fit together.
+///
+/// # Errors
+/// [`CliError::Usage`] for --json / --frames / --duration without --headless, a
+/// headless run without a length, or a duration that is too long.
+pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
+    if !args.headless {
+        for (given, name) in [
+            (args.json, "--json"),
+            (args.frames.is_some(), "--frames"),
+            (args.duration.is_some(), "--duration"),
+        ] {
+            if given {
+                return Err(CliError::usage(format!("{name} needs --headless")));
+            }
+        }
+        return Ok(Mode::Interactive);
+    }
+    let frames = match (args.frames, args.duration) {
+        (Some(frames), None) => frames,
+        (None, Some(seconds)) => frames_for_duration(seconds, args.fps)?,
+        (None, None) => {
+            return Err(CliError::usage(
+                "--headless needs --frames N or --duration SECONDS",
+            ))
+        }
+        // clap rejects this combination already; kept for callers that build args by hand.
+        (Some(_), Some(_)) => {
+            return Err(CliError::usage(
+                "--frames and --duration cannot be used together",
+            ))
+        }
+    };
+    Ok(Mode::Headless {
+        frames,
+        json: args.json,
+    })
+}
+
+/// frames = round(seconds × fps), checked against [`MAX_FRAMES`].
+///
+/// # Errors
+/// [`CliError::Usage`] for a negative or non-finite duration or too many frames.
+pub fn frames_for_duration(seconds: f64, fps: f64) -> Result<u64, CliError> {
+    let frames = (seconds * fps).round();
+    if !(seconds >= 0.0 && frames.is_finite()) {
+        return Err(CliError::usage(format!(
+            "--duration {seconds} is not a non-negative number of seconds"
+        )));
+    }
+    if frames > MAX_FRAMES as f64 {
+        return Err(CliError::usage(format!(
+            "--duration {seconds} at {fps} fps is {frames} frames, more than {MAX_FRAMES}"
+        )));
+    }
+    // In range and integral, so the cast is exact.
+    Ok(frames as u64)
+}
+
+/// Reads and parses a script; errors name the file and line as `FILE:LINE: message`.
+///
+/// # Errors
+/// [`CliError::Usage`] for an unreadable file or the first bad line.
+pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::usage(format!("cannot read script {}: {e}", path.display())))?;
+    Script::parse(&text).map_err(|e| {
+        // ScriptError displays as "line N: message"; the CLI convention is FILE:N: message.
+        let full = e.to_string();
+        let prefix = format!("line {}: ", e.line);
+        let message = full.strip_prefix(&prefix).unwrap_or(&full);
+        CliError::usage(format!("{}:{}: {message}", path.display(), e.line))
+    })
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), CliError> {
+    let mode = resolve_mode(&args)?;
+    let script = match &args.script {
+        Some(path) => load_script(path)?,
+        None => Script::default(),
+    };
+    if mode == Mode::Interactive {
+        crate::terminal::require_terminal()?;
+    }
+    let fg = match (&args.fg, mode) {
+        (Some(target), _) => Some(target.resolve().map_err(CliError::usage)?),
+        (None, Mode::Interactive) => Some(FgTarget::default().resolve().map_err(CliError::usage)?),
+        (None, Mode::Headless { .. }) => None,
+    };
+    // Created last, so that no earlier error leaves a truncated file behind.
+    let csv = match &args.csv {
+        Some(path) => {
+            if let Some(script) = &args.script {
+                if same_file(path, script) {
+                    return Err(CliError::usage(format!(
+                        "--csv {} would overwrite the --script file",
+                        path.display()
+                    )));
+                }
+            }
+            Some(CsvWriter::create(path)?)
+        }
+        None => None,
+    };
+    Ok((
+        RunConfig {
+            fps: args.fps,
+            mode,
+            csv,
+            fg,
+            origin: args.origin,
+        },
+        script,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::args::{Cli, Command};
+    use clap::Parser;
+
+    fn common(extra: &[&str]) -> CommonArgs {
+        let argv = ["sim-cli", "bourg"].iter().chain(extra).copied();
+        match Cli::try_parse_from(argv).unwrap().command {
+            Command::Bourg(b) => b.common,
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn modes() {
+        assert_eq!(resolve_mode(&common(&[])).unwrap(), Mode::Interactive);
+        assert_eq!(
+            resolve_mode(&common(&["--headless", "--frames", "900", "--json"])).unwrap(),
+            Mode::Headless {
+                frames: 900,
+                json: true
+            }
+        );
+        assert_eq!(
+            resolve_mode(&common(&["--headless", "--duration", "1.5", "--fps", "10"])).unwrap(),
+            Mode::Headless {
+                frames: 15,
+                json: false
+            }
+        );
+    }
+
+    #[test]
+    fn mode_errors_are_usage_errors() {
+        for (argv, needle) in [
+            (&["--json"][..], "--json needs --headless"),
+            (&["--frames", "3"][..], "--frames needs --headless"),
+            (&["--duration", "3"][..], "--duration needs --headless"),
+            (&["--headless"][..], "--headless needs --frames"),
+            (
+                &["--headless", "--duration", "1e300"][..],
+                "more than 1000000000",
+            ),
+        ] {
+            let err = resolve_mode(&common(argv)).unwrap_err();
+            assert_eq!(err.exit_code(), 2);
+            assert!(err.to_string().contains(needle), "{err}");
+        }
+    }
+
+    #[test]
+    fn duration_rounds_to_nearest_frame() {
+        assert_eq!(frames_for_duration(1.0 / 30.0 * 2.4, 30.0).unwrap(), 2);
+        assert_eq!(frames_for_duration(0.05, 30.0).unwrap(), 2); // 1.5 rounds away from zero
+        assert_eq!(frames_for_duration(0.0, 30.0).unwrap(), 0);
+        assert!(frames_for_duration(f64::NAN, 30.0).is_err());
+    }
+
+    #[test]
+    fn dt() {
+        let run = RunConfig {
+            fps: 30.0,
+            mode: Mode::Interactive,
+            csv: None,
+            fg: None,
+            origin: Origin::default(),
+        };
+        assert_eq!(run.dt_f64(), 1.0 / 30.0);
+        assert_eq!(run.dt_f32(), 1.0_f32 / 30.0_f32);
+    }
+
+    #[test]
+    fn script_errors_name_file_and_line() {
+        let dir = std::env::temp_dir().join(format!("sim-cli-config-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bad.txt");
+        std::fs::write(&path, "# ok\n1-5 thrust-up\n\n3-2 thrust-up\n").unwrap();
+        let err = load_script::<BourgAction>(&path).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        assert_eq!(
+            err.to_string(),
+            format!("{}:4: range 3-2 ends before it starts", path.display())
+        );
+        let missing = dir.join("missing.txt");
+        let err = load_script::<BourgAction>(&missing).unwrap_err();
+        assert!(err.to_string().starts_with("cannot read script "), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,80 @@
+//! The one error type of `sim-cli` and its mapping to exit statuses (cli.md "Exit status").
+
+use std::fmt;
+
+/// Everything that can stop `sim-cli`, split by who is to blame, because the exit
+/// status tells scripts whether retrying with other arguments can help.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// Bad arguments or a bad input file (unreadable script, bad script line,
+    /// CSV path that cannot be created, ...). Exit status 2; nothing has run.
+    #[error("{0}")]
+    Usage(String),
+    /// Anything that went wrong after the input was accepted. Exit status 1.
+    /// `{:#}` prints an `anyhow` context chain on one line (`outer: inner`).
+    #[error("{0:#}")]
+    Runtime(anyhow::Error),
+}
+
+impl CliError {
+    /// A usage error (exit status 2) with the given one-line message.
+    pub fn usage(message: impl fmt::Display) -> Self {
+        Self::Usage(message.to_string())
+    }
+
+    /// A runtime error (exit status 1) with the given message.
+    pub fn runtime(message: impl fmt::Display) -> Self {
+        Self::Runtime(anyhow::anyhow!("{message}"))
+    }
+
+    /// The process exit status for this error: 2 for usage, 1 for runtime.
+    #[must_use]
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Self::Usage(_) => 2,
+            Self::Runtime(_) => 1,
+        }
+    }
+
+    /// The message squeezed onto one line, because the contract promises one line
+    /// on stderr and OS or library messages occasionally contain newlines.
+    #[must_use]
+    pub fn one_line(&self) -> String {
+        one_line(&self.to_string())
+    }
+}
+
+impl From<anyhow::Error> for CliError {
+    fn from(error: anyhow::Error) -> Self {
+        Self::Runtime(error)
+    }
+}
+
+/// Joins the non-empty lines of `text` with single spaces.
+#[must_use]
+pub fn one_line(text: &str) -> String {
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exit_codes() {
+        assert_eq!(CliError::usage("x").exit_code(), 2);
+        assert_eq!(CliError::runtime("x").exit_code(), 1);
+    }
+
+    #[test]
+    fn runtime_context_chain_is_one_line() {
+        let e: CliError = anyhow::anyhow!("inner\nreason")
+            .context("writing out.csv")
+            .into();
+        assert_eq!(e.one_line(), "writing out.csv: inner reason");
+    }
+}

@@ -1,0 +1,369 @@
+//! The interactive heads-up display: [`HudData`] (what to show), [`render_hud`] (a pure
+//! function to text lines, unit-tested) and [`HudWriter`] (draws lines with crossterm).
+
+use std::io::{self, Write};
+use std::net::SocketAddrV4;
+
+use crossterm::cursor::MoveTo;
+use crossterm::style::Print;
+use crossterm::terminal::{Clear, ClearType};
+use crossterm::QueueableCommand;
+
+use crate::report::{ModelDetails, Snapshot};
+
+/// Metres per foot (exact, international foot).
+pub const M_PER_FT: f64 = 0.3048;
+/// Metres per second per knot (exact).
+pub const MPS_PER_KT: f64 = 1852.0 / 3600.0;
+
+/// Flight phase shown on the HUD. The integrator maps the model's own flags
+/// (Bourg `stalling`, Palmer's landing classification) onto it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FlightStatus {
+    /// On the ground, not yet flown.
+    OnGround,
+    /// In the air, nothing special.
+    Flying,
+    /// A wing element is stalled (Bourg).
+    Stalling,
+    /// Came back to the ground with vz > -2 m/s (Palmer).
+    SafeLanding,
+    /// Came back to the ground with -5 < vz <= -2 m/s (Palmer).
+    RoughLanding,
+    /// Came back to the ground faster than 5 m/s down (Palmer).
+    Crashed,
+}
+
+impl FlightStatus {
+    /// The HUD text.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::OnGround => "on ground",
+            Self::Flying => "flying",
+            Self::Stalling => "STALL",
+            Self::SafeLanding => "landed (safe)",
+            Self::RoughLanding => "landed (rough)",
+            Self::Crashed => "CRASHED",
+        }
+    }
+}
+
+/// Datagram counters of the FlightGear sender.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LinkStats {
+    /// Datagrams handed to the OS.
+    pub sent: u64,
+    /// Send attempts that failed (e.g. ICMP port unreachable reported back).
+    pub failed: u64,
+}
+
+/// Controls as shown on the HUD.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HudControls {
+    /// Palmer's held controls.
+    Palmer {
+        /// Throttle fraction, 0..1.
+        throttle: f64,
+        /// Angle of attack, degrees.
+        alpha_deg: f64,
+        /// Bank, degrees.
+        bank_deg: f64,
+        /// Flaps, degrees.
+        flaps_deg: f64,
+    },
+    /// Bourg's held controls (surfaces are momentary, so not shown).
+    Bourg {
+        /// Thrust, lb.
+        thrust_lb: f64,
+        /// Landing flaps down.
+        flaps: bool,
+    },
+}
+
+/// State of the run loop, as opposed to the model.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LoopStatus {
+    /// Frames stepped since the start or the last reset.
+    pub frame: u64,
+    /// Frame rate.
+    pub fps: f64,
+    /// Frames that missed their real-time deadline.
+    pub overruns: u64,
+    /// The simulation is paused.
+    pub paused: bool,
+}
+
+/// Everything the HUD shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HudData {
+    /// Model display name.
+    pub model: &'static str,
+    /// Simulated time, s.
+    pub time_s: f64,
+    /// Geodetic altitude, m.
+    pub altitude_m: f64,
+    /// Airspeed, m/s.
+    pub airspeed_mps: f64,
+    /// Heading as sent to FlightGear, degrees clockwise from north.
+    pub heading_deg: f64,
+    /// Roll, degrees, right wing down positive.
+    pub roll_deg: f64,
+    /// Pitch, degrees, nose up positive.
+    pub pitch_deg: f64,
+    /// Held controls.
+    pub controls: HudControls,
+    /// Flight phase.
+    pub status: FlightStatus,
+    /// Where packets go, if anywhere.
+    pub fg_target: Option<SocketAddrV4>,
+    /// Packet counters, if the sender reports them.
+    pub link: Option<LinkStats>,
+    /// Run loop state.
+    pub run: LoopStatus,
+    /// Key help for the model's controls.
+    pub key_help: &'static str,
+}
+
+impl HudData {
+    /// Builds the HUD contents from a model snapshot plus what only the loop and
+    /// the sender know.
+    #[must_use]
+    pub fn from_snapshot(
+        snapshot: &Snapshot,
+        status: FlightStatus,
+        fg_target: Option<SocketAddrV4>,
+        link: Option<LinkStats>,
+        run: LoopStatus,
+        key_help: &'static str,
+    ) -> Self {
+        let c = &snapshot.common;
+        let (model, airspeed_mps, controls) = match &snapshot.details {
+            ModelDetails::Palmer(p) => (
+                "Palmer Cessna 172",
+                p.airspeed,
+                HudControls::Palmer {
+                    throttle: p.controls.throttle,
+                    alpha_deg: p.controls.alpha_deg,
+                    bank_deg: p.controls.bank_deg,
+                    flaps_deg: p.controls.flaps_deg,
+                },
+            ),
+            ModelDetails::Bourg(b) => (
+                "Bourg 6-DoF",
+                b.speed * M_PER_FT,
+                HudControls::Bourg {
+                    thrust_lb: b.thrust_lb,
+                    flaps: b.flaps,
+                },
+            ),
+        };
+        Self {
+            model,
+            time_s: c.time_s,
+            altitude_m: c.geodetic.alt_m,
+            airspeed_mps,
+            heading_deg: c.attitude_deg.heading,
+            roll_deg: c.attitude_deg.roll,
+            pitch_deg: c.attitude_deg.pitch,
+            controls,
+            status,
+            fg_target,
+            link,
+            run,
+            key_help,
+        }
+    }
+}
+
+/// Whole degrees in 0..360 for a compass display (359.6 shows as 000, not 360).
+fn compass(deg: f64) -> i64 {
+    if deg.is_finite() {
+        (deg.round() as i64).rem_euclid(360)
+    } else {
+        0
+    }
+}
+
+/// The HUD as text lines (ASCII only, so width = number of chars).
+#[must_use]
+pub fn render_hud(d: &HudData) -> Vec<String> {
+    let paused = if d.run.paused { "   [PAUSED]" } else { "" };
+    let mut lines = vec![
+        format!(
+            "sim-cli  {}   t {:.2} s   frame {} @ {} fps{paused}",
+            d.model, d.time_s, d.run.frame, d.run.fps
+        ),
+        format!(
+            "ALT {:6.0} ft ({:.1} m)   SPD {:5.1} kt ({:.1} m/s)   HDG {:03}",
+            d.altitude_m / M_PER_FT,
+            d.altitude_m,
+            d.airspeed_mps / MPS_PER_KT,
+            d.airspeed_mps,
+            compass(d.heading_deg)
+        ),
+        format!(
+            "ROLL {:+6.1} deg   PITCH {:+6.1} deg   {}",
+            d.roll_deg,
+            d.pitch_deg,
+            d.status.label()
+        ),
+    ];
+    lines.push(match d.controls {
+        HudControls::Palmer {
+            throttle,
+            alpha_deg,
+            bank_deg,
+            flaps_deg,
+        } => format!(
+            "THROTTLE {:3.0} %   ALPHA {alpha_deg:+5.1} deg   BANK {bank_deg:+5.1} deg   FLAPS {flaps_deg:.0} deg",
+            throttle * 100.0
+        ),
+        HudControls::Bourg { thrust_lb, flaps } => format!(
+            "THRUST {thrust_lb:4.0} lb   FLAPS {}",
+            if flaps { "down" } else { "up" }
+        ),
+    });
+    let link = match (d.fg_target, d.link) {
+        (None, _) => "FG off".to_owned(),
+        (Some(t), Some(s)) => format!("FG {t}  sent {}  failed {}", s.sent, s.failed),
+        (Some(t), None) => format!("FG {t}"),
+    };
+    lines.push(format!("{link}   overruns {}", d.run.overruns));
+    lines.push(String::new());
+    lines.push(format!("keys: {}", d.key_help));
+    lines.push(format!("      {}", crate::keys::APP_KEY_HELP));
+    lines
+}
+
+/// Draws HUD lines at the top of the screen, each cleared to the end of the line,
+/// and blanks lines left over from a longer previous frame.
+#[derive(Debug, Default)]
+pub struct HudWriter {
+    previous_lines: u16,
+}
+
+impl HudWriter {
+    /// A writer for a freshly cleared screen.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Draws `lines`, truncated to `width` columns and `height` rows, then flushes.
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn draw(
+        &mut self,
+        out: &mut impl Write,
+        lines: &[String],
+        width: u16,
+        height: u16,
+    ) -> io::Result<()> {
+        let rows = u16::try_from(lines.len()).unwrap_or(u16::MAX).min(height);
+        for (row, line) in (0..rows).zip(lines) {
+            let visible: String = line.chars().take(usize::from(width)).collect();
+            out.queue(MoveTo(0, row))?
+                .queue(Print(visible))?
+                .queue(Clear(ClearType::UntilNewLine))?;
+        }
+        for row in rows..self.previous_lines.min(height) {
+            out.queue(MoveTo(0, row))?
+                .queue(Clear(ClearType::CurrentLine))?;
+        }
+        self.previous_lines = rows;
+        out.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::samples;
+    use std::net::Ipv4Addr;
+
+    fn palmer_hud() -> HudData {
+        HudData::from_snapshot(
+            &samples::palmer(),
+            FlightStatus::Flying,
+            Some(SocketAddrV4::new(Ipv4Addr::LOCALHOST, 5500)),
+            Some(LinkStats {
+                sent: 369,
+                failed: 2,
+            }),
+            LoopStatus {
+                frame: 369,
+                fps: 30.0,
+                overruns: 1,
+                paused: false,
+            },
+            "E/D throttle",
+        )
+    }
+
+    #[test]
+    fn palmer_text() {
+        let lines = render_hud(&palmer_hud());
+        assert_eq!(
+            lines,
+            [
+                "sim-cli  Palmer Cessna 172   t 60.00 s   frame 369 @ 30 fps",
+                "ALT   1148 ft (349.8 m)   SPD 108.1 kt (55.6 m/s)   HDG 000",
+                "ROLL   +5.0 deg   PITCH   +2.5 deg   flying",
+                "THROTTLE  75 %   ALPHA  +4.0 deg   BANK  +5.0 deg   FLAPS 20 deg",
+                "FG 127.0.0.1:5500  sent 369  failed 2   overruns 1",
+                "",
+                "keys: E/D throttle",
+                "      P pause  R reset  Q/Esc quit",
+            ]
+        );
+    }
+
+    #[test]
+    fn bourg_text_paused_without_fg() {
+        let d = HudData::from_snapshot(
+            &samples::bourg(),
+            FlightStatus::Stalling,
+            None,
+            None,
+            LoopStatus {
+                frame: 5,
+                fps: 30.0,
+                overruns: 0,
+                paused: true,
+            },
+            "",
+        );
+        let lines = render_hud(&d);
+        assert!(lines[0].starts_with("sim-cli  Bourg 6-DoF"));
+        assert!(lines[0].ends_with("[PAUSED]"));
+        // 183.12346 ft/s = 55.816 m/s = 108.5 kt
+        assert!(lines[1].contains("SPD 108.5 kt (55.8 m/s)"), "{}", lines[1]);
+        assert!(lines[2].ends_with("STALL"));
+        assert_eq!(lines[3], "THRUST 3000 lb   FLAPS down");
+        assert_eq!(lines[4], "FG off   overruns 0");
+    }
+
+    #[test]
+    fn compass_wraps() {
+        assert_eq!(compass(359.6), 0);
+        assert_eq!(compass(-1.0), 359);
+        assert_eq!(compass(f64::NAN), 0);
+    }
+
+    #[test]
+    fn writer_truncates_and_clears_leftovers() {
+        let mut w = HudWriter::new();
+        let mut out = Vec::new();
+        w.draw(&mut out, &["abcdef".to_owned(), "x".to_owned()], 3, 10)
+            .unwrap();
+        let text = String::from_utf8_lossy(&out).into_owned();
+        assert!(text.contains("abc") && !text.contains("abcd"));
+        let mut out = Vec::new();
+        w.draw(&mut out, &["y".to_owned()], 80, 10).unwrap();
+        // Row 2 (index 1) is blanked: MoveTo(0,1) is ESC[2;1H.
+        let text = String::from_utf8_lossy(&out).into_owned();
+        assert!(text.contains("\x1b[2;1H"), "{text:?}");
+    }
+}

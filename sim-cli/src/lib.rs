@@ -1,0 +1,109 @@
+//! `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard
+//! into FlightGear, or headless from scripts. The contract is `spec/cli.md`.
+//!
+//! The binary (`main.rs`) only maps [`run()`]'s result to an exit status; everything
+//! else lives in this library so it can be unit-tested and so the ECS integration
+//! plugs in at one place, [`run::Flight`] (see the [`run`](mod@run) module docs).
+//!
+//! | module | what |
+//! |---|---|
+//! | [`args`] | clap definition and per-value validation |
+//! | [`config`] | cross-option validation, script loading, CSV creation → [`config::RunConfig`] |
+//! | [`run`](mod@run) | the [`run::Flight`] seam, headless and interactive loops, `run_palmer`/`run_bourg` |
+//! | [`report`] | [`report::Snapshot`] (model state) and the JSON [`report::Report`] |
+//! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
+//! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
+//! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
+
+pub mod args;
+pub mod config;
+pub mod csv;
+pub mod error;
+pub mod fgaddr;
+pub mod fgfs;
+pub mod hud;
+pub mod keys;
+pub mod origin;
+pub mod pacer;
+pub mod progress;
+pub mod report;
+pub mod run;
+pub mod terminal;
+
+use std::io::Write;
+
+use anyhow::Context as _;
+
+use crate::args::{Cli, Command};
+use crate::error::CliError;
+
+/// Executes a parsed command line.
+///
+/// # Errors
+/// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
+pub fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Palmer(args) => run::run_palmer(config::prepare_palmer(args)?),
+        Command::Bourg(args) => run::run_bourg(config::prepare_bourg(args)?),
+        Command::FgfsCommand(args) => {
+            let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);
+            let mut out = std::io::stdout().lock();
+            writeln!(out, "{line}")
+                .and_then(|()| out.flush())
+                .context("writing to stdout")?;
+            Ok(())
+        }
+    }
+}
+
+/// clap's multi-paragraph error text reduced to one line: the error itself plus any
+/// `tip:` lines, without the usage block (the message ends by pointing to `--help`).
+#[must_use]
+pub fn clap_error_line(error: &clap::Error) -> String {
+    if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        // clap renders the whole help here; one line is the contract.
+        return "missing subcommand: palmer, bourg or fgfs-command (see --help)".to_owned();
+    }
+    let text = error.render().to_string();
+    let mut parts = Vec::new();
+    for paragraph in text.split("\n\n") {
+        let paragraph = paragraph.trim();
+        if paragraph.is_empty()
+            || paragraph.starts_with("Usage:")
+            || paragraph.starts_with("For more information")
+        {
+            continue;
+        }
+        parts.push(error::one_line(paragraph));
+    }
+    let joined = parts.join("; ");
+    let message = joined.strip_prefix("error: ").unwrap_or(&joined);
+    format!("{message} (see --help)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[test]
+    fn clap_errors_become_one_line() {
+        let err = Cli::try_parse_from(["sim-cli", "palmer", "--fps", "0"]).unwrap_err();
+        assert_eq!(
+            clap_error_line(&err),
+            "invalid value '0' for '--fps <N>': must be greater than 0 and at most 10000 (see --help)"
+        );
+        let err = Cli::try_parse_from(["sim-cli", "palmer", "--fp", "3"]).unwrap_err();
+        let line = clap_error_line(&err);
+        assert!(!line.contains('\n'));
+        assert!(
+            line.starts_with("unexpected argument '--fp' found; tip:"),
+            "{line}"
+        );
+        let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
+        assert_eq!(
+            clap_error_line(&err),
+            "missing subcommand: palmer, bourg or fgfs-command (see --help)"
+        );
+    }
+}

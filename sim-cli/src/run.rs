@@ -1,0 +1,617 @@
+//! The run loops, written once for both models against the [`Flight`] trait.
+//!
+//! # For the integrator
+//! Wiring a model to the ECS is: implement [`Flight`] for a type that owns the hecs
+//! world (built from [`RunConfig`]: origin, `dt_f64()`/`dt_f32()`, `fg` target, and for
+//! Palmer the [`PalmerInitialControls`]), then replace the body of [`run_palmer`] /
+//! [`run_bourg`] with
+//! `fly(PalmerFlight::new(&config.run, config.controls)?, &config.script, config.run)`.
+//! Everything else (script replay, CSV, JSON report, progress bar, terminal, keys,
+//! pacing, HUD) is here already and tested with a fake model.
+//!
+//! [`PalmerInitialControls`]: crate::config::PalmerInitialControls
+
+use std::io::{self, Write};
+use std::net::SocketAddrV4;
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use crossterm::event::{self, Event};
+use fdm_core::script::Script;
+
+use crate::config::{BourgConfig, Mode, PalmerConfig, RunConfig};
+use crate::csv::CsvWriter;
+use crate::error::CliError;
+use crate::hud::{render_hud, FlightStatus, HudData, HudWriter, LinkStats, LoopStatus};
+use crate::keys::{map_key, AppCommand, Input, KeyAction};
+use crate::pacer::FramePacer;
+use crate::progress::StderrProgress;
+use crate::report::{Report, Snapshot};
+use crate::terminal::TerminalGuard;
+
+/// One aircraft the loops can fly: the seam between the CLI and the ECS.
+pub trait Flight {
+    /// The model's control vocabulary (keys and script actions).
+    type Action: KeyAction;
+
+    /// Advances one frame of fixed dt: apply `actions` in order as key presses
+    /// (for Bourg after returning the rudder, ailerons and elevators to neutral),
+    /// step the model, and send the FlightGear datagram if a target is configured.
+    /// A failed send must not be an error: count it in [`Self::link_stats`].
+    ///
+    /// # Errors
+    /// Anything that makes continuing pointless; the run stops with exit status 1.
+    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()>;
+
+    /// Puts the model back to its initial state and controls (interactive R key).
+    ///
+    /// # Errors
+    /// As [`Self::step`].
+    fn reset(&mut self) -> anyhow::Result<()>;
+
+    /// The current state, for the report, the CSV rows and the HUD.
+    fn snapshot(&self) -> Snapshot;
+
+    /// The flight phase shown on the HUD.
+    fn status(&self) -> FlightStatus;
+
+    /// Datagram counters, or `None` when nothing is sent.
+    fn link_stats(&self) -> Option<LinkStats>;
+}
+
+/// Steps frame `frame` (1-based): the script's actions for that frame in file order,
+/// then `keys`, then one model step, then the CSV row.
+fn step_frame<F: Flight, W: Write>(
+    flight: &mut F,
+    script: &Script<F::Action>,
+    frame: u64,
+    keys: &[F::Action],
+    buffer: &mut Vec<F::Action>,
+    csv: Option<&mut CsvWriter<W>>,
+) -> Result<(), CliError> {
+    buffer.clear();
+    buffer.extend(script.actions_at(frame));
+    buffer.extend_from_slice(keys);
+    flight
+        .step(buffer)
+        .with_context(|| format!("frame {frame}"))?;
+    if let Some(csv) = csv {
+        csv.write_record(frame, &flight.snapshot())?;
+    }
+    Ok(())
+}
+
+/// Runs `frames` frames as fast as possible and returns the final report. Writes
+/// the initial state as CSV frame 0 and a row after every step. The caller
+/// finishes (flushes) the CSV writer.
+///
+/// # Errors
+/// The first failing step or CSV write ([`CliError::Runtime`]).
+pub fn run_headless<F: Flight, W: Write>(
+    flight: &mut F,
+    script: &Script<F::Action>,
+    fps: f64,
+    frames: u64,
+    mut csv: Option<&mut CsvWriter<W>>,
+    progress: &mut StderrProgress,
+) -> Result<Report, CliError> {
+    if let Some(csv) = csv.as_deref_mut() {
+        csv.write_record(0, &flight.snapshot())?;
+    }
+    let mut buffer = Vec::new();
+    for frame in 1..=frames {
+        step_frame(flight, script, frame, &[], &mut buffer, csv.as_deref_mut())?;
+        progress.tick(frame);
+    }
+    progress.finish();
+    Ok(Report::new(fps, frames, &flight.snapshot()))
+}
+
+/// Whether the interactive loop goes on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flow {
+    /// Keep flying.
+    Continue,
+    /// The user quit.
+    Quit,
+}
+
+/// The interactive loop's state apart from the terminal and the clock, so that
+/// pause, reset and key handling are testable without a terminal.
+#[derive(Debug)]
+pub struct Session<A> {
+    frame: u64,
+    total_frames: u64,
+    paused: bool,
+    pending: Vec<A>,
+    buffer: Vec<A>,
+}
+
+impl<A> Default for Session<A> {
+    fn default() -> Self {
+        Self {
+            frame: 0,
+            total_frames: 0,
+            paused: false,
+            pending: Vec::new(),
+            buffer: Vec::new(),
+        }
+    }
+}
+
+impl<A: KeyAction> Session<A> {
+    /// A session at frame 0, running.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Frames since the start or the last reset (the script's frame counter).
+    #[must_use]
+    pub fn frame(&self) -> u64 {
+        self.frame
+    }
+
+    /// Frames stepped in total, across resets.
+    #[must_use]
+    pub fn total_frames(&self) -> u64 {
+        self.total_frames
+    }
+
+    /// Whether the simulation is paused.
+    #[must_use]
+    pub fn paused(&self) -> bool {
+        self.paused
+    }
+
+    /// Handles one key. Control keys are queued for the next frame; while paused
+    /// they are ignored, so nothing changes behind a frozen display. Reset returns to
+    /// frame 0 (the script starts over) and writes the initial state as a new CSV row 0.
+    ///
+    /// # Errors
+    /// A failing reset or CSV write.
+    pub fn handle<F: Flight<Action = A>, W: Write>(
+        &mut self,
+        input: Input<A>,
+        flight: &mut F,
+        csv: Option<&mut CsvWriter<W>>,
+    ) -> Result<Flow, CliError> {
+        match input {
+            Input::App(AppCommand::Quit) => return Ok(Flow::Quit),
+            Input::App(AppCommand::Pause) => self.paused = !self.paused,
+            Input::App(AppCommand::Reset) => {
+                flight.reset().context("reset")?;
+                self.frame = 0;
+                self.pending.clear();
+                if let Some(csv) = csv {
+                    csv.write_record(0, &flight.snapshot())?;
+                }
+            }
+            Input::Action(action) => {
+                if !self.paused {
+                    self.pending.push(action);
+                }
+            }
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// Steps one frame with the queued keys, unless paused.
+    ///
+    /// # Errors
+    /// As [`run_headless`].
+    pub fn advance<F: Flight<Action = A>, W: Write>(
+        &mut self,
+        flight: &mut F,
+        script: &Script<A>,
+        csv: Option<&mut CsvWriter<W>>,
+    ) -> Result<(), CliError> {
+        if self.paused {
+            return Ok(());
+        }
+        self.frame += 1;
+        self.total_frames += 1;
+        let result = step_frame(
+            flight,
+            script,
+            self.frame,
+            &self.pending,
+            &mut self.buffer,
+            csv,
+        );
+        self.pending.clear();
+        result
+    }
+}
+
+/// What an interactive run did, for the closing message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InteractiveSummary {
+    /// Frames stepped, across resets.
+    pub frames: u64,
+    /// Frames that missed their deadline.
+    pub overruns: u64,
+    /// Final datagram counters.
+    pub link: Option<LinkStats>,
+}
+
+/// Flies interactively until Q, Esc or Ctrl-C: keys in, HUD out, one frame per
+/// 1/fps seconds of wall time. The terminal is restored on every exit path.
+///
+/// # Errors
+/// Terminal I/O failures and the first failing step or CSV write.
+pub fn run_interactive<F: Flight, W: Write>(
+    flight: &mut F,
+    script: &Script<F::Action>,
+    fps: f64,
+    fg: Option<SocketAddrV4>,
+    mut csv: Option<&mut CsvWriter<W>>,
+) -> Result<InteractiveSummary, CliError> {
+    let guard = TerminalGuard::enter().context("setting up the terminal")?;
+    let mut out = io::stdout();
+    let mut hud = HudWriter::new();
+    let mut session = Session::new();
+    if let Some(csv) = csv.as_deref_mut() {
+        csv.write_record(0, &flight.snapshot())?;
+    }
+    let mut pacer = FramePacer::new(FramePacer::period_for(fps), Instant::now());
+    'run: loop {
+        // Drain every key that arrived during the last frame without blocking.
+        while event::poll(Duration::ZERO).context("reading the keyboard")? {
+            match event::read().context("reading the keyboard")? {
+                Event::Key(key) => {
+                    if let Some(input) = map_key::<F::Action>(&key) {
+                        if session.handle(input, flight, csv.as_deref_mut())? == Flow::Quit {
+                            break 'run;
+                        }
+                    }
+                }
+                Event::Resize(..) => {
+                    crossterm::execute!(
+                        out,
+                        crossterm::terminal::Clear(crossterm::terminal::ClearType::All)
+                    )
+                    .context("drawing the HUD")?;
+                    hud = HudWriter::new();
+                }
+                _ => {}
+            }
+        }
+        session.advance(flight, script, csv.as_deref_mut())?;
+        // Some ptys report 0x0; treat that like an unknown size.
+        let (width, height) = crossterm::terminal::size()
+            .ok()
+            .filter(|&(w, h)| w > 0 && h > 0)
+            .unwrap_or((80, 24));
+        let data = HudData::from_snapshot(
+            &flight.snapshot(),
+            flight.status(),
+            fg,
+            flight.link_stats(),
+            LoopStatus {
+                frame: session.frame(),
+                fps,
+                overruns: pacer.overruns(),
+                paused: session.paused(),
+            },
+            F::Action::KEY_HELP,
+        );
+        hud.draw(&mut out, &render_hud(&data), width, height)
+            .context("drawing the HUD")?;
+        let sleep = pacer.finish_frame(Instant::now());
+        if !sleep.is_zero() {
+            std::thread::sleep(sleep);
+        }
+    }
+    drop(guard);
+    Ok(InteractiveSummary {
+        frames: session.total_frames(),
+        overruns: pacer.overruns(),
+        link: flight.link_stats(),
+    })
+}
+
+/// Writes `text` and a newline to stdout, turning a closed pipe into an error
+/// instead of the panic `println!` would raise.
+fn print_stdout(text: &str) -> Result<(), CliError> {
+    let mut out = io::stdout().lock();
+    writeln!(out, "{text}")
+        .and_then(|()| out.flush())
+        .context("writing to stdout")?;
+    Ok(())
+}
+
+/// Flies `flight` as configured: headless (report on stdout: JSON with `--json`,
+/// else a short summary) or interactive (a one-line summary on stderr at the end).
+///
+/// # Errors
+/// Whatever the loop or the output reports.
+pub fn fly<F: Flight>(
+    mut flight: F,
+    script: &Script<F::Action>,
+    run: RunConfig,
+) -> Result<(), CliError> {
+    let RunConfig {
+        fps,
+        mode,
+        mut csv,
+        fg,
+        origin: _,
+    } = run;
+    match mode {
+        Mode::Headless { frames, json } => {
+            let mut progress = StderrProgress::new(frames);
+            let report = run_headless(
+                &mut flight,
+                script,
+                fps,
+                frames,
+                csv.as_mut(),
+                &mut progress,
+            )?;
+            if let Some(csv) = csv {
+                csv.finish()?;
+            }
+            let text = if json {
+                report.to_json().context("encoding the JSON report")?
+            } else {
+                report.human_summary()
+            };
+            print_stdout(&text)
+        }
+        Mode::Interactive => {
+            let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut())?;
+            if let Some(csv) = csv {
+                csv.finish()?;
+            }
+            let link = summary.link.map_or_else(String::new, |l| {
+                format!(", {} packets sent, {} failed", l.sent, l.failed)
+            });
+            eprintln!(
+                "sim-cli: flew {} frames, {} overruns{link}",
+                summary.frames, summary.overruns
+            );
+            Ok(())
+        }
+    }
+}
+
+/// Flies Palmer's Cessna 172.
+///
+/// INTEGRATOR: not wired yet. Implement [`Flight`] for the Palmer ECS world and
+/// replace this body with `fly(flight, &config.script, config.run)`.
+///
+/// # Errors
+/// Currently always: the flight loop is not wired to the ECS yet (exit status 1).
+pub fn run_palmer(config: PalmerConfig) -> Result<(), CliError> {
+    drop(config);
+    Err(CliError::runtime(
+        "flight loop not wired yet: the palmer model is not connected to sim-cli (run::run_palmer)",
+    ))
+}
+
+/// Flies Bourg's 6-DoF aircraft.
+///
+/// INTEGRATOR: not wired yet. Implement [`Flight`] for the Bourg ECS world and
+/// replace this body with `fly(flight, &config.script, config.run)`.
+///
+/// # Errors
+/// Currently always: the flight loop is not wired to the ECS yet (exit status 1).
+pub fn run_bourg(config: BourgConfig) -> Result<(), CliError> {
+    drop(config);
+    Err(CliError::runtime(
+        "flight loop not wired yet: the bourg model is not connected to sim-cli (run::run_bourg)",
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::samples;
+    use crate::report::ModelDetails;
+    use fdm_core::palmer::PalmerAction;
+
+    /// A stand-in model: records the actions of every step; position x counts steps.
+    #[derive(Default)]
+    struct Fake {
+        steps: Vec<Vec<PalmerAction>>,
+        resets: u32,
+        fail_at: Option<usize>,
+    }
+
+    impl Flight for Fake {
+        type Action = PalmerAction;
+
+        fn step(&mut self, actions: &[PalmerAction]) -> anyhow::Result<()> {
+            if self.fail_at == Some(self.steps.len() + 1) {
+                anyhow::bail!("model diverged");
+            }
+            self.steps.push(actions.to_vec());
+            Ok(())
+        }
+
+        fn reset(&mut self) -> anyhow::Result<()> {
+            self.steps.clear();
+            self.resets += 1;
+            Ok(())
+        }
+
+        fn snapshot(&self) -> Snapshot {
+            let mut s = samples::palmer();
+            s.common.time_s = self.steps.len() as f64 * 0.1;
+            s.common.position = [self.steps.len() as f64, 0.0, 0.0];
+            if let ModelDetails::Palmer(p) = &mut s.details {
+                p.controls.throttle = self.steps.iter().flatten().count() as f64;
+            }
+            s
+        }
+
+        fn status(&self) -> FlightStatus {
+            FlightStatus::OnGround
+        }
+
+        fn link_stats(&self) -> Option<LinkStats> {
+            None
+        }
+    }
+
+    fn script(text: &str) -> Script<PalmerAction> {
+        Script::parse(text).unwrap()
+    }
+
+    #[test]
+    fn headless_applies_script_rules_on_their_frames() {
+        use PalmerAction::*;
+        let mut flight = Fake::default();
+        let script = script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n");
+        let mut progress = StderrProgress::with_enabled(4, false);
+        let report =
+            run_headless::<_, Vec<u8>>(&mut flight, &script, 10.0, 4, None, &mut progress).unwrap();
+        assert_eq!(
+            flight.steps,
+            [
+                vec![],
+                vec![ThrottleUp],
+                vec![ThrottleUp, FlapsDown],
+                vec![]
+            ]
+        );
+        assert_eq!(report.frames, 4);
+        assert_eq!(report.fps, 10.0);
+        assert_eq!(report.common.position[0], 4.0);
+    }
+
+    #[test]
+    fn headless_zero_frames_reports_the_initial_state() {
+        let mut flight = Fake::default();
+        let mut progress = StderrProgress::with_enabled(0, false);
+        let report = run_headless::<_, Vec<u8>>(
+            &mut flight,
+            &Script::default(),
+            30.0,
+            0,
+            None,
+            &mut progress,
+        )
+        .unwrap();
+        assert_eq!((report.frames, report.common.time_s), (0, 0.0));
+        assert!(flight.steps.is_empty());
+    }
+
+    #[test]
+    fn headless_csv_has_initial_row_and_one_row_per_frame() {
+        let mut flight = Fake::default();
+        let mut csv = CsvWriter::new(Vec::new(), "mem");
+        let mut progress = StderrProgress::with_enabled(3, false);
+        run_headless(
+            &mut flight,
+            &Script::default(),
+            10.0,
+            3,
+            Some(&mut csv),
+            &mut progress,
+        )
+        .unwrap();
+        let text = String::from_utf8(csv.finish().unwrap()).unwrap();
+        let frames: Vec<&str> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap())
+            .collect();
+        assert_eq!(frames, ["0", "1", "2", "3"]);
+        assert!(text.lines().nth(2).unwrap().starts_with("1,0.1,1,"));
+    }
+
+    #[test]
+    fn step_errors_name_the_frame_and_exit_1() {
+        let mut flight = Fake {
+            fail_at: Some(3),
+            ..Fake::default()
+        };
+        let mut progress = StderrProgress::with_enabled(5, false);
+        let err = run_headless::<_, Vec<u8>>(
+            &mut flight,
+            &Script::default(),
+            10.0,
+            5,
+            None,
+            &mut progress,
+        )
+        .unwrap_err();
+        assert_eq!(err.exit_code(), 1);
+        assert_eq!(err.one_line(), "frame 3: model diverged");
+    }
+
+    #[test]
+    fn session_keys_pause_reset_quit() {
+        use PalmerAction::*;
+        let mut flight = Fake::default();
+        let script = script("1-1 flaps-down\n");
+        let mut csv = CsvWriter::new(Vec::new(), "mem");
+        let mut s = Session::new();
+        fn handle(
+            s: &mut Session<PalmerAction>,
+            f: &mut Fake,
+            csv: &mut CsvWriter<Vec<u8>>,
+            input: Input<PalmerAction>,
+        ) -> Flow {
+            s.handle(input, f, Some(csv)).unwrap()
+        }
+
+        // Frame 1: script first, then keys in the order pressed.
+        handle(&mut s, &mut flight, &mut csv, Input::Action(ThrottleUp));
+        handle(&mut s, &mut flight, &mut csv, Input::Action(ThrottleUp));
+        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        assert_eq!(flight.steps, [vec![FlapsDown, ThrottleUp, ThrottleUp]]);
+
+        // Paused: no steps, keys ignored.
+        handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Pause));
+        handle(&mut s, &mut flight, &mut csv, Input::Action(AlphaUp));
+        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        assert_eq!((s.frame(), flight.steps.len(), s.paused()), (1, 1, true));
+        handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Pause));
+        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        assert_eq!(flight.steps[1], []);
+
+        // Reset: model reset, frame 0, the script starts over.
+        handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Reset));
+        assert_eq!((s.frame(), flight.resets), (0, 1));
+        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        assert_eq!(flight.steps, [vec![FlapsDown]]);
+        assert_eq!(s.total_frames(), 3);
+
+        assert_eq!(
+            handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Quit)),
+            Flow::Quit
+        );
+        let text = String::from_utf8(csv.finish().unwrap()).unwrap();
+        let frames: Vec<&str> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap())
+            .collect();
+        // Rows are only written by steps and resets (the loop writes the first row 0).
+        assert_eq!(frames, ["1", "2", "0", "1"]);
+    }
+
+    #[test]
+    fn unwired_runs_say_so() {
+        let run = || RunConfig {
+            fps: 30.0,
+            mode: Mode::Headless {
+                frames: 1,
+                json: true,
+            },
+            csv: None,
+            fg: None,
+            origin: crate::origin::Origin::default(),
+        };
+        let err = run_bourg(BourgConfig {
+            run: run(),
+            script: Script::default(),
+        })
+        .unwrap_err();
+        assert_eq!(err.exit_code(), 1);
+        assert!(err.to_string().starts_with("flight loop not wired yet"));
+    }
+}
