@@ -77,10 +77,8 @@ fn palmer_reference_cases_through_the_ecs_are_bit_identical_to_fdm_core() {
             }
         }
         for (case, &entity) in cases.iter().zip(&entities) {
-            // Against the original C program: serde_json's float parser is not
-            // correctly rounded (1 ulp off on some reference numbers), so this
-            // allows 1e-12 relative; `palmer_reference.rs` compares the exact
-            // decimal text bit for bit.
+            // Against the original C program, exactly (values, not bits: the
+            // reference's 0 for y is +0.0, the model's may be -0.0).
             let last = sim.palmer_state(entity).unwrap();
             let want = case.final_state;
             for (got, want) in [
@@ -93,8 +91,8 @@ fn palmer_reference_cases_through_the_ecs_are_bit_identical_to_fdm_core() {
                 (last.velocity_mps.z, want.velocity_mps.z),
             ] {
                 assert!(
-                    (got - want).abs() <= 1e-12 * want.abs(),
-                    "{mode:?} {}: {got} vs the original's {want}",
+                    got == want,
+                    "{mode:?} {}: {got:?} vs the original's {want:?}",
                     case.name
                 );
             }

@@ -73,10 +73,40 @@ pub use resources::{Execution, Resources};
 pub use schedule::{Schedule, System};
 pub use simulation::Simulation;
 
-/// Errors of this crate's constructors.
+/// Errors of this crate: a bad frame rate, or an entity that is not (or no
+/// longer) an aircraft of the model an operation needs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum EcsError {
     /// A frame rate of 0 frames per second has no time step.
     #[error("the frame rate must be at least 1 frame per second")]
     ZeroFps,
+    /// The entity does not exist (never spawned here, or despawned).
+    #[error("no such entity")]
+    NoSuchEntity,
+    /// The entity lacks a component the operation needs, i.e. it is an
+    /// aircraft of the other model (e.g. a Bourg action pushed to a Palmer
+    /// aircraft).
+    #[error("the entity has no `{component}` component: it is not an aircraft of that model")]
+    MissingComponent {
+        /// The missing component's type name.
+        component: &'static str,
+    },
+}
+
+impl EcsError {
+    /// [`EcsError::MissingComponent`] for component `T`.
+    #[must_use]
+    pub fn missing<T: ?Sized>() -> Self {
+        Self::MissingComponent {
+            component: std::any::type_name::<T>(),
+        }
+    }
+
+    /// Maps a hecs lookup error about component `T`.
+    fn component<T: ?Sized>(error: &hecs::ComponentError) -> Self {
+        match error {
+            hecs::ComponentError::NoSuchEntity => Self::NoSuchEntity,
+            hecs::ComponentError::MissingComponent(_) => Self::missing::<T>(),
+        }
+    }
 }

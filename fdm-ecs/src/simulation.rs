@@ -8,7 +8,7 @@ use fdm_core::bourg::{Aircraft, BourgControls, BourgState};
 use fdm_core::palmer::{PalmerAircraft, PalmerControls, PalmerState};
 use fdm_core::script::Script;
 use fgnet::{FgNetFdm, SenderStats};
-use hecs::{Component, ComponentError, Entity, EntityBuilder, World};
+use hecs::{Component, Entity, EntityBuilder, QueryOneError, World};
 
 use crate::components::{
     BourgInput, BourgParams, FlightGearLink, FrameInput, PalmerInput, PalmerParams, ScriptInput,
@@ -17,6 +17,7 @@ use crate::geodesy::{Attitude, Geodetic};
 use crate::resources::Resources;
 use crate::schedule::Schedule;
 use crate::systems::{bourg_display, palmer_display, Display};
+use crate::EcsError;
 
 /// A world of aircraft (both models can be mixed), its [`Resources`] and the
 /// [`Schedule`] run by [`run_frame`](Self::run_frame).
@@ -56,6 +57,14 @@ pub struct Simulation {
     world: World,
     resources: Resources,
     schedule: Schedule,
+}
+
+/// Maps a failed single-entity query needing model component `T`.
+fn query_error<T>(error: QueryOneError) -> EcsError {
+    match error {
+        QueryOneError::NoSuchEntity => EcsError::NoSuchEntity,
+        QueryOneError::Unsatisfied => EcsError::missing::<T>(),
+    }
 }
 
 impl std::fmt::Debug for Simulation {
@@ -129,33 +138,98 @@ impl Simulation {
     /// and must match the entity's model.
     ///
     /// # Errors
-    /// [`ComponentError::NoSuchEntity`], or
-    /// [`ComponentError::MissingComponent`] when the entity is not an
-    /// aircraft of the script's model.
+    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] when the
+    /// entity is not an aircraft of the script's model.
     pub fn set_script<A: Component>(
         &mut self,
         entity: Entity,
         script: Arc<Script<A>>,
-    ) -> Result<(), ComponentError> {
-        self.world.get::<&FrameInput<A>>(entity)?;
+    ) -> Result<(), EcsError> {
+        if let Err(e) = self.world.get::<&FrameInput<A>>(entity) {
+            return Err(EcsError::component::<FrameInput<A>>(&e));
+        }
         self.world
             .insert_one(entity, ScriptInput(script))
-            .map_err(ComponentError::from)
+            .map_err(|_| EcsError::NoSuchEntity)
     }
 
     /// Queues `action` (a key press) for `entity`'s next frame. `A` is
     /// `PalmerAction` or `BourgAction` and must match the entity's model.
     ///
     /// # Errors
-    /// [`ComponentError::NoSuchEntity`], or
-    /// [`ComponentError::MissingComponent`] when the entity is not an
-    /// aircraft of the action's model.
-    pub fn push_input<A: Component>(
+    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] when the
+    /// entity is not an aircraft of the action's model.
+    pub fn push_input<A: Component>(&mut self, entity: Entity, action: A) -> Result<(), EcsError> {
+        self.world
+            .get::<&mut FrameInput<A>>(entity)
+            .map_err(|e| EcsError::component::<FrameInput<A>>(&e))?
+            .push(action);
+        Ok(())
+    }
+
+    /// Puts a Palmer aircraft back to `controls` and `state` (e.g. the
+    /// interactive reset key): drops its queued input and recomputes its
+    /// geodetic position, attitude and packet at once, as at spawn. Its
+    /// parameters, script and FlightGear link stay.
+    ///
+    /// # Errors
+    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] for a
+    /// Bourg aircraft.
+    pub fn reset_palmer(
         &mut self,
         entity: Entity,
-        action: A,
-    ) -> Result<(), ComponentError> {
-        self.world.get::<&mut FrameInput<A>>(entity)?.push(action);
+        controls: PalmerControls,
+        state: PalmerState,
+    ) -> Result<(), EcsError> {
+        let origin = self.resources.origin;
+        let (params, c, s, input, geodetic, attitude, packet) = self
+            .world
+            .query_one_mut::<(
+                &PalmerParams,
+                &mut PalmerControls,
+                &mut PalmerState,
+                &mut PalmerInput,
+                &mut Geodetic,
+                &mut Attitude,
+                &mut FgNetFdm,
+            )>(entity)
+            .map_err(query_error::<PalmerParams>)?;
+        let display = palmer_display(params, &controls, &state, &origin);
+        (*c, *s) = (controls, state);
+        input.drain();
+        (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
+        Ok(())
+    }
+
+    /// Puts a Bourg aircraft back to `controls` and `state`; see
+    /// [`reset_palmer`](Self::reset_palmer).
+    ///
+    /// # Errors
+    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] for a
+    /// Palmer aircraft.
+    pub fn reset_bourg(
+        &mut self,
+        entity: Entity,
+        controls: BourgControls,
+        state: BourgState,
+    ) -> Result<(), EcsError> {
+        let origin = self.resources.origin;
+        let (_, c, s, input, geodetic, attitude, packet) = self
+            .world
+            .query_one_mut::<(
+                &BourgParams,
+                &mut BourgControls,
+                &mut BourgState,
+                &mut BourgInput,
+                &mut Geodetic,
+                &mut Attitude,
+                &mut FgNetFdm,
+            )>(entity)
+            .map_err(query_error::<BourgParams>)?;
+        let display = bourg_display(&controls, &state, &origin);
+        (*c, *s) = (controls, state);
+        input.drain();
+        (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
         Ok(())
     }
 
@@ -254,12 +328,14 @@ impl Simulation {
             .and_then(|mut link| link.take_first_failure())
     }
 
-    /// Removes an aircraft.
+    /// Removes an aircraft (closing its FlightGear link, if any).
     ///
     /// # Errors
-    /// [`hecs::NoSuchEntity`] if it does not exist.
-    pub fn despawn(&mut self, entity: Entity) -> Result<(), hecs::NoSuchEntity> {
-        self.world.despawn(entity)
+    /// [`EcsError::NoSuchEntity`] if it does not exist.
+    pub fn despawn(&mut self, entity: Entity) -> Result<(), EcsError> {
+        self.world
+            .despawn(entity)
+            .map_err(|_| EcsError::NoSuchEntity)
     }
 
     /// The resources.

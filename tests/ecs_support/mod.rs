@@ -56,8 +56,8 @@ pub fn bourg_controls_bits(c: &BourgControls) -> (u32, u32, [i8; 3], bool) {
 pub struct PalmerCase {
     pub name: String,
     pub controls: PalmerControls,
-    /// Final state of the original C program: time, position, velocity (as
-    /// read by serde_json, whose float parser may be 1 ulp off).
+    /// Final state of the original C program: time, position, velocity
+    /// (serde_json with `float_roundtrip` reads the decimals exactly).
     pub final_state: PalmerState,
 }
 
