@@ -1,0 +1,85 @@
+//! One step of the `f32` Bourg model from a representative flying state: the
+//! thesis "roll" scenario (thrust up on frames 1-5, pitch up 6-246, roll right
+//! 247-307) flown to frame 280, in the middle of the roll with the ailerons
+//! deflected, banked and turning, all eight elements well above 1 ft/s.
+//!
+//! Run: `cargo bench --bench bourg_step -- --warm-up-time 1 --measurement-time 5`.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use fdm_suite::fdm_core::bourg::{
+    step, Aircraft, AircraftOf, BourgAction, BourgControls, BourgControlsOf, BourgState,
+    BourgStateOf,
+};
+use fdm_suite::fdm_core::script::Script;
+
+const DT: f32 = 1.0 / 30.0;
+
+fn flying_state() -> (Aircraft, BourgControls, BourgState) {
+    let script = Script::<BourgAction>::parse("1-5 thrust-up\n6-246 pitch-up\n247-307 roll-right")
+        .expect("script parses");
+    let aircraft = Aircraft::bourg_default();
+    let mut controls = BourgControls::initial();
+    let mut state = BourgState::initial();
+    for frame in 1..=280 {
+        controls = controls.neutralize_surfaces();
+        for action in script.actions_at(frame) {
+            controls = controls.apply(action);
+        }
+        state = step(&aircraft, &controls, &state, DT);
+    }
+    // The next frame's controls: the roll key is still held.
+    let controls = controls.neutralize_surfaces().apply(BourgAction::RollRight);
+    (aircraft, controls, state)
+}
+
+fn bench_step(c: &mut Criterion) {
+    let (aircraft, controls, state) = flying_state();
+    c.bench_function("bourg_step_f32", |b| {
+        b.iter(|| {
+            step(
+                black_box(&aircraft),
+                black_box(&controls),
+                black_box(&state),
+                black_box(DT),
+            )
+        });
+    });
+
+    let aircraft64 = AircraftOf::<f64>::bourg_default();
+    let controls64 = BourgControlsOf::<f64> {
+        thrust_lb: f64::from(controls.thrust_lb),
+        rudder_deg: f64::from(controls.rudder_deg),
+        port_aileron: controls.port_aileron,
+        starboard_aileron: controls.starboard_aileron,
+        elevators: controls.elevators,
+        landing_flaps: controls.landing_flaps,
+    };
+    let widen = |v: &fdm_suite::fdm_core::bourg::Vector3<f32>| v.map(f64::from);
+    let state64 = BourgStateOf::<f64> {
+        position: widen(&state.position),
+        velocity: widen(&state.velocity),
+        velocity_body: widen(&state.velocity_body),
+        angular_velocity: widen(&state.angular_velocity),
+        orientation: fdm_suite::fdm_core::bourg::Quaternion::from(
+            state.orientation.coords.map(f64::from),
+        ),
+        speed: f64::from(state.speed),
+        euler_angles_deg: widen(&state.euler_angles_deg),
+        stalling: state.stalling,
+    };
+    c.bench_function("bourg_step_f64", |b| {
+        b.iter(|| {
+            step(
+                black_box(&aircraft64),
+                black_box(&controls64),
+                black_box(&state64),
+                black_box(1.0f64 / 30.0),
+            )
+        });
+    });
+}
+
+criterion_group!(benches, bench_step);
+criterion_main!(benches);

@@ -1,0 +1,415 @@
+//! The airframe as data ([`ElementOf`], [`AirframeOf`]), its mass properties
+//! ([`MassPropertiesOf`]) and the two bundled ([`AircraftOf`]).
+
+use core::fmt;
+
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+use super::controls::RUDDER_DEFLECTION_DEG;
+use super::float::BourgFloat;
+use super::ops::{degrees_to_radians, determinant, inverse, normalize};
+
+/// Which airfoil table an element flies with: the original's integer flap
+/// code (`iFlap`).
+///
+/// On a wing, a trailing edge deflected down adds camber and lift; deflected up
+/// it removes lift. So [`Flap::TrailingEdgeUp`] on the elevators pitches the
+/// nose up, and on the port aileron (with the starboard one down) rolls left.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Flap {
+    /// Code −1: the "flaps down" tables (more lift).
+    TrailingEdgeDown,
+    /// Code 0: the plain airfoil tables, no deflection.
+    #[default]
+    Neutral,
+    /// Code +1: the "flaps up" tables (less lift).
+    TrailingEdgeUp,
+}
+
+impl Flap {
+    /// The original's integer code: −1, 0 or +1.
+    #[must_use]
+    pub const fn code(self) -> i8 {
+        match self {
+            Self::TrailingEdgeDown => -1,
+            Self::Neutral => 0,
+            Self::TrailingEdgeUp => 1,
+        }
+    }
+
+    /// The flap for an integer code, `None` unless it is −1, 0 or +1.
+    #[must_use]
+    pub const fn from_code(code: i8) -> Option<Self> {
+        match code {
+            -1 => Some(Self::TrailingEdgeDown),
+            0 => Some(Self::Neutral),
+            1 => Some(Self::TrailingEdgeUp),
+            _ => None,
+        }
+    }
+}
+
+/// One of the airframe's eight point-mass lifting elements (the original's
+/// `PointMass`), in float type `F` (see [`Element`] for the `f32` alias).
+///
+/// Roles are fixed by index, as in the original: 0 and 3 are the outboard
+/// wing sections with the ailerons (port, starboard), 1 and 2 the inboard
+/// sections with the landing flaps (port, starboard), 4 and 5 the elevators
+/// (port, starboard), 6 the all-moving vertical tail (rudder) and 7 the
+/// fuselage, which only makes drag.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "F: BourgFloat")]
+pub struct ElementOf<F: BourgFloat> {
+    /// Mass, slug.
+    pub mass_slug: F,
+    /// Position in design coordinates, ft: measured from the tail (x forward),
+    /// the centerline (y left) and the baseline (z up).
+    pub design_position_ft: Vector3<F>,
+    /// Moments of inertia about the element's own axes `(Ixx, Iyy, Izz)`, slug·ft².
+    pub local_inertia: Vector3<F>,
+    /// Incidence (rotation about the body y axis), degrees. For the rudder
+    /// (element 6) this is the rigging; the rudder control adds to it.
+    pub incidence_deg: F,
+    /// Dihedral (rotation about the body x axis), degrees; 90 for a vertical surface.
+    pub dihedral_deg: F,
+    /// Planform area, ft².
+    pub area_ft2: F,
+    /// The element's rigged flap setting: the table it flies with while no
+    /// control deflects it (see [`BourgControlsOf::element_flap`](super::BourgControlsOf::element_flap)).
+    pub flap: Flap,
+}
+
+/// An airframe: eight lifting elements (see [`ElementOf`] for their fixed
+/// roles), in float type `F` (see [`Airframe`] for the `f32` alias).
+///
+/// Serialisable, so airframes can come from user files; check those with
+/// [`validate`](Self::validate) (or build an [`AircraftOf`] with
+/// [`AircraftOf::new`], which does).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "F: BourgFloat")]
+pub struct AirframeOf<F: BourgFloat> {
+    /// The elements, in the order of their roles.
+    pub elements: [ElementOf<F>; 8],
+}
+
+/// The `f32` element (the original's type).
+pub type Element = ElementOf<f32>;
+/// The `f32` airframe (the original's type).
+pub type Airframe = AirframeOf<f32>;
+/// The `f64` element.
+pub type Element64 = ElementOf<f64>;
+/// The `f64` airframe.
+pub type Airframe64 = AirframeOf<f64>;
+
+impl<F: BourgFloat> AirframeOf<F> {
+    /// Bourg's airplane (spec table "Element data"), all flaps neutral.
+    #[must_use]
+    pub fn bourg_default() -> Self {
+        let element = |i: usize| {
+            let (mass, dsg, inertia, incidence, dihedral, area) = F::DEFAULT_ELEMENTS[i];
+            ElementOf {
+                mass_slug: mass,
+                design_position_ft: Vector3::new(dsg[0], dsg[1], dsg[2]),
+                local_inertia: Vector3::new(inertia[0], inertia[1], inertia[2]),
+                incidence_deg: incidence,
+                dihedral_deg: dihedral,
+                area_ft2: area,
+                flap: Flap::Neutral,
+            }
+        };
+        Self {
+            elements: core::array::from_fn(element),
+        }
+    }
+
+    /// Checks a (user-supplied) airframe: every number finite, total mass
+    /// positive, inertia tensor invertible with a finite inverse.
+    ///
+    /// # Errors
+    /// The first problem found, as an [`AirframeError`].
+    pub fn validate(&self) -> Result<(), AirframeError> {
+        for (index, e) in self.elements.iter().enumerate() {
+            let fields = [
+                ("mass_slug", e.mass_slug),
+                ("design_position_ft.x", e.design_position_ft.x),
+                ("design_position_ft.y", e.design_position_ft.y),
+                ("design_position_ft.z", e.design_position_ft.z),
+                ("local_inertia.x", e.local_inertia.x),
+                ("local_inertia.y", e.local_inertia.y),
+                ("local_inertia.z", e.local_inertia.z),
+                ("incidence_deg", e.incidence_deg),
+                ("dihedral_deg", e.dihedral_deg),
+                ("area_ft2", e.area_ft2),
+            ];
+            if let Some((field, _)) = fields.iter().find(|(_, v)| !F::is_finite(*v)) {
+                return Err(AirframeError::NonFinite {
+                    element: index,
+                    field,
+                });
+            }
+        }
+        let mass = MassPropertiesOf::from_airframe(self);
+        let positive = mass.mass_slug > F::ZERO; // false for NaN
+        if !positive || !F::is_finite(mass.mass_slug) {
+            return Err(AirframeError::NonPositiveMass {
+                total_mass_slug: mass.mass_slug.to_f64(),
+            });
+        }
+        let d = determinant(&mass.inertia);
+        let all_finite = |m: &Matrix3<F>| m.iter().all(|v| F::is_finite(*v));
+        if d == F::ZERO || !F::is_finite(d) || !all_finite(&mass.inertia_inverse) {
+            return Err(AirframeError::SingularInertia {
+                determinant: d.to_f64(),
+            });
+        }
+        let derived_finite = F::is_finite(mass.cg_ft.x)
+            && F::is_finite(mass.cg_ft.y)
+            && F::is_finite(mass.cg_ft.z)
+            && all_finite(&mass.inertia);
+        if !derived_finite {
+            return Err(AirframeError::SingularInertia {
+                determinant: d.to_f64(),
+            });
+        }
+        Ok(())
+    }
+}
+
+impl<F: BourgFloat> Default for AirframeOf<F> {
+    fn default() -> Self {
+        Self::bourg_default()
+    }
+}
+
+/// Why an airframe was rejected by [`AirframeOf::validate`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AirframeError {
+    /// A number of an element is NaN or infinite.
+    NonFinite {
+        /// Index of the element (0..8).
+        element: usize,
+        /// Name of the field, e.g. `"design_position_ft.y"`.
+        field: &'static str,
+    },
+    /// The total mass is zero, negative, or not finite.
+    NonPositiveMass {
+        /// The total mass, slug (widened to `f64`).
+        total_mass_slug: f64,
+    },
+    /// The inertia tensor about the CG is singular (determinant 0, as the
+    /// original computes it) or its inverse or the CG is not finite.
+    SingularInertia {
+        /// The determinant, slug³·ft⁶ (widened to `f64`).
+        determinant: f64,
+    },
+}
+
+impl fmt::Display for AirframeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFinite { element, field } => {
+                write!(f, "element {element}: `{field}` is not a finite number")
+            }
+            Self::NonPositiveMass { total_mass_slug } => {
+                write!(
+                    f,
+                    "total mass {total_mass_slug} slug is not a positive number"
+                )
+            }
+            Self::SingularInertia { determinant } => write!(
+                f,
+                "the inertia tensor is singular or not finite (determinant {determinant})"
+            ),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for AirframeError {}
+
+/// Mass properties derived once from an airframe (the original's
+/// `CalcAirplaneMassProperties`), in float type `F` (see [`MassProperties`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "F: BourgFloat")]
+pub struct MassPropertiesOf<F: BourgFloat> {
+    /// Total mass, slug (67.71 for Bourg's airplane).
+    pub mass_slug: F,
+    /// Centre of gravity in design coordinates, ft.
+    pub cg_ft: Vector3<F>,
+    /// Each element's position relative to the CG (body axes), ft.
+    pub cg_offsets_ft: [Vector3<F>; 8],
+    /// Each element's unit normal (body axes) at its rigged incidence and
+    /// dihedral. The loads use the rudder's (element 6) at the current rudder
+    /// incidence instead ([`AircraftOf::rudder_normal`]).
+    pub normals: [Vector3<F>; 8],
+    /// Inertia tensor about the CG, body axes, slug·ft².
+    pub inertia: Matrix3<F>,
+    /// Its inverse as the original computes it, 1/(slug·ft²).
+    pub inertia_inverse: Matrix3<F>,
+}
+
+/// The `f32` mass properties (the original's type).
+pub type MassProperties = MassPropertiesOf<f32>;
+/// The `f64` mass properties.
+pub type MassProperties64 = MassPropertiesOf<f64>;
+
+/// An element's unit normal for an incidence and a dihedral in degrees:
+/// `Normalize((sin in, cos in · sin di, cos in · cos di))` with `in`, `di` in
+/// radians, all in `F` (the original's `sinf`/`cosf` and float products).
+#[inline]
+#[must_use]
+pub fn element_normal<F: BourgFloat>(incidence_deg: F, dihedral_deg: F) -> Vector3<F> {
+    let inc = degrees_to_radians(incidence_deg);
+    let dih = degrees_to_radians(dihedral_deg);
+    normalize(&Vector3::new(
+        F::sin(inc),
+        F::cos(inc) * F::sin(dih),
+        F::cos(inc) * F::cos(dih),
+    ))
+}
+
+impl<F: BourgFloat> MassPropertiesOf<F> {
+    /// Computes the mass properties in the original's order: normals; total
+    /// mass summed over elements 0..7; first moment `Σ mᵢ·dsgᵢ` and
+    /// CG = moment / mass; offsets `dsgᵢ − CG`; the inertia sums
+    /// `Ixx = Σ [Iloc.x + m(cy² + cz²)]`, `Iyy = Σ [Iloc.y + m(cz² + cx²)]`,
+    /// `Izz = Σ [Iloc.z + m(cx² + cy²)]`, `Ixy = Σ m(cx cy)`, `Ixz = Σ m(cx cz)`,
+    /// `Iyz = Σ m(cy cz)`; the tensor `[Ixx −Ixy −Ixz; −Ixy Iyy −Iyz; −Ixz −Iyz Izz]`
+    /// and its [`inverse`].
+    ///
+    /// No validation: a zero mass gives non-finite values (see
+    /// [`AirframeOf::validate`]).
+    #[must_use]
+    pub fn from_airframe(airframe: &AirframeOf<F>) -> Self {
+        let elements = &airframe.elements;
+        let normals = core::array::from_fn(|i| {
+            element_normal(elements[i].incidence_deg, elements[i].dihedral_deg)
+        });
+
+        let mut mass = F::ZERO;
+        for e in elements {
+            mass += e.mass_slug;
+        }
+
+        let mut moment = Vector3::new(F::ZERO, F::ZERO, F::ZERO);
+        for e in elements {
+            moment += e.design_position_ft * e.mass_slug;
+        }
+        let cg = moment / mass;
+        let cg_offsets: [Vector3<F>; 8] =
+            core::array::from_fn(|i| elements[i].design_position_ft - cg);
+
+        let (mut ixx, mut iyy, mut izz) = (F::ZERO, F::ZERO, F::ZERO);
+        let (mut ixy, mut ixz, mut iyz) = (F::ZERO, F::ZERO, F::ZERO);
+        for (e, c) in elements.iter().zip(&cg_offsets) {
+            let (m, l) = (e.mass_slug, &e.local_inertia);
+            ixx += l.x + m * (c.y * c.y + c.z * c.z);
+            iyy += l.y + m * (c.z * c.z + c.x * c.x);
+            izz += l.z + m * (c.x * c.x + c.y * c.y);
+            ixy += m * (c.x * c.y);
+            ixz += m * (c.x * c.z);
+            iyz += m * (c.y * c.z);
+        }
+        let inertia = Matrix3::new(ixx, -ixy, -ixz, -ixy, iyy, -iyz, -ixz, -iyz, izz);
+
+        Self {
+            mass_slug: mass,
+            cg_ft: cg,
+            cg_offsets_ft: cg_offsets,
+            normals,
+            inertia,
+            inertia_inverse: inverse(&inertia),
+        }
+    }
+}
+
+/// An airframe bundled with its mass properties, computed once: what
+/// [`loads`](super::loads) and [`step`](super::step) take. In float type `F`
+/// (see [`Aircraft`]).
+///
+/// The fields are private so the two always agree; build one with
+/// [`new`](Self::new) (validating) or [`bourg_default`](Self::bourg_default).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AircraftOf<F: BourgFloat> {
+    airframe: AirframeOf<F>,
+    mass: MassPropertiesOf<F>,
+    /// The rudder's normal for the incidences the controls produce (rigging
+    /// + 0, +16, −16 degrees), so the loads need not recompute it each frame.
+    rudder_normals: [(F, Vector3<F>); 3],
+}
+
+/// The `f32` aircraft (the original's type).
+pub type Aircraft = AircraftOf<f32>;
+/// The `f64` aircraft.
+pub type Aircraft64 = AircraftOf<f64>;
+
+impl<F: BourgFloat> AircraftOf<F> {
+    /// Validates the airframe and computes its mass properties.
+    ///
+    /// # Errors
+    /// [`AirframeError`] from [`AirframeOf::validate`].
+    pub fn new(airframe: AirframeOf<F>) -> Result<Self, AirframeError> {
+        airframe.validate()?;
+        Ok(Self::from_valid(airframe))
+    }
+
+    /// Bourg's airplane ([`AirframeOf::bourg_default`]).
+    #[must_use]
+    pub fn bourg_default() -> Self {
+        Self::from_valid(AirframeOf::bourg_default())
+    }
+
+    fn from_valid(airframe: AirframeOf<F>) -> Self {
+        let rudder = &airframe.elements[6];
+        let deflection = F::from_f64(f64::from(RUDDER_DEFLECTION_DEG));
+        let normal_at = |deflection: F| {
+            let incidence = rudder.incidence_deg + deflection;
+            (incidence, element_normal(incidence, rudder.dihedral_deg))
+        };
+        Self {
+            mass: MassPropertiesOf::from_airframe(&airframe),
+            rudder_normals: [
+                normal_at(F::ZERO),
+                normal_at(deflection),
+                normal_at(-deflection),
+            ],
+            airframe,
+        }
+    }
+
+    /// The rudder's (element 6's) unit normal at an incidence in degrees:
+    /// [`element_normal`] of the incidence and the rudder's dihedral, taken
+    /// from a table precomputed for the incidences the controls produce
+    /// (identical values; `+0` and `−0` give the same normal) and computed
+    /// otherwise.
+    #[inline]
+    #[must_use]
+    pub fn rudder_normal(&self, incidence_deg: F) -> Vector3<F> {
+        for (incidence, normal) in &self.rudder_normals {
+            if *incidence == incidence_deg {
+                return *normal;
+            }
+        }
+        element_normal(incidence_deg, self.airframe.elements[6].dihedral_deg)
+    }
+
+    /// The airframe.
+    #[must_use]
+    pub fn airframe(&self) -> &AirframeOf<F> {
+        &self.airframe
+    }
+
+    /// Its mass properties.
+    #[must_use]
+    pub fn mass_properties(&self) -> &MassPropertiesOf<F> {
+        &self.mass
+    }
+}
+
+impl<F: BourgFloat> Default for AircraftOf<F> {
+    fn default() -> Self {
+        Self::bourg_default()
+    }
+}

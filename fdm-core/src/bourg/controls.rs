@@ -1,0 +1,157 @@
+//! Pilot controls: thrust, rudder, ailerons, elevators, landing flaps.
+
+use serde::{Deserialize, Serialize};
+
+use super::airframe::{ElementOf, Flap};
+use super::float::BourgFloat;
+use super::BourgAction;
+
+/// Maximum thrust, lb (the original's `_MAXTHRUST`).
+pub const MAX_THRUST_LB: f32 = 3000.0;
+/// Thrust change per thrust key press, lb (the original's `_DTHRUST`; the
+/// book's listing uses 10, the reference numbers need 100).
+pub const DELTA_THRUST_LB: f32 = 100.0;
+/// Thrust at start, lb.
+pub const INITIAL_THRUST_LB: f32 = 500.0;
+/// Rudder incidence while a yaw key is held, degrees (+ for yaw left).
+pub const RUDDER_DEFLECTION_DEG: f32 = 16.0;
+
+/// The control settings of one frame, in float type `F` (see [`BourgControls`]).
+///
+/// The original mutates the control elements' `fIncidence` and `iFlap`
+/// directly; here the controls are a value and the model reads each element's
+/// setting through [`element_flap`](Self::element_flap) and
+/// [`rudder_incidence_deg`](Self::rudder_incidence_deg). For Bourg's airframe
+/// (all rigging neutral) this is exactly the original's behaviour.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "F: BourgFloat")]
+pub struct BourgControlsOf<F: BourgFloat> {
+    /// Engine thrust along the body x axis, lb, in `0..=MAX_THRUST_LB` when set
+    /// through [`apply`](Self::apply).
+    pub thrust_lb: F,
+    /// Rudder deflection, degrees, added to element 6's rigged incidence:
+    /// +16 yaw left, −16 yaw right, 0 neutral.
+    pub rudder_deg: F,
+    /// Port aileron (element 0).
+    pub port_aileron: Flap,
+    /// Starboard aileron (element 3).
+    pub starboard_aileron: Flap,
+    /// Both elevators (elements 4 and 5).
+    pub elevators: Flap,
+    /// Landing flaps (elements 1 and 2) down.
+    pub landing_flaps: bool,
+}
+
+/// The `f32` controls (the original's type).
+pub type BourgControls = BourgControlsOf<f32>;
+/// The `f64` controls.
+pub type BourgControls64 = BourgControlsOf<f64>;
+
+impl<F: BourgFloat> BourgControlsOf<F> {
+    /// The original's start: thrust 500 lb, surfaces neutral, flaps up.
+    #[must_use]
+    pub fn initial() -> Self {
+        Self {
+            thrust_lb: F::from_f64(f64::from(INITIAL_THRUST_LB)),
+            rudder_deg: F::ZERO,
+            port_aileron: Flap::Neutral,
+            starboard_aileron: Flap::Neutral,
+            elevators: Flap::Neutral,
+            landing_flaps: false,
+        }
+    }
+
+    /// One key press / script action, as the original's control functions:
+    ///
+    /// * thrust ± [`DELTA_THRUST_LB`], then clamped to `≤ MAX_THRUST_LB` (up) or
+    ///   `≥ 0` (down);
+    /// * yaw left / right: rudder +16° / −16°;
+    /// * roll left: port aileron trailing edge up, starboard down; roll right the reverse;
+    /// * pitch up: elevators trailing edge up; pitch down: down;
+    /// * flaps down: landing flaps down (they stay); flaps up: back up.
+    #[must_use]
+    pub fn apply(self, action: BourgAction) -> Self {
+        let delta = F::from_f64(f64::from(DELTA_THRUST_LB));
+        let rudder = F::from_f64(f64::from(RUDDER_DEFLECTION_DEG));
+        let mut c = self;
+        match action {
+            BourgAction::ThrustUp => {
+                let max = F::from_f64(f64::from(MAX_THRUST_LB));
+                c.thrust_lb += delta;
+                if c.thrust_lb > max {
+                    c.thrust_lb = max;
+                }
+            }
+            BourgAction::ThrustDown => {
+                c.thrust_lb -= delta;
+                if c.thrust_lb < F::ZERO {
+                    c.thrust_lb = F::ZERO;
+                }
+            }
+            BourgAction::YawLeft => c.rudder_deg = rudder,
+            BourgAction::YawRight => c.rudder_deg = -rudder,
+            BourgAction::RollLeft => {
+                c.port_aileron = Flap::TrailingEdgeUp;
+                c.starboard_aileron = Flap::TrailingEdgeDown;
+            }
+            BourgAction::RollRight => {
+                c.port_aileron = Flap::TrailingEdgeDown;
+                c.starboard_aileron = Flap::TrailingEdgeUp;
+            }
+            BourgAction::PitchUp => c.elevators = Flap::TrailingEdgeUp,
+            BourgAction::PitchDown => c.elevators = Flap::TrailingEdgeDown,
+            BourgAction::FlapsDown => c.landing_flaps = true,
+            BourgAction::FlapsUp => c.landing_flaps = false,
+        }
+        c
+    }
+
+    /// Rudder, ailerons and elevators back to neutral (done at the start of
+    /// every frame, before the frame's key presses); thrust and landing flaps
+    /// keep their settings.
+    #[must_use]
+    pub fn neutralize_surfaces(self) -> Self {
+        Self {
+            rudder_deg: F::ZERO,
+            port_aileron: Flap::Neutral,
+            starboard_aileron: Flap::Neutral,
+            elevators: Flap::Neutral,
+            ..self
+        }
+    }
+
+    /// The airfoil table element `index` flies with: the control's setting for
+    /// a control surface that is deflected (ailerons 0 and 3, landing flaps 1
+    /// and 2, elevators 4 and 5), otherwise the element's rigged
+    /// [`ElementOf::flap`].
+    #[inline]
+    #[must_use]
+    pub fn element_flap(&self, index: usize, element: &ElementOf<F>) -> Flap {
+        let control = match index {
+            0 => self.port_aileron,
+            3 => self.starboard_aileron,
+            1 | 2 if self.landing_flaps => Flap::TrailingEdgeDown,
+            4 | 5 => self.elevators,
+            _ => Flap::Neutral,
+        };
+        if control == Flap::Neutral {
+            element.flap
+        } else {
+            control
+        }
+    }
+
+    /// The rudder's (element 6's) current incidence, degrees: its rigging plus
+    /// [`rudder_deg`](Self::rudder_deg).
+    #[inline]
+    #[must_use]
+    pub fn rudder_incidence_deg(&self, rudder: &ElementOf<F>) -> F {
+        rudder.incidence_deg + self.rudder_deg
+    }
+}
+
+impl<F: BourgFloat> Default for BourgControlsOf<F> {
+    fn default() -> Self {
+        Self::initial()
+    }
+}
