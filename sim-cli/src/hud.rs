@@ -87,7 +87,7 @@ pub struct LoopStatus {
     /// Frames stepped since the start or the last reset.
     pub frame: u64,
     /// Frame rate.
-    pub fps: f64,
+    pub fps: u32,
     /// Frames that missed their real-time deadline.
     pub overruns: u64,
     /// The simulation is paused.
@@ -294,7 +294,7 @@ mod tests {
             }),
             LoopStatus {
                 frame: 369,
-                fps: 30.0,
+                fps: 30,
                 overruns: 1,
                 paused: false,
             },
@@ -329,7 +329,7 @@ mod tests {
             None,
             LoopStatus {
                 frame: 5,
-                fps: 30.0,
+                fps: 30,
                 overruns: 0,
                 paused: true,
             },

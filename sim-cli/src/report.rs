@@ -129,8 +129,8 @@ pub struct Report {
     /// `model` plus the model-specific fields.
     #[serde(flatten)]
     pub details: ModelDetails,
-    /// Frames per second of the run (dt = 1/fps).
-    pub fps: f64,
+    /// Frames per second of the run (dt = 1/fps), a whole number.
+    pub fps: u32,
     /// Frames stepped.
     pub frames: u64,
     /// The state both models have.
@@ -141,7 +141,7 @@ pub struct Report {
 impl Report {
     /// The report of a run of `frames` frames at `fps` ending in `snapshot`.
     #[must_use]
-    pub fn new(fps: f64, frames: u64, snapshot: &Snapshot) -> Self {
+    pub fn new(fps: u32, frames: u64, snapshot: &Snapshot) -> Self {
         Self {
             details: snapshot.details,
             fps,
@@ -410,7 +410,7 @@ mod tests {
 
     #[test]
     fn palmer_report_has_the_contract_fields() {
-        let v = serde_json::to_value(Report::new(10.0, 600, &palmer())).unwrap();
+        let v = serde_json::to_value(Report::new(10, 600, &palmer())).unwrap();
         for key in [
             "model",
             "fps",
@@ -430,6 +430,8 @@ mod tests {
         }
         assert_eq!(v["model"], "palmer");
         assert_eq!(v["frames"], 600);
+        // A whole number: the integer 10, not 10.0.
+        assert!(v["fps"].is_u64() && v["fps"] == 10, "{}", v["fps"]);
         assert_eq!(v["geodetic"]["alt_m"], 349.76);
         assert_eq!(v["attitude_deg"]["heading"], 359.5);
         assert_eq!(v["controls"]["flaps_deg"], 20.0);
@@ -439,7 +441,7 @@ mod tests {
 
     #[test]
     fn bourg_report_has_the_contract_fields() {
-        let v = serde_json::to_value(Report::new(30.0, 900, &bourg())).unwrap();
+        let v = serde_json::to_value(Report::new(30, 900, &bourg())).unwrap();
         for key in [
             "model",
             "fps",
@@ -468,7 +470,7 @@ mod tests {
     #[test]
     fn report_json_round_trips_through_serde() {
         for snap in [palmer(), bourg()] {
-            let report = Report::new(30.0, 7, &snap);
+            let report = Report::new(30, 7, &snap);
             let json = report.to_json().unwrap();
             assert!(!json.contains('\n'));
             let back: Report = serde_json::from_str(&json).unwrap();
@@ -537,7 +539,7 @@ mod tests {
     fn non_finite_numbers_become_null() {
         let mut snap = palmer();
         snap.common.position[2] = f64::NAN;
-        let v = serde_json::to_value(Report::new(30.0, 1, &snap)).unwrap();
+        let v = serde_json::to_value(Report::new(30, 1, &snap)).unwrap();
         assert!(v["position"][2].is_null());
     }
 
@@ -555,10 +557,10 @@ mod tests {
 
     #[test]
     fn human_summary_mentions_model_and_units() {
-        let s = Report::new(30.0, 900, &bourg()).human_summary();
+        let s = Report::new(30, 900, &bourg()).human_summary();
         assert!(s.starts_with("bourg: 900 frames at 30 fps"));
         assert!(s.contains("ft/s"));
-        let s = Report::new(10.0, 600, &palmer()).human_summary();
+        let s = Report::new(10, 600, &palmer()).human_summary();
         assert!(s.contains("throttle 75 %"));
     }
 }
