@@ -194,7 +194,7 @@ impl Report {
             c.geodetic.alt_m,
             c.attitude_deg.roll,
             c.attitude_deg.pitch,
-            c.attitude_deg.heading,
+            heading_2dp(c.attitude_deg.heading),
         );
         match self.details {
             ModelDetails::Palmer(p) => s.push_str(&format!(
@@ -217,6 +217,17 @@ impl Report {
             )),
         }
         s
+    }
+}
+
+/// A heading in [0, 360) rounded to 0.01 degree for display, wrapping so that
+/// 359.996 shows as 0.00 rather than 360.00.
+fn heading_2dp(deg: f64) -> f64 {
+    let rounded = (deg * 100.0).round() / 100.0;
+    if rounded >= 360.0 {
+        rounded - 360.0
+    } else {
+        rounded
     }
 }
 
@@ -562,5 +573,9 @@ mod tests {
         assert!(s.contains("ft/s"));
         let s = Report::new(10, 600, &palmer()).human_summary();
         assert!(s.contains("throttle 75 %"));
+        let mut snap = bourg();
+        snap.common.attitude_deg.heading = 359.999_999;
+        let s = Report::new(30, 1, &snap).human_summary();
+        assert!(s.contains("heading 0.00 deg"), "{s}");
     }
 }
