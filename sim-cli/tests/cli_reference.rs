@@ -254,3 +254,61 @@ fn bourg_reference_scenarios() {
         assert_eq!(r["stalling"], cpp["stalling"], "{name}: stalling");
     }
 }
+
+/// The sample scripts committed for the README run, and `bourg_roll.txt` is the
+/// thesis's roll scenario: it ends exactly where the C++ does.
+#[test]
+fn example_scripts_run() {
+    let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/scripts");
+    let roll = format!("{examples}/bourg_roll.txt");
+    let r = report(&[
+        "bourg",
+        "--headless",
+        "--json",
+        "--fps",
+        "30",
+        "--frames",
+        "900",
+        "--script",
+        &roll,
+    ]);
+    let reference = support::reference("bourg.json");
+    let case = reference["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "roll")
+        .unwrap();
+    let cpp = case["cpp_final_full_precision"]["position_ft"]
+        .as_array()
+        .unwrap();
+    let position = triple(&r["position"]);
+    for i in 0..3 {
+        assert_widened(position[i], f32_of(&cpp[i]), &format!("roll position[{i}]"));
+    }
+
+    let climb = format!("{examples}/palmer_climb_turn.txt");
+    let r = report(&[
+        "palmer",
+        "--headless",
+        "--json",
+        "--duration",
+        "120",
+        "--script",
+        &climb,
+    ]);
+    assert_eq!(r["frames"], 3600);
+    let c = &r["controls"];
+    assert_eq!(
+        [
+            num(&c["throttle"]),
+            num(&c["alpha_deg"]),
+            num(&c["bank_deg"])
+        ],
+        [1.0, 5.0, 0.0]
+    );
+    // Climbing after the turn, flying east-south-east.
+    assert!(triple(&r["position"])[2] > 100.0, "{r}");
+    let heading = num(&r["attitude_deg"]["heading"]);
+    assert!((90.0..135.0).contains(&heading), "{heading}");
+}
