@@ -18,6 +18,17 @@
 //! Stepping through the ECS gives the same bits as calling `fdm-core`
 //! directly (`tests/ecs_parity.rs`), in either execution mode.
 //!
+//! # The thesis's names
+//!
+//! | thesis (figures 10–12) | here |
+//! |---|---|
+//! | `DataFDM` (one component per aircraft) | split: [`components::PalmerParams`] / [`components::BourgParams`] (shared), `PalmerControls` / `BourgControls`, `PalmerState` / `BourgState` |
+//! | `KeyboardState` | [`components::FrameInput`] (+ [`components::ScriptInput`]) |
+//! | `FGNetFDM` | `fgnet::FgNetFdm`, plus [`components::Geodetic`] and [`components::Attitude`] |
+//! | (socket opened in SendPacket) | [`FlightGearLink`], optional per entity |
+//! | `DeltaTime`, `MaxThrust`, `DeltaThrust` | [`Resources::dt_palmer_s`], [`Resources::dt_bourg_s`], [`Resources::max_thrust_lb`], [`Resources::delta_thrust_lb`] |
+//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::make_packet`], [`systems::send_packet`] in [`Schedule::thesis`] |
+//!
 //! # Example: two aircraft, one per model
 //!
 //! ```
