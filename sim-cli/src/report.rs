@@ -192,8 +192,8 @@ impl Report {
             c.geodetic.lat_deg,
             c.geodetic.lon_deg,
             c.geodetic.alt_m,
-            c.attitude_deg.roll,
-            c.attitude_deg.pitch,
+            hundredths(c.attitude_deg.roll),
+            hundredths(c.attitude_deg.pitch),
             heading_2dp(c.attitude_deg.heading),
         );
         match self.details {
@@ -217,6 +217,16 @@ impl Report {
             )),
         }
         s
+    }
+}
+
+/// `x` for a display with two decimals, except that values that show as zero are
+/// +0.0 (no "-0.00").
+fn hundredths(x: f64) -> f64 {
+    if (x * 100.0).round() == 0.0 {
+        0.0
+    } else {
+        x
     }
 }
 
@@ -575,7 +585,8 @@ mod tests {
         assert!(s.contains("throttle 75 %"));
         let mut snap = bourg();
         snap.common.attitude_deg.heading = 359.999_999;
+        snap.common.attitude_deg.roll = -1e-9;
         let s = Report::new(30, 1, &snap).human_summary();
-        assert!(s.contains("heading 0.00 deg"), "{s}");
+        assert!(s.contains("roll 0.00  pitch 2.50  heading 0.00 deg"), "{s}");
     }
 }
