@@ -42,7 +42,9 @@ pub struct AttitudeReport {
 /// The part of the state both models have.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CommonState {
-    /// Simulated time, seconds, as the model keeps it.
+    /// Simulated time, seconds: Palmer's own clock (the sum of its f64 steps, so
+    /// 600 steps of 0.1 s give 60.00000000000058); for Bourg, whose model keeps no
+    /// clock, frames since the start (or the last reset) / fps.
     pub time_s: f64,
     /// Position [x, y, z] in the model's earth frame (x north, y west, z up);
     /// Palmer metres, Bourg feet.
