@@ -12,11 +12,11 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::fgaddr::{parse_fg_target, FgTarget};
-use crate::origin::{parse_origin, Origin, DEFAULT_ORIGIN};
+use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
 
 /// Highest accepted `--fps`. Far above any useful real-time rate; it only keeps
 /// dt = 1/N away from values where f32 (Bourg) loses all meaning.
-pub const MAX_FPS: f64 = 10_000.0;
+pub const MAX_FPS: u32 = 10_000;
 
 /// Longest accepted run in frames (`--frames`, or `--duration` × `--fps` rounded).
 /// About 1e9 frames is hours of CPU even for Palmer; more is surely a typo.
@@ -74,9 +74,9 @@ impl ModelKind {
 /// Options both models share (cli.md "Options both models share").
 #[derive(Debug, Clone, Args)]
 pub struct CommonArgs {
-    /// Frames per second; each frame advances the model by dt = 1/N seconds
-    #[arg(long, value_name = "N", default_value_t = 30.0, value_parser = parse_fps, allow_negative_numbers = true)]
-    pub fps: f64,
+    /// Frames per second, a whole number; each frame advances the model by dt = 1/N seconds
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = parse_fps, allow_negative_numbers = true)]
+    pub fps: u32,
 
     /// No keyboard and no real-time pacing: run as fast as possible, then report
     #[arg(long)]
@@ -109,7 +109,7 @@ pub struct CommonArgs {
 
     /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
-    pub origin: Origin,
+    pub origin: GeodeticOrigin,
 }
 
 /// `sim-cli palmer`.
@@ -152,8 +152,8 @@ pub struct FgfsArgs {
     pub model: ModelKind,
 
     /// Packet rate FlightGear should poll at; use the --fps you fly with
-    #[arg(long, value_name = "N", default_value_t = 30.0, value_parser = parse_fps, allow_negative_numbers = true)]
-    pub fps: f64,
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = parse_fps, allow_negative_numbers = true)]
+    pub fps: u32,
 
     /// Address FlightGear listens on, as given to sim-cli --fg [default: all interfaces, port 5500]
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
@@ -161,7 +161,7 @@ pub struct FgfsArgs {
 
     /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
-    pub origin: Origin,
+    pub origin: GeodeticOrigin,
 }
 
 fn parse_finite(text: &str) -> Result<f64, String> {
@@ -180,13 +180,16 @@ fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, Strin
     }
 }
 
-/// `--fps`: finite, > 0, at most [`MAX_FPS`].
-pub fn parse_fps(text: &str) -> Result<f64, String> {
-    let v = parse_finite(text)?;
-    if v > 0.0 && v <= MAX_FPS {
-        Ok(v)
-    } else {
-        Err(format!("must be greater than 0 and at most {MAX_FPS}"))
+/// `--fps`: a whole number from 1 to [`MAX_FPS`]. Whole, because the frame rate is
+/// the ECS's `Resources::new(fps: u32)` and both models derive dt from it (cli.md:
+/// dt = 1/N, `1.0f32 / N as f32` for Bourg).
+pub fn parse_fps(text: &str) -> Result<u32, String> {
+    match text.trim().parse::<u32>() {
+        Ok(v) if (1..=MAX_FPS).contains(&v) => Ok(v),
+        Ok(_) => Err(format!("must be a whole number from 1 to {MAX_FPS}")),
+        Err(_) => Err(format!(
+            "`{text}` is not a whole number of frames per second (1..{MAX_FPS})"
+        )),
     }
 }
 
@@ -252,8 +255,8 @@ mod tests {
         let Command::Palmer(p) = cli.command else {
             panic!("not palmer")
         };
-        assert_eq!(p.common.fps, 30.0);
-        assert_eq!(p.common.origin, Origin::default());
+        assert_eq!(p.common.fps, 30);
+        assert_eq!(p.common.origin, GeodeticOrigin::default());
         assert_eq!(p.common.fg, None);
         assert_eq!((p.throttle, p.alpha, p.bank, p.flaps), (0.0, 0.0, 0.0, 0));
     }
@@ -275,7 +278,7 @@ mod tests {
             panic!("not palmer")
         };
         assert_eq!((p.alpha, p.bank), (-5.0, -20.0));
-        assert_eq!(p.common.origin.lat_deg, -33.9);
+        assert_eq!(p.common.origin.geodetic().lat_deg, -33.9);
     }
 
     #[test]
@@ -285,7 +288,10 @@ mod tests {
         assert!(parse_fps("NaN").is_err());
         assert!(parse_fps("inf").is_err());
         assert!(parse_fps("10001").is_err());
-        assert_eq!(parse_fps("29.97"), Ok(29.97));
+        assert!(parse_fps("29.97").is_err());
+        assert!(parse_fps("1e9").is_err());
+        assert_eq!(parse_fps("1"), Ok(1));
+        assert_eq!(parse_fps("10000"), Ok(10_000));
         assert!(parse_frames("-1").is_err());
         assert!(parse_frames("1.5").is_err());
         assert!(parse_frames("1000000001").is_err());

@@ -15,7 +15,7 @@ use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
-use crate::origin::Origin;
+use crate::origin::GeodeticOrigin;
 
 /// How the run is driven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,8 +34,8 @@ pub enum Mode {
 /// What both models need to run, validated.
 #[derive(Debug)]
 pub struct RunConfig {
-    /// Frames per second (> 0, finite, at most [`crate::args::MAX_FPS`]).
-    pub fps: f64,
+    /// Frames per second (1 to [`crate::args::MAX_FPS`]).
+    pub fps: u32,
     /// Headless or interactive.
     pub mode: Mode,
     /// The CSV output, already created (so an unwritable path failed as a usage error).
@@ -43,18 +43,19 @@ pub struct RunConfig {
     /// Where to send FlightGear datagrams, resolved; `None` sends nothing.
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
-    pub origin: Origin,
+    pub origin: GeodeticOrigin,
 }
 
 impl RunConfig {
     /// Palmer's step: dt = 1/fps in `f64` (cli.md).
     #[must_use]
     pub fn dt_f64(&self) -> f64 {
-        1.0 / self.fps
+        1.0 / f64::from(self.fps)
     }
 
     /// Bourg's step: `1.0f32 / fps as f32` exactly as cli.md states.
     #[must_use]
+    #[allow(clippy::cast_precision_loss)] // cli.md's own conversion
     pub fn dt_f32(&self) -> f32 {
         1.0_f32 / self.fps as f32
     }
@@ -163,8 +164,8 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
 ///
 /// # Errors
 /// [`CliError::Usage`] for a negative or non-finite duration or too many frames.
-pub fn frames_for_duration(seconds: f64, fps: f64) -> Result<u64, CliError> {
-    let frames = (seconds * fps).round();
+pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
+    let frames = (seconds * f64::from(fps)).round();
     if !(seconds >= 0.0 && frames.is_finite()) {
         return Err(CliError::usage(format!(
             "--duration {seconds} is not a non-negative number of seconds"
@@ -296,20 +297,21 @@ mod tests {
 
     #[test]
     fn duration_rounds_to_nearest_frame() {
-        assert_eq!(frames_for_duration(1.0 / 30.0 * 2.4, 30.0).unwrap(), 2);
-        assert_eq!(frames_for_duration(0.05, 30.0).unwrap(), 2); // 1.5 rounds away from zero
-        assert_eq!(frames_for_duration(0.0, 30.0).unwrap(), 0);
-        assert!(frames_for_duration(f64::NAN, 30.0).is_err());
+        assert_eq!(frames_for_duration(1.0 / 30.0 * 2.4, 30).unwrap(), 2);
+        assert_eq!(frames_for_duration(0.05, 30).unwrap(), 2); // 1.5 rounds away from zero
+        assert_eq!(frames_for_duration(0.0, 30).unwrap(), 0);
+        assert_eq!(frames_for_duration(2.5, 10).unwrap(), 25);
+        assert!(frames_for_duration(f64::NAN, 30).is_err());
     }
 
     #[test]
     fn dt() {
         let run = RunConfig {
-            fps: 30.0,
+            fps: 30,
             mode: Mode::Interactive,
             csv: None,
             fg: None,
-            origin: Origin::default(),
+            origin: GeodeticOrigin::default(),
         };
         assert_eq!(run.dt_f64(), 1.0 / 30.0);
         assert_eq!(run.dt_f32(), 1.0_f32 / 30.0_f32);

@@ -87,7 +87,7 @@ pub struct LoopStatus {
     /// Frames stepped since the start or the last reset.
     pub frame: u64,
     /// Frame rate.
-    pub fps: f64,
+    pub fps: u32,
     /// Frames that missed their real-time deadline.
     pub overruns: u64,
     /// The simulation is paused.
@@ -185,6 +185,16 @@ fn compass(deg: f64) -> i64 {
     }
 }
 
+/// `x` for a display with one decimal, except that values that show as zero are
+/// +0.0, so a tiny negative roll does not flicker as "-0.0".
+fn tenths(x: f64) -> f64 {
+    if (x * 10.0).round() == 0.0 {
+        0.0
+    } else {
+        x
+    }
+}
+
 /// The HUD as text lines (ASCII only, so width = number of chars).
 #[must_use]
 pub fn render_hud(d: &HudData) -> Vec<String> {
@@ -204,8 +214,8 @@ pub fn render_hud(d: &HudData) -> Vec<String> {
         ),
         format!(
             "ROLL {:+6.1} deg   PITCH {:+6.1} deg   {}",
-            d.roll_deg,
-            d.pitch_deg,
+            tenths(d.roll_deg),
+            tenths(d.pitch_deg),
             d.status.label()
         ),
     ];
@@ -216,8 +226,10 @@ pub fn render_hud(d: &HudData) -> Vec<String> {
             bank_deg,
             flaps_deg,
         } => format!(
-            "THROTTLE {:3.0} %   ALPHA {alpha_deg:+5.1} deg   BANK {bank_deg:+5.1} deg   FLAPS {flaps_deg:.0} deg",
-            throttle * 100.0
+            "THROTTLE {:3.0} %   ALPHA {:+5.1} deg   BANK {:+5.1} deg   FLAPS {flaps_deg:.0} deg",
+            throttle * 100.0,
+            tenths(alpha_deg),
+            tenths(bank_deg),
         ),
         HudControls::Bourg { thrust_lb, flaps } => format!(
             "THRUST {thrust_lb:4.0} lb   FLAPS {}",
@@ -294,7 +306,7 @@ mod tests {
             }),
             LoopStatus {
                 frame: 369,
-                fps: 30.0,
+                fps: 30,
                 overruns: 1,
                 paused: false,
             },
@@ -329,7 +341,7 @@ mod tests {
             None,
             LoopStatus {
                 frame: 5,
-                fps: 30.0,
+                fps: 30,
                 overruns: 0,
                 paused: true,
             },
@@ -343,6 +355,16 @@ mod tests {
         assert!(lines[2].ends_with("STALL"));
         assert_eq!(lines[3], "THRUST 3000 lb   FLAPS down");
         assert_eq!(lines[4], "FG off   overruns 0");
+    }
+
+    #[test]
+    fn no_negative_zero() {
+        let mut d = palmer_hud();
+        d.roll_deg = -1e-16;
+        d.pitch_deg = -0.04;
+        let lines = render_hud(&d);
+        assert_eq!(lines[2], "ROLL   +0.0 deg   PITCH   +0.0 deg   flying");
+        assert_eq!(tenths(-0.06), -0.06);
     }
 
     #[test]

@@ -2,14 +2,15 @@
 //! into FlightGear, or headless from scripts. The contract is `spec/cli.md`.
 //!
 //! The binary (`main.rs`) only maps [`run()`]'s result to an exit status; everything
-//! else lives in this library so it can be unit-tested and so the ECS integration
-//! plugs in at one place, [`run::Flight`] (see the [`run`](mod@run) module docs).
+//! else lives in this library so it can be unit-tested. The models plug in at one
+//! place, [`run::Flight`], implemented over the ECS in [`flight`].
 //!
 //! | module | what |
 //! |---|---|
 //! | [`args`] | clap definition and per-value validation |
 //! | [`config`] | cross-option validation, script loading, CSV creation → [`config::RunConfig`] |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, headless and interactive loops, `run_palmer`/`run_bourg` |
+//! | [`flight`] | [`flight::PalmerFlight`], [`flight::BourgFlight`]: one aircraft in an `fdm_ecs::Simulation` |
 //! | [`report`] | [`report::Snapshot`] (model state) and the JSON [`report::Report`] |
 //! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
@@ -21,6 +22,7 @@ pub mod csv;
 pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
+pub mod flight;
 pub mod hud;
 pub mod keys;
 pub mod origin;
@@ -91,7 +93,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli", "palmer", "--fps", "0"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "invalid value '0' for '--fps <N>': must be greater than 0 and at most 10000 (see --help)"
+            "invalid value '0' for '--fps <N>': must be a whole number from 1 to 10000 (see --help)"
         );
         let err = Cli::try_parse_from(["sim-cli", "palmer", "--fp", "3"]).unwrap_err();
         let line = clap_error_line(&err);

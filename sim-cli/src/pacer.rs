@@ -28,10 +28,13 @@ impl FramePacer {
         }
     }
 
-    /// The period for `fps` frames per second (`fps` is validated > 0 and finite).
+    /// The period for `fps` frames per second, rounded to the nanosecond; 0 fps
+    /// (rejected by the argument parser) gives a period of one second rather than a panic.
     #[must_use]
-    pub fn period_for(fps: f64) -> Duration {
-        Duration::from_secs_f64(1.0 / fps)
+    pub fn period_for(fps: u32) -> Duration {
+        Duration::from_secs(1)
+            .checked_div(fps)
+            .unwrap_or(Duration::from_secs(1))
     }
 
     /// Call when a frame's work is done at `now`; returns how long to sleep before
@@ -133,10 +136,8 @@ mod tests {
 
     #[test]
     fn period_for_fps() {
-        assert_eq!(FramePacer::period_for(10.0), 100 * MS);
-        assert_eq!(
-            FramePacer::period_for(30.0),
-            Duration::from_nanos(33_333_333)
-        );
+        assert_eq!(FramePacer::period_for(10), 100 * MS);
+        assert_eq!(FramePacer::period_for(30), Duration::from_nanos(33_333_333));
+        assert_eq!(FramePacer::period_for(0), Duration::from_secs(1));
     }
 }

@@ -128,6 +128,17 @@ impl StderrProgress {
         }
     }
 
+    /// Writes `line` and a newline on stderr, erasing the bar first if one is drawn
+    /// (a later tick draws it again below the message). Best effort, like the bar.
+    pub fn message(&mut self, line: &str) {
+        let mut err = std::io::stderr().lock();
+        if self.inner.as_ref().is_some_and(Progress::drawn) {
+            let _ = write!(err, "\r\x1b[2K");
+        }
+        let _ = writeln!(err, "{line}");
+        let _ = err.flush();
+    }
+
     /// Erases the bar if one was drawn.
     pub fn finish(&mut self) {
         if let Some(p) = self.inner.take() {

@@ -42,7 +42,9 @@ pub struct AttitudeReport {
 /// The part of the state both models have.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CommonState {
-    /// Simulated time, seconds, as the model keeps it.
+    /// Simulated time, seconds: Palmer's own clock (the sum of its f64 steps, so
+    /// 600 steps of 0.1 s give 60.00000000000058); for Bourg, whose model keeps no
+    /// clock, frames since the start (or the last reset) / fps.
     pub time_s: f64,
     /// Position [x, y, z] in the model's earth frame (x north, y west, z up);
     /// Palmer metres, Bourg feet.
@@ -129,8 +131,8 @@ pub struct Report {
     /// `model` plus the model-specific fields.
     #[serde(flatten)]
     pub details: ModelDetails,
-    /// Frames per second of the run (dt = 1/fps).
-    pub fps: f64,
+    /// Frames per second of the run (dt = 1/fps), a whole number.
+    pub fps: u32,
     /// Frames stepped.
     pub frames: u64,
     /// The state both models have.
@@ -141,7 +143,7 @@ pub struct Report {
 impl Report {
     /// The report of a run of `frames` frames at `fps` ending in `snapshot`.
     #[must_use]
-    pub fn new(fps: f64, frames: u64, snapshot: &Snapshot) -> Self {
+    pub fn new(fps: u32, frames: u64, snapshot: &Snapshot) -> Self {
         Self {
             details: snapshot.details,
             fps,
@@ -192,9 +194,9 @@ impl Report {
             c.geodetic.lat_deg,
             c.geodetic.lon_deg,
             c.geodetic.alt_m,
-            c.attitude_deg.roll,
-            c.attitude_deg.pitch,
-            c.attitude_deg.heading,
+            hundredths(c.attitude_deg.roll),
+            hundredths(c.attitude_deg.pitch),
+            heading_2dp(c.attitude_deg.heading),
         );
         match self.details {
             ModelDetails::Palmer(p) => s.push_str(&format!(
@@ -217,6 +219,27 @@ impl Report {
             )),
         }
         s
+    }
+}
+
+/// `x` for a display with two decimals, except that values that show as zero are
+/// +0.0 (no "-0.00").
+fn hundredths(x: f64) -> f64 {
+    if (x * 100.0).round() == 0.0 {
+        0.0
+    } else {
+        x
+    }
+}
+
+/// A heading in [0, 360) rounded to 0.01 degree for display, wrapping so that
+/// 359.996 shows as 0.00 rather than 360.00.
+fn heading_2dp(deg: f64) -> f64 {
+    let rounded = (deg * 100.0).round() / 100.0;
+    if rounded >= 360.0 {
+        rounded - 360.0
+    } else {
+        rounded
     }
 }
 
@@ -410,7 +433,7 @@ mod tests {
 
     #[test]
     fn palmer_report_has_the_contract_fields() {
-        let v = serde_json::to_value(Report::new(10.0, 600, &palmer())).unwrap();
+        let v = serde_json::to_value(Report::new(10, 600, &palmer())).unwrap();
         for key in [
             "model",
             "fps",
@@ -430,6 +453,8 @@ mod tests {
         }
         assert_eq!(v["model"], "palmer");
         assert_eq!(v["frames"], 600);
+        // A whole number: the integer 10, not 10.0.
+        assert!(v["fps"].is_u64() && v["fps"] == 10, "{}", v["fps"]);
         assert_eq!(v["geodetic"]["alt_m"], 349.76);
         assert_eq!(v["attitude_deg"]["heading"], 359.5);
         assert_eq!(v["controls"]["flaps_deg"], 20.0);
@@ -439,7 +464,7 @@ mod tests {
 
     #[test]
     fn bourg_report_has_the_contract_fields() {
-        let v = serde_json::to_value(Report::new(30.0, 900, &bourg())).unwrap();
+        let v = serde_json::to_value(Report::new(30, 900, &bourg())).unwrap();
         for key in [
             "model",
             "fps",
@@ -468,7 +493,7 @@ mod tests {
     #[test]
     fn report_json_round_trips_through_serde() {
         for snap in [palmer(), bourg()] {
-            let report = Report::new(30.0, 7, &snap);
+            let report = Report::new(30, 7, &snap);
             let json = report.to_json().unwrap();
             assert!(!json.contains('\n'));
             let back: Report = serde_json::from_str(&json).unwrap();
@@ -537,7 +562,7 @@ mod tests {
     fn non_finite_numbers_become_null() {
         let mut snap = palmer();
         snap.common.position[2] = f64::NAN;
-        let v = serde_json::to_value(Report::new(30.0, 1, &snap)).unwrap();
+        let v = serde_json::to_value(Report::new(30, 1, &snap)).unwrap();
         assert!(v["position"][2].is_null());
     }
 
@@ -555,10 +580,15 @@ mod tests {
 
     #[test]
     fn human_summary_mentions_model_and_units() {
-        let s = Report::new(30.0, 900, &bourg()).human_summary();
+        let s = Report::new(30, 900, &bourg()).human_summary();
         assert!(s.starts_with("bourg: 900 frames at 30 fps"));
         assert!(s.contains("ft/s"));
-        let s = Report::new(10.0, 600, &palmer()).human_summary();
+        let s = Report::new(10, 600, &palmer()).human_summary();
         assert!(s.contains("throttle 75 %"));
+        let mut snap = bourg();
+        snap.common.attitude_deg.heading = 359.999_999;
+        snap.common.attitude_deg.roll = -1e-9;
+        let s = Report::new(30, 1, &snap).human_summary();
+        assert!(s.contains("roll 0.00  pitch 2.50  heading 0.00 deg"), "{s}");
     }
 }

@@ -1,15 +1,10 @@
 //! The run loops, written once for both models against the [`Flight`] trait.
 //!
-//! # For the integrator
-//! Wiring a model to the ECS is: implement [`Flight`] for a type that owns the hecs
-//! world (built from [`RunConfig`]: origin, `dt_f64()`/`dt_f32()`, `fg` target, and for
-//! Palmer the [`PalmerInitialControls`]), then replace the body of [`run_palmer`] /
-//! [`run_bourg`] with
-//! `fly(PalmerFlight::new(&config.run, config.controls)?, &config.script, config.run)`.
-//! Everything else (script replay, CSV, JSON report, progress bar, terminal, keys,
-//! pacing, HUD) is here already and tested with a fake model.
-//!
-//! [`PalmerInitialControls`]: crate::config::PalmerInitialControls
+//! The models implement [`Flight`] in [`crate::flight`] (one aircraft entity in an
+//! `fdm_ecs::Simulation`); [`run_palmer`] and [`run_bourg`] build them from the
+//! validated configuration and hand them to [`fly`]. Everything here (script replay,
+//! CSV, JSON report, progress bar, terminal, keys, pacing, HUD) is model-agnostic and
+//! tested with a fake model.
 
 use std::io::{self, Write};
 use std::net::SocketAddrV4;
@@ -22,6 +17,7 @@ use fdm_core::script::Script;
 use crate::config::{BourgConfig, Mode, PalmerConfig, RunConfig};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
+use crate::flight::{BourgFlight, PalmerFlight};
 use crate::hud::{render_hud, FlightStatus, HudData, HudWriter, LinkStats, LoopStatus};
 use crate::keys::{map_key, AppCommand, Input, KeyAction};
 use crate::pacer::FramePacer;
@@ -57,6 +53,18 @@ pub trait Flight {
 
     /// Datagram counters, or `None` when nothing is sent.
     fn link_stats(&self) -> Option<LinkStats>;
+
+    /// A one-line description of the first failed datagram send, returned once (later
+    /// failures are only counted in [`Self::link_stats`]). The loops print it on
+    /// stderr at most once per run, never per frame; a failing link is never fatal.
+    fn take_link_failure(&mut self) -> Option<String> {
+        None
+    }
+}
+
+/// The stderr line for a link failure (see [`Flight::take_link_failure`]).
+fn link_warning(message: &str) -> String {
+    format!("sim-cli: warning: {}", crate::error::one_line(message))
 }
 
 /// Steps frame `frame` (1-based): the script's actions for that frame in file order,
@@ -90,7 +98,7 @@ fn step_frame<F: Flight, W: Write>(
 pub fn run_headless<F: Flight, W: Write>(
     flight: &mut F,
     script: &Script<F::Action>,
-    fps: f64,
+    fps: u32,
     frames: u64,
     mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
@@ -101,6 +109,9 @@ pub fn run_headless<F: Flight, W: Write>(
     let mut buffer = Vec::new();
     for frame in 1..=frames {
         step_frame(flight, script, frame, &[], &mut buffer, csv.as_deref_mut())?;
+        if let Some(message) = flight.take_link_failure() {
+            progress.message(&link_warning(&message));
+        }
         progress.tick(frame);
     }
     progress.finish();
@@ -225,7 +236,7 @@ impl<A: KeyAction> Session<A> {
 }
 
 /// What an interactive run did, for the closing message.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct InteractiveSummary {
     /// Frames stepped, across resets.
     pub frames: u64,
@@ -233,6 +244,9 @@ pub struct InteractiveSummary {
     pub overruns: u64,
     /// Final datagram counters.
     pub link: Option<LinkStats>,
+    /// The first datagram send failure, if any (see [`Flight::take_link_failure`]),
+    /// kept for after the terminal is restored: stderr under the HUD is not readable.
+    pub link_failure: Option<String>,
 }
 
 /// Flies interactively until Q, Esc or Ctrl-C: keys in, HUD out, one frame per
@@ -243,7 +257,7 @@ pub struct InteractiveSummary {
 pub fn run_interactive<F: Flight, W: Write>(
     flight: &mut F,
     script: &Script<F::Action>,
-    fps: f64,
+    fps: u32,
     fg: Option<SocketAddrV4>,
     mut csv: Option<&mut CsvWriter<W>>,
 ) -> Result<InteractiveSummary, CliError> {
@@ -251,6 +265,7 @@ pub fn run_interactive<F: Flight, W: Write>(
     let mut out = io::stdout();
     let mut hud = HudWriter::new();
     let mut session = Session::new();
+    let mut link_failure = None;
     if let Some(csv) = csv.as_deref_mut() {
         csv.write_record(0, &flight.snapshot())?;
     }
@@ -278,6 +293,9 @@ pub fn run_interactive<F: Flight, W: Write>(
             }
         }
         session.advance(flight, script, csv.as_deref_mut())?;
+        if let Some(message) = flight.take_link_failure() {
+            link_failure.get_or_insert(message);
+        }
         // Some ptys report 0x0; treat that like an unknown size.
         let (width, height) = crossterm::terminal::size()
             .ok()
@@ -308,6 +326,7 @@ pub fn run_interactive<F: Flight, W: Write>(
         frames: session.total_frames(),
         overruns: pacer.overruns(),
         link: flight.link_stats(),
+        link_failure,
     })
 }
 
@@ -364,6 +383,9 @@ pub fn fly<F: Flight>(
             if let Some(csv) = csv {
                 csv.finish()?;
             }
+            if let Some(message) = &summary.link_failure {
+                eprintln!("{}", link_warning(message));
+            }
             let link = summary.link.map_or_else(String::new, |l| {
                 format!(", {} packets sent, {} failed", l.sent, l.failed)
             });
@@ -376,32 +398,22 @@ pub fn fly<F: Flight>(
     }
 }
 
-/// Flies Palmer's Cessna 172.
-///
-/// INTEGRATOR: not wired yet. Implement [`Flight`] for the Palmer ECS world and
-/// replace this body with `fly(flight, &config.script, config.run)`.
+/// Flies Palmer's Cessna 172 ([`PalmerFlight`]) as configured.
 ///
 /// # Errors
-/// Currently always: the flight loop is not wired to the ECS yet (exit status 1).
+/// As [`PalmerFlight::new`] and [`fly`].
 pub fn run_palmer(config: PalmerConfig) -> Result<(), CliError> {
-    drop(config);
-    Err(CliError::runtime(
-        "flight loop not wired yet: the palmer model is not connected to sim-cli (run::run_palmer)",
-    ))
+    let flight = PalmerFlight::new(&config.run, config.controls)?;
+    fly(flight, &config.script, config.run)
 }
 
-/// Flies Bourg's 6-DoF aircraft.
-///
-/// INTEGRATOR: not wired yet. Implement [`Flight`] for the Bourg ECS world and
-/// replace this body with `fly(flight, &config.script, config.run)`.
+/// Flies Bourg's 6-DoF aircraft ([`BourgFlight`]) as configured.
 ///
 /// # Errors
-/// Currently always: the flight loop is not wired to the ECS yet (exit status 1).
+/// As [`BourgFlight::new`] and [`fly`].
 pub fn run_bourg(config: BourgConfig) -> Result<(), CliError> {
-    drop(config);
-    Err(CliError::runtime(
-        "flight loop not wired yet: the bourg model is not connected to sim-cli (run::run_bourg)",
-    ))
+    let flight = BourgFlight::new(&config.run)?;
+    fly(flight, &config.script, config.run)
 }
 
 #[cfg(test)]
@@ -417,6 +429,7 @@ mod tests {
         steps: Vec<Vec<PalmerAction>>,
         resets: u32,
         fail_at: Option<usize>,
+        link_failures: Vec<String>,
     }
 
     impl Flight for Fake {
@@ -453,6 +466,10 @@ mod tests {
         fn link_stats(&self) -> Option<LinkStats> {
             None
         }
+
+        fn take_link_failure(&mut self) -> Option<String> {
+            self.link_failures.pop()
+        }
     }
 
     fn script(text: &str) -> Script<PalmerAction> {
@@ -466,7 +483,7 @@ mod tests {
         let script = script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n");
         let mut progress = StderrProgress::with_enabled(4, false);
         let report =
-            run_headless::<_, Vec<u8>>(&mut flight, &script, 10.0, 4, None, &mut progress).unwrap();
+            run_headless::<_, Vec<u8>>(&mut flight, &script, 10, 4, None, &mut progress).unwrap();
         assert_eq!(
             flight.steps,
             [
@@ -477,7 +494,7 @@ mod tests {
             ]
         );
         assert_eq!(report.frames, 4);
-        assert_eq!(report.fps, 10.0);
+        assert_eq!(report.fps, 10);
         assert_eq!(report.common.position[0], 4.0);
     }
 
@@ -485,15 +502,9 @@ mod tests {
     fn headless_zero_frames_reports_the_initial_state() {
         let mut flight = Fake::default();
         let mut progress = StderrProgress::with_enabled(0, false);
-        let report = run_headless::<_, Vec<u8>>(
-            &mut flight,
-            &Script::default(),
-            30.0,
-            0,
-            None,
-            &mut progress,
-        )
-        .unwrap();
+        let report =
+            run_headless::<_, Vec<u8>>(&mut flight, &Script::default(), 30, 0, None, &mut progress)
+                .unwrap();
         assert_eq!((report.frames, report.common.time_s), (0, 0.0));
         assert!(flight.steps.is_empty());
     }
@@ -506,7 +517,7 @@ mod tests {
         run_headless(
             &mut flight,
             &Script::default(),
-            10.0,
+            10,
             3,
             Some(&mut csv),
             &mut progress,
@@ -529,15 +540,9 @@ mod tests {
             ..Fake::default()
         };
         let mut progress = StderrProgress::with_enabled(5, false);
-        let err = run_headless::<_, Vec<u8>>(
-            &mut flight,
-            &Script::default(),
-            10.0,
-            5,
-            None,
-            &mut progress,
-        )
-        .unwrap_err();
+        let err =
+            run_headless::<_, Vec<u8>>(&mut flight, &Script::default(), 10, 5, None, &mut progress)
+                .unwrap_err();
         assert_eq!(err.exit_code(), 1);
         assert_eq!(err.one_line(), "frame 3: model diverged");
     }
@@ -595,23 +600,20 @@ mod tests {
     }
 
     #[test]
-    fn unwired_runs_say_so() {
-        let run = || RunConfig {
-            fps: 30.0,
-            mode: Mode::Headless {
-                frames: 1,
-                json: true,
-            },
-            csv: None,
-            fg: None,
-            origin: crate::origin::Origin::default(),
+    fn link_failures_are_taken_but_never_fatal() {
+        let mut flight = Fake {
+            link_failures: vec!["nobody listens".to_owned()],
+            ..Fake::default()
         };
-        let err = run_bourg(BourgConfig {
-            run: run(),
-            script: Script::default(),
-        })
-        .unwrap_err();
-        assert_eq!(err.exit_code(), 1);
-        assert!(err.to_string().starts_with("flight loop not wired yet"));
+        let mut progress = StderrProgress::with_enabled(3, false);
+        let report =
+            run_headless::<_, Vec<u8>>(&mut flight, &Script::default(), 30, 3, None, &mut progress)
+                .unwrap();
+        assert_eq!(report.frames, 3);
+        assert!(flight.link_failures.is_empty());
+        assert_eq!(
+            link_warning("sending to 127.0.0.1:5500 failed\non frame 1"),
+            "sim-cli: warning: sending to 127.0.0.1:5500 failed on frame 1"
+        );
     }
 }

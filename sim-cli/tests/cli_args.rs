@@ -84,7 +84,10 @@ fn script(dir: &Path, name: &str, content: &str) -> String {
 
 #[test]
 fn bad_fps() {
-    for fps in ["0", "-1", "NaN", "inf", "abc", "1e9", ""] {
+    // A whole number of frames per second, 1..10000 (the ECS's frame rate is a u32).
+    for fps in [
+        "0", "-1", "NaN", "inf", "abc", "1e9", "", "29.97", "30.0", "10001",
+    ] {
         assert_usage_error(
             &["palmer", "--headless", "--frames", "1", "--fps", fps],
             &["--fps"],
@@ -278,7 +281,7 @@ fn bad_origin() {
             "--origin",
             "-95,0,0",
         ],
-        &["latitude -95"],
+        &["latitude", "-95"],
     );
 }
 

@@ -1,0 +1,145 @@
+//! The `Simulation` builder API as `sim-cli` uses it: errors for entities of
+//! the wrong model or gone, reset, accessors before the first frame.
+
+use std::sync::Arc;
+
+use fdm_suite::fdm_core::bourg::{Aircraft, BourgAction, BourgControls, BourgState};
+use fdm_suite::fdm_core::palmer::{PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_suite::fdm_core::script::Script;
+use fdm_suite::fdm_ecs::components::{BourgInput, PalmerInput};
+use fdm_suite::fdm_ecs::systems::{bourg_display, palmer_display};
+use fdm_suite::fdm_ecs::{EcsError, Resources, Simulation};
+
+fn palmer_and_bourg(
+    sim: &mut Simulation,
+) -> (fdm_suite::fdm_ecs::Entity, fdm_suite::fdm_ecs::Entity) {
+    let p = sim.spawn_palmer(
+        Arc::new(PalmerAircraft::cessna_172()),
+        PalmerControls {
+            throttle: 1.0,
+            alpha_deg: 4.0,
+            ..PalmerControls::default()
+        },
+        PalmerState::at_rest(),
+        None,
+    );
+    let b = sim.spawn_bourg(
+        Arc::new(Aircraft::bourg_default()),
+        BourgControls::initial(),
+        BourgState::initial(),
+        None,
+    );
+    (p, b)
+}
+
+#[test]
+fn zero_fps_is_rejected_and_time_steps_follow_fps() {
+    assert_eq!(Resources::new(0), Err(EcsError::ZeroFps));
+    for fps in [1, 10, 30, 60, 144, 1000] {
+        let res = Resources::new(fps).unwrap();
+        assert_eq!(res.fps(), fps);
+        assert_eq!(
+            res.dt_palmer_s().to_bits(),
+            (1.0 / f64::from(fps)).to_bits()
+        );
+        assert_eq!(res.dt_bourg_s().to_bits(), (1.0f32 / fps as f32).to_bits());
+    }
+}
+
+#[test]
+fn operations_on_the_wrong_model_or_a_gone_entity_are_errors() {
+    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let (p, b) = palmer_and_bourg(&mut sim);
+    let missing_bourg_input = EcsError::missing::<BourgInput>();
+    assert_eq!(
+        sim.push_input(p, BourgAction::ThrustUp),
+        Err(missing_bourg_input)
+    );
+    assert_eq!(
+        sim.push_input(b, PalmerAction::ThrottleUp),
+        Err(EcsError::missing::<PalmerInput>())
+    );
+    let script = Arc::new(Script::<BourgAction>::parse("1-1 thrust-up\n").unwrap());
+    assert_eq!(
+        sim.set_script(p, Arc::clone(&script)),
+        Err(missing_bourg_input)
+    );
+    assert!(matches!(
+        sim.reset_palmer(b, PalmerControls::default(), PalmerState::at_rest()),
+        Err(EcsError::MissingComponent { .. })
+    ));
+    assert!(matches!(
+        sim.reset_bourg(p, BourgControls::initial(), BourgState::initial()),
+        Err(EcsError::MissingComponent { .. })
+    ));
+    assert!(sim.palmer_state(b).is_none() && sim.bourg_state(p).is_none());
+
+    sim.despawn(b).unwrap();
+    assert_eq!(sim.despawn(b), Err(EcsError::NoSuchEntity));
+    assert_eq!(
+        sim.push_input(b, BourgAction::ThrustUp),
+        Err(EcsError::NoSuchEntity)
+    );
+    assert_eq!(sim.set_script(b, script), Err(EcsError::NoSuchEntity));
+    assert_eq!(
+        sim.reset_bourg(b, BourgControls::initial(), BourgState::initial()),
+        Err(EcsError::NoSuchEntity)
+    );
+    assert!(sim.bourg_state(b).is_none() && sim.packet(b).is_none());
+    // The survivor still flies.
+    sim.run_frame();
+    assert!(sim.palmer_state(p).unwrap().time_s > 0.0);
+}
+
+#[test]
+fn display_components_are_valid_from_spawn_on() {
+    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let (p, b) = palmer_and_bourg(&mut sim);
+    let origin = sim.resources().origin;
+    let want = palmer_display(
+        &PalmerAircraft::cessna_172(),
+        &sim.palmer_controls(p).unwrap(),
+        &PalmerState::at_rest(),
+        &origin,
+    );
+    assert_eq!(sim.packet(p), Some(want.packet));
+    assert_eq!(sim.geodetic(p), Some(want.geodetic));
+    let here = want.geodetic; // at the origin, to the round trip's nanometres
+    let there = origin.geodetic();
+    assert!(
+        (here.lat_deg - there.lat_deg).abs() < 1e-12 && (here.alt_m - there.alt_m).abs() < 1e-6
+    );
+    assert_eq!(sim.attitude(p), Some(want.attitude));
+    let want = bourg_display(&BourgControls::initial(), &BourgState::initial(), &origin);
+    assert_eq!(sim.packet(b), Some(want.packet));
+}
+
+#[test]
+fn reset_puts_an_aircraft_back_as_if_just_spawned() {
+    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let (p, b) = palmer_and_bourg(&mut sim);
+    let mut fresh = Simulation::new(Resources::new(30).unwrap());
+    let (fp, fb) = palmer_and_bourg(&mut fresh);
+
+    sim.run_frames(90);
+    sim.push_input(p, PalmerAction::BankLeft).unwrap();
+    sim.push_input(b, BourgAction::RollLeft).unwrap();
+    let palmer_controls = fresh.palmer_controls(fp).unwrap();
+    sim.reset_palmer(p, palmer_controls, PalmerState::at_rest())
+        .unwrap();
+    sim.reset_bourg(b, BourgControls::initial(), BourgState::initial())
+        .unwrap();
+    // Immediately: state, controls and display as at spawn.
+    assert_eq!(sim.palmer_state(p), fresh.palmer_state(fp));
+    assert_eq!(sim.packet(p), fresh.packet(fp));
+    assert_eq!(sim.geodetic(b), fresh.geodetic(fb));
+    assert_eq!(sim.packet(b), fresh.packet(fb));
+    // The queued keys were dropped: the next frame flies like a fresh one's
+    // first.
+    sim.run_frame();
+    fresh.run_frame();
+    assert_eq!(sim.palmer_state(p), fresh.palmer_state(fp));
+    assert_eq!(sim.palmer_controls(p), fresh.palmer_controls(fp));
+    assert_eq!(sim.bourg_state(b), fresh.bourg_state(fb));
+    assert_eq!(sim.packet(b), fresh.packet(fb));
+}
