@@ -4,8 +4,8 @@
 //! Every value parser returns a one-line message so clap's error, which `main`
 //! squeezes onto one line, stays readable; clap exits usage errors with status 2.
 //!
-//! The subcommand name `fleet` is reserved for a later many-aircraft mode; do not
-//! use it for anything else.
+//! `fleet` (many aircraft, headless, for throughput) has its own arguments,
+//! [`FleetArgs`], and its own module, [`crate::fleet`].
 
 use std::path::PathBuf;
 
@@ -49,6 +49,8 @@ pub enum Command {
     Bourg(BourgArgs),
     /// Print the fgfs (FlightGear 2020.3) command line that shows a model flown by sim-cli
     FgfsCommand(FgfsArgs),
+    /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
+    Fleet(FleetArgs),
 }
 
 /// Which model.
@@ -162,6 +164,61 @@ pub struct FgfsArgs {
     /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+}
+
+/// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
+/// 600 bytes with its display components, so this is some 6 GB).
+pub const MAX_FLEET: u64 = 10_000_000;
+
+/// Largest accepted `sim-cli fleet --threads`.
+pub const MAX_THREADS: usize = 1024;
+
+/// `sim-cli fleet`.
+#[derive(Debug, Clone, Args)]
+pub struct FleetArgs {
+    /// The model every aircraft of the fleet flies
+    #[arg(long, value_enum)]
+    pub model: ModelKind,
+
+    /// Number of aircraft (1..=10000000), spread over distinct initial states
+    #[arg(long, value_name = "N", value_parser = parse_fleet_size, allow_negative_numbers = true)]
+    pub aircraft: u64,
+
+    /// Frames to fly (each aircraft is stepped once per frame, dt = 1/30 s)
+    #[arg(long, value_name = "F", value_parser = parse_fleet_frames, allow_negative_numbers = true)]
+    pub frames: u64,
+
+    /// Threads of the rayon pool stepping the fleet [default: available cores]
+    #[arg(long, value_name = "T", value_parser = parse_threads, allow_negative_numbers = true)]
+    pub threads: Option<usize>,
+
+    /// Print the measurement as one JSON object on stdout
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// A whole number in `1..=max`, with `what` naming it in the error.
+fn parse_count(text: &str, max: u64, what: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(v) if (1..=max).contains(&v) => Ok(v),
+        _ => Err(format!("`{text}` is not a number of {what} in 1..={max}")),
+    }
+}
+
+/// `fleet --aircraft`: 1 to [`MAX_FLEET`].
+pub fn parse_fleet_size(text: &str) -> Result<u64, String> {
+    parse_count(text, MAX_FLEET, "aircraft")
+}
+
+/// `fleet --frames`: 1 to [`MAX_FRAMES`].
+pub fn parse_fleet_frames(text: &str) -> Result<u64, String> {
+    parse_count(text, MAX_FRAMES, "frames")
+}
+
+/// `fleet --threads`: 1 to [`MAX_THREADS`].
+pub fn parse_threads(text: &str) -> Result<usize, String> {
+    let max = u64::try_from(MAX_THREADS).unwrap_or(u64::MAX);
+    parse_count(text, max, "threads").map(|v| usize::try_from(v).unwrap_or(MAX_THREADS))
 }
 
 fn parse_finite(text: &str) -> Result<f64, String> {

@@ -15,6 +15,7 @@
 //! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
+//! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
 
 pub mod args;
 pub mod config;
@@ -22,6 +23,7 @@ pub mod csv;
 pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
+pub mod fleet;
 pub mod flight;
 pub mod hud;
 pub mod keys;
@@ -47,6 +49,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Palmer(args) => run::run_palmer(config::prepare_palmer(args)?),
         Command::Bourg(args) => run::run_bourg(config::prepare_bourg(args)?),
+        Command::Fleet(args) => fleet::run(&args),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);
             let mut out = std::io::stdout().lock();
@@ -64,7 +67,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg or fgfs-command (see --help)".to_owned();
+        return "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)".to_owned();
     }
     let text = error.render().to_string();
     let mut parts = Vec::new();
@@ -105,7 +108,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg or fgfs-command (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)"
         );
     }
 }

@@ -1,0 +1,179 @@
+//! `sim-cli fleet` on the built binary: the JSON report's shape and values,
+//! the human summary, and the usage errors (exit status 2, one line).
+
+use std::process::{Command, Output, Stdio};
+
+use serde_json::Value;
+
+fn sim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run sim-cli")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn json_report_has_the_documented_fields() {
+    for (model, threads) in [("palmer", "2"), ("bourg", "1")] {
+        let out = sim(&[
+            "fleet",
+            "--model",
+            model,
+            "--aircraft",
+            "50",
+            "--frames",
+            "4",
+            "--threads",
+            threads,
+            "--json",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+        let stdout = text(&out.stdout);
+        assert_eq!(stdout.lines().count(), 1, "{stdout}");
+        let v: Value = serde_json::from_str(&stdout).expect("one JSON object");
+        let obj = v.as_object().expect("an object");
+        for key in [
+            "model",
+            "aircraft",
+            "frames",
+            "threads",
+            "seconds",
+            "aircraft_steps_per_s",
+            "aircraft_at_30hz",
+        ] {
+            assert!(obj.contains_key(key), "{key} missing from {stdout}");
+        }
+        assert_eq!(v["model"], model);
+        assert_eq!(v["aircraft"], 50);
+        assert_eq!(v["frames"], 4);
+        assert_eq!(v["threads"].as_u64(), Some(threads.parse().unwrap()));
+        let seconds = v["seconds"].as_f64().unwrap();
+        let rate = v["aircraft_steps_per_s"].as_f64().unwrap();
+        assert!(seconds > 0.0 && rate > 0.0);
+        assert!((rate * seconds - 200.0).abs() < 1e-6, "{rate} * {seconds}");
+        let at_30hz = v["aircraft_at_30hz"].as_u64().unwrap();
+        assert_eq!(at_30hz, (rate / 30.0).floor() as u64);
+    }
+}
+
+#[test]
+fn default_threads_is_the_core_count_and_summary_is_human() {
+    let out = sim(&[
+        "fleet",
+        "--model",
+        "bourg",
+        "--aircraft",
+        "20",
+        "--frames",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    assert!(
+        stdout.starts_with(&format!(
+            "bourg fleet: 20 aircraft x 2 frames on {cores} thread"
+        )),
+        "{stdout}"
+    );
+    assert!(stdout.contains("M aircraft-steps/s"), "{stdout}");
+    assert!(stdout.contains("bourg aircraft at 30 Hz"), "{stdout}");
+}
+
+#[test]
+fn bad_arguments_exit_2_with_one_line() {
+    let base = [
+        "fleet",
+        "--model",
+        "palmer",
+        "--aircraft",
+        "10",
+        "--frames",
+        "3",
+    ];
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &[
+                "fleet",
+                "--model",
+                "palmer",
+                "--aircraft",
+                "0",
+                "--frames",
+                "3",
+            ],
+            "--aircraft",
+        ),
+        (
+            &[
+                "fleet",
+                "--model",
+                "palmer",
+                "--aircraft",
+                "10",
+                "--frames",
+                "0",
+            ],
+            "--frames",
+        ),
+        (&[&base[..], &["--threads", "0"]].concat(), "--threads"),
+        (
+            &[
+                "fleet",
+                "--model",
+                "cessna",
+                "--aircraft",
+                "10",
+                "--frames",
+                "3",
+            ],
+            "cessna",
+        ),
+        (
+            &[
+                "fleet",
+                "--model",
+                "palmer",
+                "--aircraft",
+                "-5",
+                "--frames",
+                "3",
+            ],
+            "--aircraft",
+        ),
+        (
+            &[
+                "fleet",
+                "--model",
+                "palmer",
+                "--aircraft",
+                "99999999999",
+                "--frames",
+                "3",
+            ],
+            "--aircraft",
+        ),
+        (
+            &["fleet", "--model", "palmer", "--frames", "3"],
+            "--aircraft",
+        ),
+    ];
+    for (args, needle) in cases {
+        let out = sim(args);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(out.stdout.is_empty(), "{args:?}: {}", text(&out.stdout));
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr:?}");
+        assert!(stderr.starts_with("sim-cli: error: "), "{stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: {stderr:?} lacks {needle}"
+        );
+    }
+}
