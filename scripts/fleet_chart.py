@@ -19,6 +19,7 @@ import json
 import math
 import os
 import sys
+import time
 from xml.sax.saxutils import escape
 
 VARIANTS = [
@@ -53,6 +54,7 @@ def read_benchmarks(root):
                 "median_ns": est["median"]["point_estimate"],
                 "median_lo": est["median"]["confidence_interval"]["lower_bound"],
                 "median_hi": est["median"]["confidence_interval"]["upper_bound"],
+                "mtime": os.path.getmtime(os.path.join(dirpath, "estimates.json")),
             }
         )
     return sorted(found, key=lambda b: b["id"])
@@ -81,7 +83,7 @@ def si(x):
     return "%g" % x
 
 
-def svg_chart(series):
+def svg_chart(series, written):
     panel_w, panel_h = 470, 360
     left, right, top, bottom = 78, 16, 48, 58
     legend_h = 70
@@ -162,8 +164,8 @@ def svg_chart(series):
         out.append('<line x1="%d" y1="%d" x2="%d" y2="%d" stroke="%s" stroke-width="2"%s/>'
                    % (lx, yy, lx + 36, yy, colour, ' stroke-dasharray="6,4"' if dashed else ""))
         out.append('<text x="%d" y="%d">%s</text>' % (lx + 44, yy + 4, escape(legend)))
-    out.append('<text x="80" y="%d" fill="#555">Medians of criterion runs (benches/fleet.rs), one frame at 30 FPS '
-               'per iteration; see BENCHMARKS.md for the machine and the load.</text>' % (ly + 52))
+    out.append('<text x="80" y="%d" fill="#555">Medians of criterion (benches/fleet.rs, one frame at 30 FPS per '
+               'iteration), written %s; machine and load: BENCHMARKS.md.</text>' % (ly + 52, escape(written)))
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
@@ -258,8 +260,11 @@ def main():
               file=sys.stderr)
         return 1
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    stamps = [b["mtime"] for b in benches if b["group"].startswith("fleet_")]
+    fmt = "%Y-%m-%d %H:%M"
+    written = "%s to %s UTC" % (time.strftime(fmt, time.gmtime(min(stamps))), time.strftime("%H:%M", time.gmtime(max(stamps))))
     with open(args.out, "w") as f:
-        f.write(svg_chart(series))
+        f.write(svg_chart(series, written))
     if args.table:
         print(fig13_table(benches))
         print(fleet_table(series))
