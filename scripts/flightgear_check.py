@@ -298,7 +298,7 @@ class FlightGear:
         start = time.monotonic()
         while time.monotonic() - start < timeout:
             if self.proc.poll() is not None:
-                rejected = re.findall(r"Unknown command-line option: (\S+)", self.stderr_text())
+                rejected = re.findall(r"Unknown command-line option: ([^\s\"]+)", self.stderr_text())
                 if rejected:
                     # fgfs 2020.3 shows a message box, prints its usage and exits 0.
                     raise RuntimeError(f"fgfs rejected option(s) {rejected} of: {self.ours}")
@@ -631,4 +631,8 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except (RuntimeError, OSError, ValueError) as e:
+        print(f"flightgear_check: {e}", file=sys.stderr)
+        sys.exit(1)
