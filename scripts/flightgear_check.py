@@ -468,7 +468,8 @@ def run_scenario(args, fg, name, model, argv, results):
     results["scenarios"][name] = {
         "sim_cli": ["sim-cli", model, "--headless", "--json"] + argv,
         "datagrams": len(datagrams), "report": {k: report[k] for k in ("geodetic", "attitude_deg")},
-        "problems": problems, "properties": rows, "frame_shown": shown, "ok": ok,
+        "problems": problems, "properties": rows,
+        "frame_shown": None if shown is None else shown + 1, "ok": ok,
     }
     log(f"\n== {name}: sim-cli {model} {' '.join(argv)}  ({len(datagrams)} datagrams)")
     for p in problems:
