@@ -30,7 +30,7 @@ use fdm_suite::fdm_core::palmer::{self, Flaps, PalmerAircraft, PalmerControls, P
 use fdm_suite::fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
 use fdm_suite::fdm_ecs::{Execution, Resources, Simulation, World};
 
-const FPS: u32 = 30;
+const FPS: f64 = 30.0;
 /// Frames between resets to the initial states.
 const RESET_EVERY: u64 = 300;
 const SIZES: [usize; 2] = [1_000, 100_000];

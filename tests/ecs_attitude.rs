@@ -96,7 +96,7 @@ fn bourg_heading(heading_deg: f32) -> BourgState {
 
 #[test]
 fn heading_sent_is_the_direction_of_travel_over_the_ground() {
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let cessna = Arc::new(PalmerAircraft::cessna_172());
     let bourg = Arc::new(Aircraft::bourg_default());
 
@@ -187,7 +187,7 @@ fn heading_sent_is_the_direction_of_travel_over_the_ground() {
 
 #[test]
 fn positive_roll_is_right_wing_down_and_turns_right() {
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let palmer = sim.spawn_palmer(
         Arc::new(PalmerAircraft::cessna_172()),
         PalmerControls {
@@ -253,7 +253,7 @@ fn positive_pitch_is_nose_up() {
     // The flight-path angle comes from the geodetic positions; the angle of
     // attack is Palmer's control and Bourg's from its body velocity (the
     // datagram's `alpha`). A reversed pitch sign breaks the identity.
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let palmer = sim.spawn_palmer(
         Arc::new(PalmerAircraft::cessna_172()),
         PalmerControls {
@@ -345,7 +345,7 @@ fn make_packet_rotation_is_the_geodesy_modules_bit_for_bit() {
 
     // And so the attitude and position in the world are `attitude_at`'s.
     let origin = origins[1];
-    let mut sim = Simulation::new(Resources::new(30).unwrap().with_origin(origin));
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap().with_origin(origin));
     let controls = PalmerControls {
         throttle: 1.0,
         alpha_deg: 6.0,

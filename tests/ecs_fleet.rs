@@ -28,7 +28,7 @@ enum Plane {
 
 /// The same fleet, deterministically varied by index.
 fn build(execution: Execution) -> (Simulation, Vec<Plane>) {
-    let mut sim = Simulation::new(Resources::new(30).unwrap().with_execution(execution));
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap().with_execution(execution));
     let cessna = Arc::new(PalmerAircraft::cessna_172());
     let bourg = Arc::new(Aircraft::bourg_default());
     let scripts: Vec<Arc<Script<BourgAction>>> = [

@@ -47,7 +47,7 @@ fn assert_drained(socket: &UdpSocket) {
 fn linked_entities_send_one_datagram_per_frame_and_unlinked_ones_nothing() {
     let (fg_palmer, palmer_addr) = receiver();
     let (fg_bourg, bourg_addr) = receiver();
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let cessna = Arc::new(PalmerAircraft::cessna_172());
     let controls = PalmerControls {
         throttle: 1.0,
@@ -95,7 +95,7 @@ fn send_failures_are_counted_reported_once_and_do_not_stop_the_run() {
         drop(socket);
         addr
     };
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let e = sim.spawn_palmer(
         Arc::new(PalmerAircraft::cessna_172()),
         PalmerControls::default(),

@@ -33,7 +33,7 @@ fn palmer_reference_cases_through_the_ecs_are_bit_identical_to_fdm_core() {
     let (fps, frames, cases) = palmer_reference();
     assert_eq!((fps, frames, cases.len()), (10, 600, 4));
     let aircraft = Arc::new(PalmerAircraft::cessna_172());
-    let resources = Resources::new(fps).unwrap();
+    let resources = Resources::new(f64::from(fps)).unwrap();
     assert_eq!(resources.dt_palmer_s().to_bits(), 0.1f64.to_bits());
 
     let direct: Vec<Vec<PalmerState>> = cases
@@ -107,7 +107,7 @@ fn bourg_reference_scripts_through_the_ecs_are_bit_identical_to_fdm_core() {
     let (fps, frames, cases) = bourg_reference();
     assert_eq!((fps, frames, cases.len()), (30, 900, 5));
     let aircraft = Arc::new(Aircraft::bourg_default());
-    let resources = Resources::new(fps).unwrap();
+    let resources = Resources::new(f64::from(fps)).unwrap();
     assert_eq!(resources.dt_bourg_s().to_bits(), (1.0f32 / 30.0).to_bits());
     let start = (BourgControls::initial(), BourgState::initial());
 
@@ -183,7 +183,7 @@ fn bourg_reference_scripts_through_the_ecs_are_bit_identical_to_fdm_core() {
 
 #[test]
 fn bourg_thrust_resources_default_to_the_core_constants_and_are_honoured() {
-    let defaults = Resources::new(30).unwrap();
+    let defaults = Resources::new(30.0).unwrap();
     assert_eq!(defaults.max_thrust_lb, MAX_THRUST_LB);
     assert_eq!(defaults.delta_thrust_lb, DELTA_THRUST_LB);
 

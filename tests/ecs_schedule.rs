@@ -59,7 +59,7 @@ fn the_thesis_schedule_declares_the_four_systems_in_order() {
 #[test]
 fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
     let (fg, addr) = receiver();
-    let res = Resources::new(30).unwrap();
+    let res = Resources::new(30.0).unwrap();
     let palmer_aircraft = PalmerAircraft::cessna_172();
     let bourg_aircraft = Aircraft::bourg_default();
     let mut sim = Simulation::new(res);
@@ -168,7 +168,7 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
 
 #[test]
 fn frame_counter_numbers_frames_from_one_for_scripts() {
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     assert_eq!(sim.frame(), 0);
     let e = sim.spawn_bourg(
         Arc::new(Aircraft::bourg_default()),
@@ -191,7 +191,7 @@ fn frame_counter_numbers_frames_from_one_for_scripts() {
 
 #[test]
 fn script_actions_come_before_queued_keys() {
-    let mut sim = Simulation::new(Resources::new(10).unwrap());
+    let mut sim = Simulation::new(Resources::new(10.0).unwrap());
     let p = sim.spawn_palmer(
         Arc::new(PalmerAircraft::cessna_172()),
         PalmerControls {

@@ -33,22 +33,31 @@ fn palmer_and_bourg(
 }
 
 #[test]
-fn zero_fps_is_rejected_and_time_steps_follow_fps() {
-    assert_eq!(Resources::new(0), Err(EcsError::ZeroFps));
-    for fps in [1, 10, 30, 60, 144, 1000] {
+fn invalid_frame_rates_are_rejected_and_time_steps_follow_fps() {
+    for fps in [0.0, -30.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            Resources::new(fps),
+            Err(EcsError::InvalidFps { .. })
+        ));
+    }
+    // Whole rates: the original C++'s `1.0f / N` for Bourg, `1.0 / N` for Palmer.
+    for n in [1_u32, 10, 30, 60, 144, 1000] {
+        let res = Resources::new(f64::from(n)).unwrap();
+        assert_eq!(res.fps(), f64::from(n));
+        assert_eq!(res.dt_palmer_s().to_bits(), (1.0 / f64::from(n)).to_bits());
+        assert_eq!(res.dt_bourg_s().to_bits(), (1.0f32 / n as f32).to_bits());
+    }
+    // Any other rate as cli.md writes it.
+    for fps in [29.97, 0.5, 12.5] {
         let res = Resources::new(fps).unwrap();
-        assert_eq!(res.fps(), fps);
-        assert_eq!(
-            res.dt_palmer_s().to_bits(),
-            (1.0 / f64::from(fps)).to_bits()
-        );
-        assert_eq!(res.dt_bourg_s().to_bits(), (1.0f32 / fps as f32).to_bits());
+        assert_eq!(res.dt_palmer_s(), 1.0 / fps);
+        assert_eq!(res.dt_bourg_s(), 1.0f32 / fps as f32);
     }
 }
 
 #[test]
 fn operations_on_the_wrong_model_or_a_gone_entity_are_errors() {
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let (p, b) = palmer_and_bourg(&mut sim);
     let missing_bourg_input = EcsError::missing::<BourgInput>();
     assert_eq!(
@@ -93,7 +102,7 @@ fn operations_on_the_wrong_model_or_a_gone_entity_are_errors() {
 
 #[test]
 fn display_components_are_valid_from_spawn_on() {
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let (p, b) = palmer_and_bourg(&mut sim);
     let origin = sim.resources().origin;
     let want = palmer_display(
@@ -116,9 +125,9 @@ fn display_components_are_valid_from_spawn_on() {
 
 #[test]
 fn reset_puts_an_aircraft_back_as_if_just_spawned() {
-    let mut sim = Simulation::new(Resources::new(30).unwrap());
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let (p, b) = palmer_and_bourg(&mut sim);
-    let mut fresh = Simulation::new(Resources::new(30).unwrap());
+    let mut fresh = Simulation::new(Resources::new(30.0).unwrap());
     let (fp, fb) = palmer_and_bourg(&mut fresh);
 
     sim.run_frames(90);

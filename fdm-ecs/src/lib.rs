@@ -38,7 +38,7 @@
 //! use fdm_core::script::Script;
 //! use fdm_ecs::{Resources, Simulation};
 //!
-//! let mut sim = Simulation::new(Resources::new(30)?);
+//! let mut sim = Simulation::new(Resources::new(30.0)?);
 //! let palmer = sim.spawn_palmer(
 //!     Arc::new(PalmerAircraft::cessna_172()),
 //!     PalmerControls::default(),
@@ -86,11 +86,14 @@ pub use simulation::Simulation;
 
 /// Errors of this crate: a bad frame rate, or an entity that is not (or no
 /// longer) an aircraft of the model an operation needs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum EcsError {
-    /// A frame rate of 0 frames per second has no time step.
-    #[error("the frame rate must be at least 1 frame per second")]
-    ZeroFps,
+    /// The frame rate is not a finite number above 0 frames per second.
+    #[error("the frame rate must be a finite number of frames per second above 0, got {fps}")]
+    InvalidFps {
+        /// The rate given.
+        fps: f64,
+    },
     /// The entity does not exist (never spawned here, or despawned).
     #[error("no such entity")]
     NoSuchEntity,

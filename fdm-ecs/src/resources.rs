@@ -23,11 +23,13 @@ pub enum Execution {
 /// The resources passed to every system (`&Resources`).
 ///
 /// The frame rate is stored once and both models' time steps are derived from
-/// it exactly as the original programs do: Palmer `1.0 / fps` in `f64`,
-/// Bourg `1.0f32 / fps as f32`, so they can never disagree.
+/// it as `shared/spec/cli.md` states: Palmer `1.0 / fps` in `f64`, Bourg
+/// `1.0f32 / fps as f32`, so they can never disagree. For a whole number of
+/// frames per second `N` (below 2^24) `fps as f32` is exactly `N as f32`, the
+/// original C++'s `1.0f / N`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Resources {
-    fps: u32,
+    fps: f64,
     /// Bourg's `MaxThrust`: the thrust a thrust-up action cannot exceed, lb
     /// (default [`MAX_THRUST_LB`], 3000). FlightControl honours it.
     pub max_thrust_lb: f32,
@@ -51,10 +53,10 @@ impl Resources {
     /// and sequential execution.
     ///
     /// # Errors
-    /// [`EcsError::ZeroFps`] for `fps == 0`.
-    pub fn new(fps: u32) -> Result<Self, EcsError> {
-        if fps == 0 {
-            return Err(EcsError::ZeroFps);
+    /// [`EcsError::InvalidFps`] unless `fps` is finite and above 0.
+    pub fn new(fps: f64) -> Result<Self, EcsError> {
+        if !(fps.is_finite() && fps > 0.0) {
+            return Err(EcsError::InvalidFps { fps });
         }
         Ok(Self {
             fps,
@@ -80,20 +82,20 @@ impl Resources {
 
     /// Frames per second.
     #[must_use]
-    pub const fn fps(&self) -> u32 {
+    pub const fn fps(&self) -> f64 {
         self.fps
     }
 
     /// Palmer's time step (`DeltaTime`), seconds: `1.0 / fps` in `f64`.
     #[must_use]
     pub fn dt_palmer_s(&self) -> f64 {
-        1.0 / f64::from(self.fps)
+        1.0 / self.fps
     }
 
     /// Bourg's time step (`DeltaTime`), seconds: `1.0f32 / fps as f32`, as the
     /// original C++ computes it.
     #[must_use]
-    #[allow(clippy::cast_precision_loss)] // the original's own conversion
+    #[allow(clippy::cast_possible_truncation)] // the original's own f32 time step
     pub fn dt_bourg_s(&self) -> f32 {
         1.0f32 / self.fps as f32
     }

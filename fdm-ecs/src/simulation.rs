@@ -28,7 +28,7 @@ use crate::EcsError;
 /// use fdm_core::palmer::{PalmerAircraft, PalmerControls, PalmerState};
 /// use fdm_ecs::{Resources, Simulation};
 ///
-/// let mut sim = Simulation::new(Resources::new(30)?);
+/// let mut sim = Simulation::new(Resources::new(30.0)?);
 /// let cessna = sim.spawn_palmer(
 ///     Arc::new(PalmerAircraft::cessna_172()),
 ///     PalmerControls { throttle: 1.0, alpha_deg: 4.0, ..PalmerControls::default() },

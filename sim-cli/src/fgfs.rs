@@ -137,7 +137,7 @@ mod tests {
     fn start_pose_is_the_simulations_initial_position() {
         for origin in ["39.8264,-84.0483,251", "-33.9,151.2,6", "64.1,-21.9,50"] {
             let origin: GeodeticOrigin = origin.parse().unwrap();
-            let mut sim = Simulation::new(Resources::new(30).unwrap().with_origin(origin));
+            let mut sim = Simulation::new(Resources::new(30.0).unwrap().with_origin(origin));
             let palmer = sim.spawn_palmer(
                 Arc::new(PalmerAircraft::cessna_172()),
                 PalmerControls::default(),

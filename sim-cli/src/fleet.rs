@@ -103,7 +103,7 @@ fn index_m(i: usize, spacing: f64) -> f64 {
 /// [`FLEET_FPS`] with the given execution mode.
 #[must_use]
 pub fn spawn_fleet(model: ModelKind, n: usize, execution: Execution) -> Simulation {
-    let resources = Resources::new(FLEET_FPS)
+    let resources = Resources::new(f64::from(FLEET_FPS))
         .expect("30 frames per second is valid")
         .with_execution(execution);
     let mut sim = Simulation::new(resources);

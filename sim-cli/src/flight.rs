@@ -54,7 +54,7 @@ impl World {
         run: &RunConfig,
         spawn: impl FnOnce(&mut Simulation, Option<FlightGearLink>) -> Entity,
     ) -> Result<Self, CliError> {
-        let resources = Resources::new(run.fps)
+        let resources = Resources::new(f64::from(run.fps))
             .map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?
             .with_origin(run.origin);
         let link = match run.fg {

@@ -357,6 +357,10 @@ fn interactive_without_a_terminal_points_to_headless() {
 fn valid_headless_input_passes_validation() {
     let dir = scratch();
     let path = script(&dir, "ok.txt", "# climb\n1-5 throttle-up\n7-7 flaps-down\n");
+    // A socket of this test's own, so the datagrams go nowhere else (a fixed port
+    // once steered a live FlightGear listening on it).
+    let sink = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    let fg = sink.local_addr().unwrap().to_string();
     for args in [
         vec![
             "palmer",
@@ -379,7 +383,7 @@ fn valid_headless_input_passes_validation() {
             "--origin",
             "-33.9,151.2,6",
             "--fg",
-            "127.0.0.1:5600",
+            &fg,
         ],
         vec!["palmer", "--headless", "--duration", "0"],
     ] {
