@@ -36,10 +36,8 @@ use std::time::{Duration, Instant};
 use criterion::{
     criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode, Throughput,
 };
-use fdm_suite::fdm_core::bourg::BourgState;
-use fdm_suite::fdm_core::palmer::PalmerState;
 use fdm_suite::fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_suite::fdm_ecs::{Execution, Resources, Simulation, World};
+use fdm_suite::fdm_ecs::{Execution, Resources, Simulation};
 use fdm_suite::oop::{Fleet, FleetState, TimeSteps};
 use sim_cli::args::ModelKind;
 use sim_cli::fleet::{bourg_fleet, palmer_fleet, spawn_fleet, FLEET_FPS};
@@ -67,51 +65,6 @@ fn timed_frames<T>(
         total += start.elapsed();
     }
     total
-}
-
-/// The states of `model`'s aircraft in the world, in query order.
-fn world_states(world: &World, model: ModelKind) -> Vec<FleetState> {
-    match model {
-        ModelKind::Palmer => world
-            .query::<&PalmerState>()
-            .iter()
-            .map(|s| FleetState::Palmer(*s))
-            .collect(),
-        ModelKind::Bourg => world
-            .query::<&BourgState>()
-            .iter()
-            .map(|s| FleetState::Bourg(*s))
-            .collect(),
-    }
-}
-
-/// Writes `initial` back into the world, in query order.
-fn reset_world(world: &mut World, initial: &[FleetState]) {
-    match initial.first() {
-        Some(FleetState::Palmer(_)) => {
-            for (state, init) in world
-                .query_mut::<&mut PalmerState>()
-                .into_iter()
-                .zip(initial)
-            {
-                if let FleetState::Palmer(init) = init {
-                    *state = *init;
-                }
-            }
-        }
-        Some(FleetState::Bourg(_)) => {
-            for (state, init) in world
-                .query_mut::<&mut BourgState>()
-                .into_iter()
-                .zip(initial)
-            {
-                if let FleetState::Bourg(init) = init {
-                    *state = *init;
-                }
-            }
-        }
-        None => {}
-    }
 }
 
 /// Writes `initial` back into the objects, in order.
@@ -151,7 +104,7 @@ fn bench_model(c: &mut Criterion, model: ModelKind) {
             group.bench_function(BenchmarkId::new(name, n), |b| {
                 let (sim, initial) = setup.get_or_insert_with(|| {
                     let sim = spawn_fleet(model, n, execution);
-                    let initial = world_states(sim.world(), model);
+                    let initial = FleetState::of_world(sim.world());
                     (sim, initial)
                 });
                 let resources: Resources = *sim.resources();
@@ -160,7 +113,7 @@ fn bench_model(c: &mut Criterion, model: ModelKind) {
                         iters,
                         sim.world_mut(),
                         |w| eom(black_box(w), &resources),
-                        |w| reset_world(w, initial),
+                        |w| FleetState::write_to_world(w, initial),
                     )
                 });
             });

@@ -37,6 +37,7 @@
 
 use fdm_core::bourg::{self, BourgControls, BourgState};
 use fdm_core::palmer::{self, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_ecs::World;
 use rayon::prelude::*;
 
 /// The time steps of one frame rate, computed once per frame as the original
@@ -68,6 +69,49 @@ pub enum FleetState {
     Palmer(PalmerState),
     /// A Bourg aircraft's state.
     Bourg(BourgState),
+}
+
+impl FleetState {
+    /// The states of every aircraft of an fdm-ecs world, in query order:
+    /// the Palmer aircraft, then the Bourg aircraft (for a world spawned from
+    /// one fleet, the spawn order, so the order of [`Fleet::palmer`] or
+    /// [`Fleet::bourg`] over the same slice).
+    #[must_use]
+    pub fn of_world(world: &World) -> Vec<Self> {
+        let mut states: Vec<Self> = world
+            .query::<&PalmerState>()
+            .iter()
+            .map(|s| Self::Palmer(*s))
+            .collect();
+        states.extend(world.query::<&BourgState>().iter().map(|s| Self::Bourg(*s)));
+        states
+    }
+
+    /// Writes `states` (as [`of_world`](Self::of_world) returned them) back
+    /// into the world's aircraft, in the same order; a state of the other
+    /// model at an aircraft's place is skipped.
+    pub fn write_to_world(world: &mut World, states: &[Self]) {
+        let palmer = world.query_mut::<&mut PalmerState>().into_iter().count();
+        let (palmer_states, bourg_states) = states.split_at(palmer.min(states.len()));
+        for (state, new) in world
+            .query_mut::<&mut PalmerState>()
+            .into_iter()
+            .zip(palmer_states)
+        {
+            if let Self::Palmer(new) = new {
+                *state = *new;
+            }
+        }
+        for (state, new) in world
+            .query_mut::<&mut BourgState>()
+            .into_iter()
+            .zip(bourg_states)
+        {
+            if let Self::Bourg(new) = new {
+                *state = *new;
+            }
+        }
+    }
 }
 
 /// An aircraft object: owns its parameters, controls and state and advances
@@ -338,6 +382,43 @@ mod tests {
         assert!(palmer.set_state(FleetState::Palmer(PalmerState::at_rest())));
         assert_eq!(palmer.state(), FleetState::Palmer(PalmerState::at_rest()));
         assert!(!fleet.aircraft_mut()[1].set_state(FleetState::Palmer(ps)));
+    }
+
+    #[test]
+    fn world_states_read_and_write_in_query_order() {
+        use std::sync::Arc;
+
+        let mut sim = fdm_ecs::Simulation::new(fdm_ecs::Resources::new(30.0).unwrap());
+        sim.spawn_bourg(
+            Arc::new(bourg::Aircraft::bourg_default()),
+            BourgControls::initial(),
+            BourgState::initial(),
+            None,
+        );
+        sim.spawn_palmer(
+            Arc::new(PalmerAircraft::cessna_172()),
+            PalmerControls::default(),
+            PalmerState::at_rest(),
+            None,
+        );
+        let states = FleetState::of_world(sim.world());
+        assert_eq!(
+            states,
+            [
+                FleetState::Palmer(PalmerState::at_rest()),
+                FleetState::Bourg(BourgState::initial())
+            ]
+        );
+        let mut moved = PalmerState::at_rest();
+        moved.position_m.x = 12.0;
+        let mut turned = BourgState::initial();
+        turned.speed = 99.0;
+        let new = [FleetState::Palmer(moved), FleetState::Bourg(turned)];
+        FleetState::write_to_world(sim.world_mut(), &new);
+        assert_eq!(FleetState::of_world(sim.world()), new);
+        // A state of the wrong model is skipped.
+        FleetState::write_to_world(sim.world_mut(), &[FleetState::Bourg(BourgState::initial())]);
+        assert_eq!(FleetState::of_world(sim.world()), new);
     }
 
     #[test]

@@ -3,31 +3,14 @@
 //! states, sequentially and in parallel, so `benches/fleet.rs` compares equal
 //! work.
 
-use fdm_suite::fdm_core::bourg::BourgState;
-use fdm_suite::fdm_core::palmer::PalmerState;
 use fdm_suite::fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_suite::fdm_ecs::{Execution, World};
+use fdm_suite::fdm_ecs::Execution;
 use fdm_suite::oop::{Fleet, FleetState, TimeSteps};
 use sim_cli::args::ModelKind;
 use sim_cli::fleet::{bourg_fleet, palmer_fleet, spawn_fleet, FLEET_FPS};
 
 const N: usize = 1_000;
 const FRAMES: usize = 90;
-
-fn ecs_states(world: &World, model: ModelKind) -> Vec<FleetState> {
-    match model {
-        ModelKind::Palmer => world
-            .query::<&PalmerState>()
-            .iter()
-            .map(|s| FleetState::Palmer(*s))
-            .collect(),
-        ModelKind::Bourg => world
-            .query::<&BourgState>()
-            .iter()
-            .map(|s| FleetState::Bourg(*s))
-            .collect(),
-    }
-}
 
 /// Bit patterns of every number of a state (so -0.0 and 0.0 differ, NaN equals NaN).
 fn bits(state: &FleetState) -> Vec<u64> {
@@ -72,7 +55,7 @@ fn check(model: ModelKind) {
     let mut seq = spawn_fleet(model, N, Execution::Sequential);
     let mut par = spawn_fleet(model, N, Execution::Parallel);
     // The world's query order is the spawn order, the objects' order.
-    assert_eq!(ecs_states(seq.world(), model), oop.states());
+    assert_eq!(FleetState::of_world(seq.world()), oop.states());
     let res = *seq.resources();
     assert_eq!(res.dt_palmer_s(), dt.palmer_s);
     assert_eq!(res.dt_bourg_s(), dt.bourg_s);
@@ -89,7 +72,7 @@ fn check(model: ModelKind) {
     let oop_states = oop.states();
     assert_eq!(oop_states.len(), N);
     for (name, sim) in [("sequential", &seq), ("parallel", &par)] {
-        let ecs = ecs_states(sim.world(), model);
+        let ecs = FleetState::of_world(sim.world());
         assert_eq!(ecs.len(), N);
         for (i, (e, o)) in ecs.iter().zip(&oop_states).enumerate() {
             assert_eq!(
