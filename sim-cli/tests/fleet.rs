@@ -1,21 +1,10 @@
 //! `sim-cli fleet` on the built binary: the JSON report's shape and values,
 //! the human summary, and the usage errors (exit status 2, one line).
 
-use std::process::{Command, Output, Stdio};
+mod support;
 
 use serde_json::Value;
-
-fn sim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-cli"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("run sim-cli")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use support::{sim, text};
 
 #[test]
 fn json_report_has_the_documented_fields() {
