@@ -25,7 +25,7 @@
 //! whole frames (MakePacket included) at 1 000 and 100 000 aircraft.
 //!
 //! ```text
-//! cargo bench --bench fleet                    # everything, about 6 minutes
+//! cargo bench --bench fleet                    # everything, 5 to 7 minutes
 //! cargo bench --bench fleet -- fleet_palmer/   # one model
 //! python3 scripts/fleet_chart.py               # the chart, from target/criterion
 //! ```
