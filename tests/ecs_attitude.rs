@@ -15,7 +15,6 @@ use fdm_suite::fdm_ecs::components::{Attitude, FgNetFdm, Geodetic};
 use fdm_suite::fdm_ecs::geodesy::{
     ground_track_deg, palmer_attitude, GeodeticOrigin, WGS84_A_M, WGS84_F,
 };
-use fdm_suite::fdm_ecs::systems::model_ned_to_local_ned;
 use fdm_suite::fdm_ecs::{Entity, Resources, Simulation};
 use geographiclib_rs::{Geodesic, InverseGeodesic};
 
@@ -333,7 +332,7 @@ fn make_packet_rotation_is_the_geodesy_modules_bit_for_bit() {
                 (k * 37.0) % 12_000.0,
             );
             let here = origin.model_to_geodetic(position_m);
-            let ours = model_ned_to_local_ned(origin, &here);
+            let ours = origin.model_ned_to_local_ned_at(&here);
             let theirs = origin.model_ned_to_local_ned(position_m);
             assert_eq!(
                 ours.map(f64::to_bits),

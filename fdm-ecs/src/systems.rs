@@ -22,8 +22,8 @@ use crate::components::{
     BourgInput, BourgParams, FlightGearLink, FrameInput, PalmerInput, PalmerParams, ScriptInput,
 };
 use crate::geodesy::{
-    bourg_attitude, enu_to_ecef_rotation, ned_from_model, palmer_attitude, Attitude, Geodetic,
-    GeodeticOrigin, METRES_PER_FOOT,
+    bourg_attitude, ned_from_model, palmer_attitude, Attitude, Geodetic, GeodeticOrigin,
+    METRES_PER_FOOT,
 };
 use crate::resources::{Execution, Resources};
 
@@ -217,20 +217,8 @@ pub struct Display {
     pub packet: FgNetFdm,
 }
 
-/// [`GeodeticOrigin::model_ned_to_local_ned`] at a position whose geodetic
-/// coordinates `here` are already known: the same expression, without
-/// converting the position to geodetic a second time (that conversion is about
-/// a third of MakePacket's time). `tests/ecs_attitude.rs` checks it gives the
-/// same bits as the geodesy module's.
-#[must_use]
-pub fn model_ned_to_local_ned(origin: &GeodeticOrigin, here: &Geodetic) -> Matrix3<f64> {
-    // NED = P · ENU with P swapping east/north and negating up (P = Pᵀ = P⁻¹).
-    let p = Matrix3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0);
-    p * enu_to_ecef_rotation(here.lat_deg, here.lon_deg).transpose() * origin.enu_to_ecef() * p
-}
-
 /// Rotates a model-frame attitude into the local north-east-down frame at
-/// the aircraft with `to_local` ([`model_ned_to_local_ned`]): what
+/// the aircraft with `to_local` ([`GeodeticOrigin::model_ned_to_local_ned_at`]): what
 /// [`GeodeticOrigin::attitude_at`] computes.
 fn local_attitude(to_local: &Matrix3<f64>, attitude: Attitude) -> Attitude {
     Attitude::from_body_to_ned(&(to_local * attitude.body_to_ned()))
@@ -254,7 +242,7 @@ pub fn palmer_display(
 ) -> Display {
     let position_m = state.position_m;
     let geodetic = origin.model_to_geodetic(position_m);
-    let to_local = model_ned_to_local_ned(origin, &geodetic);
+    let to_local = origin.model_ned_to_local_ned_at(&geodetic);
     let attitude = local_attitude(
         &to_local,
         palmer_attitude(state.velocity_mps, controls.alpha_deg, controls.bank_deg),
@@ -321,7 +309,7 @@ pub fn bourg_display(
     let widen = |v: Vector3<f32>| v.map(f64::from);
     let position_m = widen(state.position) * METRES_PER_FOOT;
     let geodetic = origin.model_to_geodetic(position_m);
-    let to_local = model_ned_to_local_ned(origin, &geodetic);
+    let to_local = origin.model_ned_to_local_ned_at(&geodetic);
     let attitude = local_attitude(&to_local, bourg_attitude(state.euler_angles_deg));
     let ned_fps = to_local * ned_from_model(widen(state.velocity));
     // Body frame x forward, y left, z up → forward, right, down.

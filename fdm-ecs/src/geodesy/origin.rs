@@ -238,7 +238,15 @@ impl GeodeticOrigin {
     /// 1.17° at 100 km east.
     #[must_use]
     pub fn model_ned_to_local_ned(&self, position_m: Vector3<f64>) -> Matrix3<f64> {
-        let here = self.model_to_geodetic(position_m);
+        self.model_ned_to_local_ned_at(&self.model_to_geodetic(position_m))
+    }
+
+    /// [`GeodeticOrigin::model_ned_to_local_ned`] at a position whose geodetic
+    /// coordinates `here` are already known (e.g. MakePacket, which has just
+    /// computed them for the datagram): saves converting the position a second
+    /// time, about a third of MakePacket's cost.
+    #[must_use]
+    pub fn model_ned_to_local_ned_at(&self, here: &Geodetic) -> Matrix3<f64> {
         let local_enu_to_ecef = enu_to_ecef_rotation(here.lat_deg, here.lon_deg);
         // NED = P · ENU with P swapping east/north and negating up (P = Pᵀ = P⁻¹).
         let p = Matrix3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0);
