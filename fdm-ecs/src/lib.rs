@@ -70,7 +70,8 @@
 //! ```
 
 pub mod components;
-pub mod geodesy;
+/// Geodesy lives in `fdm-core` (pure maths); re-exported here for the shell's users.
+pub use fdm_core::geodesy;
 mod resources;
 mod schedule;
 mod simulation;

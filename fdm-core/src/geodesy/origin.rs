@@ -3,7 +3,9 @@
 //! WGS-84 geodetic coordinates.
 
 use core::fmt;
-use core::str::FromStr;
+
+#[cfg(feature = "alloc")]
+use alloc::{borrow::ToOwned, string::String};
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -42,10 +44,10 @@ impl fmt::Display for Geodetic {
 }
 
 /// Why a geodetic origin was rejected.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum GeodesyError {
     /// The `LAT,LON,ALT_M` text did not have exactly three comma-separated fields.
-    #[error("expected LAT,LON,ALT_M (three comma-separated numbers), found {found} field(s) in {text:?}")]
+    #[cfg(feature = "alloc")]
     WrongFieldCount {
         /// Number of comma-separated fields found.
         found: usize,
@@ -53,7 +55,7 @@ pub enum GeodesyError {
         text: String,
     },
     /// A field of the `LAT,LON,ALT_M` text is not a number.
-    #[error("{field} is not a number: {text:?}")]
+    #[cfg(feature = "alloc")]
     NotANumber {
         /// Which field: `"latitude"`, `"longitude"` or `"altitude"`.
         field: &'static str,
@@ -61,7 +63,6 @@ pub enum GeodesyError {
         text: String,
     },
     /// A coordinate is NaN or infinite.
-    #[error("{field} must be finite, got {value}")]
     NonFinite {
         /// Which field: `"latitude"`, `"longitude"` or `"altitude"`.
         field: &'static str,
@@ -69,24 +70,50 @@ pub enum GeodesyError {
         value: f64,
     },
     /// Latitude outside `[-90, 90]` degrees.
-    #[error("latitude must be within [-90, 90] degrees, got {lat_deg}")]
     LatitudeOutOfRange {
         /// The latitude given, degrees.
         lat_deg: f64,
     },
     /// Longitude outside `[-180, 180]` degrees.
-    #[error("longitude must be within [-180, 180] degrees, got {lon_deg}")]
     LongitudeOutOfRange {
         /// The longitude given, degrees.
         lon_deg: f64,
     },
     /// Altitude outside [`GeodeticOrigin::ALT_RANGE_M`].
-    #[error("altitude must be within [{min}, {max}] metres, got {alt_m}", min = GeodeticOrigin::ALT_RANGE_M.start(), max = GeodeticOrigin::ALT_RANGE_M.end())]
     AltitudeOutOfRange {
         /// The altitude given, metres.
         alt_m: f64,
     },
 }
+
+impl fmt::Display for GeodesyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            #[cfg(feature = "alloc")]
+            Self::WrongFieldCount { found, text } => write!(
+                f,
+                "expected LAT,LON,ALT_M (three comma-separated numbers), found {found} field(s) in {text:?}"
+            ),
+            #[cfg(feature = "alloc")]
+            Self::NotANumber { field, text } => write!(f, "{field} is not a number: {text:?}"),
+            Self::NonFinite { field, value } => write!(f, "{field} must be finite, got {value}"),
+            Self::LatitudeOutOfRange { lat_deg } => {
+                write!(f, "latitude must be within [-90, 90] degrees, got {lat_deg}")
+            }
+            Self::LongitudeOutOfRange { lon_deg } => {
+                write!(f, "longitude must be within [-180, 180] degrees, got {lon_deg}")
+            }
+            Self::AltitudeOutOfRange { alt_m } => write!(
+                f,
+                "altitude must be within [{}, {}] metres, got {alt_m}",
+                GeodeticOrigin::ALT_RANGE_M.start(),
+                GeodeticOrigin::ALT_RANGE_M.end()
+            ),
+        }
+    }
+}
+
+impl core::error::Error for GeodesyError {}
 
 /// The geodetic point where a model's earth-frame origin sits, with the local
 /// tangent plane there: the model's x axis points to true north at the origin,
@@ -309,7 +336,8 @@ impl Default for GeodeticOrigin {
     }
 }
 
-impl FromStr for GeodeticOrigin {
+#[cfg(feature = "alloc")]
+impl core::str::FromStr for GeodeticOrigin {
     type Err = GeodesyError;
 
     /// Parses the CLI's `LAT,LON,ALT_M` (degrees, degrees, metres), e.g.
@@ -317,7 +345,7 @@ impl FromStr for GeodeticOrigin {
     /// numbers use Rust's `f64` syntax (`1e3` is accepted). Then validates as
     /// [`GeodeticOrigin::new`].
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        let fields: alloc::vec::Vec<&str> = text.split(',').map(str::trim).collect();
         let [lat, lon, alt] = fields.as_slice() else {
             return Err(GeodesyError::WrongFieldCount {
                 found: fields.len(),

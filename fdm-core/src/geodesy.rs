@@ -51,7 +51,7 @@
 //! # Example
 //!
 //! ```
-//! use fdm_ecs::geodesy::{palmer_attitude, GeodeticOrigin};
+//! use fdm_core::geodesy::{palmer_attitude, GeodeticOrigin};
 //! use nalgebra::Vector3;
 //!
 //! let origin: GeodeticOrigin = "39.8264,-84.0483,251".parse()?;
@@ -73,7 +73,7 @@
 //! // Relative to true north at the aircraft (here: a tiny correction).
 //! let sent = origin.attitude_at(position_m, attitude);
 //! assert!((sent.heading_deg - 90.0).abs() < 0.01);
-//! # Ok::<(), fdm_ecs::geodesy::GeodesyError>(())
+//! # Ok::<(), fdm_core::geodesy::GeodesyError>(())
 //! ```
 
 mod attitude;

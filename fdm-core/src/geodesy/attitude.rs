@@ -11,6 +11,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::math::{atan2, hypot, rem_euclid, sin_cos};
+
 /// Aircraft attitude as FlightGear displays it, in degrees.
 ///
 /// Relative to the north-east-down frame the angles refer to: for the
@@ -50,12 +52,12 @@ impl Attitude {
     /// panics.
     #[must_use]
     pub fn from_body_to_ned(c: &Matrix3<f64>) -> Self {
-        let cos_pitch = c[(0, 0)].hypot(c[(1, 0)]);
-        let pitch = (-c[(2, 0)]).atan2(cos_pitch);
+        let cos_pitch = hypot(c[(0, 0)], c[(1, 0)]);
+        let pitch = atan2(-c[(2, 0)], cos_pitch);
         let (roll, heading) = if cos_pitch > 1e-12 {
-            (c[(2, 1)].atan2(c[(2, 2)]), c[(1, 0)].atan2(c[(0, 0)]))
+            (atan2(c[(2, 1)], c[(2, 2)]), atan2(c[(1, 0)], c[(0, 0)]))
         } else {
-            (0.0, (-c[(0, 1)]).atan2(c[(1, 1)]))
+            (0.0, atan2(-c[(0, 1)], c[(1, 1)]))
         };
         Self {
             roll_deg: roll.to_degrees(),
@@ -70,7 +72,7 @@ impl Attitude {
 /// 360 give `0.0`.
 #[must_use]
 pub fn normalize_heading_deg(angle_deg: f64) -> f64 {
-    let h = angle_deg.rem_euclid(360.0);
+    let h = rem_euclid(angle_deg, 360.0);
     if h >= 360.0 {
         0.0
     } else {
@@ -103,7 +105,7 @@ pub fn ground_track_deg(velocity: Vector3<f64>) -> f64 {
     if velocity.x == 0.0 && velocity.y == 0.0 {
         0.0
     } else {
-        normalize_heading_deg((-velocity.y).atan2(velocity.x).to_degrees())
+        normalize_heading_deg(atan2(-velocity.y, velocity.x).to_degrees())
     }
 }
 
@@ -146,13 +148,13 @@ pub fn ground_track_deg(velocity: Vector3<f64>) -> f64 {
 #[must_use]
 pub fn palmer_attitude(velocity_m_s: Vector3<f64>, alpha_deg: f64, bank_deg: f64) -> Attitude {
     let (vx, vy, vz) = (velocity_m_s.x, velocity_m_s.y, velocity_m_s.z);
-    let vh = vx.hypot(vy);
+    let vh = hypot(vx, vy);
     // Same degenerate-case conventions as the model's rhs (step 10 of the spec).
-    let track = if vh == 0.0 { 0.0 } else { (-vy).atan2(vx) };
+    let track = if vh == 0.0 { 0.0 } else { atan2(-vy, vx) };
     let climb = if vh == 0.0 && vz == 0.0 {
         0.0
     } else {
-        vz.atan2(vh)
+        atan2(vz, vh)
     };
     let c =
         rot_z(track) * rot_y(climb) * rot_x(bank_deg.to_radians()) * rot_y(alpha_deg.to_radians());
@@ -201,18 +203,18 @@ pub fn bourg_attitude(euler_deg: Vector3<f32>) -> Attitude {
 
 /// Rotation about x by `a` radians (right-handed).
 pub(super) fn rot_x(a: f64) -> Matrix3<f64> {
-    let (s, c) = a.sin_cos();
+    let (s, c) = sin_cos(a);
     Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)
 }
 
 /// Rotation about y by `a` radians (right-handed).
 pub(super) fn rot_y(a: f64) -> Matrix3<f64> {
-    let (s, c) = a.sin_cos();
+    let (s, c) = sin_cos(a);
     Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
 }
 
 /// Rotation about z by `a` radians (right-handed).
 pub(super) fn rot_z(a: f64) -> Matrix3<f64> {
-    let (s, c) = a.sin_cos();
+    let (s, c) = sin_cos(a);
     Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
 }

@@ -3,6 +3,8 @@
 
 use nalgebra::Vector3;
 
+use crate::math::{atan2, cbrt, cos, hypot, sin_cos, sqrt, square};
+
 use super::Geodetic;
 
 /// WGS-84 semi-major axis (equatorial radius), metres (NIMA TR8350.2, table 3.1).
@@ -35,9 +37,9 @@ const MAX_RADIUS_M: f64 = 2.0 * WGS84_A_M / f64::EPSILON;
 /// (a few nanometres). Non-finite input gives non-finite output; never panics.
 #[must_use]
 pub fn geodetic_to_ecef(geodetic: Geodetic) -> Vector3<f64> {
-    let (sin_lat, cos_lat) = geodetic.lat_deg.to_radians().sin_cos();
-    let (sin_lon, cos_lon) = geodetic.lon_deg.to_radians().sin_cos();
-    let n = WGS84_A_M / (1.0 - E2 * sin_lat * sin_lat).sqrt();
+    let (sin_lat, cos_lat) = sin_cos(geodetic.lat_deg.to_radians());
+    let (sin_lon, cos_lon) = sin_cos(geodetic.lon_deg.to_radians());
+    let n = WGS84_A_M / sqrt(1.0 - E2 * sin_lat * sin_lat);
     let horizontal = (n + geodetic.alt_m) * cos_lat;
     Vector3::new(
         horizontal * cos_lon,
@@ -76,28 +78,28 @@ pub fn ecef_to_geodetic(ecef_m: Vector3<f64>) -> Geodetic {
         };
     }
     let (x, y, z) = (ecef_m.x, ecef_m.y, ecef_m.z);
-    let mut r_axis = x.hypot(y);
+    let mut r_axis = hypot(x, y);
     let (mut sin_lon, mut cos_lon) = if r_axis != 0.0 {
         (y / r_axis, x / r_axis)
     } else {
         (0.0, 1.0)
     };
-    let mut h = r_axis.hypot(z);
+    let mut h = hypot(r_axis, z);
     let (sin_lat, cos_lat);
     if h > MAX_RADIUS_M {
         // Very far away: treat the Earth as a point. Halve first so that the
         // hypotenuse cannot overflow for finite input.
-        r_axis = (x / 2.0).hypot(y / 2.0);
+        r_axis = hypot(x / 2.0, y / 2.0);
         if r_axis != 0.0 {
             sin_lon = (y / 2.0) / r_axis;
             cos_lon = (x / 2.0) / r_axis;
         }
-        let hh = (z / 2.0).hypot(r_axis);
+        let hh = hypot(z / 2.0, r_axis);
         sin_lat = (z / 2.0) / hh;
         cos_lat = r_axis / hh;
     } else {
-        let p = (r_axis / WGS84_A_M).powi(2);
-        let q = E2M * (z / WGS84_A_M).powi(2);
+        let p = square(r_axis / WGS84_A_M);
+        let q = E2M * square(z / WGS84_A_M);
         let r = (p + q - E4) / 6.0;
         if !(E4 * q == 0.0 && r <= 0.0) {
             // s = r³·S and t = r·T avoid a division by r = 0.
@@ -109,39 +111,39 @@ pub fn ecef_to_geodetic(ecef_m: Vector3<f64>) -> Geodetic {
             if disc >= 0.0 {
                 let mut t3 = s + r3;
                 // Choose the sign of the root that maximises |t3| (no cancellation).
-                t3 += if t3 < 0.0 { -disc.sqrt() } else { disc.sqrt() };
-                let t = t3.cbrt();
+                t3 += if t3 < 0.0 { -sqrt(disc) } else { sqrt(disc) };
+                let t = cbrt(t3);
                 u += t + if t != 0.0 { r2 / t } else { 0.0 };
             } else {
                 // Three real roots; take the one free of cancellation (r < 0 here).
-                let ang = (-disc).sqrt().atan2(-(s + r3));
-                u += 2.0 * r * (ang / 3.0).cos();
+                let ang = atan2(sqrt(-disc), -(s + r3));
+                u += 2.0 * r * cos(ang / 3.0);
             }
-            let v = (u * u + E4 * q).sqrt(); // > 0
+            let v = sqrt(u * u + E4 * q); // > 0
             let uv = if u < 0.0 { E4 * q / (v - u) } else { u + v }; // u + v > 0
             let w = (E2 * (uv - q) / (2.0 * v)).max(0.0);
-            let k = uv / ((uv + w * w).sqrt() + w);
+            let k = uv / (sqrt(uv + w * w) + w);
             let k1 = k;
             let k2 = k + E2;
             let d = k1 * r_axis / k2;
-            let hh = (z / k1).hypot(r_axis / k2);
+            let hh = hypot(z / k1, r_axis / k2);
             sin_lat = (z / k1) / hh;
             cos_lat = (r_axis / k2) / hh;
-            h = (1.0 - E2M / k1) * d.hypot(z);
+            h = (1.0 - E2M / k1) * hypot(d, z);
         } else {
             // On the equatorial plane inside the evolute (|x,y| < a e²): the
             // general formulas give 0/0; take the limit z → 0.
-            let zz = ((E4 - p) / E2M).sqrt();
-            let xx = p.sqrt();
-            let hh = zz.hypot(xx);
+            let zz = sqrt((E4 - p) / E2M);
+            let xx = sqrt(p);
+            let hh = hypot(zz, xx);
             sin_lat = if z < 0.0 { -zz / hh } else { zz / hh };
             cos_lat = xx / hh;
             h = -WGS84_A_M * E2M * hh / E2;
         }
     }
     Geodetic {
-        lat_deg: sin_lat.atan2(cos_lat).to_degrees(),
-        lon_deg: sin_lon.atan2(cos_lon).to_degrees(),
+        lat_deg: atan2(sin_lat, cos_lat).to_degrees(),
+        lon_deg: atan2(sin_lon, cos_lon).to_degrees(),
         alt_m: h,
     }
 }
@@ -152,8 +154,8 @@ pub fn ecef_to_geodetic(ecef_m: Vector3<f64>) -> Geodetic {
 /// transpose maps ECEF back to ENU.
 #[must_use]
 pub fn enu_to_ecef_rotation(lat_deg: f64, lon_deg: f64) -> nalgebra::Matrix3<f64> {
-    let (sin_lat, cos_lat) = lat_deg.to_radians().sin_cos();
-    let (sin_lon, cos_lon) = lon_deg.to_radians().sin_cos();
+    let (sin_lat, cos_lat) = sin_cos(lat_deg.to_radians());
+    let (sin_lon, cos_lon) = sin_cos(lon_deg.to_radians());
     nalgebra::Matrix3::new(
         -sin_lon,
         -sin_lat * cos_lon,
