@@ -89,6 +89,4 @@ pub use wgs84::{
     ecef_to_geodetic, enu_to_ecef_rotation, geodetic_to_ecef, WGS84_A_M, WGS84_B_M, WGS84_F,
 };
 
-/// Metres per international foot, exact (1959 definition). Bourg's feet and
-/// ft/s times this give metres and m/s; FlightGear's ft/s are m/s divided by it.
-pub const METRES_PER_FOOT: f64 = 0.3048;
+pub use crate::units::METRES_PER_FOOT;

@@ -69,16 +69,3 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 pub fn square(x: f64) -> f64 {
     x * x
 }
-
-/// The least non-negative remainder of `x / m` (f64), as `f64::rem_euclid`:
-/// `x % m`, plus `|m|` when negative.
-#[inline(always)]
-#[must_use]
-pub fn rem_euclid(x: f64, m: f64) -> f64 {
-    let r = x % m;
-    if r < 0.0 {
-        r + m.abs()
-    } else {
-        r
-    }
-}

@@ -11,7 +11,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::math::{atan2, hypot, rem_euclid, sin_cos};
+use crate::math::{atan2, hypot, sin_cos};
 
 /// Aircraft attitude as FlightGear displays it, in degrees.
 ///
@@ -21,7 +21,7 @@ use crate::math::{atan2, hypot, rem_euclid, sin_cos};
 /// relative to true north and the local horizontal at the aircraft.
 ///
 /// [`GeodeticOrigin::attitude_at`]: super::GeodeticOrigin::attitude_at
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Attitude {
     /// Bank angle, degrees, right wing down positive, in `[-180, 180]`.
     pub roll_deg: f64,
@@ -72,13 +72,7 @@ impl Attitude {
 /// 360 give `0.0`.
 #[must_use]
 pub fn normalize_heading_deg(angle_deg: f64) -> f64 {
-    let h = rem_euclid(angle_deg, 360.0);
-    if h >= 360.0 {
-        0.0
-    } else {
-        // `+ 0.0` turns -0.0 into +0.0.
-        h + 0.0
-    }
+    crate::units::wrap_degrees_360(angle_deg)
 }
 
 /// Velocity (or any vector) from a model's earth frame (x north, y west,

@@ -16,7 +16,7 @@ use super::wgs84::{ecef_to_geodetic, enu_to_ecef_rotation, geodetic_to_ecef};
 ///
 /// A plain value: any numbers are accepted here; [`GeodeticOrigin::new`]
 /// validates the ones used as an origin.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Geodetic {
     /// Geodetic latitude, degrees, north positive, in `[-90, 90]`.
     pub lat_deg: f64,
