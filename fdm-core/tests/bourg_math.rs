@@ -5,7 +5,7 @@
 //! on vectors, and `fdm_core::bourg::ops` for everything else.
 //!
 //! Every row is compared for exact `f32` bit equality (sign of zero included).
-//! Also: the mass properties of Bourg's airframe against the numbers the spec
+//! Also: the mass properties of Bourg's airframe against the numbers docs/bourg-model.md
 //! prints (9 significant digits, i.e. exact f32 values), and the airfoil
 //! tables at their edges.
 
@@ -553,7 +553,7 @@ fn mass_properties_match_the_spec() {
 
 #[test]
 fn airfoil_tables_at_their_edges() {
-    // Table points and the spec's out-of-table values.
+    // Table points and the out-of-table values of docs/bourg-model.md.
     same(lift_coefficient(0.0f32, Flap::Neutral), 0.2, "CL(0)");
     same(
         lift_coefficient(-8.0f32, Flap::TrailingEdgeDown),

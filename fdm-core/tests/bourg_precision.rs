@@ -84,9 +84,9 @@ fn f32_and_f64_agree_on_a_gentle_glide() {
     assert!((a[0] - b[0]).abs() > 4.9e-4, "x: f64 run equals f32 run");
 }
 
-/// The spec: "Rebuilding the C++ with every float turned into a double still
-/// meets 0.01 on four of the five reference cases but misses the pitch case by
-/// 0.09 ft." The f64 model reproduces exactly that (measured: largest error
+/// A rebuild of the C++ with every float a double still meets 0.01 on four
+/// of the five reference cases but misses the pitch case by 0.09 ft
+/// (docs/bourg-model.md, "Exactness"). The f64 model reproduces exactly that (measured: largest error
 /// 0.0069 on the four cases, pitch case y off by 0.0898 ft).
 #[test]
 fn f64_model_meets_the_thesis_bar_on_four_cases_and_misses_pitch_by_0_09_ft() {

@@ -121,7 +121,7 @@ fn attitude_matrix_round_trip_and_gimbal_lock() {
 
 // ---------------------------------------------------------------- Bourg
 
-/// Bourg's `MakeQFromEulerAngles` (spec: x roll, y pitch, z yaw, degrees),
+/// Bourg's `MakeQFromEulerAngles` (docs/bourg-model.md: x roll, y pitch, z yaw, degrees),
 /// in f64: (n, x, y, z).
 fn bourg_quaternion(euler_deg: Vector3<f64>) -> [f64; 4] {
     let (r, p, y) = (
@@ -144,7 +144,7 @@ fn bourg_quaternion(euler_deg: Vector3<f64>) -> [f64; 4] {
 /// (the model rotates its body forces to earth with it).
 fn qv_rotate(q: [f64; 4], v: Vector3<f64>) -> Vector3<f64> {
     let [n, x, y, z] = q;
-    // q * v (spec's quaternion-times-vector).
+    // q * v (the original's quaternion-times-vector).
     let a = [
         -(x * v.x + y * v.y + z * v.z),
         n * v.x + y * v.z - z * v.y,
@@ -245,7 +245,7 @@ fn bourg_signs_physically() {
 // ---------------------------------------------------------------- Palmer
 
 /// The body axes of the airframe that would fly Palmer's point-mass state,
-/// built from the model's own formulas (spec, rhs step 10-11): velocity
+/// built from the model's own formulas (docs/palmer-model.md, right-hand side steps 10–11): velocity
 /// direction (cosT cosP, sinT cosP, sinP) with T measured from +x towards +y
 /// (west) and the lift direction (the coefficient of `lift` in Fx, Fy, Fz);
 /// the nose is alpha above the velocity, towards the lift. Returns FRD axes

@@ -1,4 +1,4 @@
-//! The optimised `palmer::step` against an oracle: the spec's RK4 written
+//! The optimised `palmer::step` against an oracle: the RK4 of docs/palmer-model.md written
 //! plainly (one right-hand side per stage, the atmosphere's `pow` inside it,
 //! every coefficient recomputed per stage), as the model was before its
 //! per-step invariants were hoisted and its `pow` calls reordered. Every
@@ -16,7 +16,7 @@ use proptest::prelude::*;
 
 const G: f64 = -9.81;
 
-/// The spec's `rhs(q, delta_q, ds, q_scale)`, steps 1-13, in its operation order.
+/// The `rhs(` of docs/palmer-model.md: `rhs(q, delta_q, ds, q_scale)`, steps 1-13, in its operation order.
 fn rhs(
     a: &PalmerAircraft,
     c: &PalmerControls,

@@ -1,4 +1,4 @@
-//! What MakePacket sends FlightGear follows `shared/spec/cli.md`: heading
+//! What MakePacket sends FlightGear follows `docs/cli.md`: heading
 //! clockwise from true north equal to the direction of travel over the ground,
 //! roll positive right wing down, pitch positive nose up. Checked through the
 //! ECS for both models against quantities computed from the successive

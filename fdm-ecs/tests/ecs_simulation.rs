@@ -53,7 +53,7 @@ fn invalid_frame_rates_are_rejected_and_time_steps_follow_fps() {
             (1.0f32 / n as f32).to_bits()
         );
     }
-    // Any other rate as cli.md writes it.
+    // Any other rate as docs/cli.md writes it.
     for fps in [29.97, 0.5, 12.5] {
         let res = Resources::new(fps).unwrap();
         assert_eq!(res.time_step::<Palmer>(), 1.0 / fps);

@@ -14,7 +14,7 @@
 //!   `math.degrees(x) * 1.09349403e-9` radians to the ten radian fields
 //!   (lon, lat, phi, theta, psi, alpha, beta, phidot, thetadot, psidot), a
 //!   relative +6.265e-8 meant to undo the shrink from FlightGear's float
-//!   radian constant (spec §6). Nothing undoes it on `build`, so a datagram
+//!   radian constant (docs/fgnetfdm.md §6). Nothing undoes it on `build`, so a datagram
 //!   echoed through `FDMConnection` comes back with those ten fields grown.
 //!   The third test echoes our datagrams through a real `FDMConnection` and
 //!   predicts the result exactly: `x + x.to_degrees() * 1.09349403e-9` in
@@ -431,7 +431,7 @@ fn rust_sender_to_flightgear_python_parser() {
         assert_eq!(
             got["layout"],
             Value::Array(expected_layout.clone()),
-            "flightgear-python's field order/types differ from the spec table"
+            "flightgear-python's field order/types differ from the table of docs/fgnetfdm.md"
         );
         let py_fields = &got["fields"];
         let mut checked = 0;

@@ -1,5 +1,5 @@
 //! FGNetFDM v24 layout: the golden datagram byte for byte, and the offset of
-//! every field against the spec's table (shared/spec/fgnetfdm.md §3).
+//! every field against that table (`docs/fgnetfdm.md` §3).
 
 use fdm_tests::fgnet_fields::{assert_bitwise_eq, fields, Kind};
 use fgnet::{FgNetFdm, DATAGRAM_LEN};
@@ -42,7 +42,7 @@ fn golden_datagram_byte_for_byte() {
     fdm.encode_into(&mut into);
     assert_eq!(into[..], bytes[..], "encode_into overwrites every byte");
 
-    // The spec's spot checks (§8 step 2).
+    // The spot checks of docs/fgnetfdm.md §8 step 2.
     assert_eq!(hex(&bytes[0..8]), "0000001800000000");
     assert_eq!(hex(&bytes[8..16]), "c0011636c7b07bd0");
     assert_eq!(hex(&bytes[16..24]), "3fe503860cdb22dc");
@@ -88,7 +88,7 @@ fn distinctive(kind: Kind, count_max: Option<u64>) -> u64 {
 #[test]
 fn every_field_lands_at_its_spec_offset() {
     // Set one element at a time on a neutral struct: the element's bytes must
-    // equal the value's big-endian bytes at the spec's offset, and no byte
+    // equal the value's big-endian bytes at the documented offset, and no byte
     // outside that range may change.
     let baseline = FgNetFdm::new();
     let base = baseline.encode();

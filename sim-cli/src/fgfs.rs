@@ -2,7 +2,7 @@
 //!
 //! Flags: the thesis's appendix A command (`--fdm=null`, `--native-fdm=socket,in,...`,
 //! `--disable-panel --enable-hud --disable-sound --disable-random-objects
-//! --timeofday=noon`), plus the cheap ones from fgnetfdm.md §7 that do not hurt an
+//! --timeofday=noon`), plus the cheap ones from docs/fgnetfdm.md §7 that do not hurt an
 //! interactive viewer (`--disable-real-weather-fetch --disable-ai-models
 //! --disable-splash-screen`). `--disable-terrasync` is left out on purpose: scenery
 //! for the default origin (Ohio) is not in the Debian data package, so TerraSync is
@@ -12,7 +12,7 @@
 //! model before its first frame, computed by the same functions MakePacket uses
 //! ([`fdm_ecs::systems::palmer_display`], [`fdm_ecs::systems::bourg_display`]):
 //! FlightGear only loads terrain near the preset and drops packets until the FDM is
-//! initialised there (fgnetfdm.md §7). Palmer stands at rest on the runway at the
+//! initialised there (docs/fgnetfdm.md §7). Palmer stands at rest on the runway at the
 //! origin; Bourg starts at model (−5000, 0, 2000) ft, 5000 ft south of the origin and
 //! 2000 ft above it. Both start pointing north (heading 0), the direction they fly.
 

@@ -3,7 +3,7 @@
 //!
 //! # Numbers
 //! serde_json writes `f64` with the shortest representation that parses back to the
-//! same bits (ryu). That is the "17 significant digits" guarantee of cli.md without
+//! same bits (ryu). That is the "17 significant digits" guarantee of docs/cli.md without
 //! the noise digits: any correctly rounding parser (Python's `json`, Rust's `str::parse`)
 //! gets the identical `f64` back. The tests below check this on random bit patterns.
 //! Bourg's `f32` values are widened with `f64::from`, which is exact, so the printed
@@ -235,7 +235,7 @@ mod tests {
                 x.to_bits(),
                 "serde_json read {text} as {back:e}"
             );
-            // Never more digits than the 17 significant digits cli.md allows for.
+            // Never more digits than the 17 significant digits docs/cli.md allows for.
             let digits = text
                 .split(['e', 'E'])
                 .next()

@@ -1,4 +1,4 @@
-//! Headless runs of the built `sim-cli` (cli.md): the JSON report's fields and
+//! Headless runs of the built `sim-cli` (docs/cli.md): the JSON report's fields and
 //! units, `--csv`, `--duration`, scripts, and the FlightGear datagrams sent with
 //! `--fg` to a UDP socket the test binds.
 

@@ -1,4 +1,4 @@
-//! Shared by the `fgnet_*` integration tests: the spec's field table (offsets
+//! Shared by the `fgnet_*` integration tests: the field table of docs/fgnetfdm.md §3 (offsets
 //! copied from the FGNetFDM v24 layout table, `docs/fgnetfdm.md`, not derived
 //! from the crate), with
 //! flightgear-python's field names, and bitwise field access.
@@ -38,11 +38,11 @@ impl Kind {
     }
 }
 
-/// One row of the spec's table. Arrays have `len` > 1 and element `i` sits at
+/// One row of that table. Arrays have `len` > 1 and element `i` sits at
 /// `offset + i * kind.size()`. Values are passed as raw bits: `to_bits` for
 /// floats, the two's-complement `u32` for `warp`.
 pub struct Field {
-    /// The C header's name, as in the spec and the golden JSON.
+    /// The C header's name, as in docs/fgnetfdm.md and the golden JSON.
     pub name: &'static str,
     /// flightgear-python's `fdm_v24` name.
     pub py: &'static str,
@@ -136,7 +136,7 @@ macro_rules! table {
     };
 }
 
-/// The spec's §3 table, in wire order.
+/// The §3 table of docs/fgnetfdm.md, in wire order.
 pub fn fields() -> Vec<Field> {
     table! {
         0 U32 "version" "version" version;

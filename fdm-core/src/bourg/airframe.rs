@@ -104,7 +104,7 @@ pub type Element64 = ElementOf<f64>;
 pub type Airframe64 = AirframeOf<f64>;
 
 impl<F: BourgFloat> AirframeOf<F> {
-    /// Bourg's airplane (spec table "Element data"), all flaps neutral.
+    /// Bourg's airplane (docs/bourg-model.md "The airframe"), all flaps neutral.
     #[must_use]
     pub fn bourg_default() -> Self {
         let element = |i: usize| {

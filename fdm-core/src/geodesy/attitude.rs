@@ -143,7 +143,7 @@ pub fn ground_track_deg(velocity: Vector3<f64>) -> f64 {
 pub fn palmer_attitude(velocity_m_s: Vector3<f64>, alpha_deg: f64, bank_deg: f64) -> Attitude {
     let (vx, vy, vz) = (velocity_m_s.x, velocity_m_s.y, velocity_m_s.z);
     let vh = hypot(vx, vy);
-    // Same degenerate-case conventions as the model's rhs (step 10 of the spec).
+    // Same degenerate-case conventions as the model's rhs (step 10 of docs/palmer-model.md).
     let track = if vh == 0.0 { 0.0 } else { atan2(-vy, vx) };
     let climb = if vh == 0.0 && vz == 0.0 {
         0.0

@@ -4,7 +4,7 @@
 //! Earth frame: x forward ("north"), y left ("west"), z up; metres, seconds.
 //!
 //! The model is stated operation by operation in the project's
-//! `spec/palmer.md`; [`step`] reproduces the original C program's results (with
+//! `docs/palmer-model.md`; [`step`] reproduces the original C program's results (with
 //! the `std` feature, bit for bit on glibc).
 //!
 //! * [`PalmerAircraft`]: parameters (Cessna 172 by default), [`PalmerAircraft::validate`].

@@ -30,7 +30,7 @@ impl PalmerState {
         Self::at_rest()
     }
 
-    /// At rest at the origin at time 0 (the spec's initial state).
+    /// At rest at the origin at time 0 (the model's initial state, docs/palmer-model.md).
     #[must_use]
     pub const fn at_rest() -> Self {
         Self {
