@@ -273,4 +273,36 @@ impl crate::model::Model for Bourg {
             stalling: state.stalling,
         }
     }
+
+    /// The contact point is the centre of gravity (`position_ft`; the model
+    /// has no landing gear): `z` below 0 becomes 0, a downward `vz` becomes
+    /// 0, and the body-frame velocity is recomputed from the new earth-frame
+    /// one as the step does (`QVRotate(~orientation, velocity)`). Attitude and
+    /// rotation are left to the model. A crash stops it: linear and angular
+    /// velocities 0.
+    fn ground_contact(_aircraft: &BourgAircraft, state: &BourgState, crashed: bool) -> BourgState {
+        let mut s = *state;
+        if s.position_ft.z < 0.0 {
+            s.position_ft.z = 0.0;
+        }
+        if s.velocity_ftps.z < 0.0 {
+            s.velocity_ftps.z = 0.0;
+        }
+        if crashed {
+            s.velocity_ftps = Vector3::zeros();
+            s.angular_velocity_radps = Vector3::zeros();
+        }
+        s.velocity_body_ftps = ops::qv_rotate(&ops::conjugate(&s.orientation), &s.velocity_ftps);
+        s
+    }
+
+    fn at_rest(state: &BourgState, dt: f32) -> BourgState {
+        BourgState {
+            time_s: state.time_s + f64::from(dt),
+            velocity_ftps: Vector3::zeros(),
+            velocity_body_ftps: Vector3::zeros(),
+            angular_velocity_radps: Vector3::zeros(),
+            ..*state
+        }
+    }
 }

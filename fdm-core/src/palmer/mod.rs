@@ -242,6 +242,36 @@ impl crate::model::Model for Palmer {
             stalling: false,
         }
     }
+
+    /// The contact point is the point mass itself: `z` below 0 becomes 0
+    /// and a downward `vz` becomes 0; `vx`, `vy` are kept (the aircraft rolls
+    /// on, slowed by drag only: the model has no wheel friction). A crash
+    /// stops it: every velocity 0.
+    fn ground_contact(
+        _aircraft: &PalmerAircraft,
+        state: &PalmerState,
+        crashed: bool,
+    ) -> PalmerState {
+        let mut s = *state;
+        if s.position_m.z < 0.0 {
+            s.position_m.z = 0.0;
+        }
+        if s.velocity_mps.z < 0.0 {
+            s.velocity_mps.z = 0.0;
+        }
+        if crashed {
+            s.velocity_mps = nalgebra::Vector3::zeros();
+        }
+        s
+    }
+
+    fn at_rest(state: &PalmerState, dt: f64) -> PalmerState {
+        PalmerState {
+            time_s: state.time_s + dt,
+            position_m: state.position_m,
+            velocity_mps: nalgebra::Vector3::zeros(),
+        }
+    }
 }
 
 /// A small index (below 65536) as `f64`, exactly.
