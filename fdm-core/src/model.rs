@@ -142,7 +142,10 @@ pub trait Model: Copy + Debug + Default + Send + Sync + 'static {
         dt: Self::TimeStep,
     ) -> Result<Self::State, Self::StepError>;
 
-    /// Whether every number of the state is finite.
+    /// Whether every number of the state, and of the outputs derived from it
+    /// that can overflow on their own (e.g. a speed, the root of a sum of
+    /// squares), is finite. [`advance`] calls a state that is not a
+    /// divergence.
     fn is_finite(state: &Self::State) -> bool;
 
     /// Height above the ground plane, m (cheap: what [`FlightStatus`] needs
@@ -517,20 +520,6 @@ impl FlightStatus {
             Self::Landed(LandingState::Rough) => "landed_rough",
             Self::Landed(LandingState::Crash) => "crashed",
             Self::Diverged => "diverged",
-        }
-    }
-
-    /// A number for the status (CSV files hold numbers only): 0 on ground,
-    /// 1 airborne, 2 landed safe, 3 landed rough, 4 crashed, 5 diverged.
-    #[must_use]
-    pub const fn number(self) -> u8 {
-        match self {
-            Self::OnGround => 0,
-            Self::Airborne => 1,
-            Self::Landed(LandingState::Safe) => 2,
-            Self::Landed(LandingState::Rough) => 3,
-            Self::Landed(LandingState::Crash) => 4,
-            Self::Diverged => 5,
         }
     }
 }

@@ -65,6 +65,10 @@ pub struct FleetReport {
     pub aircraft_at_30hz: u64,
     /// The time step of each frame, seconds (`1/30`; Bourg's in f32, widened).
     pub dt_s: f64,
+    /// Aircraft whose state became non-finite during the run: from that
+    /// frame on they are skipped (no longer stepped), and counted here instead
+    /// of stopping the fleet.
+    pub diverged: u64,
 }
 
 impl FleetReport {
@@ -83,7 +87,11 @@ impl FleetReport {
             self.aircraft_steps_per_s / 1e6,
             self.aircraft_at_30hz,
             self.model,
-        )
+        ) + &if self.diverged > 0 {
+            format!("\n{} aircraft diverged and were skipped", self.diverged)
+        } else {
+            String::new()
+        }
     }
 }
 
@@ -140,6 +148,7 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         }),
     }
     let seconds = start.elapsed().as_secs_f64();
+    let diverged = u64::try_from(sim.diverged_count()).unwrap_or(u64::MAX);
 
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
     let steps = args.aircraft as f64 * args.frames as f64;
@@ -155,6 +164,7 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         aircraft_steps_per_s,
         aircraft_at_30hz,
         dt_s: resources.time_step::<M>().into(),
+        diverged,
     })
 }
 

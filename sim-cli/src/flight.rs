@@ -66,6 +66,8 @@ pub struct ModelFlight<M: Model> {
     fg: Option<SocketAddrV4>,
     /// The first send failure, as a message, until [`Flight::take_link_failure`].
     link_failure: Option<String>,
+    /// The model's time step, for the divergence message.
+    dt: M::TimeStep,
 }
 
 impl<M: CliModel> ModelFlight<M> {
@@ -99,6 +101,7 @@ impl<M: CliModel> ModelFlight<M> {
             start,
             fg: run.fg,
             link_failure: None,
+            dt: M::time_step(f64::from(run.fps)),
         })
     }
 
@@ -130,11 +133,22 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     /// Queues `actions` as this frame's key presses, runs the frame, and keeps
     /// the link's first failure (reported once by the run loop, never per frame).
+    ///
+    /// A step that diverges (a non-finite state) is an error: the ECS has kept
+    /// the last finite state and sent nothing from the non-finite one, and the
+    /// run stops here, before any row, report or HUD is made from it.
     fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
         for &action in actions {
             self.sim.push_input(self.entity, action)?;
         }
         self.sim.run_frame();
+        if self.sim.status(self.entity) == Some(FlightStatus::Diverged) {
+            return Err(anyhow!(
+                "the {} model diverged (non-finite state) at dt = {:?} s; try a higher --fps",
+                M::NAME,
+                self.dt
+            ));
+        }
         if let Some(error) = self.sim.take_send_failure(self.entity) {
             let target = self
                 .fg

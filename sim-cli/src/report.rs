@@ -34,6 +34,9 @@ pub struct Report<D> {
     pub fps: u32,
     /// Frames stepped.
     pub frames: u64,
+    /// The flight status at the end: `on_ground`, `airborne`, `landed_safe`,
+    /// `landed_rough`, `crashed`, or `stalling` ([`Snapshot::status_code`]).
+    pub status: String,
     /// The state both models have.
     #[serde(flatten)]
     pub common: CommonState,
@@ -48,6 +51,7 @@ impl<D: Details> Report<D> {
             details: snapshot.details,
             fps,
             frames,
+            status: snapshot.status_code().to_owned(),
             common: snapshot.common,
         }
     }
@@ -68,6 +72,7 @@ impl<D: Details> Report<D> {
         let unit = D::POSITION_UNIT;
         format!(
             "{}: {} frames at {} fps, t = {} s\n\
+             status    {}\n\
              position  x {:.3}  y {:.3}  z {:.3} {unit}\n\
              velocity  x {:.3}  y {:.3}  z {:.3} {unit}/s\n\
              geodetic  lat {:.7}  lon {:.7}  alt {:.2} m\n\
@@ -76,6 +81,7 @@ impl<D: Details> Report<D> {
             self.frames,
             self.fps,
             c.time_s,
+            self.status,
             c.position[0],
             c.position[1],
             c.position[2],
@@ -281,7 +287,56 @@ mod tests {
         assert_eq!(values.len(), bourg().csv_columns().len());
         let mut values = Vec::new();
         bourg().csv_values(&mut values);
-        assert_eq!(&values[values.len() - 2..], &[1.0, 0.0]);
+        // flaps down, not stalling, then the status: airborne (1).
+        assert_eq!(&values[values.len() - 3..], &[1.0, 0.0, 1.0]);
+        assert_eq!(bourg().csv_columns().last(), Some(&"status"));
+    }
+
+    #[test]
+    fn status_is_in_the_json_the_csv_and_the_summary() {
+        use fdm_core::model::{FlightStatus, LandingState};
+        let mut snap = palmer();
+        for (status, stalling, code, number) in [
+            (FlightStatus::OnGround, false, "on_ground", 0.0),
+            (FlightStatus::Airborne, false, "airborne", 1.0),
+            (
+                FlightStatus::Landed(LandingState::Safe),
+                false,
+                "landed_safe",
+                2.0,
+            ),
+            (
+                FlightStatus::Landed(LandingState::Rough),
+                false,
+                "landed_rough",
+                3.0,
+            ),
+            (
+                FlightStatus::Landed(LandingState::Crash),
+                false,
+                "crashed",
+                4.0,
+            ),
+            (FlightStatus::Diverged, false, "diverged", 5.0),
+            (FlightStatus::Airborne, true, "stalling", 6.0),
+            (
+                FlightStatus::Landed(LandingState::Crash),
+                true,
+                "crashed",
+                4.0,
+            ),
+        ] {
+            (snap.status, snap.stalling) = (status, stalling);
+            let report = Report::new(30, 1, &snap);
+            let v = serde_json::to_value(&report).unwrap();
+            assert_eq!(v["status"], code);
+            assert!(report
+                .human_summary()
+                .contains(&format!("status    {code}\n")));
+            let mut values = Vec::new();
+            snap.csv_values(&mut values);
+            assert_eq!(values.last(), Some(&number), "{code}");
+        }
     }
 
     #[test]

@@ -371,10 +371,12 @@ pub fn fly<F: Flight>(
                 frames,
                 csv.as_mut(),
                 &mut progress,
-            )?;
-            if let Some(csv) = csv {
-                csv.finish()?;
-            }
+            );
+            // The rows written so far are kept and flushed, even when the run
+            // stopped early (e.g. the model diverged on the next frame).
+            let finished = csv.map(CsvWriter::finish).transpose();
+            let report = report?;
+            finished?;
             let text = if json {
                 report.to_json().context("encoding the JSON report")?
             } else {
@@ -383,10 +385,10 @@ pub fn fly<F: Flight>(
             print_stdout(&text)
         }
         Mode::Interactive => {
-            let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut())?;
-            if let Some(csv) = csv {
-                csv.finish()?;
-            }
+            let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut());
+            let finished = csv.map(CsvWriter::finish).transpose();
+            let summary = summary?;
+            finished?;
             if let Some(message) = &summary.link_failure {
                 eprintln!("{}", link_warning(message));
             }

@@ -65,6 +65,37 @@ pub struct Snapshot<D> {
     pub airspeed_mps: f64,
 }
 
+impl<D> Snapshot<D> {
+    /// The status as one word, for the JSON report's `status`: the flight
+    /// status's [`FlightStatus::code`] (`on_ground`, `airborne`,
+    /// `landed_safe`, `landed_rough`, `crashed`, `diverged`), or `stalling`
+    /// while the model reports a stall in the air.
+    #[must_use]
+    pub fn status_code(&self) -> &'static str {
+        if self.stalling && self.status == FlightStatus::Airborne {
+            "stalling"
+        } else {
+            self.status.code()
+        }
+    }
+
+    /// The status as a number, for the CSV's `status` column (CSV rows hold
+    /// numbers only): 0 on ground, 1 airborne, 2 landed safe, 3 landed rough,
+    /// 4 crashed, 5 diverged, 6 stalling (in the air).
+    #[must_use]
+    pub fn status_number(&self) -> f64 {
+        match self.status_code() {
+            "on_ground" => 0.0,
+            "airborne" => 1.0,
+            "landed_safe" => 2.0,
+            "landed_rough" => 3.0,
+            "crashed" => 4.0,
+            "diverged" => 5.0,
+            _ => 6.0,
+        }
+    }
+}
+
 /// CSV column names of [`CommonState`] (after `frame,time_s`), in row order.
 pub const COMMON_CSV_COLUMNS: &[&str] = &[
     "x",
@@ -85,6 +116,7 @@ impl<D: Details> CsvRecord for Snapshot<D> {
     fn csv_columns(&self) -> Vec<&'static str> {
         let mut columns = COMMON_CSV_COLUMNS.to_vec();
         columns.extend_from_slice(D::CSV_COLUMNS);
+        columns.push("status");
         columns
     }
 
@@ -105,6 +137,7 @@ impl<D: Details> CsvRecord for Snapshot<D> {
             c.attitude_deg.heading,
         ]);
         self.details.csv_values(out);
+        out.push(self.status_number());
     }
 }
 

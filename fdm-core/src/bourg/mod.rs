@@ -221,8 +221,10 @@ impl crate::model::Model for Bourg {
         try_step(aircraft, controls, state, dt)
     }
 
+    /// The state and its speed (an `f32` magnitude, which overflows for
+    /// velocity components above about 1e19 ft/s while they are still finite).
     fn is_finite(state: &BourgState) -> bool {
-        state.is_finite()
+        state.is_finite() && state.speed_ftps().is_finite()
     }
 
     #[inline]

@@ -186,8 +186,10 @@ impl crate::model::Model for Palmer {
         try_step(aircraft, controls, state, dt)
     }
 
+    /// The state and its airspeed (which overflows first, for speeds above
+    /// about 1e154 m/s).
     fn is_finite(state: &PalmerState) -> bool {
-        state.is_finite()
+        state.is_finite() && state.airspeed_mps().is_finite()
     }
 
     #[inline]
