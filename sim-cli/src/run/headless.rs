@@ -4,7 +4,7 @@
 use std::io::Write;
 
 use anyhow::Context as _;
-use fdm_core::script::Script;
+use fdm_core::script::{Script, ScriptCursor};
 
 use super::{link_warning, Flight};
 use crate::csv::CsvWriter;
@@ -12,18 +12,20 @@ use crate::error::CliError;
 use crate::progress::StderrProgress;
 use crate::report::Report;
 
-/// Steps frame `frame` (1-based): the script's actions for that frame in file order,
+/// Steps frame `frame` (1-based): the script's actions for that frame in file order
+/// (through `cursor`, a sweep over the rules: linear in frames plus rules),
 /// then `keys`, then one model step, then the CSV row.
 pub(super) fn step_frame<F: Flight, W: Write>(
     flight: &mut F,
     script: &Script<F::Action>,
+    cursor: &mut ScriptCursor,
     frame: u64,
     keys: &[F::Action],
     buffer: &mut Vec<F::Action>,
     csv: Option<&mut CsvWriter<W>>,
 ) -> Result<(), CliError> {
     buffer.clear();
-    buffer.extend(script.actions_at(frame));
+    buffer.extend(cursor.actions(script, frame));
     buffer.extend_from_slice(keys);
     flight
         .step(buffer)
@@ -52,8 +54,17 @@ pub fn run_headless<F: Flight, W: Write>(
         csv.write_record(0, &flight.snapshot())?;
     }
     let mut buffer = Vec::new();
+    let mut cursor = ScriptCursor::new();
     for frame in 1..=frames {
-        step_frame(flight, script, frame, &[], &mut buffer, csv.as_deref_mut())?;
+        step_frame(
+            flight,
+            script,
+            &mut cursor,
+            frame,
+            &[],
+            &mut buffer,
+            csv.as_deref_mut(),
+        )?;
         if let Some(message) = flight.take_link_failure() {
             progress.message(&link_warning(&message));
         }
