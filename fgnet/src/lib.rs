@@ -8,6 +8,9 @@
 //! * [`DisplayState`]: what a flight model hands over (degrees, metres, ft/s,
 //!   knots), converted with [`FgNetFdm::from_display`].
 //! * [`Sender`]: a connected UDP socket that keeps going when nobody listens.
+//! * [`MultiplayerPosition`]: FlightGear's multiplayer position message
+//!   (protocol 1.1, message id 7), to show many aircraft at once; the
+//!   [`multiplayer`] module documents the format and the orientation helpers.
 //!
 //! # Wire format
 //!
@@ -87,7 +90,7 @@
 
 mod display;
 mod fdm;
-mod multiplayer;
+pub mod multiplayer;
 mod sender;
 
 pub use display::{DisplayState, EngineState};

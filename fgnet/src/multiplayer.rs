@@ -776,8 +776,6 @@ impl Reader<'_> {
             return Err(err(NameProblem::NotNulPadded { index, byte }));
         }
         let text = &raw[..end];
-        // Printable ASCII is valid UTF-8, so after `validate_name`-style
-        // checks the conversion cannot fail; map a failure to the same error.
         if let Some((index, &byte)) = text
             .iter()
             .enumerate()
@@ -788,14 +786,9 @@ impl Reader<'_> {
         if text.is_empty() {
             return Err(err(NameProblem::Empty));
         }
-        let s = core::str::from_utf8(text).map_err(|e| {
-            let index = e.valid_up_to();
-            err(NameProblem::NotPrintableAscii {
-                index,
-                byte: text.get(index).copied().unwrap_or(0),
-            })
-        })?;
-        Ok(s.to_owned())
+        // Printable ASCII is UTF-8, one char per byte.
+        let s: String = text.iter().map(|&b| char::from(b)).collect();
+        Ok(s)
     }
     fn callsign(&mut self) -> Result<String, MpDecodeError> {
         self.text::<CALLSIGN_FIELD_LEN>(NameField::Callsign)

@@ -2,8 +2,8 @@
 //! geodetic latitude/longitude plus local heading, pitch and roll.
 //!
 //! Quaternions are `[w, x, y, z]`, multiplied with the Hamilton product, and
-//! follow SimGear's formulas term for term (see the module docs of
-//! `multiplayer` for the conventions). Everything is `f64`; degrees become
+//! follow SimGear's formulas term for term (see the docs of
+//! [`crate::multiplayer`] for the conventions). Everything is `f64`; degrees become
 //! radians as `deg * π / 180` and back as `rad * 180 / π`.
 
 use core::f64::consts::PI;
