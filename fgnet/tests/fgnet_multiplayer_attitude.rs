@@ -18,7 +18,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use fdm_suite::fgnet::{
+use fgnet::{
     attitude_from_ecef_angle_axis, ecef_angle_axis_from_attitude, HorizontalAttitudeDeg,
     MultiplayerPosition,
 };

@@ -6,7 +6,7 @@
 use std::net::UdpSocket;
 use std::time::Duration;
 
-use fdm_suite::fgnet::{
+use fgnet::{
     MpDecodeError, MpEncodeError, MultiplayerPosition, NameError, NameField, NameProblem,
     MP_MAX_DATAGRAM_LEN, MP_POSITION_LEN,
 };
