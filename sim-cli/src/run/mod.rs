@@ -12,6 +12,7 @@ use anyhow::Context as _;
 use fdm_core::script::Script;
 
 use crate::config::{Mode, RunConfig};
+use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::keys::KeyAction;
@@ -142,7 +143,6 @@ pub fn fly<F: Flight>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::csv::CsvWriter;
     use crate::keys::{AppCommand, Input};
     use crate::models::palmer::PalmerDetails;
     use crate::snapshot::samples;
