@@ -23,4 +23,5 @@ pub mod model;
 pub mod palmer;
 #[cfg(feature = "alloc")]
 pub mod script;
+pub mod start;
 pub mod units;

@@ -54,6 +54,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::geodesy::Attitude;
+use crate::start::{InitialConditions, StartError, Trimmed};
 
 /// A flight dynamics model. See the [module documentation](self).
 ///
@@ -187,6 +188,39 @@ pub trait Model: Copy + Debug + Default + Send + Sync + 'static {
     fn at_rest(state: &Self::State, dt: Self::TimeStep) -> Self::State {
         let _ = dt;
         *state
+    }
+
+    /// The state of an aircraft flying straight, level and wings level at
+    /// `conditions` (altitude, true airspeed, true heading), at time 0, in the
+    /// attitude the model's own start has (not trimmed: see
+    /// [`trim`](Self::trim)).
+    ///
+    /// # Errors
+    /// [`StartError::InvalidConditions`]; the default,
+    /// [`StartError::Unsupported`], for models that only start at
+    /// [`initial_state`](Self::initial_state).
+    fn state_at(
+        aircraft: &Self::Aircraft,
+        conditions: &InitialConditions,
+    ) -> Result<Self::State, StartError> {
+        let _ = (aircraft, conditions);
+        Err(StartError::Unsupported)
+    }
+
+    /// Trim: the controls (starting from `controls`, whose other settings,
+    /// e.g. flaps, are kept) and the state for steady, wings-level,
+    /// unaccelerated flight at `conditions`.
+    ///
+    /// # Errors
+    /// Why the speed cannot be trimmed ([`StartError`]); the default,
+    /// [`StartError::Unsupported`].
+    fn trim(
+        aircraft: &Self::Aircraft,
+        controls: &Self::Controls,
+        conditions: &InitialConditions,
+    ) -> Result<Trimmed<Self::Controls, Self::State>, StartError> {
+        let _ = (aircraft, controls, conditions);
+        Err(StartError::Unsupported)
     }
 }
 

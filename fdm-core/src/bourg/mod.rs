@@ -55,6 +55,7 @@ mod controls;
 mod float;
 mod model;
 pub mod ops;
+mod trim;
 
 pub use airframe::{
     element_normal, Aircraft64, AircraftOf, Airframe, Airframe64, AirframeError, AirframeOf,
@@ -62,7 +63,9 @@ pub use airframe::{
     MassPropertiesOf,
 };
 pub use airframe::{DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
-pub use controls::{BourgControls, BourgControls64, BourgControlsOf, INITIAL_THRUST_LB};
+pub use controls::{
+    BourgControls, BourgControls64, BourgControlsOf, INITIAL_THRUST_LB, PITCH_TRIM_STEP,
+};
 pub use float::BourgFloat;
 pub use model::{
     airfoil_coefficients, drag_coefficient, lift_coefficient, loads, rudder_coefficients,
@@ -72,6 +75,7 @@ pub use model::{
 /// The nalgebra types of the public API, re-exported so users need not depend
 /// on nalgebra themselves.
 pub use nalgebra::{Matrix3, Quaternion, Vector3};
+pub use trim::{state_at, state_at_attitude, trim};
 
 /// A discrete control input of the Bourg model: one key press (thesis
 /// appendix B) or one script action.
@@ -97,6 +101,11 @@ pub enum BourgAction {
     FlapsDown,
     /// Landing flaps up (key L).
     FlapsUp,
+    /// Pitch trim +0.01 toward nose up, up to 1 (key T; an extension, see
+    /// [`BourgControlsOf::pitch_trim`]).
+    TrimNoseUp,
+    /// Pitch trim −0.01 toward nose down, down to −1 (key G; an extension).
+    TrimNoseDown,
 }
 
 impl crate::model::ScriptAction for BourgAction {
@@ -111,6 +120,8 @@ impl crate::model::ScriptAction for BourgAction {
         Self::YawRight,
         Self::FlapsDown,
         Self::FlapsUp,
+        Self::TrimNoseUp,
+        Self::TrimNoseDown,
     ];
     const NAMES: &'static [&'static str] = &[
         "thrust-up",
@@ -123,6 +134,8 @@ impl crate::model::ScriptAction for BourgAction {
         "yaw-right",
         "flaps-down",
         "flaps-up",
+        "trim-up",
+        "trim-down",
     ];
 
     fn name(self) -> &'static str {
@@ -294,6 +307,21 @@ impl crate::model::Model for Bourg {
         }
         s.velocity_body_ftps = ops::qv_rotate(&ops::conjugate(&s.orientation), &s.velocity_ftps);
         s
+    }
+
+    fn state_at(
+        _aircraft: &BourgAircraft,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<BourgState, crate::start::StartError> {
+        state_at(conditions)
+    }
+
+    fn trim(
+        aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<crate::start::Trimmed<BourgControls, BourgState>, crate::start::StartError> {
+        trim(aircraft, controls, conditions)
     }
 
     fn at_rest(state: &BourgState, dt: f32) -> BourgState {

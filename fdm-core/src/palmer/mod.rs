@@ -40,6 +40,7 @@ mod controls;
 mod dynamics;
 mod landing;
 mod state;
+mod trim;
 
 pub use aircraft::{AircraftError, PalmerAircraft};
 pub use controls::{
@@ -51,6 +52,7 @@ pub use landing::{
     landing_state, FlightPhase, LandingState, ROUGH_LANDING_VZ_MPS, SAFE_LANDING_VZ_MPS,
 };
 pub use state::{compass_from_heading_deg, flight_data, FlightData, PalmerState};
+pub use trim::{state_at, trim};
 
 /// A discrete control input of the Palmer model: one key press (thesis
 /// appendix B) or one script action.
@@ -265,6 +267,21 @@ impl crate::model::Model for Palmer {
             s.velocity_mps = nalgebra::Vector3::zeros();
         }
         s
+    }
+
+    fn state_at(
+        _aircraft: &PalmerAircraft,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<PalmerState, crate::start::StartError> {
+        state_at(conditions)
+    }
+
+    fn trim(
+        aircraft: &PalmerAircraft,
+        controls: &PalmerControls,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<crate::start::Trimmed<PalmerControls, PalmerState>, crate::start::StartError> {
+        trim(aircraft, controls, conditions)
     }
 
     fn at_rest(state: &PalmerState, dt: f64) -> PalmerState {
