@@ -113,6 +113,10 @@ pub struct CommonArgs {
     /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// Initial conditions and trim (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`).
+    #[command(flatten)]
+    pub start: crate::start::StartArgs,
 }
 
 /// `sim-cli palmer`.
@@ -145,6 +149,10 @@ pub struct BourgArgs {
     /// Options both models share.
     #[command(flatten)]
     pub common: CommonArgs,
+
+    /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
+    #[arg(long, value_name = "LB", value_parser = parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
+    pub thrust_lb: Option<f64>,
 }
 
 /// `sim-cli fgfs-command`.
@@ -165,6 +173,10 @@ pub struct FgfsArgs {
     /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// The initial conditions that will be flown, as given to sim-cli (FlightGear starts where the aircraft starts).
+    #[command(flatten)]
+    pub start: crate::start::StartArgs,
 }
 
 /// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
@@ -289,6 +301,11 @@ pub fn parse_throttle(text: &str) -> Result<f64, String> {
 /// `--alpha`: degrees in -16..20 (the range the alpha keys clamp to).
 pub fn parse_alpha(text: &str) -> Result<f64, String> {
     parse_in_range(text, -16.0, 20.0, " degrees")
+}
+
+/// `--thrust-lb`: pounds in 0..3000 (Bourg's thrust range).
+pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, 3000.0, " lb")
 }
 
 /// `--bank`: degrees in -20..20 (the range the bank keys clamp to).

@@ -96,20 +96,29 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
             args.flaps
         ))
     })?;
+    let start_args = args.common.start;
+    let controls = PalmerControls {
+        throttle: args.throttle,
+        alpha_deg: args.alpha,
+        bank_deg: args.bank,
+        flaps,
+    };
+    let start = start_model::<Palmer>(controls, &start_args)?;
     let (run, script) = prepare(args.common)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        start: Start {
-            controls: PalmerControls {
-                throttle: args.throttle,
-                alpha_deg: args.alpha,
-                bank_deg: args.bank,
-                flaps,
-            },
-            ..Start::thesis()
-        },
-    })
+    Ok(ModelConfig { run, script, start })
+}
+
+/// Model `M`'s start from the initial-condition options
+/// ([`crate::start::start_for`]), printing a trim's result on stderr.
+fn start_model<M: Model>(
+    controls: M::Controls,
+    args: &crate::start::StartArgs,
+) -> Result<Start<M>, CliError> {
+    let (start, report) = crate::start::start_for::<M>(M::default_aircraft(), controls, args)?;
+    if let Some(report) = report {
+        eprintln!("{}", crate::start::trim_line(M::NAME, &report));
+    }
+    Ok(start)
 }
 
 /// Validates `sim-cli bourg` arguments, reads the script and creates the CSV file.
@@ -117,12 +126,17 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
 /// # Errors
 /// [`CliError::Usage`] for anything wrong with the input.
 pub fn prepare_bourg(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
+    let mut controls = Bourg::initial_controls();
+    if let Some(thrust_lb) = args.thrust_lb {
+        // In 0..3000 (clap checked): exact enough in f32 for any typed value.
+        #[allow(clippy::cast_possible_truncation)]
+        {
+            controls.thrust_lb = thrust_lb as f32;
+        }
+    }
+    let start = start_model::<Bourg>(controls, &args.common.start)?;
     let (run, script) = prepare(args.common)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        start: Start::thesis(),
-    })
+    Ok(ModelConfig { run, script, start })
 }
 
 /// The mode implied by the options, or why they do not fit together.

@@ -267,7 +267,7 @@ mod tests {
         // 183.12346 ft/s = 55.816 m/s = 108.5 kt
         assert!(lines[1].contains("SPD 108.5 kt (55.8 m/s)"), "{}", lines[1]);
         assert!(lines[2].ends_with("STALL"));
-        assert_eq!(lines[3], "THRUST 3000 lb   FLAPS down");
+        assert_eq!(lines[3], "THRUST 3000 lb   FLAPS down   TRIM +0.00");
         assert_eq!(lines[4], "FG off   overruns 0");
     }
 

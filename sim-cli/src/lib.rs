@@ -40,6 +40,7 @@ pub mod report;
 pub mod run;
 pub mod signals;
 pub mod snapshot;
+pub mod start;
 pub mod terminal;
 
 use std::io::Write;
@@ -59,7 +60,13 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
         Command::FgfsCommand(args) => {
-            let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);
+            let line = fgfs::fgfs_command_from(
+                args.model,
+                args.fps,
+                args.fg.as_ref(),
+                &args.origin,
+                &args.start,
+            )?;
             let mut out = std::io::stdout().lock();
             writeln!(out, "{line}")
                 .and_then(|()| out.flush())

@@ -287,8 +287,8 @@ mod tests {
         assert_eq!(values.len(), bourg().csv_columns().len());
         let mut values = Vec::new();
         bourg().csv_values(&mut values);
-        // flaps down, not stalling, then the status: airborne (1).
-        assert_eq!(&values[values.len() - 3..], &[1.0, 0.0, 1.0]);
+        // flaps down, not stalling, no pitch trim, then the status: airborne (1).
+        assert_eq!(&values[values.len() - 4..], &[1.0, 0.0, 0.0, 1.0]);
         assert_eq!(bourg().csv_columns().last(), Some(&"status"));
     }
 

@@ -196,6 +196,7 @@ pub(crate) mod samples {
                 thrust_lb: 3000.0,
                 flaps: true,
                 stalling: false,
+                pitch_trim: 0.0,
             },
             status: FlightStatus::Airborne,
             stalling: false,

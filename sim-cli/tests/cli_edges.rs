@@ -161,3 +161,148 @@ fn status_of_a_run_on_the_runway_and_in_the_air() {
     assert_eq!(r["status"], "airborne");
     assert!(num(&r["position"][2]) > 0.0);
 }
+
+#[test]
+fn starting_in_cruise_and_trimmed() {
+    // Palmer at 2000 ft, 100 kt, heading east, trimmed, five minutes at 30 fps
+    // hands off: within ±10 ft and ±1 kt (the target).
+    let out = sim(&[
+        "palmer",
+        "--headless",
+        "--json",
+        "--frames",
+        "9000",
+        "--altitude-ft",
+        "2000",
+        "--speed-kt",
+        "100",
+        "--heading-deg",
+        "90",
+        "--trim",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.starts_with("sim-cli: palmer trimmed: throttle "),
+        "{stderr}"
+    );
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["status"], "airborne");
+    let z_ft = triple(&r["position"])[2] / 0.3048;
+    assert!((z_ft - 2000.0).abs() <= 10.0, "{z_ft}");
+    let kt = num(&r["airspeed"]) * 3600.0 / 1852.0;
+    assert!((kt - 100.0).abs() <= 1.0, "{kt}");
+    // East along the flat earth's −y: FlightGear's heading, from the local
+    // north 15 km further east, differs by the meridians' convergence
+    // (measured 0.115°).
+    assert!(
+        (num(&r["attitude_deg"]["heading"]) - 90.0).abs() < 0.2,
+        "{}",
+        r["attitude_deg"]
+    );
+    // Bourg: ±100 ft, ±5 kt for 60 s.
+    let out = sim(&[
+        "bourg",
+        "--headless",
+        "--json",
+        "--frames",
+        "1800",
+        "--altitude-ft",
+        "2000",
+        "--speed-kt",
+        "100",
+        "--trim",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).starts_with("sim-cli: bourg trimmed: thrust "));
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let z_ft = triple(&r["position"])[2];
+    assert!((z_ft - 2000.0).abs() <= 100.0, "{z_ft}");
+    let kt = num(&r["speed"]) * 0.3048 * 3600.0 / 1852.0;
+    assert!((kt - 100.0).abs() <= 5.0, "{kt}");
+}
+
+#[test]
+fn untrimmable_speeds_exit_2_with_a_message() {
+    for (model, kt, why) in [
+        ("palmer", "30", "below the stall speed"),
+        ("palmer", "300", "above the speed full power can hold"),
+        ("bourg", "30", "below the stall speed"),
+        ("bourg", "300", "above the speed full power can hold"),
+    ] {
+        let out = sim(&[
+            model,
+            "--headless",
+            "--frames",
+            "1",
+            "--altitude-ft",
+            "2000",
+            "--speed-kt",
+            kt,
+            "--trim",
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{model} {kt}");
+        let stderr = text(&out.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(why), "{model} {kt}: {stderr}");
+        assert!(out.stdout.is_empty());
+    }
+}
+
+#[test]
+fn defaults_are_the_thesis_starts_and_options_move_them() {
+    // No option: exactly the thesis's start (frame 0 of the CSV).
+    let plain = report(&["bourg", "--headless", "--json", "--frames", "0"]);
+    assert_eq!(triple(&plain["position"]), [-5000.0, 0.0, 2000.0]);
+    let r = report(&[
+        "bourg",
+        "--headless",
+        "--json",
+        "--frames",
+        "0",
+        "--altitude-ft",
+        "3000",
+        "--thrust-lb",
+        "1200",
+    ]);
+    assert_eq!(triple(&r["position"]), [-5000.0, 0.0, 3000.0]);
+    assert_eq!(r["thrust_lb"], 1200.0);
+    // The speed stays the model's own start (60 ft/s) when not given.
+    assert!((num(&r["speed"]) - 60.0).abs() < 1e-4);
+    let r = report(&[
+        "palmer",
+        "--headless",
+        "--json",
+        "--frames",
+        "0",
+        "--altitude-ft",
+        "1000",
+        "--speed-kt",
+        "90",
+    ]);
+    assert_eq!(triple(&r["position"])[2], 304.8);
+    // fgfs-command starts FlightGear where the aircraft starts.
+    let line = |extra: &[&str]| {
+        let mut args = vec!["fgfs-command", "bourg"];
+        args.extend_from_slice(extra);
+        let out = sim(&args);
+        assert_eq!(out.status.code(), Some(0));
+        text(&out.stdout)
+    };
+    let default = line(&[]);
+    let moved = line(&["--altitude-ft", "5000", "--heading-deg", "270"]);
+    assert!(default.contains("--heading=0 "), "{default}");
+    assert!(moved.contains("--heading=270 "), "{moved}");
+    assert_ne!(default, moved);
+    let alt = |l: &str| -> f64 {
+        l.split(' ')
+            .find_map(|w| w.strip_prefix("--altitude="))
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(
+        (alt(&moved) - alt(&default) - 3000.0).abs() < 0.2,
+        "{default} {moved}"
+    );
+}
