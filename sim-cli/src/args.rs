@@ -208,6 +208,10 @@ pub struct FleetArgs {
     /// Print the measurement as one JSON object on stdout
     #[arg(long)]
     pub json: bool,
+
+    /// Initial conditions and trim for every aircraft (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`) instead of the demonstration fleet's varied states.
+    #[command(flatten)]
+    pub start: crate::start::StartArgs,
 }
 
 /// A whole number in `1..=max`, with `what` naming it in the error.

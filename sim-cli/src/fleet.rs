@@ -46,6 +46,31 @@ pub fn spawn_fleet<M: Model>(n: usize, execution: Execution) -> Simulation {
     sim
 }
 
+/// Spawns `n` aircraft of model `M`, every one starting from the
+/// initial-condition options `start` ([`crate::start::start_for`]; with
+/// `--trim`, trimmed), into a new simulation at [`FLEET_FPS`]. They share
+/// one start (the same place): the fleet measures throughput, not traffic.
+///
+/// # Errors
+/// [`CliError::Usage`] when the model cannot start there.
+pub fn spawn_fleet_at<M: Model>(
+    n: usize,
+    execution: Execution,
+    start: &crate::start::StartArgs,
+) -> Result<Simulation, CliError> {
+    let resources = Resources::new(f64::from(FLEET_FPS))
+        .expect("30 frames per second is valid")
+        .with_execution(execution);
+    let (start, _) =
+        crate::start::start_for::<M>(M::default_aircraft(), M::initial_controls(), start)?;
+    let aircraft = Arc::new(start.aircraft);
+    let mut sim = Simulation::new(resources);
+    for _ in 0..n {
+        sim.spawn::<M>(Arc::clone(&aircraft), start.controls, start.state, None);
+    }
+    Ok(sim)
+}
+
 /// What `sim-cli fleet` measured (its `--json` output).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FleetReport {
@@ -130,7 +155,11 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         .num_threads(threads)
         .build()
         .context("building the thread pool")?;
-    let mut sim = spawn_fleet::<M>(n, execution);
+    let mut sim = if args.start.is_thesis() {
+        spawn_fleet::<M>(n, execution)
+    } else {
+        spawn_fleet_at::<M>(n, execution, &args.start)?
+    };
     let resources = *sim.resources();
     let world = sim.world_mut();
 
@@ -202,6 +231,7 @@ mod tests {
                 frames: 3,
                 threads: Some(threads),
                 json: true,
+                start: crate::start::StartArgs::default(),
             };
             let report = measure(&args).unwrap();
             assert_eq!(report.model, model.name());
@@ -216,6 +246,30 @@ mod tests {
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
         }
+    }
+
+    #[test]
+    fn a_fleet_can_start_trimmed_in_cruise() {
+        let start = crate::start::StartArgs {
+            altitude_ft: Some(2000.0),
+            speed_kt: Some(100.0),
+            heading_deg: None,
+            trim: true,
+        };
+        let mut sim = spawn_fleet_at::<Palmer>(3, Execution::Sequential, &start).unwrap();
+        let res = *sim.resources();
+        for _ in 0..30 {
+            equations_of_motion_sequential::<Palmer>(sim.world_mut(), &res);
+        }
+        for s in sim.world().query::<&PalmerState>().iter() {
+            assert!((s.position_m.z - 609.6).abs() < 0.01, "{s:?}");
+        }
+        let bad = crate::start::StartArgs {
+            speed_kt: Some(20.0),
+            ..start
+        };
+        let err = spawn_fleet_at::<Palmer>(3, Execution::Sequential, &bad).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
     }
 
     #[test]
