@@ -160,6 +160,7 @@ fn malformed_datagrams_are_counted_and_skipped() {
 
 #[test]
 fn over_udp_loopback() {
+    const RATE_DEG_S: f64 = 1.7;
     let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
     rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     let tx = UdpSender::new(rx.local_addr().unwrap(), false).unwrap();
@@ -173,7 +174,11 @@ fn over_udp_loopback() {
         last.clear();
         for (i, p) in pubs.iter_mut().enumerate() {
             // Each aircraft turns at a different rate so they send at different times.
-            let s = state(t, 40.0 + i as f64, -80.0, 2.0 * t * (i as f64 + 1.0));
+            // Held in place (zero velocity, fixed height) so that only the
+            // turning decides when PDUs are due.
+            let mut s = state(t, 40.0 + i as f64, -80.0, RATE_DEG_S * t * (i as f64 + 1.0));
+            s.velocity_ned_m_s = Vector3::zeros();
+            s.position.alt_m = 900.0;
             if let Some(due) = p.update(&s).unwrap() {
                 tx.send(due.bytes).unwrap();
                 sent += 1;
@@ -191,8 +196,17 @@ fn over_udp_loopback() {
     assert_eq!(l.entity_count(), 3);
     let total: u64 = pubs.iter().map(|p| p.counts().sent).sum();
     assert_eq!(total, sent);
-    // Turning at 0.5°, 1° and 1.5° per frame, they do not all send every frame.
-    assert!(sent < 3 * 41);
+    // Turning 0.425°, 0.85° and 1.275° per 0.25 s frame (no multiple of 3°
+    // falls on a frame), each sends on the first frame past 3°: every
+    // floor(3 / step) + 1 frames, over frames 0..=40.
+    let expected: u64 = (1..=3)
+        .map(|i| {
+            let step_deg = RATE_DEG_S * 0.25 * f64::from(i);
+            let every = (3.0 / step_deg).floor() as u64 + 1;
+            1 + 40 / every
+        })
+        .sum();
+    assert_eq!(sent, expected);
     println!("3 aircraft, 41 frames: {sent} PDUs over loopback");
 }
 
