@@ -134,8 +134,10 @@
 //! lengths in the headers (checking each against what is left), hands each
 //! PDU to dis-rs, and applies the datagram only if every PDU decoded;
 //! otherwise the datagram is counted as malformed and skipped. It never
-//! panics (dis-rs is also called under `catch_unwind`, and a panic there is
-//! counted separately). It counts datagrams, bytes, PDUs, Entity State
+//! panics: dis-rs 0.14 itself can (fuzzing found a malformed Signal PDU that
+//! makes it slice out of range), so it is called under `catch_unwind` and a
+//! panic there is counted as a malformed datagram and separately
+//! (`decoder_panics`); this relies on the default `panic = "unwind"`. It counts datagrams, bytes, PDUs, Entity State
 //! PDUs, malformed datagrams and distinct entities, and keeps each entity's
 //! last location and orientation, converted back to latitude, longitude,
 //! height and heading, pitch, roll ([`EntityRecord`]).

@@ -8,6 +8,14 @@
 //! next PDU or reads past the declared length. A datagram is taken whole or
 //! not at all: if any piece fails, the datagram is counted as malformed and
 //! nothing from it is applied.
+//!
+//! dis-rs 0.14 can panic on malformed input: the cargo-fuzz target found a
+//! Signal PDU whose "application specific" encoding has less data than the
+//! parser slices (see `tests/listener.rs`). dis-rs is therefore called under
+//! `catch_unwind`; such a datagram is counted as malformed and in
+//! [`ListenerStats::decoder_panics`]. That guard needs the default
+//! `panic = "unwind"` (the workspace's setting); with `panic = "abort"` the
+//! process would end.
 
 use std::collections::BTreeMap;
 
