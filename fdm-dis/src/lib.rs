@@ -134,8 +134,9 @@
 //! lengths in the headers (checking each against what is left), hands each
 //! PDU to dis-rs, and applies the datagram only if every PDU decoded;
 //! otherwise the datagram is counted as malformed and skipped. It never
-//! panics: dis-rs 0.14 itself can (fuzzing found a malformed Signal PDU that
-//! makes it slice out of range), so it is called under `catch_unwind` and a
+//! panics: dis-rs 0.14 itself can (fuzzing found malformed Signal PDUs that
+//! make it slice out of range, and Transmitter PDUs that make it subtract
+//! with overflow), so it is called under `catch_unwind` and a
 //! panic there is counted as a malformed datagram and separately
 //! (`decoder_panics`); this relies on the default `panic = "unwind"`. It counts datagrams, bytes, PDUs, Entity State
 //! PDUs, malformed datagrams and distinct entities, and keeps each entity's

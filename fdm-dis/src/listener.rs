@@ -11,7 +11,10 @@
 //!
 //! dis-rs 0.14 can panic on malformed input: the cargo-fuzz target found a
 //! Signal PDU whose "application specific" encoding has less data than the
-//! parser slices (see `tests/listener.rs`). dis-rs is therefore called under
+//! parser slices (see `tests/listener.rs`), and a Transmitter PDU whose
+//! variable parameter record is shorter than its header (an overflowing
+//! subtraction, a panic where overflow checks are on). dis-rs is therefore
+//! called under
 //! `catch_unwind`; such a datagram is counted as malformed and in
 //! [`ListenerStats::decoder_panics`]. That guard needs the default
 //! `panic = "unwind"` (the workspace's setting); with `panic = "abort"` the
