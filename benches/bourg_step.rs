@@ -8,18 +8,18 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use fdm_suite::fdm_core::bourg::{
-    step, Aircraft, AircraftOf, BourgAction, BourgControls, BourgControlsOf, BourgState,
+use fdm_core::bourg::{
+    step, AircraftOf, BourgAction, BourgAircraft, BourgControls, BourgControlsOf, BourgState,
     BourgStateOf,
 };
-use fdm_suite::fdm_core::script::Script;
+use fdm_core::script::Script;
 
 const DT: f32 = 1.0 / 30.0;
 
-fn flying_state() -> (Aircraft, BourgControls, BourgState) {
+fn flying_state() -> (BourgAircraft, BourgControls, BourgState) {
     let script = Script::<BourgAction>::parse("1-5 thrust-up\n6-246 pitch-up\n247-307 roll-right")
         .expect("script parses");
-    let aircraft = Aircraft::bourg_default();
+    let aircraft = BourgAircraft::bourg_default();
     let mut controls = BourgControls::initial();
     let mut state = BourgState::initial();
     for frame in 1..=280 {
@@ -56,17 +56,14 @@ fn bench_step(c: &mut Criterion) {
         elevators: controls.elevators,
         landing_flaps: controls.landing_flaps,
     };
-    let widen = |v: &fdm_suite::fdm_core::bourg::Vector3<f32>| v.map(f64::from);
+    let widen = |v: &fdm_core::bourg::Vector3<f32>| v.map(f64::from);
     let state64 = BourgStateOf::<f64> {
-        position: widen(&state.position),
-        velocity: widen(&state.velocity),
-        velocity_body: widen(&state.velocity_body),
-        angular_velocity: widen(&state.angular_velocity),
-        orientation: fdm_suite::fdm_core::bourg::Quaternion::from(
-            state.orientation.coords.map(f64::from),
-        ),
-        speed: f64::from(state.speed),
-        euler_angles_deg: widen(&state.euler_angles_deg),
+        time_s: state.time_s,
+        position_ft: widen(&state.position_ft),
+        velocity_ftps: widen(&state.velocity_ftps),
+        velocity_body_ftps: widen(&state.velocity_body_ftps),
+        angular_velocity_radps: widen(&state.angular_velocity_radps),
+        orientation: fdm_core::bourg::Quaternion::from(state.orientation.coords.map(f64::from)),
         stalling: state.stalling,
     };
     c.bench_function("bourg_step_f64", |b| {

@@ -7,7 +7,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use fdm_suite::fgnet::{DisplayState, EngineState, FgNetFdm, DATAGRAM_LEN};
+use fgnet::{DisplayState, EngineState, FgNetFdm, DATAGRAM_LEN};
 
 fn sample() -> FgNetFdm {
     let mut fdm = FgNetFdm::from_display(&DisplayState {

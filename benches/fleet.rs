@@ -8,14 +8,14 @@
 //!
 //! * `ecs_seq` / `ecs_par`: fdm-ecs's EquationsOfMotion system
 //!   (`equations_of_motion_sequential` / `_parallel`, rayon's global pool,
-//!   one thread per core) over a world spawned with `Simulation::spawn_*`,
+//!   one thread per core) over a world spawned with `Simulation::spawn_fleet`,
 //!   every aircraft a full entity;
 //! * `oop_seq` / `oop_par`: the same fleet as a `Vec<Box<dyn Aircraft>>` of
-//!   objects that own their data ([`fdm_suite::oop`]), stepped through a
+//!   objects that own their data ([`fdm_benches::oop`]), stepped through a
 //!   virtual call, in a loop / with rayon's `par_iter_mut`.
 //!
-//! Both fly the fleets of `sim-cli fleet` (`sim_cli::fleet::palmer_fleet`,
-//! `bourg_fleet`: distinct controls and states) and end in bit-identical
+//! Both fly the demonstration fleets of the models (`Model::fleet_member`,
+//! as `sim-cli fleet` does: distinct controls and states) and end in bit-identical
 //! states (`tests/oop_ecs_parity.rs`), so the ECS/OOP ratio at a size is
 //! the cost of the layout and the dispatch alone. Every 300 frames the fleet
 //! is put back to its initial states outside the timed region, so every
@@ -31,53 +31,28 @@
 //! ```
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::time::Duration;
 
 use criterion::{
     criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode, Throughput,
 };
-use fdm_suite::fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_suite::fdm_ecs::{Execution, Resources, Simulation};
-use fdm_suite::oop::{Fleet, FleetState, TimeSteps};
-use sim_cli::args::ModelKind;
-use sim_cli::fleet::{bourg_fleet, palmer_fleet, spawn_fleet, FLEET_FPS};
+use fdm_benches::oop::{set_world_states, world_states, Fleet};
+use fdm_benches::timed_frames;
+use fdm_core::bourg::Bourg;
+use fdm_core::model::Model;
+use fdm_core::palmer::Palmer;
+use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
+use fdm_ecs::{Execution, Resources, Simulation};
 
 /// Fleet sizes.
 const SIZES: [usize; 5] = [1, 100, 10_000, 100_000, 1_000_000];
-/// Frames between resets to the initial states.
-const RESET_EVERY: u64 = 300;
+/// The fleets' frame rate.
+const FPS: f64 = 30.0;
 
-/// Times `iters` frames of `frame`, calling `reset` (untimed) every
-/// [`RESET_EVERY`] frames, starting with a reset.
-fn timed_frames<T>(
-    iters: u64,
-    target: &mut T,
-    mut frame: impl FnMut(&mut T),
-    mut reset: impl FnMut(&mut T),
-) -> Duration {
-    let mut total = Duration::ZERO;
-    for i in 0..iters {
-        if i % RESET_EVERY == 0 {
-            reset(target);
-        }
-        let start = Instant::now();
-        frame(target);
-        total += start.elapsed();
-    }
-    total
-}
-
-/// Writes `initial` back into the objects, in order.
-fn reset_fleet(fleet: &mut Fleet, initial: &[FleetState]) {
-    for (object, init) in fleet.aircraft_mut().iter_mut().zip(initial) {
-        object.set_state(*init);
-    }
-}
-
-fn bench_model(c: &mut Criterion, model: ModelKind) {
-    let dt = TimeSteps::at_fps(FLEET_FPS);
+fn bench_model<M: Model>(c: &mut Criterion) {
     for n in SIZES {
-        let mut group = c.benchmark_group(format!("fleet_{}", model.name()));
+        let mut group = c.benchmark_group(format!("fleet_{}", M::NAME));
         group.throughput(Throughput::Elements(n as u64));
         group.warm_up_time(Duration::from_secs(1));
         if n >= 100_000 {
@@ -97,14 +72,18 @@ fn bench_model(c: &mut Criterion, model: ModelKind) {
             (Execution::Parallel, "ecs_par"),
         ] {
             let eom = match execution {
-                Execution::Sequential => equations_of_motion_sequential,
-                Execution::Parallel => equations_of_motion_parallel,
+                Execution::Sequential => equations_of_motion_sequential::<M>,
+                Execution::Parallel => equations_of_motion_parallel::<M>,
             };
-            let mut setup: Option<(Simulation, Vec<FleetState>)> = None;
+            let mut setup: Option<(Simulation, Vec<M::State>)> = None;
             group.bench_function(BenchmarkId::new(name, n), |b| {
                 let (sim, initial) = setup.get_or_insert_with(|| {
-                    let sim = spawn_fleet(model, n, execution);
-                    let initial = FleetState::of_world(sim.world());
+                    let resources = Resources::new(FPS)
+                        .expect("30 frames per second is valid")
+                        .with_execution(execution);
+                    let mut sim = Simulation::new(resources);
+                    sim.spawn_fleet::<M>(&Arc::new(M::default_aircraft()), n);
+                    let initial = world_states::<M>(sim.world());
                     (sim, initial)
                 });
                 let resources: Resources = *sim.resources();
@@ -113,21 +92,19 @@ fn bench_model(c: &mut Criterion, model: ModelKind) {
                         iters,
                         sim.world_mut(),
                         |w| eom(black_box(w), &resources),
-                        |w| FleetState::write_to_world(w, initial),
+                        |w| set_world_states::<M>(w, initial),
                     )
                 });
             });
         }
 
-        let mut setup: Option<(Fleet, Vec<FleetState>)> = None;
+        let mut setup: Option<(Fleet, Vec<M::State>)> = None;
         for (parallel, name) in [(false, "oop_seq"), (true, "oop_par")] {
             group.bench_function(BenchmarkId::new(name, n), |b| {
                 let (fleet, initial) = setup.get_or_insert_with(|| {
-                    let fleet = match model {
-                        ModelKind::Palmer => Fleet::palmer(&palmer_fleet(n)),
-                        ModelKind::Bourg => Fleet::bourg(&bourg_fleet(n)),
-                    };
-                    let initial = fleet.states();
+                    let members: Vec<_> = (0..n).map(M::fleet_member).collect();
+                    let fleet = Fleet::of::<M>(&M::default_aircraft(), &members);
+                    let initial = fleet.states::<M>();
                     (fleet, initial)
                 });
                 b.iter_custom(|iters| {
@@ -136,12 +113,12 @@ fn bench_model(c: &mut Criterion, model: ModelKind) {
                         fleet,
                         |f| {
                             if parallel {
-                                black_box(f).step_parallel(&dt);
+                                black_box(f).step_parallel(FPS);
                             } else {
-                                black_box(f).step_sequential(&dt);
+                                black_box(f).step_sequential(FPS);
                             }
                         },
-                        |f| reset_fleet(f, initial),
+                        |f| f.set_states::<M>(initial),
                     )
                 });
             });
@@ -151,8 +128,8 @@ fn bench_model(c: &mut Criterion, model: ModelKind) {
 }
 
 fn bench(c: &mut Criterion) {
-    bench_model(c, ModelKind::Palmer);
-    bench_model(c, ModelKind::Bourg);
+    bench_model::<Palmer>(c);
+    bench_model::<Bourg>(c);
 }
 
 criterion_group!(benches, bench);

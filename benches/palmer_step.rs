@@ -6,7 +6,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use fdm_suite::fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 
 fn flying_state() -> (PalmerAircraft, PalmerControls, PalmerState) {
     let cessna = PalmerAircraft::cessna_172();

@@ -23,8 +23,8 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use fdm_suite::fdm_core::bourg::{self, Aircraft, BourgControls, BourgState};
-use fdm_suite::fdm_core::palmer::{self, Flaps, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_core::bourg::{self, BourgAircraft, BourgControls, BourgState};
+use fdm_core::palmer::{self, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 
 /// Frames per iteration (the thesis's).
 const FRAMES: u32 = 100;
@@ -44,7 +44,12 @@ fn palmer_frames(
     state
 }
 
-fn bourg_frames(aircraft: &Aircraft, controls: &BourgControls, dt: f32, frames: u32) -> BourgState {
+fn bourg_frames(
+    aircraft: &BourgAircraft,
+    controls: &BourgControls,
+    dt: f32,
+    frames: u32,
+) -> BourgState {
     let mut state = BourgState::initial();
     for _ in 0..frames {
         state = bourg::step(aircraft, controls, &state, dt);
@@ -60,7 +65,7 @@ fn bench(c: &mut Criterion) {
         bank_deg: 0.0,
         flaps: Flaps::Deg20,
     };
-    let bourg_aircraft = Aircraft::bourg_default();
+    let bourg_aircraft = BourgAircraft::bourg_default();
     let bourg_controls = BourgControls::initial();
 
     let mut group = c.benchmark_group("fig13_100_frames");

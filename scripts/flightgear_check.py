@@ -15,14 +15,14 @@ for each scenario:
 1. runs `sim-cli MODEL --headless --json ... --fg 127.0.0.1:RELAY` into a local UDP
    relay, which keeps every datagram (so the check sees exactly what sim-cli sent);
 2. checks the datagrams (one per frame, 408 bytes, version 24) and that the last one
-   is the JSON report's geodetic/attitude, encoded as the spec says;
+   is the JSON report's geodetic/attitude, encoded as docs/fgnetfdm.md says;
 3. forwards them to fgfs, paced, and reads back /position and /orientation over
-   telnet, comparing with the prediction of fgnetfdm.md §6:
+   telnet, comparing with the prediction of docs/fgnetfdm.md §6:
    degrees = f64(wire radians) * 57.2957763671875, altitude-ft = m * 3.28083989501312335958,
    within half a unit of the 10th significant digit telnet prints.
 
 Plus: a direct run (sim-cli sends straight to fgfs, no relay: which frame does
-FlightGear end up showing?), the negative checks of fgnetfdm.md §8 (407-byte datagram,
+FlightGear end up showing?), the negative checks of docs/fgnetfdm.md §8 (407-byte datagram,
 little-endian version), and optional screenshots (xwd, converted to PNG here).
 
 Exit status 0 when every check passed, 1 otherwise, 2 for bad usage.
@@ -50,7 +50,7 @@ KNOTS_PER_MPS = 3600.0 / 1852.0
 METRES_PER_FOOT = 0.3048
 DATAGRAM = 408
 
-# FGNetFDM v24, every field big-endian (fgnetfdm.md §3). Only the first fields are
+# FGNetFDM v24, every field big-endian (docs/fgnetfdm.md §3). Only the first fields are
 # named; the rest are checked as a whole by size.
 HEAD = struct.Struct(">II ddd f fff ff fff f f")
 HEAD_NAMES = ("version padding longitude latitude altitude agl phi theta psi alpha beta "
@@ -87,7 +87,7 @@ def decode(datagram):
 
 
 def predict(fields):
-    """What FlightGear 2020.3 should show for one datagram (fgnetfdm.md §3, §6)."""
+    """What FlightGear 2020.3 should show for one datagram (docs/fgnetfdm.md §3, §6)."""
     return {
         "latitude-deg": fields["latitude"] * R2D_FLOAT,
         "longitude-deg": fields["longitude"] * R2D_FLOAT,
@@ -100,7 +100,7 @@ def predict(fields):
 
 
 def make_datagram(lat_deg, lon_deg, alt_m, roll_deg=0.0, little_endian_version=False):
-    """A hand-made datagram for the negative checks (all counts 0, fgnetfdm.md §5)."""
+    """A hand-made datagram for the negative checks (all counts 0, docs/fgnetfdm.md §5)."""
     values = [24, 0, math.radians(lon_deg), math.radians(lat_deg), alt_m, -9999.0,
               math.radians(roll_deg)] + [0.0] * 20 + [0] + [0] * 4 + [0.0] * 36 + [0]
     values += [0.0] * 4 + [0] + [0] * 3 + [0.0] * 9 + [0, 0, 0.0] + [0.0] * 10
@@ -149,7 +149,7 @@ def check_against_report(report, datagrams, frames):
 # ---------------------------------------------------------------- telnet
 
 class Telnet:
-    """FlightGear's property telnet in its default prompt mode (fgnetfdm.md §7)."""
+    """FlightGear's property telnet in its default prompt mode (docs/fgnetfdm.md §7)."""
 
     LINE = re.compile(r"^(\S+) = '(.*)' \((\w+)\)\r\n$", re.S)
 
@@ -186,7 +186,7 @@ class Telnet:
 
 
 def print_tolerance(text):
-    """Half a unit of the last of the 10 significant digits telnet prints (§6)."""
+    """Half a unit of the last of the 10 significant digits telnet prints (docs/fgnetfdm.md §6)."""
     x = float(text)
     if x == 0.0:
         return 5e-10
@@ -242,7 +242,7 @@ class FlightGear:
     """One fgfs process started from `sim-cli fgfs-command`."""
 
     # What a machine without a screen, a network or a sound card needs on top of
-    # `sim-cli fgfs-command` (fgnetfdm.md §7).
+    # `sim-cli fgfs-command` (docs/fgnetfdm.md §7).
     def __init__(self, args, model, fps, display, workdir):
         self.args = args
         self.model = model
@@ -504,7 +504,7 @@ def direct_run(args, fg, results):
 
 
 def negative_checks(args, fg, results):
-    """fgnetfdm.md §8 step 4: both must leave the properties as they were."""
+    """docs/fgnetfdm.md §8 step 4: both must leave the properties as they were."""
     ok = True
     before = fg.read()
     elsewhere = dict(lat_deg=39.9, lon_deg=-84.0, alt_m=1234.5, roll_deg=-33.0)

@@ -17,7 +17,10 @@
 extern crate alloc;
 
 pub mod bourg;
+pub mod geodesy;
 pub mod math;
+pub mod model;
 pub mod palmer;
 #[cfg(feature = "alloc")]
 pub mod script;
+pub mod units;

@@ -39,6 +39,10 @@ facade! {
     atan2(y, x): f64 => std atan2, libm atan2;
     /// Arc sine (f64, radians).
     asin(x): f64 => std asin, libm asin;
+    /// `sqrt(x² + y²)` without undue overflow (f64), C's `hypot`.
+    hypot(x, y): f64 => std hypot, libm hypot;
+    /// Cube root (f64), C's `cbrt`.
+    cbrt(x): f64 => std cbrt, libm cbrt;
     /// Square root (f32), C's `sqrtf`.
     sqrtf(x): f32 => std sqrt, libm sqrtf;
     /// Sine (f32, radians), C's `sinf`.
@@ -49,4 +53,19 @@ facade! {
     asinf(x): f32 => std asin, libm asinf;
     /// Four-quadrant arc tangent (f32, radians), C's `atan2f`.
     atan2f(y, x): f32 => std atan2, libm atan2f;
+}
+
+/// Sine and cosine of `x` (f64, radians): `(sin(x), cos(x))`, which is what
+/// `f64::sin_cos` computes with `std`.
+#[inline(always)]
+#[must_use]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    (sin(x), cos(x))
+}
+
+/// `x * x`, which is what `x.powi(2)` computes (exactly one rounding).
+#[inline(always)]
+#[must_use]
+pub fn square(x: f64) -> f64 {
+    x * x
 }

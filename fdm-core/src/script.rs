@@ -22,22 +22,7 @@
 use alloc::vec::Vec;
 use core::fmt;
 
-/// A control action a script line can name; implemented by each model's action enum.
-pub trait ScriptAction: Copy + Sized + 'static {
-    /// Every action of the model, in a stable order (used for error messages and docs).
-    const ALL: &'static [Self];
-
-    /// The script names of [`Self::ALL`], in the same order.
-    const NAMES: &'static [&'static str];
-
-    /// The action's name as written in scripts, e.g. `"thrust-up"`.
-    fn name(self) -> &'static str;
-
-    /// Looks an action up by its script name.
-    fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.iter().copied().find(|a| a.name() == name)
-    }
-}
+pub use crate::model::ScriptAction;
 
 /// One script rule: apply `action` on every frame in `first_frame..=last_frame`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,79 +1,96 @@
-//! The components of an aircraft entity.
+//! The components of an aircraft entity, generic over its [`Model`].
 //!
 //! The thesis's single `DataFDM` component (parameters, mass properties, state
 //! and controls in one struct, copied into every entity) is split, as its
 //! future-work section suggests, into pieces each system takes only what it
-//! needs of:
+//! needs of. For an aircraft of model `M`:
 //!
-//! | component | Palmer entity | Bourg entity | written by |
-//! |---|---|---|---|
-//! | shared parameters | [`PalmerParams`] | [`BourgParams`] | spawn only |
-//! | controls | [`PalmerControls`] | [`BourgControls`] | FlightControl |
-//! | state | [`PalmerState`] | [`BourgState`] | EquationsOfMotion |
-//! | this frame's input | [`PalmerInput`] | [`BourgInput`] | the caller (keyboard), emptied by FlightControl |
-//! | scripted input (optional) | [`ScriptInput<PalmerAction>`] | [`ScriptInput<BourgAction>`] | spawn / the caller |
-//! | geodetic position | [`Geodetic`] | [`Geodetic`] | MakePacket |
-//! | attitude as sent to FlightGear | [`Attitude`] | [`Attitude`] | MakePacket |
-//! | the datagram | [`FgNetFdm`] | [`FgNetFdm`] | MakePacket |
-//! | where it goes (optional) | [`FlightGearLink`] | [`FlightGearLink`] | SendPacket (its counters) |
+//! | component | type | written by |
+//! |---|---|---|
+//! | shared parameters (marks the entity as an `M` aircraft) | [`Params<M>`] | spawn only |
+//! | controls | `M::Controls` | FlightControl |
+//! | state | `M::State` | EquationsOfMotion |
+//! | this frame's input | [`FrameInput<M::Action>`](FrameInput) | the caller (keyboard), emptied by FlightControl |
+//! | scripted input (optional) | [`ScriptInput<M::Action>`](ScriptInput) | spawn / the caller |
+//! | flight status | [`FlightStatus`] | FlightStatus |
+//! | geodetic position | [`Geodetic`] | MakePacket |
+//! | attitude as sent to FlightGear | [`Attitude`] | MakePacket |
+//! | the datagram | [`FgNetFdm`] | MakePacket |
+//! | where it goes (optional) | [`FlightGearLink`] | SendPacket (its counters) |
 //!
-//! An entity's model is given by which parameter component it has. State,
-//! controls, position, attitude and packet are the plain types of `fdm-core`,
-//! the geodesy module and `fgnet`, used as components directly.
+//! State, controls, position, attitude and packet are the plain types of
+//! `fdm-core` and `fgnet`, used as components directly. Every system's query
+//! includes [`Params<M>`], so two models never see each other's aircraft.
 //!
 //! # Shared parameters: `Arc`, not a copy and not a table index
 //!
-//! [`PalmerParams`] and [`BourgParams`] hold an [`Arc`] of the model's
-//! parameters, so every aircraft of one type points at the same data: 8 bytes
-//! per entity instead of a copy (a Bourg [`Aircraft`] with its mass properties
-//! is 680 bytes, a [`PalmerAircraft`] 128, against an 84-byte Bourg and a
-//! 56-byte Palmer state),
-//! and the one shared copy stays in the cache while a fleet is stepped. An
-//! index into a per-type table in the resources would be as small, but every
-//! system would then need the table, spawning would need to register it, and
-//! the index could dangle; the `Arc` keeps each entity self-contained and
-//! allows any number of aircraft types in one world. The reference count is
-//! touched only at spawn and despawn, never per frame. The
-//! `benches/ecs_fleet.rs` comparison against a plain loop over a `Vec` with a
-//! single `&Aircraft` measures what the indirection costs.
+//! [`Params`] holds an [`Arc`] of the model's parameters, so every aircraft of
+//! one type points at the same data: 8 bytes per entity instead of a copy (a
+//! Bourg aircraft with its mass properties is about 690 bytes, a Palmer one
+//! 128), and the one shared copy stays in the cache while a fleet is stepped.
+//! An index into a per-type table in the resources would be as small, but
+//! every system would then need the table, spawning would need to register
+//! it, and the index could dangle; the `Arc` keeps each entity
+//! self-contained and allows any number of aircraft types in one world. The
+//! reference count is touched only at spawn and despawn, never per frame.
+//!
+//! # Why a link owns its socket
+//!
+//! [`FlightGearLink`] owns a *connected* UDP socket. That is deliberate: a
+//! connected socket reports "connection refused" (FlightGear not listening)
+//! for its own target, which a socket shared by many targets could not
+//! attribute to an aircraft; and the socket closes when the entity is
+//! despawned. Only linked entities pay for one.
 
 use std::io;
 use std::ops::Deref;
 use std::sync::Arc;
 
-use fdm_core::bourg::{Aircraft, BourgAction};
-use fdm_core::palmer::{PalmerAction, PalmerAircraft};
+use fdm_core::model::Model;
 use fdm_core::script::Script;
 use fgnet::{SendOutcome, Sender, SenderError, SenderStats};
 
-pub use crate::geodesy::{Attitude, Geodetic};
-pub use fdm_core::bourg::{BourgControls, BourgState};
-pub use fdm_core::palmer::{PalmerControls, PalmerState};
+pub use fdm_core::geodesy::{Attitude, Geodetic};
+pub use fdm_core::model::FlightStatus;
 pub use fgnet::FgNetFdm;
 
-/// The Palmer parameters of an entity (wing, mass, engine, propeller), shared
-/// by every aircraft of the same type. Its presence makes an entity a Palmer
-/// aircraft.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PalmerParams(pub Arc<PalmerAircraft>);
+/// The parameters of an entity's aircraft type, shared by every aircraft of
+/// that type. Its presence makes an entity an aircraft of model `M`.
+pub struct Params<M: Model>(pub Arc<M::Aircraft>);
 
-impl Deref for PalmerParams {
-    type Target = PalmerAircraft;
-
-    fn deref(&self) -> &PalmerAircraft {
-        &self.0
+impl<M: Model> Params<M> {
+    /// Shares `aircraft`.
+    #[must_use]
+    pub fn new(aircraft: Arc<M::Aircraft>) -> Self {
+        Self(aircraft)
     }
 }
 
-/// The Bourg airframe with its mass properties, shared by every aircraft of
-/// the same type. Its presence makes an entity a Bourg aircraft.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BourgParams(pub Arc<Aircraft>);
+impl<M: Model> Clone for Params<M> {
+    fn clone(&self) -> Self {
+        Self(Arc::clone(&self.0))
+    }
+}
 
-impl Deref for BourgParams {
-    type Target = Aircraft;
+impl<M: Model> std::fmt::Debug for Params<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("Params")
+            .field(&M::NAME)
+            .field(&self.0)
+            .finish()
+    }
+}
 
-    fn deref(&self) -> &Aircraft {
+impl<M: Model> PartialEq for Params<M> {
+    fn eq(&self, other: &Self) -> bool {
+        self.0 == other.0
+    }
+}
+
+impl<M: Model> Deref for Params<M> {
+    type Target = M::Aircraft;
+
+    fn deref(&self) -> &M::Aircraft {
         &self.0
     }
 }
@@ -128,11 +145,6 @@ impl<A> Default for FrameInput<A> {
         Self::new()
     }
 }
-
-/// Input of a Palmer aircraft.
-pub type PalmerInput = FrameInput<PalmerAction>;
-/// Input of a Bourg aircraft.
-pub type BourgInput = FrameInput<BourgAction>;
 
 /// A control script driving an entity: on frame `n` (1-based,
 /// [`Resources::frame`](crate::Resources::frame)) FlightControl applies

@@ -1,54 +1,56 @@
-//! The thin Entity-Component-System shell around `fdm-core` (thesis chapter III):
-//! hecs components for aircraft parameters, state, controls and FlightGear
-//! packets; the FlightControl → EquationsOfMotion → MakePacket → SendPacket
-//! systems run in a fixed order; geodesy from the model's earth frame to WGS-84;
-//! many aircraft of both models per world, stepped in parallel.
+//! The thin Entity-Component-System shell around `fdm-core` (thesis chapter
+//! III): hecs components for any [`Model`](fdm_core::model::Model)'s
+//! parameters, state, controls and FlightGear packets; the FlightControl →
+//! EquationsOfMotion → FlightStatus → MakePacket → SendPacket systems, generic
+//! over the model, run in a fixed order; aircraft of any number of models per
+//! world, stepped in parallel.
 //!
-//! * [`components`]: what an aircraft entity is made of (shared parameters,
-//!   controls, state, frame input, geodetic position, attitude, packet,
-//!   optional FlightGear link).
-//! * [`Resources`]: frame rate and both time steps, Bourg's thrust limits,
-//!   the geodetic origin, the frame counter, sequential or parallel execution.
-//! * [`systems`]: the four systems, each documenting what it reads and writes.
-//! * [`Schedule`]: their fixed order.
-//! * [`Simulation`]: all of it behind `spawn_*`, `push_input`, `set_script`,
-//!   `run_frame` and accessors.
-//! * [`geodesy`]: model frame → WGS-84 and FlightGear attitude.
+//! * [`components`]: what an aircraft entity is made of.
+//! * [`Resources`]: frame rate, geodetic origin, frame counter, sequential or
+//!   parallel execution.
+//! * [`systems`]: the systems, each documenting what it reads and writes.
+//! * [`Schedule`]: their fixed order; each model adds its instantiations.
+//! * [`Simulation`]: all of it behind `spawn::<M>`, `push_input`,
+//!   `set_script`, `run_frame` and accessors.
 //!
-//! Stepping through the ECS gives the same bits as calling `fdm-core`
-//! directly (`tests/ecs_parity.rs`), in either execution mode.
+//! Geodesy is pure maths and lives in `fdm_core::geodesy` (re-exported as
+//! [`geodesy`]); the mapping of a model's view to FlightGear's fields is
+//! `fgnet::bridge`. Stepping through the ECS gives the same bits as calling
+//! `fdm-core` directly (`tests/ecs_parity.rs`), in either execution mode.
 //!
 //! # The thesis's names
 //!
 //! | thesis (figures 10–12) | here |
 //! |---|---|
-//! | `DataFDM` (one component per aircraft) | split: [`components::PalmerParams`] / [`components::BourgParams`] (shared), `PalmerControls` / `BourgControls`, `PalmerState` / `BourgState` |
+//! | `DataFDM` (one component per aircraft) | split: [`components::Params<M>`] (shared), `M::Controls`, `M::State` |
 //! | `KeyboardState` | [`components::FrameInput`] (+ [`components::ScriptInput`]) |
 //! | `FGNetFDM` | `fgnet::FgNetFdm`, plus [`components::Geodetic`] and [`components::Attitude`] |
 //! | (socket opened in SendPacket) | [`FlightGearLink`], optional per entity |
-//! | `DeltaTime`, `MaxThrust`, `DeltaThrust` | [`Resources::dt_palmer_s`], [`Resources::dt_bourg_s`], [`Resources::max_thrust_lb`], [`Resources::delta_thrust_lb`] |
-//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::make_packet`], [`systems::send_packet`] in [`Schedule::thesis`] |
+//! | `DeltaTime` | [`Resources::time_step`] |
+//! | `MaxThrust`, `DeltaThrust` | Bourg's aircraft parameters (`max_thrust_lb`, `delta_thrust_lb`) |
+//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::flight_status`], [`systems::make_packet`], [`systems::send_packet`] in [`Schedule::thesis`] |
 //!
 //! # Example: two aircraft, one per model
 //!
 //! ```
 //! use std::sync::Arc;
-//! use fdm_core::bourg::{Aircraft, BourgAction, BourgControls, BourgState};
-//! use fdm_core::palmer::{PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
+//! use fdm_core::bourg::{Bourg, BourgAction};
+//! use fdm_core::model::Model;
+//! use fdm_core::palmer::{Palmer, PalmerAction};
 //! use fdm_core::script::Script;
 //! use fdm_ecs::{Resources, Simulation};
 //!
 //! let mut sim = Simulation::new(Resources::new(30.0)?);
-//! let palmer = sim.spawn_palmer(
-//!     Arc::new(PalmerAircraft::cessna_172()),
-//!     PalmerControls::default(),
-//!     PalmerState::at_rest(),
+//! let palmer = sim.spawn::<Palmer>(
+//!     Arc::new(Palmer::default_aircraft()),
+//!     Palmer::initial_controls(),
+//!     Palmer::initial_state(),
 //!     None, // or Some(FlightGearLink::connect("127.0.0.1:5500")?)
 //! );
-//! let bourg = sim.spawn_bourg(
-//!     Arc::new(Aircraft::bourg_default()),
-//!     BourgControls::initial(),
-//!     BourgState::initial(),
+//! let bourg = sim.spawn::<Bourg>(
+//!     Arc::new(Bourg::default_aircraft()),
+//!     Bourg::initial_controls(),
+//!     Bourg::initial_state(),
 //!     None,
 //! );
 //! // Bourg flies a script; Palmer gets key presses.
@@ -58,9 +60,9 @@
 //! }
 //! sim.run_frames(60);
 //!
-//! assert_eq!(sim.palmer_controls(palmer).unwrap().throttle, 1.0);
-//! assert_eq!(sim.bourg_controls(bourg).unwrap().thrust_lb, 1000.0);
-//! let cessna = sim.palmer_state(palmer).unwrap();
+//! assert_eq!(sim.controls::<Palmer>(palmer).unwrap().throttle, 1.0);
+//! assert_eq!(sim.controls::<Bourg>(bourg).unwrap().thrust_lb, 1000.0);
+//! let cessna = sim.state::<Palmer>(palmer).unwrap();
 //! assert!(cessna.velocity_mps.x > 0.0);
 //! // Where FlightGear would draw it: due north of the runway origin.
 //! let here = sim.geodetic(palmer).unwrap();
@@ -70,7 +72,8 @@
 //! ```
 
 pub mod components;
-pub mod geodesy;
+/// Geodesy lives in `fdm-core` (pure maths); re-exported here for the shell's users.
+pub use fdm_core::geodesy;
 mod resources;
 mod schedule;
 mod simulation;

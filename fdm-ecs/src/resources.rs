@@ -1,10 +1,11 @@
-//! The world-wide data every system reads: the thesis's resources `DeltaTime`,
-//! `MaxThrust` and `DeltaThrust`, plus the geodetic origin, the frame counter
-//! and the execution mode.
+//! The world-wide data every system reads: the thesis's resource `DeltaTime`
+//! (as the frame rate each model derives its own time step from), the
+//! geodetic origin, the frame counter and the execution mode. (The thesis's
+//! `MaxThrust` and `DeltaThrust` are parameters of Bourg's aircraft now.)
 
-use fdm_core::bourg::{DELTA_THRUST_LB, MAX_THRUST_LB};
+use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::model::Model;
 
-use crate::geodesy::GeodeticOrigin;
 use crate::EcsError;
 
 /// How the per-aircraft systems (EquationsOfMotion, MakePacket) visit the
@@ -22,20 +23,12 @@ pub enum Execution {
 
 /// The resources passed to every system (`&Resources`).
 ///
-/// The frame rate is stored once and both models' time steps are derived from
-/// it as `shared/spec/cli.md` states: Palmer `1.0 / fps` in `f64`, Bourg
-/// `1.0f32 / fps as f32`, so they can never disagree. For a whole number of
-/// frames per second `N` (below 2^24) `fps as f32` is exactly `N as f32`, the
-/// original C++'s `1.0f / N`.
+/// The frame rate is stored once and every model derives its time step from
+/// it with [`Model::time_step`] (Palmer `1.0 / fps` in `f64`, Bourg
+/// `1.0f32 / fps as f32`), so they can never disagree.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Resources {
     fps: f64,
-    /// Bourg's `MaxThrust`: the thrust a thrust-up action cannot exceed, lb
-    /// (default [`MAX_THRUST_LB`], 3000). FlightControl honours it.
-    pub max_thrust_lb: f32,
-    /// Bourg's `DeltaThrust`: the change per thrust-up/down action, lb
-    /// (default [`DELTA_THRUST_LB`], 100). FlightControl honours it.
-    pub delta_thrust_lb: f32,
     /// Where the models' earth-frame origin (x north, y west, z up) sits on
     /// WGS-84; MakePacket converts positions with it.
     pub origin: GeodeticOrigin,
@@ -48,8 +41,7 @@ pub struct Resources {
 }
 
 impl Resources {
-    /// Resources for `fps` frames per second, with the original programs'
-    /// thrust limits, the default origin (Wright-Patterson AFB runway), frame 0
+    /// Resources for `fps` frames per second, with the default origin (Wright-Patterson AFB runway), frame 0
     /// and sequential execution.
     ///
     /// # Errors
@@ -60,8 +52,6 @@ impl Resources {
         }
         Ok(Self {
             fps,
-            max_thrust_lb: MAX_THRUST_LB,
-            delta_thrust_lb: DELTA_THRUST_LB,
             origin: GeodeticOrigin::default(),
             frame: 0,
             execution: Execution::Sequential,
@@ -86,17 +76,10 @@ impl Resources {
         self.fps
     }
 
-    /// Palmer's time step (`DeltaTime`), seconds: `1.0 / fps` in `f64`.
+    /// Model `M`'s time step (`DeltaTime`) at this frame rate:
+    /// [`Model::time_step`].
     #[must_use]
-    pub fn dt_palmer_s(&self) -> f64 {
-        1.0 / self.fps
-    }
-
-    /// Bourg's time step (`DeltaTime`), seconds: `1.0f32 / fps as f32`, as the
-    /// original C++ computes it.
-    #[must_use]
-    #[allow(clippy::cast_possible_truncation)] // the original's own f32 time step
-    pub fn dt_bourg_s(&self) -> f32 {
-        1.0f32 / self.fps as f32
+    pub fn time_step<M: Model>(&self) -> M::TimeStep {
+        M::time_step(self.fps)
     }
 }

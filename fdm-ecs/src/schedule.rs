@@ -2,17 +2,28 @@
 //!
 //! The thesis found that its dispatcher, left to itself, could run the
 //! systems in a different order from frame to frame; here the order is a list
-//! run front to back, every frame.
+//! run front to back, every frame. Each model in the world adds its
+//! instantiation of the generic systems to their phase
+//! ([`Schedule::with_model`]); a caller's own systems go anywhere in the list
+//! ([`Schedule::insert_after`], [`Schedule::push`]).
 
+use std::any::TypeId;
+
+use fdm_core::bourg::Bourg;
+use fdm_core::model::Model;
+use fdm_core::palmer::Palmer;
 use hecs::World;
 
 use crate::resources::Resources;
-use crate::systems::{equations_of_motion, flight_control, make_packet, send_packet};
+use crate::systems::{
+    equations_of_motion, flight_control, flight_status, make_packet, send_packet,
+};
 
 /// A system: a named function over the world and the resources.
 #[derive(Debug, Clone, Copy)]
 pub struct System {
-    /// The system's name, e.g. `"EquationsOfMotion"`.
+    /// The system's name, e.g. `"EquationsOfMotion"`; the instantiations of a
+    /// generic system for several models share their phase's name.
     pub name: &'static str,
     /// The function run once per frame.
     pub run: fn(&mut World, &Resources),
@@ -22,6 +33,7 @@ pub struct System {
 #[derive(Debug, Clone)]
 pub struct Schedule {
     systems: Vec<System>,
+    models: Vec<TypeId>,
 }
 
 impl Schedule {
@@ -29,39 +41,128 @@ impl Schedule {
     pub const FLIGHT_CONTROL: &'static str = "FlightControl";
     /// The name of [`equations_of_motion`].
     pub const EQUATIONS_OF_MOTION: &'static str = "EquationsOfMotion";
+    /// The name of [`flight_status`].
+    pub const FLIGHT_STATUS: &'static str = "FlightStatus";
     /// The name of [`make_packet`].
     pub const MAKE_PACKET: &'static str = "MakePacket";
     /// The name of [`send_packet`].
     pub const SEND_PACKET: &'static str = "SendPacket";
 
-    /// The thesis's order: FlightControl → EquationsOfMotion → MakePacket →
-    /// SendPacket.
+    /// The phases every model takes part in, in order.
+    const MODEL_PHASES: [&'static str; 4] = [
+        Self::FLIGHT_CONTROL,
+        Self::EQUATIONS_OF_MOTION,
+        Self::FLIGHT_STATUS,
+        Self::MAKE_PACKET,
+    ];
+
+    /// The thesis's order, FlightControl → EquationsOfMotion → FlightStatus →
+    /// MakePacket → SendPacket, for the two models of this workspace
+    /// ([`Palmer`], then [`Bourg`]). Other models join with
+    /// [`with_model`](Self::with_model) (which
+    /// [`Simulation::spawn`](crate::Simulation::spawn) calls for you).
     #[must_use]
     pub fn thesis() -> Self {
-        Self::new(vec![
-            System {
-                name: Self::FLIGHT_CONTROL,
-                run: flight_control,
-            },
-            System {
-                name: Self::EQUATIONS_OF_MOTION,
-                run: equations_of_motion,
-            },
-            System {
-                name: Self::MAKE_PACKET,
-                run: make_packet,
-            },
-            System {
-                name: Self::SEND_PACKET,
-                run: send_packet,
-            },
-        ])
+        Self::for_no_model()
+            .with_model::<Palmer>()
+            .with_model::<Bourg>()
     }
 
-    /// A schedule running `systems` in the given order.
+    /// The thesis's phases with no model yet: only SendPacket, which serves
+    /// every model.
+    #[must_use]
+    pub fn for_no_model() -> Self {
+        Self {
+            systems: vec![System {
+                name: Self::SEND_PACKET,
+                run: send_packet,
+            }],
+            models: Vec::new(),
+        }
+    }
+
+    /// Adds model `M`'s FlightControl, EquationsOfMotion, FlightStatus and
+    /// MakePacket, each after the last system of its phase (or, for a phase
+    /// not present yet, before SendPacket). Adding a model twice changes
+    /// nothing.
+    #[must_use]
+    pub fn with_model<M: Model>(mut self) -> Self {
+        self.add_model::<M>();
+        self
+    }
+
+    /// [`with_model`](Self::with_model) in place; returns whether `M` was new.
+    pub fn add_model<M: Model>(&mut self) -> bool {
+        let id = TypeId::of::<M>();
+        if self.models.contains(&id) {
+            return false;
+        }
+        self.models.push(id);
+        let runs: [fn(&mut World, &Resources); 4] = [
+            flight_control::<M>,
+            equations_of_motion::<M>,
+            flight_status::<M>,
+            make_packet::<M>,
+        ];
+        for (phase, (name, run)) in Self::MODEL_PHASES.iter().zip(runs).enumerate() {
+            let at = self.end_of_phase(phase);
+            self.systems.insert(at, System { name, run });
+        }
+        true
+    }
+
+    /// Whether model `M`'s systems are in the schedule.
+    #[must_use]
+    pub fn has_model<M: Model>(&self) -> bool {
+        self.models.contains(&TypeId::of::<M>())
+    }
+
+    /// Where a new system of model phase `phase` goes: after the last system
+    /// of that phase or of an earlier one, else before the first system of a
+    /// later phase or SendPacket.
+    fn end_of_phase(&self, phase: usize) -> usize {
+        let rank = |name: &str| Self::MODEL_PHASES.iter().position(|p| *p == name);
+        let mut at = None;
+        for (i, system) in self.systems.iter().enumerate() {
+            match rank(system.name) {
+                Some(r) if r <= phase => at = Some(i + 1),
+                _ => {}
+            }
+        }
+        at.unwrap_or_else(|| {
+            self.systems
+                .iter()
+                .position(|s| rank(s.name).is_some() || s.name == Self::SEND_PACKET)
+                .unwrap_or(self.systems.len())
+        })
+    }
+
+    /// A schedule running exactly `systems` in the given order (no model
+    /// phases are managed: [`with_model`](Self::with_model) then places a
+    /// model's systems by their names).
     #[must_use]
     pub const fn new(systems: Vec<System>) -> Self {
-        Self { systems }
+        Self {
+            systems,
+            models: Vec::new(),
+        }
+    }
+
+    /// Appends `system` at the end of the frame.
+    pub fn push(&mut self, system: System) {
+        self.systems.push(system);
+    }
+
+    /// Inserts `system` right after the last system named `after`; returns
+    /// `false` (and inserts nothing) when there is none.
+    pub fn insert_after(&mut self, after: &str, system: System) -> bool {
+        match self.systems.iter().rposition(|s| s.name == after) {
+            Some(i) => {
+                self.systems.insert(i + 1, system);
+                true
+            }
+            None => false,
+        }
     }
 
     /// The systems, in the order they run.

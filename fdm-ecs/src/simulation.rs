@@ -4,39 +4,36 @@
 use std::io;
 use std::sync::Arc;
 
-use fdm_core::bourg::{Aircraft, BourgControls, BourgState};
-use fdm_core::palmer::{PalmerAircraft, PalmerControls, PalmerState};
+use fdm_core::model::{FlightStatus, FlightView, Model};
 use fdm_core::script::Script;
+use fgnet::bridge::{display, Display};
 use fgnet::{FgNetFdm, SenderStats};
 use hecs::{Component, Entity, EntityBuilder, QueryOneError, World};
 
-use crate::components::{
-    BourgInput, BourgParams, FlightGearLink, FrameInput, PalmerInput, PalmerParams, ScriptInput,
-};
-use crate::geodesy::{Attitude, Geodetic};
+use crate::components::{Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput};
 use crate::resources::Resources;
 use crate::schedule::Schedule;
-use crate::systems::{bourg_display, palmer_display, Display};
 use crate::EcsError;
 
-/// A world of aircraft (both models can be mixed), its [`Resources`] and the
+/// A world of aircraft of any number of models, its [`Resources`] and the
 /// [`Schedule`] run by [`run_frame`](Self::run_frame).
 ///
 /// ```
 /// use std::sync::Arc;
-/// use fdm_core::bourg::{Aircraft, BourgAction, BourgControls, BourgState};
-/// use fdm_core::palmer::{PalmerAircraft, PalmerControls, PalmerState};
+/// use fdm_core::bourg::{Bourg, BourgAction, BourgControls, BourgState};
+/// use fdm_core::model::Model;
+/// use fdm_core::palmer::{Palmer, PalmerControls, PalmerState};
 /// use fdm_ecs::{Resources, Simulation};
 ///
 /// let mut sim = Simulation::new(Resources::new(30.0)?);
-/// let cessna = sim.spawn_palmer(
-///     Arc::new(PalmerAircraft::cessna_172()),
+/// let cessna = sim.spawn::<Palmer>(
+///     Arc::new(Palmer::default_aircraft()),
 ///     PalmerControls { throttle: 1.0, alpha_deg: 4.0, ..PalmerControls::default() },
-///     PalmerState::at_rest(),
+///     PalmerState::initial(),
 ///     None, // no FlightGear link: nothing is sent
 /// );
-/// let bourg = sim.spawn_bourg(
-///     Arc::new(Aircraft::bourg_default()),
+/// let bourg = sim.spawn::<Bourg>(
+///     Arc::new(Bourg::default_aircraft()),
 ///     BourgControls::initial(),
 ///     BourgState::initial(),
 ///     None,
@@ -46,7 +43,7 @@ use crate::EcsError;
 ///     sim.run_frame();
 /// }
 /// assert_eq!(sim.frame(), 30);
-/// let palmer = sim.palmer_state(cessna).unwrap();
+/// let palmer = sim.state::<Palmer>(cessna).unwrap();
 /// assert!((palmer.time_s - 1.0).abs() < 1e-9 && palmer.velocity_mps.x > 0.0);
 /// let here = sim.geodetic(bourg).unwrap();
 /// assert!(here.lat_deg < 39.8264); // Bourg starts 5000 ft south of the origin
@@ -88,54 +85,57 @@ impl Simulation {
         }
     }
 
-    /// Spawns a Palmer aircraft with its shared parameters, initial controls
-    /// and state, and optionally a FlightGear link. Its geodetic position,
-    /// attitude and packet are computed right away, so they are valid before
-    /// the first frame.
-    pub fn spawn_palmer(
+    /// Spawns an aircraft of model `M` with its shared parameters, initial
+    /// controls and state, and optionally a FlightGear link; adds `M`'s
+    /// systems to the schedule if they are not there yet. Its flight status,
+    /// geodetic position, attitude and packet are computed right away, so
+    /// they are valid before the first frame.
+    pub fn spawn<M: Model>(
         &mut self,
-        aircraft: Arc<PalmerAircraft>,
-        controls: PalmerControls,
-        state: PalmerState,
+        aircraft: Arc<M::Aircraft>,
+        controls: M::Controls,
+        state: M::State,
         link: Option<FlightGearLink>,
     ) -> Entity {
-        let display = palmer_display(&aircraft, &controls, &state, &self.resources.origin);
+        self.schedule.add_model::<M>();
+        let display = display(
+            &M::view(&aircraft, &controls, &state),
+            &self.resources.origin,
+        );
+        let status = FlightStatus::initial(M::height_m(&state));
         let mut builder = EntityBuilder::new();
-        builder.add_bundle((PalmerParams(aircraft), controls, state, PalmerInput::new()));
-        self.spawn(builder, display, link)
-    }
-
-    /// Spawns a Bourg aircraft; see [`spawn_palmer`](Self::spawn_palmer).
-    pub fn spawn_bourg(
-        &mut self,
-        aircraft: Arc<Aircraft>,
-        controls: BourgControls,
-        state: BourgState,
-        link: Option<FlightGearLink>,
-    ) -> Entity {
-        let display = bourg_display(&controls, &state, &self.resources.origin);
-        let mut builder = EntityBuilder::new();
-        builder.add_bundle((BourgParams(aircraft), controls, state, BourgInput::new()));
-        self.spawn(builder, display, link)
-    }
-
-    fn spawn(
-        &mut self,
-        mut builder: EntityBuilder,
-        display: Display,
-        link: Option<FlightGearLink>,
-    ) -> Entity {
-        builder.add_bundle((display.geodetic, display.attitude, display.packet));
+        builder.add_bundle((
+            Params::<M>::new(aircraft),
+            controls,
+            state,
+            FrameInput::<M::Action>::new(),
+            status,
+            display.geodetic,
+            display.attitude,
+            display.packet,
+        ));
         if let Some(link) = link {
             builder.add(link);
         }
         self.world.spawn(builder.build())
     }
 
+    /// Spawns members `0..n` of model `M`'s demonstration fleet
+    /// ([`Model::fleet_member`]), all sharing `aircraft`, without FlightGear
+    /// links; returns their entities in spawn order (which is also the
+    /// order of the world's queries over them).
+    pub fn spawn_fleet<M: Model>(&mut self, aircraft: &Arc<M::Aircraft>, n: usize) -> Vec<Entity> {
+        (0..n)
+            .map(|i| {
+                let (controls, state) = M::fleet_member(i);
+                self.spawn::<M>(Arc::clone(aircraft), controls, state, None)
+            })
+            .collect()
+    }
+
     /// Makes `script` drive `entity` from the next frame on (replacing any
     /// earlier script): on frame `n` its rules covering `n` are applied
-    /// before the frame's queued input. `A` is `PalmerAction` or `BourgAction`
-    /// and must match the entity's model.
+    /// before the frame's queued input. `A` is the entity's model's action type.
     ///
     /// # Errors
     /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] when the
@@ -153,8 +153,8 @@ impl Simulation {
             .map_err(|_| EcsError::NoSuchEntity)
     }
 
-    /// Queues `action` (a key press) for `entity`'s next frame. `A` is
-    /// `PalmerAction` or `BourgAction` and must match the entity's model.
+    /// Queues `action` (a key press) for `entity`'s next frame. `A` is the
+    /// entity's model's action type.
     ///
     /// # Errors
     /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] when the
@@ -167,69 +167,43 @@ impl Simulation {
         Ok(())
     }
 
-    /// Puts a Palmer aircraft back to `controls` and `state` (e.g. the
-    /// interactive reset key): drops its queued input and recomputes its
-    /// geodetic position, attitude and packet at once, as at spawn. Its
-    /// parameters, script and FlightGear link stay.
+    /// Puts an `M` aircraft back to `controls` and `state` (e.g. the
+    /// interactive reset key): drops its queued input, restarts its flight
+    /// status and recomputes its geodetic position, attitude and packet at
+    /// once, as at spawn. Its parameters, script and FlightGear link stay.
     ///
     /// # Errors
-    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] for a
-    /// Bourg aircraft.
-    pub fn reset_palmer(
+    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] for an
+    /// aircraft of another model.
+    pub fn reset<M: Model>(
         &mut self,
         entity: Entity,
-        controls: PalmerControls,
-        state: PalmerState,
+        controls: M::Controls,
+        state: M::State,
     ) -> Result<(), EcsError> {
         let origin = self.resources.origin;
-        let (params, c, s, input, geodetic, attitude, packet) = self
+        let (params, c, s, input, status, geodetic, attitude, packet) = self
             .world
             .query_one_mut::<(
-                &PalmerParams,
-                &mut PalmerControls,
-                &mut PalmerState,
-                &mut PalmerInput,
+                &Params<M>,
+                &mut M::Controls,
+                &mut M::State,
+                &mut FrameInput<M::Action>,
+                &mut FlightStatus,
                 &mut Geodetic,
                 &mut Attitude,
                 &mut FgNetFdm,
             )>(entity)
-            .map_err(query_error::<PalmerParams>)?;
-        let display = palmer_display(params, &controls, &state, &origin);
+            .map_err(query_error::<Params<M>>)?;
+        let Display {
+            geodetic: g,
+            attitude: a,
+            packet: p,
+        } = display(&M::view(params, &controls, &state), &origin);
+        *status = FlightStatus::initial(M::height_m(&state));
         (*c, *s) = (controls, state);
         input.drain();
-        (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
-        Ok(())
-    }
-
-    /// Puts a Bourg aircraft back to `controls` and `state`; see
-    /// [`reset_palmer`](Self::reset_palmer).
-    ///
-    /// # Errors
-    /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] for a
-    /// Palmer aircraft.
-    pub fn reset_bourg(
-        &mut self,
-        entity: Entity,
-        controls: BourgControls,
-        state: BourgState,
-    ) -> Result<(), EcsError> {
-        let origin = self.resources.origin;
-        let (_, c, s, input, geodetic, attitude, packet) = self
-            .world
-            .query_one_mut::<(
-                &BourgParams,
-                &mut BourgControls,
-                &mut BourgState,
-                &mut BourgInput,
-                &mut Geodetic,
-                &mut Attitude,
-                &mut FgNetFdm,
-            )>(entity)
-            .map_err(query_error::<BourgParams>)?;
-        let display = bourg_display(&controls, &state, &origin);
-        (*c, *s) = (controls, state);
-        input.drain();
-        (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
+        (*geodetic, *attitude, *packet) = (g, a, p);
         Ok(())
     }
 
@@ -265,27 +239,45 @@ impl Simulation {
         self.world.get::<&T>(entity).ok().map(|c| (*c).clone())
     }
 
-    /// A Palmer aircraft's state (`None` for another model or no entity).
+    /// An `M` aircraft's state (`None` for another model or no entity).
     #[must_use]
-    pub fn palmer_state(&self, entity: Entity) -> Option<PalmerState> {
-        self.get(entity)
+    pub fn state<M: Model>(&self, entity: Entity) -> Option<M::State> {
+        self.model_component::<M, M::State>(entity)
     }
 
-    /// A Palmer aircraft's controls.
+    /// An `M` aircraft's controls (`None` for another model or no entity).
     #[must_use]
-    pub fn palmer_controls(&self, entity: Entity) -> Option<PalmerControls> {
-        self.get(entity)
+    pub fn controls<M: Model>(&self, entity: Entity) -> Option<M::Controls> {
+        self.model_component::<M, M::Controls>(entity)
     }
 
-    /// A Bourg aircraft's state.
+    /// An `M` aircraft's shared parameters.
     #[must_use]
-    pub fn bourg_state(&self, entity: Entity) -> Option<BourgState> {
-        self.get(entity)
+    pub fn aircraft<M: Model>(&self, entity: Entity) -> Option<Arc<M::Aircraft>> {
+        self.model_component::<M, Params<M>>(entity).map(|p| p.0)
     }
 
-    /// A Bourg aircraft's controls.
+    /// The common view of an `M` aircraft now ([`Model::view`]).
     #[must_use]
-    pub fn bourg_controls(&self, entity: Entity) -> Option<BourgControls> {
+    pub fn view<M: Model>(&self, entity: Entity) -> Option<FlightView> {
+        let mut query = self
+            .world
+            .query_one::<(&Params<M>, &M::Controls, &M::State)>(entity);
+        query
+            .get()
+            .ok()
+            .map(|(params, controls, state)| M::view(params, controls, state))
+    }
+
+    /// Component `T` of `entity` if it is an aircraft of model `M`.
+    fn model_component<M: Model, T: Component + Clone>(&self, entity: Entity) -> Option<T> {
+        let mut query = self.world.query_one::<(&Params<M>, &T)>(entity);
+        query.get().ok().map(|(_, t)| t.clone())
+    }
+
+    /// The aircraft's flight status as of the last frame (any model).
+    #[must_use]
+    pub fn status(&self, entity: Entity) -> Option<FlightStatus> {
         self.get(entity)
     }
 
@@ -344,8 +336,8 @@ impl Simulation {
         &self.resources
     }
 
-    /// The resources, to change the origin, thrust limits or execution mode
-    /// between frames.
+    /// The resources, to change the origin or the execution mode between
+    /// frames.
     pub fn resources_mut(&mut self) -> &mut Resources {
         &mut self.resources
     }
@@ -365,5 +357,11 @@ impl Simulation {
     #[must_use]
     pub const fn schedule(&self) -> &Schedule {
         &self.schedule
+    }
+
+    /// The schedule, to add systems of your own (e.g.
+    /// [`Schedule::insert_after`]).
+    pub fn schedule_mut(&mut self) -> &mut Schedule {
+        &mut self.schedule
     }
 }

@@ -29,7 +29,7 @@ pub const AGL_UNKNOWN: f32 = -9999.0;
 /// One FlightGear native-FDM datagram, protocol version 24 (`struct FGNetFDM`
 /// from FlightGear's `net_fdm.hxx`), 408 bytes on the wire.
 ///
-/// Field order, types and units follow the spec's field table; every field is
+/// Field order, types and units follow the field table of docs/fgnetfdm.md §3; every field is
 /// sent big-endian. The "FlightGear does" notes describe what FlightGear 2020.3
 /// does with the field on receive (`FGNetFDM2Props`). `R2Df` is SimGear's
 /// *float* radians-to-degrees constant 57.2957763671875, so FlightGear shows
@@ -341,7 +341,7 @@ impl FgNetFdm {
     ///   flight models cannot know;
     /// * `num_engines` = `num_tanks` = `num_wheels` = 0: FlightGear then
     ///   neither byte-swaps nor applies any engine, tank or gear array entry,
-    ///   so its own engine, fuel and gear properties are left alone (the spec
+    ///   so its own engine, fuel and gear properties are left alone (docs/fgnetfdm.md §5
     ///   calls 0 the safest count). Set them explicitly when sending those
     ///   arrays; [`FgNetFdm::from_display`] sets `num_engines` = 1;
     /// * every other field 0 (position 0°N 0°E at sea level, level attitude,

@@ -85,6 +85,7 @@
 //! # Ok::<(), fgnet::SenderError>(())
 //! ```
 
+pub mod bridge;
 mod display;
 mod fdm;
 mod sender;

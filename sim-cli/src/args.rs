@@ -73,7 +73,7 @@ impl ModelKind {
     }
 }
 
-/// Options both models share (cli.md "Options both models share").
+/// Options both models share (docs/cli.md "Options both models share").
 #[derive(Debug, Clone, Args)]
 pub struct CommonArgs {
     /// Frames per second, a whole number; each frame advances the model by dt = 1/N seconds
@@ -238,7 +238,7 @@ fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, Strin
 }
 
 /// `--fps`: a whole number from 1 to [`MAX_FPS`]. Whole, because the frame rate is
-/// the ECS's `Resources::new(fps: u32)` and both models derive dt from it (cli.md:
+/// the ECS's `Resources::new(fps: u32)` and both models derive dt from it (docs/cli.md:
 /// dt = 1/N, `1.0f32 / N as f32` for Bourg).
 pub fn parse_fps(text: &str) -> Result<u32, String> {
     match text.trim().parse::<u32>() {

@@ -7,14 +7,16 @@ use std::io::BufWriter;
 use std::net::SocketAddrV4;
 use std::path::Path;
 
-use fdm_core::bourg::BourgAction;
-use fdm_core::palmer::PalmerAction;
+use fdm_core::bourg::Bourg;
+use fdm_core::model::Model;
+use fdm_core::palmer::{Flaps, Palmer, PalmerControls};
 use fdm_core::script::{Script, ScriptAction};
 
 use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
+use crate::flight::Start;
 use crate::origin::GeodeticOrigin;
 
 /// How the run is driven.
@@ -46,68 +48,42 @@ pub struct RunConfig {
     pub origin: GeodeticOrigin,
 }
 
-impl RunConfig {
-    /// Palmer's step: dt = 1/fps in `f64` (cli.md).
-    #[must_use]
-    pub fn dt_f64(&self) -> f64 {
-        1.0 / f64::from(self.fps)
-    }
-
-    /// Bourg's step: `1.0f32 / fps as f32` exactly as cli.md states.
-    #[must_use]
-    #[allow(clippy::cast_precision_loss)] // cli.md's own conversion
-    pub fn dt_f32(&self) -> f32 {
-        1.0_f32 / self.fps as f32
-    }
-}
-
-/// Palmer's controls at frame 0 (`--throttle`, `--alpha`, `--bank`, `--flaps`), validated.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PalmerInitialControls {
-    /// Throttle fraction, 0..1.
-    pub throttle: f64,
-    /// Angle of attack, degrees, -16..20.
-    pub alpha_deg: f64,
-    /// Bank, degrees, -20..20.
-    pub bank_deg: f64,
-    /// Flaps, degrees: 0, 20 or 40.
-    pub flaps_deg: u8,
-}
-
-/// A validated `sim-cli palmer` run.
+/// A validated `sim-cli <model>` run of model `M`.
 #[derive(Debug)]
-pub struct PalmerConfig {
+pub struct ModelConfig<M: Model> {
     /// Shared settings.
     pub run: RunConfig,
     /// Scripted controls (empty without `--script`).
-    pub script: Script<PalmerAction>,
-    /// Controls at frame 0.
-    pub controls: PalmerInitialControls,
+    pub script: Script<M::Action>,
+    /// How the aircraft starts (and restarts on reset).
+    pub start: Start<M>,
 }
 
-/// A validated `sim-cli bourg` run.
-#[derive(Debug)]
-pub struct BourgConfig {
-    /// Shared settings.
-    pub run: RunConfig,
-    /// Scripted controls (empty without `--script`).
-    pub script: Script<BourgAction>,
-}
-
-/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV file.
+/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
+/// file; the controls at frame 0 come from `--throttle`, `--alpha`, `--bank`
+/// and `--flaps`.
 ///
 /// # Errors
 /// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare_palmer(args: PalmerArgs) -> Result<PalmerConfig, CliError> {
+pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
+    let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
+        CliError::usage(format!(
+            "--flaps {}: not a flap setting (0, 20 or 40)",
+            args.flaps
+        ))
+    })?;
     let (run, script) = prepare(args.common)?;
-    Ok(PalmerConfig {
+    Ok(ModelConfig {
         run,
         script,
-        controls: PalmerInitialControls {
-            throttle: args.throttle,
-            alpha_deg: args.alpha,
-            bank_deg: args.bank,
-            flaps_deg: args.flaps,
+        start: Start {
+            controls: PalmerControls {
+                throttle: args.throttle,
+                alpha_deg: args.alpha,
+                bank_deg: args.bank,
+                flaps,
+            },
+            ..Start::thesis()
         },
     })
 }
@@ -116,9 +92,13 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<PalmerConfig, CliError> {
 ///
 /// # Errors
 /// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare_bourg(args: BourgArgs) -> Result<BourgConfig, CliError> {
+pub fn prepare_bourg(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
     let (run, script) = prepare(args.common)?;
-    Ok(BourgConfig { run, script })
+    Ok(ModelConfig {
+        run,
+        script,
+        start: Start::thesis(),
+    })
 }
 
 /// The mode implied by the options, or why they do not fit together.
@@ -305,32 +285,19 @@ mod tests {
     }
 
     #[test]
-    fn dt() {
-        let run = RunConfig {
-            fps: 30,
-            mode: Mode::Interactive,
-            csv: None,
-            fg: None,
-            origin: GeodeticOrigin::default(),
-        };
-        assert_eq!(run.dt_f64(), 1.0 / 30.0);
-        assert_eq!(run.dt_f32(), 1.0_f32 / 30.0_f32);
-    }
-
-    #[test]
     fn script_errors_name_file_and_line() {
         let dir = std::env::temp_dir().join(format!("sim-cli-config-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("bad.txt");
         std::fs::write(&path, "# ok\n1-5 thrust-up\n\n3-2 thrust-up\n").unwrap();
-        let err = load_script::<BourgAction>(&path).unwrap_err();
+        let err = load_script::<fdm_core::bourg::BourgAction>(&path).unwrap_err();
         assert_eq!(err.exit_code(), 2);
         assert_eq!(
             err.to_string(),
             format!("{}:4: range 3-2 ends before it starts", path.display())
         );
         let missing = dir.join("missing.txt");
-        let err = load_script::<BourgAction>(&missing).unwrap_err();
+        let err = load_script::<fdm_core::bourg::BourgAction>(&missing).unwrap_err();
         assert!(err.to_string().starts_with("cannot read script "), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

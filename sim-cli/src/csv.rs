@@ -5,8 +5,9 @@
 //! (exponent notation for very large or small magnitudes); NaN and infinities are
 //! written as `NaN`, `inf`, `-inf`, which Python and pandas read back.
 //!
-//! Each model supplies its columns through [`CsvRecord`]; [`crate::report::Snapshot`]
-//! implements it, so the integrator gets CSV output for free.
+//! Each model supplies its columns through [`CsvRecord`]; [`crate::snapshot::Snapshot`]
+//! implements it (the common columns, then the model's
+//! [`Details::CSV_COLUMNS`](crate::models::Details::CSV_COLUMNS)).
 
 use std::fmt::Write as _;
 use std::fs::File;
@@ -20,7 +21,7 @@ use crate::error::CliError;
 /// A value that can be written as one CSV row.
 pub trait CsvRecord {
     /// Column names after `frame,time_s`. Must not change during a run.
-    fn csv_columns(&self) -> &'static [&'static str];
+    fn csv_columns(&self) -> Vec<&'static str>;
     /// Simulated time, seconds (the `time_s` column).
     fn time_s(&self) -> f64;
     /// Appends one value per column, in [`Self::csv_columns`] order.
@@ -135,7 +136,7 @@ impl<W: Write> CsvWriter<W> {
     /// As [`Self::write_header`] and [`Self::write_row`].
     pub fn write_record(&mut self, frame: u64, record: &impl CsvRecord) -> Result<(), CliError> {
         if self.columns.is_none() {
-            self.write_header(record.csv_columns())?;
+            self.write_header(&record.csv_columns())?;
         }
         let mut values = std::mem::take(&mut self.values);
         values.clear();
@@ -179,7 +180,7 @@ fn push_number(line: &mut String, v: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::samples;
+    use crate::snapshot::samples;
 
     #[test]
     fn header_and_rows() {

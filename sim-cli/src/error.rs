@@ -1,4 +1,4 @@
-//! The one error type of `sim-cli` and its mapping to exit statuses (cli.md "Exit status").
+//! The one error type of `sim-cli` and its mapping to exit statuses (docs/cli.md "Exit status").
 
 use std::fmt;
 

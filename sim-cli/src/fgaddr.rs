@@ -4,7 +4,7 @@ use std::fmt;
 use std::net::{Ipv4Addr, SocketAddrV4, ToSocketAddrs};
 use std::str::FromStr;
 
-/// Where interactive runs send packets when `--fg` is not given (cli.md).
+/// Where interactive runs send packets when `--fg` is not given (docs/cli.md).
 pub const DEFAULT_FG: &str = "127.0.0.1:5500";
 
 /// A FlightGear native-FDM UDP endpoint as the user wrote it: a host name or IPv4
@@ -43,7 +43,7 @@ impl FromStr for FgTarget {
 }
 
 /// Parses `HOST:PORT`. IPv6 is rejected up front because FlightGear 2020.3's
-/// native-FDM socket is IPv4 only (fgnetfdm.md §5), so such a target could never work.
+/// native-FDM socket is IPv4 only (docs/fgnetfdm.md §5), so such a target could never work.
 /// Host names are limited to letters, digits, `.` and `-`, which also keeps the
 /// printed fgfs command line safe to paste into a shell.
 pub fn parse_fg_target(text: &str) -> Result<FgTarget, String> {

@@ -2,7 +2,7 @@
 //!
 //! Flags: the thesis's appendix A command (`--fdm=null`, `--native-fdm=socket,in,...`,
 //! `--disable-panel --enable-hud --disable-sound --disable-random-objects
-//! --timeofday=noon`), plus the cheap ones from fgnetfdm.md §7 that do not hurt an
+//! --timeofday=noon`), plus the cheap ones from docs/fgnetfdm.md §7 that do not hurt an
 //! interactive viewer (`--disable-real-weather-fetch --disable-ai-models
 //! --disable-splash-screen`). `--disable-terrasync` is left out on purpose: scenery
 //! for the default origin (Ohio) is not in the Debian data package, so TerraSync is
@@ -12,40 +12,46 @@
 //! model before its first frame, computed by the same functions MakePacket uses
 //! ([`fdm_ecs::systems::palmer_display`], [`fdm_ecs::systems::bourg_display`]):
 //! FlightGear only loads terrain near the preset and drops packets until the FDM is
-//! initialised there (fgnetfdm.md §7). Palmer stands at rest on the runway at the
+//! initialised there (docs/fgnetfdm.md §7). Palmer stands at rest on the runway at the
 //! origin; Bourg starts at model (−5000, 0, 2000) ft, 5000 ft south of the origin and
 //! 2000 ft above it. Both start pointing north (heading 0), the direction they fly.
 
-use fdm_core::bourg::{BourgControls, BourgState};
-use fdm_core::palmer::{PalmerAircraft, PalmerControls, PalmerState};
-use fdm_ecs::geodesy::{Attitude, Geodetic, GeodeticOrigin};
-use fdm_ecs::systems::{bourg_display, palmer_display, Display};
+use fdm_core::geodesy::{Attitude, Geodetic, GeodeticOrigin};
+use fgnet::bridge::{display, Display};
 
 use crate::args::ModelKind;
 use crate::fgaddr::FgTarget;
+use crate::models::{CliModel, WithModel};
 
 /// Feet per metre as FlightGear converts (`SG_METER_TO_FEET`).
 pub const FT_PER_M: f64 = 3.280_839_895_013_123_4;
 
-/// Where the ECS puts `model` before its first frame, and its attitude there, as
-/// MakePacket would send them (Palmer with its default controls: the attitude's
-/// heading does not depend on them).
+/// Where the ECS puts an aircraft of model `M` before its first frame, and its
+/// attitude there, as MakePacket would send them (with the model's initial
+/// controls and state).
 #[must_use]
-pub fn start_pose(model: ModelKind, origin: &GeodeticOrigin) -> (Geodetic, Attitude) {
+pub fn start_pose<M: CliModel>(origin: &GeodeticOrigin) -> (Geodetic, Attitude) {
+    let view = M::view(
+        &M::default_aircraft(),
+        &M::initial_controls(),
+        &M::initial_state(),
+    );
     let Display {
         geodetic, attitude, ..
-    } = match model {
-        ModelKind::Palmer => palmer_display(
-            &PalmerAircraft::cessna_172(),
-            &PalmerControls::default(),
-            &PalmerState::at_rest(),
-            origin,
-        ),
-        ModelKind::Bourg => {
-            bourg_display(&BourgControls::initial(), &BourgState::initial(), origin)
-        }
-    };
+    } = display(&view, origin);
     (geodetic, attitude)
+}
+
+/// The aircraft name and start pose of a model chosen at run time.
+struct Preset<'a>(&'a GeodeticOrigin);
+
+impl WithModel for Preset<'_> {
+    type Output = (&'static str, Geodetic, Attitude);
+
+    fn call<M: CliModel>(self) -> Self::Output {
+        let (geodetic, attitude) = start_pose::<M>(self.0);
+        (M::FG_AIRCRAFT, geodetic, attitude)
+    }
 }
 
 /// Rounds to 1e-7 degrees (about 1 cm) and prints the shortest form.
@@ -79,12 +85,8 @@ pub fn fgfs_command(
         Some(t) => ("", t.port),
         None => ("", 5500),
     };
-    // The thesis showed Bourg's aircraft as the UFO.
-    let aircraft = match model {
-        ModelKind::Palmer => "c172p",
-        ModelKind::Bourg => "ufo",
-    };
-    let (start, attitude) = start_pose(model, origin);
+    // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
+    let (aircraft, start, attitude) = model.with(Preset(origin));
     format!(
         "fgfs --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
          --lat={} --lon={} --altitude={:.1} --heading={} --timeofday=noon \
@@ -100,6 +102,9 @@ pub fn fgfs_command(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fdm_core::bourg::Bourg;
+    use fdm_core::model::Model;
+    use fdm_core::palmer::Palmer;
     use fdm_ecs::{Resources, Simulation};
     use std::sync::Arc;
 
@@ -138,20 +143,22 @@ mod tests {
         for origin in ["39.8264,-84.0483,251", "-33.9,151.2,6", "64.1,-21.9,50"] {
             let origin: GeodeticOrigin = origin.parse().unwrap();
             let mut sim = Simulation::new(Resources::new(30.0).unwrap().with_origin(origin));
-            let palmer = sim.spawn_palmer(
-                Arc::new(PalmerAircraft::cessna_172()),
-                PalmerControls::default(),
-                PalmerState::at_rest(),
+            let palmer = sim.spawn::<Palmer>(
+                Arc::new(Palmer::default_aircraft()),
+                Palmer::initial_controls(),
+                Palmer::initial_state(),
                 None,
             );
-            let bourg = sim.spawn_bourg(
-                Arc::new(fdm_core::bourg::Aircraft::bourg_default()),
-                BourgControls::initial(),
-                BourgState::initial(),
+            let bourg = sim.spawn::<Bourg>(
+                Arc::new(Bourg::default_aircraft()),
+                Bourg::initial_controls(),
+                Bourg::initial_state(),
                 None,
             );
-            for (model, entity) in [(ModelKind::Palmer, palmer), (ModelKind::Bourg, bourg)] {
-                let (geodetic, attitude) = start_pose(model, &origin);
+            for (model, entity, (geodetic, attitude)) in [
+                ("palmer", palmer, start_pose::<Palmer>(&origin)),
+                ("bourg", bourg, start_pose::<Bourg>(&origin)),
+            ] {
                 assert_eq!(Some(geodetic), sim.geodetic(entity));
                 assert_eq!(Some(attitude), sim.attitude(entity));
                 // Both start flying north: heading 0 up to rounding.

@@ -1,18 +1,19 @@
-//! The two models as [`Flight`]s: one aircraft entity in an [`fdm_ecs::Simulation`],
-//! with a [`FlightGearLink`] when the run sends packets.
+//! Any [`CliModel`] as a [`Flight`]: one aircraft entity in an
+//! [`fdm_ecs::Simulation`], with a [`FlightGearLink`] when the run sends
+//! packets.
 //!
-//! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run loop
-//! has already put the script's rules for the frame first, in file order, then the
-//! keys pressed) as the entity's frame input, then runs one frame of the thesis
-//! schedule: FlightControl (for Bourg: rudder, ailerons and elevators back to
-//! neutral, then the actions; for Palmer: the actions on the held controls) →
-//! EquationsOfMotion → MakePacket → SendPacket. The frame rate is the simulation's
-//! [`Resources`], so dt is `1.0 / fps` (Palmer, `f64`) and `1.0f32 / fps as f32`
-//! (Bourg), as cli.md states.
+//! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
+//! loop has already put the script's rules for the frame first, in file order,
+//! then the keys pressed) as the entity's frame input, then runs one frame of
+//! the thesis schedule: FlightControl (the model's start of frame, e.g. Bourg's
+//! surfaces back to neutral, then the actions) → EquationsOfMotion →
+//! FlightStatus → MakePacket → SendPacket. The frame rate is the simulation's
+//! [`Resources`], so dt is the model's own [`Model::time_step`] (docs/cli.md).
 //!
-//! Geodetic position and attitude in the [`Snapshot`] are the entity's [`Geodetic`]
-//! and [`Attitude`] components, which MakePacket fills from the same numbers it
-//! encodes into the datagram: the report shows exactly what FlightGear was sent.
+//! Geodetic position and attitude in the [`Snapshot`] are the entity's
+//! [`Geodetic`] and [`Attitude`] components, which MakePacket fills from the
+//! same numbers it encodes into the datagram: the report shows exactly what
+//! FlightGear was sent.
 //!
 //! [`Geodetic`]: fdm_ecs::geodesy::Geodetic
 //! [`Attitude`]: fdm_ecs::geodesy::Attitude
@@ -21,39 +22,60 @@ use std::net::SocketAddrV4;
 use std::sync::Arc;
 
 use anyhow::{anyhow, Context as _};
-use fdm_core::bourg::{Aircraft, BourgAction, BourgControls, BourgState};
-use fdm_core::palmer::{
-    Flaps, FlightPhase, LandingState, PalmerAction, PalmerAircraft, PalmerControls, PalmerState,
-};
+use fdm_core::model::{FlightStatus, Model};
 use fdm_ecs::{Entity, FlightGearLink, Resources, Simulation};
 
-use crate::config::{PalmerInitialControls, RunConfig};
+use crate::config::RunConfig;
 use crate::error::CliError;
-use crate::hud::{FlightStatus, LinkStats};
-use crate::report::{
-    widen, widen3, AttitudeReport, BourgDetails, CommonState, GeodeticReport, ModelDetails,
-    PalmerControlsReport, PalmerDetails, Snapshot,
-};
+use crate::hud::LinkStats;
+use crate::models::CliModel;
 use crate::run::Flight;
+use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 
-/// One aircraft in its own simulation, and what the CLI adds around it.
+/// How an aircraft of model `M` starts (and restarts on reset).
+#[derive(Debug, Clone)]
+pub struct Start<M: Model> {
+    /// The aircraft's parameters.
+    pub aircraft: M::Aircraft,
+    /// Controls at frame 0.
+    pub controls: M::Controls,
+    /// State at frame 0.
+    pub state: M::State,
+}
+
+impl<M: Model> Start<M> {
+    /// The thesis's start: the default aircraft, initial controls and state.
+    #[must_use]
+    pub fn thesis() -> Self {
+        Self {
+            aircraft: M::default_aircraft(),
+            controls: M::initial_controls(),
+            state: M::initial_state(),
+        }
+    }
+}
+
+/// One aircraft of model `M` in its own simulation, and what the CLI adds
+/// around it.
 #[derive(Debug)]
-struct World {
+pub struct ModelFlight<M: Model> {
     sim: Simulation,
     entity: Entity,
+    start: Start<M>,
     /// The FlightGear target, for the one-time failure message.
     fg: Option<SocketAddrV4>,
     /// The first send failure, as a message, until [`Flight::take_link_failure`].
     link_failure: Option<String>,
 }
 
-impl World {
-    /// A simulation at the run's frame rate and origin with one aircraft, spawned by
-    /// `spawn` with a FlightGear link when the run has a target.
-    fn new(
-        run: &RunConfig,
-        spawn: impl FnOnce(&mut Simulation, Option<FlightGearLink>) -> Entity,
-    ) -> Result<Self, CliError> {
+impl<M: CliModel> ModelFlight<M> {
+    /// A simulation at the run's frame rate and origin with one aircraft
+    /// starting at `start`, with a FlightGear link when the run has a target.
+    ///
+    /// # Errors
+    /// [`CliError::Usage`] for a frame rate the ECS refuses,
+    /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
+    pub fn new(run: &RunConfig, start: Start<M>) -> Result<Self, CliError> {
         let resources = Resources::new(f64::from(run.fps))
             .map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?
             .with_origin(run.origin);
@@ -65,18 +87,50 @@ impl World {
             None => None,
         };
         let mut sim = Simulation::new(resources);
-        let entity = spawn(&mut sim, link);
+        let entity = sim.spawn::<M>(
+            Arc::new(start.aircraft.clone()),
+            start.controls,
+            start.state,
+            link,
+        );
         Ok(Self {
             sim,
             entity,
+            start,
             fg: run.fg,
             link_failure: None,
         })
     }
 
-    /// Queues `actions` as this frame's key presses, runs the frame, and keeps the
-    /// link's first failure (reported once by the run loop, never per frame).
-    fn step<A: fdm_ecs::hecs::Component + Copy>(&mut self, actions: &[A]) -> anyhow::Result<()> {
+    /// The simulation the aircraft flies in.
+    #[must_use]
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// The aircraft's entity.
+    #[must_use]
+    pub fn entity(&self) -> Entity {
+        self.entity
+    }
+
+    /// The model's state now.
+    fn state(&self) -> anyhow::Result<M::State> {
+        self.sim
+            .state::<M>(self.entity)
+            .ok_or_else(|| anyhow!("the {} aircraft is gone from the simulation", M::NAME))
+    }
+}
+
+impl<M: CliModel> Flight for ModelFlight<M> {
+    type Action = M::Action;
+    type Details = M::Details;
+
+    const TITLE: &'static str = M::TITLE;
+
+    /// Queues `actions` as this frame's key presses, runs the frame, and keeps
+    /// the link's first failure (reported once by the run loop, never per frame).
+    fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
         for &action in actions {
             self.sim.push_input(self.entity, action)?;
         }
@@ -93,24 +147,46 @@ impl World {
         Ok(())
     }
 
-    fn common(&self, time_s: f64, position: [f64; 3], velocity: [f64; 3]) -> CommonState {
+    fn reset(&mut self) -> anyhow::Result<()> {
+        self.sim
+            .reset::<M>(self.entity, self.start.controls, self.start.state)?;
+        Ok(())
+    }
+
+    fn snapshot(&self) -> Snapshot<M::Details> {
+        let state = self.state().unwrap_or(self.start.state);
+        let controls = self
+            .sim
+            .controls::<M>(self.entity)
+            .unwrap_or(self.start.controls);
+        let aircraft = &self.start.aircraft;
+        let view = M::view(aircraft, &controls, &state);
         // Spawn computes both components, so they exist for the entity's lifetime.
-        let geodetic = self.sim.geodetic(self.entity).unwrap_or(NAN_GEODETIC);
-        let attitude = self.sim.attitude(self.entity).unwrap_or(NAN_ATTITUDE);
-        CommonState {
-            time_s,
-            position,
-            velocity,
-            geodetic: GeodeticReport {
-                lat_deg: geodetic.lat_deg,
-                lon_deg: geodetic.lon_deg,
-                alt_m: geodetic.alt_m,
+        let geodetic = self.sim.geodetic(self.entity);
+        let attitude = self.sim.attitude(self.entity);
+        Snapshot {
+            common: CommonState {
+                time_s: view.time_s,
+                position: M::native_position(&state),
+                velocity: M::native_velocity(&state),
+                geodetic: geodetic.map_or(NAN_GEODETIC, |g| GeodeticReport {
+                    lat_deg: g.lat_deg,
+                    lon_deg: g.lon_deg,
+                    alt_m: g.alt_m,
+                }),
+                attitude_deg: attitude.map_or(NAN_ATTITUDE, |a| AttitudeReport {
+                    roll: a.roll_deg,
+                    pitch: a.pitch_deg,
+                    heading: a.heading_deg,
+                }),
             },
-            attitude_deg: AttitudeReport {
-                roll: attitude.roll_deg,
-                pitch: attitude.pitch_deg,
-                heading: attitude.heading_deg,
-            },
+            details: M::details(aircraft, &controls, &state),
+            status: self
+                .sim
+                .status(self.entity)
+                .unwrap_or(FlightStatus::OnGround),
+            stalling: view.stalling,
+            airspeed_mps: view.airspeed_mps,
         }
     }
 
@@ -120,248 +196,34 @@ impl World {
             failed: s.failed,
         })
     }
+
+    fn take_link_failure(&mut self) -> Option<String> {
+        self.link_failure.take()
+    }
 }
 
-/// Never used in practice (the components exist from spawn on); reported as NaN,
-/// i.e. JSON `null`, rather than a panic.
-const NAN_GEODETIC: fdm_ecs::geodesy::Geodetic = fdm_ecs::geodesy::Geodetic {
+/// Never used in practice (the components exist from spawn on); reported as
+/// NaN, i.e. JSON `null`, rather than a panic.
+const NAN_GEODETIC: GeodeticReport = GeodeticReport {
     lat_deg: f64::NAN,
     lon_deg: f64::NAN,
     alt_m: f64::NAN,
 };
-const NAN_ATTITUDE: fdm_ecs::geodesy::Attitude = fdm_ecs::geodesy::Attitude {
-    roll_deg: f64::NAN,
-    pitch_deg: f64::NAN,
-    heading_deg: f64::NAN,
+const NAN_ATTITUDE: AttitudeReport = AttitudeReport {
+    roll: f64::NAN,
+    pitch: f64::NAN,
+    heading: f64::NAN,
 };
-
-/// Palmer's Cessna 172 in the ECS.
-#[derive(Debug)]
-pub struct PalmerFlight {
-    world: World,
-    initial: PalmerControls,
-    phase: FlightPhase,
-    landing: Option<LandingState>,
-}
-
-impl PalmerFlight {
-    /// A Cessna at rest on the runway at the run's origin, with the controls of
-    /// `--throttle/--alpha/--bank/--flaps`.
-    ///
-    /// # Errors
-    /// [`CliError::Usage`] for a flap setting other than 0, 20 or 40 (the argument
-    /// parser already rejects those), [`CliError::Runtime`] when the FlightGear
-    /// socket cannot be opened.
-    pub fn new(run: &RunConfig, controls: PalmerInitialControls) -> Result<Self, CliError> {
-        let flaps = Flaps::from_degrees(controls.flaps_deg).ok_or_else(|| {
-            CliError::usage(format!(
-                "--flaps {}: not a flap setting (0, 20 or 40)",
-                controls.flaps_deg
-            ))
-        })?;
-        let initial = PalmerControls {
-            throttle: controls.throttle,
-            alpha_deg: controls.alpha_deg,
-            bank_deg: controls.bank_deg,
-            flaps,
-        };
-        let world = World::new(run, |sim, link| {
-            sim.spawn_palmer(
-                Arc::new(PalmerAircraft::cessna_172()),
-                initial,
-                PalmerState::at_rest(),
-                link,
-            )
-        })?;
-        Ok(Self {
-            world,
-            initial,
-            phase: FlightPhase::default(),
-            landing: None,
-        })
-    }
-
-    /// The model's state now.
-    fn state(&self) -> anyhow::Result<PalmerState> {
-        self.world
-            .sim
-            .palmer_state(self.world.entity)
-            .ok_or_else(|| anyhow!("the Palmer aircraft is gone from the simulation"))
-    }
-}
-
-impl Flight for PalmerFlight {
-    type Action = PalmerAction;
-
-    fn step(&mut self, actions: &[PalmerAction]) -> anyhow::Result<()> {
-        self.world.step(actions)?;
-        let (phase, touchdown) = self.phase.update(&self.state()?);
-        self.phase = phase;
-        if phase == FlightPhase::Airborne {
-            self.landing = None;
-        }
-        if touchdown.is_some() {
-            self.landing = touchdown;
-        }
-        Ok(())
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        self.world
-            .sim
-            .reset_palmer(self.world.entity, self.initial, PalmerState::at_rest())?;
-        self.phase = FlightPhase::default();
-        self.landing = None;
-        Ok(())
-    }
-
-    fn snapshot(&self) -> Snapshot {
-        let sim = &self.world.sim;
-        let entity = self.world.entity;
-        let state = sim.palmer_state(entity).unwrap_or(PalmerState {
-            time_s: f64::NAN,
-            ..PalmerState::at_rest()
-        });
-        let controls = sim.palmer_controls(entity).unwrap_or(self.initial);
-        Snapshot {
-            common: self.world.common(
-                state.time_s,
-                state.position_m.into(),
-                state.velocity_mps.into(),
-            ),
-            details: ModelDetails::Palmer(PalmerDetails {
-                airspeed: state.airspeed_mps(),
-                controls: PalmerControlsReport {
-                    throttle: controls.throttle,
-                    alpha_deg: controls.alpha_deg,
-                    bank_deg: controls.bank_deg,
-                    flaps_deg: controls.flaps.degrees(),
-                },
-                climb_angle_deg: state.climb_angle_deg(),
-                climb_rate: state.climb_rate_mps(),
-                heading_deg: state.heading_deg(),
-            }),
-        }
-    }
-
-    fn status(&self) -> FlightStatus {
-        match (self.phase, self.landing) {
-            (FlightPhase::Airborne, _) => FlightStatus::Flying,
-            (FlightPhase::OnGround, None) => FlightStatus::OnGround,
-            (FlightPhase::OnGround, Some(LandingState::Safe)) => FlightStatus::SafeLanding,
-            (FlightPhase::OnGround, Some(LandingState::Rough)) => FlightStatus::RoughLanding,
-            (FlightPhase::OnGround, Some(LandingState::Crash)) => FlightStatus::Crashed,
-        }
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.world.link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.world.link_failure.take()
-    }
-}
-
-/// Bourg's 6-DoF aircraft in the ECS.
-#[derive(Debug)]
-pub struct BourgFlight {
-    world: World,
-    fps: u32,
-    /// Frames since the start or the last reset (the model keeps no clock).
-    frames: u64,
-}
-
-impl BourgFlight {
-    /// The aircraft at Bourg's initial conditions: model position (−5000, 0, 2000) ft
-    /// (5000 ft south of the origin, 2000 ft up), 60 ft/s north, thrust 500 lb.
-    ///
-    /// # Errors
-    /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
-    pub fn new(run: &RunConfig) -> Result<Self, CliError> {
-        let world = World::new(run, |sim, link| {
-            sim.spawn_bourg(
-                Arc::new(Aircraft::bourg_default()),
-                BourgControls::initial(),
-                BourgState::initial(),
-                link,
-            )
-        })?;
-        Ok(Self {
-            world,
-            fps: run.fps,
-            frames: 0,
-        })
-    }
-}
-
-impl Flight for BourgFlight {
-    type Action = BourgAction;
-
-    fn step(&mut self, actions: &[BourgAction]) -> anyhow::Result<()> {
-        self.world.step(actions)?;
-        self.frames += 1;
-        Ok(())
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        self.world.sim.reset_bourg(
-            self.world.entity,
-            BourgControls::initial(),
-            BourgState::initial(),
-        )?;
-        self.frames = 0;
-        Ok(())
-    }
-
-    /// Bourg's model has no clock: `time_s` is frames / fps.
-    #[allow(clippy::cast_precision_loss)] // exact below 2^53 frames
-    fn snapshot(&self) -> Snapshot {
-        let sim = &self.world.sim;
-        let entity = self.world.entity;
-        let state = sim.bourg_state(entity).unwrap_or_else(BourgState::initial);
-        let controls = sim
-            .bourg_controls(entity)
-            .unwrap_or_else(BourgControls::initial);
-        Snapshot {
-            common: self.world.common(
-                self.frames as f64 / f64::from(self.fps),
-                widen3(state.position.into()),
-                widen3(state.velocity.into()),
-            ),
-            details: ModelDetails::Bourg(BourgDetails {
-                speed: widen(state.speed),
-                euler_deg: widen3(state.euler_angles_deg.into()),
-                thrust_lb: widen(controls.thrust_lb),
-                flaps: controls.landing_flaps,
-                stalling: state.stalling,
-            }),
-        }
-    }
-
-    fn status(&self) -> FlightStatus {
-        match self.world.sim.bourg_state(self.world.entity) {
-            Some(state) if state.stalling => FlightStatus::Stalling,
-            _ => FlightStatus::Flying,
-        }
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.world.link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.world.link_failure.take()
-    }
-}
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::config::Mode;
+    use crate::hud::status_label;
     use crate::origin::GeodeticOrigin;
-    use fdm_core::bourg::Flap;
-    use fdm_core::palmer;
+    use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
+    use fdm_core::model::LandingState;
+    use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
     use std::net::UdpSocket;
 
     fn run(fps: u32, fg: Option<SocketAddrV4>) -> RunConfig {
@@ -377,23 +239,23 @@ mod tests {
         }
     }
 
-    const CRUISE: PalmerInitialControls = PalmerInitialControls {
-        throttle: 1.0,
-        alpha_deg: 4.0,
-        bank_deg: 0.0,
-        flaps_deg: 0,
-    };
+    fn cruise() -> Start<Palmer> {
+        Start {
+            controls: PalmerControls {
+                throttle: 1.0,
+                alpha_deg: 4.0,
+                ..PalmerControls::default()
+            },
+            ..Start::thesis()
+        }
+    }
 
     #[test]
     fn palmer_matches_the_core_step_by_step() {
-        let mut flight = PalmerFlight::new(&run(10, None), CRUISE).unwrap();
-        let aircraft = PalmerAircraft::cessna_172();
-        let mut controls = PalmerControls {
-            throttle: 1.0,
-            alpha_deg: 4.0,
-            ..PalmerControls::default()
-        };
-        let mut state = PalmerState::at_rest();
+        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        let aircraft = Palmer::default_aircraft();
+        let mut controls = cruise().controls;
+        let mut state = Palmer::initial_state();
         let keys = [
             vec![],
             vec![PalmerAction::BankRight, PalmerAction::BankRight],
@@ -411,58 +273,60 @@ mod tests {
         assert_eq!(s.common.position, <[f64; 3]>::from(state.position_m));
         assert_eq!(s.common.velocity, <[f64; 3]>::from(state.velocity_mps));
         assert_eq!(s.common.time_s, state.time_s);
-        let ModelDetails::Palmer(p) = s.details else {
-            panic!("not palmer")
-        };
+        let p = s.details;
         assert_eq!(p.controls.bank_deg, 20.0);
         assert_eq!(p.controls.flaps_deg, 40.0);
         assert_eq!(p.airspeed, state.airspeed_mps());
+        assert_eq!(s.airspeed_mps, state.airspeed_mps());
         assert_eq!(p.heading_deg, state.heading_deg());
     }
 
     #[test]
     fn palmer_status_follows_the_flight_phase() {
-        let mut flight = PalmerFlight::new(&run(10, None), CRUISE).unwrap();
-        assert_eq!(flight.status(), FlightStatus::OnGround);
+        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        let status = |f: &ModelFlight<Palmer>| {
+            let s = f.snapshot();
+            status_label(s.status, s.stalling)
+        };
+        assert_eq!(status(&flight), "on ground");
         for _ in 0..300 {
             flight.step(&[]).unwrap();
         }
-        assert_eq!(flight.status(), FlightStatus::Flying);
+        assert_eq!(status(&flight), "flying");
         // Nose down hard at idle: it comes back to the ground, fast.
         let mut down = vec![PalmerAction::ThrottleDown; 20];
         down.extend([PalmerAction::AlphaDown; 20]);
         flight.step(&down).unwrap();
         let mut frames = 0;
-        while flight.status() == FlightStatus::Flying && frames < 10_000 {
+        while flight.snapshot().status == FlightStatus::Airborne && frames < 10_000 {
             flight.step(&[]).unwrap();
             frames += 1;
         }
         assert_eq!(
-            flight.status(),
-            FlightStatus::Crashed,
+            flight.snapshot().status,
+            FlightStatus::Landed(LandingState::Crash),
             "after {frames} frames"
         );
+        assert_eq!(status(&flight), "CRASHED");
         flight.reset().unwrap();
-        assert_eq!(flight.status(), FlightStatus::OnGround);
+        assert_eq!(status(&flight), "on ground");
         assert_eq!(flight.snapshot().common.position, [0.0; 3]);
     }
 
     #[test]
     fn palmer_reset_restores_the_initial_controls() {
-        let mut flight = PalmerFlight::new(&run(30, None), CRUISE).unwrap();
+        let mut flight = ModelFlight::new(&run(30, None), cruise()).unwrap();
         flight.step(&[PalmerAction::ThrottleDown]).unwrap();
         flight.reset().unwrap();
-        let ModelDetails::Palmer(p) = flight.snapshot().details else {
-            panic!("not palmer")
-        };
+        let p = flight.snapshot().details;
         assert_eq!((p.controls.throttle, p.controls.alpha_deg), (1.0, 4.0));
         assert_eq!(flight.snapshot().common.time_s, 0.0);
     }
 
     #[test]
     fn bourg_surfaces_are_neutral_at_the_start_of_every_frame() {
-        let mut flight = BourgFlight::new(&run(30, None)).unwrap();
-        let controls = |f: &BourgFlight| f.world.sim.bourg_controls(f.world.entity).unwrap();
+        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let controls = |f: &ModelFlight<Bourg>| f.sim.controls::<Bourg>(f.entity).unwrap();
         flight
             .step(&[
                 BourgAction::PitchUp,
@@ -492,11 +356,13 @@ mod tests {
     }
 
     #[test]
-    fn bourg_matches_the_core_and_counts_time_in_frames() {
-        let mut flight = BourgFlight::new(&run(30, None)).unwrap();
-        let aircraft = Aircraft::bourg_default();
-        let mut controls = BourgControls::initial();
-        let mut state = BourgState::initial();
+    fn bourg_matches_the_core_and_keeps_the_models_clock() {
+        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let aircraft = Bourg::default_aircraft();
+        let mut controls = Bourg::initial_controls();
+        let mut state = Bourg::initial_state();
+        let dt = 1.0f32 / 30.0;
+        let mut clock = 0.0_f64;
         for frame in 1..=60_u32 {
             let actions: &[BourgAction] = if frame % 3 == 0 {
                 &[BourgAction::PitchUp, BourgAction::ThrustUp]
@@ -508,16 +374,23 @@ mod tests {
             for &a in actions {
                 controls = controls.apply(a);
             }
-            state = fdm_core::bourg::step(&aircraft, &controls, &state, 1.0f32 / 30.0);
+            state = bourg::step(&aircraft, &controls, &state, dt);
+            clock += f64::from(dt);
         }
         let s = flight.snapshot();
-        assert_eq!(s.common.position, widen3(state.position.into()));
-        assert_eq!(s.common.time_s, 2.0);
-        let ModelDetails::Bourg(b) = s.details else {
-            panic!("not bourg")
-        };
-        assert_eq!(b.euler_deg, widen3(state.euler_angles_deg.into()));
-        assert_eq!(b.speed, widen(state.speed));
+        assert_eq!(
+            s.common.position,
+            <[f64; 3]>::from(state.position_ft.map(f64::from))
+        );
+        // The model's clock: 60 steps of the f32 time step, summed in f64.
+        assert_eq!(s.common.time_s, clock);
+        assert!((s.common.time_s - 2.0).abs() < 1e-6);
+        let b = s.details;
+        assert_eq!(
+            b.euler_deg,
+            <[f64; 3]>::from(state.euler_angles_deg().map(f64::from))
+        );
+        assert_eq!(b.speed, f64::from(state.speed_ftps()));
         assert_eq!(b.thrust_lb, 2500.0);
         flight.reset().unwrap();
         assert_eq!(flight.snapshot().common.time_s, 0.0);
@@ -530,12 +403,12 @@ mod tests {
         let std::net::SocketAddr::V4(addr) = receiver.local_addr().unwrap() else {
             panic!("not IPv4")
         };
-        let mut flight = BourgFlight::new(&run(30, Some(addr))).unwrap();
+        let mut flight = ModelFlight::<Bourg>::new(&run(30, Some(addr)), Start::thesis()).unwrap();
         for _ in 0..5 {
             flight.step(&[BourgAction::RollRight]).unwrap();
         }
         assert_eq!(flight.link_stats(), Some(LinkStats { sent: 5, failed: 0 }));
-        let packet = flight.world.sim.packet(flight.world.entity).unwrap();
+        let packet = flight.sim.packet(flight.entity).unwrap();
         let s = flight.snapshot();
         assert_eq!(packet.latitude, s.common.geodetic.lat_deg.to_radians());
         assert_eq!(packet.longitude, s.common.geodetic.lon_deg.to_radians());
@@ -562,7 +435,7 @@ mod tests {
             .unwrap()
             .port();
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
-        let mut flight = PalmerFlight::new(&run(30, Some(addr)), CRUISE).unwrap();
+        let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
         let mut messages = Vec::new();
         for _ in 0..20 {
             flight.step(&[]).unwrap();

@@ -9,43 +9,20 @@ use crossterm::style::Print;
 use crossterm::terminal::{Clear, ClearType};
 use crossterm::QueueableCommand;
 
-use crate::report::{ModelDetails, Snapshot};
+use fdm_core::model::FlightStatus;
+use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 
-/// Metres per foot (exact, international foot).
-pub const M_PER_FT: f64 = 0.3048;
-/// Metres per second per knot (exact).
-pub const MPS_PER_KT: f64 = 1852.0 / 3600.0;
+use crate::models::{tenths, Details};
+use crate::snapshot::Snapshot;
 
-/// Flight phase shown on the HUD. The integrator maps the model's own flags
-/// (Bourg `stalling`, Palmer's landing classification) onto it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FlightStatus {
-    /// On the ground, not yet flown.
-    OnGround,
-    /// In the air, nothing special.
-    Flying,
-    /// A wing element is stalled (Bourg).
-    Stalling,
-    /// Came back to the ground with vz > -2 m/s (Palmer).
-    SafeLanding,
-    /// Came back to the ground with -5 < vz <= -2 m/s (Palmer).
-    RoughLanding,
-    /// Came back to the ground faster than 5 m/s down (Palmer).
-    Crashed,
-}
-
-impl FlightStatus {
-    /// The HUD text.
-    #[must_use]
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::OnGround => "on ground",
-            Self::Flying => "flying",
-            Self::Stalling => "STALL",
-            Self::SafeLanding => "landed (safe)",
-            Self::RoughLanding => "landed (rough)",
-            Self::Crashed => "CRASHED",
-        }
+/// The status as the HUD shows it: the flight status's label, or `STALL`
+/// while the model reports a stall in the air.
+#[must_use]
+pub fn status_label(status: FlightStatus, stalling: bool) -> &'static str {
+    if stalling && status == FlightStatus::Airborne {
+        "STALL"
+    } else {
+        status.label()
     }
 }
 
@@ -56,29 +33,6 @@ pub struct LinkStats {
     pub sent: u64,
     /// Send attempts that failed (e.g. ICMP port unreachable reported back).
     pub failed: u64,
-}
-
-/// Controls as shown on the HUD.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum HudControls {
-    /// Palmer's held controls.
-    Palmer {
-        /// Throttle fraction, 0..1.
-        throttle: f64,
-        /// Angle of attack, degrees.
-        alpha_deg: f64,
-        /// Bank, degrees.
-        bank_deg: f64,
-        /// Flaps, degrees.
-        flaps_deg: f64,
-    },
-    /// Bourg's held controls (surfaces are momentary, so not shown).
-    Bourg {
-        /// Thrust, lb.
-        thrust_lb: f64,
-        /// Landing flaps down.
-        flaps: bool,
-    },
 }
 
 /// State of the run loop, as opposed to the model.
@@ -111,10 +65,10 @@ pub struct HudData {
     pub roll_deg: f64,
     /// Pitch, degrees, nose up positive.
     pub pitch_deg: f64,
-    /// Held controls.
-    pub controls: HudControls,
-    /// Flight phase.
-    pub status: FlightStatus,
+    /// The model's control line.
+    pub controls: String,
+    /// Flight status as shown ([`status_label`]).
+    pub status: &'static str,
     /// Where packets go, if anywhere.
     pub fg_target: Option<SocketAddrV4>,
     /// Packet counters, if the sender reports them.
@@ -126,48 +80,29 @@ pub struct HudData {
 }
 
 impl HudData {
-    /// Builds the HUD contents from a model snapshot plus what only the loop and
-    /// the sender know.
+    /// Builds the HUD contents for a model titled `model` (e.g.
+    /// [`Model::TITLE`](fdm_core::model::Model::TITLE)) from a snapshot plus
+    /// what only the loop and the sender know.
     #[must_use]
-    pub fn from_snapshot(
-        snapshot: &Snapshot,
-        status: FlightStatus,
+    pub fn from_snapshot<D: Details>(
+        model: &'static str,
+        snapshot: &Snapshot<D>,
         fg_target: Option<SocketAddrV4>,
         link: Option<LinkStats>,
         run: LoopStatus,
         key_help: &'static str,
     ) -> Self {
         let c = &snapshot.common;
-        let (model, airspeed_mps, controls) = match &snapshot.details {
-            ModelDetails::Palmer(p) => (
-                "Palmer Cessna 172",
-                p.airspeed,
-                HudControls::Palmer {
-                    throttle: p.controls.throttle,
-                    alpha_deg: p.controls.alpha_deg,
-                    bank_deg: p.controls.bank_deg,
-                    flaps_deg: p.controls.flaps_deg,
-                },
-            ),
-            ModelDetails::Bourg(b) => (
-                "Bourg 6-DoF",
-                b.speed * M_PER_FT,
-                HudControls::Bourg {
-                    thrust_lb: b.thrust_lb,
-                    flaps: b.flaps,
-                },
-            ),
-        };
         Self {
             model,
             time_s: c.time_s,
             altitude_m: c.geodetic.alt_m,
-            airspeed_mps,
+            airspeed_mps: snapshot.airspeed_mps,
             heading_deg: c.attitude_deg.heading,
             roll_deg: c.attitude_deg.roll,
             pitch_deg: c.attitude_deg.pitch,
-            controls,
-            status,
+            controls: snapshot.details.hud_controls(),
+            status: status_label(snapshot.status, snapshot.stalling),
             fg_target,
             link,
             run,
@@ -185,16 +120,6 @@ fn compass(deg: f64) -> i64 {
     }
 }
 
-/// `x` for a display with one decimal, except that values that show as zero are
-/// +0.0, so a tiny negative roll does not flicker as "-0.0".
-fn tenths(x: f64) -> f64 {
-    if (x * 10.0).round() == 0.0 {
-        0.0
-    } else {
-        x
-    }
-}
-
 /// The HUD as text lines (ASCII only, so width = number of chars).
 #[must_use]
 pub fn render_hud(d: &HudData) -> Vec<String> {
@@ -206,9 +131,9 @@ pub fn render_hud(d: &HudData) -> Vec<String> {
         ),
         format!(
             "ALT {:6.0} ft ({:.1} m)   SPD {:5.1} kt ({:.1} m/s)   HDG {:03}",
-            d.altitude_m / M_PER_FT,
+            d.altitude_m / METRES_PER_FOOT,
             d.altitude_m,
-            d.airspeed_mps / MPS_PER_KT,
+            d.airspeed_mps * KNOTS_PER_MPS,
             d.airspeed_mps,
             compass(d.heading_deg)
         ),
@@ -216,26 +141,10 @@ pub fn render_hud(d: &HudData) -> Vec<String> {
             "ROLL {:+6.1} deg   PITCH {:+6.1} deg   {}",
             tenths(d.roll_deg),
             tenths(d.pitch_deg),
-            d.status.label()
+            d.status
         ),
     ];
-    lines.push(match d.controls {
-        HudControls::Palmer {
-            throttle,
-            alpha_deg,
-            bank_deg,
-            flaps_deg,
-        } => format!(
-            "THROTTLE {:3.0} %   ALPHA {:+5.1} deg   BANK {:+5.1} deg   FLAPS {flaps_deg:.0} deg",
-            throttle * 100.0,
-            tenths(alpha_deg),
-            tenths(bank_deg),
-        ),
-        HudControls::Bourg { thrust_lb, flaps } => format!(
-            "THRUST {thrust_lb:4.0} lb   FLAPS {}",
-            if flaps { "down" } else { "up" }
-        ),
-    });
+    lines.push(d.controls.clone());
     let link = match (d.fg_target, d.link) {
         (None, _) => "FG off".to_owned(),
         (Some(t), Some(s)) => format!("FG {t}  sent {}  failed {}", s.sent, s.failed),
@@ -292,13 +201,16 @@ impl HudWriter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::samples;
+    use crate::snapshot::samples;
+    use fdm_core::bourg::Bourg;
+    use fdm_core::model::Model;
+    use fdm_core::palmer::Palmer;
     use std::net::Ipv4Addr;
 
     fn palmer_hud() -> HudData {
         HudData::from_snapshot(
+            Palmer::TITLE,
             &samples::palmer(),
-            FlightStatus::Flying,
             Some(SocketAddrV4::new(Ipv4Addr::LOCALHOST, 5500)),
             Some(LinkStats {
                 sent: 369,
@@ -334,9 +246,11 @@ mod tests {
 
     #[test]
     fn bourg_text_paused_without_fg() {
+        let mut snapshot = samples::bourg();
+        snapshot.stalling = true;
         let d = HudData::from_snapshot(
-            &samples::bourg(),
-            FlightStatus::Stalling,
+            Bourg::TITLE,
+            &snapshot,
             None,
             None,
             LoopStatus {

@@ -1,13 +1,12 @@
-//! Keyboard → controls (thesis appendix B; palmer.md and bourg.md "Interactive
-//! controls"), plus the application keys Q/Esc (quit), P (pause), R (reset).
+//! Keyboard → controls (thesis appendix B; each model's key table is in its
+//! module under [`crate::models`]), plus the application keys Q/Esc (quit),
+//! P (pause), R (reset).
 //!
 //! One key event is one press. Terminals report a held key as repeated press
 //! events; with the kitty keyboard protocol crossterm may report `Repeat` kinds
 //! instead, so both count, and `Release` is ignored.
 
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
-use fdm_core::bourg::BourgAction;
-use fdm_core::palmer::PalmerAction;
 use fdm_core::script::ScriptAction;
 
 /// What the application does with a key that is not a model control.
@@ -38,50 +37,12 @@ pub trait KeyAction: ScriptAction {
     fn from_key(code: KeyCode) -> Option<Self>;
 }
 
-fn letter(code: KeyCode) -> Option<char> {
+/// The lower-case letter of a character key (keys are case-insensitive).
+#[must_use]
+pub fn letter(code: KeyCode) -> Option<char> {
     match code {
         KeyCode::Char(c) => Some(c.to_ascii_lowercase()),
         _ => None,
-    }
-}
-
-impl KeyAction for PalmerAction {
-    const KEY_HELP: &'static str =
-        "E/D throttle  Down/Up alpha +/-  Left/Right bank  K flaps down  L flaps up";
-
-    fn from_key(code: KeyCode) -> Option<Self> {
-        Some(match (code, letter(code)) {
-            (_, Some('e')) => Self::ThrottleUp,
-            (_, Some('d')) => Self::ThrottleDown,
-            (KeyCode::Down, _) => Self::AlphaUp,
-            (KeyCode::Up, _) => Self::AlphaDown,
-            (KeyCode::Left, _) => Self::BankLeft,
-            (KeyCode::Right, _) => Self::BankRight,
-            (_, Some('k')) => Self::FlapsDown,
-            (_, Some('l')) => Self::FlapsUp,
-            _ => return None,
-        })
-    }
-}
-
-impl KeyAction for BourgAction {
-    const KEY_HELP: &'static str =
-        "E/D thrust  Down/Up pitch up/down  Left/Right roll  N/M yaw  K flaps down  L flaps up";
-
-    fn from_key(code: KeyCode) -> Option<Self> {
-        Some(match (code, letter(code)) {
-            (_, Some('e')) => Self::ThrustUp,
-            (_, Some('d')) => Self::ThrustDown,
-            (KeyCode::Down, _) => Self::PitchUp,
-            (KeyCode::Up, _) => Self::PitchDown,
-            (KeyCode::Left, _) => Self::RollLeft,
-            (KeyCode::Right, _) => Self::RollRight,
-            (_, Some('n')) => Self::YawLeft,
-            (_, Some('m')) => Self::YawRight,
-            (_, Some('k')) => Self::FlapsDown,
-            (_, Some('l')) => Self::FlapsUp,
-            _ => return None,
-        })
     }
 }
 
@@ -115,6 +76,8 @@ pub fn map_key<A: KeyAction>(event: &KeyEvent) -> Option<Input<A>> {
 mod tests {
     use super::*;
     use crossterm::event::KeyEventState;
+    use fdm_core::bourg::BourgAction;
+    use fdm_core::palmer::PalmerAction;
 
     fn key(code: KeyCode) -> KeyEvent {
         KeyEvent::new(code, KeyModifiers::NONE)

@@ -1,17 +1,20 @@
 //! `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard
-//! into FlightGear, or headless from scripts. The contract is `spec/cli.md`.
+//! into FlightGear, or headless from scripts. The contract is `docs/cli.md`.
 //!
 //! The binary (`main.rs`) only maps [`run()`]'s result to an exit status; everything
-//! else lives in this library so it can be unit-tested. The models plug in at one
-//! place, [`run::Flight`], implemented over the ECS in [`flight`].
+//! else lives in this library so it can be unit-tested. Everything is generic over
+//! the model ([`models::CliModel`]); what differs per model sits in one module per
+//! model under [`models`].
 //!
 //! | module | what |
 //! |---|---|
 //! | [`args`] | clap definition and per-value validation |
-//! | [`config`] | cross-option validation, script loading, CSV creation → [`config::RunConfig`] |
-//! | [`run`](mod@run) | the [`run::Flight`] seam, headless and interactive loops, `run_palmer`/`run_bourg` |
-//! | [`flight`] | [`flight::PalmerFlight`], [`flight::BourgFlight`]: one aircraft in an `fdm_ecs::Simulation` |
-//! | [`report`] | [`report::Snapshot`] (model state) and the JSON [`report::Report`] |
+//! | [`config`] | cross-option validation, script loading, CSV creation → [`config::ModelConfig`] |
+//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear aircraft |
+//! | [`run`](mod@run) | the [`run::Flight`] seam, headless and interactive loops, [`run::run_model`] |
+//! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation` |
+//! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
+//! | [`report`] | the JSON [`report::Report`] and the human summary |
 //! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
@@ -27,11 +30,13 @@ pub mod fleet;
 pub mod flight;
 pub mod hud;
 pub mod keys;
+pub mod models;
 pub mod origin;
 pub mod pacer;
 pub mod progress;
 pub mod report;
 pub mod run;
+pub mod snapshot;
 pub mod terminal;
 
 use std::io::Write;
@@ -47,8 +52,8 @@ use crate::error::CliError;
 /// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Palmer(args) => run::run_palmer(config::prepare_palmer(args)?),
-        Command::Bourg(args) => run::run_bourg(config::prepare_bourg(args)?),
+        Command::Palmer(args) => run::run_model(config::prepare_palmer(args)?),
+        Command::Bourg(args) => run::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);

@@ -1,6 +1,6 @@
 //! `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft (see the library docs).
 //!
-//! This file only maps outcomes to exit statuses (cli.md): 0 success, 2 bad usage or
+//! This file only maps outcomes to exit statuses (docs/cli.md): 0 success, 2 bad usage or
 //! input, 1 anything else, always with at most one `sim-cli: error: ...` line on
 //! stderr and never a panic message or backtrace for user errors.
 

@@ -8,7 +8,7 @@
 
 pub use fdm_ecs::geodesy::GeodeticOrigin;
 
-/// The default origin: the Wright-Patterson AFB runway the thesis flew from (cli.md),
+/// The default origin: the Wright-Patterson AFB runway the thesis flew from (docs/cli.md),
 /// [`GeodeticOrigin::WRIGHT_PATTERSON`].
 pub const DEFAULT_ORIGIN: &str = "39.8264,-84.0483,251";
 

@@ -1,10 +1,10 @@
-//! The run loops, written once for both models against the [`Flight`] trait.
+//! The run loops, written once for every model against the [`Flight`] trait.
 //!
-//! The models implement [`Flight`] in [`crate::flight`] (one aircraft entity in an
-//! `fdm_ecs::Simulation`); [`run_palmer`] and [`run_bourg`] build them from the
-//! validated configuration and hand them to [`fly`]. Everything here (script replay,
-//! CSV, JSON report, progress bar, terminal, keys, pacing, HUD) is model-agnostic and
-//! tested with a fake model.
+//! [`crate::flight::ModelFlight`] implements [`Flight`] for any
+//! [`CliModel`] (one aircraft entity in an `fdm_ecs::Simulation`);
+//! [`run_model`] builds it from the validated configuration and hands it to
+//! [`fly`]. Everything here (script replay, CSV, JSON report, progress bar,
+//! terminal, keys, pacing, HUD) is model-agnostic and tested with a fake model.
 
 use std::io::{self, Write};
 use std::net::SocketAddrV4;
@@ -14,21 +14,28 @@ use anyhow::Context as _;
 use crossterm::event::{self, Event};
 use fdm_core::script::Script;
 
-use crate::config::{BourgConfig, Mode, PalmerConfig, RunConfig};
+use crate::config::{Mode, ModelConfig, RunConfig};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::flight::{BourgFlight, PalmerFlight};
-use crate::hud::{render_hud, FlightStatus, HudData, HudWriter, LinkStats, LoopStatus};
+use crate::flight::ModelFlight;
+use crate::hud::{render_hud, HudData, HudWriter, LinkStats, LoopStatus};
 use crate::keys::{map_key, AppCommand, Input, KeyAction};
+use crate::models::{CliModel, Details};
 use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
-use crate::report::{Report, Snapshot};
+use crate::report::Report;
+use crate::snapshot::Snapshot;
 use crate::terminal::TerminalGuard;
 
 /// One aircraft the loops can fly: the seam between the CLI and the ECS.
 pub trait Flight {
     /// The model's control vocabulary (keys and script actions).
     type Action: KeyAction;
+    /// The model's own report fields.
+    type Details: Details;
+
+    /// The model's title for the HUD.
+    const TITLE: &'static str;
 
     /// Advances one frame of fixed dt: apply `actions` in order as key presses
     /// (for Bourg after returning the rudder, ailerons and elevators to neutral),
@@ -46,10 +53,7 @@ pub trait Flight {
     fn reset(&mut self) -> anyhow::Result<()>;
 
     /// The current state, for the report, the CSV rows and the HUD.
-    fn snapshot(&self) -> Snapshot;
-
-    /// The flight phase shown on the HUD.
-    fn status(&self) -> FlightStatus;
+    fn snapshot(&self) -> Snapshot<Self::Details>;
 
     /// Datagram counters, or `None` when nothing is sent.
     fn link_stats(&self) -> Option<LinkStats>;
@@ -102,7 +106,7 @@ pub fn run_headless<F: Flight, W: Write>(
     frames: u64,
     mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
-) -> Result<Report, CliError> {
+) -> Result<Report<F::Details>, CliError> {
     if let Some(csv) = csv.as_deref_mut() {
         csv.write_record(0, &flight.snapshot())?;
     }
@@ -302,8 +306,8 @@ pub fn run_interactive<F: Flight, W: Write>(
             .filter(|&(w, h)| w > 0 && h > 0)
             .unwrap_or((80, 24));
         let data = HudData::from_snapshot(
+            F::TITLE,
             &flight.snapshot(),
-            flight.status(),
             fg,
             flight.link_stats(),
             LoopStatus {
@@ -398,29 +402,20 @@ pub fn fly<F: Flight>(
     }
 }
 
-/// Flies Palmer's Cessna 172 ([`PalmerFlight`]) as configured.
+/// Flies one aircraft of model `M` ([`ModelFlight`]) as configured.
 ///
 /// # Errors
-/// As [`PalmerFlight::new`] and [`fly`].
-pub fn run_palmer(config: PalmerConfig) -> Result<(), CliError> {
-    let flight = PalmerFlight::new(&config.run, config.controls)?;
-    fly(flight, &config.script, config.run)
-}
-
-/// Flies Bourg's 6-DoF aircraft ([`BourgFlight`]) as configured.
-///
-/// # Errors
-/// As [`BourgFlight::new`] and [`fly`].
-pub fn run_bourg(config: BourgConfig) -> Result<(), CliError> {
-    let flight = BourgFlight::new(&config.run)?;
+/// As [`ModelFlight::new`] and [`fly`].
+pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+    let flight = ModelFlight::new(&config.run, config.start)?;
     fly(flight, &config.script, config.run)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::samples;
-    use crate::report::ModelDetails;
+    use crate::models::palmer::PalmerDetails;
+    use crate::snapshot::samples;
     use fdm_core::palmer::PalmerAction;
 
     /// A stand-in model: records the actions of every step; position x counts steps.
@@ -434,6 +429,9 @@ mod tests {
 
     impl Flight for Fake {
         type Action = PalmerAction;
+        type Details = PalmerDetails;
+
+        const TITLE: &'static str = "Fake";
 
         fn step(&mut self, actions: &[PalmerAction]) -> anyhow::Result<()> {
             if self.fail_at == Some(self.steps.len() + 1) {
@@ -449,18 +447,12 @@ mod tests {
             Ok(())
         }
 
-        fn snapshot(&self) -> Snapshot {
+        fn snapshot(&self) -> Snapshot<PalmerDetails> {
             let mut s = samples::palmer();
             s.common.time_s = self.steps.len() as f64 * 0.1;
             s.common.position = [self.steps.len() as f64, 0.0, 0.0];
-            if let ModelDetails::Palmer(p) = &mut s.details {
-                p.controls.throttle = self.steps.iter().flatten().count() as f64;
-            }
+            s.details.controls.throttle = self.steps.iter().flatten().count() as f64;
             s
-        }
-
-        fn status(&self) -> FlightStatus {
-            FlightStatus::OnGround
         }
 
         fn link_stats(&self) -> Option<LinkStats> {

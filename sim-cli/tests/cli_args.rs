@@ -1,4 +1,4 @@
-//! The command-line contract of cli.md, checked on the built binary: every kind of
+//! The command-line contract of docs/cli.md, checked on the built binary: every kind of
 //! bad input exits with status 2, one `sim-cli: error:` line on stderr and nothing on
 //! stdout; help and `fgfs-command` work.
 

@@ -104,7 +104,7 @@ pub type Element64 = ElementOf<f64>;
 pub type Airframe64 = AirframeOf<f64>;
 
 impl<F: BourgFloat> AirframeOf<F> {
-    /// Bourg's airplane (spec table "Element data"), all flaps neutral.
+    /// Bourg's airplane (docs/bourg-model.md "The airframe"), all flaps neutral.
     #[must_use]
     pub fn bourg_default() -> Self {
         let element = |i: usize| {
@@ -327,12 +327,18 @@ impl<F: BourgFloat> MassPropertiesOf<F> {
 
 /// An airframe bundled with its mass properties, computed once: what
 /// [`loads`](super::loads) and [`step`](super::step) take. In float type `F`
-/// (see [`Aircraft`]).
+/// (see [`BourgAircraft`](super::BourgAircraft)).
 ///
 /// The fields are private so the two always agree; build one with
 /// [`new`](Self::new) (validating) or [`bourg_default`](Self::bourg_default).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AircraftOf<F: BourgFloat> {
+    /// Maximum thrust a thrust-up action reaches, lb (the original's
+    /// `_MAXTHRUST`, [`MAX_THRUST_LB`](super::MAX_THRUST_LB) by default).
+    pub max_thrust_lb: F,
+    /// Thrust change per thrust-up/down action, lb (the original's
+    /// `_DTHRUST`, [`DELTA_THRUST_LB`](super::DELTA_THRUST_LB) by default).
+    pub delta_thrust_lb: F,
     airframe: AirframeOf<F>,
     mass: MassPropertiesOf<F>,
     /// The rudder's normal for the incidences the controls produce (rigging
@@ -341,7 +347,7 @@ pub struct AircraftOf<F: BourgFloat> {
 }
 
 /// The `f32` aircraft (the original's type).
-pub type Aircraft = AircraftOf<f32>;
+pub type BourgAircraft = AircraftOf<f32>;
 /// The `f64` aircraft.
 pub type Aircraft64 = AircraftOf<f64>;
 
@@ -369,6 +375,8 @@ impl<F: BourgFloat> AircraftOf<F> {
             (incidence, element_normal(incidence, rudder.dihedral_deg))
         };
         Self {
+            max_thrust_lb: F::from_f64(f64::from(super::MAX_THRUST_LB)),
+            delta_thrust_lb: F::from_f64(f64::from(super::DELTA_THRUST_LB)),
             mass: MassPropertiesOf::from_airframe(&airframe),
             rudder_normals: [
                 normal_at(F::ZERO),

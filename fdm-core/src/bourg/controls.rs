@@ -61,29 +61,39 @@ impl<F: BourgFloat> BourgControlsOf<F> {
         }
     }
 
+    /// One key press / script action with the original's thrust limits
+    /// ([`MAX_THRUST_LB`], [`DELTA_THRUST_LB`]); see
+    /// [`apply_within`](Self::apply_within).
+    #[must_use]
+    pub fn apply(self, action: BourgAction) -> Self {
+        self.apply_within(
+            action,
+            F::from_f64(f64::from(MAX_THRUST_LB)),
+            F::from_f64(f64::from(DELTA_THRUST_LB)),
+        )
+    }
+
     /// One key press / script action, as the original's control functions:
     ///
-    /// * thrust ± [`DELTA_THRUST_LB`], then clamped to `≤ MAX_THRUST_LB` (up) or
-    ///   `≥ 0` (down);
+    /// * thrust ± `delta_thrust_lb`, then clamped to `≤ max_thrust_lb` (up) or
+    ///   `≥ 0` (down), in the original's `f32` operations;
     /// * yaw left / right: rudder +16° / −16°;
     /// * roll left: port aileron trailing edge up, starboard down; roll right the reverse;
     /// * pitch up: elevators trailing edge up; pitch down: down;
     /// * flaps down: landing flaps down (they stay); flaps up: back up.
     #[must_use]
-    pub fn apply(self, action: BourgAction) -> Self {
-        let delta = F::from_f64(f64::from(DELTA_THRUST_LB));
+    pub fn apply_within(self, action: BourgAction, max_thrust_lb: F, delta_thrust_lb: F) -> Self {
         let rudder = F::from_f64(f64::from(RUDDER_DEFLECTION_DEG));
         let mut c = self;
         match action {
             BourgAction::ThrustUp => {
-                let max = F::from_f64(f64::from(MAX_THRUST_LB));
-                c.thrust_lb += delta;
-                if c.thrust_lb > max {
-                    c.thrust_lb = max;
+                c.thrust_lb += delta_thrust_lb;
+                if c.thrust_lb > max_thrust_lb {
+                    c.thrust_lb = max_thrust_lb;
                 }
             }
             BourgAction::ThrustDown => {
-                c.thrust_lb -= delta;
+                c.thrust_lb -= delta_thrust_lb;
                 if c.thrust_lb < F::ZERO {
                     c.thrust_lb = F::ZERO;
                 }

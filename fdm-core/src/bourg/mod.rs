@@ -8,11 +8,13 @@
 //! # Parts
 //!
 //! * [`Airframe`]: the eight lifting elements as data (serde), with
-//!   [`MassProperties`] derived once and bundled into an [`Aircraft`].
+//!   [`MassProperties`] derived once and bundled, with the thrust limits,
+//!   into a [`BourgAircraft`].
 //! * [`BourgControls`]: thrust, rudder, ailerons, elevators, landing flaps;
 //!   [`BourgControls::apply`] a [`BourgAction`], and
 //!   [`BourgControls::neutralize_surfaces`] at the start of every frame.
 //! * [`BourgState`], [`loads`], [`step`] (and the checked [`try_step`]).
+//! * [`Bourg`]: the model behind the common [`Model`](crate::model::Model) interface.
 //! * [`ops`]: the original's vector, matrix and quaternion operations in its
 //!   exact `f32` operation order.
 //!
@@ -36,16 +38,16 @@
 //! 0.094 ft (y) on the sensitive pitch case.
 //!
 //! ```
-//! use fdm_core::bourg::{step, Aircraft, BourgControls, BourgState};
+//! use fdm_core::bourg::{step, BourgAircraft, BourgControls, BourgState};
 //!
-//! let aircraft = Aircraft::bourg_default();
+//! let aircraft = BourgAircraft::bourg_default();
 //! let controls = BourgControls::initial();
 //! let mut state = BourgState::initial();
 //! for _ in 0..50 {
 //!     state = step(&aircraft, &controls, &state, 1.0f32 / 30.0);
 //! }
 //! // Bit-exact with the original C++ (frame 50 of the `no_controls` reference).
-//! assert_eq!(state.position.z, 1973.194580078125);
+//! assert_eq!(state.position_ft.z, 1973.194580078125);
 //! ```
 
 mod airframe;
@@ -55,8 +57,8 @@ mod model;
 pub mod ops;
 
 pub use airframe::{
-    element_normal, Aircraft, Aircraft64, AircraftOf, Airframe, Airframe64, AirframeError,
-    AirframeOf, Element, Element64, ElementOf, Flap, MassProperties, MassProperties64,
+    element_normal, Aircraft64, AircraftOf, Airframe, Airframe64, AirframeError, AirframeOf,
+    BourgAircraft, Element, Element64, ElementOf, Flap, MassProperties, MassProperties64,
     MassPropertiesOf,
 };
 pub use controls::{
@@ -99,8 +101,7 @@ pub enum BourgAction {
     FlapsUp,
 }
 
-#[cfg(feature = "alloc")]
-impl crate::script::ScriptAction for BourgAction {
+impl crate::model::ScriptAction for BourgAction {
     const ALL: &'static [Self] = &[
         Self::ThrustUp,
         Self::ThrustDown,
@@ -128,5 +129,148 @@ impl crate::script::ScriptAction for BourgAction {
 
     fn name(self) -> &'static str {
         Self::NAMES[self as usize]
+    }
+}
+
+/// Bourg's 6-DoF aircraft as a [`Model`](crate::model::Model): the `f32`
+/// types of this module, `dt = 1.0f32 / fps as f32`, control surfaces back to
+/// neutral at the start of every frame, thrust limits from the aircraft.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Bourg;
+
+impl crate::model::Model for Bourg {
+    const NAME: &'static str = "bourg";
+    const TITLE: &'static str = "Bourg 6-DoF";
+
+    type Aircraft = BourgAircraft;
+    type State = BourgState;
+    type Controls = BourgControls;
+    type Action = BourgAction;
+    type TimeStep = f32;
+    type StepError = StepError;
+
+    fn default_aircraft() -> BourgAircraft {
+        BourgAircraft::bourg_default()
+    }
+
+    fn initial_controls() -> BourgControls {
+        BourgControls::initial()
+    }
+
+    fn initial_state() -> BourgState {
+        BourgState::initial()
+    }
+
+    /// Thrust 500..2500 lb in 21 steps, landing flaps down on every third,
+    /// flying level north at 60..78 ft/s (body velocity set too, so the very
+    /// first frame has its aerodynamic loads) at 2000..2900 ft, spread 20 ft
+    /// apart sideways (in rows of 1000).
+    fn fleet_member(index: usize) -> (BourgControls, BourgState) {
+        let small = |i: usize| f32::from(u16::try_from(i).unwrap_or(u16::MAX));
+        let mut controls = BourgControls::initial();
+        controls.thrust_lb = 500.0 + small(index % 21) * 100.0;
+        controls.landing_flaps = index.is_multiple_of(3);
+        let mut state = BourgState::initial();
+        state.position_ft.y = small(index % 1000) * 20.0;
+        state.position_ft.z = 2000.0 + small(index % 10) * 100.0;
+        state.velocity_ftps.x = 60.0 + small(index % 7) * 3.0;
+        // Already flying: the body-frame velocity the loads read is the
+        // earth-frame one (wings level, heading north). Left at zero, as in
+        // `BourgState::initial`, the first frame would have no aerodynamic
+        // forces and be much cheaper than the others.
+        state.velocity_body_ftps = state.velocity_ftps;
+        (controls, state)
+    }
+
+    #[inline]
+    fn time_step(fps: f64) -> f32 {
+        crate::units::dt_f32_s(fps)
+    }
+
+    #[inline]
+    fn begin_frame(controls: BourgControls) -> BourgControls {
+        controls.neutralize_surfaces()
+    }
+
+    #[inline]
+    fn apply(
+        aircraft: &BourgAircraft,
+        controls: BourgControls,
+        action: BourgAction,
+    ) -> BourgControls {
+        controls.apply_within(action, aircraft.max_thrust_lb, aircraft.delta_thrust_lb)
+    }
+
+    #[inline]
+    fn step(
+        aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        state: &BourgState,
+        dt: f32,
+    ) -> BourgState {
+        step(aircraft, controls, state, dt)
+    }
+
+    #[inline]
+    fn try_step(
+        aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        state: &BourgState,
+        dt: f32,
+    ) -> Result<BourgState, StepError> {
+        try_step(aircraft, controls, state, dt)
+    }
+
+    fn is_finite(state: &BourgState) -> bool {
+        state.is_finite()
+    }
+
+    #[inline]
+    fn height_m(state: &BourgState) -> f64 {
+        f64::from(state.position_ft.z) * crate::units::METRES_PER_FOOT
+    }
+
+    #[inline]
+    fn climb_rate_mps(state: &BourgState) -> f64 {
+        f64::from(state.velocity_ftps.z) * crate::units::METRES_PER_FOOT
+    }
+
+    /// Feet become metres ([`METRES_PER_FOOT`](crate::units::METRES_PER_FOOT),
+    /// after widening to `f64`); the attitude is
+    /// [`bourg_attitude`](crate::geodesy::bourg_attitude) of the Euler angles;
+    /// alpha is `atan2(w, u)` and sideslip `asin(v / |v|)` of the body
+    /// velocity (forward, right, down); flaps 1 when the landing flaps are
+    /// down; the engine runs while thrust is above 0 (the model has no engine
+    /// speed: rpm 0).
+    fn view(
+        _aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        state: &BourgState,
+    ) -> crate::model::FlightView {
+        use crate::geodesy::{bourg_attitude, ned_from_model};
+        use crate::math::{asin, atan2};
+        use crate::units::METRES_PER_FOOT;
+        let widen = |v: Vector3<f32>| v.map(f64::from);
+        // Body frame x forward, y left, z up → forward, right, down.
+        let body_ftps = ned_from_model(widen(state.velocity_body_ftps));
+        let body_speed_ftps = body_ftps.norm();
+        crate::model::FlightView {
+            time_s: state.time_s,
+            position_m: widen(state.position_ft) * METRES_PER_FOOT,
+            velocity_mps: widen(state.velocity_ftps) * METRES_PER_FOOT,
+            attitude: bourg_attitude(state.euler_angles_deg()),
+            velocity_body_mps: body_ftps * METRES_PER_FOOT,
+            airspeed_mps: f64::from(state.speed_ftps()) * METRES_PER_FOOT,
+            alpha_deg: atan2(body_ftps.z, body_ftps.x).to_degrees(),
+            beta_deg: if body_speed_ftps > 0.0 {
+                asin(body_ftps.y / body_speed_ftps).to_degrees()
+            } else {
+                0.0
+            },
+            flaps_norm: if controls.landing_flaps { 1.0 } else { 0.0 },
+            engine_running: controls.thrust_lb > 0.0,
+            engine_rpm: 0.0,
+            stalling: state.stalling,
+        }
     }
 }

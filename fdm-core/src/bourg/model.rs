@@ -15,32 +15,39 @@ use super::ops::{
     radians_to_degrees,
 };
 
-/// The aircraft's dynamic state, in float type `F` (see [`BourgState`]).
+/// The aircraft's integrated state, in float type `F` (see [`BourgState`]).
 ///
 /// Earth frame: x north, y west, z up. Body frame: x forward, y left, z up.
+///
+/// Only what the step integrates (plus its clock and the stall flag the loads
+/// produce on the way) is stored; the outputs the dynamics never read are
+/// computed when asked: [`speed_ftps`](Self::speed_ftps) and
+/// [`euler_angles_deg`](Self::euler_angles_deg) (the original computes both
+/// at the end of every step; the Euler conversion alone was 18 % of a fleet
+/// step).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(bound = "F: BourgFloat")]
 pub struct BourgStateOf<F: BourgFloat> {
+    /// Simulated time, s: the sum of the time steps taken (each widened from
+    /// `F` to `f64` exactly). The original keeps no clock; nothing in the
+    /// dynamics reads it.
+    pub time_s: f64,
     /// Position of the CG, earth frame, ft.
-    pub position: Vector3<F>,
+    pub position_ft: Vector3<F>,
     /// Velocity, earth frame, ft/s.
-    pub velocity: Vector3<F>,
+    pub velocity_ftps: Vector3<F>,
     /// Velocity in the body frame, ft/s, as of the end of the previous step:
     /// the loads use it. It is zero in [`initial`](Self::initial) although the
     /// velocity is not, as in the original, so the first frame has no
     /// aerodynamic forces (only thrust and gravity).
-    pub velocity_body: Vector3<F>,
+    pub velocity_body_ftps: Vector3<F>,
     /// Angular velocity, body frame, rad/s.
-    pub angular_velocity: Vector3<F>,
+    pub angular_velocity_radps: Vector3<F>,
     /// Attitude, body → earth, as a unit quaternion (`w` the scalar part).
     /// The step renormalises it every frame, as the original does.
     pub orientation: Quaternion<F>,
-    /// Speed `|velocity|`, ft/s (divide by 1.688 for knots).
-    pub speed: F,
-    /// Euler angles from the orientation, degrees: `x` roll, `y` pitch
-    /// (positive nose-down), `z` yaw (positive left of north).
-    pub euler_angles_deg: Vector3<F>,
-    /// Whether a wing element (0..=3) had zero lift coefficient in the last step.
+    /// Whether a wing element (0..=3) had zero lift coefficient in the last
+    /// step (a by-product of the loads, kept so it need not be recomputed).
     pub stalling: bool,
 }
 
@@ -50,23 +57,37 @@ pub type BourgState = BourgStateOf<f32>;
 pub type BourgState64 = BourgStateOf<f64>;
 
 impl<F: BourgFloat> BourgStateOf<F> {
-    /// The original's initial conditions: position (−5000, 0, 2000) ft,
-    /// velocity (60, 0, 0) ft/s, speed 60 ft/s, no rotation, velocity_body 0,
-    /// orientation from Euler angles (0, 0, 0) (the identity), not stalling.
+    /// The original's initial conditions: time 0, position (−5000, 0, 2000) ft,
+    /// velocity (60, 0, 0) ft/s, no rotation, velocity_body 0, orientation
+    /// from Euler angles (0, 0, 0) (the identity), not stalling.
     #[must_use]
     pub fn initial() -> Self {
         let zero = Vector3::new(F::ZERO, F::ZERO, F::ZERO);
         let f = F::from_f64;
         Self {
-            position: Vector3::new(f(-5000.0), F::ZERO, f(2000.0)),
-            velocity: Vector3::new(f(60.0), F::ZERO, F::ZERO),
-            velocity_body: zero,
-            angular_velocity: zero,
+            time_s: 0.0,
+            position_ft: Vector3::new(f(-5000.0), F::ZERO, f(2000.0)),
+            velocity_ftps: Vector3::new(f(60.0), F::ZERO, F::ZERO),
+            velocity_body_ftps: zero,
+            angular_velocity_radps: zero,
             orientation: quat_from_euler_deg(&zero),
-            speed: f(60.0),
-            euler_angles_deg: zero,
             stalling: false,
         }
+    }
+
+    /// Speed `|velocity|`, ft/s, as the original's `fSpeed` (the same `f32`
+    /// operations; divide by 1.688 for the original's knots).
+    #[must_use]
+    pub fn speed_ftps(&self) -> F {
+        magnitude(&self.velocity_ftps)
+    }
+
+    /// Euler angles from the orientation, degrees, as the original's
+    /// `MakeEulerAnglesFromQ`: `x` roll, `y` pitch (positive nose-down), `z`
+    /// yaw (positive left of north).
+    #[must_use]
+    pub fn euler_angles_deg(&self) -> Vector3<F> {
+        euler_deg_from_quat(&self.orientation)
     }
 
     /// Whether every number of the state is finite.
@@ -76,12 +97,14 @@ impl<F: BourgFloat> BourgStateOf<F> {
     }
 
     fn first_non_finite(&self) -> Option<&'static str> {
+        if !self.time_s.is_finite() {
+            return Some("time_s");
+        }
         let vectors = [
-            ("position", &self.position),
-            ("velocity", &self.velocity),
-            ("velocity_body", &self.velocity_body),
-            ("angular_velocity", &self.angular_velocity),
-            ("euler_angles_deg", &self.euler_angles_deg),
+            ("position_ft", &self.position_ft),
+            ("velocity_ftps", &self.velocity_ftps),
+            ("velocity_body_ftps", &self.velocity_body_ftps),
+            ("angular_velocity_radps", &self.angular_velocity_radps),
         ];
         for (name, v) in vectors {
             if !(F::is_finite(v.x) && F::is_finite(v.y) && F::is_finite(v.z)) {
@@ -95,9 +118,6 @@ impl<F: BourgFloat> BourgStateOf<F> {
             && F::is_finite(q.coords.z))
         {
             return Some("orientation");
-        }
-        if !F::is_finite(self.speed) {
-            return Some("speed");
         }
         None
     }
@@ -252,7 +272,7 @@ pub fn loads<F: BourgFloat>(
     let mut drag_candidate = [zero; 8];
     for i in 0..8 {
         let local_velocity =
-            state.velocity_body + cross(&state.angular_velocity, &mass.cg_offsets_ft[i]);
+            state.velocity_body_ftps + cross(&state.angular_velocity_radps, &mass.cg_offsets_ft[i]);
         local_speed[i] = magnitude(&local_velocity);
         drag_candidate[i] = -local_velocity / local_speed[i];
     }
@@ -335,8 +355,12 @@ pub fn loads<F: BourgFloat>(
 /// orientation += (orientation * angular_velocity) * (0.5 * dt)   (the new ω)
 /// orientation /= |orientation|                    (unless 0)
 /// velocity_body = QVRotate(~orientation, velocity)
-/// speed = |velocity|; euler_angles_deg = MakeEulerAnglesFromQ(orientation)
+/// time_s += dt
 /// ```
+///
+/// The original also computes the speed and the Euler angles here; they are
+/// outputs nothing reads back, so [`BourgStateOf::speed_ftps`] and
+/// [`BourgStateOf::euler_angles_deg`] compute them (identically) on demand.
 ///
 /// `aircraft` is the airframe with its mass properties (computed once),
 /// `controls` this frame's settings (after [`BourgControlsOf::neutralize_surfaces`]
@@ -344,8 +368,8 @@ pub fn loads<F: BourgFloat>(
 /// the previous frame, `dt` the time step in seconds (the reference runs use
 /// `1.0f32 / 30.0`).
 ///
-/// The input state's `speed` and `euler_angles_deg` are not read (they are
-/// outputs); everything else is.
+/// The input state's `stalling` is not read (it is an output); everything
+/// else but `time_s` is.
 ///
 /// Pure: no allocation, no panics, `no_std`. NaN or infinite inputs do not
 /// panic; they propagate: a non-finite value in a field the dynamics read (or
@@ -353,9 +377,9 @@ pub fn loads<F: BourgFloat>(
 /// [`try_step`] to get a [`StepError`] instead.
 ///
 /// ```
-/// use fdm_core::bourg::{step, Aircraft, BourgAction, BourgControls, BourgState};
+/// use fdm_core::bourg::{step, BourgAircraft, BourgAction, BourgControls, BourgState};
 ///
-/// let aircraft = Aircraft::bourg_default();
+/// let aircraft = BourgAircraft::bourg_default();
 /// let mut controls = BourgControls::initial();
 /// let mut state = BourgState::initial();
 /// let dt = 1.0f32 / 30.0;
@@ -367,7 +391,7 @@ pub fn loads<F: BourgFloat>(
 ///     state = step(&aircraft, &controls, &state, dt);
 /// }
 /// assert_eq!(controls.thrust_lb, 1000.0);
-/// assert!(state.position.x > -5000.0 && state.position.z < 2000.0);
+/// assert!(state.position_ft.x > -5000.0 && state.position_ft.z < 2000.0);
 /// ```
 #[must_use]
 pub fn step<F: BourgFloat>(
@@ -380,10 +404,10 @@ pub fn step<F: BourgFloat>(
     let loads = loads(aircraft, controls, state);
 
     let acceleration = loads.force_earth / mass.mass_slug;
-    let velocity = state.velocity + acceleration * dt;
-    let position = state.position + velocity * dt;
+    let velocity = state.velocity_ftps + acceleration * dt;
+    let position = state.position_ft + velocity * dt;
 
-    let omega = state.angular_velocity;
+    let omega = state.angular_velocity_radps;
     let gyroscopic = cross(&omega, &mat_mul_vec(&mass.inertia, &omega));
     let angular_velocity =
         omega + mat_mul_vec(&mass.inertia_inverse, &(loads.moment_body - gyroscopic)) * dt;
@@ -399,13 +423,12 @@ pub fn step<F: BourgFloat>(
     }
 
     BourgStateOf {
-        position,
-        velocity,
-        velocity_body: qv_rotate(&conjugate(&orientation), &velocity),
-        angular_velocity,
+        time_s: state.time_s + dt.to_f64(),
+        position_ft: position,
+        velocity_ftps: velocity,
+        velocity_body_ftps: qv_rotate(&conjugate(&orientation), &velocity),
+        angular_velocity_radps: angular_velocity,
         orientation,
-        speed: magnitude(&velocity),
-        euler_angles_deg: euler_deg_from_quat(&orientation),
         stalling: loads.stalling,
     }
 }

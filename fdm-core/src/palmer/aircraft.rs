@@ -4,8 +4,8 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
-/// Mass properties, airfoil and propeller data of a Palmer aircraft (spec
-/// parameter table). Units are part of each field name.
+/// Mass properties, airfoil and propeller data of a Palmer aircraft (docs/palmer-model.md
+/// "Parameters"). Units are part of each field name.
 ///
 /// The defaults ([`PalmerAircraft::cessna_172`], also [`Default`]) are the Cessna
 /// 172 Skyhawk values of the book. Aircraft loaded from user files should be
@@ -56,7 +56,7 @@ pub struct PalmerAircraft {
 }
 
 impl PalmerAircraft {
-    /// The Cessna 172 Skyhawk of the book (the spec's default parameters).
+    /// The Cessna 172 Skyhawk of the book (the book's default parameters).
     #[must_use]
     pub const fn cessna_172() -> Self {
         Self {

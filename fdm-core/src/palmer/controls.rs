@@ -25,8 +25,8 @@ const NOTCH_TOLERANCE: f64 = 1e-9;
 
 /// Flap setting: up, 20° or 40°.
 ///
-/// Serialized as the plain number of degrees (`0`, `20` or `40`), the way the
-/// spec, the reference file and `sim-cli --flaps` write it; any other number is
+/// Serialized as the plain number of degrees (`0`, `20` or `40`), the way
+/// docs/palmer-model.md, the reference file and `sim-cli --flaps` write it; any other number is
 /// a deserialization error.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(into = "u8", try_from = "u8")]

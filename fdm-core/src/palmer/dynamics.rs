@@ -1,9 +1,9 @@
-//! The equations of motion (spec "Right-hand side", steps 1–13) and the RK4 step.
+//! The equations of motion (docs/palmer-model.md "The right-hand side", steps 1–13) and the RK4 step.
 //!
-//! Every expression keeps the operation order of the spec (C's left-to-right
+//! Every expression keeps the operation order of docs/palmer-model.md (C's left-to-right
 //! evaluation, `grp^5.25` through `pow`), so with the `std` feature (glibc's
 //! libm) the results are those of the original C program, bit for bit on the
-//! four reference scenarios. Two readings of the spec's notation matter for the
+//! four reference scenarios. Two readings of the formulas' notation matter for the
 //! last bits and were settled against `reference/palmer.json`:
 //!
 //! * `x^2` is a multiplication in place, evaluated left to right with its
@@ -41,10 +41,10 @@ use nalgebra::Vector3;
 use super::{AircraftError, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 use crate::math::{cos, pow, sin, sqrt};
 
-/// Gravitational acceleration along z, m/s² (the spec's `G`).
+/// Gravitational acceleration along z, m/s² (`G` of docs/palmer-model.md).
 pub const GRAVITY_MPS2: f64 = -9.81;
 
-/// The model's state vector `[vx, x, vy, y, vz, z]` (spec order).
+/// The model's state vector `[vx, x, vy, y, vz, z]` (the original's order).
 type Q = [f64; 6];
 
 /// Everything in the right-hand side that is the same in all four RK stages.
@@ -113,11 +113,11 @@ fn pressure_at(z: f64) -> f64 {
     101_325.0 * pow(grp, 5.25)
 }
 
-/// The spec's `rhs(q, delta_q, ds, q_scale)`: the change of `q` over `ds`
+/// The `rhs(` of docs/palmer-model.md: `rhs(q, delta_q, ds, q_scale)`: the change of `q` over `ds`
 /// (already multiplied by `ds`) at the intermediate state `q + q_scale * delta_q`,
 /// given [`pressure_at`] that state's altitude `q[5] + q_scale * delta_q[5]`.
 #[inline(always)]
-#[allow(clippy::similar_names)] // names follow the spec: cosW/cosP/cosT, sinW/...
+#[allow(clippy::similar_names)] // names follow the original C: cosW/cosP/cosT, sinW/...
 fn rhs(
     aircraft: &PalmerAircraft,
     k: &StageInvariants,
@@ -228,7 +228,7 @@ pub struct PalmerDerivative {
     pub acceleration_mps2: Vector3<f64>,
 }
 
-/// The model's right-hand side at `state` (spec steps 1–13 with `ds = 1`,
+/// The model's right-hand side at `state` (steps 1–13 of docs/palmer-model.md with `ds = 1`,
 /// `q_scale = 0`): how fast the aircraft moves and accelerates, with the given
 /// aircraft and controls. [`step`] integrates exactly this function (scaled by
 /// `dt`). Pure; NaN in, NaN out.
@@ -259,7 +259,7 @@ pub fn derivatives(
 }
 
 /// Advances the state by `dt_s` seconds with one classical 4th-order Runge-Kutta
-/// step (spec "Runge-Kutta step"), keeping the original's operation order:
+/// step (docs/palmer-model.md "The Runge-Kutta step"), keeping the original's operation order:
 /// `q + (dq1 + 2·dq2 + 2·dq3 + dq4) / 6` and `time_s + dt_s`.
 ///
 /// Pure: no I/O, no allocation, no global state, never panics. It does not

@@ -4,45 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::PalmerState;
 
-/// Fastest sink rate (vz, m/s, negative down) still counted as a safe landing:
-/// `vz > SAFE_LANDING_VZ_MPS` is safe.
-pub const SAFE_LANDING_VZ_MPS: f64 = -2.0;
-/// Fastest sink rate (vz, m/s) still counted as a rough landing (rather than a
-/// crash): `vz > ROUGH_LANDING_VZ_MPS` is at worst rough.
-pub const ROUGH_LANDING_VZ_MPS: f64 = -5.0;
-
-/// How a touchdown went, judged by the vertical speed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum LandingState {
-    /// `vz > -2 m/s`.
-    Safe,
-    /// `-5 m/s < vz <= -2 m/s`.
-    Rough,
-    /// `vz <= -5 m/s` (or NaN).
-    Crash,
-}
-
-/// Classifies a touchdown by its vertical speed `vz_mps` (m/s, positive up):
-/// `vz > -2` safe, `vz > -5` rough, anything else (including NaN) a crash.
-///
-/// ```
-/// use fdm_core::palmer::{landing_state, LandingState};
-///
-/// assert_eq!(landing_state(-1.0), LandingState::Safe);
-/// assert_eq!(landing_state(-2.0), LandingState::Rough);
-/// assert_eq!(landing_state(-5.0), LandingState::Crash);
-/// ```
-#[must_use]
-#[inline]
-pub fn landing_state(vz_mps: f64) -> LandingState {
-    if vz_mps > SAFE_LANDING_VZ_MPS {
-        LandingState::Safe
-    } else if vz_mps > ROUGH_LANDING_VZ_MPS {
-        LandingState::Rough
-    } else {
-        LandingState::Crash
-    }
-}
+pub use crate::model::{landing_state, LandingState, ROUGH_LANDING_VZ_MPS, SAFE_LANDING_VZ_MPS};
 
 /// Whether the aircraft is flying, as a small value the caller stores between
 /// frames (e.g. an ECS component); it has no hidden state.

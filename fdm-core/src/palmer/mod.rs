@@ -4,7 +4,7 @@
 //! Earth frame: x forward ("north"), y left ("west"), z up; metres, seconds.
 //!
 //! The model is stated operation by operation in the project's
-//! `spec/palmer.md`; [`step`] reproduces the original C program's results (with
+//! `docs/palmer-model.md`; [`step`] reproduces the original C program's results (with
 //! the `std` feature, bit for bit on glibc).
 //!
 //! * [`PalmerAircraft`]: parameters (Cessna 172 by default), [`PalmerAircraft::validate`].
@@ -14,6 +14,7 @@
 //! * [`step`] (RK4, unchecked, NaN propagates), [`try_step`] (checked),
 //!   [`derivatives`] (the right-hand side).
 //! * [`FlightPhase`], [`LandingState`]: touchdown detection and classification.
+//! * [`Palmer`]: the model behind the common [`Model`](crate::model::Model) interface.
 //!
 //! ```
 //! use fdm_core::palmer::{step, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
@@ -73,8 +74,7 @@ pub enum PalmerAction {
     FlapsUp,
 }
 
-#[cfg(feature = "alloc")]
-impl crate::script::ScriptAction for PalmerAction {
+impl crate::model::ScriptAction for PalmerAction {
     const ALL: &'static [Self] = &[
         Self::ThrottleUp,
         Self::ThrottleDown,
@@ -99,4 +99,152 @@ impl crate::script::ScriptAction for PalmerAction {
     fn name(self) -> &'static str {
         Self::NAMES[self as usize]
     }
+}
+
+/// Palmer's Cessna 172 as a [`Model`](crate::model::Model): the types of this
+/// module, `dt = 1.0 / fps` in `f64`, controls held between frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Palmer;
+
+/// Palmer's full flap deflection, degrees: `flaps_norm` 1.
+const FULL_FLAPS_DEG: f64 = 40.0;
+
+impl crate::model::Model for Palmer {
+    const NAME: &'static str = "palmer";
+    const TITLE: &'static str = "Palmer Cessna 172";
+
+    type Aircraft = PalmerAircraft;
+    type State = PalmerState;
+    type Controls = PalmerControls;
+    type Action = PalmerAction;
+    type TimeStep = f64;
+    type StepError = StepError;
+
+    fn default_aircraft() -> PalmerAircraft {
+        PalmerAircraft::cessna_172()
+    }
+
+    fn initial_controls() -> PalmerControls {
+        PalmerControls::default()
+    }
+
+    fn initial_state() -> PalmerState {
+        PalmerState::initial()
+    }
+
+    /// Throttle 50..100 % in 11 steps, alpha 2..6°, bank −10..10°, flaps up
+    /// or 20°, 45..54 m/s north, 500 m up, spaced 10 m apart along x. No two
+    /// neighbours share all their controls.
+    fn fleet_member(index: usize) -> (PalmerControls, PalmerState) {
+        let controls = PalmerControls {
+            throttle: 0.5 + small(index % 11) / 20.0,
+            alpha_deg: 2.0 + small(index % 5),
+            bank_deg: small(index % 21) - 10.0,
+            flaps: [Flaps::Up, Flaps::Deg20][index % 2],
+        };
+        #[allow(clippy::cast_precision_loss)] // exact below 2^53 aircraft
+        let x_m = index as f64 * 10.0;
+        let state = PalmerState {
+            time_s: 0.0,
+            position_m: nalgebra::Vector3::new(x_m, 0.0, 500.0),
+            velocity_mps: nalgebra::Vector3::new(45.0 + small(index % 10), 0.0, 0.0),
+        };
+        (controls, state)
+    }
+
+    #[inline]
+    fn time_step(fps: f64) -> f64 {
+        crate::units::dt_f64_s(fps)
+    }
+
+    #[inline]
+    fn apply(
+        _aircraft: &PalmerAircraft,
+        controls: PalmerControls,
+        action: PalmerAction,
+    ) -> PalmerControls {
+        controls.apply(action)
+    }
+
+    #[inline]
+    fn step(
+        aircraft: &PalmerAircraft,
+        controls: &PalmerControls,
+        state: &PalmerState,
+        dt: f64,
+    ) -> PalmerState {
+        step(aircraft, controls, state, dt)
+    }
+
+    #[inline]
+    fn try_step(
+        aircraft: &PalmerAircraft,
+        controls: &PalmerControls,
+        state: &PalmerState,
+        dt: f64,
+    ) -> Result<PalmerState, StepError> {
+        try_step(aircraft, controls, state, dt)
+    }
+
+    fn is_finite(state: &PalmerState) -> bool {
+        state.is_finite()
+    }
+
+    #[inline]
+    fn height_m(state: &PalmerState) -> f64 {
+        state.position_m.z
+    }
+
+    #[inline]
+    fn climb_rate_mps(state: &PalmerState) -> f64 {
+        state.velocity_mps.z
+    }
+
+    /// A point mass has no attitude state: the attitude is
+    /// [`palmer_attitude`](crate::geodesy::palmer_attitude) (wind axes, then
+    /// bank, then the angle of attack); body velocity `u = V cos α`,
+    /// `w = V sin α`, no sideslip; flaps `degrees / 40`; the engine runs with
+    /// the model's propeller speed (`engine_rps · 60` rev/min) while the
+    /// throttle is above 0. Palmer's model has no stall.
+    fn view(
+        aircraft: &PalmerAircraft,
+        controls: &PalmerControls,
+        state: &PalmerState,
+    ) -> crate::model::FlightView {
+        use crate::math::{cos, sin};
+        let airspeed_mps = state.airspeed_mps();
+        let alpha_rad = controls.alpha_deg.to_radians();
+        let running = controls.throttle > 0.0;
+        crate::model::FlightView {
+            time_s: state.time_s,
+            position_m: state.position_m,
+            velocity_mps: state.velocity_mps,
+            attitude: crate::geodesy::palmer_attitude(
+                state.velocity_mps,
+                controls.alpha_deg,
+                controls.bank_deg,
+            ),
+            velocity_body_mps: nalgebra::Vector3::new(
+                airspeed_mps * cos(alpha_rad),
+                0.0,
+                airspeed_mps * sin(alpha_rad),
+            ),
+            airspeed_mps,
+            alpha_deg: controls.alpha_deg,
+            beta_deg: 0.0,
+            flaps_norm: controls.flaps.degrees() / FULL_FLAPS_DEG,
+            engine_running: running,
+            engine_rpm: if running {
+                aircraft.engine_rps * 60.0
+            } else {
+                0.0
+            },
+            stalling: false,
+        }
+    }
+}
+
+/// A small index (below 65536) as `f64`, exactly.
+fn small(i: usize) -> f64 {
+    f64::from(u16::try_from(i).unwrap_or(u16::MAX))
 }

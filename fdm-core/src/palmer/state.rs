@@ -6,6 +6,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::math::{atan, atan2, sqrt};
+use crate::units::wrap_degrees_360;
 
 /// Time, position and velocity of a Palmer aircraft in the earth frame
 /// (x forward/north, y left/west, z up; metres, metres per second, seconds).
@@ -23,7 +24,13 @@ pub struct PalmerState {
 }
 
 impl PalmerState {
-    /// At rest at the origin at time 0 (the spec's initial state).
+    /// The thesis's initial state: [`at_rest`](Self::at_rest).
+    #[must_use]
+    pub const fn initial() -> Self {
+        Self::at_rest()
+    }
+
+    /// At rest at the origin at time 0 (the model's initial state, docs/palmer-model.md).
     #[must_use]
     pub const fn at_rest() -> Self {
         Self {
@@ -92,7 +99,7 @@ impl PalmerState {
         if radians < 0.0 {
             radians += 2.0 * PI;
         }
-        wrap_to_360(radians * 180.0 / PI)
+        wrap_degrees_360(radians * 180.0 / PI)
     }
 
     /// Compass heading: clockwise from north (+x), degrees in `[0, 360)`; 90 is
@@ -157,21 +164,7 @@ impl Default for PalmerState {
 #[must_use]
 #[inline]
 pub fn compass_from_heading_deg(heading_deg: f64) -> f64 {
-    wrap_to_360(-heading_deg)
-}
-
-/// `degrees` mod 360 in `[0, 360)` (NaN and infinities give NaN).
-#[inline]
-fn wrap_to_360(degrees: f64) -> f64 {
-    let mut d = degrees % 360.0;
-    if d < 0.0 {
-        d += 360.0;
-    }
-    // A tiny negative input rounds to 360.0 above; -0.0 becomes 0.0.
-    if d >= 360.0 {
-        d -= 360.0;
-    }
-    d + 0.0
+    wrap_degrees_360(-heading_deg)
 }
 
 /// Flight data derived from a [`PalmerState`] (what the book's GUI versions

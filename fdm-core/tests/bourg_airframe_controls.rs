@@ -1,0 +1,233 @@
+//! The Bourg model's data and controls: control operations as the original's
+//! key handlers, the element roles, airframe validation and (de)serialisation.
+
+use fdm_core::bourg::{
+    step, Airframe, AirframeError, BourgAction, BourgAircraft, BourgControls, BourgState, Flap,
+    MassProperties, Vector3, DELTA_THRUST_LB, MAX_THRUST_LB,
+};
+
+#[test]
+fn initial_controls_and_state_are_the_originals() {
+    let c = BourgControls::initial();
+    assert_eq!(c.thrust_lb, 500.0);
+    assert_eq!(c.rudder_deg, 0.0);
+    assert!(!c.landing_flaps);
+    assert_eq!(
+        (c.port_aileron, c.starboard_aileron, c.elevators),
+        (Flap::Neutral, Flap::Neutral, Flap::Neutral)
+    );
+    assert_eq!(BourgControls::default(), c);
+
+    let s = BourgState::initial();
+    assert_eq!(s.position_ft, Vector3::new(-5000.0, 0.0, 2000.0));
+    assert_eq!(s.velocity_ftps, Vector3::new(60.0, 0.0, 0.0));
+    assert_eq!(s.speed_ftps(), 60.0);
+    assert_eq!(s.velocity_body_ftps, Vector3::zeros());
+    assert_eq!(s.angular_velocity_radps, Vector3::zeros());
+    assert_eq!(
+        [
+            s.orientation.coords.w,
+            s.orientation.coords.x,
+            s.orientation.coords.y,
+            s.orientation.coords.z
+        ],
+        [1.0, 0.0, 0.0, 0.0]
+    );
+    assert_eq!(s.euler_angles_deg(), Vector3::zeros());
+    assert!(!s.stalling);
+}
+
+#[test]
+fn thrust_steps_and_clamps() {
+    assert_eq!((MAX_THRUST_LB, DELTA_THRUST_LB), (3000.0, 100.0));
+    let c = BourgControls::initial().apply(BourgAction::ThrustUp);
+    assert_eq!(c.thrust_lb, 600.0);
+    let c = c
+        .apply(BourgAction::ThrustDown)
+        .apply(BourgAction::ThrustDown);
+    assert_eq!(c.thrust_lb, 400.0);
+    let near_max = BourgControls {
+        thrust_lb: 2950.0,
+        ..BourgControls::initial()
+    };
+    assert_eq!(near_max.apply(BourgAction::ThrustUp).thrust_lb, 3000.0);
+    let near_zero = BourgControls {
+        thrust_lb: 50.0,
+        ..BourgControls::initial()
+    };
+    assert_eq!(near_zero.apply(BourgAction::ThrustDown).thrust_lb, 0.0);
+}
+
+#[test]
+fn surfaces_follow_the_original_key_handlers() {
+    let airframe = Airframe::bourg_default();
+    let flaps = |c: &BourgControls| -> Vec<i8> {
+        (0..8)
+            .map(|i| c.element_flap(i, &airframe.elements[i]).code())
+            .collect()
+    };
+    let c0 = BourgControls::initial();
+    assert_eq!(flaps(&c0), [0, 0, 0, 0, 0, 0, 0, 0]);
+    // RollLeft: element 0 flap = 1, element 3 flap = -1; RollRight the reverse.
+    assert_eq!(
+        flaps(&c0.apply(BourgAction::RollLeft)),
+        [1, 0, 0, -1, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        flaps(&c0.apply(BourgAction::RollRight)),
+        [-1, 0, 0, 1, 0, 0, 0, 0]
+    );
+    // PitchUp: elements 4 and 5 flap = 1; PitchDown: -1.
+    assert_eq!(
+        flaps(&c0.apply(BourgAction::PitchUp)),
+        [0, 0, 0, 0, 1, 1, 0, 0]
+    );
+    assert_eq!(
+        flaps(&c0.apply(BourgAction::PitchDown)),
+        [0, 0, 0, 0, -1, -1, 0, 0]
+    );
+    // FlapsDown: elements 1 and 2 flap = -1; FlapsUp back to 0.
+    let down = c0.apply(BourgAction::FlapsDown);
+    assert!(down.landing_flaps);
+    assert_eq!(flaps(&down), [0, -1, -1, 0, 0, 0, 0, 0]);
+    assert_eq!(flaps(&down.apply(BourgAction::FlapsUp)), [0; 8]);
+    // Rudder: element 6 incidence +16 (yaw left), -16 (yaw right).
+    let rudder = &airframe.elements[6];
+    assert_eq!(
+        c0.apply(BourgAction::YawLeft).rudder_incidence_deg(rudder),
+        16.0
+    );
+    assert_eq!(
+        c0.apply(BourgAction::YawRight).rudder_incidence_deg(rudder),
+        -16.0
+    );
+    assert_eq!(c0.rudder_incidence_deg(rudder), 0.0);
+}
+
+#[test]
+fn neutralize_keeps_thrust_and_flaps() {
+    let c = BourgControls::initial()
+        .apply(BourgAction::ThrustUp)
+        .apply(BourgAction::FlapsDown)
+        .apply(BourgAction::RollRight)
+        .apply(BourgAction::PitchDown)
+        .apply(BourgAction::YawLeft)
+        .neutralize_surfaces();
+    assert_eq!(c.thrust_lb, 600.0);
+    assert!(c.landing_flaps);
+    assert_eq!(c.rudder_deg, 0.0);
+    assert_eq!(
+        (c.port_aileron, c.starboard_aileron, c.elevators),
+        (Flap::Neutral, Flap::Neutral, Flap::Neutral)
+    );
+}
+
+#[test]
+fn flap_codes_round_trip() {
+    for flap in [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp] {
+        assert_eq!(Flap::from_code(flap.code()), Some(flap));
+    }
+    assert_eq!(Flap::TrailingEdgeDown.code(), -1);
+    assert_eq!(Flap::TrailingEdgeUp.code(), 1);
+    assert_eq!(Flap::from_code(2), None);
+}
+
+#[test]
+fn rigged_flaps_apply_while_the_control_is_neutral() {
+    let mut airframe = Airframe::bourg_default();
+    airframe.elements[4].flap = Flap::TrailingEdgeDown;
+    let c = BourgControls::initial();
+    assert_eq!(
+        c.element_flap(4, &airframe.elements[4]),
+        Flap::TrailingEdgeDown
+    );
+    let up = c.apply(BourgAction::PitchUp);
+    assert_eq!(
+        up.element_flap(4, &airframe.elements[4]),
+        Flap::TrailingEdgeUp
+    );
+}
+
+#[test]
+fn airframe_round_trips_through_json() {
+    let airframe = Airframe::bourg_default();
+    assert_eq!(Airframe::default(), airframe);
+    let json = serde_json::to_string_pretty(&airframe).unwrap();
+    assert!(json.contains("\"flap\": \"neutral\""), "{json}");
+    let back: Airframe = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, airframe);
+    assert_eq!(back.validate(), Ok(()));
+    assert_eq!(
+        MassProperties::from_airframe(&back),
+        *BourgAircraft::bourg_default().mass_properties()
+    );
+}
+
+#[test]
+fn validation_rejects_bad_airframes() {
+    let mut a = Airframe::bourg_default();
+    a.elements[3].design_position_ft.y = f32::NAN;
+    assert_eq!(
+        a.validate(),
+        Err(AirframeError::NonFinite {
+            element: 3,
+            field: "design_position_ft.y"
+        })
+    );
+    assert!(BourgAircraft::new(a).is_err());
+
+    let mut a = Airframe::bourg_default();
+    a.elements[7].area_ft2 = f32::INFINITY;
+    assert_eq!(
+        a.validate(),
+        Err(AirframeError::NonFinite {
+            element: 7,
+            field: "area_ft2"
+        })
+    );
+
+    let mut a = Airframe::bourg_default();
+    for e in &mut a.elements {
+        e.mass_slug = -e.mass_slug;
+    }
+    assert!(matches!(
+        a.validate(),
+        Err(AirframeError::NonPositiveMass { total_mass_slug }) if total_mass_slug < 0.0
+    ));
+
+    let mut a = Airframe::bourg_default();
+    for e in &mut a.elements {
+        e.mass_slug = 0.0;
+    }
+    assert!(matches!(
+        a.validate(),
+        Err(AirframeError::NonPositiveMass { .. })
+    ));
+
+    // All mass on one point on the x axis with no local inertia: Ixx = 0, so
+    // the tensor is singular.
+    let mut a = Airframe::bourg_default();
+    for e in &mut a.elements {
+        e.design_position_ft = Vector3::new(1.0, 0.0, 0.0);
+        e.local_inertia = Vector3::new(0.0, 1.0, 1.0);
+    }
+    assert_eq!(
+        a.validate(),
+        Err(AirframeError::SingularInertia { determinant: 0.0 })
+    );
+    let message = a.validate().unwrap_err().to_string();
+    assert!(message.contains("singular"), "{message}");
+}
+
+#[test]
+fn a_validated_custom_airframe_flies() {
+    let mut airframe = Airframe::bourg_default();
+    airframe.elements[7].mass_slug = 40.0; // heavier fuselage
+    let aircraft = BourgAircraft::new(airframe).unwrap();
+    assert!(aircraft.mass_properties().mass_slug > 75.0);
+    let mut state = BourgState::initial();
+    for _ in 0..300 {
+        state = step(&aircraft, &BourgControls::initial(), &state, 1.0 / 30.0);
+    }
+    assert!(state.is_finite());
+}

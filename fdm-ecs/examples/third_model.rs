@@ -1,0 +1,313 @@
+//! A third flight dynamics model, written outside the workspace's library
+//! crates against `fdm_core::model::Model` alone, flown in one world with
+//! Palmer's Cessna and Bourg's aircraft, and shown to FlightGear through the
+//! same generic systems: nothing in `fdm-core`, `fdm-ecs` or `fgnet` knows it.
+//!
+//! The model is a point-mass glider: lift perpendicular to the velocity,
+//! banked about it, drag from a parabolic polar, gravity; semi-implicit Euler
+//! in `f64`, SI units. The pilot changes the lift coefficient and the bank.
+//!
+//! Run it with `cargo run -p fdm-ecs --example third_model`; the test
+//! `fdm-ecs/tests/third_model.rs` runs [`fly_mixed_fleet`] and checks it.
+
+use std::sync::Arc;
+
+use fdm_core::bourg::Bourg;
+use fdm_core::geodesy::Attitude;
+use fdm_core::model::{FlightView, Model, ScriptAction};
+use fdm_core::palmer::Palmer;
+use fdm_ecs::{Entity, Resources, Simulation};
+use nalgebra::Vector3;
+
+/// Standard gravity, m/s².
+const G_MPS2: f64 = 9.80665;
+
+/// The glider's parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GliderAircraft {
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Wing area, m².
+    pub wing_area_m2: f64,
+    /// Zero-lift drag coefficient.
+    pub cd0: f64,
+    /// Induced drag factor: `CD = cd0 + k·CL²`.
+    pub induced_k: f64,
+    /// Air density, kg/m³ (constant: a low-altitude glider).
+    pub air_density_kgpm3: f64,
+}
+
+/// The glider's state: time, position and velocity in the shared earth frame
+/// (x north, y west, z up), SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GliderState {
+    /// Simulated time, s.
+    pub time_s: f64,
+    /// Position, m.
+    pub position_m: Vector3<f64>,
+    /// Velocity, m/s.
+    pub velocity_mps: Vector3<f64>,
+}
+
+/// The glider's controls.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GliderControls {
+    /// Lift coefficient, 0..=1.4.
+    pub lift_coefficient: f64,
+    /// Bank, degrees, right positive, within ±45.
+    pub bank_deg: f64,
+}
+
+/// The glider's key presses and script actions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GliderAction {
+    /// Lift coefficient +0.05.
+    PitchUp,
+    /// Lift coefficient −0.05.
+    PitchDown,
+    /// Bank 5° further left.
+    BankLeft,
+    /// Bank 5° further right.
+    BankRight,
+}
+
+impl ScriptAction for GliderAction {
+    const ALL: &'static [Self] = &[
+        Self::PitchUp,
+        Self::PitchDown,
+        Self::BankLeft,
+        Self::BankRight,
+    ];
+    const NAMES: &'static [&'static str] = &["pitch-up", "pitch-down", "bank-left", "bank-right"];
+
+    fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+}
+
+/// Why the glider refused to step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GliderError {
+    /// `dt` is not a finite positive number.
+    InvalidTimeStep,
+    /// A number of the input or the result is not finite.
+    NonFinite,
+}
+
+impl std::fmt::Display for GliderError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::InvalidTimeStep => "the time step is not a finite positive number",
+            Self::NonFinite => "a number is not finite",
+        })
+    }
+}
+
+/// The glider model.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Glider;
+
+impl Model for Glider {
+    const NAME: &'static str = "glider";
+    const TITLE: &'static str = "Point-mass glider";
+
+    type Aircraft = GliderAircraft;
+    type State = GliderState;
+    type Controls = GliderControls;
+    type Action = GliderAction;
+    type TimeStep = f64;
+    type StepError = GliderError;
+
+    fn default_aircraft() -> GliderAircraft {
+        GliderAircraft {
+            mass_kg: 400.0,
+            wing_area_m2: 11.0,
+            cd0: 0.012,
+            induced_k: 0.02,
+            air_density_kgpm3: 1.2,
+        }
+    }
+
+    fn initial_controls() -> GliderControls {
+        GliderControls {
+            lift_coefficient: 0.6,
+            bank_deg: 0.0,
+        }
+    }
+
+    fn initial_state() -> GliderState {
+        GliderState {
+            time_s: 0.0,
+            position_m: Vector3::new(0.0, 300.0, 600.0),
+            velocity_mps: Vector3::new(30.0, 0.0, 0.0),
+        }
+    }
+
+    fn time_step(fps: f64) -> f64 {
+        1.0 / fps
+    }
+
+    fn apply(_: &GliderAircraft, c: GliderControls, action: GliderAction) -> GliderControls {
+        let mut c = c;
+        match action {
+            GliderAction::PitchUp => c.lift_coefficient = (c.lift_coefficient + 0.05).min(1.4),
+            GliderAction::PitchDown => c.lift_coefficient = (c.lift_coefficient - 0.05).max(0.0),
+            GliderAction::BankLeft => c.bank_deg = (c.bank_deg - 5.0).max(-45.0),
+            GliderAction::BankRight => c.bank_deg = (c.bank_deg + 5.0).min(45.0),
+        }
+        c
+    }
+
+    fn step(a: &GliderAircraft, c: &GliderControls, s: &GliderState, dt: f64) -> GliderState {
+        let v = s.velocity_mps;
+        let speed = v.norm();
+        let along = v / speed;
+        // Lift acts perpendicular to the velocity, in the vertical plane
+        // through it, tilted by the bank (right bank turns toward -y, east).
+        let horizontal_right = Vector3::new(along.y, -along.x, 0.0).normalize();
+        let up = horizontal_right.cross(&along);
+        let bank = c.bank_deg.to_radians();
+        let lift_direction = up * bank.cos() + horizontal_right * bank.sin();
+        let q_area = 0.5 * a.air_density_kgpm3 * speed * speed * a.wing_area_m2;
+        let cl = c.lift_coefficient;
+        let lift = lift_direction * (q_area * cl);
+        let drag = -along * (q_area * (a.cd0 + a.induced_k * cl * cl));
+        let weight = Vector3::new(0.0, 0.0, -a.mass_kg * G_MPS2);
+        let velocity_mps = v + (lift + drag + weight) / a.mass_kg * dt;
+        GliderState {
+            time_s: s.time_s + dt,
+            position_m: s.position_m + velocity_mps * dt,
+            velocity_mps,
+        }
+    }
+
+    fn try_step(
+        a: &GliderAircraft,
+        c: &GliderControls,
+        s: &GliderState,
+        dt: f64,
+    ) -> Result<GliderState, GliderError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(GliderError::InvalidTimeStep);
+        }
+        if !Self::is_finite(s) {
+            return Err(GliderError::NonFinite);
+        }
+        let next = Self::step(a, c, s, dt);
+        if Self::is_finite(&next) {
+            Ok(next)
+        } else {
+            Err(GliderError::NonFinite)
+        }
+    }
+
+    fn is_finite(s: &GliderState) -> bool {
+        s.time_s.is_finite()
+            && s.position_m.iter().all(|x| x.is_finite())
+            && s.velocity_mps.iter().all(|x| x.is_finite())
+    }
+
+    fn height_m(s: &GliderState) -> f64 {
+        s.position_m.z
+    }
+
+    fn climb_rate_mps(s: &GliderState) -> f64 {
+        s.velocity_mps.z
+    }
+
+    fn view(_: &GliderAircraft, c: &GliderControls, s: &GliderState) -> FlightView {
+        let v = s.velocity_mps;
+        let speed = v.norm();
+        let horizontal = v.x.hypot(v.y);
+        // Heading clockwise from north: east is -y.
+        let heading_deg = (-v.y).atan2(v.x).to_degrees().rem_euclid(360.0);
+        FlightView {
+            time_s: s.time_s,
+            position_m: s.position_m,
+            velocity_mps: v,
+            attitude: Attitude {
+                roll_deg: c.bank_deg,
+                pitch_deg: v.z.atan2(horizontal).to_degrees(),
+                heading_deg,
+            },
+            velocity_body_mps: Vector3::new(speed, 0.0, 0.0),
+            airspeed_mps: speed,
+            alpha_deg: 0.0,
+            beta_deg: 0.0,
+            flaps_norm: 0.0,
+            engine_running: false,
+            engine_rpm: 0.0,
+            stalling: c.lift_coefficient >= 1.4,
+        }
+    }
+}
+
+/// What [`fly_mixed_fleet`] left behind.
+pub struct MixedFleet {
+    /// The world after the flight.
+    pub sim: Simulation,
+    /// The glider's entity.
+    pub glider: Entity,
+    /// The Cessna's entity.
+    pub palmer: Entity,
+    /// Bourg's aircraft's entity.
+    pub bourg: Entity,
+}
+
+/// Spawns a glider, a Cessna and Bourg's aircraft in one world at 30 FPS,
+/// banks the glider right for a second, and flies `frames` frames.
+///
+/// # Errors
+/// If the ECS refuses an input (it does not, for these).
+pub fn fly_mixed_fleet(frames: u64) -> Result<MixedFleet, Box<dyn std::error::Error>> {
+    let mut sim = Simulation::new(Resources::new(30.0)?);
+    let glider = sim.spawn::<Glider>(
+        Arc::new(Glider::default_aircraft()),
+        Glider::initial_controls(),
+        Glider::initial_state(),
+        None,
+    );
+    let palmer = sim.spawn::<Palmer>(
+        Arc::new(Palmer::default_aircraft()),
+        Palmer::fleet_member(0).0,
+        Palmer::fleet_member(0).1,
+        None,
+    );
+    let bourg = sim.spawn::<Bourg>(
+        Arc::new(Bourg::default_aircraft()),
+        Bourg::initial_controls(),
+        Bourg::initial_state(),
+        None,
+    );
+    let script = fdm_core::script::Script::<GliderAction>::parse("1-6 bank-right\n")?;
+    sim.set_script(glider, Arc::new(script))?;
+    sim.run_frames(frames);
+    Ok(MixedFleet {
+        sim,
+        glider,
+        palmer,
+        bourg,
+    })
+}
+
+#[allow(dead_code)] // the test includes this file as a module and calls only the library part
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let fleet = fly_mixed_fleet(300)?;
+    for (name, entity) in [
+        ("glider", fleet.glider),
+        ("palmer", fleet.palmer),
+        ("bourg", fleet.bourg),
+    ] {
+        let here = fleet.sim.geodetic(entity).ok_or("no position")?;
+        let packet = fleet.sim.packet(entity).ok_or("no packet")?;
+        println!(
+            "{name:7} lat {:.6} lon {:.6} alt {:7.1} m  heading {:5.1}  datagram {} bytes",
+            here.lat_deg,
+            here.lon_deg,
+            here.alt_m,
+            fleet.sim.attitude(entity).ok_or("no attitude")?.heading_deg,
+            packet.encode().len()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,252 @@
+//! The systems run in the declared order, FlightControl → EquationsOfMotion →
+//! FlightStatus → MakePacket → SendPacket (each phase once per model in the
+//! world), every frame, and each sees the data the one before it wrote in the
+//! same frame: checked by observing the world after every system of a frame,
+//! and by the datagram a linked entity sends.
+
+use std::net::UdpSocket;
+use std::sync::Arc;
+use std::time::Duration;
+
+use fdm_core::bourg::{self, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::model::Model;
+use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_core::script::Script;
+use fdm_ecs::components::{FgNetFdm, FlightGearLink, FrameInput, Geodetic};
+use fdm_ecs::{Entity, World};
+use fdm_ecs::{Resources, Schedule, Simulation};
+use fgnet::DATAGRAM_LEN;
+
+fn receiver() -> (UdpSocket, String) {
+    let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
+    socket
+        .set_read_timeout(Some(Duration::from_secs(5)))
+        .unwrap();
+    let addr = socket.local_addr().unwrap().to_string();
+    (socket, addr)
+}
+
+fn get<T: fdm_ecs::hecs::Component + Clone>(world: &World, e: Entity) -> T {
+    (*world.get::<&T>(e).unwrap()).clone()
+}
+
+/// The phases of one frame of the thesis schedule for the two models.
+const THESIS_TRACE: [&str; 9] = [
+    "FlightControl",
+    "FlightControl",
+    "EquationsOfMotion",
+    "EquationsOfMotion",
+    "FlightStatus",
+    "FlightStatus",
+    "MakePacket",
+    "MakePacket",
+    "SendPacket",
+];
+
+#[test]
+fn the_thesis_schedule_declares_each_phase_per_model_in_order() {
+    let names: Vec<_> = Schedule::thesis()
+        .systems()
+        .iter()
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(names, THESIS_TRACE);
+    // Adding a model already there changes nothing.
+    assert_eq!(
+        Schedule::thesis().with_model::<Palmer>().systems().len(),
+        THESIS_TRACE.len()
+    );
+    // A schedule without models only sends; one model gets one of each phase.
+    let names: Vec<_> = Schedule::for_no_model()
+        .with_model::<Bourg>()
+        .systems()
+        .iter()
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "FlightControl",
+            "EquationsOfMotion",
+            "FlightStatus",
+            "MakePacket",
+            "SendPacket"
+        ]
+    );
+    assert_eq!(
+        Schedule::default().systems().len(),
+        Schedule::thesis().systems().len()
+    );
+}
+
+/// Runs frames with an observer that checks, after each system, that exactly
+/// the data that system writes has changed and that it was computed from what
+/// the previous systems of the same frame wrote.
+#[test]
+fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
+    let (fg, addr) = receiver();
+    let res = Resources::new(30.0).unwrap();
+    let palmer_aircraft = PalmerAircraft::cessna_172();
+    let bourg_aircraft = BourgAircraft::bourg_default();
+    let mut sim = Simulation::new(res);
+    let p = sim.spawn::<Palmer>(
+        Arc::new(palmer_aircraft),
+        PalmerControls::default(),
+        PalmerState::at_rest(),
+        None,
+    );
+    let b = sim.spawn::<Bourg>(
+        Arc::new(bourg_aircraft),
+        BourgControls::initial(),
+        BourgState::initial(),
+        Some(FlightGearLink::connect(&addr).unwrap()),
+    );
+    // Frames 1-2 pitch up by script, frame 3 rolls left: on frame 3 the
+    // elevators must be back to neutral, which only FlightControl's
+    // begin-of-frame step does (a FlightControl that skipped it would leave
+    // them up and fail the check below).
+    sim.set_script(
+        b,
+        Arc::new(Script::<BourgAction>::parse("1-2 pitch-up\n3-3 roll-left\n").unwrap()),
+    )
+    .unwrap();
+
+    let origin = sim.resources().origin;
+
+    for frame in 1..=3u64 {
+        sim.push_input(p, PalmerAction::ThrottleUp).unwrap();
+        sim.push_input(b, BourgAction::ThrustUp).unwrap();
+
+        let world = sim.world();
+        let p_controls0: PalmerControls = get(world, p);
+        let p_state0: PalmerState = get(world, p);
+        let b_controls0: BourgControls = get(world, b);
+        let b_state0: BourgState = get(world, b);
+        let b_packet0: FgNetFdm = get(world, b);
+        let sent0 = sim.send_stats(b).unwrap().sent;
+        let script_action = if frame <= 2 {
+            BourgAction::PitchUp
+        } else {
+            BourgAction::RollLeft
+        };
+
+        // After the last system of each phase, every model's part of that
+        // phase has run.
+        let mut trace = Vec::new();
+        sim.run_frame_observed(|name, world| {
+            trace.push(name);
+            if trace.iter().filter(|n| **n == name).count() < 2 && name != "SendPacket" {
+                return;
+            }
+            let p_controls: PalmerControls = get(world, p);
+            let p_state: PalmerState = get(world, p);
+            let b_controls: BourgControls = get(world, b);
+            let b_state: BourgState = get(world, b);
+            let b_packet: FgNetFdm = get(world, b);
+            let sent = world.get::<&FlightGearLink>(b).unwrap().stats().sent;
+            match name {
+                "FlightControl" => {
+                    // Controls updated from this frame's input; nothing else yet.
+                    assert_eq!(p_controls, p_controls0.apply(PalmerAction::ThrottleUp));
+                    let want = b_controls0
+                        .neutralize_surfaces()
+                        .apply(script_action)
+                        .apply(BourgAction::ThrustUp);
+                    assert_eq!(b_controls, want);
+                    assert!(world
+                        .get::<&FrameInput<PalmerAction>>(p)
+                        .unwrap()
+                        .is_empty());
+                    assert!(world.get::<&FrameInput<BourgAction>>(b).unwrap().is_empty());
+                    assert_eq!((p_state, b_state), (p_state0, b_state0));
+                    assert_eq!(b_packet, b_packet0);
+                }
+                "EquationsOfMotion" => {
+                    // Stepped with the controls FlightControl just wrote.
+                    let dt = 1.0 / 30.0;
+                    assert_eq!(
+                        p_state,
+                        palmer::step(&palmer_aircraft, &p_controls, &p_state0, dt)
+                    );
+                    assert_eq!(
+                        b_state,
+                        bourg::step(&bourg_aircraft, &b_controls, &b_state0, 1.0f32 / 30.0)
+                    );
+                    assert_eq!(b_packet, b_packet0);
+                    assert_eq!(sent, sent0);
+                }
+                "FlightStatus" => assert_eq!(b_packet, b_packet0),
+                "MakePacket" => {
+                    // Built from the state EquationsOfMotion just wrote.
+                    let view = Bourg::view(&bourg_aircraft, &b_controls, &b_state);
+                    let want = fgnet::bridge::display(&view, &origin);
+                    assert_eq!(b_packet, want.packet);
+                    assert_ne!(b_packet, b_packet0);
+                    let view = Palmer::view(&palmer_aircraft, &p_controls, &p_state);
+                    let want = fgnet::bridge::display(&view, &origin);
+                    assert_eq!(get::<FgNetFdm>(world, p), want.packet);
+                    assert_eq!(get::<Geodetic>(world, p), want.geodetic);
+                    assert_eq!(sent, sent0);
+                }
+                "SendPacket" => assert_eq!(sent, sent0 + 1),
+                other => panic!("unexpected system {other}"),
+            }
+        });
+        assert_eq!(trace, THESIS_TRACE);
+        assert_eq!(sim.frame(), frame);
+
+        // What went out this frame is the packet of this frame's step.
+        let mut buf = [0u8; 1024];
+        let len = fg.recv(&mut buf).unwrap();
+        assert_eq!(len, DATAGRAM_LEN);
+        assert_eq!(&buf[..len], &sim.packet(b).unwrap().encode()[..]);
+    }
+}
+
+#[test]
+fn frame_counter_numbers_frames_from_one_for_scripts() {
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
+    assert_eq!(sim.frame(), 0);
+    let e = sim.spawn::<Bourg>(
+        Arc::new(BourgAircraft::bourg_default()),
+        BourgControls::initial(),
+        BourgState::initial(),
+        None,
+    );
+    // A single-frame rule on frame 1 and one on frame 3.
+    let script =
+        Script::<BourgAction>::parse("1-1 thrust-up\n3-3 thrust-down\n3-3 thrust-down\n").unwrap();
+    sim.set_script(e, Arc::new(script)).unwrap();
+    let mut thrust = Vec::new();
+    for _ in 0..4 {
+        sim.run_frame();
+        thrust.push(sim.controls::<Bourg>(e).unwrap().thrust_lb);
+    }
+    assert_eq!(sim.frame(), 4);
+    assert_eq!(thrust, [600.0, 600.0, 400.0, 400.0]);
+}
+
+#[test]
+fn script_actions_come_before_queued_keys() {
+    let mut sim = Simulation::new(Resources::new(10.0).unwrap());
+    let p = sim.spawn::<Palmer>(
+        Arc::new(PalmerAircraft::cessna_172()),
+        PalmerControls {
+            alpha_deg: 19.0,
+            ..PalmerControls::default()
+        },
+        PalmerState::at_rest(),
+        None,
+    );
+    // Script first: 19 +1 (script) = 20, +1 (key) = 20 (limit), -1 (key) = 19.
+    // Keys first would give 19 +1 = 20, -1 = 19, +1 (script) = 20.
+    sim.set_script(
+        p,
+        Arc::new(Script::<PalmerAction>::parse("1-1 alpha-up\n").unwrap()),
+    )
+    .unwrap();
+    sim.push_input(p, PalmerAction::AlphaUp).unwrap();
+    sim.push_input(p, PalmerAction::AlphaDown).unwrap();
+    sim.run_frame();
+    assert_eq!(sim.controls::<Palmer>(p).unwrap().alpha_deg, 19.0);
+}

@@ -1,0 +1,117 @@
+//! Bourg's 6-DoF aircraft in the CLI: its report fields and keys.
+
+use crossterm::event::KeyCode;
+use fdm_core::bourg::{Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use serde::{Deserialize, Serialize};
+
+use super::{CliModel, Details};
+use crate::keys::{letter, KeyAction};
+
+/// Bourg-only report fields. The model is `f32`; every float here is the
+/// model's `f32` widened exactly with `f64::from`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BourgDetails {
+    /// Speed |velocity|, ft/s.
+    pub speed: f64,
+    /// Euler angles [x roll, y pitch (positive nose-down), z yaw] in degrees, exactly as
+    /// `MakeEulerAnglesFromQ` computes them.
+    pub euler_deg: [f64; 3],
+    /// Thrust, lb.
+    pub thrust_lb: f64,
+    /// Landing flaps down.
+    pub flaps: bool,
+    /// Any wing element past its stall angle on the last step.
+    pub stalling: bool,
+}
+
+impl Details for BourgDetails {
+    const MODEL: &'static str = "bourg";
+    const POSITION_UNIT: &'static str = "ft";
+    /// `flaps` and `stalling` are written as 0 or 1.
+    const CSV_COLUMNS: &'static [&'static str] = &[
+        "speed",
+        "euler_x_deg",
+        "euler_y_deg",
+        "euler_z_deg",
+        "thrust_lb",
+        "flaps",
+        "stalling",
+    ];
+
+    fn csv_values(&self, out: &mut Vec<f64>) {
+        out.push(self.speed);
+        out.extend_from_slice(&self.euler_deg);
+        out.extend_from_slice(&[
+            self.thrust_lb,
+            f64::from(u8::from(self.flaps)),
+            f64::from(u8::from(self.stalling)),
+        ]);
+    }
+
+    fn summary(&self) -> String {
+        format!(
+            "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}",
+            self.speed,
+            self.thrust_lb,
+            if self.flaps { "down" } else { "up" },
+            if self.stalling { "yes" } else { "no" },
+        )
+    }
+
+    fn hud_controls(&self) -> String {
+        format!(
+            "THRUST {:4.0} lb   FLAPS {}",
+            self.thrust_lb,
+            if self.flaps { "down" } else { "up" }
+        )
+    }
+}
+
+impl CliModel for Bourg {
+    type Details = BourgDetails;
+
+    const FG_AIRCRAFT: &'static str = "ufo";
+
+    fn native_position(state: &BourgState) -> [f64; 3] {
+        state.position_ft.map(f64::from).into()
+    }
+
+    fn native_velocity(state: &BourgState) -> [f64; 3] {
+        state.velocity_ftps.map(f64::from).into()
+    }
+
+    fn details(
+        _aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        state: &BourgState,
+    ) -> BourgDetails {
+        BourgDetails {
+            speed: f64::from(state.speed_ftps()),
+            euler_deg: state.euler_angles_deg().map(f64::from).into(),
+            thrust_lb: f64::from(controls.thrust_lb),
+            flaps: controls.landing_flaps,
+            stalling: state.stalling,
+        }
+    }
+}
+
+impl KeyAction for BourgAction {
+    const KEY_HELP: &'static str =
+        "E/D thrust  Down/Up pitch up/down  Left/Right roll  N/M yaw  K flaps down  L flaps up";
+
+    fn from_key(code: KeyCode) -> Option<Self> {
+        Some(match (code, letter(code)) {
+            (_, Some('e')) => Self::ThrustUp,
+            (_, Some('d')) => Self::ThrustDown,
+            (KeyCode::Down, _) => Self::PitchUp,
+            (KeyCode::Up, _) => Self::PitchDown,
+            (KeyCode::Left, _) => Self::RollLeft,
+            (KeyCode::Right, _) => Self::RollRight,
+            (_, Some('n')) => Self::YawLeft,
+            (_, Some('m')) => Self::YawRight,
+            (_, Some('k')) => Self::FlapsDown,
+            (_, Some('l')) => Self::FlapsUp,
+            _ => return None,
+        })
+    }
+}

@@ -1,0 +1,95 @@
+//! What differs between the models in the CLI, one module per model: the
+//! report and CSV fields, the HUD's control line, the keys, the starting
+//! controls from the command line and FlightGear's aircraft. Everything else
+//! in `sim-cli` is generic over [`CliModel`].
+//!
+//! A new model joins the CLI with one more module here implementing
+//! [`CliModel`] (and [`Details`] for its report fields) and one more
+//! subcommand in [`crate::args`].
+
+pub mod bourg;
+pub mod palmer;
+
+use std::fmt::Debug;
+
+use fdm_core::model::Model;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+use crate::args::ModelKind;
+use crate::keys::KeyAction;
+
+/// Something to do with a model type chosen at run time: the one place that
+/// maps the command line's [`ModelKind`] to the model types
+/// ([`ModelKind::with`]).
+pub trait WithModel {
+    /// What it returns.
+    type Output;
+    /// Does it for model `M`.
+    fn call<M: CliModel>(self) -> Self::Output;
+}
+
+impl ModelKind {
+    /// Runs `job` with this kind's model type.
+    pub fn with<W: WithModel>(self, job: W) -> W::Output {
+        match self {
+            Self::Palmer => job.call::<fdm_core::palmer::Palmer>(),
+            Self::Bourg => job.call::<fdm_core::bourg::Bourg>(),
+        }
+    }
+}
+
+/// A model as `sim-cli` flies it.
+pub trait CliModel: Model<Action: KeyAction> {
+    /// The model's own report fields (JSON next to the common ones, CSV
+    /// columns after them, a summary line, the HUD's control line).
+    type Details: Details;
+
+    /// FlightGear's aircraft for this model (`--aircraft=...`).
+    const FG_AIRCRAFT: &'static str;
+
+    /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
+    /// up) in the model's own unit ([`Details::POSITION_UNIT`]), widened to
+    /// `f64` exactly.
+    fn native_position(state: &Self::State) -> [f64; 3];
+
+    /// Velocity in the same frame and unit per second.
+    fn native_velocity(state: &Self::State) -> [f64; 3];
+
+    /// The model's report fields now.
+    fn details(
+        aircraft: &Self::Aircraft,
+        controls: &Self::Controls,
+        state: &Self::State,
+    ) -> Self::Details;
+}
+
+/// A model's own report fields.
+pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
+    /// The JSON `model` field and the CLI subcommand: `"palmer"`, `"bourg"`.
+    const MODEL: &'static str;
+    /// The unit of the native position: `"m"` or `"ft"`.
+    const POSITION_UNIT: &'static str;
+    /// CSV column names of these fields, after the common ones.
+    const CSV_COLUMNS: &'static [&'static str];
+
+    /// Appends one value per [`Self::CSV_COLUMNS`] entry, in order.
+    fn csv_values(&self, out: &mut Vec<f64>);
+
+    /// The human summary's model-specific line(s), without a trailing newline.
+    fn summary(&self) -> String;
+
+    /// The HUD's control line.
+    fn hud_controls(&self) -> String;
+}
+
+/// `x` for a display with one decimal, except that values that show as zero are
+/// +0.0, so a tiny negative roll does not flicker as "-0.0".
+#[must_use]
+pub fn tenths(x: f64) -> f64 {
+    if (x * 10.0).round() == 0.0 {
+        0.0
+    } else {
+        x
+    }
+}

@@ -1,0 +1,142 @@
+//! Palmer's Cessna 172 in the CLI: its report fields, keys and starting controls.
+
+use crossterm::event::KeyCode;
+use fdm_core::palmer::{Palmer, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
+use serde::{Deserialize, Serialize};
+
+use super::{tenths, CliModel, Details};
+use crate::keys::{letter, KeyAction};
+
+/// Palmer's controls as the model holds them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PalmerControlsReport {
+    /// Throttle fraction, 0..1.
+    pub throttle: f64,
+    /// Angle of attack, degrees.
+    pub alpha_deg: f64,
+    /// Bank, degrees, positive right.
+    pub bank_deg: f64,
+    /// Flap setting, degrees (0, 20 or 40).
+    pub flaps_deg: f64,
+}
+
+/// Palmer-only report fields (all `f64` in the model).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PalmerDetails {
+    /// Airspeed, m/s.
+    pub airspeed: f64,
+    /// Current controls.
+    pub controls: PalmerControlsReport,
+    /// Climb angle, degrees.
+    pub climb_angle_deg: f64,
+    /// Climb rate (vz), m/s.
+    pub climb_rate: f64,
+    /// The model's heading angle, degrees in [0, 360), measured from +x toward +y
+    /// (i.e. toward the west; not a compass heading, see `attitude_deg.heading`).
+    pub heading_deg: f64,
+}
+
+impl Details for PalmerDetails {
+    const MODEL: &'static str = "palmer";
+    const POSITION_UNIT: &'static str = "m";
+    const CSV_COLUMNS: &'static [&'static str] = &[
+        "airspeed",
+        "throttle",
+        "alpha_deg",
+        "bank_deg",
+        "flaps_deg",
+        "climb_angle_deg",
+        "climb_rate",
+        "heading_deg",
+    ];
+
+    fn csv_values(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&[
+            self.airspeed,
+            self.controls.throttle,
+            self.controls.alpha_deg,
+            self.controls.bank_deg,
+            self.controls.flaps_deg,
+            self.climb_angle_deg,
+            self.climb_rate,
+            self.heading_deg,
+        ]);
+    }
+
+    fn summary(&self) -> String {
+        format!(
+            "airspeed  {:.3} m/s  climb {:.2} deg, {:.3} m/s\n\
+             controls  throttle {:.0} %  alpha {} deg  bank {} deg  flaps {} deg",
+            self.airspeed,
+            self.climb_angle_deg,
+            self.climb_rate,
+            self.controls.throttle * 100.0,
+            self.controls.alpha_deg,
+            self.controls.bank_deg,
+            self.controls.flaps_deg,
+        )
+    }
+
+    fn hud_controls(&self) -> String {
+        let c = &self.controls;
+        format!(
+            "THROTTLE {:3.0} %   ALPHA {:+5.1} deg   BANK {:+5.1} deg   FLAPS {:.0} deg",
+            c.throttle * 100.0,
+            tenths(c.alpha_deg),
+            tenths(c.bank_deg),
+            c.flaps_deg,
+        )
+    }
+}
+
+impl CliModel for Palmer {
+    type Details = PalmerDetails;
+
+    const FG_AIRCRAFT: &'static str = "c172p";
+
+    fn native_position(state: &PalmerState) -> [f64; 3] {
+        state.position_m.into()
+    }
+
+    fn native_velocity(state: &PalmerState) -> [f64; 3] {
+        state.velocity_mps.into()
+    }
+
+    fn details(
+        _aircraft: &PalmerAircraft,
+        controls: &PalmerControls,
+        state: &PalmerState,
+    ) -> PalmerDetails {
+        PalmerDetails {
+            airspeed: state.airspeed_mps(),
+            controls: PalmerControlsReport {
+                throttle: controls.throttle,
+                alpha_deg: controls.alpha_deg,
+                bank_deg: controls.bank_deg,
+                flaps_deg: controls.flaps.degrees(),
+            },
+            climb_angle_deg: state.climb_angle_deg(),
+            climb_rate: state.climb_rate_mps(),
+            heading_deg: state.heading_deg(),
+        }
+    }
+}
+
+impl KeyAction for PalmerAction {
+    const KEY_HELP: &'static str =
+        "E/D throttle  Down/Up alpha +/-  Left/Right bank  K flaps down  L flaps up";
+
+    fn from_key(code: KeyCode) -> Option<Self> {
+        Some(match (code, letter(code)) {
+            (_, Some('e')) => Self::ThrottleUp,
+            (_, Some('d')) => Self::ThrottleDown,
+            (KeyCode::Down, _) => Self::AlphaUp,
+            (KeyCode::Up, _) => Self::AlphaDown,
+            (KeyCode::Left, _) => Self::BankLeft,
+            (KeyCode::Right, _) => Self::BankRight,
+            (_, Some('k')) => Self::FlapsDown,
+            (_, Some('l')) => Self::FlapsUp,
+            _ => return None,
+        })
+    }
+}

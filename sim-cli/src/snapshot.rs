@@ -1,0 +1,172 @@
+//! The state of the flown aircraft as the CLI sees it at one instant
+//! ([`Snapshot`]): what the JSON report, the CSV rows and the HUD are built
+//! from. The common part ([`CommonState`]) is the same for every model; the
+//! model's own fields are its [`Details`].
+
+use fdm_core::model::FlightStatus;
+use serde::{Deserialize, Serialize};
+
+use crate::csv::CsvRecord;
+use crate::models::Details;
+
+/// Geodetic position as sent to FlightGear.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GeodeticReport {
+    /// Latitude, degrees north.
+    pub lat_deg: f64,
+    /// Longitude, degrees east.
+    pub lon_deg: f64,
+    /// Altitude above the WGS-84 ellipsoid, metres.
+    pub alt_m: f64,
+}
+
+/// Attitude as sent to FlightGear, degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AttitudeReport {
+    /// Roll, right wing down positive.
+    pub roll: f64,
+    /// Pitch, nose up positive.
+    pub pitch: f64,
+    /// Heading, clockwise from true north, in [0, 360).
+    pub heading: f64,
+}
+
+/// The part of the state every model has.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CommonState {
+    /// Simulated time, seconds: the model's own clock, the sum of its time
+    /// steps (Palmer's `f64` steps: 600 steps of 0.1 s give
+    /// 60.00000000000058; Bourg's `f32` steps widened: 900 steps of
+    /// `1.0f32 / 30.0` give 30.000001430511475).
+    pub time_s: f64,
+    /// Position [x, y, z] in the model's earth frame (x north, y west, z up),
+    /// in the model's own unit (Palmer metres, Bourg feet).
+    pub position: [f64; 3],
+    /// Velocity [vx, vy, vz] in the same frame and unit per second.
+    pub velocity: [f64; 3],
+    /// Geodetic position.
+    pub geodetic: GeodeticReport,
+    /// Attitude as sent to FlightGear.
+    pub attitude_deg: AttitudeReport,
+}
+
+/// Everything the CLI needs to know about the aircraft at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Snapshot<D> {
+    /// State every model has.
+    pub common: CommonState,
+    /// The model's own fields.
+    pub details: D,
+    /// Where the aircraft is in its flight (on the ground, flying, landed).
+    pub status: FlightStatus,
+    /// Whether the model reports a stall.
+    pub stalling: bool,
+    /// Airspeed, m/s.
+    pub airspeed_mps: f64,
+}
+
+/// CSV column names of [`CommonState`] (after `frame,time_s`), in row order.
+pub const COMMON_CSV_COLUMNS: &[&str] = &[
+    "x",
+    "y",
+    "z",
+    "vx",
+    "vy",
+    "vz",
+    "lat_deg",
+    "lon_deg",
+    "alt_m",
+    "roll_deg",
+    "pitch_deg",
+    "fg_heading_deg",
+];
+
+impl<D: Details> CsvRecord for Snapshot<D> {
+    fn csv_columns(&self) -> Vec<&'static str> {
+        let mut columns = COMMON_CSV_COLUMNS.to_vec();
+        columns.extend_from_slice(D::CSV_COLUMNS);
+        columns
+    }
+
+    fn time_s(&self) -> f64 {
+        self.common.time_s
+    }
+
+    fn csv_values(&self, out: &mut Vec<f64>) {
+        let c = &self.common;
+        out.extend_from_slice(&c.position);
+        out.extend_from_slice(&c.velocity);
+        out.extend_from_slice(&[
+            c.geodetic.lat_deg,
+            c.geodetic.lon_deg,
+            c.geodetic.alt_m,
+            c.attitude_deg.roll,
+            c.attitude_deg.pitch,
+            c.attitude_deg.heading,
+        ]);
+        self.details.csv_values(out);
+    }
+}
+
+/// Sample snapshots for tests of the modules built on [`Snapshot`].
+#[cfg(test)]
+pub(crate) mod samples {
+    use super::*;
+    use crate::models::bourg::BourgDetails;
+    use crate::models::palmer::{PalmerControlsReport, PalmerDetails};
+
+    fn common() -> CommonState {
+        CommonState {
+            time_s: 60.000000000000746,
+            position: [1234.5678901234567, -0.1, 98.76],
+            velocity: [55.5, 1e-20, -0.25],
+            geodetic: GeodeticReport {
+                lat_deg: 39.8375,
+                lon_deg: -84.0483,
+                alt_m: 349.76,
+            },
+            attitude_deg: AttitudeReport {
+                roll: 5.0,
+                pitch: 2.5,
+                heading: 359.5,
+            },
+        }
+    }
+
+    pub(crate) fn palmer() -> Snapshot<PalmerDetails> {
+        Snapshot {
+            common: common(),
+            details: PalmerDetails {
+                airspeed: 55.6,
+                controls: PalmerControlsReport {
+                    throttle: 0.75,
+                    alpha_deg: 4.0,
+                    bank_deg: 5.0,
+                    flaps_deg: 20.0,
+                },
+                climb_angle_deg: 3.1,
+                climb_rate: 2.9,
+                heading_deg: 0.5,
+            },
+            status: FlightStatus::Airborne,
+            stalling: false,
+            airspeed_mps: 55.6,
+        }
+    }
+
+    pub(crate) fn bourg() -> Snapshot<BourgDetails> {
+        Snapshot {
+            common: common(),
+            details: BourgDetails {
+                speed: f64::from(183.123_46_f32),
+                euler_deg: [0.1_f32, -2.5, -0.3].map(f64::from),
+                thrust_lb: 3000.0,
+                flaps: true,
+                stalling: false,
+            },
+            status: FlightStatus::Airborne,
+            stalling: false,
+            airspeed_mps: f64::from(183.123_46_f32) * 0.3048,
+        }
+    }
+}
