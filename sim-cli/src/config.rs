@@ -16,7 +16,6 @@ use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
-use crate::flight::Start;
 use crate::origin::GeodeticOrigin;
 
 /// How the run is driven.
@@ -46,6 +45,29 @@ pub struct RunConfig {
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
     pub origin: GeodeticOrigin,
+}
+
+/// How an aircraft of model `M` starts (and restarts on reset).
+#[derive(Debug, Clone)]
+pub struct Start<M: Model> {
+    /// The aircraft's parameters.
+    pub aircraft: M::Aircraft,
+    /// Controls at frame 0.
+    pub controls: M::Controls,
+    /// State at frame 0.
+    pub state: M::State,
+}
+
+impl<M: Model> Start<M> {
+    /// The thesis's start: the default aircraft, initial controls and state.
+    #[must_use]
+    pub fn thesis() -> Self {
+        Self {
+            aircraft: M::default_aircraft(),
+            controls: M::initial_controls(),
+            state: M::initial_state(),
+        }
+    }
 }
 
 /// A validated `sim-cli <model>` run of model `M`.
