@@ -4,11 +4,14 @@
 //! cargo run --release -p fdm-fleet --example fleet_steps -- fast 10000 100
 //! ```
 //!
-//! Arguments: `scalar`, `exact`, `fast`, `exact-baseline` or `fast-baseline`;
+//! Arguments: `scalar`, `exact`, `fast`, `exact-baseline` or `fast-baseline`
+//! (Palmer), `bourg-scalar` or `bourg` (Bourg, 1/30 s steps);
 //! the number of aircraft; the number of steps. Prints the instruction set and
 //! a checksum of the final positions (so the work cannot be optimised away).
 
+use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
 use fdm_core::palmer::{step, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_fleet::bourg::BourgFleet;
 use fdm_fleet::palmer::{PalmerFleet, Precision};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -26,7 +29,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut start = PalmerState::at_rest();
     start.position_m.z = 500.0;
     start.velocity_mps.x = 40.0;
-    let checksum: f64 = if what == "scalar" {
+    let checksum: f64 = if what.starts_with("bourg") {
+        let aircraft = BourgAircraft::bourg_default();
+        let controls = BourgControls::initial()
+            .apply(BourgAction::ThrustUp)
+            .apply(BourgAction::PitchUp);
+        let dt = 1.0_f32 / 30.0;
+        let states: Vec<BourgState> = if what == "bourg-scalar" {
+            let mut states = vec![BourgState::initial(); n];
+            for _ in 0..steps {
+                for s in &mut states {
+                    *s = bourg::step(&aircraft, &controls, s, dt);
+                }
+            }
+            states
+        } else {
+            let mut fleet = BourgFleet::new(aircraft);
+            for _ in 0..n {
+                fleet.push(BourgState::initial(), controls);
+            }
+            for _ in 0..steps {
+                fleet.step(dt);
+            }
+            fleet.states().collect()
+        };
+        states.iter().map(|s| f64::from(s.position_ft.z)).sum()
+    } else if what == "scalar" {
         let mut states = vec![start; n];
         for _ in 0..steps {
             for s in &mut states {

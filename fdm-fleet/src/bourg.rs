@@ -15,10 +15,13 @@
 //! in scalar code and are never fused (see [`crate::palmer`]'s note on FMA).
 //! The scalar `if`s are lane masks: the drag direction carried across elements
 //! below 1 ft/s, the `normalize` tolerance and flush, the clamp of the angle of
-//! attack's sine, the stall flag and the quaternion renormalisation. Per lane,
-//! unvectorised, go glibc's `asinf` (through the same `BourgFloat::asin` the
-//! scalar step calls) and the airfoil table look-ups, which call `fdm_core`'s
-//! own [`airfoil_coefficients`] and [`rudder_coefficients`].
+//! attack's sine, the stall flag and the quaternion renormalisation. The
+//! airfoil and rudder table look-ups ([`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients),
+//! [`rudder_coefficients`](fdm_core::bourg::rudder_coefficients)) become a branchless interval count over `fdm_core`'s
+//! own tables and a lane-wise interpolation with the same formula (unit tests
+//! compare them with the scalar functions bit for bit). Only glibc's `asinf`
+//! goes lane by lane (through the same `BourgFloat::asin` the scalar step
+//! calls).
 //!
 //! What depends only on the controls is computed when they are set, with the
 //! scalar step's functions: the rudder's normal at its incidence and the table
@@ -29,8 +32,7 @@
 //! reference scenarios and on random fleets.
 
 use fdm_core::bourg::{
-    airfoil_coefficients, rudder_coefficients, BourgAircraft, BourgControls, BourgFloat,
-    BourgState, Flap, Quaternion, Vector3,
+    BourgAircraft, BourgControls, BourgFloat, BourgState, Flap, Quaternion, Vector3,
 };
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
@@ -343,6 +345,84 @@ impl Block {
     }
 }
 
+/// The scalar look-up's interval search, lane-wise: in a strictly increasing
+/// table `a`, the first `i` with `a[i] <= angle < a[i + 1]` is the number of
+/// entries `<= angle` minus one, and it exists exactly when
+/// `a[0] <= angle < a[last]` (false for NaN). Lanes without one get index 0
+/// and a cleared mask.
+#[inline(always)]
+fn interval_lanes<const T: usize>(a: &[f32; T], angle: L) -> ([usize; LANES], M) {
+    let mut count = [0_usize; LANES];
+    for &entry in a {
+        for (c, &x) in count.iter_mut().zip(&angle.0) {
+            *c += usize::from(entry <= x);
+        }
+    }
+    let valid = Mask(core::array::from_fn(|l| {
+        a[0] <= angle.0[l] && angle.0[l] < a[T - 1]
+    }));
+    let index = core::array::from_fn(|l| if valid.0[l] { count[l] - 1 } else { 0 });
+    (index, valid)
+}
+
+/// The scalar `lerp` in each lane's interval:
+/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, with each
+/// lane's own table `t`.
+#[inline(always)]
+fn lerp_lanes<const T: usize>(
+    a: &[f32; T],
+    tables: [&[f32; T]; LANES],
+    index: &[usize; LANES],
+    angle: L,
+) -> L {
+    let a0 = F32s(core::array::from_fn(|l| a[index[l]]));
+    let a1 = F32s(core::array::from_fn(|l| a[index[l] + 1]));
+    let t0 = F32s(core::array::from_fn(|l| tables[l][index[l]]));
+    let t1 = F32s(core::array::from_fn(|l| tables[l][index[l] + 1]));
+    t0 - (a0 - angle) * (t0 - t1) / (a0 - a1)
+}
+
+/// [`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients) lane-wise, each lane with its own flap tables.
+#[inline(always)]
+fn airfoil_lanes(angle: L, flaps: &[Flap; LANES]) -> (L, L) {
+    type F = f32;
+    let a = &<F as BourgFloat>::AIRFOIL_ALPHA_DEG;
+    let (index, valid) = interval_lanes(a, angle);
+    let cl_tables = flaps.map(|flap| match flap {
+        Flap::Neutral => &<F as BourgFloat>::CL_NEUTRAL,
+        Flap::TrailingEdgeDown => &<F as BourgFloat>::CL_TRAILING_EDGE_DOWN,
+        Flap::TrailingEdgeUp => &<F as BourgFloat>::CL_TRAILING_EDGE_UP,
+    });
+    let cd_tables = flaps.map(|flap| match flap {
+        Flap::Neutral => &<F as BourgFloat>::CD_NEUTRAL,
+        Flap::TrailingEdgeDown => &<F as BourgFloat>::CD_TRAILING_EDGE_DOWN,
+        Flap::TrailingEdgeUp => &<F as BourgFloat>::CD_TRAILING_EDGE_UP,
+    });
+    let cl = lerp_lanes(a, cl_tables, &index, angle);
+    let cd = lerp_lanes(a, cd_tables, &index, angle);
+    (
+        valid.select(cl, L::splat(0.0)),
+        valid.select(cd, L::splat(<F as BourgFloat>::CD_OUTSIDE)),
+    )
+}
+
+/// [`rudder_coefficients`](fdm_core::bourg::rudder_coefficients) lane-wise: the tables at `|angle|`, the lift
+/// negated below 0.
+#[inline(always)]
+fn rudder_lanes(angle: L) -> (L, L) {
+    type F = f32;
+    let a = &<F as BourgFloat>::RUDDER_ALPHA_DEG;
+    let abs = angle.abs();
+    let (index, valid) = interval_lanes(a, abs);
+    let cl = lerp_lanes(a, [&<F as BourgFloat>::RUDDER_CL; LANES], &index, abs);
+    let cl = angle.lt(0.0).select(-cl, cl);
+    let cd = lerp_lanes(a, [&<F as BourgFloat>::RUDDER_CD; LANES], &index, abs);
+    (
+        valid.select(cl, L::splat(0.0)),
+        valid.select(cd, L::splat(<F as BourgFloat>::CD_OUTSIDE)),
+    )
+}
+
 /// `fdm_core::bourg::loads` and `step`, lane-wise, for one block.
 #[inline(always)]
 #[allow(clippy::too_many_lines)] // one formula per line of the scalar step
@@ -393,21 +473,18 @@ fn step_block(b: &mut Block, aircraft: &BourgAircraft, dt: f32) {
         let resultant = if i == 7 {
             drag.scale(L::splat(half)).scale(q_area)
         } else {
-            let mut cl = [0.0; LANES];
-            let mut cd = [0.0; LANES];
-            for lane in 0..LANES {
-                let (l, d) = if i == 6 {
-                    rudder_coefficients(attack_deg.0[lane])
-                } else {
-                    airfoil_coefficients(attack_deg.0[lane], b.flaps[i][lane])
-                };
-                cl[lane] = l;
-                cd[lane] = d;
-                if i <= 3 && l == 0.0 {
-                    stalling[lane] = true;
+            let (cl, cd) = if i == 6 {
+                rudder_lanes(attack_deg)
+            } else {
+                airfoil_lanes(attack_deg, &b.flaps[i])
+            };
+            if i <= 3 {
+                let stalled = cl.eq(0.0);
+                for (flag, s) in stalling.iter_mut().zip(stalled.0) {
+                    *flag |= s;
                 }
             }
-            lift.scale(F32s(cl)).add(drag.scale(F32s(cd))).scale(q_area)
+            lift.scale(cl).add(drag.scale(cd)).scale(q_area)
         };
         fb = fb.add(resultant);
         mb = mb.add(cg_offset.cross(resultant));
@@ -644,5 +721,66 @@ impl BourgFleet {
     #[must_use]
     pub const fn bytes_per_aircraft() -> usize {
         core::mem::size_of::<Block>() / LANES
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::bourg::{airfoil_coefficients, rudder_coefficients};
+
+    fn angles() -> Vec<f32> {
+        let mut v: Vec<f32> = (-4000..=4000).map(|i| i as f32 * 0.01).collect();
+        // Table points, their neighbours, and the special values.
+        for t in <f32 as BourgFloat>::AIRFOIL_ALPHA_DEG {
+            for x in [t, -t] {
+                v.extend([
+                    x,
+                    f32::from_bits(x.to_bits() + 1),
+                    f32::from_bits(x.to_bits().wrapping_sub(1)),
+                ]);
+            }
+        }
+        v.extend([
+            0.0,
+            -0.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e30,
+            -1e30,
+        ]);
+        v
+    }
+
+    fn same(a: f32, b: f32) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    #[test]
+    fn table_lookups_are_the_scalar_ones() {
+        let flaps = [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp];
+        for chunk in angles().chunks(LANES) {
+            let mut lanes = [0.0; LANES];
+            lanes[..chunk.len()].copy_from_slice(chunk);
+            let flap_lanes: [Flap; LANES] = core::array::from_fn(|l| flaps[l % 3]);
+            let (cl, cd) = airfoil_lanes(F32s(lanes), &flap_lanes);
+            let (rl, rd) = rudder_lanes(F32s(lanes));
+            for l in 0..LANES {
+                let (scl, scd) = airfoil_coefficients(lanes[l], flap_lanes[l]);
+                assert!(
+                    same(cl.0[l], scl) && same(cd.0[l], scd),
+                    "{} {:?}",
+                    lanes[l],
+                    flap_lanes[l]
+                );
+                let (srl, srd) = rudder_coefficients(lanes[l]);
+                assert!(
+                    same(rl.0[l], srl) && same(rd.0[l], srd),
+                    "rudder {}",
+                    lanes[l]
+                );
+            }
+        }
     }
 }
