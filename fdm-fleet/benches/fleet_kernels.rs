@@ -1,6 +1,7 @@
-//! Aircraft-steps per second of a Palmer fleet: the scalar step in a loop over
-//! an array of (state, controls) against `PalmerFleet` in `exact` and `fast`
-//! precision, at 1,000 / 100,000 / 1,000,000 aircraft, on 1 and 2 threads.
+//! Aircraft-steps per second of fleets: the scalar step in a loop over an array
+//! of (state, controls) against `PalmerFleet` in `exact` and `fast` precision
+//! (group `palmer_fleet`) and against `BourgFleet` (group `bourg_fleet`, 1/30 s
+//! steps), at 1,000 / 100,000 / 1,000,000 aircraft, on 1 and 2 threads.
 //!
 //! Every benchmark steps the whole fleet once per iteration (throughput in
 //! aircraft-steps); the fleets keep flying from one iteration to the next. One
@@ -8,13 +9,15 @@
 //! rayon versions (`par_step`, `par_iter_mut`) inside a 2-thread pool.
 //!
 //! ```sh
-//! cargo bench -p fdm-fleet --bench palmer_fleet -- --warm-up-time 1 --measurement-time 3
+//! cargo bench -p fdm-fleet --bench fleet_kernels -- --warm-up-time 1 --measurement-time 3
 //! ```
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
 use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_fleet::bourg::BourgFleet;
 use fdm_fleet::palmer::{PalmerFleet, Precision};
 use rayon::prelude::*;
 
@@ -54,8 +57,8 @@ fn members(n: usize) -> Vec<(PalmerState, PalmerControls)> {
         .collect()
 }
 
-fn bench(c: &mut Criterion) {
-    let pools: Vec<(usize, rayon::ThreadPool)> = [1, 2]
+fn pools() -> Vec<(usize, rayon::ThreadPool)> {
+    [1, 2]
         .into_iter()
         .map(|t| {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -64,7 +67,80 @@ fn bench(c: &mut Criterion) {
                 .expect("thread pool");
             (t, pool)
         })
-        .collect();
+        .collect()
+}
+
+/// Bourg aircraft from the reference start, each with its own thrust and
+/// surfaces (held), so they spread over climbs, dives and turns.
+fn bourg_members(n: usize) -> Vec<(BourgState, BourgControls)> {
+    let actions = [
+        BourgAction::PitchUp,
+        BourgAction::PitchDown,
+        BourgAction::RollLeft,
+        BourgAction::RollRight,
+        BourgAction::FlapsDown,
+    ];
+    (0..n)
+        .map(|i| {
+            let mut c = BourgControls::initial();
+            for _ in 0..(i % 10) {
+                c = c.apply(BourgAction::ThrustUp);
+            }
+            (BourgState::initial(), c.apply(actions[i % actions.len()]))
+        })
+        .collect()
+}
+
+fn bench_bourg(c: &mut Criterion) {
+    const DT_BOURG: f32 = 1.0 / 30.0;
+    let aircraft = BourgAircraft::bourg_default();
+    let pools = pools();
+    let mut group = c.benchmark_group("bourg_fleet");
+    group.sample_size(10);
+    for n in [1_000, 100_000, 1_000_000] {
+        let members = bourg_members(n);
+        group.throughput(Throughput::Elements(n as u64));
+        for (threads, pool) in &pools {
+            let threads = *threads;
+            let id = |what: &str| BenchmarkId::new(format!("{what}/{threads}t"), n);
+            let mut scalar = members.clone();
+            group.bench_function(id("scalar"), |b| {
+                if threads == 1 {
+                    b.iter(|| {
+                        for (s, c) in &mut scalar {
+                            *s = bourg::step(&aircraft, c, s, DT_BOURG);
+                        }
+                    });
+                } else {
+                    b.iter(|| {
+                        pool.install(|| {
+                            scalar.par_iter_mut().with_min_len(256).for_each(|(s, c)| {
+                                *s = bourg::step(&aircraft, c, s, DT_BOURG);
+                            });
+                        });
+                    });
+                }
+                black_box(&scalar);
+            });
+            let mut fleet = BourgFleet::new(aircraft);
+            for (s, c) in &members {
+                fleet.push(*s, *c);
+            }
+            group.bench_function(id("exact"), |b| {
+                if threads == 1 {
+                    b.iter(|| fleet.step(DT_BOURG));
+                } else {
+                    b.iter(|| pool.install(|| fleet.par_step(DT_BOURG)));
+                }
+            });
+            black_box(&fleet);
+        }
+    }
+    group.finish();
+}
+
+fn bench(c: &mut Criterion) {
+    let pools = pools();
     let mut group = c.benchmark_group("palmer_fleet");
     group.sample_size(10);
     for n in [1_000, 100_000, 1_000_000] {
@@ -113,5 +189,5 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_bourg);
 criterion_main!(benches);
