@@ -9,14 +9,6 @@ use serde::{Deserialize, Serialize};
 use super::float::BourgFloat;
 use super::ops::{degrees_to_radians, determinant, inverse, normalize};
 
-/// Maximum thrust, lb (the original's `_MAXTHRUST`).
-pub const MAX_THRUST_LB: f32 = 3000.0;
-/// Thrust change per thrust key press, lb (the original's `_DTHRUST`; the
-/// book's listing uses 10, the reference numbers need 100).
-pub const DELTA_THRUST_LB: f32 = 100.0;
-/// Rudder incidence while a yaw key is held, degrees (+ for yaw left).
-pub const RUDDER_DEFLECTION_DEG: f32 = 16.0;
-
 /// Which airfoil table an element flies with: the original's integer flap
 /// code (`iFlap`).
 ///
@@ -34,6 +26,14 @@ pub enum Flap {
     /// Code +1: the "flaps up" tables (less lift).
     TrailingEdgeUp,
 }
+
+/// Maximum thrust, lb (the original's `_MAXTHRUST`).
+pub const MAX_THRUST_LB: f32 = 3000.0;
+/// Thrust change per thrust key press, lb (the original's `_DTHRUST`; the
+/// book's listing uses 10, the reference numbers need 100).
+pub const DELTA_THRUST_LB: f32 = 100.0;
+/// Rudder incidence while a yaw key is held, degrees (+ for yaw left).
+pub const RUDDER_DEFLECTION_DEG: f32 = 16.0;
 
 impl Flap {
     /// The original's integer code: −1, 0 or +1.
