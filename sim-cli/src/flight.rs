@@ -232,6 +232,7 @@ mod tests {
             mode: Mode::Headless {
                 frames: 0,
                 json: false,
+                realtime: false,
             },
             csv: None,
             fg,
