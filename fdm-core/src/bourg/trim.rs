@@ -151,7 +151,7 @@ pub fn trim(
         let r = residuals(aircraft, &base, conditions, x)
             .ok_or(StartError::BelowStall { speed_mps })?;
         last = r;
-        if r[0].abs() < 0.5 && r[1].abs() < 0.5 && r[2].abs() < 5.0 {
+        if abs(r[0]) < 0.5 && abs(r[1]) < 0.5 && abs(r[2]) < 5.0 {
             converged = true;
             break;
         }
@@ -188,7 +188,7 @@ pub fn trim(
     if x[0] < 0.0 {
         return Err(StartError::OutOfTrim { speed_mps });
     }
-    if x[2].abs() > 1.0 {
+    if abs(x[2]) > 1.0 {
         return Err(StartError::OutOfTrim { speed_mps });
     }
     let controls = BourgControls {
@@ -208,4 +208,13 @@ pub fn trim(
             ],
         },
     })
+}
+
+/// `|x|` (without relying on `f64::abs` being in `core`).
+fn abs(x: f64) -> f64 {
+    if x < 0.0 {
+        -x
+    } else {
+        x
+    }
 }

@@ -82,7 +82,7 @@ pub fn trim(
             hi = mid;
         }
     }
-    let alpha_deg = if az(lo).abs() <= az(hi).abs() { lo } else { hi };
+    let alpha_deg = if abs(az(lo)) <= abs(az(hi)) { lo } else { hi };
     let ax = |throttle: f64| {
         let c = PalmerControls {
             throttle,
@@ -115,4 +115,13 @@ pub fn trim(
             ],
         },
     })
+}
+
+/// `|x|` (without relying on `f64::abs` being in `core`).
+fn abs(x: f64) -> f64 {
+    if x < 0.0 {
+        -x
+    } else {
+        x
+    }
 }
