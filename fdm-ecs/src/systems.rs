@@ -189,7 +189,7 @@ type PacketQuery<'a, M> = (
     &'a Params<M>,
     &'a <M as Model>::Controls,
     &'a <M as Model>::State,
-    &'a FlightStatus,
+    &'a mut FlightStatus,
     &'a mut Geodetic,
     &'a mut Attitude,
     &'a mut FgNetFdm,
@@ -201,12 +201,15 @@ type PacketQuery<'a, M> = (
 /// parallel according to [`Resources::execution`]. Entities without the
 /// three output components are skipped, and so are diverged ones
 /// ([`FlightStatus::Diverged`]): their last packet stays as it was, built
-/// from their last finite state.
+/// from their last finite state. A finite state whose view, geodetic
+/// position or attitude is not finite (e.g. a position far beyond the
+/// earth) is marked diverged here and gets no new packet either, so no
+/// datagram ever carries a NaN or an infinity.
 ///
 /// | access | what |
 /// |---|---|
 /// | reads | [`Params<M>`], `M::Controls`, `M::State`, `Resources::{origin, execution}` |
-/// | writes | [`Geodetic`], [`Attitude`], [`FgNetFdm`] |
+/// | writes | [`Geodetic`], [`Attitude`], [`FgNetFdm`], [`FlightStatus`] (diverged only) |
 pub fn make_packet<M: Model>(world: &mut World, res: &Resources) {
     let origin = &res.origin;
     for_each_entity::<PacketQuery<'_, M>, _>(
@@ -216,7 +219,19 @@ pub fn make_packet<M: Model>(world: &mut World, res: &Resources) {
             if *status == FlightStatus::Diverged {
                 return;
             }
-            let display = fgnet::bridge::display(&M::view(params, controls, state), origin);
+            let view = M::view(params, controls, state);
+            let display = fgnet::bridge::display(&view, origin);
+            let (g, a) = (&display.geodetic, &display.attitude);
+            let placed = [g.lat_deg, g.lon_deg, g.alt_m]
+                .into_iter()
+                .chain([a.roll_deg, a.pitch_deg, a.heading_deg])
+                .all(f64::is_finite);
+            if !(placed && view.is_finite()) {
+                // A finite state too far out to be shown (e.g. a position
+                // of 1e300 m): diverged as well; the old packet stays.
+                *status = FlightStatus::Diverged;
+                return;
+            }
             (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
         },
     );

@@ -75,3 +75,28 @@ fn a_diverged_aircraft_is_counted_and_sends_no_more() {
     assert_eq!(sim.status(fine), Some(FlightStatus::Airborne));
     assert!(Palmer::is_finite(&sim.state::<Palmer>(fine).unwrap()));
 }
+
+#[test]
+fn a_state_too_far_out_to_be_shown_is_diverged_and_not_sent() {
+    let receiver = UdpSocket::bind("127.0.0.1:0").unwrap();
+    receiver
+        .set_read_timeout(Some(Duration::from_millis(200)))
+        .unwrap();
+    let addr = receiver.local_addr().unwrap().to_string();
+    let mut sim = Simulation::new(Resources::new(10.0).unwrap());
+    let aircraft = Arc::new(Palmer::default_aircraft());
+    let controls = PalmerControls::default();
+    // Finite, and its step is finite, but no geodetic position exists for it.
+    let far = PalmerState {
+        position_m: Vector3::new(1.7e308, 0.0, 1.7e308),
+        ..falling()
+    };
+    let link = FlightGearLink::connect(&addr).unwrap();
+    let e = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, far, Some(link));
+    sim.run_frame();
+    assert!(Palmer::is_finite(&sim.state::<Palmer>(e).unwrap()));
+    assert_eq!(sim.status(e), Some(FlightStatus::Diverged));
+    assert_eq!(sim.send_stats(e).map(|s| s.sent), Some(0));
+    let mut buf = [0u8; 1024];
+    assert!(receiver.recv(&mut buf).is_err(), "a datagram was sent");
+}
