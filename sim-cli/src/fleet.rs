@@ -122,24 +122,8 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         .num_threads(threads)
         .build()
         .context("building the thread pool")?;
-    let mut sim = spawn_fleet::<M>(n, execution);
+    let (sim, seconds) = fly_fleet::<M>(n, args.frames, execution, &pool);
     let resources = *sim.resources();
-    let world = sim.world_mut();
-
-    let start = Instant::now();
-    match execution {
-        Execution::Sequential => {
-            for _ in 0..args.frames {
-                equations_of_motion_sequential::<M>(world, &resources);
-            }
-        }
-        Execution::Parallel => pool.install(|| {
-            for _ in 0..args.frames {
-                equations_of_motion_parallel::<M>(world, &resources);
-            }
-        }),
-    }
-    let seconds = start.elapsed().as_secs_f64();
 
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
     let steps = args.aircraft as f64 * args.frames as f64;
@@ -156,6 +140,36 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         aircraft_at_30hz,
         dt_s: resources.time_step::<M>().into(),
     })
+}
+
+/// Spawns the fleet of `n` aircraft and runs `frames` frames of
+/// EquationsOfMotion on it (on `pool` when parallel): what [`measure`]
+/// times. Returns the flown simulation and the seconds the frames took.
+fn fly_fleet<M: Model>(
+    n: usize,
+    frames: u64,
+    execution: Execution,
+    pool: &rayon::ThreadPool,
+) -> (Simulation, f64) {
+    let mut sim = spawn_fleet::<M>(n, execution);
+    let resources = *sim.resources();
+    let world = sim.world_mut();
+
+    let start = Instant::now();
+    match execution {
+        Execution::Sequential => {
+            for _ in 0..frames {
+                equations_of_motion_sequential::<M>(world, &resources);
+            }
+        }
+        Execution::Parallel => pool.install(|| {
+            for _ in 0..frames {
+                equations_of_motion_parallel::<M>(world, &resources);
+            }
+        }),
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    (sim, seconds)
 }
 
 /// `sim-cli fleet`: [`measure`], then the summary or (`--json`) the report
@@ -205,6 +219,40 @@ mod tests {
                 (report.aircraft_steps_per_s / 30.0).floor() as u64
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
+        }
+    }
+
+    /// Each aircraft of the fleet `measure` flies ends where the same member
+    /// flown alone, by the core step, ends: bit for bit, sequential and
+    /// parallel, both models.
+    #[test]
+    fn each_fleet_member_ends_as_if_flown_alone() {
+        fn check<M: Model>(execution: Execution, threads: usize) {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let (n, frames) = (23, 40);
+            let (sim, _) = fly_fleet::<M>(n, frames, execution, &pool);
+            let fleet: Vec<M::State> = sim.world().query::<&M::State>().iter().copied().collect();
+            assert_eq!(fleet.len(), n);
+            let aircraft = M::default_aircraft();
+            let dt = M::time_step(f64::from(FLEET_FPS));
+            for (i, got) in fleet.iter().enumerate() {
+                let (controls, mut alone) = M::fleet_member(i);
+                let start = alone;
+                for _ in 0..frames {
+                    alone = M::step(&aircraft, &controls, &alone, dt);
+                }
+                // Debug prints every float in shortest round-trip form, so
+                // equal text is equal bits here.
+                assert_eq!(format!("{got:?}"), format!("{alone:?}"), "{} #{i}", M::NAME);
+                assert_ne!(format!("{got:?}"), format!("{start:?}"), "{} #{i}", M::NAME);
+            }
+        }
+        for (execution, threads) in [(Execution::Sequential, 1), (Execution::Parallel, 2)] {
+            check::<fdm_core::palmer::Palmer>(execution, threads);
+            check::<fdm_core::bourg::Bourg>(execution, threads);
         }
     }
 
