@@ -18,6 +18,7 @@ use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::flight::Start;
 use crate::origin::GeodeticOrigin;
+use crate::plot::PlotFile;
 
 /// How the run is driven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +47,8 @@ pub struct RunConfig {
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
     pub origin: GeodeticOrigin,
+    /// The `--plot` output, already created (like the CSV).
+    pub plot: Option<PlotFile>,
 }
 
 /// A validated `sim-cli <model>` run of model `M`.
@@ -212,6 +215,20 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
         }
         None => None,
     };
+    let plot = match &args.plot {
+        Some(path) => {
+            for (other, name) in [(&args.script, "--script"), (&args.csv, "--csv")] {
+                if other.as_deref().is_some_and(|o| same_file(path, o)) {
+                    return Err(CliError::usage(format!(
+                        "--plot {} would overwrite the {name} file",
+                        path.display()
+                    )));
+                }
+            }
+            Some(PlotFile::create(path)?)
+        }
+        None => None,
+    };
     Ok((
         RunConfig {
             fps: args.fps,
@@ -219,6 +236,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
             csv,
             fg,
             origin: args.origin,
+            plot,
         },
         script,
     ))

@@ -236,6 +236,7 @@ mod tests {
             csv: None,
             fg,
             origin: GeodeticOrigin::default(),
+            plot: None,
         }
     }
 

@@ -360,6 +360,8 @@ pub fn fly<F: Flight>(
         mut csv,
         fg,
         origin: _,
+        // Taken by `run_model`, which wraps the flight (crate::plot::fly_plotted).
+        plot: _,
     } = run;
     match mode {
         Mode::Headless { frames, json } => {
@@ -406,9 +408,12 @@ pub fn fly<F: Flight>(
 ///
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
     let flight = ModelFlight::new(&config.run, config.start)?;
-    fly(flight, &config.script, config.run)
+    match config.run.plot.take() {
+        None => fly(flight, &config.script, config.run),
+        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
+    }
 }
 
 #[cfg(test)]
