@@ -64,26 +64,15 @@ pub struct PlotSample {
     pub stalling: bool,
 }
 
-/// Metres per unit of a model's native position unit (`"m"` or `"ft"`).
-fn metres_per_unit(unit: &str) -> Option<f64> {
-    match unit {
-        "m" => Some(1.0),
-        "ft" => Some(METRES_PER_FOOT),
-        _ => None,
-    }
-}
-
 impl PlotSample {
     /// The sample of a snapshot.
     #[must_use]
     pub fn from_snapshot<D: Details>(s: &Snapshot<D>) -> Self {
-        // Every model's unit is listed in `metres_per_unit`; an unknown one
-        // plots as NaN (a gap) rather than in the wrong unit.
-        let scale = metres_per_unit(D::POSITION_UNIT).unwrap_or(f64::NAN);
+        let scale = Snapshot::<D>::metres_per_unit();
         let c = &s.common;
         Self {
             time_s: c.time_s,
-            height_m: c.position[2] * scale,
+            height_m: s.height_m(),
             airspeed_mps: s.airspeed_mps,
             roll_deg: c.attitude_deg.roll,
             pitch_deg: c.attitude_deg.pitch,
