@@ -10,7 +10,9 @@ use fgnet::bridge::{display, Display};
 use fgnet::{FgNetFdm, SenderStats};
 use hecs::{Component, Entity, EntityBuilder, QueryOneError, World};
 
-use crate::components::{Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput};
+use crate::components::{
+    Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput, ScriptReplay,
+};
 use crate::resources::Resources;
 use crate::schedule::Schedule;
 use crate::EcsError;
@@ -149,7 +151,7 @@ impl Simulation {
             return Err(EcsError::component::<FrameInput<A>>(&e));
         }
         self.world
-            .insert_one(entity, ScriptInput(script))
+            .insert(entity, (ScriptInput(script), ScriptReplay::default()))
             .map_err(|_| EcsError::NoSuchEntity)
     }
 

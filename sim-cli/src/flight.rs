@@ -25,35 +25,12 @@ use anyhow::{anyhow, Context as _};
 use fdm_core::model::{FlightStatus, Model};
 use fdm_ecs::{Entity, FlightGearLink, Resources, Simulation};
 
-use crate::config::RunConfig;
+use crate::config::{ModelConfig, RunConfig, Start};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
-use crate::run::Flight;
+use crate::run::{fly, Flight};
 use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
-
-/// How an aircraft of model `M` starts (and restarts on reset).
-#[derive(Debug, Clone)]
-pub struct Start<M: Model> {
-    /// The aircraft's parameters.
-    pub aircraft: M::Aircraft,
-    /// Controls at frame 0.
-    pub controls: M::Controls,
-    /// State at frame 0.
-    pub state: M::State,
-}
-
-impl<M: Model> Start<M> {
-    /// The thesis's start: the default aircraft, initial controls and state.
-    #[must_use]
-    pub fn thesis() -> Self {
-        Self {
-            aircraft: M::default_aircraft(),
-            controls: M::initial_controls(),
-            state: M::initial_state(),
-        }
-    }
-}
 
 /// One aircraft of model `M` in its own simulation, and what the CLI adds
 /// around it.
@@ -199,6 +176,18 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     fn take_link_failure(&mut self) -> Option<String> {
         self.link_failure.take()
+    }
+}
+
+/// Flies one aircraft of model `M` ([`ModelFlight`]) as configured.
+///
+/// # Errors
+/// As [`ModelFlight::new`] and [`fly`].
+pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
+    let flight = ModelFlight::new(&config.run, config.start)?;
+    match config.run.plot.take() {
+        None => fly(flight, &config.script, config.run),
+        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
     }
 }
 

@@ -11,8 +11,8 @@
 //! | [`args`] | clap definition and per-value validation |
 //! | [`config`] | cross-option validation, script loading, CSV creation → [`config::ModelConfig`] |
 //! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear aircraft |
-//! | [`run`](mod@run) | the [`run::Flight`] seam, headless and interactive loops, [`run::run_model`] |
-//! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation` |
+//! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
+//! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation`; [`flight::run_model`] |
 //! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
 //! | [`report`] | the JSON [`report::Report`] and the human summary |
 //! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
@@ -30,14 +30,17 @@ pub mod fgfs;
 pub mod fleet;
 pub mod flight;
 pub mod hud;
+pub mod input;
 pub mod keys;
 pub mod models;
 pub mod origin;
+pub mod output;
 pub mod pacer;
 pub mod plot;
 pub mod progress;
 pub mod report;
 pub mod run;
+pub mod signals;
 pub mod snapshot;
 pub mod terminal;
 
@@ -54,8 +57,8 @@ use crate::error::CliError;
 /// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Palmer(args) => run::run_model(config::prepare_palmer(args)?),
-        Command::Bourg(args) => run::run_model(config::prepare_bourg(args)?),
+        Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
+        Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::FgfsCommand(args) => {

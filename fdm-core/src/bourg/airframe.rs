@@ -6,7 +6,6 @@ use core::fmt;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::controls::RUDDER_DEFLECTION_DEG;
 use super::float::BourgFloat;
 use super::ops::{degrees_to_radians, determinant, inverse, normalize};
 
@@ -27,6 +26,14 @@ pub enum Flap {
     /// Code +1: the "flaps up" tables (less lift).
     TrailingEdgeUp,
 }
+
+/// Maximum thrust, lb (the original's `_MAXTHRUST`).
+pub const MAX_THRUST_LB: f32 = 3000.0;
+/// Thrust change per thrust key press, lb (the original's `_DTHRUST`; the
+/// book's listing uses 10, the reference numbers need 100).
+pub const DELTA_THRUST_LB: f32 = 100.0;
+/// Rudder incidence while a yaw key is held, degrees (+ for yaw left).
+pub const RUDDER_DEFLECTION_DEG: f32 = 16.0;
 
 impl Flap {
     /// The original's integer code: −1, 0 or +1.
@@ -334,10 +341,10 @@ impl<F: BourgFloat> MassPropertiesOf<F> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AircraftOf<F: BourgFloat> {
     /// Maximum thrust a thrust-up action reaches, lb (the original's
-    /// `_MAXTHRUST`, [`MAX_THRUST_LB`](super::MAX_THRUST_LB) by default).
+    /// `_MAXTHRUST`, [`MAX_THRUST_LB`](MAX_THRUST_LB) by default).
     pub max_thrust_lb: F,
     /// Thrust change per thrust-up/down action, lb (the original's
-    /// `_DTHRUST`, [`DELTA_THRUST_LB`](super::DELTA_THRUST_LB) by default).
+    /// `_DTHRUST`, [`DELTA_THRUST_LB`](DELTA_THRUST_LB) by default).
     pub delta_thrust_lb: F,
     airframe: AirframeOf<F>,
     mass: MassPropertiesOf<F>,
@@ -375,8 +382,8 @@ impl<F: BourgFloat> AircraftOf<F> {
             (incidence, element_normal(incidence, rudder.dihedral_deg))
         };
         Self {
-            max_thrust_lb: F::from_f64(f64::from(super::MAX_THRUST_LB)),
-            delta_thrust_lb: F::from_f64(f64::from(super::DELTA_THRUST_LB)),
+            max_thrust_lb: F::from_f64(f64::from(MAX_THRUST_LB)),
+            delta_thrust_lb: F::from_f64(f64::from(DELTA_THRUST_LB)),
             mass: MassPropertiesOf::from_airframe(&airframe),
             rudder_normals: [
                 normal_at(F::ZERO),

@@ -2,19 +2,12 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::airframe::{ElementOf, Flap};
+use super::airframe::{ElementOf, Flap, DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
 use super::float::BourgFloat;
 use super::BourgAction;
 
-/// Maximum thrust, lb (the original's `_MAXTHRUST`).
-pub const MAX_THRUST_LB: f32 = 3000.0;
-/// Thrust change per thrust key press, lb (the original's `_DTHRUST`; the
-/// book's listing uses 10, the reference numbers need 100).
-pub const DELTA_THRUST_LB: f32 = 100.0;
 /// Thrust at start, lb.
 pub const INITIAL_THRUST_LB: f32 = 500.0;
-/// Rudder incidence while a yaw key is held, degrees (+ for yaw left).
-pub const RUDDER_DEFLECTION_DEG: f32 = 16.0;
 
 /// The control settings of one frame, in float type `F` (see [`BourgControls`]).
 ///

@@ -61,10 +61,8 @@ pub use airframe::{
     BourgAircraft, Element, Element64, ElementOf, Flap, MassProperties, MassProperties64,
     MassPropertiesOf,
 };
-pub use controls::{
-    BourgControls, BourgControls64, BourgControlsOf, DELTA_THRUST_LB, INITIAL_THRUST_LB,
-    MAX_THRUST_LB, RUDDER_DEFLECTION_DEG,
-};
+pub use airframe::{DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
+pub use controls::{BourgControls, BourgControls64, BourgControlsOf, INITIAL_THRUST_LB};
 pub use float::BourgFloat;
 pub use model::{
     airfoil_coefficients, drag_coefficient, lift_coefficient, loads, rudder_coefficients,

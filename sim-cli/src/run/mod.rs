@@ -2,30 +2,28 @@
 //!
 //! [`crate::flight::ModelFlight`] implements [`Flight`] for any
 //! [`CliModel`] (one aircraft entity in an `fdm_ecs::Simulation`);
-//! [`run_model`] builds it from the validated configuration and hands it to
-//! [`fly`]. Everything here (script replay, CSV, JSON report, progress bar,
+//! [`crate::flight::run_model`] builds it from the validated configuration
+//! and hands it to [`fly`]. Everything here (script replay, CSV, JSON report, progress bar,
 //! terminal, keys, pacing, HUD) is model-agnostic and tested with a fake model.
 
 use std::io::{self, Write};
-use std::net::SocketAddrV4;
-use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
-use crossterm::event::{self, Event};
 use fdm_core::script::Script;
 
-use crate::config::{Mode, ModelConfig, RunConfig};
-use crate::csv::CsvWriter;
+use crate::config::{Mode, RunConfig};
 use crate::error::CliError;
-use crate::flight::ModelFlight;
-use crate::hud::{render_hud, HudData, HudWriter, LinkStats, LoopStatus};
-use crate::keys::{map_key, AppCommand, Input, KeyAction};
-use crate::models::{CliModel, Details};
-use crate::pacer::FramePacer;
+use crate::hud::LinkStats;
+use crate::keys::KeyAction;
+use crate::models::Details;
 use crate::progress::StderrProgress;
-use crate::report::Report;
 use crate::snapshot::Snapshot;
-use crate::terminal::TerminalGuard;
+
+pub mod headless;
+pub mod interactive;
+
+pub use headless::run_headless;
+pub use interactive::{run_interactive, Flow, InteractiveSummary, Session};
 
 /// One aircraft the loops can fly: the seam between the CLI and the ECS.
 pub trait Flight {
@@ -67,271 +65,8 @@ pub trait Flight {
 }
 
 /// The stderr line for a link failure (see [`Flight::take_link_failure`]).
-fn link_warning(message: &str) -> String {
+pub(crate) fn link_warning(message: &str) -> String {
     format!("sim-cli: warning: {}", crate::error::one_line(message))
-}
-
-/// Steps frame `frame` (1-based): the script's actions for that frame in file order,
-/// then `keys`, then one model step, then the CSV row.
-fn step_frame<F: Flight, W: Write>(
-    flight: &mut F,
-    script: &Script<F::Action>,
-    frame: u64,
-    keys: &[F::Action],
-    buffer: &mut Vec<F::Action>,
-    csv: Option<&mut CsvWriter<W>>,
-) -> Result<(), CliError> {
-    buffer.clear();
-    buffer.extend(script.actions_at(frame));
-    buffer.extend_from_slice(keys);
-    flight
-        .step(buffer)
-        .with_context(|| format!("frame {frame}"))?;
-    if let Some(csv) = csv {
-        csv.write_record(frame, &flight.snapshot())?;
-    }
-    Ok(())
-}
-
-/// Runs `frames` frames as fast as possible and returns the final report. Writes
-/// the initial state as CSV frame 0 and a row after every step. The caller
-/// finishes (flushes) the CSV writer.
-///
-/// # Errors
-/// The first failing step or CSV write ([`CliError::Runtime`]).
-pub fn run_headless<F: Flight, W: Write>(
-    flight: &mut F,
-    script: &Script<F::Action>,
-    fps: u32,
-    frames: u64,
-    mut csv: Option<&mut CsvWriter<W>>,
-    progress: &mut StderrProgress,
-) -> Result<Report<F::Details>, CliError> {
-    if let Some(csv) = csv.as_deref_mut() {
-        csv.write_record(0, &flight.snapshot())?;
-    }
-    let mut buffer = Vec::new();
-    for frame in 1..=frames {
-        step_frame(flight, script, frame, &[], &mut buffer, csv.as_deref_mut())?;
-        if let Some(message) = flight.take_link_failure() {
-            progress.message(&link_warning(&message));
-        }
-        progress.tick(frame);
-    }
-    progress.finish();
-    Ok(Report::new(fps, frames, &flight.snapshot()))
-}
-
-/// Whether the interactive loop goes on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Flow {
-    /// Keep flying.
-    Continue,
-    /// The user quit.
-    Quit,
-}
-
-/// The interactive loop's state apart from the terminal and the clock, so that
-/// pause, reset and key handling are testable without a terminal.
-#[derive(Debug)]
-pub struct Session<A> {
-    frame: u64,
-    total_frames: u64,
-    paused: bool,
-    pending: Vec<A>,
-    buffer: Vec<A>,
-}
-
-impl<A> Default for Session<A> {
-    fn default() -> Self {
-        Self {
-            frame: 0,
-            total_frames: 0,
-            paused: false,
-            pending: Vec::new(),
-            buffer: Vec::new(),
-        }
-    }
-}
-
-impl<A: KeyAction> Session<A> {
-    /// A session at frame 0, running.
-    #[must_use]
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// Frames since the start or the last reset (the script's frame counter).
-    #[must_use]
-    pub fn frame(&self) -> u64 {
-        self.frame
-    }
-
-    /// Frames stepped in total, across resets.
-    #[must_use]
-    pub fn total_frames(&self) -> u64 {
-        self.total_frames
-    }
-
-    /// Whether the simulation is paused.
-    #[must_use]
-    pub fn paused(&self) -> bool {
-        self.paused
-    }
-
-    /// Handles one key. Control keys are queued for the next frame; while paused
-    /// they are ignored, so nothing changes behind a frozen display. Reset returns to
-    /// frame 0 (the script starts over) and writes the initial state as a new CSV row 0.
-    ///
-    /// # Errors
-    /// A failing reset or CSV write.
-    pub fn handle<F: Flight<Action = A>, W: Write>(
-        &mut self,
-        input: Input<A>,
-        flight: &mut F,
-        csv: Option<&mut CsvWriter<W>>,
-    ) -> Result<Flow, CliError> {
-        match input {
-            Input::App(AppCommand::Quit) => return Ok(Flow::Quit),
-            Input::App(AppCommand::Pause) => self.paused = !self.paused,
-            Input::App(AppCommand::Reset) => {
-                flight.reset().context("reset")?;
-                self.frame = 0;
-                self.pending.clear();
-                if let Some(csv) = csv {
-                    csv.write_record(0, &flight.snapshot())?;
-                }
-            }
-            Input::Action(action) => {
-                if !self.paused {
-                    self.pending.push(action);
-                }
-            }
-        }
-        Ok(Flow::Continue)
-    }
-
-    /// Steps one frame with the queued keys, unless paused.
-    ///
-    /// # Errors
-    /// As [`run_headless`].
-    pub fn advance<F: Flight<Action = A>, W: Write>(
-        &mut self,
-        flight: &mut F,
-        script: &Script<A>,
-        csv: Option<&mut CsvWriter<W>>,
-    ) -> Result<(), CliError> {
-        if self.paused {
-            return Ok(());
-        }
-        self.frame += 1;
-        self.total_frames += 1;
-        let result = step_frame(
-            flight,
-            script,
-            self.frame,
-            &self.pending,
-            &mut self.buffer,
-            csv,
-        );
-        self.pending.clear();
-        result
-    }
-}
-
-/// What an interactive run did, for the closing message.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InteractiveSummary {
-    /// Frames stepped, across resets.
-    pub frames: u64,
-    /// Frames that missed their deadline.
-    pub overruns: u64,
-    /// Final datagram counters.
-    pub link: Option<LinkStats>,
-    /// The first datagram send failure, if any (see [`Flight::take_link_failure`]),
-    /// kept for after the terminal is restored: stderr under the HUD is not readable.
-    pub link_failure: Option<String>,
-}
-
-/// Flies interactively until Q, Esc or Ctrl-C: keys in, HUD out, one frame per
-/// 1/fps seconds of wall time. The terminal is restored on every exit path.
-///
-/// # Errors
-/// Terminal I/O failures and the first failing step or CSV write.
-pub fn run_interactive<F: Flight, W: Write>(
-    flight: &mut F,
-    script: &Script<F::Action>,
-    fps: u32,
-    fg: Option<SocketAddrV4>,
-    mut csv: Option<&mut CsvWriter<W>>,
-) -> Result<InteractiveSummary, CliError> {
-    let guard = TerminalGuard::enter().context("setting up the terminal")?;
-    let mut out = io::stdout();
-    let mut hud = HudWriter::new();
-    let mut session = Session::new();
-    let mut link_failure = None;
-    if let Some(csv) = csv.as_deref_mut() {
-        csv.write_record(0, &flight.snapshot())?;
-    }
-    let mut pacer = FramePacer::new(FramePacer::period_for(fps), Instant::now());
-    'run: loop {
-        // Drain every key that arrived during the last frame without blocking.
-        while event::poll(Duration::ZERO).context("reading the keyboard")? {
-            match event::read().context("reading the keyboard")? {
-                Event::Key(key) => {
-                    if let Some(input) = map_key::<F::Action>(&key) {
-                        if session.handle(input, flight, csv.as_deref_mut())? == Flow::Quit {
-                            break 'run;
-                        }
-                    }
-                }
-                Event::Resize(..) => {
-                    crossterm::execute!(
-                        out,
-                        crossterm::terminal::Clear(crossterm::terminal::ClearType::All)
-                    )
-                    .context("drawing the HUD")?;
-                    hud = HudWriter::new();
-                }
-                _ => {}
-            }
-        }
-        session.advance(flight, script, csv.as_deref_mut())?;
-        if let Some(message) = flight.take_link_failure() {
-            link_failure.get_or_insert(message);
-        }
-        // Some ptys report 0x0; treat that like an unknown size.
-        let (width, height) = crossterm::terminal::size()
-            .ok()
-            .filter(|&(w, h)| w > 0 && h > 0)
-            .unwrap_or((80, 24));
-        let data = HudData::from_snapshot(
-            F::TITLE,
-            &flight.snapshot(),
-            fg,
-            flight.link_stats(),
-            LoopStatus {
-                frame: session.frame(),
-                fps,
-                overruns: pacer.overruns(),
-                paused: session.paused(),
-            },
-            F::Action::KEY_HELP,
-        );
-        hud.draw(&mut out, &render_hud(&data, width), width, height)
-            .context("drawing the HUD")?;
-        let sleep = pacer.finish_frame(Instant::now());
-        if !sleep.is_zero() {
-            std::thread::sleep(sleep);
-        }
-    }
-    drop(guard);
-    Ok(InteractiveSummary {
-        frames: session.total_frames(),
-        overruns: pacer.overruns(),
-        link: flight.link_stats(),
-        link_failure,
-    })
 }
 
 /// Writes `text` and a newline to stdout, turning a closed pipe into an error
@@ -404,21 +139,11 @@ pub fn fly<F: Flight>(
     }
 }
 
-/// Flies one aircraft of model `M` ([`ModelFlight`]) as configured.
-///
-/// # Errors
-/// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
-    let flight = ModelFlight::new(&config.run, config.start)?;
-    match config.run.plot.take() {
-        None => fly(flight, &config.script, config.run),
-        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::csv::CsvWriter;
+    use crate::keys::{AppCommand, Input};
     use crate::models::palmer::PalmerDetails;
     use crate::snapshot::samples;
     use fdm_core::palmer::PalmerAction;
