@@ -113,7 +113,7 @@ impl<A: KeyAction> Session<A> {
     /// Steps one frame with the queued keys, unless paused.
     ///
     /// # Errors
-    /// As [`run_headless`].
+    /// As [`run_headless`](super::run_headless).
     pub fn advance<F: Flight<Action = A>, W: Write>(
         &mut self,
         flight: &mut F,

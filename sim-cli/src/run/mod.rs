@@ -1,7 +1,7 @@
 //! The run loops, written once for every model against the [`Flight`] trait.
 //!
 //! [`crate::flight::ModelFlight`] implements [`Flight`] for any
-//! [`CliModel`] (one aircraft entity in an `fdm_ecs::Simulation`);
+//! [`CliModel`](crate::models::CliModel) (one aircraft entity in an `fdm_ecs::Simulation`);
 //! [`crate::flight::run_model`] builds it from the validated configuration
 //! and hands it to [`fly`]. Everything here (script replay, CSV, JSON report, progress bar,
 //! terminal, keys, pacing, HUD) is model-agnostic and tested with a fake model.
