@@ -18,7 +18,8 @@ use std::sync::Arc;
 use fdm_core::bourg::Bourg;
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
-use fdm_ecs::{Entity, Execution, Resources, Schedule, Simulation, System, World};
+use fdm_ecs::components::Params;
+use fdm_ecs::{Entity, Execution, FleetOutputs, Resources, Schedule, Simulation, System, World};
 
 /// Aircraft per model.
 const PER_MODEL: usize = 100;
@@ -68,11 +69,25 @@ fn touchdowns(world: &mut World, res: &Resources) {
     }
 }
 
+/// The aircraft of model `M`: the entities with its [`Params`] component.
+fn entities_of<M: Model>(world: &mut World) -> Vec<Entity> {
+    world
+        .query_mut::<(Entity, &Params<M>)>()
+        .into_iter()
+        .map(|(entity, _)| entity)
+        .collect()
+}
+
 fn main() -> Result<(), Box<dyn Error>> {
     let resources = Resources::new(30.0)?.with_execution(Execution::Parallel);
     let mut sim = Simulation::new(resources);
     let cessna = Arc::new(Palmer::default_aircraft());
-    let mut palmers = sim.spawn_fleet::<Palmer>(&cessna, PER_MODEL);
+    // The demonstration fleets: full aircraft (with their FlightGear datagram).
+    sim.spawn_fleet::<Palmer>(&cessna, 0..PER_MODEL, FleetOutputs::Packets);
+    let bourg = Arc::new(Bourg::default_aircraft());
+    sim.spawn_fleet::<Bourg>(&bourg, 0..PER_MODEL, FleetOutputs::Packets);
+    let mut palmers = entities_of::<Palmer>(sim.world_mut());
+    let bourgs = entities_of::<Bourg>(sim.world_mut());
     // Plus a few Cessnas on final approach: engine idle, 30 to 70 m up.
     for i in 0..5_u32 {
         let (mut controls, mut state) = Palmer::fleet_member(PER_MODEL + i as usize);
@@ -80,7 +95,6 @@ fn main() -> Result<(), Box<dyn Error>> {
         state.position_m.z = 30.0 + 10.0 * f64::from(i);
         palmers.push(sim.spawn::<Palmer>(Arc::clone(&cessna), controls, state, None));
     }
-    let bourgs = sim.spawn_fleet::<Bourg>(&Arc::new(Bourg::default_aircraft()), PER_MODEL);
     for &entity in palmers.iter().chain(&bourgs) {
         sim.world_mut().insert_one(entity, MaxHeight(0.0))?;
     }

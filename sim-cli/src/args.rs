@@ -115,6 +115,10 @@ pub struct CommonArgs {
     #[arg(long)]
     pub json: bool,
 
+    /// With --headless: one frame per 1/fps of wall-clock time, as in interactive mode (to replay a script into FlightGear without a terminal)
+    #[arg(long)]
+    pub realtime: bool,
+
     /// Write the state as CSV to FILE: a header, the initial state as frame 0, then one row per frame
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,

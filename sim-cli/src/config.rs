@@ -28,6 +28,8 @@ pub enum Mode {
         frames: u64,
         /// Print the JSON report on stdout.
         json: bool,
+        /// Pace frames at 1/fps of wall-clock time (`--realtime`).
+        realtime: bool,
     },
     /// Keyboard in, HUD out, paced at the frame rate, until the user quits.
     Interactive,
@@ -137,6 +139,7 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
     if !args.headless {
         for (given, name) in [
             (args.json, "--json"),
+            (args.realtime, "--realtime"),
             (args.frames.is_some(), "--frames"),
             (args.duration.is_some(), "--duration"),
         ] {
@@ -164,6 +167,7 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
     Ok(Mode::Headless {
         frames,
         json: args.json,
+        realtime: args.realtime,
     })
 }
 
@@ -305,14 +309,24 @@ mod tests {
             resolve_mode(&common(&["--headless", "--frames", "900", "--json"])).unwrap(),
             Mode::Headless {
                 frames: 900,
-                json: true
+                json: true,
+                realtime: false,
             }
         );
         assert_eq!(
             resolve_mode(&common(&["--headless", "--duration", "1.5", "--fps", "10"])).unwrap(),
             Mode::Headless {
                 frames: 15,
-                json: false
+                json: false,
+                realtime: false,
+            }
+        );
+        assert_eq!(
+            resolve_mode(&common(&["--headless", "--frames", "3", "--realtime"])).unwrap(),
+            Mode::Headless {
+                frames: 3,
+                json: false,
+                realtime: true,
             }
         );
     }

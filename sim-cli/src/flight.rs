@@ -221,6 +221,7 @@ mod tests {
             mode: Mode::Headless {
                 frames: 0,
                 json: false,
+                realtime: false,
             },
             csv: None,
             fg,

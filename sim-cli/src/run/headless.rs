@@ -2,6 +2,7 @@
 //! report.
 
 use std::io::Write;
+use std::time::Instant;
 
 use anyhow::Context as _;
 use fdm_core::script::{Script, ScriptCursor};
@@ -9,8 +10,9 @@ use fdm_core::script::{Script, ScriptCursor};
 use super::{link_warning, Flight};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
+use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
-use crate::report::Report;
+use crate::report::{RealtimeReport, Report};
 
 /// Steps frame `frame` (1-based): the script's actions for that frame in file order
 /// (through `cursor`, a sweep over the rules: linear in frames plus rules),
@@ -36,8 +38,11 @@ pub(super) fn step_frame<F: Flight, W: Write>(
     Ok(())
 }
 
-/// Runs `frames` frames as fast as possible and returns the final report. Writes
-/// the initial state as CSV frame 0 and a row after every step. The caller
+/// Runs `frames` frames and returns the final report: as fast as possible, or
+/// with `realtime` one frame per 1/fps of wall-clock time like the interactive
+/// loop (so FlightGear, reading at the frame rate, sees every frame; frames
+/// that miss their deadline are counted as overruns in the report). Writes the
+/// initial state as CSV frame 0 and a row after every step. The caller
 /// finishes (flushes) the CSV writer.
 ///
 /// # Errors
@@ -47,9 +52,11 @@ pub fn run_headless<F: Flight, W: Write>(
     script: &Script<F::Action>,
     fps: u32,
     frames: u64,
+    realtime: bool,
     mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
+    let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
     if let Some(csv) = csv.as_deref_mut() {
         csv.write_record(0, &flight.snapshot())?;
     }
@@ -69,7 +76,17 @@ pub fn run_headless<F: Flight, W: Write>(
             progress.message(&link_warning(&message));
         }
         progress.tick(frame);
+        if let Some(pacer) = pacer.as_mut() {
+            let sleep = pacer.finish_frame(Instant::now());
+            if !sleep.is_zero() {
+                std::thread::sleep(sleep);
+            }
+        }
     }
     progress.finish();
-    Ok(Report::new(fps, frames, &flight.snapshot()))
+    let mut report = Report::new(fps, frames, &flight.snapshot());
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
 }
