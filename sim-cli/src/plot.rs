@@ -300,6 +300,18 @@ fn unwrapped_headings(samples: &[PlotSample]) -> Vec<(f64, f64)> {
     out
 }
 
+/// [`padded_range`] at least `min_span` wide (centred), so that numerical
+/// noise around a constant (a heading dithering by 0.001°) is not magnified
+/// to fill the panel.
+fn range_at_least(values: impl Iterator<Item = f64>, min_span: f64) -> std::ops::Range<f64> {
+    let r = padded_range(values);
+    if r.end - r.start >= min_span {
+        return r;
+    }
+    let mid = (r.start + r.end) / 2.0;
+    (mid - min_span / 2.0)..(mid + min_span / 2.0)
+}
+
 /// `lo..hi` of the finite values, padded by 5 % (or ±1 around a constant).
 fn padded_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values
@@ -321,16 +333,17 @@ fn draw_error(e: impl std::fmt::Display) -> CliError {
 /// One time-series panel: `series` are (legend, colour, value of a sample).
 type Series<'a> = (&'a str, RGBColor, fn(&PlotSample) -> f64);
 
+/// A panel of `series` against time; the y axis spans at least `min_span`.
 fn time_panel(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     trace: &Trace,
-    caption: &str,
-    y_desc: &str,
+    (caption, y_desc, min_span): (&str, &str, f64),
     series: &[Series<'_>],
 ) -> Result<(), CliError> {
     let samples = &trace.samples;
     let x = padded_range(samples.iter().map(|s| s.time_s));
-    let mut y = padded_range(series.iter().flat_map(|(_, _, f)| samples.iter().map(*f)));
+    let values = series.iter().flat_map(|(_, _, f)| samples.iter().map(*f));
+    let mut y = range_at_least(values, min_span);
     if series.len() > 1 {
         // Headroom for the legend in the upper right corner.
         y.end += (y.end - y.start) * 0.3;
@@ -383,7 +396,7 @@ fn heading_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Re
         .map(unwrapped_headings)
         .collect();
     let x = padded_range(samples.iter().map(|s| s.time_s));
-    let y = padded_range(runs.iter().flatten().map(|&(_, h)| h));
+    let y = range_at_least(runs.iter().flatten().map(|&(_, h)| h), 10.0);
     let mut chart = ChartBuilder::on(area)
         .caption("Heading", ("sans-serif", 18))
         .margin(8)
@@ -521,12 +534,16 @@ pub fn render_svg(trace: &Trace) -> Result<String, CliError> {
     {
         let root = SVGBackend::with_string(&mut svg, SVG_SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(draw_error)?;
-        let (first, last) = (
-            trace.samples[0].time_s,
-            trace.samples[trace.samples.len() - 1].time_s,
-        );
+        let times = trace.samples.iter().map(|s| s.time_s);
+        let first = times.clone().fold(f64::INFINITY, f64::min);
+        let last = times.fold(f64::NEG_INFINITY, f64::max);
+        let resets = match segments(&trace.samples).len().saturating_sub(1) {
+            0 => String::new(),
+            1 => ", 1 reset".to_owned(),
+            n => format!(", {n} resets"),
+        };
         let title = format!(
-            "{}: {} samples, t = {first:.2} to {last:.2} s",
+            "{}: {} samples, t = {first:.2} to {last:.2} s{resets}",
             trace.title,
             trace.samples.len()
         );
@@ -537,22 +554,19 @@ pub fn render_svg(trace: &Trace) -> Result<String, CliError> {
         time_panel(
             &panels[0],
             trace,
-            "Height above the ground plane",
-            "height (ft)",
+            ("Height above the ground plane", "height (ft)", 10.0),
             &[("height (ft)", RED, |s| s.height_m / METRES_PER_FOOT)],
         )?;
         time_panel(
             &panels[1],
             trace,
-            "Airspeed",
-            "airspeed (kt)",
+            ("Airspeed", "airspeed (kt)", 2.0),
             &[("airspeed (kt)", BLUE, |s| s.airspeed_mps * KNOTS_PER_MPS)],
         )?;
         time_panel(
             &panels[2],
             trace,
-            "Attitude",
-            "angle (deg)",
+            ("Attitude", "angle (deg)", 10.0),
             &[
                 ("roll (deg, right wing down +)", RED, |s| s.roll_deg),
                 ("pitch (deg, nose up +)", BLUE, |s| s.pitch_deg),
@@ -738,6 +752,16 @@ mod tests {
         };
         let h: Vec<f64> = unwrapped_headings(&wrap).iter().map(|p| p.1).collect();
         assert_eq!(h, [350.0, 359.0, 361.0, 359.0]);
+    }
+
+    #[test]
+    fn ranges_pad_and_keep_a_minimum_span() {
+        assert_eq!(padded_range([0.0, 10.0].into_iter()), -0.5..10.5);
+        assert_eq!(padded_range([3.0].into_iter()), 2.0..4.0);
+        assert_eq!(padded_range([f64::NAN].into_iter()), 0.0..1.0);
+        // A heading dithering by a thousandth of a degree is shown on 10°.
+        assert_eq!(range_at_least([-0.001, 0.001].into_iter(), 10.0), -5.0..5.0);
+        assert_eq!(range_at_least([0.0, 100.0].into_iter(), 10.0), -5.0..105.0);
     }
 
     #[test]
