@@ -183,9 +183,12 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 ///
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
     let flight = ModelFlight::new(&config.run, config.start)?;
-    fly(flight, &config.script, config.run)
+    match config.run.plot.take() {
+        None => fly(flight, &config.script, config.run),
+        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
+    }
 }
 
 /// Never used in practice (the components exist from spawn on); reported as
@@ -223,6 +226,7 @@ mod tests {
             csv: None,
             fg,
             origin: GeodeticOrigin::default(),
+            plot: None,
         }
     }
 
