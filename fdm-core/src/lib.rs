@@ -25,3 +25,8 @@ pub mod palmer;
 pub mod script;
 pub mod start;
 pub mod units;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

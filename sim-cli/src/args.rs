@@ -52,6 +52,20 @@ pub enum Command {
     FgfsCommand(FgfsArgs),
     /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
     Fleet(FleetArgs),
+    /// Draw a CSV written earlier with --csv as an SVG plot (as --plot does for a run)
+    Plot(PlotArgs),
+}
+
+/// `sim-cli plot`.
+#[derive(Debug, Clone, Args)]
+pub struct PlotArgs {
+    /// A CSV file written by `sim-cli palmer|bourg --csv`
+    #[arg(value_name = "FILE.csv")]
+    pub csv: PathBuf,
+
+    /// The SVG file to write
+    #[arg(short, long, value_name = "FILE.svg")]
+    pub output: PathBuf,
 }
 
 /// Which model.
@@ -108,6 +122,11 @@ pub struct CommonArgs {
     /// Write the state as CSV to FILE: a header, the initial state as frame 0, then one row per frame
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+
+    /// Draw the flight as an SVG plot in FILE when the run ends: height, airspeed, attitude,
+    /// heading and status against time, and the ground track
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 
     /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame
     /// [default: 127.0.0.1:5500 when interactive; headless sends only when given]

@@ -16,6 +16,7 @@ use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
+use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 
 /// How the run is driven.
@@ -49,6 +50,8 @@ pub struct RunConfig {
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
     pub origin: GeodeticOrigin,
+    /// The `--plot` output, already created (like the CSV).
+    pub plot: Option<PlotFile>,
 }
 
 /// How an aircraft of model `M` starts (and restarts on reset).
@@ -272,6 +275,20 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
         }
         None => None,
     };
+    let plot = match &args.plot {
+        Some(path) => {
+            for (other, name) in [(&args.script, "--script"), (&args.csv, "--csv")] {
+                if other.as_deref().is_some_and(|o| same_file(path, o)) {
+                    return Err(CliError::usage(format!(
+                        "--plot {} would overwrite the {name} file",
+                        path.display()
+                    )));
+                }
+            }
+            Some(PlotFile::create(path)?)
+        }
+        None => None,
+    };
     Ok((
         RunConfig {
             fps: args.fps,
@@ -279,6 +296,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
             csv,
             fg,
             origin: args.origin,
+            plot,
         },
         script,
     ))

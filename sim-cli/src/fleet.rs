@@ -254,23 +254,7 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
     let measured_bytes_per_aircraft = before
         .zip(after)
         .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
-    let resources = *sim.resources();
-    let world = sim.world_mut();
-
-    let start = Instant::now();
-    match execution {
-        Execution::Sequential => {
-            for _ in 0..args.frames {
-                equations_of_motion_sequential::<M>(world, &resources);
-            }
-        }
-        Execution::Parallel => pool.install(|| {
-            for _ in 0..args.frames {
-                equations_of_motion_parallel::<M>(world, &resources);
-            }
-        }),
-    }
-    let seconds = start.elapsed().as_secs_f64();
+    let seconds = fly_frames::<M>(&mut sim, args.frames, execution, &pool);
     let diverged = u64::try_from(sim.diverged_count()).unwrap_or(u64::MAX);
     Ok(report::<M>(
         args,
@@ -392,6 +376,34 @@ fn report<M: Model>(
     }
 }
 
+/// Runs `frames` frames of EquationsOfMotion on the fleet in `sim` (on
+/// `pool` when parallel): what [`measure`] times. Returns the seconds the
+/// frames took.
+fn fly_frames<M: Model>(
+    sim: &mut Simulation,
+    frames: u64,
+    execution: Execution,
+    pool: &rayon::ThreadPool,
+) -> f64 {
+    let resources = *sim.resources();
+    let world = sim.world_mut();
+
+    let start = Instant::now();
+    match execution {
+        Execution::Sequential => {
+            for _ in 0..frames {
+                equations_of_motion_sequential::<M>(world, &resources);
+            }
+        }
+        Execution::Parallel => pool.install(|| {
+            for _ in 0..frames {
+                equations_of_motion_parallel::<M>(world, &resources);
+            }
+        }),
+    }
+    start.elapsed().as_secs_f64()
+}
+
 /// `sim-cli fleet`: [`measure`], then the summary or (`--json`) the report
 /// as one JSON object on stdout.
 ///
@@ -447,6 +459,41 @@ mod tests {
                 (report.aircraft_steps_per_s / 30.0).floor() as u64
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
+        }
+    }
+
+    /// Each aircraft of the fleet `measure` flies ends where the same member
+    /// flown alone, by the core step, ends: bit for bit, sequential and
+    /// parallel, both models.
+    #[test]
+    fn each_fleet_member_ends_as_if_flown_alone() {
+        fn check<M: Model>(execution: Execution, threads: usize) {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let (n, frames) = (23, 40);
+            let mut sim = spawn_fleet::<M>(n, execution);
+            fly_frames::<M>(&mut sim, frames, execution, &pool);
+            let fleet: Vec<M::State> = sim.world().query::<&M::State>().iter().copied().collect();
+            assert_eq!(fleet.len(), n);
+            let aircraft = M::default_aircraft();
+            let dt = M::time_step(f64::from(FLEET_FPS));
+            for (i, got) in fleet.iter().enumerate() {
+                let (controls, mut alone) = M::fleet_member(i);
+                let start = alone;
+                for _ in 0..frames {
+                    alone = M::step(&aircraft, &controls, &alone, dt);
+                }
+                // Debug prints every float in shortest round-trip form, so
+                // equal text is equal bits here.
+                assert_eq!(format!("{got:?}"), format!("{alone:?}"), "{} #{i}", M::NAME);
+                assert_ne!(format!("{got:?}"), format!("{start:?}"), "{} #{i}", M::NAME);
+            }
+        }
+        for (execution, threads) in [(Execution::Sequential, 1), (Execution::Parallel, 2)] {
+            check::<fdm_core::palmer::Palmer>(execution, threads);
+            check::<fdm_core::bourg::Bourg>(execution, threads);
         }
     }
 

@@ -197,9 +197,12 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 ///
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
     let flight = ModelFlight::new(&config.run, config.start)?;
-    fly(flight, &config.script, config.run)
+    match config.run.plot.take() {
+        None => fly(flight, &config.script, config.run),
+        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
+    }
 }
 
 /// Never used in practice (the components exist from spawn on); reported as
@@ -237,6 +240,7 @@ mod tests {
             csv: None,
             fg,
             origin: GeodeticOrigin::default(),
+            plot: None,
         }
     }
 
@@ -322,6 +326,40 @@ mod tests {
         let p = flight.snapshot().details;
         assert_eq!((p.controls.throttle, p.controls.alpha_deg), (1.0, 4.0));
         assert_eq!(flight.snapshot().common.time_s, 0.0);
+    }
+
+    /// The scripted stall of `fdm-core/tests/bourg_stall.rs` (thrust cut on
+    /// frames 1..5, elevators up from frame 10; the wings pass 24° of attack
+    /// when frame 39 starts) shows `STALL` on the HUD's status line from
+    /// frame 39 on, and `flying` before.
+    #[test]
+    fn bourg_stall_shows_on_the_hud() {
+        use crate::hud::{render_hud, HudData, LoopStatus};
+        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let mut status_line = Vec::new();
+        for frame in 1..=40_u64 {
+            let mut actions = Vec::new();
+            if frame <= 5 {
+                actions.push(BourgAction::ThrustDown);
+            }
+            if frame >= 10 {
+                actions.push(BourgAction::PitchUp);
+            }
+            flight.step(&actions).unwrap();
+            let run = LoopStatus {
+                frame,
+                fps: 30,
+                overruns: 0,
+                paused: false,
+            };
+            let hud = HudData::from_snapshot(Bourg::TITLE, &flight.snapshot(), None, None, run, "");
+            status_line.push(render_hud(&hud, 80)[3].clone());
+        }
+        for (i, line) in status_line.iter().enumerate() {
+            let frame = i + 1;
+            let want = if frame >= 39 { "STALL" } else { "flying" };
+            assert!(line.ends_with(want), "frame {frame}: {line:?}");
+        }
     }
 
     #[test]

@@ -19,6 +19,7 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
+//! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
 
 pub mod args;
 pub mod config;
@@ -35,6 +36,7 @@ pub mod models;
 pub mod origin;
 pub mod output;
 pub mod pacer;
+pub mod plot;
 pub mod progress;
 pub mod report;
 pub mod run;
@@ -59,6 +61,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
+        Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command_from(
                 args.model,
@@ -82,7 +85,8 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)".to_owned();
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet or plot (see --help)"
+            .to_owned();
     }
     let text = error.render().to_string();
     let mut parts = Vec::new();
@@ -123,7 +127,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet or plot (see --help)"
         );
     }
 }

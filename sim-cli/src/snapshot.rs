@@ -4,6 +4,7 @@
 //! model's own fields are its [`Details`].
 
 use fdm_core::model::FlightStatus;
+use fdm_core::units::METRES_PER_FOOT;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvRecord;
@@ -93,6 +94,49 @@ impl<D> Snapshot<D> {
             "diverged" => 5.0,
             _ => 6.0,
         }
+    }
+}
+
+/// The flight status and stall flag of a CSV `status` number
+/// ([`Snapshot::status_number`]); `None` for any other number.
+#[must_use]
+pub fn status_from_number(x: f64) -> Option<(FlightStatus, bool)> {
+    use fdm_core::model::LandingState;
+    Some(match x {
+        0.0 => (FlightStatus::OnGround, false),
+        1.0 => (FlightStatus::Airborne, false),
+        2.0 => (FlightStatus::Landed(LandingState::Safe), false),
+        3.0 => (FlightStatus::Landed(LandingState::Rough), false),
+        4.0 => (FlightStatus::Landed(LandingState::Crash), false),
+        5.0 => (FlightStatus::Diverged, false),
+        6.0 => (FlightStatus::Airborne, true),
+        _ => return None,
+    })
+}
+
+impl<D: Details> Snapshot<D> {
+    /// Metres per unit of the native position ([`Details::POSITION_UNIT`]):
+    /// 1 for `"m"`, [`METRES_PER_FOOT`] for `"ft"`, NaN for an unknown unit
+    /// (shown as a gap rather than in the wrong unit).
+    #[must_use]
+    pub fn metres_per_unit() -> f64 {
+        match D::POSITION_UNIT {
+            "m" => 1.0,
+            "ft" => METRES_PER_FOOT,
+            _ => f64::NAN,
+        }
+    }
+
+    /// Height above the ground plane through the origin, m.
+    #[must_use]
+    pub fn height_m(&self) -> f64 {
+        self.common.position[2] * Self::metres_per_unit()
+    }
+
+    /// Vertical speed, m/s, positive up.
+    #[must_use]
+    pub fn climb_rate_mps(&self) -> f64 {
+        self.common.velocity[2] * Self::metres_per_unit()
     }
 }
 
