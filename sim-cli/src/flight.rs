@@ -353,7 +353,12 @@ mod tests {
                 paused: false,
             };
             let hud = HudData::from_snapshot(Bourg::TITLE, &flight.snapshot(), None, None, run, "");
-            status_line.push(render_hud(&hud, 80)[3].clone());
+            let lines = render_hud(&hud, 80);
+            let roll_line = lines
+                .iter()
+                .find(|l| l.starts_with("ROLL"))
+                .expect("a ROLL line");
+            status_line.push(roll_line.clone());
         }
         for (i, line) in status_line.iter().enumerate() {
             let frame = i + 1;
