@@ -51,6 +51,8 @@ pub enum Command {
     FgfsCommand(FgfsArgs),
     /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
     Fleet(FleetArgs),
+    /// Replay a flight recorded with --record, headless, to the same bits
+    Replay(ReplayArgs),
 }
 
 /// Which model.
@@ -112,6 +114,31 @@ pub struct CommonArgs {
     /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// Record the flight to FILE (binary flight log, docs/recording.md) for `sim-cli replay`
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+}
+
+/// `sim-cli replay`.
+#[derive(Debug, Clone, Args)]
+pub struct ReplayArgs {
+    /// The recording (written by `sim-cli palmer|bourg --record FILE`)
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    /// Print the final state as one JSON object on stdout (as a headless --json flight)
+    #[arg(long)]
+    pub json: bool,
+
+    /// Write the state as CSV to FILE, as the recorded flight would (a reset writes a new frame 0)
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+
+    /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame (as fast as
+    /// the replay runs: a burst, see docs/recording.md)
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    pub fg: Option<FgTarget>,
 }
 
 /// `sim-cli palmer`.

@@ -29,6 +29,7 @@ use crate::config::{ModelConfig, RunConfig, Start};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
+use crate::recording::{RecordWriter, Recorded};
 use crate::run::{fly, Flight};
 use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 
@@ -184,8 +185,20 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
 pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
-    let flight = ModelFlight::new(&config.run, config.start)?;
-    fly(flight, &config.script, config.run)
+    let ModelConfig {
+        run,
+        script,
+        start,
+        record,
+    } = config;
+    let Some(record) = record else {
+        let flight = ModelFlight::new(&run, start)?;
+        return fly(flight, &script, run);
+    };
+    let writer = RecordWriter::new(record.out, run.fps, &run.origin, &start)
+        .with_context(|| format!("recording to {}", record.path.display()))?;
+    let flight = ModelFlight::new(&run, start)?;
+    fly(Recorded::new(flight, writer), &script, run)
 }
 
 /// Never used in practice (the components exist from spawn on); reported as

@@ -19,6 +19,7 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
+//! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 
 pub mod args;
 pub mod config;
@@ -34,6 +35,8 @@ pub mod models;
 pub mod origin;
 pub mod pacer;
 pub mod progress;
+pub mod recording;
+pub mod replay;
 pub mod report;
 pub mod run;
 pub mod snapshot;
@@ -55,6 +58,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
+        Command::Replay(args) => replay::run(&args),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);
             let mut out = std::io::stdout().lock();
@@ -72,7 +76,8 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)".to_owned();
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet or replay (see --help)"
+            .to_owned();
     }
     let text = error.render().to_string();
     let mut parts = Vec::new();
@@ -113,7 +118,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet or replay (see --help)"
         );
     }
 }

@@ -40,10 +40,32 @@ impl ModelKind {
 }
 
 /// A model as `sim-cli` flies it.
-pub trait CliModel: Model<Action: KeyAction> {
+///
+/// State and controls are serde types so that `--record` can store them
+/// (docs/recording.md); the aircraft goes through [`Self::AircraftRecord`].
+pub trait CliModel:
+    Model<
+    Action: KeyAction,
+    State: Serialize + DeserializeOwned,
+    Controls: Serialize + DeserializeOwned,
+>
+{
     /// The model's own report fields (JSON next to the common ones, CSV
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
+
+    /// The aircraft's parameters as a recording stores them: everything
+    /// needed to rebuild an identical [`Model::Aircraft`].
+    type AircraftRecord: Serialize + DeserializeOwned + Debug;
+
+    /// The record of `aircraft`.
+    fn aircraft_record(aircraft: &Self::Aircraft) -> Self::AircraftRecord;
+
+    /// Rebuilds (and validates) the aircraft from its record.
+    ///
+    /// # Errors
+    /// A one-line message naming what is wrong with the parameters.
+    fn aircraft_from_record(record: Self::AircraftRecord) -> Result<Self::Aircraft, String>;
 
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;

@@ -62,6 +62,16 @@ pub trait Flight {
     fn take_link_failure(&mut self) -> Option<String> {
         None
     }
+
+    /// Called once when the run ends normally, before the report: completes
+    /// anything written alongside the flight (the `--record` file). The default
+    /// does nothing.
+    ///
+    /// # Errors
+    /// Writing fails; the run ends with exit status 1.
+    fn finish(&mut self) -> anyhow::Result<()> {
+        Ok(())
+    }
 }
 
 /// The stderr line for a link failure (see [`Flight::take_link_failure`]).
@@ -107,6 +117,7 @@ pub fn fly<F: Flight>(
                 csv.as_mut(),
                 &mut progress,
             )?;
+            flight.finish()?;
             if let Some(csv) = csv {
                 csv.finish()?;
             }
@@ -119,6 +130,7 @@ pub fn fly<F: Flight>(
         }
         Mode::Interactive => {
             let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut())?;
+            flight.finish()?;
             if let Some(csv) = csv {
                 csv.finish()?;
             }
