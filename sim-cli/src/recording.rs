@@ -750,3 +750,367 @@ pub fn read_bounded(reader: impl io::Read) -> io::Result<Vec<u8>> {
     }
     Ok(bytes)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::{Mode, RunConfig};
+    use crate::csv::CsvWriter;
+    use crate::flight::ModelFlight;
+    use crate::keys::{AppCommand, Input};
+    use crate::progress::StderrProgress;
+    use crate::replay::replay_flight;
+    use crate::report::Report;
+    use crate::run::{run_headless, Flow, Session};
+    use fdm_core::bourg::Bourg;
+    use fdm_core::model::Model;
+    use fdm_core::palmer::{Palmer, PalmerControls};
+    use fdm_core::script::Script;
+    use proptest::prelude::*;
+
+    const PALMER_SCRIPT: &str = "1-20 throttle-up\n1-5 alpha-up\n300-310 bank-right\n\
+                                 400-410 bank-left\n500-501 flaps-down\n";
+    const BOURG_SCRIPT: &str = "1-5 thrust-up\n6-246 pitch-up\n247-307 roll-right\n\
+                                400-420 yaw-left\n430-431 flaps-down\n";
+
+    fn origin() -> GeodeticOrigin {
+        "37.6,-122.4,4".parse().unwrap()
+    }
+
+    fn run_config(fps: u32) -> RunConfig {
+        RunConfig {
+            fps,
+            mode: Mode::Headless {
+                frames: 0,
+                json: true,
+            },
+            csv: None,
+            fg: None,
+            origin: origin(),
+        }
+    }
+
+    fn quiet(frames: u64) -> StderrProgress {
+        StderrProgress::with_enabled(frames, false)
+    }
+
+    /// What a flight produced: the JSON report, the CSV, and the recording.
+    struct Outcome {
+        json: String,
+        csv: Vec<u8>,
+        recording: Vec<u8>,
+    }
+
+    /// A headless flight of `frames` frames with `script`, recorded.
+    fn headless<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
+        let run = run_config(fps);
+        let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
+        let flight = ModelFlight::new(&run, start).unwrap();
+        let mut flight = Recorded::new(flight, writer);
+        let script = Script::parse(script).unwrap();
+        let mut csv = CsvWriter::new(Vec::new(), "csv");
+        let report = run_headless(
+            &mut flight,
+            &script,
+            fps,
+            frames,
+            Some(&mut csv),
+            &mut quiet(frames),
+        )
+        .unwrap();
+        flight.finish().unwrap();
+        Outcome {
+            json: report.to_json().unwrap(),
+            csv: csv.finish().unwrap(),
+            recording: flight.into_parts().1.into_inner(),
+        }
+    }
+
+    /// An interactive-style flight: `frames` frames of the interactive
+    /// [`Session`] with synthetic key presses (every action of the model,
+    /// pauses and resets, from a fixed pseudo-random sequence) on top of
+    /// `script`, recorded. The report is what a headless run of the same
+    /// frames would print.
+    fn interactive<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
+        let run = run_config(fps);
+        let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
+        let flight = ModelFlight::new(&run, start).unwrap();
+        let mut flight = Recorded::new(flight, writer);
+        let script = Script::parse(script).unwrap();
+        let mut csv = CsvWriter::new(Vec::new(), "csv");
+        csv.write_record(0, &flight.snapshot()).unwrap();
+        let mut session = Session::new();
+        let actions = <M::Action as ScriptAction>::ALL;
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut resets = 0;
+        for frame in 0..frames {
+            if frame == frames / 2 {
+                session
+                    .handle(Input::App(AppCommand::Reset), &mut flight, Some(&mut csv))
+                    .unwrap();
+                resets += 1;
+            }
+            // xorshift64: a fixed, model-independent key sequence.
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let keys = seed % 4;
+            for k in 0..keys {
+                let pick = (seed >> (8 + 8 * k)) % 200;
+                let input = match pick {
+                    0 => Input::App(AppCommand::Reset),
+                    1 | 2 => Input::App(AppCommand::Pause),
+                    n => Input::Action(actions[n as usize % actions.len()]),
+                };
+                resets += u32::from(input == Input::App(AppCommand::Reset));
+                let flow = session.handle(input, &mut flight, Some(&mut csv)).unwrap();
+                assert_eq!(flow, Flow::Continue);
+            }
+            session
+                .advance(&mut flight, &script, Some(&mut csv))
+                .unwrap();
+        }
+        assert!(resets > 0, "the key sequence should reset at least once");
+        flight.finish().unwrap();
+        let report = Report::new(fps, session.total_frames(), &flight.snapshot());
+        Outcome {
+            json: report.to_json().unwrap(),
+            csv: csv.finish().unwrap(),
+            recording: flight.into_parts().1.into_inner(),
+        }
+    }
+
+    /// Replays `bytes` as `sim-cli replay --json --csv` does.
+    fn replay<M: CliModel>(bytes: &[u8]) -> (String, Vec<u8>) {
+        let recording = Recording::<M>::parse(bytes).unwrap();
+        let run = RunConfig {
+            origin: recording.origin,
+            ..run_config(recording.fps)
+        };
+        let mut flight = ModelFlight::new(&run, recording.start.clone()).unwrap();
+        let mut csv = CsvWriter::new(Vec::new(), "csv");
+        let report = replay_flight(
+            &mut flight,
+            recording.events(),
+            recording.fps,
+            recording.frames,
+            Some(&mut csv),
+            &mut quiet(recording.frames),
+        )
+        .unwrap();
+        (report.to_json().unwrap(), csv.finish().unwrap())
+    }
+
+    fn palmer_start() -> Start<Palmer> {
+        Start {
+            controls: PalmerControls {
+                throttle: 0.5,
+                alpha_deg: 2.0,
+                ..PalmerControls::default()
+            },
+            ..Start::thesis()
+        }
+    }
+
+    /// Bit-identical: the JSON prints every f64 in its shortest round-trip
+    /// form (so equal text is equal bits) and the CSV likewise; tolerance 0.
+    #[test]
+    fn scripted_flights_replay_to_the_same_json_and_csv() {
+        let p = headless(palmer_start(), 30, PALMER_SCRIPT, 1800);
+        assert_eq!(replay::<Palmer>(&p.recording), (p.json, p.csv));
+        let b = headless(Start::<Bourg>::thesis(), 30, BOURG_SCRIPT, 900);
+        assert_eq!(replay::<Bourg>(&b.recording), (b.json, b.csv));
+    }
+
+    #[test]
+    fn interactive_flights_with_pauses_and_resets_replay_to_the_same_json_and_csv() {
+        let p = interactive(palmer_start(), 30, PALMER_SCRIPT, 2000);
+        let info = parse_recording(&p.recording).unwrap();
+        assert!(info.resets > 0 && info.frames > 0, "{info:?}");
+        assert_eq!(replay::<Palmer>(&p.recording), (p.json, p.csv));
+        let b = interactive(Start::<Bourg>::thesis(), 60, BOURG_SCRIPT, 2000);
+        assert!(parse_recording(&b.recording).unwrap().resets > 0);
+        assert_eq!(replay::<Bourg>(&b.recording), (b.json, b.csv));
+    }
+
+    #[test]
+    fn the_header_carries_fps_origin_and_start() {
+        let p = headless(palmer_start(), 25, "", 10);
+        let r = Recording::<Palmer>::parse(&p.recording).unwrap();
+        assert_eq!((r.fps, r.origin, r.frames, r.resets), (25, origin(), 10, 0));
+        assert_eq!(r.start.controls, palmer_start().controls);
+        assert_eq!(r.start.state, palmer_start().state);
+        assert_eq!(r.start.aircraft, palmer_start().aircraft);
+        let b = headless(Start::<Bourg>::thesis(), 30, "", 1);
+        let r = Recording::<Bourg>::parse(&b.recording).unwrap();
+        assert_eq!(r.start.aircraft, Bourg::default_aircraft());
+        assert_eq!(r.start.state, Bourg::initial_state());
+    }
+
+    /// Identical frames are stored once: an idle flight is one event, a
+    /// scripted one an event per change of the frame's actions.
+    #[test]
+    fn runs_of_identical_frames_are_one_event() {
+        let idle = headless(palmer_start(), 30, "", 100_000);
+        let info = parse_recording(&idle.recording).unwrap();
+        assert_eq!((info.events, info.frames), (1, 100_000));
+        let short = headless(palmer_start(), 30, "", 1);
+        // Only the run's count and the end marker's total grow, each from 1
+        // byte of varint to 5 (tag 251 + u32).
+        assert_eq!(idle.recording.len(), short.recording.len() + 8);
+        let scripted = headless(palmer_start(), 30, PALMER_SCRIPT, 1800);
+        // 1-5 (2 actions), 6-20, 21-299 idle, 300-310, idle, 400-410, idle, 500-501, idle.
+        assert_eq!(parse_recording(&scripted.recording).unwrap().events, 9);
+    }
+
+    /// An interactive-style Palmer recording with resets (made once).
+    fn sample() -> Vec<u8> {
+        static SAMPLE: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+        SAMPLE
+            .get_or_init(|| interactive(palmer_start(), 30, PALMER_SCRIPT, 300).recording)
+            .clone()
+    }
+
+    #[test]
+    fn every_truncation_is_refused() {
+        let bytes = sample();
+        for len in 0..bytes.len() {
+            let err = parse_recording(&bytes[..len]).unwrap_err();
+            assert!(matches!(err, RecordingError::Truncated(_)), "{len}: {err}");
+        }
+    }
+
+    /// FNV-1a detects any single-byte change before the end marker, and the
+    /// marker's own bytes are checked against the events: every one-byte
+    /// change anywhere is refused.
+    #[test]
+    fn every_single_byte_change_is_refused() {
+        let bytes = sample();
+        for i in 0..bytes.len() {
+            for mask in [0x01, 0x80, 0xff] {
+                let mut bad = bytes.clone();
+                bad[i] ^= mask;
+                assert!(parse_recording(&bad).is_err(), "byte {i} ^ {mask:#x}");
+            }
+        }
+    }
+
+    #[test]
+    fn wrong_version_model_magic_and_trailing_bytes_are_named() {
+        let bytes = sample();
+        let mut v2 = bytes.clone();
+        v2[8] = 2;
+        assert_eq!(
+            parse_recording(&v2).unwrap_err().to_string(),
+            "recording format version 2; this sim-cli reads version 1"
+        );
+        assert_eq!(
+            Recording::<Bourg>::parse(&bytes).unwrap_err(),
+            RecordingError::WrongModel {
+                expected: "bourg",
+                found: "palmer".to_owned()
+            }
+        );
+        // A model name this sim-cli does not know (same length as "palmer").
+        let mut glider = bytes.clone();
+        let at = bytes.windows(6).position(|w| w == b"palmer").unwrap();
+        glider[at..at + 6].copy_from_slice(b"glider");
+        assert_eq!(
+            parse_recording(&glider).unwrap_err(),
+            RecordingError::UnknownModel("glider".to_owned())
+        );
+        let mut magic = bytes.clone();
+        magic[0] = b'X';
+        assert_eq!(parse_recording(&magic), Err(RecordingError::NotARecording));
+        let mut trailing = bytes.clone();
+        trailing.push(0);
+        assert!(parse_recording(&trailing)
+            .unwrap_err()
+            .to_string()
+            .contains("1 bytes after the end marker"));
+        assert!(parse_recording(&bytes).is_ok());
+    }
+
+    #[test]
+    fn lengths_beyond_the_limits_are_refused_without_allocating() {
+        // A header whose model name claims 2^60 bytes.
+        let mut huge = MAGIC.to_vec();
+        huge.extend(FORMAT_VERSION.to_le_bytes());
+        huge.push(253); // varint tag: u64 follows
+        huge.extend((1_u64 << 60).to_le_bytes());
+        assert!(matches!(
+            parse_recording(&huge),
+            Err(RecordingError::Corrupt(_) | RecordingError::Truncated(_))
+        ));
+        let too_big = vec![0_u8; usize::try_from(MAX_RECORDING_BYTES).unwrap() + 1];
+        assert!(matches!(
+            parse_recording(&too_big),
+            Err(RecordingError::TooLarge { .. })
+        ));
+        let err = read_bounded(std::io::repeat(0)).unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::InvalidData);
+    }
+
+    #[test]
+    fn an_unfinished_recording_is_truncated() {
+        let start = palmer_start();
+        let mut writer =
+            RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin(), &start).unwrap();
+        writer.frame(&[]).unwrap();
+        writer.reset().unwrap();
+        let bytes = writer.into_inner();
+        assert_eq!(
+            parse_recording(&bytes),
+            Err(RecordingError::Truncated("before its end marker"))
+        );
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// Mangled recordings (cut, bytes overwritten, inserted or removed)
+        /// never panic the parser, and a mangled file that still parses is
+        /// the original (nothing else gets past the checksum).
+        #[test]
+        fn mangled_recordings_never_panic(
+            cut in any::<prop::sample::Index>(),
+            edits in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>(), 0..3_u8), 0..6),
+        ) {
+            let original = sample();
+            let mut bytes = original.clone();
+            for (at, byte, kind) in edits {
+                if bytes.is_empty() {
+                    break;
+                }
+                let i = at.index(bytes.len());
+                match kind {
+                    0 => bytes[i] = byte,
+                    1 => bytes.insert(i, byte),
+                    _ => { bytes.remove(i); }
+                }
+            }
+            let keep = cut.index(bytes.len() + 1);
+            if keep < bytes.len() && keep % 2 == 0 {
+                bytes.truncate(keep);
+            }
+            if let Ok(info) = parse_recording(&bytes) {
+                prop_assert_eq!(&bytes, &original);
+                prop_assert_eq!(info.model, "palmer");
+            }
+        }
+
+        /// Arbitrary bytes after a valid prefix never panic either.
+        #[test]
+        fn arbitrary_bodies_never_panic(body in prop::collection::vec(any::<u8>(), 0..512)) {
+            let mut bytes = MAGIC.to_vec();
+            bytes.extend(FORMAT_VERSION.to_le_bytes());
+            bytes.extend(&body);
+            let _ = parse_recording(&bytes);
+            let mut bytes = sample();
+            let header_end = bytes.len().saturating_sub(20);
+            bytes.truncate(header_end);
+            bytes.extend(&body);
+            let _ = parse_recording(&bytes);
+        }
+    }
+}

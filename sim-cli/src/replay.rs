@@ -24,7 +24,9 @@ use crate::error::CliError;
 use crate::flight::ModelFlight;
 use crate::models::{CliModel, WithModel};
 use crate::progress::StderrProgress;
-use crate::recording::{read_bounded, recorded_model, Recording, RecordingError, Replayed};
+use crate::recording::{
+    read_bounded, recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
+};
 use crate::report::Report;
 use crate::run::{link_warning, Flight};
 
@@ -151,8 +153,7 @@ impl WithModel for ReplayJob<'_> {
     }
 }
 
-/// `sim-cli replay`: reads (at most
-/// [`MAX_RECORDING_BYTES`](crate::recording::MAX_RECORDING_BYTES)), validates
+/// `sim-cli replay`: reads (at most [`MAX_RECORDING_BYTES`]), validates
 /// and replays a recording.
 ///
 /// # Errors
@@ -162,7 +163,17 @@ impl WithModel for ReplayJob<'_> {
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
     let bytes = File::open(path)
-        .and_then(read_bounded)
+        .and_then(|file| {
+            // A regular file's size is known: refuse a big one without reading it.
+            let size = file.metadata()?.len();
+            if size > MAX_RECORDING_BYTES {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    RecordingError::TooLarge { size },
+                ));
+            }
+            read_bounded(file)
+        })
         .map_err(|e| CliError::usage(format!("cannot read recording {}: {e}", path.display())))?;
     let kind =
         recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
