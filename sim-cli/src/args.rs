@@ -111,8 +111,9 @@ pub struct CommonArgs {
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
 
-    /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
-    #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
+    /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m),
+    /// or a runway: wpafb (the default), phli or bikf (scenery in Debian's FlightGear data), ksfo
+    #[arg(long, value_name = "LAT,LON,ALT_M|NAME", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
 
     /// Record the flight to FILE (binary flight log, docs/recording.md) for `sim-cli replay`
@@ -188,9 +189,40 @@ pub struct FgfsArgs {
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
 
-    /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
-    #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
+    /// Geodetic origin as given to sim-cli --origin: LAT,LON,ALT_M or a runway name (wpafb, phli, bikf, ksfo)
+    #[arg(long, value_name = "LAT,LON,ALT_M|NAME", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// FlightGear's view at start (V in FlightGear cycles through them): chase and helicopter show the aircraft from outside
+    #[arg(long, value_enum, default_value_t = FgView::Chase)]
+    pub view: FgView,
+
+    /// The fgfs program to print (Debian installs it as /usr/games/fgfs, which is not on every PATH)
+    #[arg(long, value_name = "PATH", default_value = "fgfs")]
+    pub fgfs: String,
+}
+
+/// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FgView {
+    /// From the pilot's seat (view 0).
+    Cockpit,
+    /// From behind and above, turning with the aircraft's heading only (view 1).
+    Helicopter,
+    /// From behind, following the aircraft (view 2).
+    Chase,
+}
+
+impl FgView {
+    /// The view's index in FlightGear 2020.3's `defaults.xml` view list.
+    #[must_use]
+    pub fn number(self) -> u8 {
+        match self {
+            Self::Cockpit => 0,
+            Self::Helicopter => 1,
+            Self::Chase => 2,
+        }
+    }
 }
 
 /// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about

@@ -6,7 +6,13 @@
 //! interactive viewer (`--disable-real-weather-fetch --disable-ai-models
 //! --disable-splash-screen`). `--disable-terrasync` is left out on purpose: scenery
 //! for the default origin (Ohio) is not in the Debian data package, so TerraSync is
-//! what loads it.
+//! what loads it (the named origins `phli` and `bikf` are, see [`crate::origin`]).
+//!
+//! Then what a user needs to see the aircraft: the start view
+//! (`--prop:int:/sim/current-view/view-number=N`, chase by default, so the aircraft is
+//! seen from outside) and the model's [`CliModel::FG_OPTIONS`] (the UFO draws itself
+//! only with `/sim/model/always-show-in-MP` set; the c172p gets fuel so that its
+//! scripts do not pop up "Out of fuel!").
 //!
 //! The start preset (`--lat/--lon/--altitude/--heading`) is where the ECS places the
 //! model before its first frame, computed by the same functions MakePacket uses
@@ -19,7 +25,7 @@
 use fdm_core::geodesy::{Attitude, Geodetic, GeodeticOrigin};
 use fgnet::bridge::{display, Display};
 
-use crate::args::ModelKind;
+use crate::args::{FgView, FgfsArgs, ModelKind};
 use crate::fgaddr::FgTarget;
 use crate::models::{CliModel, WithModel};
 
@@ -46,11 +52,11 @@ pub fn start_pose<M: CliModel>(origin: &GeodeticOrigin) -> (Geodetic, Attitude) 
 struct Preset<'a>(&'a GeodeticOrigin);
 
 impl WithModel for Preset<'_> {
-    type Output = (&'static str, Geodetic, Attitude);
+    type Output = (&'static str, &'static [&'static str], Geodetic, Attitude);
 
     fn call<M: CliModel>(self) -> Self::Output {
         let (geodetic, attitude) = start_pose::<M>(self.0);
-        (M::FG_AIRCRAFT, geodetic, attitude)
+        (M::FG_AIRCRAFT, M::FG_OPTIONS, geodetic, attitude)
     }
 }
 
@@ -72,12 +78,48 @@ fn heading(x: f64) -> f64 {
 /// The fgfs command line (one line, no trailing newline) that receives packets from
 /// `sim-cli <model> --fps <fps> [--fg <fg>] --origin <origin>`. Without `--fg`,
 /// FlightGear listens on all interfaces (empty host, as in the thesis) port 5500.
+/// The program is `fgfs` and the start view the chase view; see [`fgfs_command_line`].
 #[must_use]
 pub fn fgfs_command(
     model: ModelKind,
     fps: u32,
     fg: Option<&FgTarget>,
     origin: &GeodeticOrigin,
+) -> String {
+    command("fgfs", model, fps, fg, origin, FgView::Chase)
+}
+
+/// The line `sim-cli fgfs-command` prints for its arguments.
+#[must_use]
+pub fn fgfs_command_line(args: &FgfsArgs) -> String {
+    command(
+        &args.fgfs,
+        args.model,
+        args.fps,
+        args.fg.as_ref(),
+        &args.origin,
+        args.view,
+    )
+}
+
+/// `program` as one shell word: itself when it has only safe characters, else
+/// single-quoted.
+fn shell_word(program: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "/._-+:=,".contains(c);
+    if !program.is_empty() && program.chars().all(safe) {
+        program.to_owned()
+    } else {
+        format!("'{}'", program.replace('\'', r"'\''"))
+    }
+}
+
+fn command(
+    program: &str,
+    model: ModelKind,
+    fps: u32,
+    fg: Option<&FgTarget>,
+    origin: &GeodeticOrigin,
+    view: FgView,
 ) -> String {
     let (host, port) = match fg {
         // 0.0.0.0 means "any" to us; fgfs spells that as an empty host.
@@ -86,17 +128,25 @@ pub fn fgfs_command(
         None => ("", 5500),
     };
     // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
-    let (aircraft, start, attitude) = model.with(Preset(origin));
-    format!(
-        "fgfs --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
+    let (aircraft, options, start, attitude) = model.with(Preset(origin));
+    let mut line = format!(
+        "{} --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
          --lat={} --lon={} --altitude={:.1} --heading={} --timeofday=noon \
          --disable-panel --enable-hud --disable-sound --disable-random-objects \
-         --disable-real-weather-fetch --disable-ai-models --disable-splash-screen",
+         --disable-real-weather-fetch --disable-ai-models --disable-splash-screen \
+         --prop:int:/sim/current-view/view-number={}",
+        shell_word(program),
         degrees(start.lat_deg),
         degrees(start.lon_deg),
         start.alt_m * FT_PER_M,
         heading(attitude.heading_deg),
-    )
+        view.number(),
+    );
+    for option in options {
+        line.push(' ');
+        line.push_str(option);
+    }
+    line
 }
 
 #[cfg(test)]
@@ -115,7 +165,63 @@ mod tests {
             "fgfs --fdm=null --native-fdm=socket,in,30,,5500,udp --aircraft=c172p \
              --lat=39.8264 --lon=-84.0483 --altitude=823.5 --heading=0 --timeofday=noon \
              --disable-panel --enable-hud --disable-sound --disable-random-objects \
-             --disable-real-weather-fetch --disable-ai-models --disable-splash-screen"
+             --disable-real-weather-fetch --disable-ai-models --disable-splash-screen \
+             --prop:int:/sim/current-view/view-number=2 \
+             '--prop:double:/consumables/fuel/tank[0]/level-gal_us=20' \
+             '--prop:double:/consumables/fuel/tank[1]/level-gal_us=20'"
+        );
+    }
+
+    #[test]
+    fn the_ufo_shows_itself_and_views_and_program_are_options() {
+        let cmd = fgfs_command(ModelKind::Bourg, 30, None, &GeodeticOrigin::default());
+        assert!(
+            cmd.ends_with(
+                " --prop:int:/sim/current-view/view-number=2 \
+                 --prop:bool:/sim/model/always-show-in-MP=true"
+            ),
+            "{cmd}"
+        );
+        assert!(!cmd.contains("fuel"), "{cmd}");
+        let args = |extra: &[&str]| {
+            let argv = ["sim-cli", "fgfs-command", "bourg"]
+                .iter()
+                .chain(extra)
+                .copied();
+            match <crate::args::Cli as clap::Parser>::try_parse_from(argv)
+                .unwrap()
+                .command
+            {
+                crate::args::Command::FgfsCommand(a) => a,
+                _ => unreachable!(),
+            }
+        };
+        assert_eq!(fgfs_command_line(&args(&[])), cmd);
+        let line = fgfs_command_line(&args(&["--view", "cockpit", "--fgfs", "/usr/games/fgfs"]));
+        assert!(line.starts_with("/usr/games/fgfs --fdm=null "), "{line}");
+        assert!(
+            line.contains(" --prop:int:/sim/current-view/view-number=0 "),
+            "{line}"
+        );
+        let line = fgfs_command_line(&args(&[
+            "--view",
+            "helicopter",
+            "--fgfs",
+            "/opt/my fg/fgfs",
+        ]));
+        assert!(line.starts_with("'/opt/my fg/fgfs' --fdm"), "{line}");
+        assert!(line.contains("view-number=1 "), "{line}");
+        assert_eq!(shell_word("it's"), r"'it'\''s'");
+    }
+
+    #[test]
+    fn named_origins_start_on_their_runway() {
+        let phli = crate::origin::parse_origin("phli").unwrap();
+        let cmd = fgfs_command(ModelKind::Palmer, 30, None, &phli);
+        // 26.94 m = 88.4 ft.
+        assert!(
+            cmd.contains("--lat=21.963792 --lon=-159.335883 --altitude=88.4 "),
+            "{cmd}"
         );
     }
 

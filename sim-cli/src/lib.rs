@@ -60,7 +60,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::FgfsCommand(args) => {
-            let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);
+            let line = fgfs::fgfs_command_line(&args);
             let mut out = std::io::stdout().lock();
             writeln!(out, "{line}")
                 .and_then(|()| out.flush())

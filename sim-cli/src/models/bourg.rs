@@ -72,6 +72,11 @@ impl CliModel for Bourg {
 
     const FG_AIRCRAFT: &'static str = "ufo";
 
+    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
+    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
+    /// is false, so set the second.
+    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
+
     type AircraftRecord = BourgAircraftRecord;
 
     fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {

@@ -70,6 +70,10 @@ pub trait CliModel:
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;
 
+    /// Further fgfs options that aircraft needs with `--fdm=null` (printed by
+    /// `sim-cli fgfs-command`, already shell-quoted where needed).
+    const FG_OPTIONS: &'static [&'static str] = &[];
+
     /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
     /// up) in the model's own unit ([`Details::POSITION_UNIT`]), widened to
     /// `f64` exactly.

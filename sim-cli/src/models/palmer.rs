@@ -94,6 +94,14 @@ impl CliModel for Palmer {
 
     const FG_AIRCRAFT: &'static str = "c172p";
 
+    /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
+    /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
+    /// they do with `--fdm=null`: give them fuel (nothing consumes it).
+    const FG_OPTIONS: &'static [&'static str] = &[
+        "'--prop:double:/consumables/fuel/tank[0]/level-gal_us=20'",
+        "'--prop:double:/consumables/fuel/tank[1]/level-gal_us=20'",
+    ];
+
     type AircraftRecord = PalmerAircraft;
 
     fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
