@@ -31,7 +31,7 @@ use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_ecs::{Execution, Resources, Simulation, World};
+use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation, World};
 
 const FPS: f64 = 30.0;
 const SIZES: [usize; 2] = [1_000, 100_000];
@@ -78,7 +78,7 @@ fn bench_model<M: Model>(c: &mut Criterion) {
             ),
         ] {
             let mut sim = Simulation::new(res.with_execution(execution));
-            sim.spawn_fleet::<M>(&aircraft, n);
+            sim.spawn_fleet::<M>(&aircraft, 0..n, FleetOutputs::Packets);
             let initial = world_states::<M>(sim.world());
             let resources = *sim.resources();
             group.bench_function(BenchmarkId::from_parameter(names[0]), |b| {

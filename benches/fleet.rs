@@ -43,7 +43,7 @@ use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_ecs::{Execution, Resources, Simulation};
+use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 
 /// Fleet sizes.
 const SIZES: [usize; 5] = [1, 100, 10_000, 100_000, 1_000_000];
@@ -82,7 +82,11 @@ fn bench_model<M: Model>(c: &mut Criterion) {
                         .expect("30 frames per second is valid")
                         .with_execution(execution);
                     let mut sim = Simulation::new(resources);
-                    sim.spawn_fleet::<M>(&Arc::new(M::default_aircraft()), n);
+                    sim.spawn_fleet::<M>(
+                        &Arc::new(M::default_aircraft()),
+                        0..n,
+                        FleetOutputs::Packets,
+                    );
                     let initial = world_states::<M>(sim.world());
                     (sim, initial)
                 });

@@ -10,7 +10,7 @@ use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_ecs::{Execution, Resources, Simulation};
+use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use fdm_tests::ecs::StateBits;
 
 const N: usize = 1_000;
@@ -20,7 +20,7 @@ const FPS: f64 = 30.0;
 fn fleet_world<M: Model>(execution: Execution) -> Simulation {
     let resources = Resources::new(FPS).unwrap().with_execution(execution);
     let mut sim = Simulation::new(resources);
-    sim.spawn_fleet::<M>(&Arc::new(M::default_aircraft()), N);
+    sim.spawn_fleet::<M>(&Arc::new(M::default_aircraft()), 0..N, FleetOutputs::None);
     sim
 }
 

@@ -11,7 +11,7 @@
 //! | controls | `M::Controls` | FlightControl |
 //! | state | `M::State` | EquationsOfMotion |
 //! | this frame's input | [`FrameInput<M::Action>`](FrameInput) | the caller (keyboard), emptied by FlightControl |
-//! | scripted input (optional) | [`ScriptInput<M::Action>`](ScriptInput) | spawn / the caller |
+//! | scripted input (optional) | [`ScriptInput<M::Action>`](ScriptInput), [`ScriptReplay`] | spawn / the caller; FlightControl moves the cursor |
 //! | flight status | [`FlightStatus`] | FlightStatus |
 //! | geodetic position | [`Geodetic`] | MakePacket |
 //! | attitude as sent to FlightGear | [`Attitude`] | MakePacket |
@@ -47,7 +47,7 @@ use std::ops::Deref;
 use std::sync::Arc;
 
 use fdm_core::model::Model;
-use fdm_core::script::Script;
+use fdm_core::script::{Script, ScriptCursor};
 use fgnet::{SendOutcome, Sender, SenderError, SenderStats};
 
 pub use fdm_core::geodesy::{Attitude, Geodetic};
@@ -148,11 +148,20 @@ impl<A> Default for FrameInput<A> {
 
 /// A control script driving an entity: on frame `n` (1-based,
 /// [`Resources::frame`](crate::Resources::frame)) FlightControl applies
-/// [`Script::actions_at`]`(n)` before the frame's [`FrameInput`].
+/// [`Script::actions_at`]`(n)` before the frame's [`FrameInput`] (through the
+/// entity's [`ScriptReplay`] cursor when it has one, which
+/// [`Simulation::set_script`](crate::Simulation::set_script) adds).
 ///
 /// The script is shared (`Arc`), so a fleet can fly one script without copies.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ScriptInput<A>(pub Arc<Script<A>>);
+
+/// The entity's position in its [`ScriptInput`]: a [`ScriptCursor`] sweeping
+/// the rules, so a frame costs only the rules that start or end on it, not a
+/// scan of every rule. Kept apart from [`ScriptInput`] because the script is
+/// shared (`Arc`) and the cursor is per entity.
+#[derive(Debug, Clone, Default)]
+pub struct ScriptReplay(pub ScriptCursor);
 
 /// Where an entity's FlightGear datagrams go: a connected [`fgnet::Sender`],
 /// with the error of its first failed send kept for the caller to report.

@@ -85,7 +85,7 @@ pub use hecs;
 pub use hecs::{Entity, World};
 pub use resources::{Execution, Resources};
 pub use schedule::{Schedule, System};
-pub use simulation::Simulation;
+pub use simulation::{FleetOutputs, Simulation};
 
 /// Errors of this crate: a bad frame rate, or an entity that is not (or no
 /// longer) an aircraft of the model an operation needs.

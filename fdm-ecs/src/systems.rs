@@ -20,7 +20,9 @@ use fgnet::FgNetFdm;
 use hecs::{Query, World};
 use rayon::iter::{ParallelBridge, ParallelIterator};
 
-use crate::components::{Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput};
+use crate::components::{
+    Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput, ScriptReplay,
+};
 use crate::resources::{Execution, Resources};
 
 /// Entities per batch handed to a worker thread by the parallel systems.
@@ -47,20 +49,29 @@ where
 
 /// One frame's input applied to `controls` of an `M` aircraft:
 /// [`Model::begin_frame`], then the script's actions for `frame` in file
-/// order, then the queued actions in push order (emptying the queue).
+/// order (swept by `replay` when given, else looked up), then the queued
+/// actions in push order (emptying the queue).
 #[must_use]
 pub fn apply_frame_input<M: Model>(
     aircraft: &M::Aircraft,
     controls: M::Controls,
-    script: Option<&ScriptInput<M::Action>>,
+    script: Option<(&ScriptInput<M::Action>, Option<&mut ScriptReplay>)>,
     input: Option<&mut FrameInput<M::Action>>,
     frame: u64,
 ) -> M::Controls {
     let mut controls = M::begin_frame(controls);
-    if let Some(ScriptInput(script)) = script {
-        for action in script.actions_at(frame) {
-            controls = M::apply(aircraft, controls, action);
+    match script {
+        Some((ScriptInput(script), Some(ScriptReplay(cursor)))) => {
+            for action in cursor.actions(script, frame) {
+                controls = M::apply(aircraft, controls, action);
+            }
         }
+        Some((ScriptInput(script), None)) => {
+            for action in script.actions_at(frame) {
+                controls = M::apply(aircraft, controls, action);
+            }
+        }
+        None => {}
     }
     if let Some(input) = input {
         for action in input.drain() {
@@ -76,6 +87,7 @@ type ControlQuery<'a, M> = (
     &'a mut <M as Model>::Controls,
     Option<&'a mut FrameInput<<M as Model>::Action>>,
     Option<&'a ScriptInput<<M as Model>::Action>>,
+    Option<&'a mut ScriptReplay>,
 );
 
 /// **FlightControl** for model `M`: applies each aircraft's input of this
@@ -90,10 +102,11 @@ type ControlQuery<'a, M> = (
 /// | access | what |
 /// |---|---|
 /// | reads | [`Params<M>`], [`ScriptInput`] (optional), `Resources::frame` |
-/// | writes | `M::Controls`, [`FrameInput`] (emptied) |
+/// | writes | `M::Controls`, [`FrameInput`] (emptied), [`ScriptReplay`] (its cursor) |
 pub fn flight_control<M: Model>(world: &mut World, res: &Resources) {
     let frame = res.frame;
-    for (params, controls, input, script) in world.query_mut::<ControlQuery<'_, M>>() {
+    for (params, controls, input, script, replay) in world.query_mut::<ControlQuery<'_, M>>() {
+        let script = script.map(|script| (script, replay));
         *controls = apply_frame_input::<M>(params, *controls, script, input, frame);
     }
 }

@@ -8,6 +8,9 @@
 //! * [`DisplayState`]: what a flight model hands over (degrees, metres, ft/s,
 //!   knots), converted with [`FgNetFdm::from_display`].
 //! * [`Sender`]: a connected UDP socket that keeps going when nobody listens.
+//! * [`MultiplayerPosition`]: FlightGear's multiplayer position message
+//!   (protocol 1.1, message id 7), to show many aircraft at once; the
+//!   [`multiplayer`] module documents the format and the orientation helpers.
 //!
 //! # Wire format
 //!
@@ -88,11 +91,18 @@
 pub mod bridge;
 mod display;
 mod fdm;
+pub mod multiplayer;
 mod sender;
 
 pub use display::{DisplayState, EngineState};
 pub use fdm::{
     CountField, DecodeError, FgNetFdm, AGL_UNKNOWN, DATAGRAM_LEN, FG_NET_FDM_VERSION, MAX_ENGINES,
     MAX_TANKS, MAX_WHEELS,
+};
+pub use multiplayer::{
+    attitude_from_ecef_angle_axis, ecef_angle_axis_from_attitude, validate_name,
+    HorizontalAttitudeDeg, MpDecodeError, MpEncodeError, MultiplayerPosition, NameError, NameField,
+    NameProblem, WireField, CALLSIGN_FIELD_LEN, MODEL_PATH_FIELD_LEN, MP_HEADER_LEN, MP_MAGIC,
+    MP_MAX_DATAGRAM_LEN, MP_POSITION_LEN, MP_POSITION_MESSAGE_ID, MP_PROTOCOL_VERSION,
 };
 pub use sender::{SendOutcome, Sender, SenderError, SenderStats};

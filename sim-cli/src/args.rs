@@ -11,7 +11,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::fgaddr::{parse_fg_target, FgTarget};
+use crate::fgaddr::{parse_fg_listen, parse_fg_target, FgTarget};
+use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
 
 /// Highest accepted `--fps`. Far above any useful real-time rate; it only keeps
@@ -79,7 +80,7 @@ impl ModelKind {
 #[derive(Debug, Clone, Args)]
 pub struct CommonArgs {
     /// Frames per second, a whole number; each frame advances the model by dt = 1/N seconds
-    #[arg(long, value_name = "N", default_value_t = 30, value_parser = parse_fps, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = parse_fps, allow_hyphen_values = true)]
     pub fps: u32,
 
     /// No keyboard and no real-time pacing: run as fast as possible, then report
@@ -87,11 +88,11 @@ pub struct CommonArgs {
     pub headless: bool,
 
     /// Length of a headless run in frames (needs --headless)
-    #[arg(long, value_name = "N", conflicts_with = "duration", value_parser = parse_frames, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", conflicts_with = "duration", value_parser = parse_frames, allow_hyphen_values = true)]
     pub frames: Option<u64>,
 
     /// Length of a headless run in seconds; frames = round(SECONDS × fps) (needs --headless)
-    #[arg(long, value_name = "SECONDS", value_parser = parse_duration, allow_negative_numbers = true)]
+    #[arg(long, value_name = "SECONDS", value_parser = parse_duration, allow_hyphen_values = true)]
     pub duration: Option<f64>,
 
     /// Scripted controls: lines `START-END ACTION`, frames counted from 1, both ends inclusive
@@ -101,6 +102,10 @@ pub struct CommonArgs {
     /// With --headless: print the final state as one JSON object on stdout
     #[arg(long)]
     pub json: bool,
+
+    /// With --headless: one frame per 1/fps of wall-clock time, as in interactive mode (to replay a script into FlightGear without a terminal)
+    #[arg(long)]
+    pub realtime: bool,
 
     /// Write the state as CSV to FILE: a header, the initial state as frame 0, then one row per frame
     #[arg(long, value_name = "FILE")]
@@ -132,12 +137,16 @@ pub struct ReplayArgs {
     #[arg(long)]
     pub json: bool,
 
+    /// One frame per 1/fps of wall-clock time, as the flight was flown (to watch it in FlightGear with --fg)
+    #[arg(long)]
+    pub realtime: bool,
+
     /// Write the state as CSV to FILE, as the recorded flight would (a reset writes a new frame 0)
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
 
-    /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame (as fast as
-    /// the replay runs: a burst, see docs/recording.md)
+    /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame (with
+    /// --realtime at the recorded pace; without, as fast as the replay runs)
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
 }
@@ -150,19 +159,19 @@ pub struct PalmerArgs {
     pub common: CommonArgs,
 
     /// Throttle at frame 0, as a fraction of full power (0..1)
-    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_negative_numbers = true)]
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_hyphen_values = true)]
     pub throttle: f64,
 
     /// Angle of attack at frame 0, degrees (-16..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_hyphen_values = true)]
     pub alpha: f64,
 
     /// Bank angle at frame 0, degrees, positive banks right (-20..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_hyphen_values = true)]
     pub bank: f64,
 
     /// Flap setting at frame 0, degrees (0, 20 or 40)
-    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_negative_numbers = true)]
+    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
     pub flaps: u8,
 }
 
@@ -182,11 +191,11 @@ pub struct FgfsArgs {
     pub model: ModelKind,
 
     /// Packet rate FlightGear should poll at; use the --fps you fly with
-    #[arg(long, value_name = "N", default_value_t = 30, value_parser = parse_fps, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", default_value_t = 30, value_parser = parse_fps, allow_hyphen_values = true)]
     pub fps: u32,
 
     /// Address FlightGear listens on, as given to sim-cli --fg [default: all interfaces, port 5500]
-    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_listen)]
     pub fg: Option<FgTarget>,
 
     /// Geodetic origin as given to sim-cli --origin: LAT,LON,ALT_M or a runway name (wpafb, phli, bikf, ksfo)
@@ -240,15 +249,15 @@ pub struct FleetArgs {
     pub model: ModelKind,
 
     /// Number of aircraft (1..=10000000), spread over distinct initial states
-    #[arg(long, value_name = "N", value_parser = parse_fleet_size, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", value_parser = parse_fleet_size, allow_hyphen_values = true)]
     pub aircraft: u64,
 
     /// Frames to fly (each aircraft is stepped once per frame, dt = 1/30 s)
-    #[arg(long, value_name = "F", value_parser = parse_fleet_frames, allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", value_parser = parse_fleet_frames, allow_hyphen_values = true)]
     pub frames: u64,
 
     /// Threads of the rayon pool stepping the fleet [default: available cores]
-    #[arg(long, value_name = "T", value_parser = parse_threads, allow_negative_numbers = true)]
+    #[arg(long, value_name = "T", value_parser = parse_threads, allow_hyphen_values = true)]
     pub threads: Option<usize>,
 
     /// Print the measurement as one JSON object on stdout
@@ -260,7 +269,10 @@ pub struct FleetArgs {
 fn parse_count(text: &str, max: u64, what: &str) -> Result<u64, String> {
     match text.trim().parse::<u64>() {
         Ok(v) if (1..=max).contains(&v) => Ok(v),
-        _ => Err(format!("`{text}` is not a number of {what} in 1..={max}")),
+        _ => Err(format!(
+            "`{}` is not a number of {what} in 1..={max}",
+            Echo::short(text)
+        )),
     }
 }
 
@@ -283,7 +295,7 @@ pub fn parse_threads(text: &str) -> Result<usize, String> {
 fn parse_finite(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("`{text}` is not a finite number")),
+        _ => Err(format!("`{}` is not a finite number", Echo::short(text))),
     }
 }
 
@@ -292,7 +304,11 @@ fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, Strin
     if (lo..=hi).contains(&v) {
         Ok(v)
     } else {
-        Err(format!("{v} is outside {lo}..{hi}{unit}"))
+        // The text as given, not `v`: 1e308 printed as a float has 309 digits.
+        Err(format!(
+            "`{}` is outside {lo}..{hi}{unit}",
+            Echo::short(text.trim())
+        ))
     }
 }
 
@@ -304,7 +320,8 @@ pub fn parse_fps(text: &str) -> Result<u32, String> {
         Ok(v) if (1..=MAX_FPS).contains(&v) => Ok(v),
         Ok(_) => Err(format!("must be a whole number from 1 to {MAX_FPS}")),
         Err(_) => Err(format!(
-            "`{text}` is not a whole number of frames per second (1..{MAX_FPS})"
+            "`{}` is not a whole number of frames per second (1..{MAX_FPS})",
+            Echo::short(text)
         )),
     }
 }
@@ -315,7 +332,8 @@ pub fn parse_frames(text: &str) -> Result<u64, String> {
         Ok(v) if v <= MAX_FRAMES => Ok(v),
         Ok(_) => Err(format!("must be at most {MAX_FRAMES}")),
         Err(_) => Err(format!(
-            "`{text}` is not a whole number of frames (0..{MAX_FRAMES})"
+            "`{}` is not a whole number of frames (0..{MAX_FRAMES})",
+            Echo::short(text)
         )),
     }
 }
@@ -351,7 +369,10 @@ pub fn parse_flaps(text: &str) -> Result<u8, String> {
         "0" => Ok(0),
         "20" => Ok(20),
         "40" => Ok(40),
-        _ => Err(format!("`{text}` is not a flap setting (0, 20 or 40)")),
+        _ => Err(format!(
+            "`{}` is not a flap setting (0, 20 or 40)",
+            Echo::short(text)
+        )),
     }
 }
 
@@ -420,6 +441,39 @@ mod tests {
         assert!(parse_bank("21").is_err());
         assert!(parse_flaps("10").is_err());
         assert_eq!(parse_flaps("40"), Ok(40));
+    }
+
+    #[test]
+    fn hyphenated_values_are_values_not_options() {
+        for argv in [
+            &["--fps", "-inf"][..],
+            &["--headless", "--frames", "-inf"][..],
+            &["--headless", "--duration", "-inf"][..],
+            &["--throttle", "-inf"][..],
+            &["--flaps", "-i"][..],
+        ] {
+            let full = ["sim-cli", "palmer"].iter().chain(argv).copied();
+            let err = Cli::try_parse_from(full).unwrap_err();
+            assert_eq!(
+                err.kind(),
+                clap::error::ErrorKind::ValueValidation,
+                "{argv:?}"
+            );
+            let line = crate::clap_error_line(&err);
+            assert!(!line.contains("unexpected argument"), "{line}");
+        }
+    }
+
+    #[test]
+    fn out_of_range_numbers_are_echoed_as_given() {
+        assert_eq!(
+            parse_throttle("1e308"),
+            Err("`1e308` is outside 0..1 (fraction of full power)".to_owned())
+        );
+        let err = parse_fps("\u{1b}[31mred").unwrap_err();
+        assert!(!err.chars().any(char::is_control), "{err}");
+        let long = "9".repeat(10_000);
+        assert!(parse_frames(&long).unwrap_err().len() < 200);
     }
 
     #[test]

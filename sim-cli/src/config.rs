@@ -16,7 +16,9 @@ use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
+use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
+use crate::signals::SignalSafeWriter;
 
 /// How the run is driven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -27,6 +29,8 @@ pub enum Mode {
         frames: u64,
         /// Print the JSON report on stdout.
         json: bool,
+        /// Pace frames at 1/fps of wall-clock time (`--realtime`).
+        realtime: bool,
     },
     /// Keyboard in, HUD out, paced at the frame rate, until the user quits.
     Interactive,
@@ -39,8 +43,10 @@ pub struct RunConfig {
     pub fps: u32,
     /// Headless or interactive.
     pub mode: Mode,
-    /// The CSV output, already created (so an unwritable path failed as a usage error).
-    pub csv: Option<CsvWriter<BufWriter<File>>>,
+    /// The CSV output, already created (so an unwritable path failed as a usage
+    /// error); flushed by the signal thread if a signal ends the run
+    /// ([`crate::signals`]).
+    pub csv: Option<CsvWriter<SignalSafeWriter>>,
     /// Where to send FlightGear datagrams, resolved; `None` sends nothing.
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
@@ -146,6 +152,7 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
     if !args.headless {
         for (given, name) in [
             (args.json, "--json"),
+            (args.realtime, "--realtime"),
             (args.frames.is_some(), "--frames"),
             (args.duration.is_some(), "--duration"),
         ] {
@@ -173,23 +180,34 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
     Ok(Mode::Headless {
         frames,
         json: args.json,
+        realtime: args.realtime,
     })
 }
 
 /// frames = round(seconds × fps), checked against [`MAX_FRAMES`].
 ///
 /// # Errors
-/// [`CliError::Usage`] for a negative or non-finite duration or too many frames.
+/// [`CliError::Usage`] for a negative or non-finite duration or too many frames
+/// (also when seconds × fps overflows to infinity: the duration is fine, the
+/// product is too long).
 pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
-    let frames = (seconds * f64::from(fps)).round();
-    if !(seconds >= 0.0 && frames.is_finite()) {
+    if !(seconds >= 0.0 && seconds.is_finite()) {
         return Err(CliError::usage(format!(
-            "--duration {seconds} is not a non-negative number of seconds"
+            "--duration {} is not a non-negative number of seconds",
+            show_number(seconds)
         )));
     }
+    let frames = (seconds * f64::from(fps)).round();
+    // seconds is finite and fps positive, so frames is a number or +inf (never NaN).
     if frames > MAX_FRAMES as f64 {
+        let count = if frames.is_finite() {
+            format!("{} frames, more than {MAX_FRAMES}", show_number(frames))
+        } else {
+            format!("more than {MAX_FRAMES} frames")
+        };
         return Err(CliError::usage(format!(
-            "--duration {seconds} at {fps} fps is {frames} frames, more than {MAX_FRAMES}"
+            "--duration {} at {fps} fps is {count}",
+            show_number(seconds)
         )));
     }
     // In range and integral, so the cast is exact.
@@ -197,26 +215,31 @@ pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
 }
 
 /// Reads and parses a script; errors name the file and line as `FILE:LINE: message`.
+/// The file is read with [`read_text`]: a regular file or a pipe of at most
+/// [`MAX_INPUT_BYTES`].
 ///
 /// # Errors
-/// [`CliError::Usage`] for an unreadable file or the first bad line.
+/// [`CliError::Usage`] for an unreadable, oversized or non-UTF-8 file, a path that
+/// is not a regular file or pipe, or the first bad line.
 pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::usage(format!("cannot read script {}: {e}", path.display())))?;
+    let text = read_text(path, "script", MAX_INPUT_BYTES)?;
     Script::parse(&text).map_err(|e| {
         // ScriptError displays as "line N: message"; the CLI convention is FILE:N: message.
         let full = e.to_string();
         let prefix = format!("line {}: ", e.line);
         let message = full.strip_prefix(&prefix).unwrap_or(&full);
-        CliError::usage(format!("{}:{}: {message}", path.display(), e.line))
+        CliError::usage(format!("{}:{}: {message}", show_path(path), e.line))
     })
 }
 
+/// Whether `a` and `b` are the same file: device and inode where the system has
+/// them (hard links, symlinks), else the canonical paths.
 fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    }
+    crate::input::same_file(a, b)
+        || match (a.canonicalize(), b.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        }
 }
 
 /// Creates the `--record` file after checking it is none of the input or
@@ -267,11 +290,14 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
                 if same_file(path, script) {
                     return Err(CliError::usage(format!(
                         "--csv {} would overwrite the --script file",
-                        path.display()
+                        show_path(path)
                     )));
                 }
             }
-            Some(CsvWriter::create(path)?)
+            let out = SignalSafeWriter::create(path).map_err(|e| {
+                CliError::usage(format!("cannot create CSV file {}: {e}", show_path(path)))
+            })?;
+            Some(CsvWriter::new(out, show_path(path)))
         }
         None => None,
     };
@@ -310,14 +336,24 @@ mod tests {
             resolve_mode(&common(&["--headless", "--frames", "900", "--json"])).unwrap(),
             Mode::Headless {
                 frames: 900,
-                json: true
+                json: true,
+                realtime: false,
             }
         );
         assert_eq!(
             resolve_mode(&common(&["--headless", "--duration", "1.5", "--fps", "10"])).unwrap(),
             Mode::Headless {
                 frames: 15,
-                json: false
+                json: false,
+                realtime: false,
+            }
+        );
+        assert_eq!(
+            resolve_mode(&common(&["--headless", "--frames", "3", "--realtime"])).unwrap(),
+            Mode::Headless {
+                frames: 3,
+                json: false,
+                realtime: true,
             }
         );
     }
@@ -347,6 +383,25 @@ mod tests {
         assert_eq!(frames_for_duration(0.0, 30).unwrap(), 0);
         assert_eq!(frames_for_duration(2.5, 10).unwrap(), 25);
         assert!(frames_for_duration(f64::NAN, 30).is_err());
+    }
+
+    #[test]
+    fn overlong_durations_say_too_many_frames_in_short_numbers() {
+        let err = frames_for_duration(1e308, 10_000).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "--duration 1e308 at 10000 fps is more than 1000000000 frames"
+        );
+        let err = frames_for_duration(1e300, 30).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "--duration 1e300 at 30 fps is 3e301 frames, more than 1000000000"
+        );
+        let err = frames_for_duration(f64::INFINITY, 30).unwrap_err();
+        assert!(
+            err.to_string().contains("not a non-negative number"),
+            "{err}"
+        );
     }
 
     #[test]

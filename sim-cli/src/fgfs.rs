@@ -16,7 +16,7 @@
 //!
 //! The start preset (`--lat/--lon/--altitude/--heading`) is where the ECS places the
 //! model before its first frame, computed by the same functions MakePacket uses
-//! ([`fdm_ecs::systems::palmer_display`], [`fdm_ecs::systems::bourg_display`]):
+//! (the model's `view`, then [`fgnet::bridge::display`]):
 //! FlightGear only loads terrain near the preset and drops packets until the FDM is
 //! initialised there (docs/fgnetfdm.md §7). Palmer stands at rest on the runway at the
 //! origin; Bourg starts at model (−5000, 0, 2000) ft, 5000 ft south of the origin and

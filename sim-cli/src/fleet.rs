@@ -21,29 +21,100 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Context as _;
-use fdm_core::model::Model;
+use fdm_core::model::{FlightStatus, Model};
+use fdm_ecs::components::{FrameInput, Params};
 use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
-use fdm_ecs::{Execution, Resources, Simulation};
+use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
 use crate::args::FleetArgs;
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
+use crate::progress::StderrProgress;
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
 pub const FLEET_FPS: u32 = 30;
 
+/// Aircraft spawned between two progress updates.
+const SPAWN_CHUNK: usize = 50_000;
+
 /// Spawns `n` aircraft of model `M` (its demonstration fleet,
 /// [`Model::fleet_member`]) into a new simulation at [`FLEET_FPS`] with the
-/// given execution mode.
+/// given execution mode. They only fly ([`FleetOutputs::None`]): the fleet
+/// builds no FlightGear packets. On a terminal, stderr shows the progress.
 #[must_use]
 pub fn spawn_fleet<M: Model>(n: usize, execution: Execution) -> Simulation {
     let resources = Resources::new(f64::from(FLEET_FPS))
         .expect("30 frames per second is valid")
         .with_execution(execution);
     let mut sim = Simulation::new(resources);
-    sim.spawn_fleet::<M>(&Arc::new(M::default_aircraft()), n);
+    let aircraft = Arc::new(M::default_aircraft());
+    let mut progress = StderrProgress::new(n as u64);
+    let mut done = 0;
+    while done < n {
+        let next = (done + SPAWN_CHUNK).min(n);
+        sim.spawn_fleet::<M>(&aircraft, done..next, FleetOutputs::None);
+        done = next;
+        progress.tick(done as u64);
+    }
+    progress.finish();
     sim
+}
+
+/// Bytes one flying-only aircraft of model `M` takes in the world: its
+/// components (parameters handle, controls, state, input queue, status) plus
+/// hecs's per-entity bookkeeping (the entity id in the archetype and the
+/// entity table, measured at about 16 bytes). The estimate the memory check
+/// uses; `sim-cli fleet --json` reports the measured figure beside it.
+#[must_use]
+pub fn estimated_bytes_per_aircraft<M: Model>() -> u64 {
+    let components = std::mem::size_of::<Params<M>>()
+        + std::mem::size_of::<M::Controls>()
+        + std::mem::size_of::<M::State>()
+        + std::mem::size_of::<FrameInput<M::Action>>()
+        + std::mem::size_of::<FlightStatus>();
+    (components + 16) as u64
+}
+
+/// Bytes of memory the system says can still be allocated without swapping
+/// (`MemAvailable` of `/proc/meminfo`); `None` where that is not known.
+#[must_use]
+pub fn available_memory_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// This process's resident memory in bytes (`/proc/self/statm`); `None` where
+/// that is not known.
+#[must_use]
+pub fn resident_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let pages: u64 = text.split_whitespace().nth(1)?.parse().ok()?;
+    // Linux pages are 4 KiB on the machines this runs on (x86-64, aarch64 default).
+    pages.checked_mul(4096)
+}
+
+/// Refuses a fleet whose estimate (with room for the world's growth: hecs
+/// doubles an archetype's columns as it fills, so up to twice the live size
+/// is allocated for a moment) does not fit in the available memory.
+///
+/// # Errors
+/// [`CliError::Usage`] saying how much the fleet needs and the machine has.
+pub fn check_memory<M: Model>(n: u64, available: Option<u64>) -> Result<(), CliError> {
+    let per_aircraft = estimated_bytes_per_aircraft::<M>();
+    let needed = n.saturating_mul(per_aircraft).saturating_mul(2);
+    match available {
+        Some(have) if needed > have => Err(CliError::usage(format!(
+            "a fleet of {n} {} aircraft needs about {} MiB ({per_aircraft} bytes each, twice that \
+             while the world grows); this machine has {} MiB available",
+            M::NAME,
+            needed / (1024 * 1024),
+            have / (1024 * 1024)
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// What `sim-cli fleet` measured (its `--json` output).
@@ -65,6 +136,11 @@ pub struct FleetReport {
     pub aircraft_at_30hz: u64,
     /// The time step of each frame, seconds (`1/30`; Bourg's in f32, widened).
     pub dt_s: f64,
+    /// Memory per aircraft, bytes: the estimate the memory check used.
+    pub estimated_bytes_per_aircraft: u64,
+    /// Memory per aircraft, bytes, measured as the growth of the resident set
+    /// while the fleet was spawned (`null` where it cannot be read).
+    pub measured_bytes_per_aircraft: Option<f64>,
 }
 
 impl FleetReport {
@@ -122,7 +198,14 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         .num_threads(threads)
         .build()
         .context("building the thread pool")?;
+    check_memory::<M>(args.aircraft, available_memory_bytes())?;
+    let before = resident_bytes();
     let mut sim = spawn_fleet::<M>(n, execution);
+    let after = resident_bytes();
+    #[allow(clippy::cast_precision_loss)] // a ratio of byte counts
+    let measured_bytes_per_aircraft = before
+        .zip(after)
+        .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
     let resources = *sim.resources();
     let world = sim.world_mut();
 
@@ -155,6 +238,8 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         aircraft_steps_per_s,
         aircraft_at_30hz,
         dt_s: resources.time_step::<M>().into(),
+        estimated_bytes_per_aircraft: estimated_bytes_per_aircraft::<M>(),
+        measured_bytes_per_aircraft,
     })
 }
 
@@ -206,6 +291,27 @@ mod tests {
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
         }
+    }
+
+    #[test]
+    fn fleets_that_do_not_fit_are_refused_saying_how_much() {
+        let gib = 1024 * 1024 * 1024;
+        let err = check_memory::<Palmer>(10_000_000, Some(gib)).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        let message = err.to_string();
+        let per = estimated_bytes_per_aircraft::<Palmer>();
+        let need_mib = 10_000_000 * per * 2 / (1024 * 1024);
+        assert!(
+            message.contains(&format!("needs about {need_mib} MiB"))
+                && message.contains("has 1024 MiB available"),
+            "{message}"
+        );
+        assert!(check_memory::<Palmer>(1_000, Some(gib)).is_ok());
+        // Unknown available memory: nothing to check against.
+        assert!(check_memory::<Palmer>(10_000_000, None).is_ok());
+        // A lean entity: a few dozen bytes of state and controls, well under
+        // the kilobyte a full aircraft with its datagram takes.
+        assert!((100..200).contains(&per), "{per}");
     }
 
     #[test]

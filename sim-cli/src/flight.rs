@@ -231,6 +231,7 @@ mod tests {
             mode: Mode::Headless {
                 frames: 0,
                 json: false,
+                realtime: false,
             },
             csv: None,
             fg,

@@ -30,15 +30,18 @@ pub mod fgfs;
 pub mod fleet;
 pub mod flight;
 pub mod hud;
+pub mod input;
 pub mod keys;
 pub mod models;
 pub mod origin;
+pub mod output;
 pub mod pacer;
 pub mod progress;
 pub mod recording;
 pub mod replay;
 pub mod report;
 pub mod run;
+pub mod signals;
 pub mod snapshot;
 pub mod terminal;
 

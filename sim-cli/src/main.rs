@@ -2,7 +2,9 @@
 //!
 //! This file only maps outcomes to exit statuses (docs/cli.md): 0 success, 2 bad usage or
 //! input, 1 anything else, always with at most one `sim-cli: error: ...` line on
-//! stderr and never a panic message or backtrace for user errors.
+//! stderr and never a panic message or backtrace for user errors. A run ended by
+//! SIGTERM, SIGHUP, SIGINT or SIGQUIT exits with 128 + the signal number after
+//! restoring the terminal and flushing its outputs (`sim_cli::signals`).
 
 use std::panic::{self, AssertUnwindSafe};
 use std::process::ExitCode;
@@ -33,6 +35,15 @@ fn real_main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // Everything sim-cli does ends on stdout; a closed one would lose it silently.
+    if let Err(e) = sim_cli::output::check_stdout() {
+        eprintln!("sim-cli: error: {}", e.one_line());
+        return ExitCode::from(e.exit_code());
+    }
+    // SIGTERM/SIGHUP/SIGINT/SIGQUIT: restore the terminal, flush the CSV, exit 128+N.
+    if let Err(e) = sim_cli::signals::install() {
+        eprintln!("sim-cli: warning: cannot watch for signals ({e}); a signal will not restore the terminal");
+    }
     match sim_cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

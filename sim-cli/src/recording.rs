@@ -15,8 +15,9 @@
 //! end     (bincode 2 standard): End { frames, checksum }  -- FNV-1a 64 of every byte before it
 //! ```
 //!
-//! Reading is bounded and total: [`parse_recording`] and [`Recording::parse`]
-//! take a byte slice (at most [`MAX_RECORDING_BYTES`]), decode with a
+//! Reading is bounded and total: `sim-cli replay` reads at most
+//! [`MAX_RECORDING_BYTES`] (`crate::input::read_bytes`: a regular file or a pipe);
+//! [`parse_recording`] and [`Recording::parse`] take a byte slice, decode with a
 //! [`DECODE_LIMIT`] on what any one length field may claim, and return a
 //! [`RecordingError`] naming the problem for anything that is not a complete,
 //! intact recording of this format version; they never panic.
@@ -26,14 +27,14 @@
 //! loops record without knowing it.
 
 use std::fmt;
-use std::io::{self, Write};
+use std::io::Write;
 use std::marker::PhantomData;
 
 use anyhow::Context as _;
 use bincode::config::{Configuration, Limit, LittleEndian, Varint};
 use bincode::error::DecodeError;
 use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
-use fdm_core::script::ScriptAction;
+use fdm_core::script::{Echo, ScriptAction};
 use serde::{Deserialize, Serialize};
 
 use crate::args::{ModelKind, MAX_FPS};
@@ -155,11 +156,11 @@ pub enum RecordingError {
         /// The version in the file.
         found: u16,
     },
-    /// A model this `sim-cli` does not have.
-    #[error("recorded with model `{0}`, which this sim-cli does not have (palmer, bourg)")]
+    /// A model this `sim-cli` does not have (the name as stored).
+    #[error("recorded with model `{}`, which this sim-cli does not have (palmer, bourg)", Echo::short(.0))]
     UnknownModel(String),
     /// A recording of another model than the one asked for.
-    #[error("a recording of model `{found}`, not `{expected}`")]
+    #[error("a recording of model `{}`, not `{expected}`", Echo::short(.found))]
     WrongModel {
         /// The model asked for.
         expected: &'static str,
@@ -340,7 +341,8 @@ impl<'a, M: CliModel> Recording<'a, M> {
             .map(|name| {
                 <M::Action as ScriptAction>::from_name(name).ok_or_else(|| {
                     RecordingError::corrupt(format!(
-                        "header: `{name}` is not an action of {}",
+                        "header: `{}` is not an action of {}",
+                        Echo::short(name),
                         M::NAME
                     ))
                 })
@@ -729,28 +731,6 @@ where
     }
 }
 
-/// Reads at most [`MAX_RECORDING_BYTES`] from `reader`.
-///
-/// # Errors
-/// [`RecordingError::TooLarge`] wrapped in an `io::Error` of kind
-/// `InvalidData` when there is more, or the read error.
-pub fn read_bounded(reader: impl io::Read) -> io::Result<Vec<u8>> {
-    use io::Read as _;
-    let mut bytes = Vec::new();
-    reader
-        .take(MAX_RECORDING_BYTES + 1)
-        .read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > MAX_RECORDING_BYTES {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidData,
-            RecordingError::TooLarge {
-                size: bytes.len() as u64,
-            },
-        ));
-    }
-    Ok(bytes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -783,6 +763,7 @@ mod tests {
             mode: Mode::Headless {
                 frames: 0,
                 json: true,
+                realtime: false,
             },
             csv: None,
             fg: None,
@@ -814,6 +795,7 @@ mod tests {
             &script,
             fps,
             frames,
+            false,
             Some(&mut csv),
             &mut quiet(frames),
         )
@@ -894,6 +876,7 @@ mod tests {
             recording.events(),
             recording.fps,
             recording.frames,
+            false,
             Some(&mut csv),
             &mut quiet(recording.frames),
         )
@@ -1019,6 +1002,11 @@ mod tests {
             parse_recording(&glider).unwrap_err(),
             RecordingError::UnknownModel("glider".to_owned())
         );
+        // Control characters in a stored name are escaped in the message.
+        let mut bell = bytes.clone();
+        bell[at + 2] = 0x07;
+        let message = parse_recording(&bell).unwrap_err().to_string();
+        assert!(message.contains("`pa\\u{7}mer`"), "{message}");
         let mut magic = bytes.clone();
         magic[0] = b'X';
         assert_eq!(parse_recording(&magic), Err(RecordingError::NotARecording));
@@ -1047,8 +1035,6 @@ mod tests {
             parse_recording(&too_big),
             Err(RecordingError::TooLarge { .. })
         ));
-        let err = read_bounded(std::io::repeat(0)).unwrap_err();
-        assert_eq!(err.kind(), io::ErrorKind::InvalidData);
     }
 
     #[test]

@@ -8,12 +8,11 @@
 //! equals the original's CSV (a reset writes a new frame 0, as in an
 //! interactive flight).
 //!
-//! TODO(realtime): `--realtime` pacing (another change adds it to headless
-//! flights); until then `--fg` sends every datagram as fast as the replay
-//! runs, like `sim-cli <model> --headless --fg`.
+//! `--realtime` paces the replay at 1/fps of wall-clock time per frame, as it
+//! does headless flights, so that FlightGear (`--fg`) shows every frame.
 
-use std::fs::File;
 use std::io::{self, Write};
+use std::time::Instant;
 
 use anyhow::Context as _;
 
@@ -22,13 +21,14 @@ use crate::config::{Mode, RunConfig};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::flight::ModelFlight;
+use crate::input::{read_bytes, show_path};
 use crate::models::{CliModel, WithModel};
+use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
-use crate::recording::{
-    read_bounded, recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
-};
-use crate::report::Report;
+use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
+use crate::report::{LinkReport, RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
+use crate::signals::SignalSafeWriter;
 
 /// Flies the recorded events on `flight` (which starts where the recording
 /// starts): each run of frames steps the flight with its actions, a reset
@@ -43,9 +43,11 @@ pub fn replay_flight<F: Flight, W: Write>(
     events: impl IntoIterator<Item = Result<Replayed<F::Action>, RecordingError>>,
     fps: u32,
     total_frames: u64,
+    realtime: bool,
     mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
+    let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
     if let Some(csv) = csv.as_deref_mut() {
         csv.write_record(0, &flight.snapshot())?;
     }
@@ -67,6 +69,12 @@ pub fn replay_flight<F: Flight, W: Write>(
                         progress.message(&link_warning(&message));
                     }
                     progress.tick(done);
+                    if let Some(pacer) = pacer.as_mut() {
+                        let sleep = pacer.finish_frame(Instant::now());
+                        if !sleep.is_zero() {
+                            std::thread::sleep(sleep);
+                        }
+                    }
                 }
             }
             Replayed::Reset => {
@@ -79,7 +87,11 @@ pub fn replay_flight<F: Flight, W: Write>(
         }
     }
     progress.finish();
-    Ok(Report::new(fps, total_frames, &flight.snapshot()))
+    let mut report = Report::new(fps, total_frames, &flight.snapshot());
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
 }
 
 /// Replays a recording of model `M` as `args` ask.
@@ -92,7 +104,7 @@ impl WithModel for ReplayJob<'_> {
     type Output = Result<(), CliError>;
 
     fn call<M: CliModel>(self) -> Self::Output {
-        let file = self.args.file.display();
+        let file = show_path(&self.args.file);
         let recording = Recording::<M>::parse(self.bytes)
             .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
         let fg = match &self.args.fg {
@@ -101,13 +113,16 @@ impl WithModel for ReplayJob<'_> {
         };
         let mut csv = match &self.args.csv {
             Some(path) => {
-                if path == &self.args.file {
+                if path == &self.args.file || crate::input::same_file(path, &self.args.file) {
                     return Err(CliError::usage(format!(
                         "--csv {} would overwrite the recording",
-                        path.display()
+                        show_path(path)
                     )));
                 }
-                Some(CsvWriter::create(path)?)
+                let out = SignalSafeWriter::create(path).map_err(|e| {
+                    CliError::usage(format!("cannot create CSV file {}: {e}", show_path(path)))
+                })?;
+                Some(CsvWriter::new(out, show_path(path)))
             }
             None => None,
         };
@@ -116,6 +131,7 @@ impl WithModel for ReplayJob<'_> {
             mode: Mode::Headless {
                 frames: recording.frames,
                 json: self.args.json,
+                realtime: self.args.realtime,
             },
             csv: None,
             fg,
@@ -123,14 +139,21 @@ impl WithModel for ReplayJob<'_> {
         };
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
         let mut progress = StderrProgress::new(recording.frames);
-        let report = replay_flight(
+        let mut report = replay_flight(
             &mut flight,
             recording.events(),
             recording.fps,
             recording.frames,
+            self.args.realtime,
             csv.as_mut(),
             &mut progress,
         )?;
+        if run.fg.is_some() {
+            report.fg = flight.link_stats().map(|l| LinkReport {
+                sent: l.sent,
+                failed: l.failed,
+            });
+        }
         if let Some(csv) = csv {
             csv.finish()?;
         }
@@ -162,21 +185,9 @@ impl WithModel for ReplayJob<'_> {
 /// problem; [`CliError::Runtime`] for failures while replaying.
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
-    let bytes = File::open(path)
-        .and_then(|file| {
-            // A regular file's size is known: refuse a big one without reading it.
-            let size = file.metadata()?.len();
-            if size > MAX_RECORDING_BYTES {
-                return Err(io::Error::new(
-                    io::ErrorKind::InvalidData,
-                    RecordingError::TooLarge { size },
-                ));
-            }
-            read_bounded(file)
-        })
-        .map_err(|e| CliError::usage(format!("cannot read recording {}: {e}", path.display())))?;
+    let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
     let kind =
-        recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
+        recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
     kind.with(ReplayJob {
         bytes: &bytes,
         args,

@@ -37,6 +37,29 @@ pub struct Report<D> {
     /// The state both models have.
     #[serde(flatten)]
     pub common: CommonState,
+    /// FlightGear datagram counters, when the run had `--fg`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fg: Option<LinkReport>,
+    /// Real-time pacing, when the run had `--realtime`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub realtime: Option<RealtimeReport>,
+}
+
+/// The JSON report's `fg` object: datagrams handed to the OS and sends that
+/// failed (e.g. "connection refused" reported back for an earlier datagram).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LinkReport {
+    /// Datagrams sent.
+    pub sent: u64,
+    /// Sends that failed.
+    pub failed: u64,
+}
+
+/// The JSON report's `realtime` object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RealtimeReport {
+    /// Frames that finished after their wall-clock deadline.
+    pub overruns: u64,
 }
 
 impl<D: Details> Report<D> {
@@ -49,6 +72,8 @@ impl<D: Details> Report<D> {
             fps,
             frames,
             common: snapshot.common,
+            fg: None,
+            realtime: None,
         }
     }
 
@@ -71,7 +96,7 @@ impl<D: Details> Report<D> {
              position  x {:.3}  y {:.3}  z {:.3} {unit}\n\
              velocity  x {:.3}  y {:.3}  z {:.3} {unit}/s\n\
              geodetic  lat {:.7}  lon {:.7}  alt {:.2} m\n\
-             attitude  roll {:.2}  pitch {:.2}  heading {:.2} deg\n{}",
+             attitude  roll {:.2}  pitch {:.2}  heading {:.2} deg\n{}{}",
             self.model,
             self.frames,
             self.fps,
@@ -89,7 +114,25 @@ impl<D: Details> Report<D> {
             hundredths(c.attitude_deg.pitch),
             heading_2dp(c.attitude_deg.heading),
             self.details.summary(),
+            self.outputs_summary(),
         )
+    }
+}
+
+impl<D> Report<D> {
+    /// The summary lines of the FlightGear counters and the pacing, if any.
+    fn outputs_summary(&self) -> String {
+        let mut s = String::new();
+        if let Some(fg) = self.fg {
+            s.push_str(&format!(
+                "\nflightgear  {} datagrams sent, {} failed",
+                fg.sent, fg.failed
+            ));
+        }
+        if let Some(rt) = self.realtime {
+            s.push_str(&format!("\nrealtime  {} overruns", rt.overruns));
+        }
+        s
     }
 }
 

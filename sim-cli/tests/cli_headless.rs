@@ -392,3 +392,72 @@ fn an_unreachable_fg_target_warns_once_and_does_not_fail() {
     );
     assert!(stderr.contains(&target), "{stderr}");
 }
+
+/// `--realtime` paces a headless run at the frame rate, as a FlightGear that
+/// reads its socket once per frame needs: the datagrams arrive spread over the
+/// run's simulated time, not in one burst, and the report counts them.
+#[test]
+fn realtime_headless_runs_pace_frames_and_report_the_link() {
+    const FRAMES: usize = 20;
+    let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let target = socket.local_addr().unwrap().to_string();
+    socket
+        .set_read_timeout(Some(Duration::from_millis(100)))
+        .unwrap();
+    let done = Arc::new(AtomicBool::new(false));
+    let reader = {
+        let done = Arc::clone(&done);
+        std::thread::spawn(move || {
+            let mut arrivals = Vec::new();
+            let mut buf = [0_u8; 2048];
+            loop {
+                match socket.recv(&mut buf) {
+                    Ok(n) => arrivals.push((std::time::Instant::now(), buf[..n].to_vec())),
+                    Err(_) if done.load(Ordering::SeqCst) => break,
+                    Err(_) => {}
+                }
+            }
+            arrivals
+        })
+    };
+    let frames = FRAMES.to_string();
+    let out = sim(&[
+        "palmer",
+        "--headless",
+        "--json",
+        "--realtime",
+        "--fps",
+        "20",
+        "--frames",
+        &frames,
+        "--throttle",
+        "1",
+        "--fg",
+        &target,
+    ]);
+    done.store(true, Ordering::SeqCst);
+    let arrivals = reader.join().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["fg"]["sent"], FRAMES as u64);
+    assert_eq!(r["fg"]["failed"], 0);
+    assert!(r["realtime"]["overruns"].is_u64(), "{r}");
+    assert_eq!(arrivals.len(), FRAMES);
+    // 20 frames at 20 fps: the last datagram leaves 19 periods (0.95 s) after
+    // the first; a burst would take milliseconds. Lower bound only (a loaded
+    // machine can only make it later).
+    let span = arrivals.last().unwrap().0 - arrivals[0].0;
+    assert!(span >= Duration::from_millis(900), "{span:?}");
+    // What FlightGear shows last is the report's final state.
+    let last = FgNetFdm::decode(&arrivals.last().unwrap().1).unwrap();
+    assert_eq!(last.latitude, num(&r["geodetic"]["lat_deg"]).to_radians());
+    assert_eq!(last.altitude, num(&r["geodetic"]["alt_m"]));
+
+    // Without --realtime and --fg the report has neither object.
+    let r = report(&["palmer", "--headless", "--json", "--frames", "2"]);
+    assert!(r.get("fg").is_none() && r.get("realtime").is_none(), "{r}");
+    // --realtime belongs to headless runs (interactive ones are always paced).
+    let out = sim(&["palmer", "--realtime"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--realtime needs --headless"));
+}

@@ -166,3 +166,32 @@ fn bad_arguments_exit_2_with_one_line() {
         );
     }
 }
+
+/// The memory a flying-only fleet takes, measured by the binary itself (the
+/// growth of its resident set while spawning): far below the kilobyte per
+/// aircraft that full entities with their 408-byte datagrams took. Bound: the
+/// estimate's 137-141 bytes plus allocator slack; 300 bytes fails on waste.
+#[test]
+fn fleets_take_a_few_hundred_bytes_per_aircraft() {
+    for model in ["palmer", "bourg"] {
+        let out = sim(&[
+            "fleet",
+            "--model",
+            model,
+            "--aircraft",
+            "200000",
+            "--frames",
+            "1",
+            "--threads",
+            "1",
+            "--json",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let estimate = v["estimated_bytes_per_aircraft"].as_u64().unwrap();
+        assert!((100..200).contains(&estimate), "{model}: {estimate}");
+        if let Some(measured) = v["measured_bytes_per_aircraft"].as_f64() {
+            assert!(measured > 50.0 && measured < 300.0, "{model}: {measured}");
+        }
+    }
+}

@@ -93,6 +93,38 @@ fn replays_equal_the_recorded_flights() {
     }
 }
 
+/// `replay --realtime` paces the recorded frames at 1/fps of wall clock; the
+/// report is the original's plus its `realtime` field.
+#[test]
+fn realtime_replays_take_the_flights_time() {
+    let dir = scratch("replay-rt");
+    let rec = dir.join("rt.rec").to_str().unwrap().to_owned();
+    let script = format!("{EXAMPLES}bourg_roll.txt");
+    let original = ok(&[
+        "bourg",
+        "--headless",
+        "--json",
+        "--frames",
+        "60",
+        "--script",
+        &script,
+        "--record",
+        &rec,
+    ]);
+    let start = std::time::Instant::now();
+    let paced = ok(&["replay", &rec, "--json", "--realtime"]);
+    // 60 frames at 30 fps: 2 s of wall clock, less at most one frame period.
+    let took = start.elapsed().as_secs_f64();
+    assert!(took > 1.9, "{took} s");
+    let mut paced: serde_json::Value = serde_json::from_str(&paced).unwrap();
+    assert!(paced["realtime"]["overruns"].is_u64(), "{paced}");
+    paced.as_object_mut().unwrap().remove("realtime");
+    assert_eq!(
+        paced,
+        serde_json::from_str::<serde_json::Value>(&original).unwrap()
+    );
+}
+
 #[test]
 fn bad_recordings_are_refused_with_status_2() {
     let dir = scratch("replay-bad");
@@ -145,7 +177,8 @@ fn bad_recordings_are_refused_with_status_2() {
         .unwrap()
         .set_len(64 * 1024 * 1024 + 1)
         .unwrap();
-    refused(&["replay", &big], "limit for recordings");
+    refused(&["replay", &big], "larger than the 64 MiB limit");
+    refused(&["replay", "/dev/zero"], "give a regular file or a pipe");
     // --record must not clobber the script.
     let script = path("s.txt");
     std::fs::write(&script, "1-2 throttle-up\n").unwrap();

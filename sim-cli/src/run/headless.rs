@@ -2,28 +2,32 @@
 //! report.
 
 use std::io::Write;
+use std::time::Instant;
 
 use anyhow::Context as _;
-use fdm_core::script::Script;
+use fdm_core::script::{Script, ScriptCursor};
 
 use super::{link_warning, Flight};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
+use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
-use crate::report::Report;
+use crate::report::{RealtimeReport, Report};
 
-/// Steps frame `frame` (1-based): the script's actions for that frame in file order,
+/// Steps frame `frame` (1-based): the script's actions for that frame in file order
+/// (through `cursor`, a sweep over the rules: linear in frames plus rules),
 /// then `keys`, then one model step, then the CSV row.
 pub(super) fn step_frame<F: Flight, W: Write>(
     flight: &mut F,
     script: &Script<F::Action>,
+    cursor: &mut ScriptCursor,
     frame: u64,
     keys: &[F::Action],
     buffer: &mut Vec<F::Action>,
     csv: Option<&mut CsvWriter<W>>,
 ) -> Result<(), CliError> {
     buffer.clear();
-    buffer.extend(script.actions_at(frame));
+    buffer.extend(cursor.actions(script, frame));
     buffer.extend_from_slice(keys);
     flight
         .step(buffer)
@@ -34,8 +38,11 @@ pub(super) fn step_frame<F: Flight, W: Write>(
     Ok(())
 }
 
-/// Runs `frames` frames as fast as possible and returns the final report. Writes
-/// the initial state as CSV frame 0 and a row after every step. The caller
+/// Runs `frames` frames and returns the final report: as fast as possible, or
+/// with `realtime` one frame per 1/fps of wall-clock time like the interactive
+/// loop (so FlightGear, reading at the frame rate, sees every frame; frames
+/// that miss their deadline are counted as overruns in the report). Writes the
+/// initial state as CSV frame 0 and a row after every step. The caller
 /// finishes (flushes) the CSV writer.
 ///
 /// # Errors
@@ -45,20 +52,41 @@ pub fn run_headless<F: Flight, W: Write>(
     script: &Script<F::Action>,
     fps: u32,
     frames: u64,
+    realtime: bool,
     mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
+    let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
     if let Some(csv) = csv.as_deref_mut() {
         csv.write_record(0, &flight.snapshot())?;
     }
     let mut buffer = Vec::new();
+    let mut cursor = ScriptCursor::new();
     for frame in 1..=frames {
-        step_frame(flight, script, frame, &[], &mut buffer, csv.as_deref_mut())?;
+        step_frame(
+            flight,
+            script,
+            &mut cursor,
+            frame,
+            &[],
+            &mut buffer,
+            csv.as_deref_mut(),
+        )?;
         if let Some(message) = flight.take_link_failure() {
             progress.message(&link_warning(&message));
         }
         progress.tick(frame);
+        if let Some(pacer) = pacer.as_mut() {
+            let sleep = pacer.finish_frame(Instant::now());
+            if !sleep.is_zero() {
+                std::thread::sleep(sleep);
+            }
+        }
     }
     progress.finish();
-    Ok(Report::new(fps, frames, &flight.snapshot()))
+    let mut report = Report::new(fps, frames, &flight.snapshot());
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
 }

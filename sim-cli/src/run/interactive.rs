@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use crossterm::event::{self, Event};
-use fdm_core::script::Script;
+use fdm_core::script::{Script, ScriptCursor};
 
 use super::headless::step_frame;
 use super::Flight;
@@ -36,6 +36,7 @@ pub struct Session<A> {
     paused: bool,
     pending: Vec<A>,
     buffer: Vec<A>,
+    cursor: ScriptCursor,
 }
 
 impl<A> Default for Session<A> {
@@ -46,6 +47,7 @@ impl<A> Default for Session<A> {
             paused: false,
             pending: Vec::new(),
             buffer: Vec::new(),
+            cursor: ScriptCursor::new(),
         }
     }
 }
@@ -94,6 +96,7 @@ impl<A: KeyAction> Session<A> {
                 flight.reset().context("reset")?;
                 self.frame = 0;
                 self.pending.clear();
+                self.cursor.reset();
                 if let Some(csv) = csv {
                     csv.write_record(0, &flight.snapshot())?;
                 }
@@ -110,7 +113,7 @@ impl<A: KeyAction> Session<A> {
     /// Steps one frame with the queued keys, unless paused.
     ///
     /// # Errors
-    /// As [`run_headless`].
+    /// As [`run_headless`](super::run_headless).
     pub fn advance<F: Flight<Action = A>, W: Write>(
         &mut self,
         flight: &mut F,
@@ -125,6 +128,7 @@ impl<A: KeyAction> Session<A> {
         let result = step_frame(
             flight,
             script,
+            &mut self.cursor,
             self.frame,
             &self.pending,
             &mut self.buffer,

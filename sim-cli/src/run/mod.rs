@@ -1,7 +1,7 @@
 //! The run loops, written once for every model against the [`Flight`] trait.
 //!
 //! [`crate::flight::ModelFlight`] implements [`Flight`] for any
-//! [`CliModel`] (one aircraft entity in an `fdm_ecs::Simulation`);
+//! [`CliModel`](crate::models::CliModel) (one aircraft entity in an `fdm_ecs::Simulation`);
 //! [`crate::flight::run_model`] builds it from the validated configuration
 //! and hands it to [`fly`]. Everything here (script replay, CSV, JSON report, progress bar,
 //! terminal, keys, pacing, HUD) is model-agnostic and tested with a fake model.
@@ -17,6 +17,7 @@ use crate::hud::LinkStats;
 use crate::keys::KeyAction;
 use crate::models::Details;
 use crate::progress::StderrProgress;
+use crate::report::LinkReport;
 use crate::snapshot::Snapshot;
 
 pub mod headless;
@@ -107,17 +108,28 @@ pub fn fly<F: Flight>(
         origin: _,
     } = run;
     match mode {
-        Mode::Headless { frames, json } => {
+        Mode::Headless {
+            frames,
+            json,
+            realtime,
+        } => {
             let mut progress = StderrProgress::new(frames);
-            let report = run_headless(
+            let mut report = run_headless(
                 &mut flight,
                 script,
                 fps,
                 frames,
+                realtime,
                 csv.as_mut(),
                 &mut progress,
             )?;
             flight.finish()?;
+            if fg.is_some() {
+                report.fg = flight.link_stats().map(|l| LinkReport {
+                    sent: l.sent,
+                    failed: l.failed,
+                });
+            }
             if let Some(csv) = csv {
                 csv.finish()?;
             }
@@ -215,7 +227,8 @@ mod tests {
         let script = script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n");
         let mut progress = StderrProgress::with_enabled(4, false);
         let report =
-            run_headless::<_, Vec<u8>>(&mut flight, &script, 10, 4, None, &mut progress).unwrap();
+            run_headless::<_, Vec<u8>>(&mut flight, &script, 10, 4, false, None, &mut progress)
+                .unwrap();
         assert_eq!(
             flight.steps,
             [
@@ -234,9 +247,16 @@ mod tests {
     fn headless_zero_frames_reports_the_initial_state() {
         let mut flight = Fake::default();
         let mut progress = StderrProgress::with_enabled(0, false);
-        let report =
-            run_headless::<_, Vec<u8>>(&mut flight, &Script::default(), 30, 0, None, &mut progress)
-                .unwrap();
+        let report = run_headless::<_, Vec<u8>>(
+            &mut flight,
+            &Script::default(),
+            30,
+            0,
+            false,
+            None,
+            &mut progress,
+        )
+        .unwrap();
         assert_eq!((report.frames, report.common.time_s), (0, 0.0));
         assert!(flight.steps.is_empty());
     }
@@ -251,6 +271,7 @@ mod tests {
             &Script::default(),
             10,
             3,
+            false,
             Some(&mut csv),
             &mut progress,
         )
@@ -272,9 +293,16 @@ mod tests {
             ..Fake::default()
         };
         let mut progress = StderrProgress::with_enabled(5, false);
-        let err =
-            run_headless::<_, Vec<u8>>(&mut flight, &Script::default(), 10, 5, None, &mut progress)
-                .unwrap_err();
+        let err = run_headless::<_, Vec<u8>>(
+            &mut flight,
+            &Script::default(),
+            10,
+            5,
+            false,
+            None,
+            &mut progress,
+        )
+        .unwrap_err();
         assert_eq!(err.exit_code(), 1);
         assert_eq!(err.one_line(), "frame 3: model diverged");
     }
@@ -338,9 +366,16 @@ mod tests {
             ..Fake::default()
         };
         let mut progress = StderrProgress::with_enabled(3, false);
-        let report =
-            run_headless::<_, Vec<u8>>(&mut flight, &Script::default(), 30, 3, None, &mut progress)
-                .unwrap();
+        let report = run_headless::<_, Vec<u8>>(
+            &mut flight,
+            &Script::default(),
+            30,
+            3,
+            false,
+            None,
+            &mut progress,
+        )
+        .unwrap();
         assert_eq!(report.frames, 3);
         assert!(flight.link_failures.is_empty());
         assert_eq!(

@@ -1,0 +1,166 @@
+//! One aircraft's DIS output: its configuration, its dead-reckoning model and
+//! a reusable encode buffer, behind one call per frame; and a UDP sender.
+
+use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
+
+use bytes::BytesMut;
+
+use crate::dead_reckoning::{DeadReckoner, DrThresholds, SendReason};
+use crate::entity::{encode_entity_state, EntityConfig, WireState, ENTITY_STATE_PDU_LEN};
+use crate::error::DisOutputError;
+use crate::frames::AircraftState;
+
+/// Counts kept by an [`EntityPublisher`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PublisherCounts {
+    /// Frames given to [`EntityPublisher::update`].
+    pub frames: u64,
+    /// PDUs produced, all reasons.
+    pub sent: u64,
+    /// … of which the first one or after a clock reset.
+    pub first_or_reset: u64,
+    /// … because the position error passed its threshold.
+    pub position: u64,
+    /// … because the orientation error passed its threshold.
+    pub orientation: u64,
+    /// … because the heartbeat was due.
+    pub heartbeat: u64,
+}
+
+/// A PDU that is due, borrowed from the publisher's buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Due<'a> {
+    /// Why it is due.
+    pub reason: SendReason,
+    /// The encoded Entity State PDU, ready for one UDP datagram.
+    pub bytes: &'a [u8],
+}
+
+/// One aircraft's DIS Entity State output.
+///
+/// A shell calls [`EntityPublisher::update`] once per frame with the
+/// aircraft's state; when it returns bytes, it sends them (for example with
+/// [`UdpSender`]). One publisher per aircraft: each keeps its own
+/// dead-reckoning model.
+#[derive(Debug, Clone)]
+pub struct EntityPublisher {
+    config: EntityConfig,
+    reckoner: DeadReckoner,
+    buf: BytesMut,
+    counts: PublisherCounts,
+}
+
+impl EntityPublisher {
+    /// A publisher that has sent nothing yet.
+    ///
+    /// # Errors
+    /// As [`DrThresholds::validate`].
+    pub fn new(config: EntityConfig, thresholds: DrThresholds) -> Result<Self, DisOutputError> {
+        let reckoner = DeadReckoner::new(config.dr_algorithm, thresholds)?;
+        Ok(Self {
+            config,
+            reckoner,
+            buf: BytesMut::with_capacity(ENTITY_STATE_PDU_LEN),
+            counts: PublisherCounts::default(),
+        })
+    }
+
+    /// The configuration.
+    #[must_use]
+    pub fn config(&self) -> &EntityConfig {
+        &self.config
+    }
+
+    /// The dead-reckoning model (what receivers last got, the thresholds).
+    #[must_use]
+    pub fn reckoner(&self) -> &DeadReckoner {
+        &self.reckoner
+    }
+
+    /// The counts so far.
+    #[must_use]
+    pub fn counts(&self) -> PublisherCounts {
+        self.counts
+    }
+
+    /// Takes this frame's state; returns the PDU to send if one is due
+    /// (and then assumes it is sent: receivers extrapolate from it from now
+    /// on).
+    ///
+    /// # Errors
+    /// An invalid state ([`AircraftState::validate`]) or an encoding failure;
+    /// the model is unchanged then.
+    pub fn update(&mut self, state: &AircraftState) -> Result<Option<Due<'_>>, DisOutputError> {
+        let ecef = state.to_ecef()?;
+        self.counts.frames += 1;
+        let Some(reason) = self.reckoner.check(&ecef) else {
+            return Ok(None);
+        };
+        let wire = WireState::new(&ecef, self.config.dr_algorithm);
+        let n = encode_entity_state(&self.config, &wire, &mut self.buf)?;
+        self.reckoner.record_sent(wire);
+        self.counts.sent += 1;
+        match reason {
+            SendReason::First | SendReason::ClockReset => self.counts.first_or_reset += 1,
+            SendReason::PositionError => self.counts.position += 1,
+            SendReason::OrientationError => self.counts.orientation += 1,
+            SendReason::Heartbeat => self.counts.heartbeat += 1,
+        }
+        Ok(Some(Due {
+            reason,
+            bytes: &self.buf[..n],
+        }))
+    }
+}
+
+/// A UDP socket that sends datagrams to one address (unicast or broadcast;
+/// the tests use 127.0.0.1 only).
+#[derive(Debug)]
+pub struct UdpSender {
+    socket: UdpSocket,
+    target: SocketAddr,
+}
+
+impl UdpSender {
+    /// Binds an ephemeral local port and aims at `target` (DIS's customary
+    /// port is 3000). Broadcast is enabled when `broadcast` is true.
+    ///
+    /// # Errors
+    /// [`DisOutputError::Io`] if the address does not resolve or the socket
+    /// cannot be made.
+    pub fn new(target: impl ToSocketAddrs, broadcast: bool) -> Result<Self, DisOutputError> {
+        let io = |e: std::io::Error| DisOutputError::Io(e.to_string());
+        let target = target
+            .to_socket_addrs()
+            .map_err(io)?
+            .next()
+            .ok_or_else(|| DisOutputError::Io("address resolves to nothing".into()))?;
+        // A loopback target gets a loopback source: nothing is opened on
+        // other interfaces then.
+        let local: SocketAddr = match (target.is_ipv4(), target.ip().is_loopback()) {
+            (true, true) => (std::net::Ipv4Addr::LOCALHOST, 0).into(),
+            (true, false) => (std::net::Ipv4Addr::UNSPECIFIED, 0).into(),
+            (false, true) => (std::net::Ipv6Addr::LOCALHOST, 0).into(),
+            (false, false) => (std::net::Ipv6Addr::UNSPECIFIED, 0).into(),
+        };
+        let socket = UdpSocket::bind(local).map_err(io)?;
+        socket.set_broadcast(broadcast).map_err(io)?;
+        Ok(Self { socket, target })
+    }
+
+    /// The destination.
+    #[must_use]
+    pub fn target(&self) -> SocketAddr {
+        self.target
+    }
+
+    /// Sends one datagram.
+    ///
+    /// # Errors
+    /// [`DisOutputError::Io`] from the socket.
+    pub fn send(&self, datagram: &[u8]) -> Result<usize, DisOutputError> {
+        self.socket
+            .send_to(datagram, self.target)
+            .map_err(|e| DisOutputError::Io(e.to_string()))
+    }
+}

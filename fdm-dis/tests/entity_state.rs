@@ -1,0 +1,199 @@
+//! The Entity State PDU bytes, read back field by field with plain
+//! big-endian reads at the offsets of IEEE 1278.1 (header 12 bytes, then
+//! entity id 6, force 1, variable-parameter count 1, entity type 8,
+//! alternative type 8, velocity 12, location 24, orientation 12,
+//! appearance 4, dead-reckoning parameters 40, marking 12, capabilities 4 =
+//! 144 bytes), independently of dis-rs's parser; and the dis-rs round trip.
+//! All comparisons are exact: the wire values are the `f32`/`f64` we put in.
+
+use bytes::BytesMut;
+use fdm_dis::dis_rs::enumerations::ForceId;
+use fdm_dis::dis_rs::model::PduBody;
+use fdm_dis::geodesy::{Attitude, Geodetic};
+use fdm_dis::{
+    dis_timestamp, encode_entity_state, AircraftKind, AircraftState, DisOutputError, DisVersion,
+    DrAlgorithm, EntityConfig, EntityIdentity, Marking, WireState,
+};
+use nalgebra::Vector3;
+
+fn u16_at(b: &[u8], o: usize) -> u16 {
+    u16::from_be_bytes([b[o], b[o + 1]])
+}
+fn u32_at(b: &[u8], o: usize) -> u32 {
+    u32::from_be_bytes(b[o..o + 4].try_into().unwrap())
+}
+fn f32_at(b: &[u8], o: usize) -> f32 {
+    f32::from_be_bytes(b[o..o + 4].try_into().unwrap())
+}
+fn f64_at(b: &[u8], o: usize) -> f64 {
+    f64::from_be_bytes(b[o..o + 8].try_into().unwrap())
+}
+
+fn sample_state() -> AircraftState {
+    let mut s = AircraftState::new(
+        1800.0,
+        Geodetic {
+            lat_deg: 39.8264,
+            lon_deg: -84.0483,
+            alt_m: 1251.5,
+        },
+        Attitude {
+            heading_deg: 280.0,
+            pitch_deg: 5.0,
+            roll_deg: -20.0,
+        },
+        Vector3::new(30.0, -50.0, -2.0),
+    );
+    s.angular_velocity_body_rad_s = Some(Vector3::new(0.01, 0.02, -0.05));
+    s.acceleration_ned_m_s2 = Some(Vector3::new(0.5, -0.25, 0.125));
+    s
+}
+
+fn config(kind: AircraftKind, alg: DrAlgorithm, version: DisVersion) -> EntityConfig {
+    let mut c = EntityConfig::new(
+        EntityIdentity::new(42, 7, 1001).unwrap(),
+        kind,
+        Marking::new("N172SP").unwrap(),
+    );
+    c.dr_algorithm = alg;
+    c.version = version;
+    c.exercise_id = 3;
+    c.force = ForceId::Neutral;
+    c
+}
+
+#[test]
+fn bytes_at_the_standard_offsets() {
+    let e = sample_state().to_ecef().unwrap();
+    for (kind, type_bytes) in [
+        (AircraftKind::Cessna172, [1u8, 2, 0, 225, 85, 11, 1, 0]),
+        (AircraftKind::BourgGeneric, [1u8, 2, 0, 0, 85, 0, 0, 0]),
+    ] {
+        for (alg, code) in [
+            (DrAlgorithm::Fpw, 2u8),
+            (DrAlgorithm::Rpw, 3),
+            (DrAlgorithm::Rvw, 4),
+            (DrAlgorithm::Fvw, 5),
+        ] {
+            for (version, vbyte) in [(DisVersion::V6, 6u8), (DisVersion::V7, 7)] {
+                let cfg = config(kind, alg, version);
+                let wire = WireState::new(&e, alg);
+                let mut buf = BytesMut::new();
+                let n = encode_entity_state(&cfg, &wire, &mut buf).unwrap();
+                let b = &buf[..];
+                assert_eq!((n, b.len()), (144, 144));
+                // Header.
+                assert_eq!(
+                    &b[0..4],
+                    &[vbyte, 3, 1, 1],
+                    "version, exercise, type, family"
+                );
+                assert_eq!(u32_at(b, 4), dis_timestamp(1800.0).to_u32());
+                assert_eq!(u16_at(b, 8), 144);
+                // Body.
+                assert_eq!((u16_at(b, 12), u16_at(b, 14), u16_at(b, 16)), (42, 7, 1001));
+                assert_eq!(
+                    (b[18], b[19]),
+                    (3, 0),
+                    "force Neutral, no variable parameters"
+                );
+                assert_eq!(&b[20..28], &type_bytes);
+                assert_eq!(&b[28..36], &[0; 8], "alternative type");
+                let v: Vec<f32> = (0..3).map(|i| f32_at(b, 36 + 4 * i)).collect();
+                assert_eq!(v, wire.velocity_m_s);
+                let p: Vec<f64> = (0..3).map(|i| f64_at(b, 48 + 8 * i)).collect();
+                assert_eq!(p, wire.location_m.as_slice());
+                let o: Vec<f32> = (0..3).map(|i| f32_at(b, 72 + 4 * i)).collect();
+                assert_eq!(o, wire.orientation_rad);
+                assert_eq!(u32_at(b, 84), 0, "appearance: default air platform");
+                assert_eq!(b[88], code, "dead-reckoning algorithm");
+                assert_eq!(&b[89..104], &[0; 15], "other DR parameters");
+                let a: Vec<f32> = (0..3).map(|i| f32_at(b, 104 + 4 * i)).collect();
+                let w: Vec<f32> = (0..3).map(|i| f32_at(b, 116 + 4 * i)).collect();
+                assert_eq!(a, wire.acceleration_m_s2);
+                assert_eq!(w, wire.angular_velocity_rad_s);
+                assert_eq!(a != [0.0; 3], alg.accelerates(), "{alg:?}");
+                assert_eq!(w != [0.0; 3], alg.rotates(), "{alg:?}");
+                assert_eq!(b[128], 1, "marking character set ASCII");
+                assert_eq!(
+                    &b[129..140],
+                    b"N172SP     ",
+                    "marking, space padded by dis-rs"
+                );
+                assert_eq!(u32_at(b, 140), 0, "capabilities");
+            }
+        }
+    }
+}
+
+#[test]
+fn dis_rs_parses_what_it_wrote() {
+    let e = sample_state().to_ecef().unwrap();
+    let cfg = config(AircraftKind::Cessna172, DrAlgorithm::Rvw, DisVersion::V7);
+    let wire = WireState::new(&e, cfg.dr_algorithm);
+    let mut buf = BytesMut::new();
+    encode_entity_state(&cfg, &wire, &mut buf).unwrap();
+    let pdus = fdm_dis::dis_rs::parse(&buf).unwrap();
+    assert_eq!(pdus.len(), 1);
+    let PduBody::EntityState(es) = &pdus[0].body else {
+        panic!("not an entity state: {:?}", pdus[0].body)
+    };
+    assert_eq!(es.entity_type, AircraftKind::Cessna172.entity_type());
+    assert_eq!(es.force_id, ForceId::Neutral);
+    assert_eq!(es.entity_marking.marking_string, "N172SP");
+    assert_eq!(es.entity_location.x_coordinate, wire.location_m.x);
+    assert_eq!(es.entity_orientation.theta, wire.orientation_rad[1]);
+    assert_eq!(
+        DrAlgorithm::from_dis(es.dead_reckoning_parameters.algorithm),
+        Some(DrAlgorithm::Rvw)
+    );
+}
+
+#[test]
+fn timestamps() {
+    // Half an hour is 2^30 units; relative flag (bit 0) clear.
+    assert_eq!(dis_timestamp(1800.0).to_u32(), 1 << 31);
+    assert_eq!(dis_timestamp(0.0).to_u32(), 0);
+    assert_eq!(dis_timestamp(3600.0).to_u32(), 0, "wraps at the hour");
+    assert_eq!(dis_timestamp(5400.0).to_u32(), 1 << 31);
+    // Just below the hour: the largest count, 2^31 - 1, shifted.
+    assert_eq!(dis_timestamp(3600.0 - 1e-9).to_u32(), 0xFFFF_FFFE);
+    for bad in [f64::NAN, -1.0, f64::INFINITY] {
+        assert_eq!(dis_timestamp(bad).to_u32(), 0);
+    }
+}
+
+#[test]
+fn marking_and_id_validation() {
+    assert!(Marking::new("ABCDEFGHIJK").is_ok());
+    assert!(matches!(
+        Marking::new("ABCDEFGHIJKL"),
+        Err(DisOutputError::MarkingTooLong(_))
+    ));
+    assert!(matches!(
+        Marking::new("CAFÉ"),
+        Err(DisOutputError::MarkingNotAscii(_))
+    ));
+    assert!(matches!(
+        Marking::new("A\0B"),
+        Err(DisOutputError::MarkingNotAscii(_))
+    ));
+    assert!(Marking::new("").is_ok());
+    for (s, a, e) in [
+        (0, 1, 1),
+        (1, 0, 1),
+        (1, 1, 0),
+        (0xFFFF, 1, 1),
+        (1, 0xFFFF, 1),
+        (1, 1, 0xFFFE),
+    ] {
+        assert!(
+            matches!(
+                EntityIdentity::new(s, a, e),
+                Err(DisOutputError::ReservedId { .. })
+            ),
+            "{s}:{a}:{e}"
+        );
+    }
+    assert!(EntityIdentity::new(0xFFFE, 0xFFFE, 0xFFFD).is_ok());
+}

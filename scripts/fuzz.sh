@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Fuzzes every parser of outside input with cargo-fuzz (libFuzzer):
+#   fgnet_decode  FGNetFDM datagrams (FgNetFdm::decode; accepted input re-encodes identically)
+#   script_parse  --script files (Script::parse; accepted scripts print and parse back equal)
+#   recording_parse  sim-cli replay files (parse_recording; never panics, one-line messages)
+#
+# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   (default 60 s, every target)
+#
+# Installs what it needs: cargo-fuzz from crates.io, and a nightly toolchain if
+# rustup can get one. Without nightly it builds with the stable toolchain and
+# RUSTC_BOOTSTRAP=1 (which unlocks the unstable sanitizer flags cargo-fuzz passes),
+# and without AddressSanitizer if even that fails.
+#
+# Seeds are in fuzz/corpus/<target>/ (read only); new inputs libFuzzer finds go to
+# fuzz/.work/corpus/<target>/ and crashes to fuzz/artifacts/<target>/ (both ignored
+# by git; copy an interesting input into fuzz/corpus/ to keep it).
+#
+# FUZZ_STABLE=1 skips nightly and uses the stable toolchain with RUSTC_BOOTSTRAP=1.
+#
+# Exit status: 0 no finding, 1 a target crashed or failed an invariant,
+# 3 fuzzing could not run here (the reason is printed on a line starting
+# "FUZZING NOT RUN").
+set -uo pipefail
+cd "$(dirname "$0")/.."
+
+seconds="${1:-60}"
+shift || true
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+  targets=(fgnet_decode script_parse recording_parse)
+fi
+case "$seconds" in
+  ''|*[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]" >&2; exit 2 ;;
+esac
+
+cannot_run() {
+  echo "FUZZING NOT RUN: $*"
+  exit 3
+}
+
+# cargo-fuzz
+if ! cargo fuzz --version >/dev/null 2>&1; then
+  echo "== installing cargo-fuzz from crates.io"
+  cargo install cargo-fuzz --locked || cannot_run "cargo install cargo-fuzz failed"
+fi
+echo "== $(cargo fuzz --version)"
+
+# libFuzzer is C++ (built by libfuzzer-sys).
+if ! command -v c++ >/dev/null 2>&1; then
+  cannot_run "no C++ compiler (c++) to build libFuzzer; install g++"
+fi
+
+# A toolchain that accepts -Z flags: nightly if present or installable, else stable
+# with RUSTC_BOOTSTRAP=1.
+# FUZZ_STABLE=1 skips nightly (to check the fallback).
+toolchain=()
+if [ "${FUZZ_STABLE:-0}" = 1 ]; then
+  export RUSTC_BOOTSTRAP=1
+  echo "== toolchain: FUZZ_STABLE=1; using $(rustc --version) with RUSTC_BOOTSTRAP=1"
+elif rustup run nightly rustc --version >/dev/null 2>&1; then
+  toolchain=(+nightly)
+  echo "== toolchain: $(rustup run nightly rustc --version)"
+elif timeout 300 rustup toolchain install nightly --profile minimal >/dev/null 2>&1; then
+  toolchain=(+nightly)
+  echo "== toolchain: $(rustup run nightly rustc --version) (installed now)"
+else
+  export RUSTC_BOOTSTRAP=1
+  echo "== toolchain: nightly cannot be installed here; using $(rustc --version) with RUSTC_BOOTSTRAP=1"
+fi
+
+# AddressSanitizer if the toolchain can build with it, else none.
+sanitizer=address
+echo "== building the targets (sanitizer: $sanitizer)"
+if ! cargo "${toolchain[@]}" fuzz build -O -s "$sanitizer" 2>/tmp/fuzz-build.$$.log; then
+  tail -5 /tmp/fuzz-build.$$.log
+  sanitizer=none
+  echo "== AddressSanitizer build failed; building without a sanitizer"
+  if ! cargo "${toolchain[@]}" fuzz build -O -s none 2>/tmp/fuzz-build.$$.log; then
+    tail -20 /tmp/fuzz-build.$$.log
+    rm -f /tmp/fuzz-build.$$.log
+    cannot_run "the fuzz targets do not build with this toolchain (see the log above)"
+  fi
+fi
+rm -f /tmp/fuzz-build.$$.log
+
+status=0
+for target in "${targets[@]}"; do
+  work="fuzz/.work/corpus/$target"
+  mkdir -p "$work" "fuzz/artifacts/$target"
+  echo "== fuzzing $target for ${seconds}s (seeds: fuzz/corpus/$target)"
+  if cargo "${toolchain[@]}" fuzz run -O -s "$sanitizer" "$target" "$work" "fuzz/corpus/$target" -- \
+       -max_total_time="$seconds" -print_final_stats=1 2>"fuzz/.work/$target.log"; then
+    grep -E "stat::number_of_executed_units|stat::new_units_added" "fuzz/.work/$target.log" | sed "s/^/   $target: /"
+    echo "   $target: no crash, no failed invariant"
+  else
+    status=1
+    tail -40 "fuzz/.work/$target.log"
+    echo "FUZZ FINDING in $target: see fuzz/artifacts/$target/ and fuzz/.work/$target.log"
+  fi
+done
+exit "$status"

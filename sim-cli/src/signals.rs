@@ -1,0 +1,206 @@
+//! Ending a run on a signal without wrecking the terminal or losing output.
+//!
+//! [`install`] starts a thread that waits for SIGTERM, SIGHUP, SIGINT or SIGQUIT
+//! (`kill`, `timeout`, a closed terminal window, Ctrl-\ or Ctrl-C outside raw
+//! mode). On the first one it:
+//!
+//! 1. takes the stdout lock and keeps it, so the run loop cannot draw another
+//!    HUD frame after the terminal is restored;
+//! 2. restores the terminal ([`crate::terminal::restore`]: raw mode off, main
+//!    screen, cursor shown) if an interactive run had changed it;
+//! 3. flushes every output file registered through [`SignalSafeWriter`] (the
+//!    `--csv` file; recordings later), up to the last complete line;
+//! 4. prints `sim-cli: stopped by SIGTERM` on stderr and exits with status
+//!    128 + the signal number (143, 129, 130, 131), as shells report a process
+//!    killed by that signal.
+//!
+//! This needs nothing from the run loops: the signal is handled on its own
+//! thread, and the outputs are shared with it through [`SignalSafeWriter`].
+//! A panic restores the terminal through [`crate::terminal::install_panic_hook`].
+
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError, Weak};
+
+use signal_hook::consts::signal::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+use signal_hook::iterator::Signals;
+
+/// The signals that end a run cleanly, with their names.
+pub const HANDLED: [(i32, &str); 4] = [
+    (SIGTERM, "SIGTERM"),
+    (SIGHUP, "SIGHUP"),
+    (SIGINT, "SIGINT"),
+    (SIGQUIT, "SIGQUIT"),
+];
+
+/// The exit status for a run ended by `signal`: 128 + its number.
+#[must_use]
+pub fn exit_status(signal: i32) -> i32 {
+    128 + signal
+}
+
+type Shared = Arc<Mutex<BufWriter<File>>>;
+
+/// Outputs to flush when a signal ends the run; dead entries are skipped.
+static OUTPUTS: Mutex<Vec<Weak<Mutex<BufWriter<File>>>>> = Mutex::new(Vec::new());
+
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    // A panic elsewhere must not stop the flush: the data is still there.
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Starts the signal thread (see the module docs). Call once, early in `main`.
+///
+/// # Errors
+/// The OS error when the handlers or the thread cannot be set up; the run can
+/// go on without them (signals then act as before: no restore, no flush).
+pub fn install() -> io::Result<()> {
+    let mut signals = Signals::new(HANDLED.map(|(number, _)| number))?;
+    std::thread::Builder::new()
+        .name("sim-cli-signals".to_owned())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                terminate(signal);
+            }
+        })?;
+    Ok(())
+}
+
+/// Restores the terminal, flushes the outputs and exits with 128 + `signal`.
+fn terminate(signal: i32) -> ! {
+    let stdout = io::stdout();
+    // Held until the process exits: no HUD frame after the restore. (The lock is
+    // reentrant, so `restore` below can still write through it.)
+    let held = stdout.lock();
+    crate::terminal::restore();
+    flush_registered();
+    let name = HANDLED
+        .iter()
+        .find(|(number, _)| *number == signal)
+        .map_or("a signal", |(_, name)| *name);
+    let _ = writeln!(io::stderr(), "sim-cli: stopped by {name}");
+    // Keep the stdout lock alive into exit (std's exit-time flush re-enters it).
+    let _ = &held;
+    std::process::exit(exit_status(signal))
+}
+
+/// Flushes every registered output that is still open: what reached it as
+/// complete lines is on disk afterwards. Errors are ignored (nowhere to report
+/// them while exiting on a signal).
+pub fn flush_registered() {
+    let outputs = lock(&OUTPUTS);
+    for output in outputs.iter().filter_map(Weak::upgrade) {
+        let _ = lock(&output).flush();
+    }
+}
+
+/// A buffered output file that the signal thread can flush: the run writes to
+/// it as to any [`Write`], and complete lines are handed to a buffer shared with
+/// [`flush_registered`]. A partial line stays private until its newline comes,
+/// so a signal never leaves half a CSV row in the file.
+#[derive(Debug)]
+pub struct SignalSafeWriter {
+    shared: Shared,
+    /// Bytes after the last newline written so far.
+    tail: Vec<u8>,
+}
+
+/// A partial line longer than this is handed over anyway (output without
+/// newlines must not grow without bound).
+const MAX_TAIL: usize = 64 * 1024;
+
+impl SignalSafeWriter {
+    /// Creates (truncates) `path` with a 64 KiB buffer and registers it.
+    ///
+    /// # Errors
+    /// The OS error from creating the file.
+    pub fn create(path: &Path) -> io::Result<Self> {
+        Ok(Self::register(File::create(path)?))
+    }
+
+    /// Wraps an open file with a 64 KiB buffer and registers it.
+    #[must_use]
+    pub fn register(file: File) -> Self {
+        let shared = Arc::new(Mutex::new(BufWriter::with_capacity(64 * 1024, file)));
+        let mut outputs = lock(&OUTPUTS);
+        outputs.retain(|w| w.strong_count() > 0);
+        outputs.push(Arc::downgrade(&shared));
+        Self {
+            shared,
+            tail: Vec::new(),
+        }
+    }
+}
+
+impl Write for SignalSafeWriter {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match buf.iter().rposition(|&b| b == b'\n') {
+            Some(last) => {
+                let mut shared = lock(&self.shared);
+                shared.write_all(&self.tail)?;
+                self.tail.clear();
+                shared.write_all(&buf[..=last])?;
+                self.tail.extend_from_slice(&buf[last + 1..]);
+            }
+            None => {
+                self.tail.extend_from_slice(buf);
+                if self.tail.len() > MAX_TAIL {
+                    lock(&self.shared).write_all(&self.tail)?;
+                    self.tail.clear();
+                }
+            }
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        let mut shared = lock(&self.shared);
+        shared.write_all(&self.tail)?;
+        self.tail.clear();
+        shared.flush()
+    }
+}
+
+impl Drop for SignalSafeWriter {
+    fn drop(&mut self) {
+        // As BufWriter does on drop: best effort; `flush` reports errors.
+        let _ = self.flush();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_complete_lines_reach_the_file_until_flush() {
+        let dir = std::env::temp_dir().join(format!("sim-cli-signals-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("out.csv");
+        let mut out = SignalSafeWriter::create(&path).unwrap();
+        out.write_all(b"frame,x\n0,1\n1,").unwrap();
+        // What the signal thread does.
+        flush_registered();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "frame,x\n0,1\n");
+        out.write_all(b"2\n2,3").unwrap();
+        flush_registered();
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "frame,x\n0,1\n1,2\n"
+        );
+        out.flush().unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "frame,x\n0,1\n1,2\n2,3"
+        );
+        drop(out);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn exit_statuses_are_128_plus_the_signal() {
+        let statuses: Vec<i32> = HANDLED.iter().map(|&(s, _)| exit_status(s)).collect();
+        assert_eq!(statuses, [143, 129, 130, 131]);
+    }
+}

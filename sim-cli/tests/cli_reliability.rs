@@ -1,0 +1,321 @@
+//! Hostile input and output for the built `sim-cli` (issue 12): unbounded and
+//! oversized script files, byte-order marks, control characters in messages,
+//! the same-file check through links, numbers in messages, `--fg` forms, and a
+//! closed or full stdout. Each case failed before the fix; runs that used to read
+//! without end are bounded here by a timeout, so a regression fails instead of
+//! hanging.
+
+mod support;
+
+use std::io::Read as _;
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use support::{report, scratch, sim, text, write_file};
+
+const BIN: &str = env!("CARGO_BIN_EXE_sim-cli");
+
+/// What a bounded run gave.
+struct Finished {
+    status: ExitStatus,
+    stderr: String,
+    elapsed: Duration,
+}
+
+/// Waits for `child` at most `limit`; kills it and fails the test past that.
+#[track_caller]
+fn finish_within(mut child: Child, limit: Duration, what: &str) -> Finished {
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            let mut stderr = String::new();
+            if let Some(mut err) = child.stderr.take() {
+                err.read_to_string(&mut stderr).expect("read stderr");
+            }
+            return Finished {
+                status,
+                stderr,
+                elapsed: start.elapsed(),
+            };
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what}: still running after {limit:?} (killed)");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// `sh -c SCRIPT` with `$0` = the sim-cli binary, stderr captured.
+fn shell(script: &str) -> Child {
+    Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .arg(BIN)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sh")
+}
+
+/// One stderr line, no control characters, a bounded length.
+#[track_caller]
+fn assert_one_clean_line(stderr: &str, max_len: usize) {
+    let line = stderr.strip_suffix('\n').unwrap_or(stderr);
+    assert!(
+        !line.chars().any(char::is_control),
+        "control characters in {line:?}"
+    );
+    assert!(line.len() <= max_len, "{} bytes: {line:.300}", line.len());
+}
+
+#[test]
+fn character_devices_are_refused_without_reading() {
+    for device in ["/dev/zero", "/dev/urandom"] {
+        let child = Command::new(BIN)
+            .args(["palmer", "--headless", "--frames", "1", "--script", device])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("spawn");
+        let done = finish_within(child, Duration::from_secs(20), device);
+        assert_eq!(done.status.code(), Some(2), "{device}: {}", done.stderr);
+        assert!(
+            done.stderr.contains("is a character device"),
+            "{device}: {}",
+            done.stderr
+        );
+        assert_one_clean_line(&done.stderr, 300);
+    }
+}
+
+#[test]
+fn an_endless_pipe_stops_at_the_size_limit() {
+    let child =
+        shell(r#"yes 1-2 throttle-up | "$0" palmer --headless --frames 1 --script /dev/stdin"#);
+    let done = finish_within(child, Duration::from_secs(60), "yes | --script /dev/stdin");
+    assert_eq!(done.status.code(), Some(2), "{}", done.stderr);
+    assert!(
+        done.stderr.contains("larger than the 16 MiB limit"),
+        "{}",
+        done.stderr
+    );
+    // 16 MiB through a pipe is milliseconds; generous for a loaded debug build.
+    assert!(done.elapsed < Duration::from_secs(30), "{:?}", done.elapsed);
+}
+
+#[test]
+fn a_short_pipe_is_a_script() {
+    let child = Command::new("sh")
+        .arg("-c")
+        .arg(r#"printf '1-3 throttle-up\n' | "$0" palmer --headless --json --frames 3 --script /dev/stdin"#)
+        .arg(BIN)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sh");
+    let out = child.wait_with_output().expect("wait");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let piped: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let dir = scratch("pipe");
+    let path = write_file(&dir, "s.txt", "1-3 throttle-up\n");
+    let from_file = report(&[
+        "palmer",
+        "--headless",
+        "--json",
+        "--frames",
+        "3",
+        "--script",
+        &path,
+    ]);
+    assert_eq!(piped, from_file);
+}
+
+#[test]
+fn a_file_over_16_mib_is_refused_before_reading() {
+    let dir = scratch("big");
+    let path = dir.join("big.txt");
+    let file = std::fs::File::create(&path).unwrap();
+    // Sparse: the size check must refuse it without reading 16 MiB of zeros.
+    file.set_len(16 * 1024 * 1024 + 1).unwrap();
+    let out = sim(&[
+        "palmer",
+        "--headless",
+        "--frames",
+        "1",
+        "--script",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(stderr.contains("larger than the 16 MiB limit"), "{stderr}");
+}
+
+#[test]
+fn a_leading_byte_order_mark_is_accepted() {
+    let dir = scratch("bom");
+    let with = write_file(&dir, "bom.txt", "\u{feff}1-5 throttle-up\n");
+    let without = write_file(&dir, "plain.txt", "1-5 throttle-up\n");
+    let run = |path: &str| {
+        report(&[
+            "palmer",
+            "--headless",
+            "--json",
+            "--frames",
+            "5",
+            "--script",
+            path,
+        ])
+    };
+    assert_eq!(run(&with), run(&without));
+}
+
+#[test]
+fn script_text_in_messages_is_escaped_and_short() {
+    let dir = scratch("escape");
+    let path = write_file(
+        &dir,
+        "esc.txt",
+        "1-2 throttle-up\n1-2 \u{1b}]0;pwned\u{7}\u{1b}[2J\0x\n",
+    );
+    let out = sim(&["palmer", "--headless", "--frames", "1", "--script", &path]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("unknown action `\\u{1b}]0;pwned\\u{7}\\u{1b}[2J\\0x`"),
+        "{stderr}"
+    );
+    assert_one_clean_line(&stderr, 400);
+
+    let token = "z".repeat(10 * 1024 * 1024);
+    let path = write_file(&dir, "long.txt", &format!("1-2 {token}\n"));
+    let out = sim(&["palmer", "--headless", "--frames", "1", "--script", &path]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains(&format!("`{}…`", &token[..80])),
+        "{stderr:.300}"
+    );
+    assert_one_clean_line(&stderr, 400);
+}
+
+#[cfg(unix)]
+#[test]
+fn the_csv_never_overwrites_the_script_through_a_link() {
+    let dir = scratch("links");
+    let script = write_file(&dir, "s.txt", "1-2 throttle-up\n");
+    let hard = dir.join("h.txt");
+    std::fs::hard_link(&script, &hard).unwrap();
+    let soft = dir.join("l.txt");
+    std::os::unix::fs::symlink(&script, &soft).unwrap();
+    for csv in [&hard, &soft] {
+        let out = sim(&[
+            "palmer",
+            "--headless",
+            "--frames",
+            "2",
+            "--script",
+            &script,
+            "--csv",
+            csv.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{}", csv.display());
+        let stderr = text(&out.stderr);
+        assert!(
+            stderr.contains("would overwrite the --script file"),
+            "{stderr}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&script).unwrap(),
+            "1-2 throttle-up\n"
+        );
+    }
+}
+
+#[test]
+fn numbers_in_messages_are_short_and_the_reason_is_right() {
+    let out = sim(&["palmer", "--throttle", "1e308"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(stderr.contains("`1e308` is outside 0..1"), "{stderr}");
+    assert_one_clean_line(&stderr, 200);
+
+    let out = sim(&[
+        "palmer",
+        "--headless",
+        "--duration",
+        "1e308",
+        "--fps",
+        "10000",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("--duration 1e308 at 10000 fps is more than 1000000000 frames"),
+        "{stderr}"
+    );
+    assert_one_clean_line(&stderr, 200);
+}
+
+#[test]
+fn a_negative_infinity_is_a_value_not_an_option() {
+    for option in ["--fps", "--throttle", "--alpha", "--bank"] {
+        let out = sim(&["palmer", option, "-inf"]);
+        assert_eq!(out.status.code(), Some(2), "{option}");
+        let stderr = text(&out.stderr);
+        assert!(
+            !stderr.contains("unexpected argument"),
+            "{option}: {stderr}"
+        );
+        assert!(stderr.contains("`-inf` is not"), "{option}: {stderr}");
+    }
+}
+
+#[test]
+fn fg_targets_must_be_one_plain_host() {
+    for (target, reason) in [
+        ("255.255.255.255:5500", "is the broadcast address"),
+        ("0.0.0.0:5500", "is the unspecified address"),
+        ("0x7f.0.0.1:5500", "not a plain IPv4 address"),
+        ("127.1:5500", "not a plain IPv4 address"),
+        ("127.0.0.1:+5500", "is not a decimal number"),
+    ] {
+        let out = sim(&["palmer", "--headless", "--frames", "1", "--fg", target]);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{target}: {}",
+            text(&out.stderr)
+        );
+        let stderr = text(&out.stderr);
+        assert!(stderr.contains(reason), "{target}: {stderr}");
+        assert_one_clean_line(&stderr, 300);
+    }
+}
+
+#[test]
+fn a_closed_stdout_is_an_error() {
+    let child = shell(r#"exec "$0" palmer --headless --frames 10 >&-"#);
+    let done = finish_within(child, Duration::from_secs(60), ">&-");
+    assert_eq!(done.status.code(), Some(1), "{}", done.stderr);
+    assert!(done.stderr.contains("stdout is closed"), "{}", done.stderr);
+}
+
+#[cfg(target_os = "linux")] // /dev/full
+#[test]
+fn a_full_stdout_is_an_error() {
+    let child = shell(r#"exec "$0" palmer --headless --frames 10 > /dev/full"#);
+    let done = finish_within(child, Duration::from_secs(60), "> /dev/full");
+    assert_eq!(done.status.code(), Some(1), "{}", done.stderr);
+    assert!(done.stderr.contains("writing to stdout"), "{}", done.stderr);
+}
+
+#[test]
+fn stdout_to_dev_null_by_a_shell_is_fine() {
+    let child = shell(r#"exec "$0" palmer --headless --frames 10 > /dev/null"#);
+    let done = finish_within(child, Duration::from_secs(60), "> /dev/null");
+    assert_eq!(done.status.code(), Some(0), "{}", done.stderr);
+}
