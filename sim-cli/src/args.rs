@@ -263,6 +263,64 @@ pub struct FleetArgs {
     /// Print the measurement as one JSON object on stdout
     #[arg(long)]
     pub json: bool,
+
+    /// Watching the fleet in FlightGear (docs/fleet-in-flightgear.md).
+    #[command(flatten)]
+    pub show: FleetShowArgs,
+}
+
+/// Most fleet aircraft `--fg-mp` streams to FlightGear.
+pub const MAX_MP_AIRCRAFT: usize = 1000;
+
+/// `sim-cli fleet` options for watching the fleet in FlightGear through its
+/// multiplayer protocol ([`crate::fleet_mp`]).
+#[derive(Debug, Clone, Default, Args)]
+pub struct FleetShowArgs {
+    /// Stream the fleet to FlightGear's multiplayer input at HOST:PORT (UDP, IPv4), one position
+    /// message per aircraft per frame; needs --realtime
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    pub fg_mp: Option<FgTarget>,
+
+    /// How many aircraft (the first ones) --fg-mp streams [default: 16]
+    #[arg(long, value_name = "N", value_parser = parse_mp_aircraft)]
+    pub fg_mp_aircraft: Option<usize>,
+
+    /// Where the fleet starts: demo (the models' spread-out demonstration fleet), rows (pairs
+    /// 50 m apart along the runway north of the origin: a formation take-off for Palmer) or v (a V
+    /// formation behind the model's start)
+    #[arg(long, value_enum, default_value_t = FleetPattern::Demo)]
+    pub pattern: FleetPattern,
+
+    /// Scripted controls applied to every aircraft (lines `START-END ACTION`), e.g.
+    /// examples/scripts/palmer_climb_turn.txt for a formation take-off and turn
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+
+    /// One frame per 1/30 s of wall-clock time (what FlightGear needs to show the fleet)
+    #[arg(long)]
+    pub realtime: bool,
+
+    /// Geodetic origin of the fleet's earth frame: LAT,LON,ALT_M or a runway name (wpafb, phli, bikf, ksfo)
+    #[arg(long, value_name = "LAT,LON,ALT_M|NAME", value_parser = parse_origin, allow_hyphen_values = true)]
+    pub origin: Option<GeodeticOrigin>,
+}
+
+/// Where a watched fleet starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum FleetPattern {
+    /// Each model's demonstration fleet (`Model::fleet_member`): distinct flying states.
+    #[default]
+    Demo,
+    /// Pairs 20 m apart abreast, rows 50 m apart to the north of the model's start.
+    Rows,
+    /// A V: the leader at the model's start, the others 30 m further back and 30 m further out
+    /// per place, alternately left and right.
+    V,
+}
+
+/// `fleet --fg-mp-aircraft`: 1 to [`MAX_MP_AIRCRAFT`].
+pub fn parse_mp_aircraft(text: &str) -> Result<usize, String> {
+    parse_count(text, MAX_MP_AIRCRAFT as u64, "aircraft").map(|v| v as usize)
 }
 
 /// A whole number in `1..=max`, with `what` naming it in the error.

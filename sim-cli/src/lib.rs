@@ -19,6 +19,7 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
+//! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 
 pub mod args;
@@ -28,6 +29,7 @@ pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
 pub mod fleet;
+pub mod fleet_mp;
 pub mod flight;
 pub mod hud;
 pub mod input;

@@ -77,6 +77,18 @@ impl CliModel for Bourg {
     /// is false, so set the second.
     const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
 
+    const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
+
+    /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.
+    fn offset_state(state: &BourgState, north_m: f64, west_m: f64, up_m: f64) -> BourgState {
+        let ft = |m: f64| (m / fdm_core::units::METRES_PER_FOOT) as f32;
+        let mut moved = *state;
+        moved.position_ft.x += ft(north_m);
+        moved.position_ft.y += ft(west_m);
+        moved.position_ft.z += ft(up_m);
+        moved
+    }
+
     type AircraftRecord = BourgAircraftRecord;
 
     fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {

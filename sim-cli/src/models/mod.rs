@@ -74,6 +74,14 @@ pub trait CliModel:
     /// `sim-cli fgfs-command`, already shell-quoted where needed).
     const FG_OPTIONS: &'static [&'static str] = &[];
 
+    /// The model file FlightGear loads for this model as a multiplayer
+    /// aircraft (relative to its data directory).
+    const FG_MP_MODEL: &'static str;
+
+    /// `state` moved by `north_m`, `west_m` and `up_m` (the earth frame's x, y,
+    /// z, metres), everything else unchanged: fleet spawn patterns.
+    fn offset_state(state: &Self::State, north_m: f64, west_m: f64, up_m: f64) -> Self::State;
+
     /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
     /// up) in the model's own unit ([`Details::POSITION_UNIT`]), widened to
     /// `f64` exactly.

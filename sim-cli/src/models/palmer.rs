@@ -102,6 +102,16 @@ impl CliModel for Palmer {
         "'--prop:double:/consumables/fuel/tank[1]/level-gal_us=20'",
     ];
 
+    const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
+
+    fn offset_state(state: &PalmerState, north_m: f64, west_m: f64, up_m: f64) -> PalmerState {
+        let mut moved = *state;
+        moved.position_m.x += north_m;
+        moved.position_m.y += west_m;
+        moved.position_m.z += up_m;
+        moved
+    }
+
     type AircraftRecord = PalmerAircraft;
 
     fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
