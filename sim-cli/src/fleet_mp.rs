@@ -65,7 +65,7 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
         FleetPattern::Rows => {
             let row = (i / 2.0).floor();
             // Even indices on the left (west, +y), odd on the right.
-            let west = if index % 2 == 0 { 0.5 } else { -0.5 } * ROW_SPAN_M;
+            let west = if index.is_multiple_of(2) { 0.5 } else { -0.5 } * ROW_SPAN_M;
             (
                 controls,
                 M::offset_state(&state, row * ROW_SPACING_M, west, 0.0),
@@ -73,7 +73,7 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
         }
         FleetPattern::V => {
             let place = ((i + 1.0) / 2.0).floor();
-            let side = if index % 2 == 1 { 1.0 } else { -1.0 };
+            let side = if index.is_multiple_of(2) { -1.0 } else { 1.0 };
             (
                 controls,
                 M::offset_state(&state, -place * V_STEP_M, side * place * V_STEP_M, 0.0),
