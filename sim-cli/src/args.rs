@@ -209,6 +209,19 @@ pub struct FgfsArgs {
     /// The fgfs program to print (Debian installs it as /usr/games/fgfs, which is not on every PATH)
     #[arg(long, value_name = "PATH", default_value = "fgfs")]
     pub fgfs: String,
+
+    /// Also show a fleet streamed with `sim-cli fleet --fg-mp HOST:PORT`: FlightGear's multiplayer
+    /// input listens on PORT (all interfaces)
+    #[arg(long, value_name = "PORT", value_parser = parse_port)]
+    pub fg_mp: Option<u16>,
+}
+
+/// A UDP port, 1 to 65535.
+pub fn parse_port(text: &str) -> Result<u16, String> {
+    match text.trim().parse::<u16>() {
+        Ok(p) if p > 0 => Ok(p),
+        _ => Err(format!("`{text}` is not a port number (1..65535)")),
+    }
 }
 
 /// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`).

@@ -92,14 +92,27 @@ pub fn fgfs_command(
 /// The line `sim-cli fgfs-command` prints for its arguments.
 #[must_use]
 pub fn fgfs_command_line(args: &FgfsArgs) -> String {
-    command(
+    let line = command(
         &args.fgfs,
         args.model,
         args.fps,
         args.fg.as_ref(),
         &args.origin,
         args.view,
-    )
+    );
+    match args.fg_mp {
+        Some(port) => with_multiplayer(&line, port),
+        None => line,
+    }
+}
+
+/// `line` set up to show multiplayer aircraft too: FlightGear's multiplayer
+/// input on `port` (all interfaces, read at [`crate::fleet::FLEET_FPS`]), and
+/// without `--disable-ai-models`, because multiplayer aircraft are AI models.
+#[must_use]
+pub fn with_multiplayer(line: &str, port: u16) -> String {
+    let line = line.replacen(" --disable-ai-models", "", 1);
+    format!("{line} --multiplay=in,{},,{port}", crate::fleet::FLEET_FPS)
 }
 
 /// `program` as one shell word: itself when it has only safe characters, else
@@ -212,6 +225,19 @@ mod tests {
         assert!(line.starts_with("'/opt/my fg/fgfs' --fdm"), "{line}");
         assert!(line.contains("view-number=1 "), "{line}");
         assert_eq!(shell_word("it's"), r"'it'\''s'");
+    }
+
+    #[test]
+    fn multiplayer_input_keeps_ai_models_on() {
+        let plain = fgfs_command(ModelKind::Palmer, 30, None, &GeodeticOrigin::default());
+        let mp = with_multiplayer(&plain, 5000);
+        assert!(plain.contains(" --disable-ai-models "));
+        assert!(!mp.contains("--disable-ai-models"), "{mp}");
+        assert!(mp.ends_with(" --multiplay=in,30,,5000"), "{mp}");
+        assert_eq!(
+            mp.len(),
+            plain.len() - " --disable-ai-models".len() + " --multiplay=in,30,,5000".len()
+        );
     }
 
     #[test]
