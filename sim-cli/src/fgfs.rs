@@ -106,13 +106,25 @@ pub fn fgfs_command_line(args: &FgfsArgs) -> String {
     }
 }
 
-/// `line` set up to show multiplayer aircraft too: FlightGear's multiplayer
-/// input on `port` (all interfaces, read at [`crate::fleet::FLEET_FPS`]), and
-/// without `--disable-ai-models`, because multiplayer aircraft are AI models.
+/// The viewer's own multiplayer callsign: FlightGear drops datagrams carrying
+/// its own, so it must differ from every fleet callsign (`SIM...`).
+pub const VIEWER_CALLSIGN: &str = "viewer";
+
+/// `line` set up to show multiplayer aircraft too (docs/fg-multiplayer.md):
+/// FlightGear's multiplayer input on `port` (all interfaces, read at
+/// [`crate::fleet::FLEET_FPS`]), the output channel FlightGear needs before it
+/// listens (to the next port on 127.0.0.1, where nothing has to listen), the
+/// viewer's callsign, and no `--disable-ai-models`, because multiplayer
+/// aircraft are AI models.
 #[must_use]
 pub fn with_multiplayer(line: &str, port: u16) -> String {
     let line = line.replacen(" --disable-ai-models", "", 1);
-    format!("{line} --multiplay=in,{},,{port}", crate::fleet::FLEET_FPS)
+    let out = if port == u16::MAX { port - 1 } else { port + 1 };
+    format!(
+        "{line} --multiplay=in,{},,{port} --multiplay=out,10,127.0.0.1,{out} \
+         --callsign={VIEWER_CALLSIGN}",
+        crate::fleet::FLEET_FPS
+    )
 }
 
 /// `program` as one shell word: itself when it has only safe characters, else
@@ -233,11 +245,13 @@ mod tests {
         let mp = with_multiplayer(&plain, 5000);
         assert!(plain.contains(" --disable-ai-models "));
         assert!(!mp.contains("--disable-ai-models"), "{mp}");
-        assert!(mp.ends_with(" --multiplay=in,30,,5000"), "{mp}");
+        let added = " --multiplay=in,30,,5000 --multiplay=out,10,127.0.0.1,5001 --callsign=viewer";
+        assert!(mp.ends_with(added), "{mp}");
         assert_eq!(
             mp.len(),
-            plain.len() - " --disable-ai-models".len() + " --multiplay=in,30,,5000".len()
+            plain.len() - " --disable-ai-models".len() + added.len()
         );
+        assert!(with_multiplayer(&plain, 65535).contains("out,10,127.0.0.1,65534 "));
     }
 
     #[test]
