@@ -299,8 +299,8 @@ pub struct FleetShowArgs {
     pub fg_mp_aircraft: Option<usize>,
 
     /// Where the fleet starts: demo (the models' spread-out demonstration fleet), rows (pairs
-    /// 50 m apart along the runway north of the origin: a formation take-off for Palmer) or v (a V
-    /// formation behind the model's start)
+    /// in rows 50 m apart from 50 m north of the model's start: a formation take-off for Palmer)
+    /// or v (a V formation led from 50 m north of the model's start)
     #[arg(long, value_enum, default_value_t = FleetPattern::Demo)]
     pub pattern: FleetPattern,
 
@@ -324,10 +324,10 @@ pub enum FleetPattern {
     /// Each model's demonstration fleet (`Model::fleet_member`): distinct flying states.
     #[default]
     Demo,
-    /// Pairs 20 m apart abreast, rows 50 m apart to the north of the model's start.
+    /// Pairs 20 m apart abreast, rows 50 m apart, the first 50 m north of the model's start.
     Rows,
-    /// A V: the leader at the model's start, the others 30 m further back and 30 m further out
-    /// per place, alternately left and right.
+    /// A V: the leader 50 m north of the model's start, the others 30 m further back and 30 m
+    /// further out per place, alternately left and right.
     V,
 }
 

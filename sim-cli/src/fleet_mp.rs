@@ -14,7 +14,7 @@
 //! the model's view.
 //!
 //! Where the aircraft start is [`FleetPattern`]: the models' demonstration
-//! fleet, pairs along a runway (a formation take-off for Palmer's Cessnas
+//! fleet, pairs along a runway ahead of the viewer (a formation take-off for Palmer's Cessnas
 //! with `--script examples/scripts/palmer_climb_turn.txt`), or a V.
 
 use std::net::{SocketAddrV4, UdpSocket};
@@ -45,6 +45,11 @@ pub const ROW_SPAN_M: f64 = 20.0;
 pub const ROW_SPACING_M: f64 = 50.0;
 /// V pattern: metres back and out per place in the V.
 pub const V_STEP_M: f64 = 30.0;
+/// Rows and V patterns: metres north of the model's start where the first
+/// aircraft starts, leaving the start itself to the viewer's own aircraft
+/// (`fgfs-command` puts FlightGear's aircraft there), whose chase view then
+/// looks north at the fleet.
+pub const PATTERN_AHEAD_M: f64 = 50.0;
 
 /// The callsign of fleet aircraft `index` (0-based): `SIM001`, `SIM002`, ...
 /// (FlightGear takes 1 to 7 characters; 1000 aircraft end at `SIM1000`).
@@ -68,7 +73,7 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
             let west = if index.is_multiple_of(2) { 0.5 } else { -0.5 } * ROW_SPAN_M;
             (
                 controls,
-                M::offset_state(&state, row * ROW_SPACING_M, west, 0.0),
+                M::offset_state(&state, PATTERN_AHEAD_M + row * ROW_SPACING_M, west, 0.0),
             )
         }
         FleetPattern::V => {
@@ -76,7 +81,12 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
             let side = if index.is_multiple_of(2) { -1.0 } else { 1.0 };
             (
                 controls,
-                M::offset_state(&state, -place * V_STEP_M, side * place * V_STEP_M, 0.0),
+                M::offset_state(
+                    &state,
+                    PATTERN_AHEAD_M - place * V_STEP_M,
+                    side * place * V_STEP_M,
+                    0.0,
+                ),
             )
         }
     }
@@ -379,28 +389,23 @@ mod tests {
     #[test]
     fn patterns_place_aircraft_as_documented() {
         let p = |pattern, i| start_of::<Palmer>(pattern, i).1.position_m;
-        // Rows: pairs 20 m abreast, rows 50 m apart to the north.
-        assert_eq!(<[f64; 3]>::from(p(FleetPattern::Rows, 0)), [0.0, 10.0, 0.0]);
-        assert_eq!(
-            <[f64; 3]>::from(p(FleetPattern::Rows, 1)),
-            [0.0, -10.0, 0.0]
-        );
-        assert_eq!(
-            <[f64; 3]>::from(p(FleetPattern::Rows, 5)),
-            [100.0, -10.0, 0.0]
-        );
-        // V: leader at the start, then 30 m back and out per place, left then right.
-        assert_eq!(<[f64; 3]>::from(p(FleetPattern::V, 0)), [0.0, 0.0, 0.0]);
-        assert_eq!(<[f64; 3]>::from(p(FleetPattern::V, 1)), [-30.0, 30.0, 0.0]);
-        assert_eq!(<[f64; 3]>::from(p(FleetPattern::V, 2)), [-30.0, -30.0, 0.0]);
-        assert_eq!(<[f64; 3]>::from(p(FleetPattern::V, 3)), [-60.0, 60.0, 0.0]);
+        // Rows: pairs 20 m abreast, rows 50 m apart from 50 m north of the start.
+        let xyz = |pattern, i| <[f64; 3]>::from(p(pattern, i));
+        assert_eq!(xyz(FleetPattern::Rows, 0), [50.0, 10.0, 0.0]);
+        assert_eq!(xyz(FleetPattern::Rows, 1), [50.0, -10.0, 0.0]);
+        assert_eq!(xyz(FleetPattern::Rows, 5), [150.0, -10.0, 0.0]);
+        // V: leader 50 m north of the start, then 30 m back and out per place, left then right.
+        assert_eq!(xyz(FleetPattern::V, 0), [50.0, 0.0, 0.0]);
+        assert_eq!(xyz(FleetPattern::V, 1), [20.0, 30.0, 0.0]);
+        assert_eq!(xyz(FleetPattern::V, 2), [20.0, -30.0, 0.0]);
+        assert_eq!(xyz(FleetPattern::V, 3), [-10.0, 60.0, 0.0]);
         assert_eq!(
             start_of::<Palmer>(FleetPattern::Demo, 7),
             Palmer::fleet_member(7)
         );
-        // Bourg in feet: 30 m is 98.4252 ft.
+        // Bourg in feet, f32: 20 m north and 30 m west of its start.
         let b = start_of::<Bourg>(FleetPattern::V, 1).1.position_ft;
-        assert_eq!(b.x, -5000.0 - (30.0 / 0.3048) as f32);
+        assert_eq!(b.x, -5000.0 + (20.0 / 0.3048) as f32);
         assert_eq!(b.y, (30.0 / 0.3048) as f32);
     }
 
