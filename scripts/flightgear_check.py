@@ -30,6 +30,9 @@ aircraft (start view, the UFO's /sim/model/always-show-in-MP, the c172p's fuel),
 each scenario, recorded with --record and replayed with `sim-cli replay --json --fg`,
 prints the same JSON and sends byte-identical datagrams (docs/recording.md).
 `--origin NAME` (e.g. phli, whose scenery Debian's data ships) flies every scenario there.
+`--fleet` also streams a 4-aircraft fleet (`sim-cli fleet --fg-mp`, docs/fleet-in-flightgear.md)
+into fgfs's multiplayer input and compares /ai/models/multiplayer[i]/position/* with the last
+message of each callsign (1e-6 degrees).
 
 Exit status 0 when every check passed, 1 otherwise, 2 for bad usage.
 """
@@ -254,9 +257,11 @@ class FlightGear:
         self.model = model
         self.udp_port = free_port(socket.SOCK_DGRAM)
         self.telnet_port = free_port(socket.SOCK_STREAM)
+        self.mp_port = free_port(socket.SOCK_DGRAM) if args.fleet else None
+        mp = ["--fg-mp", str(self.mp_port)] if self.mp_port else []
         line = run_sim(args, ["fgfs-command", model, "--fps", str(fps),
                               "--fg", f"127.0.0.1:{self.udp_port}", "--origin", args.origin,
-                              "--fgfs", args.fgfs], want_json=False).strip()
+                              "--fgfs", args.fgfs] + mp, want_json=False).strip()
         self.ours = line
         argv = shlex.split(line)
         if argv[0] != args.fgfs:
@@ -480,6 +485,84 @@ def check_replay(args, model, argv, report, datagrams):
     return problems
 
 
+def ecef_to_geodetic(x, y, z):
+    """WGS-84 latitude, longitude (degrees) and height (m) of an ECEF point."""
+    a, f = 6378137.0, 1 / 298.257223563
+    e2 = f * (2 - f)
+    lon = math.atan2(y, x)
+    p = math.hypot(x, y)
+    lat = math.atan2(z, p * (1 - e2))
+    for _ in range(10):
+        n = a / math.sqrt(1 - e2 * math.sin(lat) ** 2)
+        h = p / math.cos(lat) - n
+        lat = math.atan2(z, p * (1 - e2 * n / (n + h)))
+    n = a / math.sqrt(1 - e2 * math.sin(lat) ** 2)
+    return math.degrees(lat), math.degrees(lon), p / math.cos(lat) - n
+
+
+def fleet_check(args, fg, model, results):
+    """`sim-cli fleet --fg-mp` through a relay into fgfs's multiplayer input: FlightGear's
+    /ai/models/multiplayer[i] positions must equal the last message of each callsign
+    within 1e-6 degrees (and 1e-3 ft)."""
+    rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    rx.bind(("127.0.0.1", 0))
+    rx.settimeout(0.2)
+    tx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    last, done = {}, threading.Event()
+
+    def relay():
+        while True:
+            try:
+                d = rx.recv(65536)
+            except socket.timeout:
+                if done.is_set():
+                    return
+                continue
+            tx.sendto(d, ("127.0.0.1", fg.mp_port))  # forwarded at once: real-time pace kept
+            callsign = d[24:32].rstrip(b"\0").decode()
+            last[callsign] = struct.unpack(">3d", d[144:168])
+
+    thread = threading.Thread(target=relay)
+    thread.start()
+    script = ("examples/scripts/palmer_climb_turn.txt" if model == "palmer"
+              else "examples/scripts/bourg_roll.txt")
+    argv = ["fleet", "--model", model, "--aircraft", "4", "--frames", str(args.fleet_frames),
+            "--pattern", "rows", "--origin", args.origin, "--script", script,
+            "--fg-mp", f"127.0.0.1:{rx.getsockname()[1]}", "--realtime", "--json"]
+    try:
+        report = run_sim(args, argv)
+    finally:
+        done.set()
+        thread.join()
+        rx.close()
+        tx.close()
+    time.sleep(args.settle)
+    rows, ok = {}, len(last) == 4
+    for i in range(8):
+        base = f"/ai/models/multiplayer[{i}]"
+        callsign = fg.telnet.get(f"{base}/callsign")[0]
+        if callsign not in last:
+            continue
+        lat, lon, h = ecef_to_geodetic(*last[callsign])
+        got = {k: float(fg.telnet.get(f"{base}/position/{k}")[0])
+               for k in ("latitude-deg", "longitude-deg", "altitude-ft")}
+        diffs = {"latitude-deg": got["latitude-deg"] - lat,
+                 "longitude-deg": got["longitude-deg"] - lon,
+                 "altitude-ft": got["altitude-ft"] - h * M2FT}
+        good = (abs(diffs["latitude-deg"]) <= 1e-6 and abs(diffs["longitude-deg"]) <= 1e-6
+                and abs(diffs["altitude-ft"]) <= 1e-3)
+        rows[callsign] = {"fg": got, "sent": [lat, lon, h * M2FT], "diff": diffs, "ok": good}
+        log(f"   {base} {callsign}: " + ", ".join(f"{k} {v:+.1e}" for k, v in diffs.items())
+            + (" ok" if good else " MISMATCH"))
+        ok &= good
+    ok &= len(rows) == 4
+    results.setdefault("fleet", {})[model] = {"sim_cli": argv, "report": report,
+                                              "aircraft": rows, "ok": ok}
+    log(f"\n== fleet ({model}): {len(rows)} of 4 multiplayer aircraft read back: "
+        + ("ok" if ok else "FAILED"))
+    return ok
+
+
 def check_options(fg, model, results):
     """fgfs applied the options fgfs-command adds so that the aircraft can be seen."""
     expected = {"/sim/current-view/view-number": "2"}
@@ -623,6 +706,11 @@ def main():
     p.add_argument("--init-timeout", type=float, default=600)
     p.add_argument("--telnet-timeout", type=float, default=120)
     p.add_argument("--no-direct", action="store_true", help="skip the direct (no relay) run")
+    p.add_argument("--fleet", action="store_true",
+                   help="also stream a 4-aircraft fleet (sim-cli fleet --fg-mp) into fgfs's "
+                        "multiplayer input and read /ai/models/multiplayer[i] back")
+    p.add_argument("--fleet-frames", type=int, default=300,
+                   help="frames the fleet flies (30 per second; default 300)")
     p.add_argument("--screenshots", metavar="DIR",
                    help="write PNGs of the chase view after palmer-bank20 and bourg-roll-right")
     p.add_argument("--screenshot-no-terrain", action="store_true",
@@ -668,6 +756,8 @@ def main():
                     if args.screenshots and name in ("palmer-bank20", "bourg-roll-right"):
                         os.makedirs(args.screenshots, exist_ok=True)
                         take_screenshot(args, fg, display, os.path.join(args.screenshots, name))
+                if args.fleet:
+                    ok &= fleet_check(args, fg, model, results)
                 if model == "palmer":
                     ok &= negative_checks(args, fg, results)
                     if not args.no_direct:
