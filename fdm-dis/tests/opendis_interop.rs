@@ -28,11 +28,12 @@
 //! `python3 -m venv` and `pip install opendis==1.0 numpy==1.26.4`. If that is
 //! not possible the tests fail with the reason; they never skip.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::Write;
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
 use std::sync::OnceLock;
+
+use fdm_tests::python::{PyScript, PythonEnv};
 use std::time::Duration;
 
 use fdm_dis::geodesy::{Attitude, Geodetic};
@@ -45,8 +46,6 @@ use serde_json::Value;
 
 /// The opendis release these tests pin.
 const OPENDIS_VERSION: &str = "1.0";
-/// numpy pinned with it (opendis 1.0 requires >=1.26.4,<2).
-const NUMPY_VERSION: &str = "1.26.4";
 
 const SCRIPT_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/opendis_interop");
 const TIMEOUT: Duration = Duration::from_secs(20);
@@ -57,181 +56,34 @@ const ANGLE_TOL_DEG: f64 = 1e-4;
 
 // ---------------------------------------------------------------- python setup
 
+/// opendis and the numpy it works with, pinned.
+const ENV: PythonEnv = PythonEnv {
+    name: "opendis-1.0",
+    override_var: "DIS_PYTHON",
+    packages: &["opendis==1.0", "numpy==1.26.4"],
+    distribution: "opendis",
+    version: OPENDIS_VERSION,
+    imports: &["opendis"],
+};
+
 fn python() -> &'static Path {
     static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match PYTHON.get_or_init(setup_python) {
+    match PYTHON.get_or_init(|| ENV.python(Path::new(env!("CARGO_TARGET_TMPDIR")))) {
         Ok(p) => p,
         Err(e) => panic!(
-            "DIS interop tests need Python with opendis=={OPENDIS_VERSION}:\n{e}\n\
+            "fdm-dis interop tests need Python with opendis=={OPENDIS_VERSION}:\n{e}\n\
              Install python3 (with the venv module and access to PyPI), or set DIS_PYTHON \
-             to a Python that has opendis=={OPENDIS_VERSION}."
+             to a Python that has it."
         ),
     }
 }
 
-fn check_python(python: &Path) -> Result<(), String> {
-    let out = Command::new(python)
-        .args([
-            "-c",
-            "import importlib.metadata as m, opendis.PduFactory, opendis.RangeCoordinates; \
-             print(m.version('opendis'))",
-        ])
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
-    if !out.status.success() {
-        return Err(format!(
-            "{} cannot import opendis: {}",
-            python.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let version = String::from_utf8_lossy(&out.stdout).trim().to_owned();
-    if version != OPENDIS_VERSION {
-        return Err(format!(
-            "{} has opendis {version}, these tests pin {OPENDIS_VERSION}",
-            python.display()
-        ));
-    }
-    Ok(())
-}
-
-fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
-    let out = cmd
-        .output()
-        .map_err(|e| format!("{what}: cannot start {cmd:?}: {e}"))?;
-    if out.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "{what} failed ({}):\n{}{}",
-            out.status,
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        ))
-    }
-}
-
-fn setup_python() -> Result<PathBuf, String> {
-    if let Some(p) = std::env::var_os("DIS_PYTHON") {
-        let p = PathBuf::from(p);
-        check_python(&p).map_err(|e| format!("DIS_PYTHON={}: {e}", p.display()))?;
-        return Ok(p);
-    }
-    let base = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let name = format!("opendis-venv-{OPENDIS_VERSION}");
-    let venv = base.join(&name);
-    let ready = |dir: &Path| dir.join(".opendis-ready").exists();
-    let venv_python = venv.join("bin").join("python");
-    if ready(&venv) && check_python(&venv_python).is_ok() {
-        return Ok(venv_python);
-    }
-    // Build in a private directory and rename it into place, so an
-    // interrupted or concurrent setup never leaves a half-made venv in use.
-    std::fs::create_dir_all(base).map_err(|e| format!("{}: {e}", base.display()))?;
-    let tmp = base.join(format!("{name}.tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    run(
-        Command::new("python3").arg("-m").arg("venv").arg(&tmp),
-        "python3 -m venv",
-    )?;
-    let tmp_python = tmp.join("bin").join("python");
-    run(
-        Command::new(&tmp_python).args([
-            "-m",
-            "pip",
-            "install",
-            "--disable-pip-version-check",
-            "--no-input",
-            "--quiet",
-            &format!("opendis=={OPENDIS_VERSION}"),
-            &format!("numpy=={NUMPY_VERSION}"),
-        ]),
-        "pip install opendis",
-    )?;
-    check_python(&tmp_python)?;
-    std::fs::write(tmp.join(".opendis-ready"), OPENDIS_VERSION).map_err(|e| e.to_string())?;
-    if !ready(&venv) {
-        let _ = std::fs::remove_dir_all(&venv);
-    }
-    if std::fs::rename(&tmp, &venv).is_err() {
-        // Another process finished first; use its venv.
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    check_python(&venv_python)?;
-    Ok(venv_python)
-}
-
-// ------------------------------------------------------------ child process
-
-/// A Python script we started; killed (by its own handle) if the test fails.
-struct Script {
-    child: Child,
-    stdout: BufReader<ChildStdout>,
-    name: String,
-}
+/// A Python script of this test's directory, started with the pinned Python.
+struct Script;
 
 impl Script {
-    fn start(name: &str, args: &[String]) -> Self {
-        let mut child = Command::new(python())
-            .arg(Path::new(SCRIPT_DIR).join(name))
-            .args(args)
-            .env("PYTHONDONTWRITEBYTECODE", "1")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start {name}: {e}"));
-        let stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        Self {
-            child,
-            stdout,
-            name: name.to_owned(),
-        }
-    }
-
-    fn stderr(&mut self) -> String {
-        let _ = self.child.kill();
-        let mut s = String::new();
-        if let Some(mut e) = self.child.stderr.take() {
-            let _ = e.read_to_string(&mut s);
-        }
-        s
-    }
-
-    fn line(&mut self) -> String {
-        let mut line = String::new();
-        match self.stdout.read_line(&mut line) {
-            Ok(n) if n > 0 => line.trim_end().to_owned(),
-            _ => {
-                let err = self.stderr();
-                panic!("{} ended early; stderr:\n{err}", self.name)
-            }
-        }
-    }
-
-    fn port(&mut self) -> u16 {
-        let line = self.line();
-        line.strip_prefix("PORT ")
-            .and_then(|p| p.parse().ok())
-            .unwrap_or_else(|| panic!("{}: expected 'PORT n', got {line:?}", self.name))
-    }
-
-    fn finish(mut self) {
-        drop(self.child.stdin.take());
-        let status = self.child.wait().expect("wait");
-        if !status.success() {
-            let err = self.stderr();
-            panic!("{} exited with {status}; stderr:\n{err}", self.name);
-        }
-    }
-}
-
-impl Drop for Script {
-    fn drop(&mut self) {
-        if std::thread::panicking() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
+    fn start(name: &str, args: &[String]) -> PyScript {
+        PyScript::start(python(), &Path::new(SCRIPT_DIR).join(name), args)
     }
 }
 
@@ -462,7 +314,7 @@ fn opendis_pdus_decoded_by_our_listener() {
     let port = rx.local_addr().unwrap().port();
     let mut script = Script::start("build_udp.py", &[port.to_string()]);
     {
-        let stdin = script.child.stdin.as_mut().expect("stdin");
+        let stdin = script.stdin().expect("stdin");
         for (i, s) in states.iter().enumerate() {
             let req = serde_json::json!({
                 "lla": [s.position.lat_deg, s.position.lon_deg, s.position.alt_m],
@@ -473,7 +325,7 @@ fn opendis_pdus_decoded_by_our_listener() {
             writeln!(stdin, "{req}").expect("write to build_udp.py");
         }
     }
-    drop(script.child.stdin.take());
+    script.close_stdin();
     let mut listener = Listener::new();
     let mut max = MaxErr::default();
     let mut buf = [0u8; 8192];

@@ -35,11 +35,12 @@
 //! behaviour, not the wire format's, so f32 values here are never signalling
 //! NaNs. Signalling `f64` NaNs pass through Python unchanged and are tested.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::Write;
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
 use std::sync::OnceLock;
+
+use fdm_tests::python::{PyScript, PythonEnv};
 use std::time::Duration;
 
 use fdm_tests::fgnet_fields::{assert_bitwise_eq, element_bits, fields, from_element_bits, Kind};
@@ -48,8 +49,6 @@ use serde_json::{json, Map, Value};
 
 /// The flightgear-python release these tests pin.
 const FGPY_VERSION: &str = "2.1.0";
-/// The `construct` release pinned with it (flightgear-python requires >=2.10,<3).
-const CONSTRUCT_VERSION: &str = "2.10.70";
 /// flightgear-python's `offset_fg_radian` coefficient (fg_util.py).
 const FGPY_RADIAN_COEFF: f64 = 1.09349403e-9;
 /// The radian fields `fix_fg_radian_parsing` adjusts (our names).
@@ -71,188 +70,34 @@ const TIMEOUT: Duration = Duration::from_secs(20);
 
 // ---------------------------------------------------------------- python setup
 
+/// flightgear-python and its construct, pinned.
+const ENV: PythonEnv = PythonEnv {
+    name: "fgpy-2.1.0",
+    override_var: "FGNET_PYTHON",
+    packages: &["flightgear-python==2.1.0", "construct==2.10.70"],
+    distribution: "flightgear-python",
+    version: FGPY_VERSION,
+    imports: &["flightgear_python.fdm_v24", "flightgear_python.fg_if"],
+};
+
 fn python() -> &'static Path {
     static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match PYTHON.get_or_init(setup_python) {
+    match PYTHON.get_or_init(|| ENV.python(Path::new(env!("CARGO_TARGET_TMPDIR")))) {
         Ok(p) => p,
         Err(e) => panic!(
             "fgnet interop tests need Python with flightgear-python=={FGPY_VERSION}:\n{e}\n\
              Install python3 (with the venv module and access to PyPI), or set FGNET_PYTHON \
-             to a Python that has flightgear-python=={FGPY_VERSION}."
+             to a Python that has it."
         ),
     }
 }
 
-/// Checks that `python` imports the pinned flightgear-python.
-fn check_python(python: &Path) -> Result<(), String> {
-    let out = Command::new(python)
-        .args([
-            "-c",
-            "import importlib.metadata as m, flightgear_python.fdm_v24, flightgear_python.fg_if; \
-             print(m.version('flightgear-python'))",
-        ])
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
-    if !out.status.success() {
-        return Err(format!(
-            "{} cannot import flightgear_python: {}",
-            python.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let version = String::from_utf8_lossy(&out.stdout).trim().to_owned();
-    if version != FGPY_VERSION {
-        return Err(format!(
-            "{} has flightgear-python {version}, these tests pin {FGPY_VERSION}",
-            python.display()
-        ));
-    }
-    Ok(())
-}
-
-fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
-    let out = cmd
-        .output()
-        .map_err(|e| format!("{what}: cannot start {cmd:?}: {e}"))?;
-    if out.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "{what} failed ({}):\n{}{}",
-            out.status,
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        ))
-    }
-}
-
-fn setup_python() -> Result<PathBuf, String> {
-    if let Some(p) = std::env::var_os("FGNET_PYTHON") {
-        let p = PathBuf::from(p);
-        check_python(&p).map_err(|e| format!("FGNET_PYTHON={}: {e}", p.display()))?;
-        return Ok(p);
-    }
-    let base = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let venv = base.join(format!("fgpy-venv-{FGPY_VERSION}"));
-    let ready = |dir: &Path| dir.join(".fgnet-ready").exists();
-    let venv_python = venv.join("bin").join("python");
-    if ready(&venv) && check_python(&venv_python).is_ok() {
-        return Ok(venv_python);
-    }
-    // Build in a private directory and rename it into place, so an
-    // interrupted or concurrent setup never leaves a half-made venv in use.
-    std::fs::create_dir_all(base).map_err(|e| format!("{}: {e}", base.display()))?;
-    let tmp = base.join(format!(
-        "fgpy-venv-{FGPY_VERSION}.tmp-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&tmp);
-    run(
-        Command::new("python3").arg("-m").arg("venv").arg(&tmp),
-        "python3 -m venv",
-    )?;
-    let tmp_python = tmp.join("bin").join("python");
-    run(
-        Command::new(&tmp_python).args([
-            "-m",
-            "pip",
-            "install",
-            "--disable-pip-version-check",
-            "--no-input",
-            "--quiet",
-            &format!("flightgear-python=={FGPY_VERSION}"),
-            &format!("construct=={CONSTRUCT_VERSION}"),
-        ]),
-        "pip install flightgear-python",
-    )?;
-    check_python(&tmp_python)?;
-    std::fs::write(tmp.join(".fgnet-ready"), FGPY_VERSION).map_err(|e| e.to_string())?;
-    if !ready(&venv) {
-        let _ = std::fs::remove_dir_all(&venv);
-    }
-    if std::fs::rename(&tmp, &venv).is_err() {
-        // Another process finished first; use its venv.
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    check_python(&venv_python)?;
-    Ok(venv_python)
-}
-
-// ------------------------------------------------------------ child process
-
-/// A Python script we started; killed (by its own handle) if the test fails.
-struct Script {
-    child: Child,
-    stdout: BufReader<ChildStdout>,
-    name: String,
-}
+/// A Python script of this test's directory, started with the pinned Python.
+struct Script;
 
 impl Script {
-    fn start(name: &str, args: &[String]) -> Self {
-        let mut child = Command::new(python())
-            .arg(Path::new(SCRIPT_DIR).join(name))
-            .args(args)
-            .env("PYTHONDONTWRITEBYTECODE", "1")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start {name}: {e}"));
-        let stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        Self {
-            child,
-            stdout,
-            name: name.to_owned(),
-        }
-    }
-
-    fn stderr(&mut self) -> String {
-        let _ = self.child.kill();
-        let mut s = String::new();
-        if let Some(mut e) = self.child.stderr.take() {
-            let _ = e.read_to_string(&mut s);
-        }
-        s
-    }
-
-    fn line(&mut self) -> String {
-        let mut line = String::new();
-        match self.stdout.read_line(&mut line) {
-            Ok(n) if n > 0 => line.trim_end().to_owned(),
-            _ => {
-                let err = self.stderr();
-                panic!("{} ended early; stderr:\n{err}", self.name)
-            }
-        }
-    }
-
-    fn port(&mut self) -> u16 {
-        let line = self.line();
-        line.strip_prefix("PORT ")
-            .and_then(|p| p.parse().ok())
-            .unwrap_or_else(|| panic!("{}: expected 'PORT n', got {line:?}", self.name))
-    }
-
-    fn close_stdin(&mut self) {
-        drop(self.child.stdin.take());
-    }
-
-    fn finish(mut self) {
-        self.close_stdin();
-        let status = self.child.wait().expect("wait");
-        if !status.success() {
-            let err = self.stderr();
-            panic!("{} exited with {status}; stderr:\n{err}", self.name);
-        }
-    }
-}
-
-impl Drop for Script {
-    fn drop(&mut self) {
-        if std::thread::panicking() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
+    fn start(name: &str, args: &[String]) -> PyScript {
+        PyScript::start(python(), &Path::new(SCRIPT_DIR).join(name), args)
     }
 }
 
@@ -468,7 +313,7 @@ fn flightgear_python_builder_to_rust_decoder() {
     let port = rx.local_addr().unwrap().port();
     let mut script = Script::start("build_udp.py", &[port.to_string()]);
     {
-        let stdin = script.child.stdin.as_mut().expect("stdin");
+        let stdin = script.stdin().expect("stdin");
         for fdm in &expected {
             writeln!(stdin, "{}", to_py_json(fdm)).expect("write to build_udp.py");
         }
