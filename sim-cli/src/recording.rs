@@ -37,7 +37,7 @@ use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
 use fdm_core::script::{Echo, ScriptAction};
 use serde::{Deserialize, Serialize};
 
-use crate::args::{ModelKind, MAX_FPS};
+use crate::args::{ModelKind, MAX_FPS, MAX_FRAMES};
 use crate::config::Start;
 use crate::hud::LinkStats;
 use crate::models::{CliModel, WithModel};
@@ -404,6 +404,11 @@ impl<'a, M: CliModel> Recording<'a, M> {
                     if total != frames {
                         return Err(RecordingError::corrupt(format!(
                             "the end marker counts {total} frames, the events {frames}"
+                        )));
+                    }
+                    if frames > MAX_FRAMES {
+                        return Err(RecordingError::corrupt(format!(
+                            "{frames} frames, more than the {MAX_FRAMES} a run can have"
                         )));
                     }
                     let trailing = cursor.len() - used;
@@ -1017,6 +1022,23 @@ mod tests {
             .to_string()
             .contains("1 bytes after the end marker"));
         assert!(parse_recording(&bytes).is_ok());
+    }
+
+    /// A well-formed recording of more frames than any run may have (here
+    /// 2^40, written by hand) is refused rather than replayed for ever.
+    #[test]
+    fn endless_recordings_are_refused() {
+        let start = palmer_start();
+        let mut writer =
+            RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin(), &start).unwrap();
+        writer.run_count = 1 << 40;
+        writer.frames = 1 << 40;
+        writer.finish().unwrap();
+        let err = parse_recording(&writer.into_inner()).unwrap_err();
+        assert!(
+            err.to_string().contains("more than the 1000000000"),
+            "{err}"
+        );
     }
 
     #[test]
