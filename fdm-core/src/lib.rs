@@ -24,3 +24,8 @@ pub mod palmer;
 #[cfg(feature = "alloc")]
 pub mod script;
 pub mod units;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

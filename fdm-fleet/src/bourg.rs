@@ -716,6 +716,19 @@ impl BourgFleet {
         });
     }
 
+    /// The instruction set [`BourgFleet::step`] runs on, as detected at
+    /// construction: `"x86-64-v4"`, `"x86-64-v3"` or `"baseline"`.
+    #[must_use]
+    pub const fn instruction_set(&self) -> &'static str {
+        match self.arch {
+            #[cfg(target_arch = "x86_64")]
+            Arch::V4(_) => "x86-64-v4",
+            #[cfg(target_arch = "x86_64")]
+            Arch::V3(_) => "x86-64-v3",
+            _ => "baseline",
+        }
+    }
+
     /// Memory per aircraft in the fleet's arrays, bytes (the last block's
     /// padding aside).
     #[must_use]

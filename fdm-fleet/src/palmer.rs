@@ -140,6 +140,13 @@ pub enum FleetError {
     },
     /// A precision name other than `exact` or `fast`.
     UnknownPrecision(String),
+    /// The model has no kernel of this precision (Bourg has only `exact`).
+    PrecisionUnavailable {
+        /// The model's name.
+        model: &'static str,
+        /// The precision asked for.
+        precision: Precision,
+    },
 }
 
 impl fmt::Display for FleetError {
@@ -151,6 +158,12 @@ impl fmt::Display for FleetError {
             }
             Self::UnknownPrecision(name) => {
                 write!(f, "precision must be `exact` or `fast`, got `{name}`")
+            }
+            Self::PrecisionUnavailable { model, precision } => {
+                write!(
+                    f,
+                    "the {model} fleet kernel has no `{precision}` precision (use `exact`)"
+                )
             }
         }
     }

@@ -18,6 +18,7 @@ use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
+use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 
 /// How the run is driven.
@@ -51,6 +52,8 @@ pub struct RunConfig {
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
     pub origin: GeodeticOrigin,
+    /// The `--plot` output, already created (like the CSV).
+    pub plot: Option<PlotFile>,
 }
 
 /// How an aircraft of model `M` starts (and restarts on reset).
@@ -248,7 +251,11 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
     let Some(path) = &args.record else {
         return Ok(None);
     };
-    for (other, name) in [(&args.script, "--script"), (&args.csv, "--csv")] {
+    for (other, name) in [
+        (&args.script, "--script"),
+        (&args.csv, "--csv"),
+        (&args.plot, "--plot"),
+    ] {
         if other
             .as_deref()
             .is_some_and(|o| o == path || same_file(path, o))
@@ -301,6 +308,20 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
         }
         None => None,
     };
+    let plot = match &args.plot {
+        Some(path) => {
+            for (other, name) in [(&args.script, "--script"), (&args.csv, "--csv")] {
+                if other.as_deref().is_some_and(|o| same_file(path, o)) {
+                    return Err(CliError::usage(format!(
+                        "--plot {} would overwrite the {name} file",
+                        path.display()
+                    )));
+                }
+            }
+            Some(PlotFile::create(path)?)
+        }
+        None => None,
+    };
     let record = create_record(&args)?;
     Ok((
         RunConfig {
@@ -309,6 +330,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
             csv,
             fg,
             origin: args.origin,
+            plot,
         },
         script,
         record,

@@ -27,10 +27,11 @@ use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequent
 use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
-use crate::args::FleetArgs;
+use crate::args::{FleetArgs, FleetKernel, FleetPrecision};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
 use crate::progress::StderrProgress;
+use fdm_fleet::{LaneFleet, Precision};
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
 pub const FLEET_FPS: u32 = 30;
@@ -122,6 +123,12 @@ pub fn check_memory<M: Model>(n: u64, available: Option<u64>) -> Result<(), CliE
 pub struct FleetReport {
     /// `"palmer"` or `"bourg"`.
     pub model: &'static str,
+    /// `"lanes"` (structure-of-arrays SIMD kernels) or `"ecs"` (one entity per aircraft).
+    pub kernel: &'static str,
+    /// `"exact"` (bit-identical to the model's step) or `"fast"`.
+    pub precision: &'static str,
+    /// The instruction set the lanes kernel dispatched to (`null` for `ecs`).
+    pub instruction_set: Option<&'static str>,
     /// Aircraft in the fleet.
     pub aircraft: u64,
     /// Frames flown (each aircraft stepped once per frame).
@@ -170,7 +177,10 @@ impl WithModel for Measure<'_> {
     type Output = Result<FleetReport, CliError>;
 
     fn call<M: CliModel>(self) -> Self::Output {
-        measure_model::<M>(self.0)
+        match self.0.kernel {
+            FleetKernel::Lanes => measure_lanes::<M>(self.0),
+            FleetKernel::Ecs => measure_model::<M>(self.0),
+        }
     }
 }
 
@@ -206,41 +216,138 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
     let measured_bytes_per_aircraft = before
         .zip(after)
         .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
-    let resources = *sim.resources();
-    let world = sim.world_mut();
+    let seconds = fly_frames::<M>(&mut sim, args.frames, execution, &pool);
+    Ok(report::<M>(
+        args,
+        threads,
+        seconds,
+        estimated_bytes_per_aircraft::<M>(),
+        measured_bytes_per_aircraft,
+        None,
+    ))
+}
 
-    let start = Instant::now();
-    match execution {
-        Execution::Sequential => {
-            for _ in 0..args.frames {
-                equations_of_motion_sequential::<M>(world, &resources);
-            }
-        }
-        Execution::Parallel => pool.install(|| {
-            for _ in 0..args.frames {
-                equations_of_motion_parallel::<M>(world, &resources);
-            }
-        }),
+/// The lanes kernel's precision for `--precision`.
+fn precision(p: FleetPrecision) -> Precision {
+    match p {
+        FleetPrecision::Exact => Precision::Exact,
+        FleetPrecision::Fast => Precision::Fast,
     }
-    let seconds = start.elapsed().as_secs_f64();
+}
 
+/// The fleet flown by model `M`'s structure-of-arrays kernel
+/// ([`CliModel::Lanes`]): the same demonstration fleet, the same frames.
+fn measure_lanes<M: CliModel>(args: &FleetArgs) -> Result<FleetReport, CliError> {
+    let n = usize::try_from(args.aircraft)
+        .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;
+    let precision = precision(args.precision);
+    M::Lanes::check_precision(precision)
+        .map_err(|e| CliError::usage(format!("--precision: {e}")))?;
+    let per_aircraft = M::Lanes::bytes_per_aircraft() as u64;
+    if let Some(have) = available_memory_bytes() {
+        let needed = args.aircraft.saturating_mul(per_aircraft).saturating_mul(2);
+        if needed > have {
+            return Err(CliError::usage(format!(
+                "a fleet of {} {} aircraft needs about {} MiB ({per_aircraft} bytes each, twice \
+                 that while it grows); this machine has {} MiB available",
+                args.aircraft,
+                M::NAME,
+                needed / (1024 * 1024),
+                have / (1024 * 1024)
+            )));
+        }
+    }
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("building the thread pool")?;
+    let before = resident_bytes();
+    let mut fleet = M::Lanes::demonstration(n).map_err(|e| CliError::runtime(e.to_string()))?;
+    let after = resident_bytes();
+    #[allow(clippy::cast_precision_loss)] // a ratio of byte counts
+    let measured_bytes_per_aircraft = before
+        .zip(after)
+        .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
+    let fps = f64::from(FLEET_FPS);
+    let start = Instant::now();
+    pool.install(|| {
+        for _ in 0..args.frames {
+            fleet.par_step(fps, precision)?;
+        }
+        Ok::<(), fdm_fleet::FleetError>(())
+    })
+    .map_err(|e| CliError::runtime(e.to_string()))?;
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(report::<M>(
+        args,
+        threads,
+        seconds,
+        per_aircraft,
+        measured_bytes_per_aircraft,
+        Some((precision, fleet.instruction_set())),
+    ))
+}
+
+/// The report of a measured fleet.
+fn report<M: Model>(
+    args: &FleetArgs,
+    threads: usize,
+    seconds: f64,
+    estimated_bytes_per_aircraft: u64,
+    measured_bytes_per_aircraft: Option<f64>,
+    lanes: Option<(Precision, &'static str)>,
+) -> FleetReport {
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
     let steps = args.aircraft as f64 * args.frames as f64;
     let aircraft_steps_per_s = steps / seconds;
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // floor of a positive rate
     let aircraft_at_30hz = (aircraft_steps_per_s / f64::from(FLEET_FPS)).floor() as u64;
-    Ok(FleetReport {
+    FleetReport {
         model: M::NAME,
+        kernel: if lanes.is_some() { "lanes" } else { "ecs" },
+        precision: lanes.map_or("exact", |(p, _)| p.name()),
+        instruction_set: lanes.map(|(_, set)| set),
         aircraft: args.aircraft,
         frames: args.frames,
         threads,
         seconds,
         aircraft_steps_per_s,
         aircraft_at_30hz,
-        dt_s: resources.time_step::<M>().into(),
-        estimated_bytes_per_aircraft: estimated_bytes_per_aircraft::<M>(),
+        dt_s: M::time_step(f64::from(FLEET_FPS)).into(),
+        estimated_bytes_per_aircraft,
         measured_bytes_per_aircraft,
-    })
+    }
+}
+
+/// Runs `frames` frames of EquationsOfMotion on the fleet in `sim` (on
+/// `pool` when parallel): what [`measure`] times. Returns the seconds the
+/// frames took.
+fn fly_frames<M: Model>(
+    sim: &mut Simulation,
+    frames: u64,
+    execution: Execution,
+    pool: &rayon::ThreadPool,
+) -> f64 {
+    let resources = *sim.resources();
+    let world = sim.world_mut();
+
+    let start = Instant::now();
+    match execution {
+        Execution::Sequential => {
+            for _ in 0..frames {
+                equations_of_motion_sequential::<M>(world, &resources);
+            }
+        }
+        Execution::Parallel => pool.install(|| {
+            for _ in 0..frames {
+                equations_of_motion_parallel::<M>(world, &resources);
+            }
+        }),
+    }
+    start.elapsed().as_secs_f64()
 }
 
 /// `sim-cli fleet`: [`measure`], then the summary or (`--json`) the report
@@ -278,12 +385,19 @@ mod tests {
 
     #[test]
     fn a_small_fleet_reports_consistent_numbers() {
-        for (model, threads) in [(ModelKind::Palmer, 2), (ModelKind::Bourg, 1)] {
+        for (model, threads, kernel) in [
+            (ModelKind::Palmer, 2, FleetKernel::Ecs),
+            (ModelKind::Bourg, 1, FleetKernel::Ecs),
+            (ModelKind::Palmer, 2, FleetKernel::Lanes),
+            (ModelKind::Bourg, 1, FleetKernel::Lanes),
+        ] {
             let args = FleetArgs {
                 model,
                 aircraft: 10,
                 frames: 3,
                 threads: Some(threads),
+                kernel,
+                precision: FleetPrecision::Exact,
                 json: true,
                 show: crate::args::FleetShowArgs::default(),
             };
@@ -299,6 +413,41 @@ mod tests {
                 (report.aircraft_steps_per_s / 30.0).floor() as u64
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
+        }
+    }
+
+    /// Each aircraft of the fleet `measure` flies ends where the same member
+    /// flown alone, by the core step, ends: bit for bit, sequential and
+    /// parallel, both models.
+    #[test]
+    fn each_fleet_member_ends_as_if_flown_alone() {
+        fn check<M: Model>(execution: Execution, threads: usize) {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let (n, frames) = (23, 40);
+            let mut sim = spawn_fleet::<M>(n, execution);
+            fly_frames::<M>(&mut sim, frames, execution, &pool);
+            let fleet: Vec<M::State> = sim.world().query::<&M::State>().iter().copied().collect();
+            assert_eq!(fleet.len(), n);
+            let aircraft = M::default_aircraft();
+            let dt = M::time_step(f64::from(FLEET_FPS));
+            for (i, got) in fleet.iter().enumerate() {
+                let (controls, mut alone) = M::fleet_member(i);
+                let start = alone;
+                for _ in 0..frames {
+                    alone = M::step(&aircraft, &controls, &alone, dt);
+                }
+                // Debug prints every float in shortest round-trip form, so
+                // equal text is equal bits here.
+                assert_eq!(format!("{got:?}"), format!("{alone:?}"), "{} #{i}", M::NAME);
+                assert_ne!(format!("{got:?}"), format!("{start:?}"), "{} #{i}", M::NAME);
+            }
+        }
+        for (execution, threads) in [(Execution::Sequential, 1), (Execution::Parallel, 2)] {
+            check::<fdm_core::palmer::Palmer>(execution, threads);
+            check::<fdm_core::bourg::Bourg>(execution, threads);
         }
     }
 

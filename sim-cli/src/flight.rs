@@ -184,7 +184,8 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 ///
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
+    let plot = config.run.plot.take();
     let ModelConfig {
         run,
         script,
@@ -193,12 +194,25 @@ pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
     } = config;
     let Some(record) = record else {
         let flight = ModelFlight::new(&run, start)?;
-        return fly(flight, &script, run);
+        return fly_maybe_plotted(flight, &script, run, plot);
     };
     let writer = RecordWriter::new(record.out, run.fps, &run.origin, &start)
         .with_context(|| format!("recording to {}", record.path.display()))?;
     let flight = ModelFlight::new(&run, start)?;
-    fly(Recorded::new(flight, writer), &script, run)
+    fly_maybe_plotted(Recorded::new(flight, writer), &script, run, plot)
+}
+
+/// [`fly`], or with `--plot` [`crate::plot::fly_plotted`].
+fn fly_maybe_plotted<F: Flight>(
+    flight: F,
+    script: &fdm_core::script::Script<F::Action>,
+    run: RunConfig,
+    plot: Option<crate::plot::PlotFile>,
+) -> Result<(), CliError> {
+    match plot {
+        None => fly(flight, script, run),
+        Some(plot) => crate::plot::fly_plotted(flight, script, run, plot),
+    }
 }
 
 /// Never used in practice (the components exist from spawn on); reported as
@@ -236,6 +250,7 @@ mod tests {
             csv: None,
             fg,
             origin: GeodeticOrigin::default(),
+            plot: None,
         }
     }
 
@@ -321,6 +336,42 @@ mod tests {
         let p = flight.snapshot().details;
         assert_eq!((p.controls.throttle, p.controls.alpha_deg), (1.0, 4.0));
         assert_eq!(flight.snapshot().common.time_s, 0.0);
+    }
+
+    /// The scripted stall of `fdm-core/tests/bourg_stall.rs` (thrust cut on
+    /// frames 1..5, elevators up from frame 10; the wings pass 24° of attack
+    /// when frame 39 starts) shows `STALL` on the HUD's status line from
+    /// frame 39 on, and `flying` before.
+    #[test]
+    fn bourg_stall_shows_on_the_hud() {
+        use crate::hud::{render_hud, HudData, LoopStatus};
+        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let mut status_line = Vec::new();
+        for frame in 1..=40_u64 {
+            let mut actions = Vec::new();
+            if frame <= 5 {
+                actions.push(BourgAction::ThrustDown);
+            }
+            if frame >= 10 {
+                actions.push(BourgAction::PitchUp);
+            }
+            flight.step(&actions).unwrap();
+            let run = LoopStatus {
+                frame,
+                fps: 30,
+                overruns: 0,
+                paused: false,
+            };
+            let hud = HudData::from_snapshot(Bourg::TITLE, &flight.snapshot(), None, None, run, "");
+            // 80 columns: every line in its full form; the status ends line 3
+            // (as in hud.rs's own tests).
+            status_line.push(render_hud(&hud, 80)[3].clone());
+        }
+        for (i, line) in status_line.iter().enumerate() {
+            let frame = i + 1;
+            let want = if frame >= 39 { "STALL" } else { "flying" };
+            assert!(line.ends_with(want), "frame {frame}: {line:?}");
+        }
     }
 
     #[test]

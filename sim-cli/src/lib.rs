@@ -21,6 +21,7 @@
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
 //! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
+//! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
 
 pub mod args;
 pub mod config;
@@ -38,6 +39,7 @@ pub mod models;
 pub mod origin;
 pub mod output;
 pub mod pacer;
+pub mod plot;
 pub mod progress;
 pub mod recording;
 pub mod replay;
@@ -64,6 +66,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
+        Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command_line(&args);
             let mut out = std::io::stdout().lock();
@@ -81,7 +84,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet or replay (see --help)"
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or replay (see --help)"
             .to_owned();
     }
     let text = error.render().to_string();
@@ -123,7 +126,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command, fleet or replay (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or replay (see --help)"
         );
     }
 }

@@ -773,6 +773,7 @@ mod tests {
             csv: None,
             fg: None,
             origin: origin(),
+            plot: None,
         }
     }
 

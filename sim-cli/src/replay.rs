@@ -136,6 +136,7 @@ impl WithModel for ReplayJob<'_> {
             csv: None,
             fg,
             origin: recording.origin,
+            plot: None,
         };
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
         let mut progress = StderrProgress::new(recording.frames);

@@ -92,7 +92,7 @@ impl<D: Details> Report<D> {
         let c = &self.common;
         let unit = D::POSITION_UNIT;
         format!(
-            "{}: {} frames at {} fps, t = {} s\n\
+            "{}: {} frames at {} fps, t = {:.*} s\n\
              position  x {:.3}  y {:.3}  z {:.3} {unit}\n\
              velocity  x {:.3}  y {:.3}  z {:.3} {unit}/s\n\
              geodetic  lat {:.7}  lon {:.7}  alt {:.2} m\n\
@@ -100,6 +100,7 @@ impl<D: Details> Report<D> {
             self.model,
             self.frames,
             self.fps,
+            frame_decimals(self.fps),
             c.time_s,
             c.position[0],
             c.position[1],
@@ -116,6 +117,19 @@ impl<D: Details> Report<D> {
             self.details.summary(),
             self.outputs_summary(),
         )
+    }
+}
+
+/// Decimals that resolve one frame of `fps` in a time display: at least 2
+/// (`t = 240.00 s`), 3 above 100 fps, 4 above 1000 fps. The human summary
+/// rounds the model's clock (a sum of time steps, so 239.99999999998894 after
+/// 7200 steps of 1/30 s) to that; the JSON report keeps every digit.
+#[must_use]
+pub fn frame_decimals(fps: u32) -> usize {
+    match fps {
+        0..=100 => 2,
+        101..=1000 => 3,
+        _ => 4,
     }
 }
 
@@ -334,6 +348,18 @@ mod tests {
         assert!(s.contains("ft/s"));
         let s = Report::new(10, 600, &palmer()).human_summary();
         assert!(s.contains("throttle 75 %"));
+        // The sample's clock is 60.000000000000746: rounded to the frame here,
+        // every digit in the JSON.
+        assert!(
+            s.starts_with("palmer: 600 frames at 10 fps, t = 60.00 s\n"),
+            "{s}"
+        );
+        let json = Report::new(10, 600, &palmer()).to_json().unwrap();
+        assert!(json.contains("\"time_s\":60.000000000000746"), "{json}");
+        assert_eq!(
+            [1, 30, 100, 101, 1000, 1001, 10_000].map(frame_decimals),
+            [2, 2, 2, 3, 3, 4, 4]
+        );
         let mut snap = bourg();
         snap.common.attitude_deg.heading = 359.999_999;
         snap.common.attitude_deg.roll = -1e-9;

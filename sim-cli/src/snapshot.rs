@@ -4,6 +4,7 @@
 //! model's own fields are its [`Details`].
 
 use fdm_core::model::FlightStatus;
+use fdm_core::units::METRES_PER_FOOT;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvRecord;
@@ -63,6 +64,32 @@ pub struct Snapshot<D> {
     pub stalling: bool,
     /// Airspeed, m/s.
     pub airspeed_mps: f64,
+}
+
+impl<D: Details> Snapshot<D> {
+    /// Metres per unit of the native position ([`Details::POSITION_UNIT`]):
+    /// 1 for `"m"`, [`METRES_PER_FOOT`] for `"ft"`, NaN for an unknown unit
+    /// (shown as a gap rather than in the wrong unit).
+    #[must_use]
+    pub fn metres_per_unit() -> f64 {
+        match D::POSITION_UNIT {
+            "m" => 1.0,
+            "ft" => METRES_PER_FOOT,
+            _ => f64::NAN,
+        }
+    }
+
+    /// Height above the ground plane through the origin, m.
+    #[must_use]
+    pub fn height_m(&self) -> f64 {
+        self.common.position[2] * Self::metres_per_unit()
+    }
+
+    /// Vertical speed, m/s, positive up.
+    #[must_use]
+    pub fn climb_rate_mps(&self) -> f64 {
+        self.common.velocity[2] * Self::metres_per_unit()
+    }
 }
 
 /// CSV column names of [`CommonState`] (after `frame,time_s`), in row order.

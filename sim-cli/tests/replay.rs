@@ -179,6 +179,33 @@ fn bad_recordings_are_refused_with_status_2() {
         .unwrap();
     refused(&["replay", &big], "larger than the 64 MiB limit");
     refused(&["replay", "/dev/zero"], "give a regular file or a pipe");
+    // With --plot too, the recording is finished (the plot wrapper passes the end on).
+    let (plotted, svg) = (path("plotted.rec"), path("p.svg"));
+    let original = ok(&[
+        "bourg",
+        "--headless",
+        "--json",
+        "--frames",
+        "30",
+        "--plot",
+        &svg,
+        "--record",
+        &plotted,
+    ]);
+    assert_eq!(ok(&["replay", &plotted, "--json"]), original);
+    refused(
+        &[
+            "palmer",
+            "--headless",
+            "--frames",
+            "1",
+            "--plot",
+            &svg,
+            "--record",
+            &svg,
+        ],
+        "also the --plot file",
+    );
     // --record must not clobber the script.
     let script = path("s.txt");
     std::fs::write(&script, "1-2 throttle-up\n").unwrap();

@@ -70,6 +70,8 @@ impl Details for BourgDetails {
 impl CliModel for Bourg {
     type Details = BourgDetails;
 
+    type Lanes = fdm_fleet::BourgFleet;
+
     const FG_AIRCRAFT: &'static str = "ufo";
 
     /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is

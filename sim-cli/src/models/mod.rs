@@ -54,6 +54,10 @@ pub trait CliModel:
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
 
+    /// The model's structure-of-arrays fleet kernel (`sim-cli fleet
+    /// --kernel lanes`).
+    type Lanes: fdm_fleet::LaneFleet<Model = Self>;
+
     /// The aircraft's parameters as a recording stores them: everything
     /// needed to rebuild an identical [`Model::Aircraft`].
     type AircraftRecord: Serialize + DeserializeOwned + Debug;

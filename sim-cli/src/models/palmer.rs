@@ -92,6 +92,8 @@ impl Details for PalmerDetails {
 impl CliModel for Palmer {
     type Details = PalmerDetails;
 
+    type Lanes = fdm_fleet::PalmerFleet;
+
     const FG_AIRCRAFT: &'static str = "c172p";
 
     /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine

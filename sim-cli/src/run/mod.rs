@@ -106,6 +106,8 @@ pub fn fly<F: Flight>(
         mut csv,
         fg,
         origin: _,
+        // Taken by `run_model`, which wraps the flight (crate::plot::fly_plotted).
+        plot: _,
     } = run;
     match mode {
         Mode::Headless {
