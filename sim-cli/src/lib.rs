@@ -19,6 +19,8 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
+//! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
+//! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
 
 pub mod args;
@@ -28,6 +30,7 @@ pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
 pub mod fleet;
+pub mod fleet_mp;
 pub mod flight;
 pub mod hud;
 pub mod input;
@@ -38,6 +41,8 @@ pub mod output;
 pub mod pacer;
 pub mod plot;
 pub mod progress;
+pub mod recording;
+pub mod replay;
 pub mod report;
 pub mod run;
 pub mod signals;
@@ -61,15 +66,10 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
+        Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::FgfsCommand(args) => {
-            let line = fgfs::fgfs_command_from(
-                args.model,
-                args.fps,
-                args.fg.as_ref(),
-                &args.origin,
-                &args.start,
-            )?;
+            let line = fgfs::fgfs_command_line(&args)?;
             let mut out = std::io::stdout().lock();
             writeln!(out, "{line}")
                 .and_then(|()| out.flush())
@@ -85,7 +85,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet or plot (see --help)"
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or replay (see --help)"
             .to_owned();
     }
     let text = error.render().to_string();
@@ -127,7 +127,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command, fleet or plot (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or replay (see --help)"
         );
     }
 }

@@ -156,6 +156,10 @@ impl<F: Flight> Flight for Plotted<F> {
     fn take_link_failure(&mut self) -> Option<String> {
         self.inner.take_link_failure()
     }
+
+    fn finish(&mut self) -> anyhow::Result<()> {
+        self.inner.finish()
+    }
 }
 
 /// Lets the loops fly a borrowed flight, so the caller keeps it afterwards.
@@ -183,6 +187,10 @@ impl<F: Flight> Flight for &mut F {
 
     fn take_link_failure(&mut self) -> Option<String> {
         (**self).take_link_failure()
+    }
+
+    fn finish(&mut self) -> anyhow::Result<()> {
+        (**self).finish()
     }
 }
 
