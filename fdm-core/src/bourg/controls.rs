@@ -119,13 +119,17 @@ impl BourgControls {
                 } else {
                     c.pitch_trim - step
                 };
-                c.pitch_trim = if t > 1.0 {
+                // Comparisons as before the f32-only rewrite (the same
+                // values as `clamp`, NaN included).
+                #[allow(clippy::manual_clamp)]
+                let clamped = if t > 1.0 {
                     1.0
                 } else if t < -1.0 {
                     -1.0
                 } else {
                     t
                 };
+                c.pitch_trim = clamped;
             }
         }
         c

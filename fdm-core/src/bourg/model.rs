@@ -199,6 +199,8 @@ pub fn loads(aircraft: &BourgAircraft, controls: &BourgControls, state: &BourgSt
     for i in 0..8 {
         lift[i] = normalize(&cross(&cross(&drag[i], &normals[i]), &drag[i]));
         let mut s = dot(&drag[i], &normals[i]);
+        // The original's two `if`s (the same values as `clamp`, kept in its form).
+        #[allow(clippy::manual_clamp)]
         if s > 1.0 {
             s = 1.0;
         }
