@@ -11,6 +11,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::dis::{FleetDisArgs, FlightDisArgs};
 use crate::fgaddr::{parse_fg_listen, parse_fg_target, FgTarget};
 use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
@@ -117,6 +118,10 @@ pub struct CommonArgs {
     /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    #[command(flatten)]
+    pub dis: FlightDisArgs,
 }
 
 /// `sim-cli palmer`.
@@ -200,6 +205,10 @@ pub struct FleetArgs {
     /// Print the measurement as one JSON object on stdout
     #[arg(long)]
     pub json: bool,
+
+    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    #[command(flatten)]
+    pub dis: FleetDisArgs,
 }
 
 /// A whole number in `1..=max`, with `what` naming it in the error.

@@ -28,6 +28,7 @@ use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
 use crate::args::FleetArgs;
+use crate::dis::{DisReport, FleetDis};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
 use crate::progress::StderrProgress;
@@ -141,6 +142,10 @@ pub struct FleetReport {
     /// Memory per aircraft, bytes, measured as the growth of the resident set
     /// while the fleet was spawned (`null` where it cannot be read).
     pub measured_bytes_per_aircraft: Option<f64>,
+    /// DIS output, with `--dis`: every aircraft is published after every
+    /// frame; that time is in `dis.publish_seconds`, not in `seconds`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dis: Option<DisReport>,
 }
 
 impl FleetReport {
@@ -159,7 +164,10 @@ impl FleetReport {
             self.aircraft_steps_per_s / 1e6,
             self.aircraft_at_30hz,
             self.model,
-        )
+        ) + &self.dis.as_ref().map_or_else(String::new, |d| {
+            let publish = d.publish_seconds.unwrap_or(0.0);
+            format!("\n{}\ndis  {publish:.3} s publishing", d.summary())
+        })
     }
 }
 
@@ -170,7 +178,9 @@ impl WithModel for Measure<'_> {
     type Output = Result<FleetReport, CliError>;
 
     fn call<M: CliModel>(self) -> Self::Output {
-        measure_model::<M>(self.0)
+        measure_model::<M>(self.0, &mut |m| {
+            eprintln!("{}", crate::run::link_warning(m));
+        })
     }
 }
 
@@ -183,7 +193,22 @@ pub fn measure(args: &FleetArgs) -> Result<FleetReport, CliError> {
     args.model.with(Measure(args))
 }
 
-fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
+/// Flies the fleet of model `M` and measures it; `warn` gets the first DIS
+/// failure message, if any.
+fn measure_model<M: CliModel>(
+    args: &FleetArgs,
+    warn: &mut dyn FnMut(&str),
+) -> Result<FleetReport, CliError> {
+    let dis_settings = args.dis.common.settings()?;
+    if let Some(s) = &dis_settings {
+        // Refused before anything is spawned: entity numbers for all of them.
+        crate::dis::fleet_identity(
+            s.site,
+            s.application,
+            args.dis.entity_base,
+            args.aircraft - 1,
+        )?;
+    }
     let n = usize::try_from(args.aircraft)
         .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;
     let threads = args
@@ -208,21 +233,48 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
     let resources = *sim.resources();
     let world = sim.world_mut();
+    let mut dis = match &dis_settings {
+        Some(settings) => Some(FleetDis::attach::<M>(
+            world,
+            settings,
+            args.dis.entity_base,
+        )?),
+        None => None,
+    };
 
-    let start = Instant::now();
-    match execution {
-        Execution::Sequential => {
-            for _ in 0..args.frames {
-                equations_of_motion_sequential::<M>(world, &resources);
+    let mut seconds = 0.0;
+    if let Some(dis) = dis.as_mut() {
+        // Step, then publish, frame by frame; only the steps are in `seconds`.
+        for _ in 0..args.frames {
+            let start = Instant::now();
+            match execution {
+                Execution::Sequential => equations_of_motion_sequential::<M>(world, &resources),
+                Execution::Parallel => {
+                    pool.install(|| equations_of_motion_parallel::<M>(world, &resources));
+                }
+            }
+            seconds += start.elapsed().as_secs_f64();
+            dis.publish::<M>(world, &resources.origin);
+            if let Some(message) = dis.take_failure() {
+                warn(&message);
             }
         }
-        Execution::Parallel => pool.install(|| {
-            for _ in 0..args.frames {
-                equations_of_motion_parallel::<M>(world, &resources);
+    } else {
+        let start = Instant::now();
+        match execution {
+            Execution::Sequential => {
+                for _ in 0..args.frames {
+                    equations_of_motion_sequential::<M>(world, &resources);
+                }
             }
-        }),
+            Execution::Parallel => pool.install(|| {
+                for _ in 0..args.frames {
+                    equations_of_motion_parallel::<M>(world, &resources);
+                }
+            }),
+        }
+        seconds = start.elapsed().as_secs_f64();
     }
-    let seconds = start.elapsed().as_secs_f64();
 
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
     let steps = args.aircraft as f64 * args.frames as f64;
@@ -240,6 +292,7 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         dt_s: resources.time_step::<M>().into(),
         estimated_bytes_per_aircraft: estimated_bytes_per_aircraft::<M>(),
         measured_bytes_per_aircraft,
+        dis: dis.map(|d| d.report(FLEET_FPS)),
     })
 }
 
@@ -277,6 +330,7 @@ mod tests {
                 frames: 3,
                 threads: Some(threads),
                 json: true,
+                dis: crate::dis::FleetDisArgs::default(),
             };
             let report = measure(&args).unwrap();
             assert_eq!(report.model, model.name());

@@ -19,10 +19,12 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
+//! | [`dis`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet |
 
 pub mod args;
 pub mod config;
 pub mod csv;
+pub mod dis;
 pub mod error;
 pub mod fgaddr;
 pub mod fgfs;

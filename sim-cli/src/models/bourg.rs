@@ -72,6 +72,10 @@ impl CliModel for Bourg {
 
     const FG_AIRCRAFT: &'static str = "ufo";
 
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
+
+    const DIS_CALLSIGN: &'static str = "BRG";
+
     fn native_position(state: &BourgState) -> [f64; 3] {
         state.position_ft.map(f64::from).into()
     }

@@ -48,6 +48,12 @@ pub trait CliModel: Model<Action: KeyAction> {
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;
 
+    /// The model's DIS entity type (`--dis`, [`crate::dis`]).
+    const DIS_KIND: fdm_dis::AircraftKind;
+
+    /// The start of its DIS callsigns (markings): `C172-1`, `C172-2`, ...
+    const DIS_CALLSIGN: &'static str;
+
     /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
     /// up) in the model's own unit ([`Details::POSITION_UNIT`]), widened to
     /// `f64` exactly.

@@ -94,6 +94,10 @@ impl CliModel for Palmer {
 
     const FG_AIRCRAFT: &'static str = "c172p";
 
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
+
+    const DIS_CALLSIGN: &'static str = "C172";
+
     fn native_position(state: &PalmerState) -> [f64; 3] {
         state.position_m.into()
     }

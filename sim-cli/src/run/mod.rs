@@ -57,6 +57,11 @@ pub trait Flight {
     /// Datagram counters, or `None` when nothing is sent.
     fn link_stats(&self) -> Option<LinkStats>;
 
+    /// The DIS output's counts (`--dis`), or `None` when nothing is published.
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        None
+    }
+
     /// A one-line description of the first failed datagram send, returned once (later
     /// failures are only counted in [`Self::link_stats`]). The loops print it on
     /// stderr at most once per run, never per frame; a failing link is never fatal.
@@ -96,6 +101,7 @@ pub fn fly<F: Flight>(
         mut csv,
         fg,
         origin: _,
+        dis: _,
     } = run;
     match mode {
         Mode::Headless {
@@ -119,6 +125,7 @@ pub fn fly<F: Flight>(
                     failed: l.failed,
                 });
             }
+            report.dis = flight.dis_report();
             if let Some(csv) = csv {
                 csv.finish()?;
             }
@@ -140,8 +147,11 @@ pub fn fly<F: Flight>(
             let link = summary.link.map_or_else(String::new, |l| {
                 format!(", {} packets sent, {} failed", l.sent, l.failed)
             });
+            let dis = flight.dis_report().map_or_else(String::new, |d| {
+                format!(", {} DIS PDUs sent, {} failed", d.pdus, d.failed)
+            });
             eprintln!(
-                "sim-cli: flew {} frames, {} overruns{link}",
+                "sim-cli: flew {} frames, {} overruns{link}{dis}",
                 summary.frames, summary.overruns
             );
             Ok(())
