@@ -53,6 +53,8 @@ pub enum Command {
     FgfsCommand(FgfsArgs),
     /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
     Fleet(FleetArgs),
+    /// Receive DIS datagrams for a while: count entities, PDUs, bytes, malformed datagrams; show each entity's last position
+    DisListen(crate::dis_listen::DisListenArgs),
 }
 
 /// Which model.

@@ -19,12 +19,13 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
-//! | [`dis`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet |
+//! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
 pub mod args;
 pub mod config;
 pub mod csv;
 pub mod dis;
+pub mod dis_listen;
 pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
@@ -60,6 +61,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
+        Command::DisListen(args) => dis_listen::run(&args),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command(args.model, args.fps, args.fg.as_ref(), &args.origin);
             let mut out = std::io::stdout().lock();
@@ -77,7 +79,8 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)".to_owned();
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet or dis-listen (see --help)"
+            .to_owned();
     }
     let text = error.render().to_string();
     let mut parts = Vec::new();
@@ -118,7 +121,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command or fleet (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet or dis-listen (see --help)"
         );
     }
 }

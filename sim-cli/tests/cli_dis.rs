@@ -262,3 +262,123 @@ fn dis_options_need_dis_and_bad_values_are_usage_errors() {
         assert!(err.starts_with("sim-cli: error: "), "{err}");
     }
 }
+
+/// `sim-cli dis-listen` on 127.0.0.1, port chosen by the OS (read from its
+/// stderr line); returns the child and the port.
+fn start_listener(extra: &[&str]) -> (std::process::Child, String) {
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+        .args(["dis-listen", "127.0.0.1:0", "--json"])
+        .args(extra)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start dis-listen");
+    let mut line = String::new();
+    BufReader::new(child.stderr.as_mut().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    // "sim-cli: listening for DIS on 127.0.0.1:PORT for N s"
+    let addr = line
+        .split_whitespace()
+        .find(|w| w.starts_with("127.0.0.1:"))
+        .unwrap_or_else(|| panic!("no address in {line:?}"))
+        .to_owned();
+    (child, addr)
+}
+
+/// Two shards of 1,000 Palmer aircraft each, in two processes with their own
+/// application numbers, publish to one loopback address; `dis-listen` sees all
+/// 2,000 entities, each with its shard's numbering and callsign, at a
+/// plausible place: the demonstration fleet starts 500 m above the default
+/// origin (39.8264°, -84.0483°, 251 m), aircraft i at 10·i m north, and flies
+/// 1 s at 45-55 m/s, so every aircraft is within 0.2° of the origin and
+/// between 650 and 850 m high.
+#[test]
+fn two_fleet_shards_are_seen_as_2000_entities() {
+    let (listener, addr) = start_listener(&["--seconds", "60", "--until-entities", "2000"]);
+    let shard = |application: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+            .args([
+                "fleet",
+                "--model",
+                "palmer",
+                "--aircraft",
+                "1000",
+                "--frames",
+                "30",
+                "--threads",
+                "1",
+                "--json",
+                "--dis",
+                &addr,
+                "--dis-application",
+                application,
+            ])
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("run a shard")
+    };
+    let (a, b) = std::thread::scope(|s| {
+        let a = s.spawn(|| shard("1"));
+        let b = s.spawn(|| shard("2"));
+        (a.join().unwrap(), b.join().unwrap())
+    });
+    for out in [&a, &b] {
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    }
+    let out = listener.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["entity_count"], 2000, "{}", r["entity_count"]);
+    assert_eq!(r["malformed_datagrams"], 0);
+    let entities = r["entities"].as_array().unwrap();
+    let mut per_application = [0u32; 3];
+    for e in entities {
+        let app = e["application"].as_u64().unwrap() as usize;
+        per_application[app] += 1;
+        assert_eq!(e["site"], 1);
+        assert_eq!(e["entity_type"], "1.2.225.85.11.1.0");
+        assert_eq!(
+            e["marking"].as_str().unwrap(),
+            format!("C172-{}", e["entity"])
+        );
+        let (lat, lon, alt) = (num(&e["lat_deg"]), num(&e["lon_deg"]), num(&e["alt_m"]));
+        assert!((lat - 39.8264).abs() < 0.2, "{e}");
+        assert!((lon + 84.0483).abs() < 0.2, "{e}");
+        assert!((650.0..850.0).contains(&alt), "{e}");
+    }
+    assert_eq!(per_application, [0, 1000, 1000]);
+    // Both shards' reports count what they sent; the listener may have
+    // stopped (2,000 entities seen) before the last PDUs of the run.
+    let sent: u64 = [&a, &b]
+        .iter()
+        .map(|o| {
+            let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+            v["dis"]["pdus"].as_u64().unwrap()
+        })
+        .sum();
+    assert!(r["entity_state_pdus"].as_u64().unwrap() <= sent);
+}
+
+/// Garbage on the listener's port is counted as malformed, never fatal.
+#[test]
+fn dis_listen_counts_malformed_datagrams() {
+    let (listener, addr) = start_listener(&["--seconds", "1.5"]);
+    let sender = UdpSocket::bind("127.0.0.1:0").unwrap();
+    for datagram in [
+        &b"hello"[..],
+        &[0xFF; 12],
+        &[7, 1, 1, 1, 0, 0, 0, 0, 0, 200, 0, 0],
+    ] {
+        sender.send_to(datagram, &addr).unwrap();
+    }
+    let out = listener.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["datagrams"], 3);
+    assert_eq!(r["malformed_datagrams"], 3);
+    assert_eq!(r["entity_count"], 0);
+}
