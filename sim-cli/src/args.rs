@@ -208,6 +208,10 @@ pub struct FleetArgs {
     #[arg(long)]
     pub json: bool,
 
+    /// One frame per 1/30 s of wall-clock time (for a fleet that others watch over --dis)
+    #[arg(long)]
+    pub realtime: bool,
+
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FleetDisArgs,

@@ -31,7 +31,9 @@ use crate::args::FleetArgs;
 use crate::dis::{DisReport, FleetDis};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
+use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
+use crate::report::RealtimeReport;
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
 pub const FLEET_FPS: u32 = 30;
@@ -146,6 +148,9 @@ pub struct FleetReport {
     /// frame; that time is in `dis.publish_seconds`, not in `seconds`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dis: Option<DisReport>,
+    /// Real-time pacing, with `--realtime`: frames that missed their deadline.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub realtime: Option<RealtimeReport>,
 }
 
 impl FleetReport {
@@ -243,8 +248,12 @@ fn measure_model<M: CliModel>(
     };
 
     let mut seconds = 0.0;
-    if let Some(dis) = dis.as_mut() {
-        // Step, then publish, frame by frame; only the steps are in `seconds`.
+    let mut pacer = args
+        .realtime
+        .then(|| FramePacer::new(FramePacer::period_for(FLEET_FPS), Instant::now()));
+    if dis.is_some() || pacer.is_some() {
+        // Frame by frame: step, publish, wait for the frame's deadline; only
+        // the steps are in `seconds`.
         for _ in 0..args.frames {
             let start = Instant::now();
             match execution {
@@ -254,9 +263,17 @@ fn measure_model<M: CliModel>(
                 }
             }
             seconds += start.elapsed().as_secs_f64();
-            dis.publish::<M>(world, &resources.origin);
-            if let Some(message) = dis.take_failure() {
-                warn(&message);
+            if let Some(dis) = dis.as_mut() {
+                dis.publish::<M>(world, &resources.origin);
+                if let Some(message) = dis.take_failure() {
+                    warn(&message);
+                }
+            }
+            if let Some(pacer) = pacer.as_mut() {
+                let sleep = pacer.finish_frame(Instant::now());
+                if !sleep.is_zero() {
+                    std::thread::sleep(sleep);
+                }
             }
         }
     } else {
@@ -293,6 +310,9 @@ fn measure_model<M: CliModel>(
         estimated_bytes_per_aircraft: estimated_bytes_per_aircraft::<M>(),
         measured_bytes_per_aircraft,
         dis: dis.map(|d| d.report(FLEET_FPS)),
+        realtime: pacer.map(|p| RealtimeReport {
+            overruns: p.overruns(),
+        }),
     })
 }
 
@@ -330,6 +350,7 @@ mod tests {
                 frames: 3,
                 threads: Some(threads),
                 json: true,
+                realtime: false,
                 dis: crate::dis::FleetDisArgs::default(),
             };
             let report = measure(&args).unwrap();
