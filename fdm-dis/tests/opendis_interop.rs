@@ -43,12 +43,8 @@ use fdm_dis::{
 use nalgebra::Vector3;
 use serde_json::Value;
 
-/// The opendis release these tests pin.
-const OPENDIS_VERSION: &str = "1.0";
-/// numpy pinned with it (opendis 1.0 requires >=1.26.4,<2).
-const NUMPY_VERSION: &str = "1.26.4";
+use fdm_tests::opendis::{OPENDIS_VERSION, SCRIPT_DIR};
 
-const SCRIPT_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/opendis_interop");
 const TIMEOUT: Duration = Duration::from_secs(20);
 
 const LATLON_TOL_DEG: f64 = 1e-6;
@@ -57,9 +53,11 @@ const ANGLE_TOL_DEG: f64 = 1e-4;
 
 // ---------------------------------------------------------------- python setup
 
+/// The shared Open-DIS Python (`fdm_tests::opendis`), made once.
 fn python() -> &'static Path {
     static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match PYTHON.get_or_init(setup_python) {
+    match PYTHON.get_or_init(|| fdm_tests::opendis::python(Path::new(env!("CARGO_TARGET_TMPDIR"))))
+    {
         Ok(p) => p,
         Err(e) => panic!(
             "DIS interop tests need Python with opendis=={OPENDIS_VERSION}:\n{e}\n\
@@ -67,98 +65,6 @@ fn python() -> &'static Path {
              to a Python that has opendis=={OPENDIS_VERSION}."
         ),
     }
-}
-
-fn check_python(python: &Path) -> Result<(), String> {
-    let out = Command::new(python)
-        .args([
-            "-c",
-            "import importlib.metadata as m, opendis.PduFactory, opendis.RangeCoordinates; \
-             print(m.version('opendis'))",
-        ])
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
-    if !out.status.success() {
-        return Err(format!(
-            "{} cannot import opendis: {}",
-            python.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let version = String::from_utf8_lossy(&out.stdout).trim().to_owned();
-    if version != OPENDIS_VERSION {
-        return Err(format!(
-            "{} has opendis {version}, these tests pin {OPENDIS_VERSION}",
-            python.display()
-        ));
-    }
-    Ok(())
-}
-
-fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
-    let out = cmd
-        .output()
-        .map_err(|e| format!("{what}: cannot start {cmd:?}: {e}"))?;
-    if out.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "{what} failed ({}):\n{}{}",
-            out.status,
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        ))
-    }
-}
-
-fn setup_python() -> Result<PathBuf, String> {
-    if let Some(p) = std::env::var_os("DIS_PYTHON") {
-        let p = PathBuf::from(p);
-        check_python(&p).map_err(|e| format!("DIS_PYTHON={}: {e}", p.display()))?;
-        return Ok(p);
-    }
-    let base = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let name = format!("opendis-venv-{OPENDIS_VERSION}");
-    let venv = base.join(&name);
-    let ready = |dir: &Path| dir.join(".opendis-ready").exists();
-    let venv_python = venv.join("bin").join("python");
-    if ready(&venv) && check_python(&venv_python).is_ok() {
-        return Ok(venv_python);
-    }
-    // Build in a private directory and rename it into place, so an
-    // interrupted or concurrent setup never leaves a half-made venv in use.
-    std::fs::create_dir_all(base).map_err(|e| format!("{}: {e}", base.display()))?;
-    let tmp = base.join(format!("{name}.tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    run(
-        Command::new("python3").arg("-m").arg("venv").arg(&tmp),
-        "python3 -m venv",
-    )?;
-    let tmp_python = tmp.join("bin").join("python");
-    run(
-        Command::new(&tmp_python).args([
-            "-m",
-            "pip",
-            "install",
-            "--disable-pip-version-check",
-            "--no-input",
-            "--quiet",
-            &format!("opendis=={OPENDIS_VERSION}"),
-            &format!("numpy=={NUMPY_VERSION}"),
-        ]),
-        "pip install opendis",
-    )?;
-    check_python(&tmp_python)?;
-    std::fs::write(tmp.join(".opendis-ready"), OPENDIS_VERSION).map_err(|e| e.to_string())?;
-    if !ready(&venv) {
-        let _ = std::fs::remove_dir_all(&venv);
-    }
-    if std::fs::rename(&tmp, &venv).is_err() {
-        // Another process finished first; use its venv.
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    check_python(&venv_python)?;
-    Ok(venv_python)
 }
 
 // ------------------------------------------------------------ child process

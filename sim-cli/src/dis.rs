@@ -610,11 +610,9 @@ impl DisReport {
     }
 }
 
-/// The socket and the counts shared by all entities of a run.
-#[derive(Debug)]
-pub struct DisLink {
-    settings: DisSettings,
-    sender: UdpSender,
+/// Counts of sends, mergeable (a fleet's parallel batches each keep one).
+#[derive(Debug, Clone, Default)]
+pub struct Tally {
     pdus: u64,
     bytes: u64,
     failed: u64,
@@ -623,43 +621,17 @@ pub struct DisLink {
     first_failure: Option<String>,
 }
 
-impl DisLink {
-    /// Opens the socket.
-    ///
-    /// # Errors
-    /// [`CliError::Runtime`] when the socket cannot be made.
-    pub fn open(settings: DisSettings) -> Result<Self, CliError> {
-        // A broadcast address needs SO_BROADCAST; unicast does not mind it.
-        let broadcast = matches!(settings.target, SocketAddr::V4(a) if a.ip().is_broadcast() || a.ip().octets()[3] == 255);
-        let sender = UdpSender::new(settings.target, broadcast)
-            .map_err(|e| CliError::runtime(format!("opening the DIS socket: {e}")))?;
-        Ok(Self {
-            settings,
-            sender,
-            pdus: 0,
-            bytes: 0,
-            failed: 0,
-            invalid: 0,
-            reasons: ReasonCounts::default(),
-            first_failure: None,
-        })
-    }
-
-    /// The settings.
-    #[must_use]
-    pub fn settings(&self) -> &DisSettings {
-        &self.settings
-    }
-
-    /// Sends one due PDU (a failure is counted, and its message kept once).
-    pub fn send(&mut self, due: &Due<'_>) {
+impl Tally {
+    /// Sends one due PDU through `sender` to `target` and counts it (a
+    /// failure is counted, its message kept once).
+    pub fn send(&mut self, sender: &UdpSender, due: &Due<'_>) {
         match due.reason {
             SendReason::First | SendReason::ClockReset => self.reasons.first += 1,
             SendReason::PositionError => self.reasons.position += 1,
             SendReason::OrientationError => self.reasons.orientation += 1,
             SendReason::Heartbeat => self.reasons.heartbeat += 1,
         }
-        match self.sender.send(due.bytes) {
+        match sender.send(due.bytes) {
             Ok(n) => {
                 self.pdus += 1;
                 self.bytes += n as u64;
@@ -669,7 +641,7 @@ impl DisLink {
                 if self.first_failure.is_none() {
                     self.first_failure = Some(format!(
                         "sending DIS to {} failed: {e}; the run goes on and counts failures",
-                        self.settings.target
+                        sender.target()
                     ));
                 }
             }
@@ -687,9 +659,69 @@ impl DisLink {
         }
     }
 
+    /// Adds `other`'s counts (and its failure message if this has none).
+    pub fn merge(&mut self, other: Self) {
+        self.pdus += other.pdus;
+        self.bytes += other.bytes;
+        self.failed += other.failed;
+        self.invalid += other.invalid;
+        self.reasons.first += other.reasons.first;
+        self.reasons.position += other.reasons.position;
+        self.reasons.orientation += other.reasons.orientation;
+        self.reasons.heartbeat += other.reasons.heartbeat;
+        if self.first_failure.is_none() {
+            self.first_failure = other.first_failure;
+        }
+    }
+
+    /// One aircraft's frame: `update`'s result sent or counted.
+    fn publish(
+        &mut self,
+        sender: &UdpSender,
+        result: Result<Option<Due<'_>>, fdm_dis::DisOutputError>,
+    ) {
+        match result {
+            Ok(Some(due)) => self.send(sender, &due),
+            Ok(None) => {}
+            Err(e) => self.invalid(&e),
+        }
+    }
+}
+
+/// The socket and the counts shared by all entities of a run.
+#[derive(Debug)]
+pub struct DisLink {
+    settings: DisSettings,
+    sender: UdpSender,
+    tally: Tally,
+}
+
+impl DisLink {
+    /// Opens the socket.
+    ///
+    /// # Errors
+    /// [`CliError::Runtime`] when the socket cannot be made.
+    pub fn open(settings: DisSettings) -> Result<Self, CliError> {
+        // A broadcast address needs SO_BROADCAST; unicast does not mind it.
+        let broadcast = matches!(settings.target, SocketAddr::V4(a) if a.ip().is_broadcast() || a.ip().octets()[3] == 255);
+        let sender = UdpSender::new(settings.target, broadcast)
+            .map_err(|e| CliError::runtime(format!("opening the DIS socket: {e}")))?;
+        Ok(Self {
+            settings,
+            sender,
+            tally: Tally::default(),
+        })
+    }
+
+    /// The settings.
+    #[must_use]
+    pub fn settings(&self) -> &DisSettings {
+        &self.settings
+    }
+
     /// The first failure, once.
     pub fn take_failure(&mut self) -> Option<String> {
-        self.first_failure.take()
+        self.tally.first_failure.take()
     }
 
     /// The report for `entities` entities from `first` to `last` over `frames` frames at `fps`.
@@ -722,13 +754,13 @@ impl DisLink {
             last_entity: last.to_string(),
             frames,
             sim_seconds,
-            pdus: self.pdus,
-            bytes: self.bytes,
-            failed: self.failed,
-            invalid: self.invalid,
-            reasons: self.reasons,
-            pdus_per_sim_s: per_s(self.pdus),
-            bytes_per_sim_s: per_s(self.bytes),
+            pdus: self.tally.pdus,
+            bytes: self.tally.bytes,
+            failed: self.tally.failed,
+            invalid: self.tally.invalid,
+            reasons: self.tally.reasons,
+            pdus_per_sim_s: per_s(self.tally.pdus),
+            bytes_per_sim_s: per_s(self.tally.bytes),
             publish_seconds: None,
         }
     }
@@ -803,11 +835,9 @@ impl DisOutput {
     /// Publishes one frame of the aircraft seen through `view`.
     pub fn publish(&mut self, view: &FlightView) {
         self.frames += 1;
-        match self.tracker.update(view, &self.origin) {
-            Ok(Some(due)) => self.link.send(&due),
-            Ok(None) => {}
-            Err(e) => self.link.invalid(&e),
-        }
+        let link = &mut self.link;
+        link.tally
+            .publish(&link.sender, self.tracker.update(view, &self.origin));
     }
 
     /// The first failure, once.
@@ -882,19 +912,51 @@ impl FleetDis {
         })
     }
 
-    /// Publishes one frame of every aircraft of model `M` with a [`Tracker`].
-    pub fn publish<M: Model>(&mut self, world: &mut World, origin: &GeodeticOrigin) {
+    /// Publishes one frame of every aircraft of model `M` with a [`Tracker`]:
+    /// on this thread, or with `parallel` on the current rayon pool in
+    /// batches of [`fdm_ecs::systems::PARALLEL_BATCH`] aircraft, each batch
+    /// sending through the shared socket as it goes (a UDP socket sends
+    /// whole datagrams from any thread). Datagrams of one frame are then in
+    /// no particular order; each aircraft's own stay in order.
+    pub fn publish<M: Model>(
+        &mut self,
+        world: &mut World,
+        origin: &GeodeticOrigin,
+        parallel: bool,
+    ) {
+        use rayon::iter::{ParallelBridge as _, ParallelIterator as _};
         let start = Instant::now();
         self.frames += 1;
-        for (params, controls, state, tracker) in
-            world.query_mut::<(&Params<M>, &M::Controls, &M::State, &mut Tracker)>()
-        {
+        let query = world.query_mut::<(&Params<M>, &M::Controls, &M::State, &mut Tracker)>();
+        let sender = &self.link.sender;
+        let one = |tally: &mut Tally,
+                   (params, controls, state, tracker): (
+            &Params<M>,
+            &M::Controls,
+            &M::State,
+            &mut Tracker,
+        )| {
             let view = M::view(&params.0, controls, state);
-            match tracker.update(&view, origin) {
-                Ok(Some(due)) => self.link.send(&due),
-                Ok(None) => {}
-                Err(e) => self.link.invalid(&e),
-            }
+            tally.publish(sender, tracker.update(&view, origin));
+        };
+        if parallel {
+            let tally = query
+                .into_iter_batched(fdm_ecs::systems::PARALLEL_BATCH)
+                .par_bridge()
+                .map(|batch| {
+                    let mut tally = Tally::default();
+                    batch.for_each(|item| one(&mut tally, item));
+                    tally
+                })
+                .reduce(Tally::default, |mut a, b| {
+                    a.merge(b);
+                    a
+                });
+            self.link.tally.merge(tally);
+        } else {
+            let mut tally = Tally::default();
+            query.into_iter().for_each(|item| one(&mut tally, item));
+            self.link.tally.merge(tally);
         }
         self.seconds += start.elapsed().as_secs_f64();
     }

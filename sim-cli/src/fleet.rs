@@ -264,7 +264,12 @@ fn measure_model<M: CliModel>(
             }
             seconds += start.elapsed().as_secs_f64();
             if let Some(dis) = dis.as_mut() {
-                dis.publish::<M>(world, &resources.origin);
+                match execution {
+                    Execution::Sequential => dis.publish::<M>(world, &resources.origin, false),
+                    Execution::Parallel => {
+                        pool.install(|| dis.publish::<M>(world, &resources.origin, true));
+                    }
+                }
                 if let Some(message) = dis.take_failure() {
                     warn(&message);
                 }
