@@ -4,10 +4,11 @@
 //!
 //! Everything here is generic over the model: an aircraft is seen through the
 //! model interface's [`FlightView`], placed on WGS-84 with the run's
-//! [`GeodeticOrigin`] exactly as the FlightGear bridge places it
-//! ([`fgnet::bridge::display`]: same position, same local attitude), and the
-//! only per-model facts are [`CliModel::DIS_KIND`] (the entity type) and
-//! [`CliModel::DIS_CALLSIGN`] (the start of the markings).
+//! [`GeodeticOrigin`] as the FlightGear bridge places it
+//! ([`fgnet::bridge::display`]: the same position and attitude, computed
+//! straight into ECEF, [`Placement`]), and the only per-model facts are
+//! [`CliModel::DIS_KIND`] (the entity type) and [`CliModel::DIS_CALLSIGN`]
+//! (the start of the markings).
 //!
 //! # Rates
 //!
@@ -16,9 +17,9 @@
 //! [`Tracker`] derives them from consecutive frames: the acceleration is the
 //! change of the ECEF velocity over the frame, the body angular velocity the
 //! rotation between the two body-to-ECEF orientations
-//! (`ω = log(C_prev⁻¹ C_now) / Δt`, body axes), both rotated into the frames
-//! [`AircraftState`] wants. They are one frame's averages (half a frame late);
-//! on the first frame and after the clock goes back (a reset) they are zero.
+//! (`ω = log(C_prev⁻¹ C_now) / Δt`, body axes), as fdm-dis's [`EcefState`]
+//! wants them. They are one frame's averages (half a frame late); on the
+//! first frame and after the clock goes back (a reset) they are zero.
 //!
 //! # Entity numbers and callsigns
 //!
@@ -36,10 +37,10 @@ use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use fdm_core::geodesy::{ned_from_model, Attitude, GeodeticOrigin};
+use fdm_core::geodesy::{ned_from_model, GeodeticOrigin};
 use fdm_core::model::{FlightView, Model};
 use fdm_dis::{
-    ned_to_ecef_rotation, AircraftKind, AircraftState, DisVersion, DrAlgorithm, DrThresholds, Due,
+    ned_to_ecef_rotation, AircraftKind, DisVersion, DrAlgorithm, DrThresholds, Due, EcefState,
     EntityConfig, EntityIdentity, EntityPublisher, Marking, PublisherCounts, SendReason, UdpSender,
 };
 use fdm_ecs::components::Params;
@@ -406,36 +407,56 @@ pub fn callsign(prefix: &str, n: u64) -> String {
     digits[digits.len().saturating_sub(11)..].to_owned()
 }
 
-/// An aircraft placed on WGS-84: its DIS input without rates, and what the
-/// rates are derived from.
+/// Where a run's model frame sits in ECEF: the flat model frame (x north,
+/// y west, z up) is the tangent plane at the origin, so a model-frame
+/// position is one rotation and translation away from ECEF
+/// ([`GeodeticOrigin::model_to_ecef`]), and model-frame north-east-down
+/// axes are the origin's local NED axes: one constant rotation to ECEF.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Placed {
-    /// Geodetic position, local attitude, local NED velocity.
-    pub state: AircraftState,
-    /// Velocity in ECEF, m/s.
-    pub velocity_ecef_m_s: Vector3<f64>,
-    /// Body-to-ECEF rotation.
-    pub body_to_ecef: Matrix3<f64>,
-    /// Local NED-to-ECEF rotation at the aircraft.
-    pub ned_to_ecef: Matrix3<f64>,
+pub struct Placement {
+    origin: GeodeticOrigin,
+    /// `C_ecef←ned` at the origin = `C_ecef←model-NED`.
+    model_ned_to_ecef: Matrix3<f64>,
 }
 
-/// Places `view` on WGS-84 with `origin` the way the FlightGear bridge does
-/// ([`fgnet::bridge::display`]): the geodetic position
-/// ([`GeodeticOrigin::model_to_geodetic`]), the attitude and velocity made
-/// local at the aircraft ([`GeodeticOrigin::model_ned_to_local_ned_at`]).
-#[must_use]
-pub fn place(view: &FlightView, origin: &GeodeticOrigin) -> Placed {
-    let geodetic = origin.model_to_geodetic(view.position_m);
-    let to_local = origin.model_ned_to_local_ned_at(&geodetic);
-    let attitude = Attitude::from_body_to_ned(&(to_local * view.attitude.body_to_ned()));
-    let velocity_ned = to_local * ned_from_model(view.velocity_mps);
-    let ned_to_ecef = ned_to_ecef_rotation(geodetic.lat_deg, geodetic.lon_deg);
-    Placed {
-        state: AircraftState::new(view.time_s, geodetic, attitude, velocity_ned),
-        velocity_ecef_m_s: ned_to_ecef * velocity_ned,
-        body_to_ecef: ned_to_ecef * attitude.body_to_ned(),
-        ned_to_ecef,
+impl Placement {
+    /// The placement of a model frame at `origin`.
+    #[must_use]
+    pub fn new(origin: GeodeticOrigin) -> Self {
+        let g = origin.geodetic();
+        Self {
+            origin,
+            model_ned_to_ecef: ned_to_ecef_rotation(g.lat_deg, g.lon_deg),
+        }
+    }
+
+    /// The origin.
+    #[must_use]
+    pub fn origin(&self) -> &GeodeticOrigin {
+        &self.origin
+    }
+
+    /// The aircraft seen through `view` in ECEF, without rates: location,
+    /// body-to-ECEF rotation, velocity.
+    ///
+    /// This is the FlightGear bridge's placement ([`fgnet::bridge::display`])
+    /// without its detour through latitude and longitude: the bridge converts
+    /// the ECEF position to geodetic coordinates and makes the attitude local
+    /// there (`C_local←model`), and DIS would turn both back into ECEF with
+    /// `C_ecef←local`; the product is `C_ecef←model`, applied here directly.
+    /// The two agree to rounding (tested below), and this costs no
+    /// geodetic conversion, which was most of the per-aircraft cost.
+    #[must_use]
+    pub fn place(&self, view: &FlightView) -> EcefState {
+        let c = &self.model_ned_to_ecef;
+        EcefState::new(
+            view.time_s,
+            self.origin.model_to_ecef(view.position_m),
+            c * view.attitude.body_to_ned(),
+            c * ned_from_model(view.velocity_mps),
+            Vector3::zeros(),
+            Vector3::zeros(),
+        )
     }
 }
 
@@ -482,25 +503,23 @@ impl Tracker {
         self.publisher.config()
     }
 
-    /// This frame's [`AircraftState`] with the rates from the previous frame
-    /// (none on the first frame or after the clock went back), remembering
-    /// this frame for the next.
-    pub fn aircraft_state(&mut self, placed: &Placed) -> AircraftState {
-        let mut state = placed.state;
+    /// This frame's ECEF state with the rates from the previous frame (zero
+    /// on the first frame or after the clock went back), remembering this
+    /// frame for the next.
+    pub fn with_rates(&mut self, mut state: EcefState) -> EcefState {
         if let Some(prev) = self.previous {
             let dt = state.time_s - prev.time_s;
             if dt > 0.0 {
-                let accel_ecef = (placed.velocity_ecef_m_s - prev.velocity_ecef_m_s) / dt;
-                state.acceleration_ned_m_s2 = Some(placed.ned_to_ecef.transpose() * accel_ecef);
-                let turn = prev.body_to_ecef.transpose() * placed.body_to_ecef;
-                let omega = Rotation3::from_matrix_unchecked(turn).scaled_axis() / dt;
-                state.angular_velocity_body_rad_s = Some(omega);
+                state.acceleration_m_s2 = (state.velocity_m_s - prev.velocity_ecef_m_s) / dt;
+                let turn = prev.body_to_ecef.transpose() * state.body_to_ecef;
+                state.angular_velocity_body_rad_s =
+                    Rotation3::from_matrix_unchecked(turn).scaled_axis() / dt;
             }
         }
         self.previous = Some(Previous {
             time_s: state.time_s,
-            velocity_ecef_m_s: placed.velocity_ecef_m_s,
-            body_to_ecef: placed.body_to_ecef,
+            velocity_ecef_m_s: state.velocity_m_s,
+            body_to_ecef: state.body_to_ecef,
         });
         state
     }
@@ -512,10 +531,10 @@ impl Tracker {
     pub fn update(
         &mut self,
         view: &FlightView,
-        origin: &GeodeticOrigin,
+        placement: &Placement,
     ) -> Result<Option<Due<'_>>, fdm_dis::DisOutputError> {
-        let state = self.aircraft_state(&place(view, origin));
-        self.publisher.update(&state)
+        let state = self.with_rates(placement.place(view));
+        self.publisher.update_ecef(&state)
     }
 }
 
@@ -796,7 +815,7 @@ impl FlightDisArgs {
 pub struct DisOutput {
     link: DisLink,
     tracker: Tracker,
-    origin: GeodeticOrigin,
+    placement: Placement,
     fps: u32,
     frames: u64,
 }
@@ -826,7 +845,7 @@ impl DisOutput {
         Ok(Self {
             link: DisLink::open(s.clone())?,
             tracker,
-            origin,
+            placement: Placement::new(origin),
             fps,
             frames: 0,
         })
@@ -837,7 +856,7 @@ impl DisOutput {
         self.frames += 1;
         let link = &mut self.link;
         link.tally
-            .publish(&link.sender, self.tracker.update(view, &self.origin));
+            .publish(&link.sender, self.tracker.update(view, &self.placement));
     }
 
     /// The first failure, once.
@@ -926,6 +945,8 @@ impl FleetDis {
     ) {
         use rayon::iter::{ParallelBridge as _, ParallelIterator as _};
         let start = Instant::now();
+        let placement = Placement::new(*origin);
+        let placement = &placement;
         self.frames += 1;
         let query = world.query_mut::<(&Params<M>, &M::Controls, &M::State, &mut Tracker)>();
         let sender = &self.link.sender;
@@ -937,7 +958,7 @@ impl FleetDis {
             &mut Tracker,
         )| {
             let view = M::view(&params.0, controls, state);
-            tally.publish(sender, tracker.update(&view, origin));
+            tally.publish(sender, tracker.update(&view, placement));
         };
         if parallel {
             let tally = query
@@ -1040,16 +1061,40 @@ mod tests {
         );
     }
 
+    /// The direct placement and the bridge's geodetic one, turned into
+    /// ECEF the way fdm-dis does for an `AircraftState`, agree to rounding:
+    /// 1e-6 m in position (the closed-form geodetic round trip is good to
+    /// nanometres; 12 km from the origin here), 1e-12 in each rotation matrix
+    /// element, 1e-9 m/s in velocity.
     #[test]
     fn placement_is_the_flightgear_bridges() {
         let origin = GeodeticOrigin::default();
-        for i in [0, 7, 12_345] {
-            let (controls, state) = Palmer::fleet_member(i);
+        let placement = Placement::new(origin);
+        for i in [0, 7, 1_234] {
+            let (controls, mut state) = Palmer::fleet_member(i);
+            for _ in 0..300 {
+                state = Palmer::step(&Palmer::default_aircraft(), &controls, &state, 1.0 / 30.0);
+            }
             let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
-            let p = place(&view, &origin);
+            let direct = placement.place(&view);
             let d = fgnet::bridge::display(&view, &origin);
-            assert_eq!(p.state.position, d.geodetic);
-            assert_eq!(p.state.attitude, d.attitude);
+            let mut via = fdm_dis::AircraftState::new(
+                view.time_s,
+                d.geodetic,
+                d.attitude,
+                origin.model_ned_to_local_ned_at(&d.geodetic) * ned_from_model(view.velocity_mps),
+            );
+            via.acceleration_ned_m_s2 = Some(Vector3::zeros());
+            let via = via.to_ecef().unwrap();
+            assert!((direct.location_m - via.location_m).norm() < 1e-6, "{i}");
+            assert!(
+                (direct.body_to_ecef - via.body_to_ecef).amax() < 1e-12,
+                "{i}"
+            );
+            assert!(
+                (direct.velocity_m_s - via.velocity_m_s).norm() < 1e-9,
+                "{i}"
+            );
         }
     }
 
@@ -1080,7 +1125,7 @@ mod tests {
                 500.0,
             );
             v.velocity_mps = Vector3::new(50.0 * heading.cos(), -50.0 * heading.sin(), 0.0);
-            v.attitude = Attitude {
+            v.attitude = fdm_core::geodesy::Attitude {
                 heading_deg: heading.to_degrees(),
                 pitch_deg: 0.0,
                 roll_deg: 20.0,
@@ -1103,15 +1148,16 @@ mod tests {
             DrThresholds::default(),
         )
         .unwrap();
-        let first = tracker.aircraft_state(&place(&view_at(0.0), &origin));
-        assert_eq!(first.angular_velocity_body_rad_s, None);
-        let s = tracker.aircraft_state(&place(&view_at(1.0 / 60.0), &origin));
-        let w = s.angular_velocity_body_rad_s.unwrap();
+        let placement = Placement::new(origin);
+        let first = tracker.with_rates(placement.place(&view_at(0.0)));
+        assert_eq!(first.angular_velocity_body_rad_s, Vector3::zeros());
+        let s = tracker.with_rates(placement.place(&view_at(1.0 / 60.0)));
+        let w = s.angular_velocity_body_rad_s;
         // Yaw at ω about the vertical, seen in body axes banked 20°: q = ω sin φ, r = ω cos φ.
         let (sin_phi, cos_phi) = 20f64.to_radians().sin_cos();
         assert!((w - Vector3::new(0.0, omega * sin_phi, omega * cos_phi)).norm() < 1e-6 * omega);
-        let a = s.acceleration_ned_m_s2.unwrap();
+        let a = placement.model_ned_to_ecef.transpose() * s.acceleration_m_s2;
         assert!((a.norm() - 50.0 * omega).abs() < 1e-3, "{a}");
-        assert!(a.z.abs() < 1e-3, "{a}");
+        assert!(a[2].abs() < 1e-3, "{a}");
     }
 }
