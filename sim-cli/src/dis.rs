@@ -45,7 +45,7 @@ use fdm_dis::{
 };
 use fdm_ecs::components::Params;
 use fdm_ecs::{Entity, World};
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::CliError;
@@ -460,6 +460,30 @@ impl Placement {
     }
 }
 
+/// The rotation vector (axis × angle, radians) of a rotation matrix `r`:
+/// the log that turns the rotation between two frames into an angular
+/// velocity. Robust for every finite input: `(r - rᵀ)/2` gives axis × sin θ
+/// and `atan2(sin θ, (trace - 1)/2)` the angle, so a rounding error that
+/// puts the trace a hair above 3 (no turn at all) cannot make an `acos`
+/// return NaN; a turn too small to have a direction gives the small vector
+/// itself (sin θ ≈ θ).
+#[must_use]
+pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+    let v = Vector3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    ) * 0.5;
+    let sin = v.norm();
+    let cos = (r.trace() - 1.0) * 0.5;
+    let angle = sin.atan2(cos);
+    if sin > 1e-12 {
+        v * (angle / sin)
+    } else {
+        v
+    }
+}
+
 /// What the previous frame left for the rates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Previous {
@@ -512,8 +536,7 @@ impl Tracker {
             if dt > 0.0 {
                 state.acceleration_m_s2 = (state.velocity_m_s - prev.velocity_ecef_m_s) / dt;
                 let turn = prev.body_to_ecef.transpose() * state.body_to_ecef;
-                state.angular_velocity_body_rad_s =
-                    Rotation3::from_matrix_unchecked(turn).scaled_axis() / dt;
+                state.angular_velocity_body_rad_s = rotation_vector(&turn) / dt;
             }
         }
         self.previous = Some(Previous {
@@ -1035,6 +1058,28 @@ mod tests {
         assert_eq!(id(65_533, 1), "1:2:1");
         assert!(fleet_identity(1, 0xFFFE, 1, 65_533).is_err());
         assert!(fleet_identity(1, 0xFFFE, 1, 65_532).is_ok());
+    }
+
+    /// The rotation vector against nalgebra's exact construction, 1e-12 rad
+    /// (rounding of a few matrix products); identity and a matrix whose
+    /// trace rounds above 3 give finite zero-ish vectors, never NaN.
+    #[test]
+    fn rotation_vectors() {
+        use nalgebra::Rotation3;
+        for w in [
+            Vector3::new(0.3, -0.2, 0.1),
+            Vector3::new(0.0, 0.0, 1e-9),
+            Vector3::new(2.5, 1.0, -0.5),
+            Vector3::new(-1e-4, 2e-4, 3e-4),
+        ] {
+            let r = Rotation3::from_scaled_axis(w).into_inner();
+            assert!((rotation_vector(&r) - w).norm() < 1e-12, "{w}");
+        }
+        assert_eq!(rotation_vector(&Matrix3::identity()), Vector3::zeros());
+        let mut over = Matrix3::identity();
+        over[(0, 0)] = 1.0 + 1e-15;
+        over[(1, 1)] = 1.0 + 1e-15;
+        assert!(rotation_vector(&over).iter().all(|c| c.is_finite()));
     }
 
     #[test]
