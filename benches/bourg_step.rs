@@ -55,6 +55,7 @@ fn bench_step(c: &mut Criterion) {
         starboard_aileron: controls.starboard_aileron,
         elevators: controls.elevators,
         landing_flaps: controls.landing_flaps,
+        pitch_trim: f64::from(controls.pitch_trim),
     };
     let widen = |v: &fdm_core::bourg::Vector3<f32>| v.map(f64::from);
     let state64 = BourgStateOf::<f64> {

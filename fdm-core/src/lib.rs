@@ -23,4 +23,10 @@ pub mod model;
 pub mod palmer;
 #[cfg(feature = "alloc")]
 pub mod script;
+pub mod start;
 pub mod units;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

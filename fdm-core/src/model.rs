@@ -54,6 +54,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::geodesy::Attitude;
+use crate::start::{InitialConditions, StartError, Trimmed};
 
 /// A flight dynamics model. See the [module documentation](self).
 ///
@@ -142,7 +143,10 @@ pub trait Model: Copy + Debug + Default + Send + Sync + 'static {
         dt: Self::TimeStep,
     ) -> Result<Self::State, Self::StepError>;
 
-    /// Whether every number of the state is finite.
+    /// Whether every number of the state, and of the outputs derived from it
+    /// that can overflow on their own (e.g. a speed, the root of a sum of
+    /// squares), is finite. [`advance`] calls a state that is not a
+    /// divergence.
     fn is_finite(state: &Self::State) -> bool;
 
     /// Height above the ground plane, m (cheap: what [`FlightStatus`] needs
@@ -159,6 +163,159 @@ pub trait Model: Copy + Debug + Default + Send + Sync + 'static {
         controls: &Self::Controls,
         state: &Self::State,
     ) -> FlightView;
+
+    /// The ground's reaction to a state that a step left at or below the
+    /// ground plane (`height_m(state) <= 0`): the state put back on the
+    /// plane (height 0, no downward velocity), with every velocity zero when
+    /// `crashed`. Called by [`settle`] only, after the model's own step, so
+    /// the step itself (and every reference case) is untouched.
+    ///
+    /// The default changes nothing: a model without a ground (the workspace's
+    /// glider example) keeps its own behaviour.
+    #[must_use]
+    fn ground_contact(
+        aircraft: &Self::Aircraft,
+        state: &Self::State,
+        crashed: bool,
+    ) -> Self::State {
+        let _ = (aircraft, crashed);
+        *state
+    }
+
+    /// A crashed aircraft one frame later: where it was, at rest, its clock
+    /// advanced by `dt`. The default is the state unchanged.
+    #[must_use]
+    fn at_rest(state: &Self::State, dt: Self::TimeStep) -> Self::State {
+        let _ = dt;
+        *state
+    }
+
+    /// The state of an aircraft flying straight, level and wings level at
+    /// `conditions` (altitude, true airspeed, true heading), at time 0, in the
+    /// attitude the model's own start has (not trimmed: see
+    /// [`trim`](Self::trim)).
+    ///
+    /// # Errors
+    /// [`StartError::InvalidConditions`]; the default,
+    /// [`StartError::Unsupported`], for models that only start at
+    /// [`initial_state`](Self::initial_state).
+    fn state_at(
+        aircraft: &Self::Aircraft,
+        conditions: &InitialConditions,
+    ) -> Result<Self::State, StartError> {
+        let _ = (aircraft, conditions);
+        Err(StartError::Unsupported)
+    }
+
+    /// Trim: the controls (starting from `controls`, whose other settings,
+    /// e.g. flaps, are kept) and the state for steady, wings-level,
+    /// unaccelerated flight at `conditions`.
+    ///
+    /// # Errors
+    /// Why the speed cannot be trimmed ([`StartError`]); the default,
+    /// [`StartError::Unsupported`].
+    fn trim(
+        aircraft: &Self::Aircraft,
+        controls: &Self::Controls,
+        conditions: &InitialConditions,
+    ) -> Result<Trimmed<Self::Controls, Self::State>, StartError> {
+        let _ = (aircraft, controls, conditions);
+        Err(StartError::Unsupported)
+    }
+}
+
+/// The equations-of-motion half of a frame with a [`FlightStatus`]: the
+/// model's own [`Model::step`], except that a crashed aircraft stays where it
+/// is ([`Model::at_rest`]) and a diverged one is not stepped any more. A step
+/// whose result is not finite ([`Model::is_finite`]) is not kept: the state
+/// stays the last finite one and the status becomes
+/// [`FlightStatus::Diverged`], so nothing downstream ever sees a NaN.
+#[must_use]
+#[inline]
+pub fn advance<M: Model>(
+    aircraft: &M::Aircraft,
+    controls: &M::Controls,
+    status: FlightStatus,
+    state: &M::State,
+    dt: M::TimeStep,
+) -> (M::State, FlightStatus) {
+    match status {
+        FlightStatus::Diverged => (*state, status),
+        FlightStatus::Landed(LandingState::Crash) => (M::at_rest(state, dt), status),
+        _ => {
+            let next = M::step(aircraft, controls, state, dt);
+            if M::is_finite(&next) {
+                (next, status)
+            } else {
+                (*state, FlightStatus::Diverged)
+            }
+        }
+    }
+}
+
+/// The flight-status half of a frame: the new [`FlightStatus`]
+/// ([`FlightStatus::update`]: takeoff, touchdown and its class) and the
+/// ground contact ([`Model::ground_contact`]) when the step ended at or below
+/// the ground plane. A state that ended above it is returned unchanged, bit
+/// for bit; so is one resting exactly on the plane without sinking (Palmer's
+/// ground roll from rest: its step already holds it at `z = 0`).
+#[must_use]
+#[inline]
+pub fn settle<M: Model>(
+    aircraft: &M::Aircraft,
+    status: FlightStatus,
+    state: &M::State,
+) -> (M::State, FlightStatus) {
+    if status.is_final() {
+        return (*state, status);
+    }
+    let height = M::height_m(state);
+    let next = status.update(height, M::climb_rate_mps(state));
+    if height <= 0.0 {
+        let crashed = next == FlightStatus::Landed(LandingState::Crash);
+        (M::ground_contact(aircraft, state, crashed), next)
+    } else {
+        (*state, next)
+    }
+}
+
+/// One whole frame of one aircraft with its status: [`advance`] then
+/// [`settle`] (what the ECS's EquationsOfMotion and FlightStatus systems do
+/// in turn). With the status `Airborne` or `OnGround`, above the ground plane
+/// the state is [`Model::step`]'s, bit for bit.
+///
+/// ```
+/// use fdm_core::model::{fly, FlightStatus, LandingState, Model};
+/// use fdm_core::palmer::{Palmer, PalmerControls, PalmerState};
+/// use nalgebra::Vector3;
+///
+/// // 100 m up, idle, falling at 30 m/s: it crashes and stays there.
+/// let aircraft = Palmer::default_aircraft();
+/// let controls = PalmerControls::default();
+/// let mut state = PalmerState {
+///     position_m: Vector3::new(0.0, 0.0, 100.0),
+///     velocity_mps: Vector3::new(30.0, 0.0, -30.0),
+///     ..PalmerState::at_rest()
+/// };
+/// let mut status = FlightStatus::initial(100.0);
+/// for _ in 0..300 {
+///     (state, status) = fly::<Palmer>(&aircraft, &controls, status, &state, 0.1);
+///     assert!(state.position_m.z >= 0.0);
+/// }
+/// assert_eq!(status, FlightStatus::Landed(LandingState::Crash));
+/// assert_eq!(state.velocity_mps, Vector3::zeros());
+/// ```
+#[must_use]
+#[inline]
+pub fn fly<M: Model>(
+    aircraft: &M::Aircraft,
+    controls: &M::Controls,
+    status: FlightStatus,
+    state: &M::State,
+    dt: M::TimeStep,
+) -> (M::State, FlightStatus) {
+    let (next, status) = advance::<M>(aircraft, controls, status, state, dt);
+    settle::<M>(aircraft, status, &next)
 }
 
 /// A model's control action as scripts and key maps name it; implemented by
@@ -298,14 +455,19 @@ pub fn landing_state(vz_mps: f64) -> LandingState {
 
 /// Where an aircraft is in its flight, tracked from frame to frame by the
 /// shell (a component in `fdm-ecs`), the same way for every model: from its
-/// height above the ground plane and its climb rate after each step.
+/// height above the ground plane and its climb rate after each step
+/// ([`settle`]).
 ///
 /// It starts [`OnGround`](Self::OnGround) (height ≤ 0) or
 /// [`Airborne`](Self::Airborne) ([`FlightStatus::initial`]); becomes
-/// `Airborne` once the height is above 0; and on the first state below the
-/// ground plane after that, records the touchdown as
-/// [`Landed`](Self::Landed) with its [`landing_state`] (a crash is
-/// `Landed(LandingState::Crash)`). From there it can take off again.
+/// `Airborne` once the height is above 0; and on the first state at or below
+/// the ground plane after that, records the touchdown as
+/// [`Landed`](Self::Landed) with its [`landing_state`] of the vertical speed
+/// at that state (safe above −2 m/s, rough above −5 m/s, otherwise a crash).
+/// After a safe or rough landing it rolls on the ground and can take off
+/// again; a crash (`Landed(LandingState::Crash)`) is final: the aircraft stays
+/// where it came down, at rest. [`Diverged`](Self::Diverged) is final too:
+/// the model's step gave a non-finite state ([`advance`]).
 ///
 /// ```
 /// use fdm_core::model::{FlightStatus, LandingState};
@@ -317,6 +479,10 @@ pub fn landing_state(vz_mps: f64) -> LandingState {
 /// let status = status.update(-0.1, -3.0);
 /// assert_eq!(status, FlightStatus::Landed(LandingState::Rough));
 /// assert_eq!(status.label(), "landed (rough)");
+/// assert_eq!(status.code(), "landed_rough");
+/// let crashed = FlightStatus::Airborne.update(-0.1, -9.0);
+/// assert_eq!(crashed.code(), "crashed");
+/// assert_eq!(crashed.update(5.0, 1.0), crashed); // final
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -326,8 +492,11 @@ pub enum FlightStatus {
     OnGround,
     /// Above the ground plane since the start or the last touchdown.
     Airborne,
-    /// Back on the ground; how the touchdown went.
+    /// Back on the ground; how the touchdown went (a crash is final).
     Landed(LandingState),
+    /// The model's step produced a non-finite state (final): the state kept
+    /// is the last finite one.
+    Diverged,
 }
 
 impl FlightStatus {
@@ -341,14 +510,21 @@ impl FlightStatus {
         }
     }
 
+    /// Whether the status can no longer change: crashed or diverged.
+    #[must_use]
+    pub const fn is_final(self) -> bool {
+        matches!(self, Self::Landed(LandingState::Crash) | Self::Diverged)
+    }
+
     /// The status after a step that left the aircraft at `height_m` with climb
     /// rate `climb_rate_mps` (positive up). A non-finite height changes
-    /// nothing.
+    /// nothing; a final status ([`is_final`](Self::is_final)) never changes.
     #[must_use]
     pub fn update(self, height_m: f64, climb_rate_mps: f64) -> Self {
         match self {
+            Self::Landed(LandingState::Crash) | Self::Diverged => self,
             Self::OnGround | Self::Landed(_) if height_m > 0.0 => Self::Airborne,
-            Self::Airborne if height_m < 0.0 => Self::Landed(landing_state(climb_rate_mps)),
+            Self::Airborne if height_m <= 0.0 => Self::Landed(landing_state(climb_rate_mps)),
             status => status,
         }
     }
@@ -362,6 +538,22 @@ impl FlightStatus {
             Self::Landed(LandingState::Safe) => "landed (safe)",
             Self::Landed(LandingState::Rough) => "landed (rough)",
             Self::Landed(LandingState::Crash) => "CRASHED",
+            Self::Diverged => "DIVERGED",
+        }
+    }
+
+    /// The status as one machine-readable word (the JSON report's `status`,
+    /// the CSV's `status` column): `on_ground`, `airborne`, `landed_safe`,
+    /// `landed_rough`, `crashed`, `diverged`.
+    #[must_use]
+    pub const fn code(self) -> &'static str {
+        match self {
+            Self::OnGround => "on_ground",
+            Self::Airborne => "airborne",
+            Self::Landed(LandingState::Safe) => "landed_safe",
+            Self::Landed(LandingState::Rough) => "landed_rough",
+            Self::Landed(LandingState::Crash) => "crashed",
+            Self::Diverged => "diverged",
         }
     }
 }

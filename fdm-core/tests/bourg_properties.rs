@@ -75,6 +75,7 @@ fn controls() -> impl Strategy<Value = BourgControls> {
                     starboard_aileron,
                     elevators,
                     landing_flaps,
+                    pitch_trim: 0.0,
                 }
             },
         )

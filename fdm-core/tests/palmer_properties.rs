@@ -17,14 +17,20 @@ fn flaps() -> impl Strategy<Value = Flaps> {
 
 /// Controls anywhere in the ranges the keys allow.
 fn controls() -> impl Strategy<Value = PalmerControls> {
-    (0.0..=1.0_f64, -16.0..=20.0_f64, -20.0..=20.0_f64, flaps()).prop_map(
-        |(throttle, alpha_deg, bank_deg, flaps)| PalmerControls {
+    // Exactly the clamp limits (and Palmer's 16° lift-curve break) as
+    // often as any value inside them.
+    (
+        prop_oneof![Just(0.0), Just(1.0), 0.0..=1.0_f64],
+        prop_oneof![Just(-16.0), Just(16.0), Just(20.0), -16.0..=20.0_f64],
+        prop_oneof![Just(-20.0), Just(20.0), -20.0..=20.0_f64],
+        flaps(),
+    )
+        .prop_map(|(throttle, alpha_deg, bank_deg, flaps)| PalmerControls {
             throttle,
             alpha_deg,
             bank_deg,
             flaps,
-        },
-    )
+        })
 }
 
 /// States in the flight envelope: |v| < 100 m/s (each component below
@@ -198,5 +204,90 @@ proptest! {
             notch = if a == PalmerAction::ThrottleUp { notch + 1 } else { notch - 1 }.clamp(0, 20);
             prop_assert_eq!(c.throttle, f64::from(notch) / 20.0);
         }
+    }
+}
+
+/// At exactly each clamp limit a further press keeps exactly the limit, and
+/// one press back moves exactly one step away from it.
+#[test]
+fn presses_at_the_limits_stay_exactly_at_the_limits() {
+    use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG, BANK_LIMIT_DEG};
+    type Get = fn(&PalmerControls) -> f64;
+    let cases: [(PalmerControls, PalmerAction, PalmerAction, Get, f64, f64); 6] = [
+        (
+            PalmerControls {
+                throttle: 1.0,
+                ..PalmerControls::default()
+            },
+            PalmerAction::ThrottleUp,
+            PalmerAction::ThrottleDown,
+            |c| c.throttle,
+            1.0,
+            0.95,
+        ),
+        (
+            PalmerControls {
+                throttle: 0.0,
+                ..PalmerControls::default()
+            },
+            PalmerAction::ThrottleDown,
+            PalmerAction::ThrottleUp,
+            |c| c.throttle,
+            0.0,
+            0.05,
+        ),
+        (
+            PalmerControls {
+                alpha_deg: ALPHA_MAX_DEG,
+                ..PalmerControls::default()
+            },
+            PalmerAction::AlphaUp,
+            PalmerAction::AlphaDown,
+            |c| c.alpha_deg,
+            20.0,
+            19.0,
+        ),
+        (
+            PalmerControls {
+                alpha_deg: ALPHA_MIN_DEG,
+                ..PalmerControls::default()
+            },
+            PalmerAction::AlphaDown,
+            PalmerAction::AlphaUp,
+            |c| c.alpha_deg,
+            -16.0,
+            -15.0,
+        ),
+        (
+            PalmerControls {
+                bank_deg: BANK_LIMIT_DEG,
+                ..PalmerControls::default()
+            },
+            PalmerAction::BankRight,
+            PalmerAction::BankLeft,
+            |c| c.bank_deg,
+            20.0,
+            19.0,
+        ),
+        (
+            PalmerControls {
+                bank_deg: -BANK_LIMIT_DEG,
+                ..PalmerControls::default()
+            },
+            PalmerAction::BankLeft,
+            PalmerAction::BankRight,
+            |c| c.bank_deg,
+            -20.0,
+            -19.0,
+        ),
+    ];
+    for (start, further, back, get, limit, one_back) in cases {
+        let pressed = start.apply(further);
+        assert_eq!(get(&pressed), limit, "{start:?} + {further:?}");
+        assert_eq!(
+            get(&pressed.apply(back)),
+            one_back,
+            "{start:?} + {further:?} + {back:?}"
+        );
     }
 }

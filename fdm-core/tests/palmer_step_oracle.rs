@@ -122,14 +122,20 @@ fn flaps() -> impl Strategy<Value = Flaps> {
 }
 
 fn controls() -> impl Strategy<Value = PalmerControls> {
-    (0.0..=1.0_f64, -16.0..=20.0_f64, -20.0..=20.0_f64, flaps()).prop_map(
-        |(throttle, alpha_deg, bank_deg, flaps)| PalmerControls {
+    // Exactly the clamp limits (and Palmer's 16° lift-curve break) as
+    // often as any value inside them.
+    (
+        prop_oneof![Just(0.0), Just(1.0), 0.0..=1.0_f64],
+        prop_oneof![Just(-16.0), Just(16.0), Just(20.0), -16.0..=20.0_f64],
+        prop_oneof![Just(-20.0), Just(20.0), -20.0..=20.0_f64],
+        flaps(),
+    )
+        .prop_map(|(throttle, alpha_deg, bank_deg, flaps)| PalmerControls {
             throttle,
             alpha_deg,
             bank_deg,
             flaps,
-        },
-    )
+        })
 }
 
 /// Altitudes on the ground, around the 5 m ground-effect edge, and in flight.
@@ -139,6 +145,11 @@ fn altitude() -> impl Strategy<Value = f64> {
         -1.0..0.0_f64,
         0.0..10.0_f64,
         4.99..5.01_f64,
+        // Exactly the ground-effect edge (`z < 5.0`: no ground effect at
+        // 5.0 itself) and the double just below it; with vz = 0 every RK4
+        // stage is at that height too.
+        Just(5.0),
+        Just(f64::from_bits(5.0_f64.to_bits() - 1)),
         0.0..8000.0_f64
     ]
 }
@@ -215,4 +226,44 @@ fn long_flights_match() {
         assert!(same(&a, &b), "{a:?} != {b:?}");
     }
     assert!(a.position_m.z > 100.0);
+}
+
+/// The ground-effect edge exactly: at z = 5.0 with no vertical speed (every
+/// RK4 stage at 5.0) the step is the oracle's (`z < 5.0`: no ground effect at
+/// 5.0), one ulp below too; and the right-hand side itself (no stages) has
+/// ground effect (+0.25 on CL: more lift, more upward acceleration) one ulp
+/// below 5 m and none at 5 m, where it equals the value at 6 m.
+#[test]
+fn ground_effect_starts_strictly_below_five_metres() {
+    use fdm_core::palmer::derivatives;
+    let cessna = PalmerAircraft::cessna_172();
+    let c = PalmerControls {
+        throttle: 1.0,
+        alpha_deg: 4.0,
+        bank_deg: 0.0,
+        flaps: Flaps::Up,
+    };
+    let at = |z: f64| PalmerState {
+        time_s: 0.0,
+        position_m: [0.0, 0.0, z].into(),
+        velocity_mps: [40.0, 0.0, 0.0].into(),
+    };
+    let below = f64::from_bits(5.0_f64.to_bits() - 1);
+    for z in [5.0, below] {
+        let (a, b) = (
+            step(&cessna, &c, &at(z), 0.01),
+            oracle_step(&cessna, &c, &at(z), 0.01),
+        );
+        assert!(same(&a, &b), "z = {z}: {a:?} != {b:?}");
+    }
+    let az = |z: f64| derivatives(&cessna, &c, &at(z)).acceleration_mps2.z;
+    // Air density differs by ~1e-7 relative between 5 and 6 m; the ground
+    // effect changes the lift by ~50 %.
+    assert!(
+        (az(5.0) - az(6.0)).abs() < 1e-3,
+        "{} vs {}",
+        az(5.0),
+        az(6.0)
+    );
+    assert!(az(below) > az(5.0) + 1.0, "{} vs {}", az(below), az(5.0));
 }

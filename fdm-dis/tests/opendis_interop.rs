@@ -28,11 +28,12 @@
 //! `python3 -m venv` and `pip install opendis==1.0 numpy==1.26.4`. If that is
 //! not possible the tests fail with the reason; they never skip.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::Write;
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
 use std::sync::OnceLock;
+
+use fdm_tests::python::{PyScript, PythonEnv};
 use std::time::Duration;
 
 use fdm_dis::geodesy::{Attitude, Geodetic};
@@ -43,8 +44,10 @@ use fdm_dis::{
 use nalgebra::Vector3;
 use serde_json::Value;
 
-use fdm_tests::opendis::{OPENDIS_VERSION, SCRIPT_DIR};
+/// The opendis release these tests pin.
+const OPENDIS_VERSION: &str = "1.0";
 
+const SCRIPT_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/opendis_interop");
 const TIMEOUT: Duration = Duration::from_secs(20);
 
 const LATLON_TOL_DEG: f64 = 1e-6;
@@ -53,91 +56,28 @@ const ANGLE_TOL_DEG: f64 = 1e-4;
 
 // ---------------------------------------------------------------- python setup
 
-/// The shared Open-DIS Python (`fdm_tests::opendis`), made once.
+/// opendis and the numpy it works with, pinned (shared with sim-cli's
+/// interop test through `fdm_tests::python`).
+const ENV: PythonEnv = fdm_tests::python::OPENDIS;
+
 fn python() -> &'static Path {
     static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match PYTHON.get_or_init(|| fdm_tests::opendis::python(Path::new(env!("CARGO_TARGET_TMPDIR"))))
-    {
+    match PYTHON.get_or_init(|| ENV.python(Path::new(env!("CARGO_TARGET_TMPDIR")))) {
         Ok(p) => p,
         Err(e) => panic!(
-            "DIS interop tests need Python with opendis=={OPENDIS_VERSION}:\n{e}\n\
+            "fdm-dis interop tests need Python with opendis=={OPENDIS_VERSION}:\n{e}\n\
              Install python3 (with the venv module and access to PyPI), or set DIS_PYTHON \
-             to a Python that has opendis=={OPENDIS_VERSION}."
+             to a Python that has it."
         ),
     }
 }
 
-// ------------------------------------------------------------ child process
-
-/// A Python script we started; killed (by its own handle) if the test fails.
-struct Script {
-    child: Child,
-    stdout: BufReader<ChildStdout>,
-    name: String,
-}
+/// A Python script of this test's directory, started with the pinned Python.
+struct Script;
 
 impl Script {
-    fn start(name: &str, args: &[String]) -> Self {
-        let mut child = Command::new(python())
-            .arg(Path::new(SCRIPT_DIR).join(name))
-            .args(args)
-            .env("PYTHONDONTWRITEBYTECODE", "1")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start {name}: {e}"));
-        let stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        Self {
-            child,
-            stdout,
-            name: name.to_owned(),
-        }
-    }
-
-    fn stderr(&mut self) -> String {
-        let _ = self.child.kill();
-        let mut s = String::new();
-        if let Some(mut e) = self.child.stderr.take() {
-            let _ = e.read_to_string(&mut s);
-        }
-        s
-    }
-
-    fn line(&mut self) -> String {
-        let mut line = String::new();
-        match self.stdout.read_line(&mut line) {
-            Ok(n) if n > 0 => line.trim_end().to_owned(),
-            _ => {
-                let err = self.stderr();
-                panic!("{} ended early; stderr:\n{err}", self.name)
-            }
-        }
-    }
-
-    fn port(&mut self) -> u16 {
-        let line = self.line();
-        line.strip_prefix("PORT ")
-            .and_then(|p| p.parse().ok())
-            .unwrap_or_else(|| panic!("{}: expected 'PORT n', got {line:?}", self.name))
-    }
-
-    fn finish(mut self) {
-        drop(self.child.stdin.take());
-        let status = self.child.wait().expect("wait");
-        if !status.success() {
-            let err = self.stderr();
-            panic!("{} exited with {status}; stderr:\n{err}", self.name);
-        }
-    }
-}
-
-impl Drop for Script {
-    fn drop(&mut self) {
-        if std::thread::panicking() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
+    fn start(name: &str, args: &[String]) -> PyScript {
+        PyScript::start(python(), &Path::new(SCRIPT_DIR).join(name), args)
     }
 }
 
@@ -368,7 +308,7 @@ fn opendis_pdus_decoded_by_our_listener() {
     let port = rx.local_addr().unwrap().port();
     let mut script = Script::start("build_udp.py", &[port.to_string()]);
     {
-        let stdin = script.child.stdin.as_mut().expect("stdin");
+        let stdin = script.stdin().expect("stdin");
         for (i, s) in states.iter().enumerate() {
             let req = serde_json::json!({
                 "lla": [s.position.lat_deg, s.position.lon_deg, s.position.alt_m],
@@ -379,7 +319,7 @@ fn opendis_pdus_decoded_by_our_listener() {
             writeln!(stdin, "{req}").expect("write to build_udp.py");
         }
     }
-    drop(script.child.stdin.take());
+    script.close_stdin();
     let mut listener = Listener::new();
     let mut max = MaxErr::default();
     let mut buf = [0u8; 8192];

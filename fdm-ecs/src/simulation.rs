@@ -70,6 +70,17 @@ pub struct Simulation {
 }
 
 /// Maps a failed single-entity query needing model component `T`.
+/// The status of an aircraft starting at `state`: [`FlightStatus::initial`]
+/// of its height, or [`FlightStatus::Diverged`] for a non-finite state (so it
+/// is never stepped nor sent).
+fn start_status<M: Model>(state: &M::State) -> FlightStatus {
+    if M::is_finite(state) {
+        FlightStatus::initial(M::height_m(state))
+    } else {
+        FlightStatus::Diverged
+    }
+}
+
 fn query_error<T>(error: QueryOneError) -> EcsError {
     match error {
         QueryOneError::NoSuchEntity => EcsError::NoSuchEntity,
@@ -115,7 +126,7 @@ impl Simulation {
             &M::view(&aircraft, &controls, &state),
             &self.resources.origin,
         );
-        let status = FlightStatus::initial(M::height_m(&state));
+        let status = start_status::<M>(&state);
         let mut builder = EntityBuilder::new();
         builder.add_bundle((
             Params::<M>::new(aircraft),
@@ -147,23 +158,34 @@ impl Simulation {
         members: std::ops::Range<usize>,
         outputs: FleetOutputs,
     ) {
-        self.schedule.add_model::<M>();
         for i in members {
             let (controls, state) = M::fleet_member(i);
-            match outputs {
-                FleetOutputs::Packets => {
-                    self.spawn::<M>(Arc::clone(aircraft), controls, state, None);
-                }
-                FleetOutputs::None => {
-                    let status = FlightStatus::initial(M::height_m(&state));
-                    self.world.spawn((
-                        Params::<M>::new(Arc::clone(aircraft)),
-                        controls,
-                        state,
-                        FrameInput::<M::Action>::new(),
-                        status,
-                    ));
-                }
+            self.spawn_member::<M>(aircraft, controls, state, outputs);
+        }
+    }
+
+    /// Spawns one fleet aircraft of model `M` at `controls` and `state`,
+    /// sharing `aircraft`, without a FlightGear link, with the components
+    /// `outputs` says (see [`spawn_fleet`](Self::spawn_fleet)).
+    pub fn spawn_member<M: Model>(
+        &mut self,
+        aircraft: &Arc<M::Aircraft>,
+        controls: M::Controls,
+        state: M::State,
+        outputs: FleetOutputs,
+    ) -> Entity {
+        self.schedule.add_model::<M>();
+        match outputs {
+            FleetOutputs::Packets => self.spawn::<M>(Arc::clone(aircraft), controls, state, None),
+            FleetOutputs::None => {
+                let status = start_status::<M>(&state);
+                self.world.spawn((
+                    Params::<M>::new(Arc::clone(aircraft)),
+                    controls,
+                    state,
+                    FrameInput::<M::Action>::new(),
+                    status,
+                ))
             }
         }
     }
@@ -235,7 +257,7 @@ impl Simulation {
             attitude: a,
             packet: p,
         } = display(&M::view(params, &controls, &state), &origin);
-        *status = FlightStatus::initial(M::height_m(&state));
+        *status = start_status::<M>(&state);
         (*c, *s) = (controls, state);
         input.drain();
         (*geodetic, *attitude, *packet) = (g, a, p);
@@ -308,6 +330,17 @@ impl Simulation {
     fn model_component<M: Model, T: Component + Clone>(&self, entity: Entity) -> Option<T> {
         let mut query = self.world.query_one::<(&Params<M>, &T)>(entity);
         query.get().ok().map(|(_, t)| t.clone())
+    }
+
+    /// How many aircraft (of any model) have diverged
+    /// ([`FlightStatus::Diverged`]): they are no longer stepped nor sent.
+    #[must_use]
+    pub fn diverged_count(&self) -> usize {
+        self.world
+            .query::<&FlightStatus>()
+            .iter()
+            .filter(|s| **s == FlightStatus::Diverged)
+            .count()
     }
 
     /// The aircraft's flight status as of the last frame (any model).

@@ -15,7 +15,7 @@
 //! [`Model`] (the step, the frame's start, the actions) and behind
 //! [`fgnet::bridge`] (the mapping of any model's view to FlightGear).
 
-use fdm_core::model::{FlightStatus, Model};
+use fdm_core::model::{advance, settle, FlightStatus, Model};
 use fgnet::FgNetFdm;
 use hecs::{Query, World};
 use rayon::iter::{ParallelBridge, ParallelIterator};
@@ -116,16 +116,21 @@ type StepQuery<'a, M> = (
     &'a Params<M>,
     &'a <M as Model>::Controls,
     &'a mut <M as Model>::State,
+    &'a mut FlightStatus,
 );
 
 /// **EquationsOfMotion** for model `M`: advances every aircraft by one time
-/// step with [`Model::step`] at [`Resources::time_step`], sequentially or in
-/// parallel according to [`Resources::execution`].
+/// step with [`Model::step`] at [`Resources::time_step`] (through
+/// [`fdm_core::model::advance`]: a crashed aircraft stays at rest, a diverged
+/// one is no longer stepped, and a step whose result is not finite is not
+/// kept: the state stays the last finite one and the status becomes
+/// [`FlightStatus::Diverged`]), sequentially or in parallel according to
+/// [`Resources::execution`].
 ///
 /// | access | what |
 /// |---|---|
 /// | reads | [`Params<M>`], `M::Controls`, `Resources::{fps, execution}` |
-/// | writes | `M::State` |
+/// | writes | `M::State`, [`FlightStatus`] (diverged only) |
 pub fn equations_of_motion<M: Model>(world: &mut World, res: &Resources) {
     step_all::<M>(world, res, res.execution);
 }
@@ -151,23 +156,31 @@ pub fn equations_of_motion_parallel<M: Model>(world: &mut World, res: &Resources
 
 fn step_all<M: Model>(world: &mut World, res: &Resources, execution: Execution) {
     let dt = res.time_step::<M>();
-    for_each_entity::<StepQuery<'_, M>, _>(world, execution, |(params, controls, state)| {
-        *state = M::step(params, controls, state, dt);
-    });
+    for_each_entity::<StepQuery<'_, M>, _>(
+        world,
+        execution,
+        |(params, controls, state, status)| {
+            (*state, *status) = advance::<M>(params, controls, *status, state, dt);
+        },
+    );
 }
 
 /// **FlightStatus** for model `M`: each aircraft's [`FlightStatus`] after the
 /// step, from [`Model::height_m`] and [`Model::climb_rate_mps`] (takeoff,
 /// touchdown and its classification; the landing tracking of the book's GUI
-/// versions, for every model).
+/// versions, for every model), and the ground's reaction
+/// ([`Model::ground_contact`]) to a step that ended at or below the ground
+/// plane, both through [`fdm_core::model::settle`].
 ///
 /// | access | what |
 /// |---|---|
-/// | reads | [`Params<M>`], `M::State` |
-/// | writes | [`FlightStatus`] |
+/// | reads | [`Params<M>`] |
+/// | writes | `M::State` (at or below the ground plane only), [`FlightStatus`] |
 pub fn flight_status<M: Model>(world: &mut World, _res: &Resources) {
-    for (_, state, status) in world.query_mut::<(&Params<M>, &M::State, &mut FlightStatus)>() {
-        *status = status.update(M::height_m(state), M::climb_rate_mps(state));
+    for (params, state, status) in
+        world.query_mut::<(&Params<M>, &mut M::State, &mut FlightStatus)>()
+    {
+        (*state, *status) = settle::<M>(params, *status, state);
     }
 }
 
@@ -176,6 +189,7 @@ type PacketQuery<'a, M> = (
     &'a Params<M>,
     &'a <M as Model>::Controls,
     &'a <M as Model>::State,
+    &'a mut FlightStatus,
     &'a mut Geodetic,
     &'a mut Attitude,
     &'a mut FgNetFdm,
@@ -185,19 +199,39 @@ type PacketQuery<'a, M> = (
 /// geodetic position, its FlightGear attitude and its FGNetFDM datagram
 /// ([`Model::view`], then [`fgnet::bridge::display`]), sequentially or in
 /// parallel according to [`Resources::execution`]. Entities without the
-/// three output components are skipped.
+/// three output components are skipped, and so are diverged ones
+/// ([`FlightStatus::Diverged`]): their last packet stays as it was, built
+/// from their last finite state. A finite state whose view, geodetic
+/// position or attitude is not finite (e.g. a position far beyond the
+/// earth) is marked diverged here and gets no new packet either, so no
+/// datagram ever carries a NaN or an infinity.
 ///
 /// | access | what |
 /// |---|---|
 /// | reads | [`Params<M>`], `M::Controls`, `M::State`, `Resources::{origin, execution}` |
-/// | writes | [`Geodetic`], [`Attitude`], [`FgNetFdm`] |
+/// | writes | [`Geodetic`], [`Attitude`], [`FgNetFdm`], [`FlightStatus`] (diverged only) |
 pub fn make_packet<M: Model>(world: &mut World, res: &Resources) {
     let origin = &res.origin;
     for_each_entity::<PacketQuery<'_, M>, _>(
         world,
         res.execution,
-        |(params, controls, state, geodetic, attitude, packet)| {
-            let display = fgnet::bridge::display(&M::view(params, controls, state), origin);
+        |(params, controls, state, status, geodetic, attitude, packet)| {
+            if *status == FlightStatus::Diverged {
+                return;
+            }
+            let view = M::view(params, controls, state);
+            let display = fgnet::bridge::display(&view, origin);
+            let (g, a) = (&display.geodetic, &display.attitude);
+            let placed = [g.lat_deg, g.lon_deg, g.alt_m]
+                .into_iter()
+                .chain([a.roll_deg, a.pitch_deg, a.heading_deg])
+                .all(f64::is_finite);
+            if !(placed && view.is_finite()) {
+                // A finite state too far out to be shown (e.g. a position
+                // of 1e300 m): diverged as well; the old packet stays.
+                *status = FlightStatus::Diverged;
+                return;
+            }
             (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
         },
     );
@@ -205,15 +239,20 @@ pub fn make_packet<M: Model>(world: &mut World, res: &Resources) {
 
 /// **SendPacket**: sends each linked entity's datagram (one 408-byte UDP
 /// datagram per entity per frame) through its [`FlightGearLink`], whatever
-/// its model. Entities without a link send nothing. Failures never stop the
+/// its model. Entities without a link send nothing, and diverged ones
+/// ([`FlightStatus::Diverged`]) send nothing more. Failures never stop the
 /// simulation; they are counted in the link (see [`FlightGearLink::stats`]).
 ///
 /// | access | what |
 /// |---|---|
-/// | reads | [`FgNetFdm`] |
+/// | reads | [`FgNetFdm`], [`FlightStatus`] |
 /// | writes | [`FlightGearLink`] (its socket and counters) |
 pub fn send_packet(world: &mut World, _res: &Resources) {
-    for (packet, link) in world.query_mut::<(&FgNetFdm, &mut FlightGearLink)>() {
-        link.send(packet);
+    for (packet, status, link) in
+        world.query_mut::<(&FgNetFdm, &FlightStatus, &mut FlightGearLink)>()
+    {
+        if *status != FlightStatus::Diverged {
+            link.send(packet);
+        }
     }
 }

@@ -250,3 +250,109 @@ fn script_actions_come_before_queued_keys() {
     sim.run_frame();
     assert_eq!(sim.controls::<Palmer>(p).unwrap().alpha_deg, 19.0);
 }
+
+/// What a run leaves behind, for comparing schedules.
+#[derive(Debug, PartialEq)]
+struct Outcome {
+    palmer: (
+        PalmerControls,
+        PalmerState,
+        Option<fdm_core::model::FlightStatus>,
+        FgNetFdm,
+    ),
+    bourg: (BourgControls, BourgState, FgNetFdm, u64),
+}
+
+/// Runs 20 frames of a Palmer aircraft landing (1 m up, sinking at 3 m/s,
+/// throttle up by key) and a scripted Bourg aircraft (thrust up, pitch up,
+/// a roll; linked to a local socket), with the thesis systems except those
+/// named in `skip`, system by system as [`Schedule::run`] does.
+fn outcome_without(skip: &[&str]) -> Outcome {
+    outcome(Some(skip))
+}
+
+/// [`outcome_without`], or with `None` the same run through
+/// `Simulation::run_frame`.
+fn outcome(skip: Option<&[&str]>) -> Outcome {
+    let (_fg, addr) = receiver();
+    let mut sim = Simulation::new(Resources::new(30.0).unwrap());
+    let p = sim.spawn::<Palmer>(
+        Arc::new(PalmerAircraft::cessna_172()),
+        PalmerControls::default(),
+        PalmerState {
+            time_s: 0.0,
+            position_m: [0.0, 0.0, 1.0].into(),
+            velocity_mps: [30.0, 0.0, -3.0].into(),
+        },
+        None,
+    );
+    let b = sim.spawn::<Bourg>(
+        Arc::new(BourgAircraft::bourg_default()),
+        BourgControls::initial(),
+        BourgState::initial(),
+        Some(FlightGearLink::connect(&addr).unwrap()),
+    );
+    sim.set_script(
+        b,
+        Arc::new(
+            Script::<BourgAction>::parse("1-3 thrust-up\n1-2 pitch-up\n3-3 roll-left\n").unwrap(),
+        ),
+    )
+    .unwrap();
+    let systems: Vec<_> = Schedule::thesis()
+        .systems()
+        .iter()
+        .filter(|s| !skip.unwrap_or(&[]).contains(&s.name))
+        .cloned()
+        .collect();
+    let mut res = *sim.resources();
+    for _ in 0..20 {
+        sim.push_input(p, PalmerAction::ThrottleUp).unwrap();
+        if skip.is_none() {
+            sim.run_frame();
+            continue;
+        }
+        res.frame += 1;
+        for system in &systems {
+            (system.run)(sim.world_mut(), &res);
+        }
+    }
+    let sent = sim.world().get::<&FlightGearLink>(b).unwrap().stats().sent;
+    let world = sim.world();
+    Outcome {
+        palmer: (get(world, p), get(world, p), sim.status(p), get(world, p)),
+        bourg: (get(world, b), get(world, b), get(world, b), sent),
+    }
+}
+
+/// Skipping any one system of the schedule changes what a run leaves
+/// behind (so every system does observable work and the tests above would
+/// see it missing), and the full set of systems run one by one is exactly
+/// `Simulation::run_frame`.
+#[test]
+fn skipping_any_system_changes_the_outcome() {
+    let full = outcome_without(&[]);
+    // The manual loop is the simulation's own frame.
+    assert_eq!(outcome(None), full);
+    // The run did what the skips are to be seen against: Palmer landed,
+    // Bourg's script and the link worked.
+    assert!(
+        matches!(
+            full.palmer.2,
+            Some(fdm_core::model::FlightStatus::Landed(_))
+        ),
+        "{:?}",
+        full.palmer.2
+    );
+    assert_eq!(full.bourg.0.thrust_lb, 800.0);
+    assert_eq!(full.bourg.3, 20);
+    for skip in [
+        Schedule::FLIGHT_CONTROL,
+        Schedule::EQUATIONS_OF_MOTION,
+        Schedule::FLIGHT_STATUS,
+        Schedule::MAKE_PACKET,
+        Schedule::SEND_PACKET,
+    ] {
+        assert_ne!(outcome_without(&[skip]), full, "without {skip}");
+    }
+}

@@ -106,3 +106,8 @@ pub use multiplayer::{
     MP_MAX_DATAGRAM_LEN, MP_POSITION_LEN, MP_POSITION_MESSAGE_ID, MP_PROTOCOL_VERSION,
 };
 pub use sender::{SendOutcome, Sender, SenderError, SenderStats};
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -55,6 +55,20 @@ pub enum Command {
     Fleet(FleetArgs),
     /// Receive DIS datagrams for a while: count entities, PDUs, bytes, malformed datagrams; show each entity's last position
     DisListen(crate::dis_listen::DisListenArgs),
+    /// Draw a CSV written earlier with --csv as an SVG plot (as --plot does for a run)
+    Plot(PlotArgs),
+}
+
+/// `sim-cli plot`.
+#[derive(Debug, Clone, Args)]
+pub struct PlotArgs {
+    /// A CSV file written by `sim-cli palmer|bourg --csv`
+    #[arg(value_name = "FILE.csv")]
+    pub csv: PathBuf,
+
+    /// The SVG file to write
+    #[arg(short, long, value_name = "FILE.svg")]
+    pub output: PathBuf,
 }
 
 /// Which model.
@@ -112,6 +126,11 @@ pub struct CommonArgs {
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
 
+    /// Draw the flight as an SVG plot in FILE when the run ends: height, airspeed, attitude,
+    /// heading and status against time, and the ground track
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
     /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame
     /// [default: 127.0.0.1:5500 when interactive; headless sends only when given]
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
@@ -120,6 +139,10 @@ pub struct CommonArgs {
     /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// Initial conditions and trim (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`).
+    #[command(flatten)]
+    pub start: crate::start::StartArgs,
 
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
@@ -156,6 +179,10 @@ pub struct BourgArgs {
     /// Options both models share.
     #[command(flatten)]
     pub common: CommonArgs,
+
+    /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
+    #[arg(long, value_name = "LB", value_parser = parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
+    pub thrust_lb: Option<f64>,
 }
 
 /// `sim-cli fgfs-command`.
@@ -176,6 +203,10 @@ pub struct FgfsArgs {
     /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
     #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
+
+    /// The initial conditions that will be flown, as given to sim-cli (FlightGear starts where the aircraft starts).
+    #[command(flatten)]
+    pub start: crate::start::StartArgs,
 }
 
 /// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
@@ -204,6 +235,14 @@ pub struct FleetArgs {
     #[arg(long, value_name = "T", value_parser = parse_threads, allow_hyphen_values = true)]
     pub threads: Option<usize>,
 
+    /// How the fleet is stepped: `lanes`, structure-of-arrays SIMD kernels (fdm-fleet), or `ecs`, one hecs entity per aircraft through EquationsOfMotion
+    #[arg(long, value_enum, default_value_t = FleetKernel::Lanes)]
+    pub kernel: FleetKernel,
+
+    /// With --kernel lanes: `exact` (every aircraft bit-identical to the model's own step) or `fast` (Palmer only: vectorised pow, within 1e-9 m of exact after 1800 steps)
+    #[arg(long, value_enum, default_value_t = FleetPrecision::Exact)]
+    pub precision: FleetPrecision,
+
     /// Print the measurement as one JSON object on stdout
     #[arg(long)]
     pub json: bool,
@@ -215,6 +254,28 @@ pub struct FleetArgs {
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FleetDisArgs,
+
+    /// Initial conditions and trim for every aircraft (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`) instead of the demonstration fleet's varied states.
+    #[command(flatten)]
+    pub start: crate::start::StartArgs,
+}
+
+/// How `sim-cli fleet` steps its aircraft.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FleetKernel {
+    /// Structure-of-arrays SIMD kernels (`fdm-fleet`).
+    Lanes,
+    /// One ECS entity per aircraft (`fdm-ecs` EquationsOfMotion).
+    Ecs,
+}
+
+/// `sim-cli fleet --precision`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FleetPrecision {
+    /// Bit-identical to the model's own step.
+    Exact,
+    /// Faster, within a documented bound of `exact` (Palmer only).
+    Fast,
 }
 
 /// A whole number in `1..=max`, with `what` naming it in the error.
@@ -308,6 +369,11 @@ pub fn parse_throttle(text: &str) -> Result<f64, String> {
 /// `--alpha`: degrees in -16..20 (the range the alpha keys clamp to).
 pub fn parse_alpha(text: &str) -> Result<f64, String> {
     parse_in_range(text, -16.0, 20.0, " degrees")
+}
+
+/// `--thrust-lb`: pounds in 0..3000 (Bourg's thrust range).
+pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, 3000.0, " lb")
 }
 
 /// `--bank`: degrees in -20..20 (the range the bank keys clamp to).

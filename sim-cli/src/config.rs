@@ -17,6 +17,7 @@ use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
+use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 
 /// How the run is driven.
@@ -52,6 +53,8 @@ pub struct RunConfig {
     pub origin: GeodeticOrigin,
     /// DIS output (`--dis`), validated; `None` sends nothing.
     pub dis: Option<FlightDis>,
+    /// The `--plot` output, already created (like the CSV).
+    pub plot: Option<PlotFile>,
 }
 
 /// How an aircraft of model `M` starts (and restarts on reset).
@@ -101,20 +104,29 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
             args.flaps
         ))
     })?;
+    let start_args = args.common.start;
+    let controls = PalmerControls {
+        throttle: args.throttle,
+        alpha_deg: args.alpha,
+        bank_deg: args.bank,
+        flaps,
+    };
+    let start = start_model::<Palmer>(controls, &start_args)?;
     let (run, script) = prepare(args.common)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        start: Start {
-            controls: PalmerControls {
-                throttle: args.throttle,
-                alpha_deg: args.alpha,
-                bank_deg: args.bank,
-                flaps,
-            },
-            ..Start::thesis()
-        },
-    })
+    Ok(ModelConfig { run, script, start })
+}
+
+/// Model `M`'s start from the initial-condition options
+/// ([`crate::start::start_for`]), printing a trim's result on stderr.
+fn start_model<M: Model>(
+    controls: M::Controls,
+    args: &crate::start::StartArgs,
+) -> Result<Start<M>, CliError> {
+    let (start, report) = crate::start::start_for::<M>(M::default_aircraft(), controls, args)?;
+    if let Some(report) = report {
+        eprintln!("{}", crate::start::trim_line(M::NAME, &report));
+    }
+    Ok(start)
 }
 
 /// Validates `sim-cli bourg` arguments, reads the script and creates the CSV file.
@@ -122,12 +134,17 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
 /// # Errors
 /// [`CliError::Usage`] for anything wrong with the input.
 pub fn prepare_bourg(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
+    let mut controls = Bourg::initial_controls();
+    if let Some(thrust_lb) = args.thrust_lb {
+        // In 0..3000 (clap checked): exact enough in f32 for any typed value.
+        #[allow(clippy::cast_possible_truncation)]
+        {
+            controls.thrust_lb = thrust_lb as f32;
+        }
+    }
+    let start = start_model::<Bourg>(controls, &args.common.start)?;
     let (run, script) = prepare(args.common)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        start: Start::thesis(),
-    })
+    Ok(ModelConfig { run, script, start })
 }
 
 /// The mode implied by the options, or why they do not fit together.
@@ -262,6 +279,20 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
         }
         None => None,
     };
+    let plot = match &args.plot {
+        Some(path) => {
+            for (other, name) in [(&args.script, "--script"), (&args.csv, "--csv")] {
+                if other.as_deref().is_some_and(|o| same_file(path, o)) {
+                    return Err(CliError::usage(format!(
+                        "--plot {} would overwrite the {name} file",
+                        path.display()
+                    )));
+                }
+            }
+            Some(PlotFile::create(path)?)
+        }
+        None => None,
+    };
     Ok((
         RunConfig {
             fps: args.fps,
@@ -270,6 +301,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
             fg,
             origin: args.origin,
             dis,
+            plot,
         },
         script,
     ))

@@ -895,7 +895,9 @@ impl DisOutput {
     }
 }
 
-/// `--dis` for a fleet: a [`Tracker`] component on every aircraft, one socket.
+/// `--dis` for a fleet: a [`Tracker`] per aircraft (an ECS component of each
+/// aircraft's entity, or for the lanes kernel a vector beside the fleet's
+/// arrays), one socket.
 #[derive(Debug)]
 pub struct FleetDis {
     link: DisLink,
@@ -904,9 +906,42 @@ pub struct FleetDis {
     last: EntityIdentity,
     frames: u64,
     seconds: f64,
+    /// The lanes kernel's trackers, aircraft `i` at index `i` (empty for ECS fleets).
+    lanes: Vec<Tracker>,
 }
 
 impl FleetDis {
+    fn open(settings: &DisSettings, entity_base: u16, n: u64) -> Result<Self, CliError> {
+        Ok(Self {
+            link: DisLink::open(settings.clone())?,
+            entities: n,
+            first: fleet_identity(settings.site, settings.application, entity_base, 0)?,
+            last: fleet_identity(
+                settings.site,
+                settings.application,
+                entity_base,
+                n.saturating_sub(1),
+            )?,
+            frames: 0,
+            seconds: 0.0,
+            lanes: Vec::new(),
+        })
+    }
+
+    /// The tracker of fleet aircraft `i` of model `M`.
+    fn tracker<M: CliModel>(
+        settings: &DisSettings,
+        entity_base: u16,
+        i: u64,
+    ) -> Result<Tracker, CliError> {
+        let id = fleet_identity(settings.site, settings.application, entity_base, i)?;
+        let number = u64::from(entity_base) + i;
+        Tracker::new(
+            settings.entity_config::<M>(id, &callsign(M::DIS_CALLSIGN, number))?,
+            settings.effective_thresholds(),
+        )
+    }
+
     /// Gives every aircraft of model `M` in `world` (in spawn order) its
     /// identity, callsign and [`Tracker`], and opens the socket.
     ///
@@ -924,34 +959,72 @@ impl FleetDis {
             .map(|(e, _)| e)
             .collect();
         aircraft.sort_by_key(|e| e.id());
-        let n = aircraft.len() as u64;
-        let first = fleet_identity(settings.site, settings.application, entity_base, 0)?;
-        let last = fleet_identity(
-            settings.site,
-            settings.application,
-            entity_base,
-            n.saturating_sub(1),
-        )?;
-        let thresholds = settings.effective_thresholds();
+        let dis = Self::open(settings, entity_base, aircraft.len() as u64)?;
         for (i, entity) in (0u64..).zip(aircraft) {
-            let id = fleet_identity(settings.site, settings.application, entity_base, i)?;
-            let number = u64::from(entity_base) + i;
-            let tracker = Tracker::new(
-                settings.entity_config::<M>(id, &callsign(M::DIS_CALLSIGN, number))?,
-                thresholds,
-            )?;
+            let tracker = Self::tracker::<M>(settings, entity_base, i)?;
             world
                 .insert_one(entity, tracker)
                 .map_err(|e| CliError::runtime(format!("fleet aircraft vanished: {e}")))?;
         }
-        Ok(Self {
-            link: DisLink::open(settings.clone())?,
-            entities: n,
-            first,
-            last,
-            frames: 0,
-            seconds: 0.0,
-        })
+        Ok(dis)
+    }
+
+    /// Trackers for `n` aircraft of model `M` flown by the lanes kernel
+    /// (its demonstration fleet: aircraft `i` flies with the controls of
+    /// [`Model::fleet_member`]`(i)`), and the socket.
+    ///
+    /// # Errors
+    /// As [`FleetDis::attach`].
+    pub fn for_lanes<M: CliModel>(
+        settings: &DisSettings,
+        entity_base: u16,
+        n: usize,
+    ) -> Result<Self, CliError> {
+        let mut dis = Self::open(settings, entity_base, n as u64)?;
+        dis.lanes = (0..n as u64)
+            .map(|i| Self::tracker::<M>(settings, entity_base, i))
+            .collect::<Result<_, _>>()?;
+        Ok(dis)
+    }
+
+    /// Publishes one frame of a lanes-kernel fleet: aircraft `i`'s state is
+    /// `state(i)`, its controls those of [`Model::fleet_member`]`(i)`. On
+    /// the current rayon pool in batches of
+    /// [`fdm_ecs::systems::PARALLEL_BATCH`], sending as it goes.
+    pub fn publish_lanes<M: Model>(
+        &mut self,
+        state: impl Fn(usize) -> Option<M::State> + Sync,
+        origin: &GeodeticOrigin,
+    ) {
+        use rayon::prelude::*;
+        let start = Instant::now();
+        self.frames += 1;
+        let placement = Placement::new(*origin);
+        let aircraft = M::default_aircraft();
+        let sender = &self.link.sender;
+        let batch = fdm_ecs::systems::PARALLEL_BATCH as usize;
+        let tally = self
+            .lanes
+            .par_chunks_mut(batch)
+            .enumerate()
+            .map(|(c, trackers)| {
+                let mut tally = Tally::default();
+                for (k, tracker) in trackers.iter_mut().enumerate() {
+                    let i = c * batch + k;
+                    if let Some(s) = state(i) {
+                        let (controls, _) = M::fleet_member(i);
+                        let view = M::view(&aircraft, &controls, &s);
+                        tally.publish(sender, tracker.update(&view, &placement));
+                    }
+                }
+                tally
+            })
+            .reduce(Tally::default, |mut a, b| {
+                a.merge(b);
+                a
+            });
+        self.link.tally.merge(tally);
+        self.seconds += start.elapsed().as_secs_f64();
     }
 
     /// Publishes one frame of every aircraft of model `M` with a [`Tracker`]:

@@ -20,6 +20,7 @@ use fdm_core::geodesy::{Attitude, Geodetic, GeodeticOrigin};
 use fgnet::bridge::{display, Display};
 
 use crate::args::ModelKind;
+use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::models::{CliModel, WithModel};
 
@@ -42,6 +43,20 @@ pub fn start_pose<M: CliModel>(origin: &GeodeticOrigin) -> (Geodetic, Attitude) 
     (geodetic, attitude)
 }
 
+/// Where the ECS puts an aircraft of model `M` starting at `start` (its
+/// controls and state), as MakePacket would send it.
+#[must_use]
+pub fn start_pose_of<M: CliModel>(
+    start: &crate::config::Start<M>,
+    origin: &GeodeticOrigin,
+) -> (Geodetic, Attitude) {
+    let view = M::view(&start.aircraft, &start.controls, &start.state);
+    let Display {
+        geodetic, attitude, ..
+    } = display(&view, origin);
+    (geodetic, attitude)
+}
+
 /// The aircraft name and start pose of a model chosen at run time.
 struct Preset<'a>(&'a GeodeticOrigin);
 
@@ -52,6 +67,40 @@ impl WithModel for Preset<'_> {
         let (geodetic, attitude) = start_pose::<M>(self.0);
         (M::FG_AIRCRAFT, geodetic, attitude)
     }
+}
+
+/// The aircraft name and start pose of a model chosen at run time, starting
+/// from initial-condition options.
+struct PresetAt<'a>(&'a GeodeticOrigin, &'a crate::start::StartArgs);
+
+impl WithModel for PresetAt<'_> {
+    type Output = Result<(&'static str, Geodetic, Attitude), CliError>;
+
+    fn call<M: CliModel>(self) -> Self::Output {
+        let (start, _) =
+            crate::start::start_for::<M>(M::default_aircraft(), M::initial_controls(), self.1)?;
+        let (geodetic, attitude) = start_pose_of::<M>(&start, self.0);
+        Ok((M::FG_AIRCRAFT, geodetic, attitude))
+    }
+}
+
+/// [`fgfs_command`] for an aircraft that starts from the initial-condition
+/// options `start` (`--altitude-ft`, `--speed-kt`, `--heading-deg`,
+/// `--trim`): FlightGear starts where the aircraft does. Without options it
+/// is exactly [`fgfs_command`].
+///
+/// # Errors
+/// [`CliError::Usage`] when the model cannot start there (e.g. an
+/// untrimmable speed).
+pub fn fgfs_command_from(
+    model: ModelKind,
+    fps: u32,
+    fg: Option<&FgTarget>,
+    origin: &GeodeticOrigin,
+    start: &crate::start::StartArgs,
+) -> Result<String, CliError> {
+    let (aircraft, geodetic, attitude) = model.with(PresetAt(origin, start))?;
+    Ok(command_line(fps, fg, aircraft, &geodetic, &attitude))
 }
 
 /// Rounds to 1e-7 degrees (about 1 cm) and prints the shortest form.
@@ -79,14 +128,25 @@ pub fn fgfs_command(
     fg: Option<&FgTarget>,
     origin: &GeodeticOrigin,
 ) -> String {
+    // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
+    let (aircraft, start, attitude) = model.with(Preset(origin));
+    command_line(fps, fg, aircraft, &start, &attitude)
+}
+
+/// The command line for `aircraft` starting at `start` with `attitude`.
+fn command_line(
+    fps: u32,
+    fg: Option<&FgTarget>,
+    aircraft: &str,
+    start: &Geodetic,
+    attitude: &Attitude,
+) -> String {
     let (host, port) = match fg {
         // 0.0.0.0 means "any" to us; fgfs spells that as an empty host.
         Some(t) if t.host != "0.0.0.0" => (t.host.as_str(), t.port),
         Some(t) => ("", t.port),
         None => ("", 5500),
     };
-    // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
-    let (aircraft, start, attitude) = model.with(Preset(origin));
     format!(
         "fgfs --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
          --lat={} --lon={} --altitude={:.1} --heading={} --timeofday=noon \

@@ -15,6 +15,11 @@
 //!
 //! The report gives aircraft-steps per second and how many aircraft that
 //! throughput could keep at 30 Hz (steps/s ÷ 30).
+//!
+//! With `--dis` every aircraft is also published as a DIS entity after every
+//! frame ([`crate::dis::FleetDis`]; the time that takes is reported apart, in
+//! `dis.publish_seconds`), and `--realtime` paces the frames at 1/30 s of
+//! wall-clock time.
 
 use std::io::Write;
 use std::sync::Arc;
@@ -27,13 +32,14 @@ use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequent
 use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
-use crate::args::FleetArgs;
+use crate::args::{FleetArgs, FleetKernel, FleetPrecision};
 use crate::dis::{DisReport, FleetDis};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
 use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
 use crate::report::RealtimeReport;
+use fdm_fleet::{LaneFleet, Precision};
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
 pub const FLEET_FPS: u32 = 30;
@@ -62,6 +68,32 @@ pub fn spawn_fleet<M: Model>(n: usize, execution: Execution) -> Simulation {
     }
     progress.finish();
     sim
+}
+
+/// Spawns `n` aircraft of model `M`, every one starting from the
+/// initial-condition options `start` ([`crate::start::start_for`]; with
+/// `--trim`, trimmed), flying only ([`FleetOutputs::None`]), into a new
+/// simulation at [`FLEET_FPS`]. They share one start (the same place): the
+/// fleet measures throughput, not traffic.
+///
+/// # Errors
+/// [`CliError::Usage`] when the model cannot start there.
+pub fn spawn_fleet_at<M: Model>(
+    n: usize,
+    execution: Execution,
+    start: &crate::start::StartArgs,
+) -> Result<Simulation, CliError> {
+    let resources = Resources::new(f64::from(FLEET_FPS))
+        .expect("30 frames per second is valid")
+        .with_execution(execution);
+    let (start, _) =
+        crate::start::start_for::<M>(M::default_aircraft(), M::initial_controls(), start)?;
+    let aircraft = Arc::new(start.aircraft);
+    let mut sim = Simulation::new(resources);
+    for _ in 0..n {
+        sim.spawn_member::<M>(&aircraft, start.controls, start.state, FleetOutputs::None);
+    }
+    Ok(sim)
 }
 
 /// Bytes one flying-only aircraft of model `M` takes in the world: its
@@ -125,6 +157,12 @@ pub fn check_memory<M: Model>(n: u64, available: Option<u64>) -> Result<(), CliE
 pub struct FleetReport {
     /// `"palmer"` or `"bourg"`.
     pub model: &'static str,
+    /// `"lanes"` (structure-of-arrays SIMD kernels) or `"ecs"` (one entity per aircraft).
+    pub kernel: &'static str,
+    /// `"exact"` (bit-identical to the model's step) or `"fast"`.
+    pub precision: &'static str,
+    /// The instruction set the lanes kernel dispatched to (`null` for `ecs`).
+    pub instruction_set: Option<&'static str>,
     /// Aircraft in the fleet.
     pub aircraft: u64,
     /// Frames flown (each aircraft stepped once per frame).
@@ -144,6 +182,10 @@ pub struct FleetReport {
     /// Memory per aircraft, bytes, measured as the growth of the resident set
     /// while the fleet was spawned (`null` where it cannot be read).
     pub measured_bytes_per_aircraft: Option<f64>,
+    /// Aircraft whose state became non-finite during the run: from that
+    /// frame on they are skipped (no longer stepped), and counted here instead
+    /// of stopping the fleet.
+    pub diverged: u64,
     /// DIS output, with `--dis`: every aircraft is published after every
     /// frame; that time is in `dis.publish_seconds`, not in `seconds`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -169,7 +211,11 @@ impl FleetReport {
             self.aircraft_steps_per_s / 1e6,
             self.aircraft_at_30hz,
             self.model,
-        ) + &self.dis.as_ref().map_or_else(String::new, |d| {
+        ) + &if self.diverged > 0 {
+            format!("\n{} aircraft diverged and were skipped", self.diverged)
+        } else {
+            String::new()
+        } + &self.dis.as_ref().map_or_else(String::new, |d| {
             let publish = d.publish_seconds.unwrap_or(0.0);
             format!("\n{}\ndis  {publish:.3} s publishing", d.summary())
         })
@@ -183,9 +229,12 @@ impl WithModel for Measure<'_> {
     type Output = Result<FleetReport, CliError>;
 
     fn call<M: CliModel>(self) -> Self::Output {
-        measure_model::<M>(self.0, &mut |m| {
-            eprintln!("{}", crate::run::link_warning(m));
-        })
+        // The first DIS failure, once, on stderr; never fatal.
+        let mut warn = |m: &str| eprintln!("{}", crate::run::link_warning(m));
+        match self.0.kernel {
+            FleetKernel::Lanes => measure_lanes::<M>(self.0, &mut warn),
+            FleetKernel::Ecs => measure_model::<M>(self.0, &mut warn),
+        }
     }
 }
 
@@ -198,15 +247,11 @@ pub fn measure(args: &FleetArgs) -> Result<FleetReport, CliError> {
     args.model.with(Measure(args))
 }
 
-/// Flies the fleet of model `M` and measures it; `warn` gets the first DIS
-/// failure message, if any.
-fn measure_model<M: CliModel>(
-    args: &FleetArgs,
-    warn: &mut dyn FnMut(&str),
-) -> Result<FleetReport, CliError> {
-    let dis_settings = args.dis.common.settings()?;
-    if let Some(s) = &dis_settings {
-        // Refused before anything is spawned: entity numbers for all of them.
+/// `--dis` settings, checked before anything is spawned: entity numbers for
+/// the whole fleet must exist.
+fn dis_settings(args: &FleetArgs) -> Result<Option<crate::dis::DisSettings>, CliError> {
+    let settings = args.dis.common.settings()?;
+    if let Some(s) = &settings {
         crate::dis::fleet_identity(
             s.site,
             s.application,
@@ -214,6 +259,29 @@ fn measure_model<M: CliModel>(
             args.aircraft - 1,
         )?;
     }
+    Ok(settings)
+}
+
+/// Waits for the end of the frame when `pacer` paces.
+fn pace(pacer: Option<&mut FramePacer>) {
+    if let Some(pacer) = pacer {
+        let sleep = pacer.finish_frame(Instant::now());
+        if !sleep.is_zero() {
+            std::thread::sleep(sleep);
+        }
+    }
+}
+
+fn new_pacer(args: &FleetArgs) -> Option<FramePacer> {
+    args.realtime
+        .then(|| FramePacer::new(FramePacer::period_for(FLEET_FPS), Instant::now()))
+}
+
+fn measure_model<M: CliModel>(
+    args: &FleetArgs,
+    warn: &mut dyn FnMut(&str),
+) -> Result<FleetReport, CliError> {
+    let dis_settings = dis_settings(args)?;
     let n = usize::try_from(args.aircraft)
         .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;
     let threads = args
@@ -230,95 +298,243 @@ fn measure_model<M: CliModel>(
         .context("building the thread pool")?;
     check_memory::<M>(args.aircraft, available_memory_bytes())?;
     let before = resident_bytes();
-    let mut sim = spawn_fleet::<M>(n, execution);
+    let mut sim = if args.start.is_thesis() {
+        spawn_fleet::<M>(n, execution)
+    } else {
+        spawn_fleet_at::<M>(n, execution, &args.start)?
+    };
     let after = resident_bytes();
     #[allow(clippy::cast_precision_loss)] // a ratio of byte counts
     let measured_bytes_per_aircraft = before
         .zip(after)
         .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
-    let resources = *sim.resources();
-    let world = sim.world_mut();
     let mut dis = match &dis_settings {
-        Some(settings) => Some(FleetDis::attach::<M>(
-            world,
-            settings,
+        Some(s) => Some(FleetDis::attach::<M>(
+            sim.world_mut(),
+            s,
             args.dis.entity_base,
         )?),
         None => None,
     };
-
-    let mut seconds = 0.0;
-    let mut pacer = args
-        .realtime
-        .then(|| FramePacer::new(FramePacer::period_for(FLEET_FPS), Instant::now()));
-    if dis.is_some() || pacer.is_some() {
+    let mut pacer = new_pacer(args);
+    let seconds = if dis.is_none() && pacer.is_none() {
+        fly_frames::<M>(&mut sim, args.frames, execution, &pool)
+    } else {
         // Frame by frame: step, publish, wait for the frame's deadline; only
-        // the steps are in `seconds`.
+        // the steps are timed.
+        let mut seconds = 0.0;
+        let origin = sim.resources().origin;
         for _ in 0..args.frames {
-            let start = Instant::now();
-            match execution {
-                Execution::Sequential => equations_of_motion_sequential::<M>(world, &resources),
-                Execution::Parallel => {
-                    pool.install(|| equations_of_motion_parallel::<M>(world, &resources));
-                }
-            }
-            seconds += start.elapsed().as_secs_f64();
+            seconds += fly_frames::<M>(&mut sim, 1, execution, &pool);
             if let Some(dis) = dis.as_mut() {
+                let world = sim.world_mut();
                 match execution {
-                    Execution::Sequential => dis.publish::<M>(world, &resources.origin, false),
+                    Execution::Sequential => dis.publish::<M>(world, &origin, false),
                     Execution::Parallel => {
-                        pool.install(|| dis.publish::<M>(world, &resources.origin, true));
+                        pool.install(|| dis.publish::<M>(world, &origin, true));
                     }
                 }
                 if let Some(message) = dis.take_failure() {
                     warn(&message);
                 }
             }
-            if let Some(pacer) = pacer.as_mut() {
-                let sleep = pacer.finish_frame(Instant::now());
-                if !sleep.is_zero() {
-                    std::thread::sleep(sleep);
-                }
-            }
+            pace(pacer.as_mut());
         }
-    } else {
-        let start = Instant::now();
-        match execution {
-            Execution::Sequential => {
-                for _ in 0..args.frames {
-                    equations_of_motion_sequential::<M>(world, &resources);
-                }
-            }
-            Execution::Parallel => pool.install(|| {
-                for _ in 0..args.frames {
-                    equations_of_motion_parallel::<M>(world, &resources);
-                }
-            }),
-        }
-        seconds = start.elapsed().as_secs_f64();
-    }
+        seconds
+    };
+    let diverged = u64::try_from(sim.diverged_count()).unwrap_or(u64::MAX);
+    let mut report = report::<M>(
+        args,
+        threads,
+        seconds,
+        estimated_bytes_per_aircraft::<M>(),
+        measured_bytes_per_aircraft,
+        None,
+        diverged,
+    );
+    report.dis = dis.map(|d| d.report(FLEET_FPS));
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
+}
 
+/// The lanes kernel's precision for `--precision`.
+fn precision(p: FleetPrecision) -> Precision {
+    match p {
+        FleetPrecision::Exact => Precision::Exact,
+        FleetPrecision::Fast => Precision::Fast,
+    }
+}
+
+/// The fleet flown by model `M`'s structure-of-arrays kernel
+/// ([`CliModel::Lanes`]): the same demonstration fleet, the same frames.
+fn measure_lanes<M: CliModel>(
+    args: &FleetArgs,
+    warn: &mut dyn FnMut(&str),
+) -> Result<FleetReport, CliError> {
+    let dis_settings = dis_settings(args)?;
+    if !args.start.is_thesis() {
+        return Err(CliError::usage(
+            "--altitude-ft, --speed-kt, --heading-deg and --trim need --kernel ecs \
+             (the lanes kernel flies the demonstration fleet only)",
+        ));
+    }
+    let n = usize::try_from(args.aircraft)
+        .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;
+    let precision = precision(args.precision);
+    M::Lanes::check_precision(precision)
+        .map_err(|e| CliError::usage(format!("--precision: {e}")))?;
+    let per_aircraft = M::Lanes::bytes_per_aircraft() as u64;
+    if let Some(have) = available_memory_bytes() {
+        let needed = args.aircraft.saturating_mul(per_aircraft).saturating_mul(2);
+        if needed > have {
+            return Err(CliError::usage(format!(
+                "a fleet of {} {} aircraft needs about {} MiB ({per_aircraft} bytes each, twice \
+                 that while it grows); this machine has {} MiB available",
+                args.aircraft,
+                M::NAME,
+                needed / (1024 * 1024),
+                have / (1024 * 1024)
+            )));
+        }
+    }
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("building the thread pool")?;
+    let before = resident_bytes();
+    let mut fleet = M::Lanes::demonstration(n).map_err(|e| CliError::runtime(e.to_string()))?;
+    let after = resident_bytes();
+    #[allow(clippy::cast_precision_loss)] // a ratio of byte counts
+    let measured_bytes_per_aircraft = before
+        .zip(after)
+        .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
+    let fps = f64::from(FLEET_FPS);
+    let mut dis = match &dis_settings {
+        Some(s) => Some(FleetDis::for_lanes::<M>(s, args.dis.entity_base, n)?),
+        None => None,
+    };
+    let mut pacer = new_pacer(args);
+    let seconds = if dis.is_none() && pacer.is_none() {
+        let start = Instant::now();
+        pool.install(|| {
+            for _ in 0..args.frames {
+                fleet.par_step(fps, precision)?;
+            }
+            Ok::<(), fdm_fleet::FleetError>(())
+        })
+        .map_err(|e| CliError::runtime(e.to_string()))?;
+        start.elapsed().as_secs_f64()
+    } else {
+        let mut seconds = 0.0;
+        let origin = fdm_ecs::geodesy::GeodeticOrigin::default();
+        let mut states = Vec::with_capacity(if dis.is_some() { n } else { 0 });
+        for _ in 0..args.frames {
+            let start = Instant::now();
+            pool.install(|| fleet.par_step(fps, precision))
+                .map_err(|e| CliError::runtime(e.to_string()))?;
+            seconds += start.elapsed().as_secs_f64();
+            if let Some(dis) = dis.as_mut() {
+                // The kernel's arrays are not shareable across threads; the
+                // states are copied out once per frame (a few MB at 100 000).
+                states.clear();
+                states.extend((0..n).map(|i| fleet.state(i)));
+                let states = &states;
+                pool.install(|| dis.publish_lanes::<M>(|i| states[i], &origin));
+                if let Some(message) = dis.take_failure() {
+                    warn(&message);
+                }
+            }
+            pace(pacer.as_mut());
+        }
+        seconds
+    };
+    // The lanes kernel steps every aircraft (it has no status to skip a
+    // diverged one); those whose state is not finite are counted afterwards.
+    let diverged = (0..fleet.len())
+        .filter(|&i| fleet.state(i).is_some_and(|s| !M::is_finite(&s)))
+        .count();
+    let mut report = report::<M>(
+        args,
+        threads,
+        seconds,
+        per_aircraft,
+        measured_bytes_per_aircraft,
+        Some((precision, fleet.instruction_set())),
+        u64::try_from(diverged).unwrap_or(u64::MAX),
+    );
+    report.dis = dis.map(|d| d.report(FLEET_FPS));
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
+}
+
+/// The report of a measured fleet.
+fn report<M: Model>(
+    args: &FleetArgs,
+    threads: usize,
+    seconds: f64,
+    estimated_bytes_per_aircraft: u64,
+    measured_bytes_per_aircraft: Option<f64>,
+    lanes: Option<(Precision, &'static str)>,
+    diverged: u64,
+) -> FleetReport {
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
     let steps = args.aircraft as f64 * args.frames as f64;
     let aircraft_steps_per_s = steps / seconds;
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // floor of a positive rate
     let aircraft_at_30hz = (aircraft_steps_per_s / f64::from(FLEET_FPS)).floor() as u64;
-    Ok(FleetReport {
+    FleetReport {
         model: M::NAME,
+        kernel: if lanes.is_some() { "lanes" } else { "ecs" },
+        precision: lanes.map_or("exact", |(p, _)| p.name()),
+        instruction_set: lanes.map(|(_, set)| set),
         aircraft: args.aircraft,
         frames: args.frames,
         threads,
         seconds,
         aircraft_steps_per_s,
         aircraft_at_30hz,
-        dt_s: resources.time_step::<M>().into(),
-        estimated_bytes_per_aircraft: estimated_bytes_per_aircraft::<M>(),
+        dt_s: M::time_step(f64::from(FLEET_FPS)).into(),
+        estimated_bytes_per_aircraft,
         measured_bytes_per_aircraft,
-        dis: dis.map(|d| d.report(FLEET_FPS)),
-        realtime: pacer.map(|p| RealtimeReport {
-            overruns: p.overruns(),
+        diverged,
+        dis: None,
+        realtime: None,
+    }
+}
+
+/// Runs `frames` frames of EquationsOfMotion on the fleet in `sim` (on
+/// `pool` when parallel): what [`measure`] times. Returns the seconds the
+/// frames took.
+fn fly_frames<M: Model>(
+    sim: &mut Simulation,
+    frames: u64,
+    execution: Execution,
+    pool: &rayon::ThreadPool,
+) -> f64 {
+    let resources = *sim.resources();
+    let world = sim.world_mut();
+
+    let start = Instant::now();
+    match execution {
+        Execution::Sequential => {
+            for _ in 0..frames {
+                equations_of_motion_sequential::<M>(world, &resources);
+            }
+        }
+        Execution::Parallel => pool.install(|| {
+            for _ in 0..frames {
+                equations_of_motion_parallel::<M>(world, &resources);
+            }
         }),
-    })
+    }
+    start.elapsed().as_secs_f64()
 }
 
 /// `sim-cli fleet`: [`measure`], then the summary or (`--json`) the report
@@ -348,13 +564,21 @@ mod tests {
 
     #[test]
     fn a_small_fleet_reports_consistent_numbers() {
-        for (model, threads) in [(ModelKind::Palmer, 2), (ModelKind::Bourg, 1)] {
+        for (model, threads, kernel) in [
+            (ModelKind::Palmer, 2, FleetKernel::Ecs),
+            (ModelKind::Bourg, 1, FleetKernel::Ecs),
+            (ModelKind::Palmer, 2, FleetKernel::Lanes),
+            (ModelKind::Bourg, 1, FleetKernel::Lanes),
+        ] {
             let args = FleetArgs {
                 model,
                 aircraft: 10,
                 frames: 3,
                 threads: Some(threads),
+                kernel,
+                precision: FleetPrecision::Exact,
                 json: true,
+                start: crate::start::StartArgs::default(),
                 realtime: false,
                 dis: crate::dis::FleetDisArgs::default(),
             };
@@ -370,6 +594,41 @@ mod tests {
                 (report.aircraft_steps_per_s / 30.0).floor() as u64
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
+        }
+    }
+
+    /// Each aircraft of the fleet `measure` flies ends where the same member
+    /// flown alone, by the core step, ends: bit for bit, sequential and
+    /// parallel, both models.
+    #[test]
+    fn each_fleet_member_ends_as_if_flown_alone() {
+        fn check<M: Model>(execution: Execution, threads: usize) {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let (n, frames) = (23, 40);
+            let mut sim = spawn_fleet::<M>(n, execution);
+            fly_frames::<M>(&mut sim, frames, execution, &pool);
+            let fleet: Vec<M::State> = sim.world().query::<&M::State>().iter().copied().collect();
+            assert_eq!(fleet.len(), n);
+            let aircraft = M::default_aircraft();
+            let dt = M::time_step(f64::from(FLEET_FPS));
+            for (i, got) in fleet.iter().enumerate() {
+                let (controls, mut alone) = M::fleet_member(i);
+                let start = alone;
+                for _ in 0..frames {
+                    alone = M::step(&aircraft, &controls, &alone, dt);
+                }
+                // Debug prints every float in shortest round-trip form, so
+                // equal text is equal bits here.
+                assert_eq!(format!("{got:?}"), format!("{alone:?}"), "{} #{i}", M::NAME);
+                assert_ne!(format!("{got:?}"), format!("{start:?}"), "{} #{i}", M::NAME);
+            }
+        }
+        for (execution, threads) in [(Execution::Sequential, 1), (Execution::Parallel, 2)] {
+            check::<fdm_core::palmer::Palmer>(execution, threads);
+            check::<fdm_core::bourg::Bourg>(execution, threads);
         }
     }
 
@@ -392,6 +651,30 @@ mod tests {
         // A lean entity: a few dozen bytes of state and controls, well under
         // the kilobyte a full aircraft with its datagram takes.
         assert!((100..200).contains(&per), "{per}");
+    }
+
+    #[test]
+    fn a_fleet_can_start_trimmed_in_cruise() {
+        let start = crate::start::StartArgs {
+            altitude_ft: Some(2000.0),
+            speed_kt: Some(100.0),
+            heading_deg: None,
+            trim: true,
+        };
+        let mut sim = spawn_fleet_at::<Palmer>(3, Execution::Sequential, &start).unwrap();
+        let res = *sim.resources();
+        for _ in 0..30 {
+            equations_of_motion_sequential::<Palmer>(sim.world_mut(), &res);
+        }
+        for s in sim.world().query::<&PalmerState>().iter() {
+            assert!((s.position_m.z - 609.6).abs() < 0.01, "{s:?}");
+        }
+        let bad = crate::start::StartArgs {
+            speed_kt: Some(20.0),
+            ..start
+        };
+        let err = spawn_fleet_at::<Palmer>(3, Execution::Sequential, &bad).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
     }
 
     #[test]

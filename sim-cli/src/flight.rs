@@ -46,6 +46,8 @@ pub struct ModelFlight<M: Model> {
     link_failure: Option<String>,
     /// DIS output (`--dis`): published after every frame.
     dis: Option<DisOutput>,
+    /// The model's time step, for the divergence message.
+    dt: M::TimeStep,
 }
 
 impl<M: CliModel> ModelFlight<M> {
@@ -84,6 +86,7 @@ impl<M: CliModel> ModelFlight<M> {
             fg: run.fg,
             link_failure: None,
             dis,
+            dt: M::time_step(f64::from(run.fps)),
         })
     }
 
@@ -115,11 +118,22 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     /// Queues `actions` as this frame's key presses, runs the frame, and keeps
     /// the link's first failure (reported once by the run loop, never per frame).
+    ///
+    /// A step that diverges (a non-finite state) is an error: the ECS has kept
+    /// the last finite state and sent nothing from the non-finite one, and the
+    /// run stops here, before any row, report or HUD is made from it.
     fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
         for &action in actions {
             self.sim.push_input(self.entity, action)?;
         }
         self.sim.run_frame();
+        if self.sim.status(self.entity) == Some(FlightStatus::Diverged) {
+            return Err(anyhow!(
+                "the {} model diverged (non-finite state) at dt = {:?} s; try a higher --fps",
+                M::NAME,
+                self.dt
+            ));
+        }
         if let Some(error) = self.sim.take_send_failure(self.entity) {
             let target = self
                 .fg
@@ -202,9 +216,12 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 ///
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
     let flight = ModelFlight::new(&config.run, config.start)?;
-    fly(flight, &config.script, config.run)
+    match config.run.plot.take() {
+        None => fly(flight, &config.script, config.run),
+        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
+    }
 }
 
 /// Never used in practice (the components exist from spawn on); reported as
@@ -243,6 +260,7 @@ mod tests {
             fg,
             origin: GeodeticOrigin::default(),
             dis: None,
+            plot: None,
         }
     }
 
@@ -328,6 +346,45 @@ mod tests {
         let p = flight.snapshot().details;
         assert_eq!((p.controls.throttle, p.controls.alpha_deg), (1.0, 4.0));
         assert_eq!(flight.snapshot().common.time_s, 0.0);
+    }
+
+    /// The scripted stall of `fdm-core/tests/bourg_stall.rs` (thrust cut on
+    /// frames 1..5, elevators up from frame 10; the wings pass 24° of attack
+    /// when frame 39 starts) shows `STALL` on the HUD's status line from
+    /// frame 39 on, and `flying` before.
+    #[test]
+    fn bourg_stall_shows_on_the_hud() {
+        use crate::hud::{render_hud, HudData, LoopStatus};
+        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let mut status_line = Vec::new();
+        for frame in 1..=40_u64 {
+            let mut actions = Vec::new();
+            if frame <= 5 {
+                actions.push(BourgAction::ThrustDown);
+            }
+            if frame >= 10 {
+                actions.push(BourgAction::PitchUp);
+            }
+            flight.step(&actions).unwrap();
+            let run = LoopStatus {
+                frame,
+                fps: 30,
+                overruns: 0,
+                paused: false,
+            };
+            let hud = HudData::from_snapshot(Bourg::TITLE, &flight.snapshot(), None, None, run, "");
+            let lines = render_hud(&hud, 80);
+            let roll_line = lines
+                .iter()
+                .find(|l| l.starts_with("ROLL"))
+                .expect("a ROLL line");
+            status_line.push(roll_line.clone());
+        }
+        for (i, line) in status_line.iter().enumerate() {
+            let frame = i + 1;
+            let want = if frame >= 39 { "STALL" } else { "flying" };
+            assert!(line.ends_with(want), "frame {frame}: {line:?}");
+        }
     }
 
     #[test]

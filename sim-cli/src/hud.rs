@@ -59,6 +59,10 @@ pub struct HudData {
     pub altitude_m: f64,
     /// Airspeed, m/s.
     pub airspeed_mps: f64,
+    /// Height above the ground plane through the origin, m.
+    pub height_m: f64,
+    /// Vertical speed, m/s, positive up.
+    pub climb_rate_mps: f64,
     /// Heading as sent to FlightGear, degrees clockwise from north.
     pub heading_deg: f64,
     /// Roll, degrees, right wing down positive.
@@ -98,6 +102,8 @@ impl HudData {
             time_s: c.time_s,
             altitude_m: c.geodetic.alt_m,
             airspeed_mps: snapshot.airspeed_mps,
+            height_m: snapshot.height_m(),
+            climb_rate_mps: snapshot.climb_rate_mps(),
             heading_deg: c.attitude_deg.heading,
             roll_deg: c.attitude_deg.roll,
             pitch_deg: c.attitude_deg.pitch,
@@ -120,40 +126,214 @@ fn compass(deg: f64) -> i64 {
     }
 }
 
-/// The HUD as text lines (ASCII only, so width = number of chars).
+/// Feet per minute per metre per second.
+const FPM_PER_MPS: f64 = 60.0 / METRES_PER_FOOT;
+
+/// One item of a HUD line in three widths: `full` (the 80-column layout,
+/// padded so values do not jump), `compact` (no padding) and `short` (no
+/// secondary units, abbreviated names).
+#[derive(Debug, Clone, PartialEq)]
+struct Field {
+    full: String,
+    compact: String,
+    short: String,
+}
+
+impl Field {
+    fn new(full: String, compact: String, short: String) -> Self {
+        Self {
+            full,
+            compact,
+            short,
+        }
+    }
+
+    /// The same text at every width.
+    fn fixed(text: String) -> Self {
+        Self::new(text.clone(), text.clone(), text)
+    }
+}
+
+/// The widest form of `fields` that fits in `width` columns: full fields
+/// separated by three spaces, compact ones by two, short ones by one; the
+/// short form (which the writer then clips) if none fits.
+fn fit(fields: &[Field], width: usize) -> String {
+    /// Picks one form of a field.
+    type Form = fn(&Field) -> &str;
+    let forms: [(Form, &str); 3] = [
+        (|f| &f.full, "   "),
+        (|f| &f.compact, "  "),
+        (|f| &f.short, " "),
+    ];
+    let mut line = String::new();
+    for (form, separator) in forms {
+        line = fields.iter().map(form).collect::<Vec<_>>().join(separator);
+        if line.len() <= width {
+            break;
+        }
+    }
+    line
+}
+
+/// Runs of spaces squeezed to one.
+fn squeeze(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// The model's control line (free text from
+/// [`Details::hud_controls`]) shortened: spaces squeezed, the usual names
+/// abbreviated.
+fn abbreviate_controls(text: &str) -> String {
+    const SHORT: [(&str, &str); 6] = [
+        ("THROTTLE", "THR"),
+        ("THRUST", "THR"),
+        ("ALPHA", "AOA"),
+        ("FLAPS", "FLP"),
+        ("BANK", "BNK"),
+        (" deg", ""),
+    ];
+    let mut out = squeeze(text);
+    for (long, short) in SHORT {
+        out = out.replace(long, short);
+    }
+    out
+}
+
+/// `help` (items separated by two spaces) packed into lines of at most `width`
+/// columns, the first starting with `first`, the others indented as deep.
+fn wrap_help(first: &str, help: &str, width: usize) -> Vec<String> {
+    let indent = " ".repeat(first.len());
+    let mut prefix = first;
+    let mut lines = Vec::new();
+    let mut items = String::new();
+    for item in help.split("  ").map(str::trim).filter(|i| !i.is_empty()) {
+        if !items.is_empty() && prefix.len() + items.len() + 2 + item.len() > width {
+            lines.push(format!("{prefix}{items}"));
+            items.clear();
+            prefix = &indent;
+        }
+        if !items.is_empty() {
+            items.push_str("  ");
+        }
+        items.push_str(item);
+    }
+    lines.push(format!("{prefix}{items}"));
+    lines
+}
+
+/// The HUD as text lines for a terminal `width` columns wide (ASCII only, so
+/// width = number of chars). At 80 columns and more every line has its full
+/// form; narrower, each line falls back to a compact and then a short form
+/// (see `Field`), and the key help wraps, before the writer clips anything.
 #[must_use]
-pub fn render_hud(d: &HudData) -> Vec<String> {
-    let paused = if d.run.paused { "   [PAUSED]" } else { "" };
-    let mut lines = vec![
-        format!(
-            "sim-cli  {}   t {:.2} s   frame {} @ {} fps{paused}",
-            d.model, d.time_s, d.run.frame, d.run.fps
+pub fn render_hud(d: &HudData, width: u16) -> Vec<String> {
+    let width = usize::from(width);
+    let short_model = d.model.split_whitespace().next().unwrap_or(d.model);
+    let mut title = vec![
+        Field::new(
+            format!("sim-cli  {}", d.model),
+            d.model.to_owned(),
+            short_model.to_owned(),
         ),
-        format!(
-            "ALT {:6.0} ft ({:.1} m)   SPD {:5.1} kt ({:.1} m/s)   HDG {:03}",
-            d.altitude_m / METRES_PER_FOOT,
-            d.altitude_m,
-            d.airspeed_mps * KNOTS_PER_MPS,
-            d.airspeed_mps,
-            compass(d.heading_deg)
-        ),
-        format!(
-            "ROLL {:+6.1} deg   PITCH {:+6.1} deg   {}",
-            tenths(d.roll_deg),
-            tenths(d.pitch_deg),
-            d.status
+        Field::fixed(format!("t {:.2} s", d.time_s)),
+        Field::new(
+            format!("frame {} @ {} fps", d.run.frame, d.run.fps),
+            format!("frame {} @ {} fps", d.run.frame, d.run.fps),
+            format!("#{}", d.run.frame),
         ),
     ];
-    lines.push(d.controls.clone());
-    let link = match (d.fg_target, d.link) {
-        (None, _) => "FG off".to_owned(),
-        (Some(t), Some(s)) => format!("FG {t}  sent {}  failed {}", s.sent, s.failed),
-        (Some(t), None) => format!("FG {t}"),
+    if d.run.paused {
+        title.push(Field::fixed("[PAUSED]".to_owned()));
+    }
+    let alt_ft = d.altitude_m / METRES_PER_FOOT;
+    let kt = d.airspeed_mps * KNOTS_PER_MPS;
+    let position = [
+        Field::new(
+            format!("ALT {alt_ft:6.0} ft ({:.1} m)", d.altitude_m),
+            format!("ALT {alt_ft:.0} ft ({:.1} m)", d.altitude_m),
+            format!("ALT {alt_ft:.0}ft"),
+        ),
+        Field::new(
+            format!("SPD {kt:5.1} kt ({:.1} m/s)", d.airspeed_mps),
+            format!("SPD {kt:.1} kt ({:.1} m/s)", d.airspeed_mps),
+            format!("SPD {kt:.0}kt"),
+        ),
+        Field::fixed(format!("HDG {:03}", compass(d.heading_deg))),
+    ];
+    let hgt_ft = d.height_m / METRES_PER_FOOT;
+    let fpm = d.climb_rate_mps * FPM_PER_MPS;
+    // Whole feet per minute; -0 (a tiny sink) shows as +0.
+    let fpm = if fpm.round() == 0.0 { 0.0 } else { fpm };
+    let vertical = [
+        Field::new(
+            format!("HGT {hgt_ft:6.0} ft ({:.1} m)", d.height_m),
+            format!("HGT {hgt_ft:.0} ft ({:.1} m)", d.height_m),
+            format!("HGT {hgt_ft:.0}ft"),
+        ),
+        Field::new(
+            format!(
+                "V/S {fpm:+6.0} ft/min ({:+.1} m/s)",
+                tenths(d.climb_rate_mps)
+            ),
+            format!("V/S {fpm:+.0} ft/min"),
+            format!("VS {fpm:+.0}fpm"),
+        ),
+    ];
+    let (roll, pitch) = (tenths(d.roll_deg), tenths(d.pitch_deg));
+    let attitude = [
+        Field::new(
+            format!("ROLL {roll:+6.1} deg"),
+            format!("ROLL {roll:+.1} deg"),
+            format!("R{roll:+.1}"),
+        ),
+        Field::new(
+            format!("PITCH {pitch:+6.1} deg"),
+            format!("PITCH {pitch:+.1} deg"),
+            format!("P{pitch:+.1}"),
+        ),
+        // The status is never abbreviated: it is what matters most.
+        Field::fixed(d.status.to_owned()),
+        // Slot: trim (reported by another change) joins this line here.
+    ];
+    let controls = [Field::new(
+        d.controls.clone(),
+        squeeze(&d.controls),
+        abbreviate_controls(&d.controls),
+    )];
+    let link_field = match (d.fg_target, d.link) {
+        (None, _) => Field::fixed("FG off".to_owned()),
+        (Some(t), Some(s)) => Field::new(
+            format!("FG {t}  sent {}  failed {}", s.sent, s.failed),
+            format!("FG {t} sent {} failed {}", s.sent, s.failed),
+            format!("FG sent {} fail {}", s.sent, s.failed),
+        ),
+        (Some(t), None) => Field::new(format!("FG {t}"), format!("FG {t}"), "FG on".to_owned()),
     };
-    lines.push(format!("{link}   overruns {}", d.run.overruns));
-    lines.push(String::new());
-    lines.push(format!("keys: {}", d.key_help));
-    lines.push(format!("      {}", crate::keys::APP_KEY_HELP));
+    let link = [
+        link_field,
+        Field::new(
+            format!("overruns {}", d.run.overruns),
+            format!("overruns {}", d.run.overruns),
+            format!("ovr {}", d.run.overruns),
+        ),
+    ];
+    let mut lines = vec![
+        fit(&title, width),
+        fit(&position, width),
+        fit(&vertical, width),
+        fit(&attitude, width),
+        fit(&controls, width),
+        fit(&link, width),
+        String::new(),
+    ];
+    let keys = format!("keys: {}", d.key_help);
+    let app = format!("      {}", crate::keys::APP_KEY_HELP);
+    if keys.len() <= width && app.len() <= width {
+        lines.extend([keys, app]);
+    } else {
+        lines.extend(wrap_help("keys: ", d.key_help, width));
+        lines.extend(wrap_help("      ", crate::keys::APP_KEY_HELP, width));
+    }
     lines
 }
 
@@ -228,12 +408,13 @@ mod tests {
 
     #[test]
     fn palmer_text() {
-        let lines = render_hud(&palmer_hud());
+        let lines = render_hud(&palmer_hud(), 80);
         assert_eq!(
             lines,
             [
                 "sim-cli  Palmer Cessna 172   t 60.00 s   frame 369 @ 30 fps",
                 "ALT   1148 ft (349.8 m)   SPD 108.1 kt (55.6 m/s)   HDG 000",
+                "HGT    324 ft (98.8 m)   V/S    -49 ft/min (-0.2 m/s)",
                 "ROLL   +5.0 deg   PITCH   +2.5 deg   flying",
                 "THROTTLE  75 %   ALPHA  +4.0 deg   BANK  +5.0 deg   FLAPS 20 deg",
                 "FG 127.0.0.1:5500  sent 369  failed 2   overruns 1",
@@ -261,14 +442,14 @@ mod tests {
             },
             "",
         );
-        let lines = render_hud(&d);
+        let lines = render_hud(&d, 80);
         assert!(lines[0].starts_with("sim-cli  Bourg 6-DoF"));
         assert!(lines[0].ends_with("[PAUSED]"));
         // 183.12346 ft/s = 55.816 m/s = 108.5 kt
         assert!(lines[1].contains("SPD 108.5 kt (55.8 m/s)"), "{}", lines[1]);
-        assert!(lines[2].ends_with("STALL"));
-        assert_eq!(lines[3], "THRUST 3000 lb   FLAPS down");
-        assert_eq!(lines[4], "FG off   overruns 0");
+        assert!(lines[3].ends_with("STALL"));
+        assert_eq!(lines[4], "THRUST 3000 lb   FLAPS down   TRIM +0.00");
+        assert_eq!(lines[5], "FG off   overruns 0");
     }
 
     #[test]
@@ -276,9 +457,84 @@ mod tests {
         let mut d = palmer_hud();
         d.roll_deg = -1e-16;
         d.pitch_deg = -0.04;
-        let lines = render_hud(&d);
-        assert_eq!(lines[2], "ROLL   +0.0 deg   PITCH   +0.0 deg   flying");
+        let lines = render_hud(&d, 80);
+        assert_eq!(lines[3], "ROLL   +0.0 deg   PITCH   +0.0 deg   flying");
+        d.climb_rate_mps = -1e-3;
+        assert!(render_hud(&d, 80)[2].ends_with("V/S     +0 ft/min (+0.0 m/s)"));
         assert_eq!(tenths(-0.06), -0.06);
+    }
+
+    #[test]
+    fn narrow_terminals_abbreviate_before_clipping() {
+        let mut d = palmer_hud();
+        d.status = "landed (rough)";
+        d.run.paused = true;
+        for width in [60_u16, 40] {
+            let lines = render_hud(&d, width);
+            for line in &lines {
+                assert!(line.len() <= usize::from(width), "{width}: {line:?}");
+            }
+            let all = lines.join("\n");
+            // Every value the 80-column HUD shows is still there.
+            for needle in [
+                "t 60.00 s",
+                "[PAUSED]",
+                "1148",
+                "108",
+                "HDG 000",
+                "324",
+                "-49",
+                "+5.0",
+                "+2.5",
+                "landed (rough)",
+                "75 %",
+                "+4.0",
+                "369",
+                "E/D throttle",
+                "Q/Esc quit",
+            ] {
+                assert!(all.contains(needle), "{width}: no {needle:?} in\n{all}");
+            }
+        }
+        assert_eq!(
+            render_hud(&d, 60)[..6],
+            [
+                "Palmer Cessna 172  t 60.00 s  frame 369 @ 30 fps  [PAUSED]",
+                // Exactly 60 columns: the full form still fits.
+                "ALT   1148 ft (349.8 m)   SPD 108.1 kt (55.6 m/s)   HDG 000",
+                "HGT    324 ft (98.8 m)   V/S    -49 ft/min (-0.2 m/s)",
+                "ROLL   +5.0 deg   PITCH   +2.5 deg   landed (rough)",
+                "THROTTLE 75 % ALPHA +4.0 deg BANK +5.0 deg FLAPS 20 deg",
+                "FG 127.0.0.1:5500  sent 369  failed 2   overruns 1",
+            ]
+        );
+        assert_eq!(
+            render_hud(&d, 40),
+            [
+                "Palmer t 60.00 s #369 [PAUSED]",
+                "ALT 1148ft SPD 108kt HDG 000",
+                "HGT 324 ft (98.8 m)  V/S -49 ft/min",
+                "R+5.0 P+2.5 landed (rough)",
+                "THR 75 % AOA +4.0 BNK +5.0 FLP 20",
+                "FG sent 369 fail 2 ovr 1",
+                "",
+                "keys: E/D throttle",
+                "      P pause  R reset  Q/Esc quit",
+            ]
+        );
+    }
+
+    #[test]
+    fn key_help_wraps_in_narrow_terminals() {
+        let help = "E/D throttle  Down/Up alpha +/-  Left/Right bank  K flaps down  L flaps up";
+        assert_eq!(
+            wrap_help("keys: ", help, 40),
+            [
+                "keys: E/D throttle  Down/Up alpha +/-",
+                "      Left/Right bank  K flaps down",
+                "      L flaps up",
+            ]
+        );
     }
 
     #[test]

@@ -34,6 +34,9 @@ pub struct Report<D> {
     pub fps: u32,
     /// Frames stepped.
     pub frames: u64,
+    /// The flight status at the end: `on_ground`, `airborne`, `landed_safe`,
+    /// `landed_rough`, `crashed`, or `stalling` ([`Snapshot::status_code`]).
+    pub status: String,
     /// The state both models have.
     #[serde(flatten)]
     pub common: CommonState,
@@ -74,6 +77,7 @@ impl<D: Details> Report<D> {
             details: snapshot.details,
             fps,
             frames,
+            status: snapshot.status_code().to_owned(),
             common: snapshot.common,
             fg: None,
             realtime: None,
@@ -96,7 +100,8 @@ impl<D: Details> Report<D> {
         let c = &self.common;
         let unit = D::POSITION_UNIT;
         format!(
-            "{}: {} frames at {} fps, t = {} s\n\
+            "{}: {} frames at {} fps, t = {:.*} s\n\
+             status    {}\n\
              position  x {:.3}  y {:.3}  z {:.3} {unit}\n\
              velocity  x {:.3}  y {:.3}  z {:.3} {unit}/s\n\
              geodetic  lat {:.7}  lon {:.7}  alt {:.2} m\n\
@@ -104,7 +109,9 @@ impl<D: Details> Report<D> {
             self.model,
             self.frames,
             self.fps,
+            frame_decimals(self.fps),
             c.time_s,
+            self.status,
             c.position[0],
             c.position[1],
             c.position[2],
@@ -120,6 +127,19 @@ impl<D: Details> Report<D> {
             self.details.summary(),
             self.outputs_summary(),
         )
+    }
+}
+
+/// Decimals that resolve one frame of `fps` in a time display: at least 2
+/// (`t = 240.00 s`), 3 above 100 fps, 4 above 1000 fps. The human summary
+/// rounds the model's clock (a sum of time steps, so 239.99999999998894 after
+/// 7200 steps of 1/30 s) to that; the JSON report keeps every digit.
+#[must_use]
+pub fn frame_decimals(fps: u32) -> usize {
+    match fps {
+        0..=100 => 2,
+        101..=1000 => 3,
+        _ => 4,
     }
 }
 
@@ -332,7 +352,61 @@ mod tests {
         assert_eq!(values.len(), bourg().csv_columns().len());
         let mut values = Vec::new();
         bourg().csv_values(&mut values);
-        assert_eq!(&values[values.len() - 2..], &[1.0, 0.0]);
+        // flaps down, not stalling, no pitch trim, then the status: airborne (1).
+        assert_eq!(&values[values.len() - 4..], &[1.0, 0.0, 0.0, 1.0]);
+        assert_eq!(bourg().csv_columns().last(), Some(&"status"));
+    }
+
+    #[test]
+    fn status_is_in_the_json_the_csv_and_the_summary() {
+        assert_eq!(crate::snapshot::status_from_number(7.0), None);
+        assert_eq!(crate::snapshot::status_from_number(0.5), None);
+        use fdm_core::model::{FlightStatus, LandingState};
+        let mut snap = palmer();
+        for (status, stalling, code, number) in [
+            (FlightStatus::OnGround, false, "on_ground", 0.0),
+            (FlightStatus::Airborne, false, "airborne", 1.0),
+            (
+                FlightStatus::Landed(LandingState::Safe),
+                false,
+                "landed_safe",
+                2.0,
+            ),
+            (
+                FlightStatus::Landed(LandingState::Rough),
+                false,
+                "landed_rough",
+                3.0,
+            ),
+            (
+                FlightStatus::Landed(LandingState::Crash),
+                false,
+                "crashed",
+                4.0,
+            ),
+            (FlightStatus::Diverged, false, "diverged", 5.0),
+            (FlightStatus::Airborne, true, "stalling", 6.0),
+            (
+                FlightStatus::Landed(LandingState::Crash),
+                true,
+                "crashed",
+                4.0,
+            ),
+        ] {
+            (snap.status, snap.stalling) = (status, stalling);
+            let report = Report::new(30, 1, &snap);
+            let v = serde_json::to_value(&report).unwrap();
+            assert_eq!(v["status"], code);
+            assert!(report
+                .human_summary()
+                .contains(&format!("status    {code}\n")));
+            let mut values = Vec::new();
+            snap.csv_values(&mut values);
+            assert_eq!(values.last(), Some(&number), "{code}");
+            let back = crate::snapshot::status_from_number(number).unwrap();
+            let shown_stall = stalling && status == FlightStatus::Airborne;
+            assert_eq!(back, (status, shown_stall), "{code}");
+        }
     }
 
     #[test]
@@ -342,6 +416,18 @@ mod tests {
         assert!(s.contains("ft/s"));
         let s = Report::new(10, 600, &palmer()).human_summary();
         assert!(s.contains("throttle 75 %"));
+        // The sample's clock is 60.000000000000746: rounded to the frame here,
+        // every digit in the JSON.
+        assert!(
+            s.starts_with("palmer: 600 frames at 10 fps, t = 60.00 s\n"),
+            "{s}"
+        );
+        let json = Report::new(10, 600, &palmer()).to_json().unwrap();
+        assert!(json.contains("\"time_s\":60.000000000000746"), "{json}");
+        assert_eq!(
+            [1, 30, 100, 101, 1000, 1001, 10_000].map(frame_decimals),
+            [2, 2, 2, 3, 3, 4, 4]
+        );
         let mut snap = bourg();
         snap.common.attitude_deg.heading = 359.999_999;
         snap.common.attitude_deg.roll = -1e-9;

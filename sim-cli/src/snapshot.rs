@@ -4,6 +4,7 @@
 //! model's own fields are its [`Details`].
 
 use fdm_core::model::FlightStatus;
+use fdm_core::units::METRES_PER_FOOT;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvRecord;
@@ -65,6 +66,80 @@ pub struct Snapshot<D> {
     pub airspeed_mps: f64,
 }
 
+impl<D> Snapshot<D> {
+    /// The status as one word, for the JSON report's `status`: the flight
+    /// status's [`FlightStatus::code`] (`on_ground`, `airborne`,
+    /// `landed_safe`, `landed_rough`, `crashed`, `diverged`), or `stalling`
+    /// while the model reports a stall in the air.
+    #[must_use]
+    pub fn status_code(&self) -> &'static str {
+        if self.stalling && self.status == FlightStatus::Airborne {
+            "stalling"
+        } else {
+            self.status.code()
+        }
+    }
+
+    /// The status as a number, for the CSV's `status` column (CSV rows hold
+    /// numbers only): 0 on ground, 1 airborne, 2 landed safe, 3 landed rough,
+    /// 4 crashed, 5 diverged, 6 stalling (in the air).
+    #[must_use]
+    pub fn status_number(&self) -> f64 {
+        match self.status_code() {
+            "on_ground" => 0.0,
+            "airborne" => 1.0,
+            "landed_safe" => 2.0,
+            "landed_rough" => 3.0,
+            "crashed" => 4.0,
+            "diverged" => 5.0,
+            _ => 6.0,
+        }
+    }
+}
+
+/// The flight status and stall flag of a CSV `status` number
+/// ([`Snapshot::status_number`]); `None` for any other number.
+#[must_use]
+pub fn status_from_number(x: f64) -> Option<(FlightStatus, bool)> {
+    use fdm_core::model::LandingState;
+    Some(match x {
+        0.0 => (FlightStatus::OnGround, false),
+        1.0 => (FlightStatus::Airborne, false),
+        2.0 => (FlightStatus::Landed(LandingState::Safe), false),
+        3.0 => (FlightStatus::Landed(LandingState::Rough), false),
+        4.0 => (FlightStatus::Landed(LandingState::Crash), false),
+        5.0 => (FlightStatus::Diverged, false),
+        6.0 => (FlightStatus::Airborne, true),
+        _ => return None,
+    })
+}
+
+impl<D: Details> Snapshot<D> {
+    /// Metres per unit of the native position ([`Details::POSITION_UNIT`]):
+    /// 1 for `"m"`, [`METRES_PER_FOOT`] for `"ft"`, NaN for an unknown unit
+    /// (shown as a gap rather than in the wrong unit).
+    #[must_use]
+    pub fn metres_per_unit() -> f64 {
+        match D::POSITION_UNIT {
+            "m" => 1.0,
+            "ft" => METRES_PER_FOOT,
+            _ => f64::NAN,
+        }
+    }
+
+    /// Height above the ground plane through the origin, m.
+    #[must_use]
+    pub fn height_m(&self) -> f64 {
+        self.common.position[2] * Self::metres_per_unit()
+    }
+
+    /// Vertical speed, m/s, positive up.
+    #[must_use]
+    pub fn climb_rate_mps(&self) -> f64 {
+        self.common.velocity[2] * Self::metres_per_unit()
+    }
+}
+
 /// CSV column names of [`CommonState`] (after `frame,time_s`), in row order.
 pub const COMMON_CSV_COLUMNS: &[&str] = &[
     "x",
@@ -85,6 +160,7 @@ impl<D: Details> CsvRecord for Snapshot<D> {
     fn csv_columns(&self) -> Vec<&'static str> {
         let mut columns = COMMON_CSV_COLUMNS.to_vec();
         columns.extend_from_slice(D::CSV_COLUMNS);
+        columns.push("status");
         columns
     }
 
@@ -105,6 +181,7 @@ impl<D: Details> CsvRecord for Snapshot<D> {
             c.attitude_deg.heading,
         ]);
         self.details.csv_values(out);
+        out.push(self.status_number());
     }
 }
 
@@ -163,6 +240,7 @@ pub(crate) mod samples {
                 thrust_lb: 3000.0,
                 flaps: true,
                 stalling: false,
+                pitch_trim: 0.0,
             },
             status: FlightStatus::Airborne,
             stalling: false,

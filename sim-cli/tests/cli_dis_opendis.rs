@@ -20,14 +20,14 @@
 //! hour in units of 3600 s / 2³¹, bit 0 the relative/absolute flag): at most
 //! 1.7 µs off, far from the 33 ms between frames.
 //!
-//! Python: the shared Open-DIS virtualenv of `fdm_tests::opendis` (or
-//! `$DIS_PYTHON`); the test fails, never skips, without it. Loopback only.
+//! Python: the shared Open-DIS virtualenv of `fdm_tests::python::OPENDIS`
+//! (or `$DIS_PYTHON`); the test fails, never skips, without it. Loopback only.
 
 mod support;
 
-use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
-use std::process::{Child, ChildStdout, Command, Stdio};
+
+use fdm_tests::python::PyScript;
 
 use serde_json::Value;
 use support::{num, report, scratch};
@@ -37,73 +37,32 @@ const HEIGHT_TOL_M: f64 = 0.01;
 const ANGLE_TOL_DEG: f64 = 1e-4;
 const FPS: f64 = 30.0;
 
-/// `decode_udp.py COUNT TIMEOUT`, started with the shared Python.
-struct Decoder {
-    child: Child,
-    stdout: BufReader<ChildStdout>,
+/// `decode_udp.py COUNT TIMEOUT` with the shared Open-DIS Python; returns
+/// the script and the port it bound on 127.0.0.1.
+fn start_decoder(count: u64) -> (PyScript, u16) {
+    let env = fdm_tests::python::OPENDIS;
+    let python = env
+        .python(Path::new(env!("CARGO_TARGET_TMPDIR")))
+        .unwrap_or_else(|e| {
+            panic!(
+                "this test needs Python with opendis=={}: {e}\n\
+                 Install python3 (with the venv module and access to PyPI), or set DIS_PYTHON.",
+                env.version
+            )
+        });
+    let script = Path::new(fdm_tests::python::OPENDIS_SCRIPT_DIR).join("decode_udp.py");
+    let mut decoder = PyScript::start(&python, &script, &[count.to_string(), "20".to_owned()]);
+    let port = decoder.port();
+    (decoder, port)
 }
 
-impl Decoder {
-    fn start(count: u64) -> (Self, u16) {
-        let python = fdm_tests::opendis::python(Path::new(env!("CARGO_TARGET_TMPDIR")))
-            .unwrap_or_else(|e| {
-                panic!(
-                    "this test needs Python with opendis=={}: {e}",
-                    fdm_tests::opendis::OPENDIS_VERSION
-                )
-            });
-        let mut child = Command::new(python)
-            .arg(Path::new(fdm_tests::opendis::SCRIPT_DIR).join("decode_udp.py"))
-            .args([count.to_string(), "20".to_owned()])
-            .env("PYTHONDONTWRITEBYTECODE", "1")
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start decode_udp.py");
-        let stdout = BufReader::new(child.stdout.take().unwrap());
-        let mut decoder = Self { child, stdout };
-        let line = decoder.line();
-        let port = line
-            .strip_prefix("PORT ")
-            .and_then(|p| p.parse().ok())
-            .unwrap_or_else(|| panic!("expected 'PORT n', got {line:?}"));
-        (decoder, port)
-    }
-
-    fn line(&mut self) -> String {
-        let mut line = String::new();
-        match self.stdout.read_line(&mut line) {
-            Ok(n) if n > 0 => line.trim_end().to_owned(),
-            _ => {
-                let _ = self.child.kill();
-                let mut err = String::new();
-                if let Some(mut e) = self.child.stderr.take() {
-                    let _ = e.read_to_string(&mut err);
-                }
-                panic!("decode_udp.py ended early; stderr:\n{err}")
-            }
-        }
-    }
-
-    /// `count` decoded PDUs, then the script's exit.
-    fn finish(mut self, count: u64) -> Vec<Value> {
-        let pdus = (0..count)
-            .map(|_| serde_json::from_str(&self.line()).unwrap())
-            .collect();
-        let status = self.child.wait().unwrap();
-        assert!(status.success(), "decode_udp.py: {status}");
-        pdus
-    }
-}
-
-impl Drop for Decoder {
-    fn drop(&mut self) {
-        if std::thread::panicking() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
-    }
+/// `count` decoded PDUs, then the script's successful exit.
+fn finish(mut decoder: PyScript, count: u64) -> Vec<Value> {
+    let pdus = (0..count)
+        .map(|_| serde_json::from_str(&decoder.line()).unwrap())
+        .collect();
+    decoder.finish();
+    pdus
 }
 
 /// The CSV rows by frame: `{column: value}`.
@@ -174,12 +133,12 @@ fn fly_to_opendis(
     let dry = report(&[&full[..], &["--dis", &sink_addr]].concat());
     let count = dry["dis"]["pdus"].as_u64().unwrap();
 
-    let (decoder, port) = Decoder::start(count);
+    let (decoder, port) = start_decoder(count);
     let target = format!("127.0.0.1:{port}");
     let r = report(&[&full[..], &["--dis", &target]].concat());
     assert_eq!(r["dis"]["pdus"], dry["dis"]["pdus"]);
     assert_eq!(r["geodetic"], dry["geodetic"]);
-    let pdus = decoder.finish(count);
+    let pdus = finish(decoder, count);
     (r, csv_rows(&csv), pdus)
 }
 

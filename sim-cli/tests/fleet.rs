@@ -195,3 +195,53 @@ fn fleets_take_a_few_hundred_bytes_per_aircraft() {
         }
     }
 }
+
+/// Both kernels fly the fleet; the report says which, with the lanes kernel's
+/// precision and instruction set; Bourg's kernel has no `fast` precision.
+#[test]
+fn kernels_and_precisions_are_reported_and_checked() {
+    for (model, kernel, precision) in [
+        ("palmer", "lanes", "exact"),
+        ("palmer", "lanes", "fast"),
+        ("palmer", "ecs", "exact"),
+        ("bourg", "lanes", "exact"),
+        ("bourg", "ecs", "exact"),
+    ] {
+        let out = sim(&[
+            "fleet",
+            "--model",
+            model,
+            "--aircraft",
+            "37",
+            "--frames",
+            "3",
+            "--kernel",
+            kernel,
+            "--precision",
+            precision,
+            "--json",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(
+            (v["kernel"].as_str(), v["precision"].as_str()),
+            (Some(kernel), Some(precision))
+        );
+        assert_eq!(v["instruction_set"].is_string(), kernel == "lanes", "{v}");
+    }
+    let out = sim(&[
+        "fleet",
+        "--model",
+        "bourg",
+        "--aircraft",
+        "5",
+        "--frames",
+        "1",
+        "--precision",
+        "fast",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("no `fast` precision"), "{err}");
+}

@@ -12,7 +12,7 @@ pub use fgnet;
 
 pub mod ecs;
 pub mod fgnet_fields;
-pub mod opendis;
+pub mod python;
 
 /// Directory holding the original programs' reference outputs
 /// (`palmer.json`, `bourg.json`, `bourg_math.md`, `fgnetfdm_golden.json`);

@@ -8,6 +8,9 @@ use super::BourgAction;
 
 /// Thrust at start, lb.
 pub const INITIAL_THRUST_LB: f32 = 500.0;
+/// Pitch-trim change per trim key press or script action (an extension, see
+/// [`BourgControlsOf::pitch_trim`]): 1 % of the full elevator deflection.
+pub const PITCH_TRIM_STEP: f32 = 0.01;
 
 /// The control settings of one frame, in float type `F` (see [`BourgControls`]).
 ///
@@ -33,6 +36,15 @@ pub struct BourgControlsOf<F: BourgFloat> {
     pub elevators: Flap,
     /// Landing flaps (elements 1 and 2) down.
     pub landing_flaps: bool,
+    /// Persistent pitch trim, −1..=1 (an **extension** of the original,
+    /// which has none): while the elevators are neutral, their lift and drag
+    /// coefficients are the neutral tables' blended toward the trailing-edge-up
+    /// tables (positive, nose up) or trailing-edge-down tables (negative) by
+    /// `|pitch_trim|` ([`elevator_coefficients`](Self::elevator_coefficients)).
+    /// At 0, the default, the model is the original, bit for bit. It is not
+    /// reset at the start of a frame.
+    #[serde(default)]
+    pub pitch_trim: F,
 }
 
 /// The `f32` controls (the original's type).
@@ -51,6 +63,7 @@ impl<F: BourgFloat> BourgControlsOf<F> {
             starboard_aileron: Flap::Neutral,
             elevators: Flap::Neutral,
             landing_flaps: false,
+            pitch_trim: F::ZERO,
         }
     }
 
@@ -105,8 +118,56 @@ impl<F: BourgFloat> BourgControlsOf<F> {
             BourgAction::PitchDown => c.elevators = Flap::TrailingEdgeDown,
             BourgAction::FlapsDown => c.landing_flaps = true,
             BourgAction::FlapsUp => c.landing_flaps = false,
+            BourgAction::TrimNoseUp | BourgAction::TrimNoseDown => {
+                let step = F::from_f64(f64::from(PITCH_TRIM_STEP));
+                let t = if action == BourgAction::TrimNoseUp {
+                    c.pitch_trim + step
+                } else {
+                    c.pitch_trim - step
+                };
+                c.pitch_trim = if t > F::ONE {
+                    F::ONE
+                } else if t < -F::ONE {
+                    -F::ONE
+                } else {
+                    t
+                };
+            }
         }
         c
+    }
+
+    /// The lift and drag coefficients of element `index` at `angle_deg`:
+    /// the airfoil table of [`element_flap`](Self::element_flap), except for
+    /// the elevators (elements 4 and 5) with a nonzero
+    /// [`pitch_trim`](Self::pitch_trim) while no pitch key deflects them:
+    /// then `c + (c_deflected − c)·|trim|` for CL and CD, with the
+    /// trailing-edge-up tables for a positive trim, trailing-edge-down for a
+    /// negative one (|trim| clamped to 1). With zero trim this is exactly
+    /// `airfoil_coefficients(angle, element_flap(index, element))`.
+    #[inline]
+    #[must_use]
+    pub fn elevator_coefficients(
+        &self,
+        index: usize,
+        element: &ElementOf<F>,
+        angle_deg: F,
+    ) -> (F, F) {
+        let base = super::model::airfoil_coefficients(angle_deg, self.element_flap(index, element));
+        if !matches!(index, 4 | 5) || self.elevators != Flap::Neutral || self.pitch_trim == F::ZERO
+        {
+            return base;
+        }
+        let (flap, mut t) = if self.pitch_trim > F::ZERO {
+            (Flap::TrailingEdgeUp, self.pitch_trim)
+        } else {
+            (Flap::TrailingEdgeDown, -self.pitch_trim)
+        };
+        if t > F::ONE {
+            t = F::ONE;
+        }
+        let (cl, cd) = super::model::airfoil_coefficients(angle_deg, flap);
+        (base.0 + (cl - base.0) * t, base.1 + (cd - base.1) * t)
     }
 
     /// Rudder, ailerons and elevators back to neutral (done at the start of

@@ -55,6 +55,7 @@ mod controls;
 mod float;
 mod model;
 pub mod ops;
+mod trim;
 
 pub use airframe::{
     element_normal, Aircraft64, AircraftOf, Airframe, Airframe64, AirframeError, AirframeOf,
@@ -62,7 +63,9 @@ pub use airframe::{
     MassPropertiesOf,
 };
 pub use airframe::{DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
-pub use controls::{BourgControls, BourgControls64, BourgControlsOf, INITIAL_THRUST_LB};
+pub use controls::{
+    BourgControls, BourgControls64, BourgControlsOf, INITIAL_THRUST_LB, PITCH_TRIM_STEP,
+};
 pub use float::BourgFloat;
 pub use model::{
     airfoil_coefficients, drag_coefficient, lift_coefficient, loads, rudder_coefficients,
@@ -72,6 +75,7 @@ pub use model::{
 /// The nalgebra types of the public API, re-exported so users need not depend
 /// on nalgebra themselves.
 pub use nalgebra::{Matrix3, Quaternion, Vector3};
+pub use trim::{state_at, state_at_attitude, trim};
 
 /// A discrete control input of the Bourg model: one key press (thesis
 /// appendix B) or one script action.
@@ -97,6 +101,11 @@ pub enum BourgAction {
     FlapsDown,
     /// Landing flaps up (key L).
     FlapsUp,
+    /// Pitch trim +0.01 toward nose up, up to 1 (key T; an extension, see
+    /// [`BourgControlsOf::pitch_trim`]).
+    TrimNoseUp,
+    /// Pitch trim −0.01 toward nose down, down to −1 (key G; an extension).
+    TrimNoseDown,
 }
 
 impl crate::model::ScriptAction for BourgAction {
@@ -111,6 +120,8 @@ impl crate::model::ScriptAction for BourgAction {
         Self::YawRight,
         Self::FlapsDown,
         Self::FlapsUp,
+        Self::TrimNoseUp,
+        Self::TrimNoseDown,
     ];
     const NAMES: &'static [&'static str] = &[
         "thrust-up",
@@ -123,6 +134,8 @@ impl crate::model::ScriptAction for BourgAction {
         "yaw-right",
         "flaps-down",
         "flaps-up",
+        "trim-up",
+        "trim-down",
     ];
 
     fn name(self) -> &'static str {
@@ -219,8 +232,10 @@ impl crate::model::Model for Bourg {
         try_step(aircraft, controls, state, dt)
     }
 
+    /// The state and its speed (an `f32` magnitude, which overflows for
+    /// velocity components above about 1e19 ft/s while they are still finite).
     fn is_finite(state: &BourgState) -> bool {
-        state.is_finite()
+        state.is_finite() && state.speed_ftps().is_finite()
     }
 
     #[inline]
@@ -269,6 +284,53 @@ impl crate::model::Model for Bourg {
             engine_running: controls.thrust_lb > 0.0,
             engine_rpm: 0.0,
             stalling: state.stalling,
+        }
+    }
+
+    /// The contact point is the centre of gravity (`position_ft`; the model
+    /// has no landing gear): `z` below 0 becomes 0, a downward `vz` becomes
+    /// 0, and the body-frame velocity is recomputed from the new earth-frame
+    /// one as the step does (`QVRotate(~orientation, velocity)`). Attitude and
+    /// rotation are left to the model. A crash stops it: linear and angular
+    /// velocities 0.
+    fn ground_contact(_aircraft: &BourgAircraft, state: &BourgState, crashed: bool) -> BourgState {
+        let mut s = *state;
+        if s.position_ft.z < 0.0 {
+            s.position_ft.z = 0.0;
+        }
+        if s.velocity_ftps.z < 0.0 {
+            s.velocity_ftps.z = 0.0;
+        }
+        if crashed {
+            s.velocity_ftps = Vector3::zeros();
+            s.angular_velocity_radps = Vector3::zeros();
+        }
+        s.velocity_body_ftps = ops::qv_rotate(&ops::conjugate(&s.orientation), &s.velocity_ftps);
+        s
+    }
+
+    fn state_at(
+        _aircraft: &BourgAircraft,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<BourgState, crate::start::StartError> {
+        state_at(conditions)
+    }
+
+    fn trim(
+        aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<crate::start::Trimmed<BourgControls, BourgState>, crate::start::StartError> {
+        trim(aircraft, controls, conditions)
+    }
+
+    fn at_rest(state: &BourgState, dt: f32) -> BourgState {
+        BourgState {
+            time_s: state.time_s + f64::from(dt),
+            velocity_ftps: Vector3::zeros(),
+            velocity_body_ftps: Vector3::zeros(),
+            angular_velocity_radps: Vector3::zeros(),
+            ..*state
         }
     }
 }

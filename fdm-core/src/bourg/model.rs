@@ -317,7 +317,7 @@ pub fn loads<F: BourgFloat>(
             }
             7 => d * F::HALF * q_area,
             _ => {
-                let (cl, cd) = airfoil_coefficients(a, controls.element_flap(i, element));
+                let (cl, cd) = controls.elevator_coefficients(i, element, a);
                 if i <= 3 && cl == F::ZERO {
                     stalling = true;
                 }
@@ -441,7 +441,7 @@ pub enum StepError {
         /// The field, e.g. `"angular_velocity"`.
         field: &'static str,
     },
-    /// A control value (thrust or rudder) is NaN or infinite.
+    /// A control value (thrust, rudder or pitch trim) is NaN or infinite.
     NonFiniteControls,
     /// `dt` is NaN, infinite, zero or negative.
     InvalidTimeStep,
@@ -484,7 +484,10 @@ pub fn try_step<F: BourgFloat>(
     if let Some(field) = state.first_non_finite() {
         return Err(StepError::NonFiniteState { field });
     }
-    if !(F::is_finite(controls.thrust_lb) && F::is_finite(controls.rudder_deg)) {
+    if !(F::is_finite(controls.thrust_lb)
+        && F::is_finite(controls.rudder_deg)
+        && F::is_finite(controls.pitch_trim))
+    {
         return Err(StepError::NonFiniteControls);
     }
     if !(F::is_finite(dt) && dt > F::ZERO) {

@@ -40,6 +40,7 @@ mod controls;
 mod dynamics;
 mod landing;
 mod state;
+mod trim;
 
 pub use aircraft::{AircraftError, PalmerAircraft};
 pub use controls::{
@@ -51,6 +52,7 @@ pub use landing::{
     landing_state, FlightPhase, LandingState, ROUGH_LANDING_VZ_MPS, SAFE_LANDING_VZ_MPS,
 };
 pub use state::{compass_from_heading_deg, flight_data, FlightData, PalmerState};
+pub use trim::{state_at, trim};
 
 /// A discrete control input of the Palmer model: one key press (thesis
 /// appendix B) or one script action.
@@ -186,8 +188,10 @@ impl crate::model::Model for Palmer {
         try_step(aircraft, controls, state, dt)
     }
 
+    /// The state and its airspeed (which overflows first, for speeds above
+    /// about 1e154 m/s).
     fn is_finite(state: &PalmerState) -> bool {
-        state.is_finite()
+        state.is_finite() && state.airspeed_mps().is_finite()
     }
 
     #[inline]
@@ -240,6 +244,51 @@ impl crate::model::Model for Palmer {
                 0.0
             },
             stalling: false,
+        }
+    }
+
+    /// The contact point is the point mass itself: `z` below 0 becomes 0
+    /// and a downward `vz` becomes 0; `vx`, `vy` are kept (the aircraft rolls
+    /// on, slowed by drag only: the model has no wheel friction). A crash
+    /// stops it: every velocity 0.
+    fn ground_contact(
+        _aircraft: &PalmerAircraft,
+        state: &PalmerState,
+        crashed: bool,
+    ) -> PalmerState {
+        let mut s = *state;
+        if s.position_m.z < 0.0 {
+            s.position_m.z = 0.0;
+        }
+        if s.velocity_mps.z < 0.0 {
+            s.velocity_mps.z = 0.0;
+        }
+        if crashed {
+            s.velocity_mps = nalgebra::Vector3::zeros();
+        }
+        s
+    }
+
+    fn state_at(
+        _aircraft: &PalmerAircraft,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<PalmerState, crate::start::StartError> {
+        state_at(conditions)
+    }
+
+    fn trim(
+        aircraft: &PalmerAircraft,
+        controls: &PalmerControls,
+        conditions: &crate::start::InitialConditions,
+    ) -> Result<crate::start::Trimmed<PalmerControls, PalmerState>, crate::start::StartError> {
+        trim(aircraft, controls, conditions)
+    }
+
+    fn at_rest(state: &PalmerState, dt: f64) -> PalmerState {
+        PalmerState {
+            time_s: state.time_s + dt,
+            position_m: state.position_m,
+            velocity_mps: nalgebra::Vector3::zeros(),
         }
     }
 }

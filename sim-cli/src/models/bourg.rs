@@ -22,6 +22,10 @@ pub struct BourgDetails {
     pub flaps: bool,
     /// Any wing element past its stall angle on the last step.
     pub stalling: bool,
+    /// The persistent pitch trim, −1..=1 (an extension of the model; 0
+    /// unless trimmed or moved with T/G). Absent in older reports.
+    #[serde(default)]
+    pub pitch_trim: f64,
 }
 
 impl Details for BourgDetails {
@@ -36,6 +40,7 @@ impl Details for BourgDetails {
         "thrust_lb",
         "flaps",
         "stalling",
+        "pitch_trim",
     ];
 
     fn csv_values(&self, out: &mut Vec<f64>) {
@@ -45,30 +50,35 @@ impl Details for BourgDetails {
             self.thrust_lb,
             f64::from(u8::from(self.flaps)),
             f64::from(u8::from(self.stalling)),
+            self.pitch_trim,
         ]);
     }
 
     fn summary(&self) -> String {
         format!(
-            "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}",
+            "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}  pitch trim {:.3}",
             self.speed,
             self.thrust_lb,
             if self.flaps { "down" } else { "up" },
             if self.stalling { "yes" } else { "no" },
+            self.pitch_trim,
         )
     }
 
     fn hud_controls(&self) -> String {
         format!(
-            "THRUST {:4.0} lb   FLAPS {}",
+            "THRUST {:4.0} lb   FLAPS {}   TRIM {:+.2}",
             self.thrust_lb,
-            if self.flaps { "down" } else { "up" }
+            if self.flaps { "down" } else { "up" },
+            self.pitch_trim
         )
     }
 }
 
 impl CliModel for Bourg {
     type Details = BourgDetails;
+
+    type Lanes = fdm_fleet::BourgFleet;
 
     const FG_AIRCRAFT: &'static str = "ufo";
 
@@ -95,13 +105,14 @@ impl CliModel for Bourg {
             thrust_lb: f64::from(controls.thrust_lb),
             flaps: controls.landing_flaps,
             stalling: state.stalling,
+            pitch_trim: f64::from(controls.pitch_trim),
         }
     }
 }
 
 impl KeyAction for BourgAction {
     const KEY_HELP: &'static str =
-        "E/D thrust  Down/Up pitch up/down  Left/Right roll  N/M yaw  K flaps down  L flaps up";
+        "E/D thrust  Down/Up pitch up/down  T/G trim nose up/down  Left/Right roll  N/M yaw  K/L flaps down/up";
 
     fn from_key(code: KeyCode) -> Option<Self> {
         Some(match (code, letter(code)) {
@@ -115,6 +126,8 @@ impl KeyAction for BourgAction {
             (_, Some('m')) => Self::YawRight,
             (_, Some('k')) => Self::FlapsDown,
             (_, Some('l')) => Self::FlapsUp,
+            (_, Some('t')) => Self::TrimNoseUp,
+            (_, Some('g')) => Self::TrimNoseDown,
             _ => return None,
         })
     }

@@ -45,6 +45,10 @@ pub trait CliModel: Model<Action: KeyAction> {
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
 
+    /// The model's structure-of-arrays fleet kernel (`sim-cli fleet
+    /// --kernel lanes`).
+    type Lanes: fdm_fleet::LaneFleet<Model = Self>;
+
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;
 

@@ -92,6 +92,8 @@ impl Details for PalmerDetails {
 impl CliModel for Palmer {
     type Details = PalmerDetails;
 
+    type Lanes = fdm_fleet::PalmerFleet;
+
     const FG_AIRCRAFT: &'static str = "c172p";
 
     const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;

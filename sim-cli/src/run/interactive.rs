@@ -218,7 +218,7 @@ pub fn run_interactive<F: Flight, W: Write>(
             },
             F::Action::KEY_HELP,
         );
-        hud.draw(&mut out, &render_hud(&data), width, height)
+        hud.draw(&mut out, &render_hud(&data, width), width, height)
             .context("drawing the HUD")?;
         let sleep = pacer.finish_frame(Instant::now());
         if !sleep.is_zero() {

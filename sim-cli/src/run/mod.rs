@@ -12,6 +12,7 @@ use anyhow::Context as _;
 use fdm_core::script::Script;
 
 use crate::config::{Mode, RunConfig};
+use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::keys::KeyAction;
@@ -102,6 +103,8 @@ pub fn fly<F: Flight>(
         fg,
         origin: _,
         dis: _,
+        // Taken by `run_model`, which wraps the flight (crate::plot::fly_plotted).
+        plot: _,
     } = run;
     match mode {
         Mode::Headless {
@@ -110,7 +113,7 @@ pub fn fly<F: Flight>(
             realtime,
         } => {
             let mut progress = StderrProgress::new(frames);
-            let mut report = run_headless(
+            let report = run_headless(
                 &mut flight,
                 script,
                 fps,
@@ -118,7 +121,12 @@ pub fn fly<F: Flight>(
                 realtime,
                 csv.as_mut(),
                 &mut progress,
-            )?;
+            );
+            // The rows written so far are kept and flushed, even when the run
+            // stopped early (e.g. the model diverged on the next frame).
+            let finished = csv.map(CsvWriter::finish).transpose();
+            let mut report = report?;
+            finished?;
             if fg.is_some() {
                 report.fg = flight.link_stats().map(|l| LinkReport {
                     sent: l.sent,
@@ -126,9 +134,6 @@ pub fn fly<F: Flight>(
                 });
             }
             report.dis = flight.dis_report();
-            if let Some(csv) = csv {
-                csv.finish()?;
-            }
             let text = if json {
                 report.to_json().context("encoding the JSON report")?
             } else {
@@ -137,10 +142,10 @@ pub fn fly<F: Flight>(
             print_stdout(&text)
         }
         Mode::Interactive => {
-            let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut())?;
-            if let Some(csv) = csv {
-                csv.finish()?;
-            }
+            let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut());
+            let finished = csv.map(CsvWriter::finish).transpose();
+            let summary = summary?;
+            finished?;
             if let Some(message) = &summary.link_failure {
                 eprintln!("{}", link_warning(message));
             }
@@ -162,7 +167,6 @@ pub fn fly<F: Flight>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::csv::CsvWriter;
     use crate::keys::{AppCommand, Input};
     use crate::models::palmer::PalmerDetails;
     use crate::snapshot::samples;

@@ -1,0 +1,193 @@
+//! Aircraft-steps per second of fleets: the scalar step in a loop over an array
+//! of (state, controls) against `PalmerFleet` in `exact` and `fast` precision
+//! (group `palmer_fleet`) and against `BourgFleet` (group `bourg_fleet`, 1/30 s
+//! steps), at 1,000 / 100,000 / 1,000,000 aircraft, on 1 and 2 threads.
+//!
+//! Every benchmark steps the whole fleet once per iteration (throughput in
+//! aircraft-steps); the fleets keep flying from one iteration to the next. One
+//! thread runs without rayon (`step` and a plain loop); two threads run the
+//! rayon versions (`par_step`, `par_iter_mut`) inside a 2-thread pool.
+//!
+//! ```sh
+//! cargo bench -p fdm-fleet --bench fleet_kernels -- --warm-up-time 1 --measurement-time 3
+//! ```
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_fleet::bourg::BourgFleet;
+use fdm_fleet::palmer::{PalmerFleet, Precision};
+use rayon::prelude::*;
+
+const CESSNA: PalmerAircraft = PalmerAircraft::cessna_172();
+const DT: f64 = 0.1;
+
+/// A deterministic mix of take-off rolls from rest (on the ground, with ground
+/// effect) and climbing aircraft at 50 to 2,000 m, every one with its own
+/// controls.
+fn members(n: usize) -> Vec<(PalmerState, PalmerControls)> {
+    let mut seed = 0x5EED_u64;
+    let mut unit = move || {
+        seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = seed;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        #[allow(clippy::cast_precision_loss)] // 53 random bits, exact
+        let u = ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64;
+        u
+    };
+    (0..n)
+        .map(|i| {
+            let controls = PalmerControls {
+                throttle: 0.5 + 0.5 * unit(),
+                alpha_deg: 2.0 + 6.0 * unit(),
+                bank_deg: -10.0 + 20.0 * unit(),
+                flaps: [Flaps::Up, Flaps::Deg20][i % 2],
+            };
+            let mut state = PalmerState::at_rest();
+            if i % 4 != 0 {
+                state.position_m.z = 50.0 + 1950.0 * unit();
+                state.velocity_mps.x = 30.0 + 20.0 * unit();
+                state.velocity_mps.y = -10.0 + 20.0 * unit();
+            }
+            (state, controls)
+        })
+        .collect()
+}
+
+fn pools() -> Vec<(usize, rayon::ThreadPool)> {
+    [1, 2]
+        .into_iter()
+        .map(|t| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .expect("thread pool");
+            (t, pool)
+        })
+        .collect()
+}
+
+/// Bourg aircraft from the reference start, each with its own thrust and
+/// surfaces (held), so they spread over climbs, dives and turns.
+fn bourg_members(n: usize) -> Vec<(BourgState, BourgControls)> {
+    let actions = [
+        BourgAction::PitchUp,
+        BourgAction::PitchDown,
+        BourgAction::RollLeft,
+        BourgAction::RollRight,
+        BourgAction::FlapsDown,
+    ];
+    (0..n)
+        .map(|i| {
+            let mut c = BourgControls::initial();
+            for _ in 0..(i % 10) {
+                c = c.apply(BourgAction::ThrustUp);
+            }
+            (BourgState::initial(), c.apply(actions[i % actions.len()]))
+        })
+        .collect()
+}
+
+fn bench_bourg(c: &mut Criterion) {
+    const DT_BOURG: f32 = 1.0 / 30.0;
+    let aircraft = BourgAircraft::bourg_default();
+    let pools = pools();
+    let mut group = c.benchmark_group("bourg_fleet");
+    group.sample_size(10);
+    for n in [1_000, 100_000, 1_000_000] {
+        let members = bourg_members(n);
+        group.throughput(Throughput::Elements(n as u64));
+        for (threads, pool) in &pools {
+            let threads = *threads;
+            let id = |what: &str| BenchmarkId::new(format!("{what}/{threads}t"), n);
+            let mut scalar = members.clone();
+            group.bench_function(id("scalar"), |b| {
+                if threads == 1 {
+                    b.iter(|| {
+                        for (s, c) in &mut scalar {
+                            *s = bourg::step(&aircraft, c, s, DT_BOURG);
+                        }
+                    });
+                } else {
+                    b.iter(|| {
+                        pool.install(|| {
+                            scalar.par_iter_mut().with_min_len(256).for_each(|(s, c)| {
+                                *s = bourg::step(&aircraft, c, s, DT_BOURG);
+                            });
+                        });
+                    });
+                }
+                black_box(&scalar);
+            });
+            let mut fleet = BourgFleet::new(aircraft);
+            for (s, c) in &members {
+                fleet.push(*s, *c);
+            }
+            group.bench_function(id("exact"), |b| {
+                if threads == 1 {
+                    b.iter(|| fleet.step(DT_BOURG));
+                } else {
+                    b.iter(|| pool.install(|| fleet.par_step(DT_BOURG)));
+                }
+            });
+            black_box(&fleet);
+        }
+    }
+    group.finish();
+}
+
+fn bench(c: &mut Criterion) {
+    let pools = pools();
+    let mut group = c.benchmark_group("palmer_fleet");
+    group.sample_size(10);
+    for n in [1_000, 100_000, 1_000_000] {
+        let members = members(n);
+        group.throughput(Throughput::Elements(n as u64));
+        for (threads, pool) in &pools {
+            let threads = *threads;
+            let id = |what: &str| BenchmarkId::new(format!("{what}/{threads}t"), n);
+
+            let mut scalar = members.clone();
+            group.bench_function(id("scalar"), |b| {
+                if threads == 1 {
+                    b.iter(|| {
+                        for (s, c) in &mut scalar {
+                            *s = step(&CESSNA, c, s, DT);
+                        }
+                    });
+                } else {
+                    b.iter(|| {
+                        pool.install(|| {
+                            scalar.par_iter_mut().with_min_len(256).for_each(|(s, c)| {
+                                *s = step(&CESSNA, c, s, DT);
+                            });
+                        });
+                    });
+                }
+                black_box(&scalar);
+            });
+
+            for precision in [Precision::Exact, Precision::Fast] {
+                let mut fleet =
+                    PalmerFleet::from_states(CESSNA, members.iter().copied()).expect("fleet");
+                group.bench_function(id(precision.name()), |b| {
+                    if threads == 1 {
+                        b.iter(|| fleet.step(DT, precision));
+                    } else {
+                        b.iter(|| pool.install(|| fleet.par_step(DT, precision)));
+                    }
+                });
+                let finite = fleet.states().filter(PalmerState::is_finite).count();
+                assert_eq!(finite, n, "a benchmark fleet went non-finite");
+                black_box(&fleet);
+            }
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_bourg);
+criterion_main!(benches);

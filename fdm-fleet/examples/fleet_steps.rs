@@ -1,0 +1,86 @@
+//! Steps a Palmer fleet for profiling (`perf record`, `valgrind --tool=callgrind`):
+//!
+//! ```sh
+//! cargo run --release -p fdm-fleet --example fleet_steps -- fast 10000 100
+//! ```
+//!
+//! Arguments: `scalar`, `exact`, `fast`, `exact-baseline` or `fast-baseline`
+//! (Palmer), `bourg-scalar` or `bourg` (Bourg, 1/30 s steps);
+//! the number of aircraft; the number of steps. Prints the instruction set and
+//! a checksum of the final positions (so the work cannot be optimised away).
+
+use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::palmer::{step, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_fleet::bourg::BourgFleet;
+use fdm_fleet::palmer::{PalmerFleet, Precision};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let what = args.first().map_or("fast", String::as_str);
+    let n: usize = args.get(1).map_or(Ok(10_000), |s| s.parse())?;
+    let steps: usize = args.get(2).map_or(Ok(100), |s| s.parse())?;
+    let cessna = PalmerAircraft::cessna_172();
+    let controls = PalmerControls {
+        throttle: 1.0,
+        alpha_deg: 4.0,
+        bank_deg: 5.0,
+        ..PalmerControls::default()
+    };
+    let mut start = PalmerState::at_rest();
+    start.position_m.z = 500.0;
+    start.velocity_mps.x = 40.0;
+    let checksum: f64 = if what.starts_with("bourg") {
+        let aircraft = BourgAircraft::bourg_default();
+        let controls = BourgControls::initial()
+            .apply(BourgAction::ThrustUp)
+            .apply(BourgAction::PitchUp);
+        let dt = 1.0_f32 / 30.0;
+        let states: Vec<BourgState> = if what == "bourg-scalar" {
+            let mut states = vec![BourgState::initial(); n];
+            for _ in 0..steps {
+                for s in &mut states {
+                    *s = bourg::step(&aircraft, &controls, s, dt);
+                }
+            }
+            states
+        } else {
+            let mut fleet = BourgFleet::new(aircraft);
+            for _ in 0..n {
+                fleet.push(BourgState::initial(), controls);
+            }
+            for _ in 0..steps {
+                fleet.step(dt);
+            }
+            fleet.states().collect()
+        };
+        states.iter().map(|s| f64::from(s.position_ft.z)).sum()
+    } else if what == "scalar" {
+        let mut states = vec![start; n];
+        for _ in 0..steps {
+            for s in &mut states {
+                *s = step(&cessna, &controls, s, 0.1);
+            }
+        }
+        states.iter().map(|s| s.position_m.z).sum()
+    } else {
+        let (precision, baseline) = match what {
+            "exact" => (Precision::Exact, false),
+            "fast" => (Precision::Fast, false),
+            "exact-baseline" => (Precision::Exact, true),
+            "fast-baseline" => (Precision::Fast, true),
+            other => return Err(format!("unknown kernel `{other}`").into()),
+        };
+        let mut fleet = PalmerFleet::from_states(cessna, vec![(start, controls); n])?;
+        println!("instruction set: {}", fleet.instruction_set());
+        for _ in 0..steps {
+            if baseline {
+                fleet.step_baseline(0.1, precision);
+            } else {
+                fleet.step(0.1, precision);
+            }
+        }
+        fleet.states().map(|s| s.position_m.z).sum()
+    };
+    println!("{what}: {n} aircraft, {steps} steps, checksum {checksum}");
+    Ok(())
+}

@@ -1,0 +1,834 @@
+//! Plots of a flight: `--plot FILE.svg` on any `sim-cli palmer|bourg` run
+//! (headless or interactive, with or without `--script`) and
+//! `sim-cli plot FILE.csv -o FILE.svg` for a CSV written earlier with `--csv`.
+//!
+//! One SVG with six panels against simulated time or position: height above
+//! the ground plane (ft), airspeed (kt), roll and pitch (deg), heading (deg),
+//! the flight status, and the ground track (north against east, m). Drawn with
+//! `plotters`' SVG backend only, so no font or bitmap system library is needed
+//! (text is left to the SVG viewer's fonts).
+//!
+//! A run's samples are collected by [`Plotted`], a [`Flight`] wrapper that
+//! records one [`PlotSample`] for the initial state, after every step and
+//! after every reset; the run loops do not know about it. A CSV gives the same
+//! samples ([`trace_from_csv`]); the status, which the CSV does not hold, is
+//! recomputed row by row with [`FlightStatus::update`] from the height and the
+//! climb rate exactly as the simulation computes it.
+//!
+//! After a reset (interactive R key, or a CSV row with frame 0 after the first)
+//! time starts again at 0: each such segment is drawn as its own line.
+
+use std::fs::File;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+use fdm_core::bourg::Bourg;
+use fdm_core::model::{FlightStatus, Model};
+use fdm_core::palmer::Palmer;
+use fdm_core::script::Script;
+use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::config::RunConfig;
+use crate::error::CliError;
+use crate::hud::{status_label, LinkStats};
+use crate::models::Details;
+use crate::run::{fly, Flight};
+use crate::snapshot::Snapshot;
+
+/// The plotted quantities at one instant, in SI units (converted for display
+/// when drawn).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlotSample {
+    /// Simulated time, s.
+    pub time_s: f64,
+    /// Height above the ground plane through the origin, m.
+    pub height_m: f64,
+    /// Airspeed, m/s.
+    pub airspeed_mps: f64,
+    /// Roll as sent to FlightGear, degrees, right wing down positive.
+    pub roll_deg: f64,
+    /// Pitch as sent to FlightGear, degrees, nose up positive.
+    pub pitch_deg: f64,
+    /// Heading as sent to FlightGear, degrees clockwise from north.
+    pub heading_deg: f64,
+    /// Distance north of the origin, m.
+    pub north_m: f64,
+    /// Distance east of the origin, m.
+    pub east_m: f64,
+    /// Flight status.
+    pub status: FlightStatus,
+    /// Whether the model reports a stall.
+    pub stalling: bool,
+}
+
+impl PlotSample {
+    /// The sample of a snapshot.
+    #[must_use]
+    pub fn from_snapshot<D: Details>(s: &Snapshot<D>) -> Self {
+        let scale = Snapshot::<D>::metres_per_unit();
+        let c = &s.common;
+        Self {
+            time_s: c.time_s,
+            height_m: s.height_m(),
+            airspeed_mps: s.airspeed_mps,
+            roll_deg: c.attitude_deg.roll,
+            pitch_deg: c.attitude_deg.pitch,
+            heading_deg: c.attitude_deg.heading,
+            north_m: c.position[0] * scale,
+            east_m: -c.position[1] * scale,
+            status: s.status,
+            stalling: s.stalling,
+        }
+    }
+}
+
+/// A flight to plot: a title and its samples in order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Trace {
+    /// Shown above the panels.
+    pub title: String,
+    /// The samples, in the order they were taken.
+    pub samples: Vec<PlotSample>,
+}
+
+/// A [`Flight`] that records a [`PlotSample`] of the wrapped flight at
+/// creation, after every step and after every reset.
+#[derive(Debug)]
+pub struct Plotted<F> {
+    inner: F,
+    trace: Trace,
+}
+
+impl<F: Flight> Plotted<F> {
+    /// Wraps `inner` and records its initial state.
+    pub fn new(inner: F) -> Self {
+        let first = PlotSample::from_snapshot(&inner.snapshot());
+        Self {
+            inner,
+            trace: Trace {
+                title: F::TITLE.to_owned(),
+                samples: vec![first],
+            },
+        }
+    }
+
+    /// The samples so far.
+    #[must_use]
+    pub fn trace(&self) -> &Trace {
+        &self.trace
+    }
+
+    fn record(&mut self) {
+        let sample = PlotSample::from_snapshot(&self.inner.snapshot());
+        self.trace.samples.push(sample);
+    }
+}
+
+impl<F: Flight> Flight for Plotted<F> {
+    type Action = F::Action;
+    type Details = F::Details;
+
+    const TITLE: &'static str = F::TITLE;
+
+    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
+        self.inner.step(actions)?;
+        self.record();
+        Ok(())
+    }
+
+    fn reset(&mut self) -> anyhow::Result<()> {
+        self.inner.reset()?;
+        self.record();
+        Ok(())
+    }
+
+    fn snapshot(&self) -> Snapshot<Self::Details> {
+        self.inner.snapshot()
+    }
+
+    fn link_stats(&self) -> Option<LinkStats> {
+        self.inner.link_stats()
+    }
+
+    fn take_link_failure(&mut self) -> Option<String> {
+        self.inner.take_link_failure()
+    }
+
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        self.inner.dis_report()
+    }
+}
+
+/// Lets the loops fly a borrowed flight, so the caller keeps it afterwards.
+impl<F: Flight> Flight for &mut F {
+    type Action = F::Action;
+    type Details = F::Details;
+
+    const TITLE: &'static str = F::TITLE;
+
+    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
+        (**self).step(actions)
+    }
+
+    fn reset(&mut self) -> anyhow::Result<()> {
+        (**self).reset()
+    }
+
+    fn snapshot(&self) -> Snapshot<Self::Details> {
+        (**self).snapshot()
+    }
+
+    fn link_stats(&self) -> Option<LinkStats> {
+        (**self).link_stats()
+    }
+
+    fn take_link_failure(&mut self) -> Option<String> {
+        (**self).take_link_failure()
+    }
+
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        (**self).dis_report()
+    }
+}
+
+/// The `--plot` output file, created before the run so that an unwritable path
+/// is a usage error (exit status 2) and nothing has been simulated.
+#[derive(Debug)]
+pub struct PlotFile {
+    path: PathBuf,
+    file: File,
+}
+
+impl PlotFile {
+    /// Creates (truncates) `path`.
+    ///
+    /// # Errors
+    /// [`CliError::Usage`] naming the path and the OS reason.
+    pub fn create(path: &Path) -> Result<Self, CliError> {
+        let file = File::create(path).map_err(|e| {
+            CliError::usage(format!("cannot create plot file {}: {e}", path.display()))
+        })?;
+        Ok(Self {
+            path: path.to_owned(),
+            file,
+        })
+    }
+
+    /// Draws `trace` and writes the SVG.
+    ///
+    /// # Errors
+    /// [`CliError::Runtime`] if drawing or writing fails.
+    pub fn write(mut self, trace: &Trace) -> Result<(), CliError> {
+        let svg = render_svg(trace)?;
+        self.file
+            .write_all(svg.as_bytes())
+            .and_then(|()| self.file.flush())
+            .with_context(|| format!("writing plot file {}", self.path.display()))?;
+        Ok(())
+    }
+}
+
+/// Flies `flight` as [`fly`] does while recording it, then writes the plot,
+/// also when the run stopped on an error (the plot shows the flight up to the
+/// failing frame; the run's error is returned).
+///
+/// # Errors
+/// The run's error, else a failure to write the plot.
+pub fn fly_plotted<F: Flight>(
+    flight: F,
+    script: &Script<F::Action>,
+    run: RunConfig,
+    plot: PlotFile,
+) -> Result<(), CliError> {
+    let mut plotted = Plotted::new(flight);
+    let result = fly(&mut plotted, script, run);
+    let written = plot.write(plotted.trace());
+    result.and(written)
+}
+
+/// The status levels of the status panel, bottom to top.
+const STATUS_LEVELS: [&str; 6] = [
+    "on ground",
+    "flying",
+    "STALL",
+    "landed (safe)",
+    "landed (rough)",
+    "CRASHED",
+];
+
+fn status_level(sample: &PlotSample) -> i32 {
+    let label = status_label(sample.status, sample.stalling);
+    STATUS_LEVELS
+        .iter()
+        .position(|&l| l == label)
+        .and_then(|i| i32::try_from(i).ok())
+        .unwrap_or(0)
+}
+
+/// Splits `samples` where time goes backwards (a reset).
+fn segments(samples: &[PlotSample]) -> Vec<&[PlotSample]> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for i in 1..samples.len() {
+        if samples[i].time_s < samples[i - 1].time_s {
+            out.push(&samples[start..i]);
+            start = i;
+        }
+    }
+    if start < samples.len() {
+        out.push(&samples[start..]);
+    }
+    out
+}
+
+/// The heading series of a segment made continuous: a step of more than
+/// 180° is taken as a pass through north, so a turn through 360° climbs past 360
+/// instead of jumping back to 0 (and a heading dithering around north stays near 0).
+fn unwrapped_headings(samples: &[PlotSample]) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(samples.len());
+    let mut offset = 0.0;
+    let mut previous: Option<f64> = None;
+    for s in samples {
+        if let Some(p) = previous {
+            let step = s.heading_deg - p;
+            if step > 180.0 {
+                offset -= 360.0;
+            } else if step < -180.0 {
+                offset += 360.0;
+            }
+        }
+        if s.heading_deg.is_finite() {
+            previous = Some(s.heading_deg);
+        }
+        out.push((s.time_s, s.heading_deg + offset));
+    }
+    out
+}
+
+/// [`padded_range`] at least `min_span` wide (centred), so that numerical
+/// noise around a constant (a heading dithering by 0.001°) is not magnified
+/// to fill the panel.
+fn range_at_least(values: impl Iterator<Item = f64>, min_span: f64) -> std::ops::Range<f64> {
+    let r = padded_range(values);
+    if r.end - r.start >= min_span {
+        return r;
+    }
+    let mid = (r.start + r.end) / 2.0;
+    (mid - min_span / 2.0)..(mid + min_span / 2.0)
+}
+
+/// `lo..hi` of the finite values, padded by 5 % (or ±1 around a constant).
+fn padded_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !lo.is_finite() {
+        return 0.0..1.0;
+    }
+    let pad = if hi - lo > 0.0 { (hi - lo) * 0.05 } else { 1.0 };
+    (lo - pad)..(hi + pad)
+}
+
+fn draw_error(e: impl std::fmt::Display) -> CliError {
+    CliError::runtime(format!("drawing the plot: {e}"))
+}
+
+/// One time-series panel: `series` are (legend, colour, value of a sample).
+type Series<'a> = (&'a str, RGBColor, fn(&PlotSample) -> f64);
+
+/// A panel of `series` against time; the y axis spans at least `min_span`.
+fn time_panel(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    trace: &Trace,
+    (caption, y_desc, min_span): (&str, &str, f64),
+    series: &[Series<'_>],
+) -> Result<(), CliError> {
+    let samples = &trace.samples;
+    let x = padded_range(samples.iter().map(|s| s.time_s));
+    let values = series.iter().flat_map(|(_, _, f)| samples.iter().map(*f));
+    let mut y = range_at_least(values, min_span);
+    if series.len() > 1 {
+        // Headroom for the legend in the upper right corner.
+        y.end += (y.end - y.start) * 0.3;
+    }
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x, y)
+        .map_err(draw_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_desc(y_desc)
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(draw_error)?;
+    for &(label, colour, value) in series {
+        for (i, segment) in segments(samples).into_iter().enumerate() {
+            let drawn = chart
+                .draw_series(LineSeries::new(
+                    segment.iter().map(|s| (s.time_s, value(s))),
+                    colour.stroke_width(2),
+                ))
+                .map_err(draw_error)?;
+            if i == 0 && series.len() > 1 {
+                drawn.label(label).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+            }
+        }
+    }
+    if series.len() > 1 {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(draw_error)?;
+    }
+    Ok(())
+}
+
+fn heading_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Result<(), CliError> {
+    let samples = &trace.samples;
+    let runs: Vec<Vec<(f64, f64)>> = segments(samples)
+        .into_iter()
+        .map(unwrapped_headings)
+        .collect();
+    let x = padded_range(samples.iter().map(|s| s.time_s));
+    let y = range_at_least(runs.iter().flatten().map(|&(_, h)| h), 10.0);
+    let mut chart = ChartBuilder::on(area)
+        .caption("Heading", ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x, y)
+        .map_err(draw_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_desc("heading (deg true, unwrapped)")
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(draw_error)?;
+    for run in runs {
+        chart
+            .draw_series(LineSeries::new(run, MAGENTA.stroke_width(2)))
+            .map_err(draw_error)?;
+    }
+    Ok(())
+}
+
+fn status_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Result<(), CliError> {
+    let samples = &trace.samples;
+    let x = padded_range(samples.iter().map(|s| s.time_s));
+    let top = i32::try_from(STATUS_LEVELS.len()).unwrap_or(6);
+    let mut chart = ChartBuilder::on(area)
+        .caption("Status", ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(110)
+        .build_cartesian_2d(x, -1..top)
+        .map_err(draw_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_labels(STATUS_LEVELS.len() + 1)
+        .y_label_formatter(&|&level| {
+            usize::try_from(level)
+                .ok()
+                .and_then(|i| STATUS_LEVELS.get(i))
+                .map_or_else(String::new, |&l| l.to_owned())
+        })
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(draw_error)?;
+    for segment in segments(samples) {
+        // A step line: each status holds until the next sample.
+        let mut points = Vec::with_capacity(segment.len() * 2);
+        for (i, s) in segment.iter().enumerate() {
+            let level = status_level(s);
+            if i > 0 {
+                points.push((s.time_s, status_level(&segment[i - 1])));
+            }
+            points.push((s.time_s, level));
+        }
+        chart
+            .draw_series(LineSeries::new(points, BLACK.stroke_width(2)))
+            .map_err(draw_error)?;
+    }
+    Ok(())
+}
+
+fn track_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Result<(), CliError> {
+    let samples = &trace.samples;
+    let mut east = padded_range(samples.iter().map(|s| s.east_m));
+    let mut north = padded_range(samples.iter().map(|s| s.north_m));
+    // Same scale on both axes (the panel is about as wide as high), so turns look round.
+    let span = (east.end - east.start).max(north.end - north.start);
+    let widen = |r: &mut std::ops::Range<f64>| {
+        let mid = (r.start + r.end) / 2.0;
+        *r = (mid - span / 2.0)..(mid + span / 2.0);
+    };
+    widen(&mut east);
+    widen(&mut north);
+    let mut chart = ChartBuilder::on(area)
+        .caption("Ground track", ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(70)
+        .build_cartesian_2d(east, north)
+        .map_err(draw_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("east of origin (m)")
+        .y_desc("north of origin (m)")
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(draw_error)?;
+    for (i, segment) in segments(samples).into_iter().enumerate() {
+        let drawn = chart
+            .draw_series(LineSeries::new(
+                segment.iter().map(|s| (s.east_m, s.north_m)),
+                BLUE.stroke_width(2),
+            ))
+            .map_err(draw_error)?;
+        if i == 0 {
+            drawn
+                .label("track")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+        }
+    }
+    if let Some(first) = samples.first() {
+        chart
+            .draw_series(std::iter::once(Circle::new(
+                (first.east_m, first.north_m),
+                5,
+                GREEN.filled(),
+            )))
+            .map_err(draw_error)?
+            .label("start")
+            .legend(|(x, y)| Circle::new((x + 10, y), 5, GREEN.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(draw_error)?;
+    Ok(())
+}
+
+/// Width and height of the SVG, pixels.
+pub const SVG_SIZE: (u32, u32) = (1200, 1260);
+
+/// Draws `trace` as one SVG document.
+///
+/// # Errors
+/// [`CliError::Runtime`] if there is nothing to plot or drawing fails.
+pub fn render_svg(trace: &Trace) -> Result<String, CliError> {
+    if trace.samples.is_empty() {
+        return Err(CliError::runtime("nothing to plot: no samples"));
+    }
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SVG_SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_error)?;
+        let times = trace.samples.iter().map(|s| s.time_s);
+        let first = times.clone().fold(f64::INFINITY, f64::min);
+        let last = times.fold(f64::NEG_INFINITY, f64::max);
+        let resets = match segments(&trace.samples).len().saturating_sub(1) {
+            0 => String::new(),
+            1 => ", 1 reset".to_owned(),
+            n => format!(", {n} resets"),
+        };
+        let title = format!(
+            "{}: {} samples, t = {first:.2} to {last:.2} s{resets}",
+            trace.title,
+            trace.samples.len()
+        );
+        let root = root
+            .titled(&title, ("sans-serif", 24))
+            .map_err(draw_error)?;
+        let panels = root.split_evenly((3, 2));
+        time_panel(
+            &panels[0],
+            trace,
+            ("Height above the ground plane", "height (ft)", 10.0),
+            &[("height (ft)", RED, |s| s.height_m / METRES_PER_FOOT)],
+        )?;
+        time_panel(
+            &panels[1],
+            trace,
+            ("Airspeed", "airspeed (kt)", 2.0),
+            &[("airspeed (kt)", BLUE, |s| s.airspeed_mps * KNOTS_PER_MPS)],
+        )?;
+        time_panel(
+            &panels[2],
+            trace,
+            ("Attitude", "angle (deg)", 10.0),
+            &[
+                ("roll (deg, right wing down +)", RED, |s| s.roll_deg),
+                ("pitch (deg, nose up +)", BLUE, |s| s.pitch_deg),
+            ],
+        )?;
+        heading_panel(&panels[3], trace)?;
+        status_panel(&panels[4], trace)?;
+        track_panel(&panels[5], trace)?;
+        root.present().map_err(draw_error)?;
+    }
+    Ok(svg)
+}
+
+/// Columns `trace_from_csv` reads, besides the model's speed column.
+const CSV_NEEDED: [&str; 8] = [
+    "frame",
+    "time_s",
+    "x",
+    "y",
+    "z",
+    "vz",
+    "roll_deg",
+    "pitch_deg",
+];
+
+/// Reads a CSV written by `--csv` back into a [`Trace`] titled `<model> from <name>`.
+///
+/// The model is recognised by its speed column: Palmer's `airspeed` (m/s,
+/// positions in metres) or Bourg's `speed` (ft/s, positions in feet). The status
+/// is the `status` column when there is one
+/// ([`crate::snapshot::status_from_number`]); in older files without it, it is
+/// recomputed from the rows: [`FlightStatus::initial`] at every frame 0 and
+/// [`FlightStatus::update`] after every other row, from the height and the climb
+/// rate in metres, as the simulation did before the ground contact; Bourg's
+/// `stalling` column gives the stall.
+///
+/// # Errors
+/// [`CliError::Usage`] naming `name` and the line for anything that is not such
+/// a CSV.
+pub fn trace_from_csv(text: &str, name: &str) -> Result<Trace, CliError> {
+    let bad = |line: usize, what: String| CliError::usage(format!("{name}:{line}: {what}"));
+    let mut lines = text.lines().enumerate();
+    let header: Vec<&str> = match lines.next() {
+        Some((_, h)) => h.trim_end_matches('\r').split(',').collect(),
+        None => return Err(CliError::usage(format!("{name}: empty CSV file"))),
+    };
+    let column = |wanted: &str| header.iter().position(|&c| c == wanted);
+    let mut index = [0usize; CSV_NEEDED.len()];
+    for (slot, wanted) in index.iter_mut().zip(CSV_NEEDED) {
+        *slot = column(wanted).ok_or_else(|| {
+            bad(
+                1,
+                format!("no `{wanted}` column: not a CSV written by sim-cli --csv"),
+            )
+        })?;
+    }
+    let [frame_i, time_i, x_i, y_i, z_i, vz_i, roll_i, pitch_i] = index;
+    let heading_i = column("fg_heading_deg");
+    let (speed_i, scale, model) = match (column("airspeed"), column("speed")) {
+        (Some(i), _) => (i, 1.0, Palmer::TITLE),
+        (None, Some(i)) => (i, METRES_PER_FOOT, Bourg::TITLE),
+        (None, None) => return Err(bad(
+            1,
+            "no `airspeed` (Palmer) or `speed` (Bourg) column: not a CSV written by sim-cli --csv"
+                .to_owned(),
+        )),
+    };
+    let stall_i = column("stalling");
+    let status_i = column("status");
+    let mut samples = Vec::new();
+    let mut status = FlightStatus::OnGround;
+    let mut values = Vec::with_capacity(header.len());
+    for (n, line) in lines {
+        let line_no = n + 1;
+        let line = line.trim_end_matches('\r');
+        if line.is_empty() {
+            continue;
+        }
+        values.clear();
+        for field in line.split(',') {
+            values.push(
+                field
+                    .trim()
+                    .parse::<f64>()
+                    .map_err(|_| bad(line_no, format!("`{field}` is not a number")))?,
+            );
+        }
+        if values.len() != header.len() {
+            return Err(bad(
+                line_no,
+                format!("{} fields, the header has {}", values.len(), header.len()),
+            ));
+        }
+        let height_m = values[z_i] * scale;
+        let recorded = status_i.map(|i| {
+            crate::snapshot::status_from_number(values[i])
+                .ok_or_else(|| bad(line_no, format!("`{}` is not a status number", values[i])))
+        });
+        status = match recorded {
+            Some(r) => r?.0,
+            None if values[frame_i] == 0.0 => FlightStatus::initial(height_m),
+            None => status.update(height_m, values[vz_i] * scale),
+        };
+        samples.push(PlotSample {
+            time_s: values[time_i],
+            height_m,
+            airspeed_mps: values[speed_i] * scale,
+            roll_deg: values[roll_i],
+            pitch_deg: values[pitch_i],
+            heading_deg: heading_i.map_or(f64::NAN, |i| values[i]),
+            north_m: values[x_i] * scale,
+            east_m: -values[y_i] * scale,
+            status,
+            stalling: stall_i.is_some_and(|i| values[i] != 0.0),
+        });
+    }
+    if samples.is_empty() {
+        return Err(CliError::usage(format!("{name}: no data rows to plot")));
+    }
+    Ok(Trace {
+        title: format!("{model} from {name}"),
+        samples,
+    })
+}
+
+/// `sim-cli plot FILE.csv -o FILE.svg`.
+///
+/// # Errors
+/// [`CliError::Usage`] for an unreadable or malformed CSV or an uncreatable
+/// output; [`CliError::Runtime`] if drawing or writing fails.
+pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
+    let text = std::fs::read_to_string(csv)
+        .map_err(|e| CliError::usage(format!("cannot read {}: {e}", csv.display())))?;
+    let name = csv.display().to_string();
+    let trace = trace_from_csv(&text, &name)?;
+    PlotFile::create(output)?.write(&trace)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::snapshot::samples;
+    use fdm_core::model::LandingState;
+
+    fn sample(time_s: f64, height_m: f64, status: FlightStatus) -> PlotSample {
+        PlotSample {
+            time_s,
+            height_m,
+            airspeed_mps: 50.0,
+            roll_deg: 1.0,
+            pitch_deg: 2.0,
+            heading_deg: 350.0 + time_s * 5.0,
+            north_m: time_s * 50.0,
+            east_m: 0.0,
+            status,
+            stalling: false,
+        }
+    }
+
+    #[test]
+    fn snapshot_samples_are_in_metres() {
+        let p = PlotSample::from_snapshot(&samples::palmer());
+        assert_eq!(
+            (p.north_m, p.east_m, p.height_m),
+            (1234.5678901234567, 0.1, 98.76)
+        );
+        let b = PlotSample::from_snapshot(&samples::bourg());
+        assert_eq!(b.height_m, 98.76 * METRES_PER_FOOT);
+        assert_eq!(b.airspeed_mps, samples::bourg().airspeed_mps);
+    }
+
+    #[test]
+    fn resets_split_segments_and_headings_split_at_north() {
+        let s = [
+            sample(0.0, 0.0, FlightStatus::OnGround),
+            sample(1.0, 1.0, FlightStatus::Airborne),
+            sample(2.0, 2.0, FlightStatus::Airborne),
+            sample(0.0, 0.0, FlightStatus::OnGround),
+        ];
+        let parts = segments(&s);
+        assert_eq!(parts.iter().map(|p| p.len()).collect::<Vec<_>>(), [3, 1]);
+        // 350 → 359 → 1 → 359: through north and back.
+        let mut wrap = s;
+        wrap[1].heading_deg = 359.0;
+        wrap[2].heading_deg = 1.0;
+        wrap[3] = PlotSample {
+            time_s: 3.0,
+            heading_deg: 359.0,
+            ..wrap[2]
+        };
+        let h: Vec<f64> = unwrapped_headings(&wrap).iter().map(|p| p.1).collect();
+        assert_eq!(h, [350.0, 359.0, 361.0, 359.0]);
+    }
+
+    #[test]
+    fn ranges_pad_and_keep_a_minimum_span() {
+        assert_eq!(padded_range([0.0, 10.0].into_iter()), -0.5..10.5);
+        assert_eq!(padded_range([3.0].into_iter()), 2.0..4.0);
+        assert_eq!(padded_range([f64::NAN].into_iter()), 0.0..1.0);
+        // A heading dithering by a thousandth of a degree is shown on 10°.
+        assert_eq!(range_at_least([-0.001, 0.001].into_iter(), 10.0), -5.0..5.0);
+        assert_eq!(range_at_least([0.0, 100.0].into_iter(), 10.0), -5.0..105.0);
+    }
+
+    #[test]
+    fn status_levels_cover_every_label() {
+        let mut s = sample(0.0, 0.0, FlightStatus::Landed(LandingState::Crash));
+        assert_eq!(status_level(&s), 5);
+        s.status = FlightStatus::Airborne;
+        s.stalling = true;
+        assert_eq!(status_level(&s), 2);
+    }
+
+    #[test]
+    fn csv_status_is_recomputed_like_the_simulation() {
+        // Palmer-like columns; climbs, then comes down at -6 m/s: a crash.
+        let csv = "frame,time_s,x,y,z,vx,vy,vz,roll_deg,pitch_deg,fg_heading_deg,airspeed\n\
+                   0,0,0,0,0,0,0,0,0,0,0,0\n\
+                   1,0.1,1,0,1,10,0,2,0,5,0,10\n\
+                   2,0.2,2,-1,-0.5,10,0,-6,0,-5,0,12\n\
+                   0,0,0,0,0,0,0,0,0,0,0,0\n";
+        let t = trace_from_csv(csv, "t.csv").unwrap();
+        let statuses: Vec<_> = t.samples.iter().map(|s| s.status).collect();
+        assert_eq!(
+            statuses,
+            [
+                FlightStatus::OnGround,
+                FlightStatus::Airborne,
+                FlightStatus::Landed(LandingState::Crash),
+                FlightStatus::OnGround
+            ]
+        );
+        assert_eq!(t.samples[2].east_m, 1.0);
+        assert_eq!(segments(&t.samples).len(), 2);
+        assert_eq!(t.title, "Palmer Cessna 172 from t.csv");
+    }
+
+    #[test]
+    fn bad_csv_is_a_usage_error_naming_the_line() {
+        let err = trace_from_csv("a,b\n1,2\n", "x.csv").unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        assert!(
+            err.to_string().starts_with("x.csv:1: no `frame` column"),
+            "{err}"
+        );
+        let csv = "frame,time_s,x,y,z,vz,roll_deg,pitch_deg,speed\n0,0,0,0,0,0,0,0,oops\n";
+        let err = trace_from_csv(csv, "x.csv").unwrap_err();
+        assert_eq!(err.to_string(), "x.csv:2: `oops` is not a number");
+        let err = trace_from_csv("", "x.csv").unwrap_err();
+        assert_eq!(err.to_string(), "x.csv: empty CSV file");
+    }
+
+    #[test]
+    fn empty_trace_is_an_error_not_a_panic() {
+        assert!(render_svg(&Trace::default()).is_err());
+    }
+}

@@ -1,0 +1,163 @@
+//! Starting in the air (docs/cli.md "Initial conditions and trim"):
+//! `--altitude-ft`, `--speed-kt`, `--heading-deg` and `--trim`
+//! ([`StartArgs`], shared by `palmer`, `bourg` and `fgfs-command`), turned
+//! into a model's start ([`start_for`]) through the library's
+//! [`Model::state_at`] and [`Model::trim`].
+//!
+//! Without any of them the start is exactly the thesis's
+//! ([`Model::initial_state`]). With some of them, the missing ones come from
+//! that start (Palmer: 0 ft, 0 kt, north; Bourg: 2000 ft, 60 ft/s, north).
+
+use clap::Args;
+use fdm_core::model::Model;
+use fdm_core::start::{InitialConditions, StartError, TrimReport};
+use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+
+use crate::config::Start;
+use crate::error::CliError;
+use crate::input::Echo;
+
+/// Highest accepted `--altitude-ft`: far above both models' ceilings (the
+/// atmosphere of Palmer's model ends near 145 000 ft).
+pub const MAX_ALTITUDE_FT: f64 = 100_000.0;
+/// Highest accepted `--speed-kt`.
+pub const MAX_SPEED_KT: f64 = 1000.0;
+
+/// Initial-condition options.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Args)]
+pub struct StartArgs {
+    /// Start this many feet above the origin (0..100000), flying level [default: the model's start]
+    #[arg(long, value_name = "FT", value_parser = parse_altitude_ft, allow_hyphen_values = true)]
+    pub altitude_ft: Option<f64>,
+
+    /// Start at this true airspeed, knots (0..1000) [default: the model's start]
+    #[arg(long, value_name = "KT", value_parser = parse_speed_kt, allow_hyphen_values = true)]
+    pub speed_kt: Option<f64>,
+
+    /// Start on this true heading, degrees clockwise from north [default: 0, north]
+    #[arg(long, value_name = "DEG", value_parser = parse_heading_deg, allow_hyphen_values = true)]
+    pub heading_deg: Option<f64>,
+
+    /// Start trimmed for steady level flight at the initial altitude and speed (sets Palmer's throttle and angle of attack, Bourg's thrust, pitch and pitch trim); prints what it found on stderr
+    #[arg(long)]
+    pub trim: bool,
+}
+
+fn parse_number(text: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{}` is not {what} in {lo}..{hi}",
+            Echo::short(text.trim())
+        )),
+    }
+}
+
+/// `--altitude-ft`: 0 to [`MAX_ALTITUDE_FT`].
+///
+/// # Errors
+/// A one-line message.
+pub fn parse_altitude_ft(text: &str) -> Result<f64, String> {
+    parse_number(text, 0.0, MAX_ALTITUDE_FT, "an altitude in feet")
+}
+
+/// `--speed-kt`: 0 to [`MAX_SPEED_KT`].
+///
+/// # Errors
+/// A one-line message.
+pub fn parse_speed_kt(text: &str) -> Result<f64, String> {
+    parse_number(text, 0.0, MAX_SPEED_KT, "a speed in knots")
+}
+
+/// `--heading-deg`: −360 to 360.
+///
+/// # Errors
+/// A one-line message.
+pub fn parse_heading_deg(text: &str) -> Result<f64, String> {
+    parse_number(text, -360.0, 360.0, "a heading in degrees")
+}
+
+impl StartArgs {
+    /// Whether the start is the thesis's (no option given).
+    #[must_use]
+    pub fn is_thesis(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The initial conditions: the options given, the rest from model `M`'s
+    /// own start (its height, its airspeed, north).
+    #[must_use]
+    pub fn conditions<M: Model>(&self, aircraft: &M::Aircraft) -> InitialConditions {
+        let view = M::view(aircraft, &M::initial_controls(), &M::initial_state());
+        InitialConditions {
+            altitude_m: self
+                .altitude_ft
+                .map_or(view.height_m(), |ft| ft * METRES_PER_FOOT),
+            speed_mps: self
+                .speed_kt
+                .map_or(view.airspeed_mps, |kt| kt / KNOTS_PER_MPS),
+            heading_deg: self.heading_deg.unwrap_or(0.0),
+        }
+    }
+}
+
+/// Model `M`'s start: the thesis's state without options; else
+/// [`Model::state_at`] the [`StartArgs::conditions`] with `controls`, or with
+/// `--trim` [`Model::trim`]'s controls and state (and its report, for the
+/// caller to print).
+///
+/// # Errors
+/// [`CliError::Usage`] (exit 2) when the model cannot start there or the
+/// speed cannot be trimmed, with the reason.
+pub fn start_for<M: Model>(
+    aircraft: M::Aircraft,
+    controls: M::Controls,
+    args: &StartArgs,
+) -> Result<(Start<M>, Option<TrimReport>), CliError> {
+    if args.is_thesis() {
+        let state = M::initial_state();
+        return Ok((
+            Start {
+                aircraft,
+                controls,
+                state,
+            },
+            None,
+        ));
+    }
+    let conditions = args.conditions::<M>(&aircraft);
+    if args.trim {
+        let trimmed = M::trim(&aircraft, &controls, &conditions).map_err(|e| {
+            CliError::usage(match e {
+                StartError::InvalidConditions if conditions.altitude_m <= 0.0 => {
+                    "--trim: cannot trim on the ground; give --altitude-ft above 0".to_owned()
+                }
+                e => format!("--trim: {e}"),
+            })
+        })?;
+        return Ok((
+            Start {
+                aircraft,
+                controls: trimmed.controls,
+                state: trimmed.state,
+            },
+            Some(trimmed.report),
+        ));
+    }
+    let state = M::state_at(&aircraft, &conditions)
+        .map_err(|e| CliError::usage(format!("initial conditions: {e}")))?;
+    Ok((
+        Start {
+            aircraft,
+            controls,
+            state,
+        },
+        None,
+    ))
+}
+
+/// The stderr line for a trim report.
+#[must_use]
+pub fn trim_line(model: &str, report: &TrimReport) -> String {
+    format!("sim-cli: {model} trimmed: {report}")
+}
