@@ -25,6 +25,15 @@ Plus: a direct run (sim-cli sends straight to fgfs, no relay: which frame does
 FlightGear end up showing?), the negative checks of docs/fgnetfdm.md §8 (407-byte datagram,
 little-endian version), and optional screenshots (xwd, converted to PNG here).
 
+Also checked: that fgfs applied the options fgfs-command adds for the user to see the
+aircraft (start view, the UFO's /sim/model/always-show-in-MP, the c172p's fuel), and that
+each scenario, recorded with --record and replayed with `sim-cli replay --json --fg`,
+prints the same JSON and sends byte-identical datagrams (docs/recording.md).
+`--origin NAME` (e.g. phli, whose scenery Debian's data ships) flies every scenario there.
+`--fleet` also streams a 4-aircraft fleet (`sim-cli fleet --fg-mp`, docs/fleet-in-flightgear.md)
+into fgfs's multiplayer input and compares /ai/models/multiplayer[i]/position/* with the last
+message of each callsign (1e-6 degrees).
+
 Exit status 0 when every check passed, 1 otherwise, 2 for bad usage.
 """
 
@@ -248,11 +257,14 @@ class FlightGear:
         self.model = model
         self.udp_port = free_port(socket.SOCK_DGRAM)
         self.telnet_port = free_port(socket.SOCK_STREAM)
+        self.mp_port = free_port(socket.SOCK_DGRAM) if args.fleet else None
+        mp = ["--fg-mp", str(self.mp_port)] if self.mp_port else []
         line = run_sim(args, ["fgfs-command", model, "--fps", str(fps),
-                              "--fg", f"127.0.0.1:{self.udp_port}"], want_json=False).strip()
+                              "--fg", f"127.0.0.1:{self.udp_port}", "--origin", args.origin,
+                              "--fgfs", args.fgfs] + mp, want_json=False).strip()
         self.ours = line
         argv = shlex.split(line)
-        if argv[0] != "fgfs":
+        if argv[0] != args.fgfs:
             raise RuntimeError(f"fgfs-command printed {line!r}")
         self.headless_flags = [
             f"--telnet={self.telnet_port}", "--disable-terrasync", "--disable-clouds",
@@ -264,7 +276,7 @@ class FlightGear:
             # altitude with the aircraft banked; see docs/flightgear-check.md.
             self.headless_flags.append("--prop:/sim/rendering/draw-mask/terrain=false")
         if model in args.aircraft:
-            # Only for pictures: the UFO is hard to see in the chase view.
+            # Another aircraft than fgfs-command's, e.g. for pictures.
             argv = [f"--aircraft={args.aircraft[model]}" if a.startswith("--aircraft=") else a
                     for a in argv]
         self.argv = [args.fgfs] + argv[1:] + self.headless_flags
@@ -454,10 +466,128 @@ SCENARIOS = {
 }
 
 
+def check_replay(args, model, argv, report, datagrams):
+    """Records the scenario again and replays it: same JSON, same datagrams (bytes)."""
+    path = os.path.join(args.workdir_path, f"{model}-replay.rec")
+    recorded, recorded_datagrams = run_captured(
+        args, [model, "--headless", "--json", "--record", path] + argv)
+    replayed, replayed_datagrams = run_captured(args, ["replay", path, "--json"])
+    problems = []
+    if recorded != report or recorded_datagrams != datagrams:
+        problems.append("recording the run changed its report or datagrams")
+    if replayed != report:
+        problems.append("replay report differs from the run's")
+    if replayed_datagrams != datagrams:
+        problems.append(f"replay sent {len(replayed_datagrams)} datagrams, not the run's "
+                        f"{len(datagrams)} identical ones")
+    log(f"   replay of {os.path.getsize(path)}-byte recording: "
+        f"{'identical' if not problems else '; '.join(problems)}")
+    return problems
+
+
+def ecef_to_geodetic(x, y, z):
+    """WGS-84 latitude, longitude (degrees) and height (m) of an ECEF point."""
+    a, f = 6378137.0, 1 / 298.257223563
+    e2 = f * (2 - f)
+    lon = math.atan2(y, x)
+    p = math.hypot(x, y)
+    lat = math.atan2(z, p * (1 - e2))
+    for _ in range(10):
+        n = a / math.sqrt(1 - e2 * math.sin(lat) ** 2)
+        h = p / math.cos(lat) - n
+        lat = math.atan2(z, p * (1 - e2 * n / (n + h)))
+    n = a / math.sqrt(1 - e2 * math.sin(lat) ** 2)
+    return math.degrees(lat), math.degrees(lon), p / math.cos(lat) - n
+
+
+def fleet_check(args, fg, model, results):
+    """`sim-cli fleet --fg-mp` through a relay into fgfs's multiplayer input: FlightGear's
+    /ai/models/multiplayer[i] positions must equal the last message of each callsign
+    within 1e-6 degrees (and 1e-3 ft)."""
+    rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    rx.bind(("127.0.0.1", 0))
+    rx.settimeout(0.2)
+    tx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    last, done = {}, threading.Event()
+
+    def relay():
+        while True:
+            try:
+                d = rx.recv(65536)
+            except socket.timeout:
+                if done.is_set():
+                    return
+                continue
+            tx.sendto(d, ("127.0.0.1", fg.mp_port))  # forwarded at once: real-time pace kept
+            callsign = d[24:32].rstrip(b"\0").decode()
+            last[callsign] = struct.unpack(">3d", d[144:168])
+
+    thread = threading.Thread(target=relay)
+    thread.start()
+    script = ("examples/scripts/palmer_climb_turn.txt" if model == "palmer"
+              else "examples/scripts/bourg_roll.txt")
+    argv = ["fleet", "--model", model, "--aircraft", "4", "--frames", str(args.fleet_frames),
+            "--pattern", "rows", "--origin", args.origin, "--script", script,
+            "--fg-mp", f"127.0.0.1:{rx.getsockname()[1]}", "--realtime", "--json"]
+    try:
+        report = run_sim(args, argv)
+    finally:
+        done.set()
+        thread.join()
+        rx.close()
+        tx.close()
+    time.sleep(args.settle)
+    rows, ok = {}, len(last) == 4
+    for i in range(8):
+        base = f"/ai/models/multiplayer[{i}]"
+        callsign = fg.telnet.get(f"{base}/callsign")[0]
+        if callsign not in last:
+            continue
+        lat, lon, h = ecef_to_geodetic(*last[callsign])
+        got = {k: float(fg.telnet.get(f"{base}/position/{k}")[0])
+               for k in ("latitude-deg", "longitude-deg", "altitude-ft")}
+        diffs = {"latitude-deg": got["latitude-deg"] - lat,
+                 "longitude-deg": got["longitude-deg"] - lon,
+                 "altitude-ft": got["altitude-ft"] - h * M2FT}
+        good = (abs(diffs["latitude-deg"]) <= 1e-6 and abs(diffs["longitude-deg"]) <= 1e-6
+                and abs(diffs["altitude-ft"]) <= 1e-3)
+        rows[callsign] = {"fg": got, "sent": [lat, lon, h * M2FT], "diff": diffs, "ok": good}
+        log(f"   {base} {callsign}: " + ", ".join(f"{k} {v:+.1e}" for k, v in diffs.items())
+            + (" ok" if good else " MISMATCH"))
+        ok &= good
+    ok &= len(rows) == 4
+    results.setdefault("fleet", {})[model] = {"sim_cli": argv, "report": report,
+                                              "aircraft": rows, "ok": ok}
+    log(f"\n== fleet ({model}): {len(rows)} of 4 multiplayer aircraft read back: "
+        + ("ok" if ok else "FAILED"))
+    return ok
+
+
+def check_options(fg, model, results):
+    """fgfs applied the options fgfs-command adds so that the aircraft can be seen."""
+    expected = {"/sim/current-view/view-number": "2"}
+    if model == "bourg":
+        expected["/sim/model/always-show-in-MP"] = "true"
+    if model == "palmer":
+        expected["/consumables/fuel/tank[0]/level-gal_us"] = "20"
+        expected["/consumables/fuel/tank[1]/level-gal_us"] = "20"
+    rows = {}
+    for path, want in expected.items():
+        got = fg.telnet.get(path)[0]
+        same = got == want or (want.replace(".", "").isdigit() and float(got) == float(want))
+        rows[path] = {"fg": got, "expected": want, "ok": same}
+        log(f"   {path} = {got!r} (want {want!r}) {'ok' if same else 'MISMATCH'}")
+    results.setdefault("options", {})[model] = rows
+    return all(r["ok"] for r in rows.values())
+
+
 def run_scenario(args, fg, name, model, argv, results):
+    argv = argv + ["--origin", args.origin]
     frames = int(argv[argv.index("--frames") + 1])
     report, datagrams = run_captured(args, [model, "--headless", "--json"] + argv)
     problems = check_against_report(report, datagrams, frames)
+    replay = check_replay(args, model, argv, report, datagrams)
+    problems += replay
     fg.telnet.get("/sim/time/elapsed-sec")  # let FG finish the previous frame
     send(fg.udp_port, datagrams, args.pace)
     time.sleep(args.settle)
@@ -485,7 +615,7 @@ def run_scenario(args, fg, name, model, argv, results):
 
 def direct_run(args, fg, results):
     """sim-cli sending straight to fgfs, as fast as it can: which frame does FG show?"""
-    argv = SCENARIOS["palmer"][0][1]
+    argv = SCENARIOS["palmer"][0][1] + ["--origin", args.origin]
     _, datagrams = run_captured(args, ["palmer", "--headless", "--json"] + argv)
     fg.telnet.get("/sim/time/elapsed-sec")
     run_sim(args, ["palmer", "--headless", "--json"] + argv
@@ -559,6 +689,9 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--fgfs", default="/usr/games/fgfs")
+    p.add_argument("--origin", default="wpafb",
+                   help="sim-cli --origin for FlightGear and every scenario (default wpafb; "
+                        "phli and bikf have scenery in Debian's data)")
     p.add_argument("--fg-root", default="/usr/share/games/flightgear")
     p.add_argument("--sim-cli", default=os.path.join(REPO, "target/release/sim-cli"))
     p.add_argument("--models", default="palmer,bourg", help="comma-separated")
@@ -573,6 +706,11 @@ def main():
     p.add_argument("--init-timeout", type=float, default=600)
     p.add_argument("--telnet-timeout", type=float, default=120)
     p.add_argument("--no-direct", action="store_true", help="skip the direct (no relay) run")
+    p.add_argument("--fleet", action="store_true",
+                   help="also stream a 4-aircraft fleet (sim-cli fleet --fg-mp) into fgfs's "
+                        "multiplayer input and read /ai/models/multiplayer[i] back")
+    p.add_argument("--fleet-frames", type=int, default=300,
+                   help="frames the fleet flies (30 per second; default 300)")
     p.add_argument("--screenshots", metavar="DIR",
                    help="write PNGs of the chase view after palmer-bank20 and bourg-roll-right")
     p.add_argument("--screenshot-no-terrain", action="store_true",
@@ -581,7 +719,7 @@ def main():
                    help="telnet round trips to wait before each screenshot")
     p.add_argument("--aircraft", action="append", default=[], metavar="MODEL=NAME",
                    help="show MODEL as fgfs aircraft NAME instead of fgfs-command's choice "
-                        "(e.g. bourg=c172p, for screenshots)")
+                        "(e.g. bourg=c172p)")
     p.add_argument("--workdir", help="keep logs and FG_HOME here (default: a temp dir)")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON")
     args = p.parse_args()
@@ -595,6 +733,7 @@ def main():
             p.error(f"{tool} is not executable")
     workdir = args.workdir or tempfile.mkdtemp(prefix="fgcheck-")
     os.makedirs(workdir, exist_ok=True)
+    args.workdir_path = workdir
     log(f"work directory (logs, FG_HOME): {workdir}")
     width, height = (int(v) for v in args.geometry.split("x"))
     xvfb, display = (None, args.display) if args.display else start_xvfb(width, height)
@@ -609,6 +748,7 @@ def main():
             try:
                 took = fg.wait_initialized(args.init_timeout)
                 log(f"[{model}] /sim/fdm-initialized after {took:.0f} s")
+                ok &= check_options(fg, model, results)
                 results.setdefault("fgfs", {})[model] = {"command": fg.ours,
                                                         "headless_flags": fg.headless_flags}
                 for name, argv in scenarios:
@@ -616,6 +756,8 @@ def main():
                     if args.screenshots and name in ("palmer-bank20", "bourg-roll-right"):
                         os.makedirs(args.screenshots, exist_ok=True)
                         take_screenshot(args, fg, display, os.path.join(args.screenshots, name))
+                if args.fleet:
+                    ok &= fleet_check(args, fg, model, results)
                 if model == "palmer":
                     ok &= negative_checks(args, fg, results)
                     if not args.no_direct:

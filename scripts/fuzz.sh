@@ -2,6 +2,7 @@
 # Fuzzes every parser of outside input with cargo-fuzz (libFuzzer):
 #   fgnet_decode  FGNetFDM datagrams (FgNetFdm::decode; accepted input re-encodes identically)
 #   script_parse  --script files (Script::parse; accepted scripts print and parse back equal)
+#   recording_parse  sim-cli replay files (parse_recording; never panics, one-line messages)
 #
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   (default 60 s, every target)
 #
@@ -26,7 +27,7 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(fgnet_decode script_parse)
+  targets=(fgnet_decode script_parse recording_parse dis_listener)
 fi
 case "$seconds" in
   ''|*[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]" >&2; exit 2 ;;

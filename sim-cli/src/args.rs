@@ -55,6 +55,8 @@ pub enum Command {
     Fleet(FleetArgs),
     /// Receive DIS datagrams for a while: count entities, PDUs, bytes, malformed datagrams; show each entity's last position
     DisListen(crate::dis_listen::DisListenArgs),
+    /// Replay a flight recorded with --record, headless, to the same bits
+    Replay(ReplayArgs),
     /// Draw a CSV written earlier with --csv as an SVG plot (as --plot does for a run)
     Plot(PlotArgs),
 }
@@ -136,13 +138,47 @@ pub struct CommonArgs {
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
 
-    /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m)
-    #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
+    /// Geodetic position of the model's earth-frame origin: latitude (deg), longitude (deg), altitude (m),
+    /// or a runway: wpafb (the default), phli or bikf (scenery in Debian's FlightGear data), ksfo
+    #[arg(long, value_name = "LAT,LON,ALT_M|NAME", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
 
     /// Initial conditions and trim (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`).
     #[command(flatten)]
     pub start: crate::start::StartArgs,
+
+    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    #[command(flatten)]
+    pub dis: FlightDisArgs,
+
+    /// Record the flight to FILE (binary flight log, docs/recording.md) for `sim-cli replay`
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+}
+
+/// `sim-cli replay`.
+#[derive(Debug, Clone, Args)]
+pub struct ReplayArgs {
+    /// The recording (written by `sim-cli palmer|bourg --record FILE`)
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    /// Print the final state as one JSON object on stdout (as a headless --json flight)
+    #[arg(long)]
+    pub json: bool,
+
+    /// One frame per 1/fps of wall-clock time, as the flight was flown (to watch it in FlightGear with --fg)
+    #[arg(long)]
+    pub realtime: bool,
+
+    /// Write the state as CSV to FILE, as the recorded flight would (a reset writes a new frame 0)
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+
+    /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame (with
+    /// --realtime at the recorded pace; without, as fast as the replay runs)
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    pub fg: Option<FgTarget>,
 
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
@@ -200,13 +236,57 @@ pub struct FgfsArgs {
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_listen)]
     pub fg: Option<FgTarget>,
 
-    /// Geodetic origin as given to sim-cli --origin: latitude (deg), longitude (deg), altitude (m)
-    #[arg(long, value_name = "LAT,LON,ALT_M", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
+    /// Geodetic origin as given to sim-cli --origin: LAT,LON,ALT_M or a runway name (wpafb, phli, bikf, ksfo)
+    #[arg(long, value_name = "LAT,LON,ALT_M|NAME", default_value = DEFAULT_ORIGIN, value_parser = parse_origin, allow_hyphen_values = true)]
     pub origin: GeodeticOrigin,
 
     /// The initial conditions that will be flown, as given to sim-cli (FlightGear starts where the aircraft starts).
     #[command(flatten)]
     pub start: crate::start::StartArgs,
+
+    /// FlightGear's view at start (V in FlightGear cycles through them): chase and helicopter show the aircraft from outside
+    #[arg(long, value_enum, default_value_t = FgView::Chase)]
+    pub view: FgView,
+
+    /// The fgfs program to print (Debian installs it as /usr/games/fgfs, which is not on every PATH)
+    #[arg(long, value_name = "PATH", default_value = "fgfs")]
+    pub fgfs: String,
+
+    /// Also show a fleet streamed with `sim-cli fleet --fg-mp HOST:PORT`: FlightGear's multiplayer
+    /// input listens on PORT (all interfaces)
+    #[arg(long, value_name = "PORT", value_parser = parse_port)]
+    pub fg_mp: Option<u16>,
+}
+
+/// A UDP port, 1 to 65535.
+pub fn parse_port(text: &str) -> Result<u16, String> {
+    match text.trim().parse::<u16>() {
+        Ok(p) if p > 0 => Ok(p),
+        _ => Err(format!("`{text}` is not a port number (1..65535)")),
+    }
+}
+
+/// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FgView {
+    /// From the pilot's seat (view 0).
+    Cockpit,
+    /// From behind and above, turning with the aircraft's heading only (view 1).
+    Helicopter,
+    /// From behind, following the aircraft (view 2).
+    Chase,
+}
+
+impl FgView {
+    /// The view's index in FlightGear 2020.3's `defaults.xml` view list.
+    #[must_use]
+    pub fn number(self) -> u8 {
+        match self {
+            Self::Cockpit => 0,
+            Self::Helicopter => 1,
+            Self::Chase => 2,
+        }
+    }
 }
 
 /// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
@@ -247,10 +327,6 @@ pub struct FleetArgs {
     #[arg(long)]
     pub json: bool,
 
-    /// One frame per 1/30 s of wall-clock time (for a fleet that others watch over --dis)
-    #[arg(long)]
-    pub realtime: bool,
-
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FleetDisArgs,
@@ -258,6 +334,64 @@ pub struct FleetArgs {
     /// Initial conditions and trim for every aircraft (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`) instead of the demonstration fleet's varied states.
     #[command(flatten)]
     pub start: crate::start::StartArgs,
+
+    /// Watching the fleet in FlightGear (docs/fleet-in-flightgear.md).
+    #[command(flatten)]
+    pub show: FleetShowArgs,
+}
+
+/// Most fleet aircraft `--fg-mp` streams to FlightGear.
+pub const MAX_MP_AIRCRAFT: usize = 1000;
+
+/// `sim-cli fleet` options for watching the fleet in FlightGear through its
+/// multiplayer protocol ([`crate::fleet_mp`]).
+#[derive(Debug, Clone, Default, Args)]
+pub struct FleetShowArgs {
+    /// Stream the fleet to FlightGear's multiplayer input at HOST:PORT (UDP, IPv4), one position
+    /// message per aircraft per frame; needs --realtime
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
+    pub fg_mp: Option<FgTarget>,
+
+    /// How many aircraft (the first ones) --fg-mp streams [default: 16]
+    #[arg(long, value_name = "N", value_parser = parse_mp_aircraft)]
+    pub fg_mp_aircraft: Option<usize>,
+
+    /// Where the fleet starts: demo (the models' spread-out demonstration fleet), rows (pairs
+    /// in rows 50 m apart from 50 m north of the model's start: a formation take-off for Palmer)
+    /// or v (a V formation led from 50 m north of the model's start)
+    #[arg(long, value_enum, default_value_t = FleetPattern::Demo)]
+    pub pattern: FleetPattern,
+
+    /// Scripted controls applied to every aircraft (lines `START-END ACTION`), e.g.
+    /// examples/scripts/palmer_climb_turn.txt for a formation take-off and turn
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+
+    /// One frame per 1/30 s of wall-clock time (what FlightGear needs to show the fleet; also paces a fleet published with --dis)
+    #[arg(long)]
+    pub realtime: bool,
+
+    /// Geodetic origin of the fleet's earth frame: LAT,LON,ALT_M or a runway name (wpafb, phli, bikf, ksfo)
+    #[arg(long, value_name = "LAT,LON,ALT_M|NAME", value_parser = parse_origin, allow_hyphen_values = true)]
+    pub origin: Option<GeodeticOrigin>,
+}
+
+/// Where a watched fleet starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum FleetPattern {
+    /// Each model's demonstration fleet (`Model::fleet_member`): distinct flying states.
+    #[default]
+    Demo,
+    /// Pairs 20 m apart abreast, rows 50 m apart, the first 50 m north of the model's start.
+    Rows,
+    /// A V: the leader 50 m north of the model's start, the others 30 m further back and 30 m
+    /// further out per place, alternately left and right.
+    V,
+}
+
+/// `fleet --fg-mp-aircraft`: 1 to [`MAX_MP_AIRCRAFT`].
+pub fn parse_mp_aircraft(text: &str) -> Result<usize, String> {
+    parse_count(text, MAX_MP_AIRCRAFT as u64, "aircraft").map(|v| v as usize)
 }
 
 /// How `sim-cli fleet` steps its aircraft.

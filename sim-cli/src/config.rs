@@ -2,8 +2,10 @@
 //! wrong with the input is found here, before anything runs, and reported as a
 //! usage error (exit status 2).
 
+use std::fs::File;
+use std::io::BufWriter;
 use std::net::SocketAddrV4;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
@@ -89,6 +91,18 @@ pub struct ModelConfig<M: Model> {
     pub script: Script<M::Action>,
     /// How the aircraft starts (and restarts on reset).
     pub start: Start<M>,
+    /// The `--record` file, already created.
+    pub record: Option<RecordFile>,
+}
+
+/// The `--record` output, created before the run (so an unwritable path is a
+/// usage error and nothing has run).
+#[derive(Debug)]
+pub struct RecordFile {
+    /// The path, for messages.
+    pub path: PathBuf,
+    /// The file.
+    pub out: BufWriter<File>,
 }
 
 /// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
@@ -112,8 +126,13 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
         flaps,
     };
     let start = start_model::<Palmer>(controls, &start_args)?;
-    let (run, script) = prepare(args.common)?;
-    Ok(ModelConfig { run, script, start })
+    let (run, script, record) = prepare(args.common)?;
+    Ok(ModelConfig {
+        run,
+        script,
+        record,
+        start,
+    })
 }
 
 /// Model `M`'s start from the initial-condition options
@@ -143,8 +162,13 @@ pub fn prepare_bourg(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
         }
     }
     let start = start_model::<Bourg>(controls, &args.common.start)?;
-    let (run, script) = prepare(args.common)?;
-    Ok(ModelConfig { run, script, start })
+    let (run, script, record) = prepare(args.common)?;
+    Ok(ModelConfig {
+        run,
+        script,
+        record,
+        start,
+    })
 }
 
 /// The mode implied by the options, or why they do not fit together.
@@ -246,7 +270,38 @@ fn same_file(a: &Path, b: &Path) -> bool {
         }
 }
 
-fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), CliError> {
+/// Creates the `--record` file after checking it is none of the input or
+/// output files.
+fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
+    let Some(path) = &args.record else {
+        return Ok(None);
+    };
+    for (other, name) in [
+        (&args.script, "--script"),
+        (&args.csv, "--csv"),
+        (&args.plot, "--plot"),
+    ] {
+        if other
+            .as_deref()
+            .is_some_and(|o| o == path || same_file(path, o))
+        {
+            return Err(CliError::usage(format!(
+                "--record {} is also the {name} file",
+                path.display()
+            )));
+        }
+    }
+    let file = File::create(path)
+        .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
+    Ok(Some(RecordFile {
+        path: path.clone(),
+        out: BufWriter::with_capacity(64 * 1024, file),
+    }))
+}
+
+type Prepared<A> = (RunConfig, Script<A>, Option<RecordFile>);
+
+fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
     let mode = resolve_mode(&args)?;
     let script = match &args.script {
         Some(path) => load_script(path)?,
@@ -293,6 +348,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
         }
         None => None,
     };
+    let record = create_record(&args)?;
     Ok((
         RunConfig {
             fps: args.fps,
@@ -304,6 +360,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<(RunConfig, Script<A>), 
             plot,
         },
         script,
+        record,
     ))
 }
 

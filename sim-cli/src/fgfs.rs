@@ -6,7 +6,13 @@
 //! interactive viewer (`--disable-real-weather-fetch --disable-ai-models
 //! --disable-splash-screen`). `--disable-terrasync` is left out on purpose: scenery
 //! for the default origin (Ohio) is not in the Debian data package, so TerraSync is
-//! what loads it.
+//! what loads it (the named origins `phli` and `bikf` are, see [`crate::origin`]).
+//!
+//! Then what a user needs to see the aircraft: the start view
+//! (`--prop:int:/sim/current-view/view-number=N`, chase by default, so the aircraft is
+//! seen from outside) and the model's [`CliModel::FG_OPTIONS`] (the UFO draws itself
+//! only with `/sim/model/always-show-in-MP` set; the c172p gets fuel so that its
+//! scripts do not pop up "Out of fuel!").
 //!
 //! The start preset (`--lat/--lon/--altitude/--heading`) is where the ECS places the
 //! model before its first frame, computed by the same functions MakePacket uses
@@ -19,10 +25,11 @@
 use fdm_core::geodesy::{Attitude, Geodetic, GeodeticOrigin};
 use fgnet::bridge::{display, Display};
 
-use crate::args::ModelKind;
+use crate::args::{FgView, FgfsArgs, ModelKind};
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::models::{CliModel, WithModel};
+use crate::start::StartArgs;
 
 /// Feet per metre as FlightGear converts (`SG_METER_TO_FEET`).
 pub const FT_PER_M: f64 = 3.280_839_895_013_123_4;
@@ -57,50 +64,24 @@ pub fn start_pose_of<M: CliModel>(
     (geodetic, attitude)
 }
 
-/// The aircraft name and start pose of a model chosen at run time.
-struct Preset<'a>(&'a GeodeticOrigin);
+/// The aircraft name, extra options and start pose of a model chosen at run
+/// time, starting from the initial-condition options (the thesis's start
+/// without any).
+struct Preset<'a>(&'a GeodeticOrigin, &'a StartArgs);
 
 impl WithModel for Preset<'_> {
-    type Output = (&'static str, Geodetic, Attitude);
+    type Output = Result<(&'static str, &'static [&'static str], Geodetic, Attitude), CliError>;
 
     fn call<M: CliModel>(self) -> Self::Output {
-        let (geodetic, attitude) = start_pose::<M>(self.0);
-        (M::FG_AIRCRAFT, geodetic, attitude)
+        let (geodetic, attitude) = if self.1.is_thesis() {
+            start_pose::<M>(self.0)
+        } else {
+            let (start, _) =
+                crate::start::start_for::<M>(M::default_aircraft(), M::initial_controls(), self.1)?;
+            start_pose_of::<M>(&start, self.0)
+        };
+        Ok((M::FG_AIRCRAFT, M::FG_OPTIONS, geodetic, attitude))
     }
-}
-
-/// The aircraft name and start pose of a model chosen at run time, starting
-/// from initial-condition options.
-struct PresetAt<'a>(&'a GeodeticOrigin, &'a crate::start::StartArgs);
-
-impl WithModel for PresetAt<'_> {
-    type Output = Result<(&'static str, Geodetic, Attitude), CliError>;
-
-    fn call<M: CliModel>(self) -> Self::Output {
-        let (start, _) =
-            crate::start::start_for::<M>(M::default_aircraft(), M::initial_controls(), self.1)?;
-        let (geodetic, attitude) = start_pose_of::<M>(&start, self.0);
-        Ok((M::FG_AIRCRAFT, geodetic, attitude))
-    }
-}
-
-/// [`fgfs_command`] for an aircraft that starts from the initial-condition
-/// options `start` (`--altitude-ft`, `--speed-kt`, `--heading-deg`,
-/// `--trim`): FlightGear starts where the aircraft does. Without options it
-/// is exactly [`fgfs_command`].
-///
-/// # Errors
-/// [`CliError::Usage`] when the model cannot start there (e.g. an
-/// untrimmable speed).
-pub fn fgfs_command_from(
-    model: ModelKind,
-    fps: u32,
-    fg: Option<&FgTarget>,
-    origin: &GeodeticOrigin,
-    start: &crate::start::StartArgs,
-) -> Result<String, CliError> {
-    let (aircraft, geodetic, attitude) = model.with(PresetAt(origin, start))?;
-    Ok(command_line(fps, fg, aircraft, &geodetic, &attitude))
 }
 
 /// Rounds to 1e-7 degrees (about 1 cm) and prints the shortest form.
@@ -121,6 +102,7 @@ fn heading(x: f64) -> f64 {
 /// The fgfs command line (one line, no trailing newline) that receives packets from
 /// `sim-cli <model> --fps <fps> [--fg <fg>] --origin <origin>`. Without `--fg`,
 /// FlightGear listens on all interfaces (empty host, as in the thesis) port 5500.
+/// The program is `fgfs` and the start view the chase view; see [`fgfs_command_line`].
 #[must_use]
 pub fn fgfs_command(
     model: ModelKind,
@@ -128,35 +110,124 @@ pub fn fgfs_command(
     fg: Option<&FgTarget>,
     origin: &GeodeticOrigin,
 ) -> String {
-    // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
-    let (aircraft, start, attitude) = model.with(Preset(origin));
-    command_line(fps, fg, aircraft, &start, &attitude)
+    // The thesis start cannot fail: no trim, no initial conditions to check.
+    command(
+        "fgfs",
+        model,
+        fps,
+        fg,
+        origin,
+        FgView::Chase,
+        &StartArgs::default(),
+    )
+    .unwrap_or_default()
 }
 
-/// The command line for `aircraft` starting at `start` with `attitude`.
-fn command_line(
+/// [`fgfs_command`] for an aircraft that starts from the initial-condition
+/// options `start` (`--altitude-ft`, `--speed-kt`, `--heading-deg`,
+/// `--trim`): FlightGear starts where the aircraft does. Without options it
+/// is exactly [`fgfs_command`].
+///
+/// # Errors
+/// [`CliError::Usage`] when the model cannot start there (e.g. an
+/// untrimmable speed).
+pub fn fgfs_command_from(
+    model: ModelKind,
     fps: u32,
     fg: Option<&FgTarget>,
-    aircraft: &str,
-    start: &Geodetic,
-    attitude: &Attitude,
-) -> String {
+    origin: &GeodeticOrigin,
+    start: &StartArgs,
+) -> Result<String, CliError> {
+    command("fgfs", model, fps, fg, origin, FgView::Chase, start)
+}
+
+/// The line `sim-cli fgfs-command` prints for its arguments.
+///
+/// # Errors
+/// As [`fgfs_command_from`].
+pub fn fgfs_command_line(args: &FgfsArgs) -> Result<String, CliError> {
+    let line = command(
+        &args.fgfs,
+        args.model,
+        args.fps,
+        args.fg.as_ref(),
+        &args.origin,
+        args.view,
+        &args.start,
+    )?;
+    Ok(match args.fg_mp {
+        Some(port) => with_multiplayer(&line, port),
+        None => line,
+    })
+}
+
+/// The viewer's own multiplayer callsign: FlightGear drops datagrams carrying
+/// its own, so it must differ from every fleet callsign (`SIM...`).
+pub const VIEWER_CALLSIGN: &str = "viewer";
+
+/// `line` set up to show multiplayer aircraft too (docs/fg-multiplayer.md):
+/// FlightGear's multiplayer input on `port` (all interfaces, read at
+/// [`crate::fleet::FLEET_FPS`]), the output channel FlightGear needs before it
+/// listens (to the next port on 127.0.0.1, where nothing has to listen), the
+/// viewer's callsign, and no `--disable-ai-models`, because multiplayer
+/// aircraft are AI models.
+#[must_use]
+pub fn with_multiplayer(line: &str, port: u16) -> String {
+    let line = line.replacen(" --disable-ai-models", "", 1);
+    let out = if port == u16::MAX { port - 1 } else { port + 1 };
+    format!(
+        "{line} --multiplay=in,{},,{port} --multiplay=out,10,127.0.0.1,{out} \
+         --callsign={VIEWER_CALLSIGN}",
+        crate::fleet::FLEET_FPS
+    )
+}
+
+/// `program` as one shell word: itself when it has only safe characters, else
+/// single-quoted.
+fn shell_word(program: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "/._-+:=,".contains(c);
+    if !program.is_empty() && program.chars().all(safe) {
+        program.to_owned()
+    } else {
+        format!("'{}'", program.replace('\'', r"'\''"))
+    }
+}
+
+fn command(
+    program: &str,
+    model: ModelKind,
+    fps: u32,
+    fg: Option<&FgTarget>,
+    origin: &GeodeticOrigin,
+    view: FgView,
+    start: &StartArgs,
+) -> Result<String, CliError> {
     let (host, port) = match fg {
         // 0.0.0.0 means "any" to us; fgfs spells that as an empty host.
         Some(t) if t.host != "0.0.0.0" => (t.host.as_str(), t.port),
         Some(t) => ("", t.port),
         None => ("", 5500),
     };
-    format!(
-        "fgfs --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
+    // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
+    let (aircraft, options, start, attitude) = model.with(Preset(origin, start))?;
+    let mut line = format!(
+        "{} --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
          --lat={} --lon={} --altitude={:.1} --heading={} --timeofday=noon \
          --disable-panel --enable-hud --disable-sound --disable-random-objects \
-         --disable-real-weather-fetch --disable-ai-models --disable-splash-screen",
+         --disable-real-weather-fetch --disable-ai-models --disable-splash-screen \
+         --prop:int:/sim/current-view/view-number={}",
+        shell_word(program),
         degrees(start.lat_deg),
         degrees(start.lon_deg),
         start.alt_m * FT_PER_M,
         heading(attitude.heading_deg),
-    )
+        view.number(),
+    );
+    for option in options {
+        line.push(' ');
+        line.push_str(option);
+    }
+    Ok(line)
 }
 
 #[cfg(test)]
@@ -175,7 +246,80 @@ mod tests {
             "fgfs --fdm=null --native-fdm=socket,in,30,,5500,udp --aircraft=c172p \
              --lat=39.8264 --lon=-84.0483 --altitude=823.5 --heading=0 --timeofday=noon \
              --disable-panel --enable-hud --disable-sound --disable-random-objects \
-             --disable-real-weather-fetch --disable-ai-models --disable-splash-screen"
+             --disable-real-weather-fetch --disable-ai-models --disable-splash-screen \
+             --prop:int:/sim/current-view/view-number=2 \
+             '--prop:double:/consumables/fuel/tank[0]/level-gal_us=20' \
+             '--prop:double:/consumables/fuel/tank[1]/level-gal_us=20'"
+        );
+    }
+
+    #[test]
+    fn the_ufo_shows_itself_and_views_and_program_are_options() {
+        let cmd = fgfs_command(ModelKind::Bourg, 30, None, &GeodeticOrigin::default());
+        assert!(
+            cmd.ends_with(
+                " --prop:int:/sim/current-view/view-number=2 \
+                 --prop:bool:/sim/model/always-show-in-MP=true"
+            ),
+            "{cmd}"
+        );
+        assert!(!cmd.contains("fuel"), "{cmd}");
+        let args = |extra: &[&str]| {
+            let argv = ["sim-cli", "fgfs-command", "bourg"]
+                .iter()
+                .chain(extra)
+                .copied();
+            match <crate::args::Cli as clap::Parser>::try_parse_from(argv)
+                .unwrap()
+                .command
+            {
+                crate::args::Command::FgfsCommand(a) => a,
+                _ => unreachable!(),
+            }
+        };
+        assert_eq!(fgfs_command_line(&args(&[])).unwrap(), cmd);
+        let line =
+            fgfs_command_line(&args(&["--view", "cockpit", "--fgfs", "/usr/games/fgfs"])).unwrap();
+        assert!(line.starts_with("/usr/games/fgfs --fdm=null "), "{line}");
+        assert!(
+            line.contains(" --prop:int:/sim/current-view/view-number=0 "),
+            "{line}"
+        );
+        let line = fgfs_command_line(&args(&[
+            "--view",
+            "helicopter",
+            "--fgfs",
+            "/opt/my fg/fgfs",
+        ]))
+        .unwrap();
+        assert!(line.starts_with("'/opt/my fg/fgfs' --fdm"), "{line}");
+        assert!(line.contains("view-number=1 "), "{line}");
+        assert_eq!(shell_word("it's"), r"'it'\''s'");
+    }
+
+    #[test]
+    fn multiplayer_input_keeps_ai_models_on() {
+        let plain = fgfs_command(ModelKind::Palmer, 30, None, &GeodeticOrigin::default());
+        let mp = with_multiplayer(&plain, 5000);
+        assert!(plain.contains(" --disable-ai-models "));
+        assert!(!mp.contains("--disable-ai-models"), "{mp}");
+        let added = " --multiplay=in,30,,5000 --multiplay=out,10,127.0.0.1,5001 --callsign=viewer";
+        assert!(mp.ends_with(added), "{mp}");
+        assert_eq!(
+            mp.len(),
+            plain.len() - " --disable-ai-models".len() + added.len()
+        );
+        assert!(with_multiplayer(&plain, 65535).contains("out,10,127.0.0.1,65534 "));
+    }
+
+    #[test]
+    fn named_origins_start_on_their_runway() {
+        let phli = crate::origin::parse_origin("phli").unwrap();
+        let cmd = fgfs_command(ModelKind::Palmer, 30, None, &phli);
+        // 26.94 m = 88.4 ft.
+        assert!(
+            cmd.contains("--lat=21.963792 --lon=-159.335883 --altitude=88.4 "),
+            "{cmd}"
         );
     }
 

@@ -273,7 +273,8 @@ fn pace(pacer: Option<&mut FramePacer>) {
 }
 
 fn new_pacer(args: &FleetArgs) -> Option<FramePacer> {
-    args.realtime
+    args.show
+        .realtime
         .then(|| FramePacer::new(FramePacer::period_for(FLEET_FPS), Instant::now()))
 }
 
@@ -543,12 +544,20 @@ fn fly_frames<M: Model>(
 /// # Errors
 /// See [`measure`]; writing to stdout can fail too (exit status 1).
 pub fn run(args: &FleetArgs) -> Result<(), CliError> {
+    if let Some(text) = crate::fleet_mp::run_show(args)? {
+        return print_line(&text);
+    }
     let report = measure(args)?;
     let text = if args.json {
         serde_json::to_string(&report).context("encoding the report")?
     } else {
         report.summary()
     };
+    print_line(&text)
+}
+
+/// `text` and a newline on stdout.
+fn print_line(text: &str) -> Result<(), CliError> {
     let mut out = std::io::stdout().lock();
     writeln!(out, "{text}")
         .and_then(|()| out.flush())
@@ -579,8 +588,8 @@ mod tests {
                 precision: FleetPrecision::Exact,
                 json: true,
                 start: crate::start::StartArgs::default(),
-                realtime: false,
                 dis: crate::dis::FleetDisArgs::default(),
+                show: crate::args::FleetShowArgs::default(),
             };
             let report = measure(&args).unwrap();
             assert_eq!(report.model, model.name());

@@ -30,6 +30,7 @@ use crate::dis::{DisOutput, DisReport};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
+use crate::recording::{RecordWriter, Recorded};
 use crate::run::{fly, Flight};
 use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 
@@ -217,10 +218,33 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
 pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
-    let flight = ModelFlight::new(&config.run, config.start)?;
-    match config.run.plot.take() {
-        None => fly(flight, &config.script, config.run),
-        Some(plot) => crate::plot::fly_plotted(flight, &config.script, config.run, plot),
+    let plot = config.run.plot.take();
+    let ModelConfig {
+        run,
+        script,
+        start,
+        record,
+    } = config;
+    let Some(record) = record else {
+        let flight = ModelFlight::new(&run, start)?;
+        return fly_maybe_plotted(flight, &script, run, plot);
+    };
+    let writer = RecordWriter::new(record.out, run.fps, &run.origin, &start)
+        .with_context(|| format!("recording to {}", record.path.display()))?;
+    let flight = ModelFlight::new(&run, start)?;
+    fly_maybe_plotted(Recorded::new(flight, writer), &script, run, plot)
+}
+
+/// [`fly`], or with `--plot` [`crate::plot::fly_plotted`].
+fn fly_maybe_plotted<F: Flight>(
+    flight: F,
+    script: &fdm_core::script::Script<F::Action>,
+    run: RunConfig,
+    plot: Option<crate::plot::PlotFile>,
+) -> Result<(), CliError> {
+    match plot {
+        None => fly(flight, script, run),
+        Some(plot) => crate::plot::fly_plotted(flight, script, run, plot),
     }
 }
 

@@ -92,6 +92,24 @@ fn is_pipe(file_type: fs::FileType) -> bool {
 /// regular file nor a pipe, more than `limit` bytes, or text that is not UTF-8.
 pub fn read_text(path: &Path, what: &str, limit: u64) -> Result<String, CliError> {
     let shown = show_path(path);
+    let bytes = read_bytes(path, what, limit)?;
+    String::from_utf8(bytes).map_err(|e| {
+        let bad = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..bad].iter().filter(|&&b| b == b'\n').count();
+        CliError::usage(format!(
+            "{what} {shown}:{line}: not UTF-8 text (invalid byte at offset {bad})"
+        ))
+    })
+}
+
+/// Reads `path` as bytes, at most `limit` of them, accepting what
+/// [`read_text`] accepts (a regular file or a pipe); `what` names it in
+/// messages ("recording").
+///
+/// # Errors
+/// As [`read_text`], except for the UTF-8 check.
+pub fn read_bytes(path: &Path, what: &str, limit: u64) -> Result<Vec<u8>, CliError> {
+    let shown = show_path(path);
     let cannot = |e: std::io::Error| CliError::usage(format!("cannot read {what} {shown}: {e}"));
     // Follows symlinks, so /dev/stdin is judged by what stdin really is.
     let meta = fs::metadata(path).map_err(cannot)?;
@@ -122,13 +140,7 @@ pub fn read_text(path: &Path, what: &str, limit: u64) -> Result<String, CliError
     if u64::try_from(bytes.len()).unwrap_or(u64::MAX) > limit {
         return Err(too_big());
     }
-    String::from_utf8(bytes).map_err(|e| {
-        let bad = e.utf8_error().valid_up_to();
-        let line = 1 + e.as_bytes()[..bad].iter().filter(|&&b| b == b'\n').count();
-        CliError::usage(format!(
-            "{what} {shown}:{line}: not UTF-8 text (invalid byte at offset {bad})"
-        ))
-    })
+    Ok(bytes)
 }
 
 /// Whether two paths name the same file: same device and inode, so hard links and

@@ -19,6 +19,8 @@
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
+//! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
+//! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
 //! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
@@ -31,6 +33,7 @@ pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
 pub mod fleet;
+pub mod fleet_mp;
 pub mod flight;
 pub mod hud;
 pub mod input;
@@ -41,6 +44,8 @@ pub mod output;
 pub mod pacer;
 pub mod plot;
 pub mod progress;
+pub mod recording;
+pub mod replay;
 pub mod report;
 pub mod run;
 pub mod signals;
@@ -64,16 +69,11 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
         Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
         Command::Fleet(args) => fleet::run(&args),
+        Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::DisListen(args) => dis_listen::run(&args),
         Command::FgfsCommand(args) => {
-            let line = fgfs::fgfs_command_from(
-                args.model,
-                args.fps,
-                args.fg.as_ref(),
-                &args.origin,
-                &args.start,
-            )?;
+            let line = fgfs::fgfs_command_line(&args)?;
             let mut out = std::io::stdout().lock();
             writeln!(out, "{line}")
                 .and_then(|()| out.flush())
@@ -89,7 +89,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or dis-listen (see --help)"
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot, replay or dis-listen (see --help)"
             .to_owned();
     }
     let text = error.render().to_string();
@@ -131,7 +131,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or dis-listen (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot, replay or dis-listen (see --help)"
         );
     }
 }

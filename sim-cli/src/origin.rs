@@ -1,5 +1,10 @@
-//! `--origin LAT,LON,ALT_M`: where the model's earth-frame origin sits on the WGS-84
-//! ellipsoid.
+//! `--origin LAT,LON,ALT_M` or `--origin NAME`: where the model's earth-frame origin
+//! sits on the WGS-84 ellipsoid.
+//!
+//! Names ([`NAMED_ORIGINS`]) stand for runway thresholds, so that FlightGear shows the
+//! aircraft on a real runway. Both models fly north (the earth frame's x axis), so the
+//! runways chosen for an offline start point north. Where the coordinates come from is
+//! in docs/cli.md "Named origins".
 //!
 //! The value is the ECS's own [`GeodeticOrigin`], parsed with its `FromStr`, so the
 //! CLI and the geodesy that places the aircraft can never disagree about what an
@@ -12,19 +17,129 @@ pub use fdm_ecs::geodesy::GeodeticOrigin;
 /// [`GeodeticOrigin::WRIGHT_PATTERSON`].
 pub const DEFAULT_ORIGIN: &str = "39.8264,-84.0483,251";
 
-/// Parses and validates `LAT,LON,ALT_M` (degrees, degrees, metres); whitespace
-/// around the numbers is allowed. The error is the geodesy module's one-line
-/// message, without the option name, because clap adds that.
+/// A named origin: a runway threshold FlightGear has scenery for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NamedOrigin {
+    /// The name `--origin` takes (lower case; matched case-insensitively).
+    pub name: &'static str,
+    /// What and where it is, for `--help` and the docs.
+    pub description: &'static str,
+    /// Latitude of the threshold, degrees.
+    pub lat_deg: f64,
+    /// Longitude of the threshold, degrees.
+    pub lon_deg: f64,
+    /// Height of the runway surface at the threshold above the WGS-84 ellipsoid as
+    /// FlightGear's scenery has it, m.
+    pub alt_m: f64,
+    /// Whether Debian's `flightgear-data-base` 2020.3.16 ships the scenery (so
+    /// FlightGear shows it without TerraSync, offline).
+    pub scenery_offline: bool,
+}
+
+/// The named origins `--origin` accepts (docs/cli.md "Named origins").
+pub const NAMED_ORIGINS: &[NamedOrigin] = &[
+    NamedOrigin {
+        name: "wpafb",
+        description: "Wright-Patterson AFB, the thesis's runway (the default)",
+        lat_deg: 39.8264,
+        lon_deg: -84.0483,
+        alt_m: 251.0,
+        scenery_offline: false,
+    },
+    NamedOrigin {
+        name: "phli",
+        description: "Lihue, Kauai (Hawaii), runway 35 threshold, runway heading 0.01 deg true",
+        lat_deg: 21.963792,
+        lon_deg: -159.335883,
+        alt_m: 26.94,
+        scenery_offline: true,
+    },
+    NamedOrigin {
+        name: "bikf",
+        description: "Keflavik (Iceland), runway 02 threshold, runway heading 0.02 deg true",
+        lat_deg: 63.96448319,
+        lon_deg: -22.60544552,
+        alt_m: 33.81,
+        scenery_offline: true,
+    },
+    NamedOrigin {
+        name: "ksfo",
+        description: "San Francisco, runway 28R threshold (runway heading 298 deg: the models \
+                      fly north, across it); scenery through TerraSync only",
+        lat_deg: 37.61351918,
+        lon_deg: -122.35716907,
+        alt_m: 3.96,
+        scenery_offline: false,
+    },
+];
+
+/// The named origin called `name` (case-insensitive).
+#[must_use]
+pub fn named_origin(name: &str) -> Option<&'static NamedOrigin> {
+    NAMED_ORIGINS
+        .iter()
+        .find(|o| o.name.eq_ignore_ascii_case(name.trim()))
+}
+
+/// The names of [`NAMED_ORIGINS`], comma-separated.
+#[must_use]
+pub fn origin_names() -> String {
+    NAMED_ORIGINS
+        .iter()
+        .map(|o| o.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Parses and validates `LAT,LON,ALT_M` (degrees, degrees, metres; whitespace
+/// around the numbers is allowed) or the name of a [`NamedOrigin`]. The error is
+/// the geodesy module's one-line message, without the option name, because clap
+/// adds that.
 ///
 /// # Errors
-/// The text of the [`fdm_ecs::geodesy::GeodesyError`].
+/// The text of the [`fdm_ecs::geodesy::GeodesyError`], and for text without a
+/// comma the list of names.
 pub fn parse_origin(text: &str) -> Result<GeodeticOrigin, String> {
-    text.parse::<GeodeticOrigin>().map_err(|e| e.to_string())
+    if let Some(named) = named_origin(text) {
+        return GeodeticOrigin::new(named.lat_deg, named.lon_deg, named.alt_m)
+            .map_err(|e| e.to_string());
+    }
+    text.parse::<GeodeticOrigin>().map_err(|e| {
+        if text.contains(',') {
+            e.to_string()
+        } else {
+            format!("{e}; or a named origin: {}", origin_names())
+        }
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn named_origins_parse_to_their_coordinates() {
+        for named in NAMED_ORIGINS {
+            for text in [
+                named.name.to_owned(),
+                named.name.to_uppercase(),
+                format!(" {} ", named.name),
+            ] {
+                let g = parse_origin(&text).unwrap().geodetic();
+                assert_eq!(
+                    (g.lat_deg, g.lon_deg, g.alt_m),
+                    (named.lat_deg, named.lon_deg, named.alt_m)
+                );
+            }
+        }
+        assert_eq!(parse_origin("wpafb"), parse_origin(DEFAULT_ORIGIN));
+        let err = parse_origin("kord").unwrap_err();
+        assert!(
+            err.ends_with("or a named origin: wpafb, phli, bikf, ksfo"),
+            "{err}"
+        );
+        assert!(!parse_origin("1,2").unwrap_err().contains("named"));
+    }
 
     #[test]
     fn default_string_matches_default_value() {

@@ -160,6 +160,10 @@ impl<F: Flight> Flight for Plotted<F> {
     fn dis_report(&self) -> Option<crate::dis::DisReport> {
         self.inner.dis_report()
     }
+
+    fn finish(&mut self) -> anyhow::Result<()> {
+        self.inner.finish()
+    }
 }
 
 /// Lets the loops fly a borrowed flight, so the caller keeps it afterwards.
@@ -191,6 +195,10 @@ impl<F: Flight> Flight for &mut F {
 
     fn dis_report(&self) -> Option<crate::dis::DisReport> {
         (**self).dis_report()
+    }
+
+    fn finish(&mut self) -> anyhow::Result<()> {
+        (**self).finish()
     }
 }
 

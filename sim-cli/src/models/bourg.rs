@@ -1,7 +1,7 @@
 //! Bourg's 6-DoF aircraft in the CLI: its report fields and keys.
 
 use crossterm::event::KeyCode;
-use fdm_core::bourg::{Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::bourg::{Airframe, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
 use serde::{Deserialize, Serialize};
 
 use super::{CliModel, Details};
@@ -86,6 +86,48 @@ impl CliModel for Bourg {
 
     const DIS_CALLSIGN: &'static str = "BRG";
 
+    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
+    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
+    /// is false, so set the second.
+    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
+
+    const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
+
+    /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.
+    fn offset_state(state: &BourgState, north_m: f64, west_m: f64, up_m: f64) -> BourgState {
+        let ft = |m: f64| (m / fdm_core::units::METRES_PER_FOOT) as f32;
+        let mut moved = *state;
+        moved.position_ft.x += ft(north_m);
+        moved.position_ft.y += ft(west_m);
+        moved.position_ft.z += ft(up_m);
+        moved
+    }
+
+    type AircraftRecord = BourgAircraftRecord;
+
+    fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
+        BourgAircraftRecord {
+            airframe: *aircraft.airframe(),
+            max_thrust_lb: aircraft.max_thrust_lb,
+            delta_thrust_lb: aircraft.delta_thrust_lb,
+        }
+    }
+
+    fn aircraft_from_record(record: BourgAircraftRecord) -> Result<BourgAircraft, String> {
+        let mut aircraft = BourgAircraft::new(record.airframe).map_err(|e| e.to_string())?;
+        for (name, value) in [
+            ("max_thrust_lb", record.max_thrust_lb),
+            ("delta_thrust_lb", record.delta_thrust_lb),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(format!("{name} {value} is not a finite thrust >= 0"));
+            }
+        }
+        aircraft.max_thrust_lb = record.max_thrust_lb;
+        aircraft.delta_thrust_lb = record.delta_thrust_lb;
+        Ok(aircraft)
+    }
+
     fn native_position(state: &BourgState) -> [f64; 3] {
         state.position_ft.map(f64::from).into()
     }
@@ -108,6 +150,19 @@ impl CliModel for Bourg {
             pitch_trim: f64::from(controls.pitch_trim),
         }
     }
+}
+
+/// Bourg's aircraft as a recording stores it: the airframe (from which
+/// [`BourgAircraft::new`] recomputes the mass properties, exactly as the
+/// original did) and the thrust limits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BourgAircraftRecord {
+    /// The eight lifting elements.
+    pub airframe: Airframe,
+    /// Maximum thrust, lb.
+    pub max_thrust_lb: f32,
+    /// Thrust change per thrust-up/down action, lb.
+    pub delta_thrust_lb: f32,
 }
 
 impl KeyAction for BourgAction {

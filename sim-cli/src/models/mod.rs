@@ -40,7 +40,16 @@ impl ModelKind {
 }
 
 /// A model as `sim-cli` flies it.
-pub trait CliModel: Model<Action: KeyAction> {
+///
+/// State and controls are serde types so that `--record` can store them
+/// (docs/recording.md); the aircraft goes through [`Self::AircraftRecord`].
+pub trait CliModel:
+    Model<
+    Action: KeyAction,
+    State: Serialize + DeserializeOwned,
+    Controls: Serialize + DeserializeOwned,
+>
+{
     /// The model's own report fields (JSON next to the common ones, CSV
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
@@ -48,6 +57,19 @@ pub trait CliModel: Model<Action: KeyAction> {
     /// The model's structure-of-arrays fleet kernel (`sim-cli fleet
     /// --kernel lanes`).
     type Lanes: fdm_fleet::LaneFleet<Model = Self>;
+
+    /// The aircraft's parameters as a recording stores them: everything
+    /// needed to rebuild an identical [`Model::Aircraft`].
+    type AircraftRecord: Serialize + DeserializeOwned + Debug;
+
+    /// The record of `aircraft`.
+    fn aircraft_record(aircraft: &Self::Aircraft) -> Self::AircraftRecord;
+
+    /// Rebuilds (and validates) the aircraft from its record.
+    ///
+    /// # Errors
+    /// A one-line message naming what is wrong with the parameters.
+    fn aircraft_from_record(record: Self::AircraftRecord) -> Result<Self::Aircraft, String>;
 
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;
@@ -57,6 +79,18 @@ pub trait CliModel: Model<Action: KeyAction> {
 
     /// The start of its DIS callsigns (markings): `C172-1`, `C172-2`, ...
     const DIS_CALLSIGN: &'static str;
+
+    /// Further fgfs options that aircraft needs with `--fdm=null` (printed by
+    /// `sim-cli fgfs-command`, already shell-quoted where needed).
+    const FG_OPTIONS: &'static [&'static str] = &[];
+
+    /// The model file FlightGear loads for this model as a multiplayer
+    /// aircraft (relative to its data directory).
+    const FG_MP_MODEL: &'static str;
+
+    /// `state` moved by `north_m`, `west_m` and `up_m` (the earth frame's x, y,
+    /// z, metres), everything else unchanged: fleet spawn patterns.
+    fn offset_state(state: &Self::State, north_m: f64, west_m: f64, up_m: f64) -> Self::State;
 
     /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
     /// up) in the model's own unit ([`Details::POSITION_UNIT`]), widened to

@@ -100,6 +100,35 @@ impl CliModel for Palmer {
 
     const DIS_CALLSIGN: &'static str = "C172";
 
+    /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
+    /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
+    /// they do with `--fdm=null`: give them fuel (nothing consumes it).
+    const FG_OPTIONS: &'static [&'static str] = &[
+        "'--prop:double:/consumables/fuel/tank[0]/level-gal_us=20'",
+        "'--prop:double:/consumables/fuel/tank[1]/level-gal_us=20'",
+    ];
+
+    const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
+
+    fn offset_state(state: &PalmerState, north_m: f64, west_m: f64, up_m: f64) -> PalmerState {
+        let mut moved = *state;
+        moved.position_m.x += north_m;
+        moved.position_m.y += west_m;
+        moved.position_m.z += up_m;
+        moved
+    }
+
+    type AircraftRecord = PalmerAircraft;
+
+    fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
+        *aircraft
+    }
+
+    fn aircraft_from_record(record: PalmerAircraft) -> Result<PalmerAircraft, String> {
+        record.validate().map_err(|e| e.to_string())?;
+        Ok(record)
+    }
+
     fn native_position(state: &PalmerState) -> [f64; 3] {
         state.position_m.into()
     }

@@ -69,6 +69,16 @@ pub trait Flight {
     fn take_link_failure(&mut self) -> Option<String> {
         None
     }
+
+    /// Called once when the run ends normally, before the report: completes
+    /// anything written alongside the flight (the `--record` file). The default
+    /// does nothing.
+    ///
+    /// # Errors
+    /// Writing fails; the run ends with exit status 1.
+    fn finish(&mut self) -> anyhow::Result<()> {
+        Ok(())
+    }
 }
 
 /// The stderr line for a link failure (see [`Flight::take_link_failure`]).
@@ -122,11 +132,14 @@ pub fn fly<F: Flight>(
                 csv.as_mut(),
                 &mut progress,
             );
-            // The rows written so far are kept and flushed, even when the run
-            // stopped early (e.g. the model diverged on the next frame).
+            // The rows written so far are kept and flushed, and the recording
+            // finished, even when the run stopped early (e.g. the model
+            // diverged on the next frame).
             let finished = csv.map(CsvWriter::finish).transpose();
+            let recorded = flight.finish();
             let mut report = report?;
             finished?;
+            recorded?;
             if fg.is_some() {
                 report.fg = flight.link_stats().map(|l| LinkReport {
                     sent: l.sent,
@@ -144,8 +157,10 @@ pub fn fly<F: Flight>(
         Mode::Interactive => {
             let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut());
             let finished = csv.map(CsvWriter::finish).transpose();
+            let recorded = flight.finish();
             let summary = summary?;
             finished?;
+            recorded?;
             if let Some(message) = &summary.link_failure {
                 eprintln!("{}", link_warning(message));
             }

@@ -2,7 +2,7 @@
 //! in place: a panic inside dis-rs that the listener catches (and counts as
 //! `decoder_panics`) is allowed, as in a normal build; a panic escaping
 //! `Listener::ingest`, or counts that do not add up, is a crash. (The
-//! `listener` target instead treats every panic, even a caught one, as a
+//! `dis_listener_strict` target instead treats every panic, even a caught one, as a
 //! crash, to find dis-rs bugs.)
 #![no_main]
 

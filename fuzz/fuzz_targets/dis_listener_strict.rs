@@ -1,3 +1,5 @@
+//! Run by hand, not in CI: it finds panics inside dis-rs 0.14 itself (Signal and
+//! Transmitter PDUs, see docs/dis.md), which the listener catches.
 //! Arbitrary datagrams into the DIS listener: it must never panic (libFuzzer
 //! aborts on any panic, also one inside dis-rs that the listener's
 //! `catch_unwind` would otherwise turn into a counted error).

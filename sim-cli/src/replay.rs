@@ -1,0 +1,200 @@
+//! `sim-cli replay FILE`: flies a recording (docs/recording.md) again,
+//! headless, and reports like a headless flight (`--json`, `--csv`, `--fg`).
+//!
+//! The replay builds the same [`ModelFlight`] the recorded run had (model,
+//! aircraft, fps, origin, controls and state from the header) and feeds it
+//! the recorded frames and resets, so every state is bit-identical to the
+//! original's: the JSON report equals the headless original's, and the CSV
+//! equals the original's CSV (a reset writes a new frame 0, as in an
+//! interactive flight).
+//!
+//! `--realtime` paces the replay at 1/fps of wall-clock time per frame, as it
+//! does headless flights, so that FlightGear (`--fg`) shows every frame.
+//! `--dis` publishes the replayed aircraft as a DIS entity, as the flight
+//! itself would ([`crate::dis`]).
+
+use std::io::{self, Write};
+use std::time::Instant;
+
+use anyhow::Context as _;
+
+use crate::args::ReplayArgs;
+use crate::config::{Mode, RunConfig};
+use crate::csv::CsvWriter;
+use crate::error::CliError;
+use crate::flight::ModelFlight;
+use crate::input::{read_bytes, show_path};
+use crate::models::{CliModel, WithModel};
+use crate::pacer::FramePacer;
+use crate::progress::StderrProgress;
+use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
+use crate::report::{LinkReport, RealtimeReport, Report};
+use crate::run::{link_warning, Flight};
+use crate::signals::SignalSafeWriter;
+
+/// Flies the recorded events on `flight` (which starts where the recording
+/// starts): each run of frames steps the flight with its actions, a reset
+/// resets it. CSV rows as the recorded flight wrote them: frame 0 at the
+/// start and after each reset, then the frame number since the last reset.
+///
+/// # Errors
+/// A failing step, reset or CSV write ([`CliError::Runtime`]), or an event
+/// that does not decode ([`CliError::Usage`]; not after [`Recording::parse`]).
+pub fn replay_flight<F: Flight, W: Write>(
+    flight: &mut F,
+    events: impl IntoIterator<Item = Result<Replayed<F::Action>, RecordingError>>,
+    fps: u32,
+    total_frames: u64,
+    realtime: bool,
+    mut csv: Option<&mut CsvWriter<W>>,
+    progress: &mut StderrProgress,
+) -> Result<Report<F::Details>, CliError> {
+    let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
+    if let Some(csv) = csv.as_deref_mut() {
+        csv.write_record(0, &flight.snapshot())?;
+    }
+    let mut frame = 0_u64;
+    let mut done = 0_u64;
+    for event in events {
+        match event.map_err(CliError::usage)? {
+            Replayed::Frames { count, actions } => {
+                for _ in 0..count {
+                    frame += 1;
+                    done += 1;
+                    flight
+                        .step(&actions)
+                        .with_context(|| format!("frame {frame}"))?;
+                    if let Some(csv) = csv.as_deref_mut() {
+                        csv.write_record(frame, &flight.snapshot())?;
+                    }
+                    if let Some(message) = flight.take_link_failure() {
+                        progress.message(&link_warning(&message));
+                    }
+                    progress.tick(done);
+                    if let Some(pacer) = pacer.as_mut() {
+                        let sleep = pacer.finish_frame(Instant::now());
+                        if !sleep.is_zero() {
+                            std::thread::sleep(sleep);
+                        }
+                    }
+                }
+            }
+            Replayed::Reset => {
+                flight.reset().context("reset")?;
+                frame = 0;
+                if let Some(csv) = csv.as_deref_mut() {
+                    csv.write_record(0, &flight.snapshot())?;
+                }
+            }
+        }
+    }
+    progress.finish();
+    let mut report = Report::new(fps, total_frames, &flight.snapshot());
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
+}
+
+/// Replays a recording of model `M` as `args` ask.
+struct ReplayJob<'a> {
+    bytes: &'a [u8],
+    args: &'a ReplayArgs,
+}
+
+impl WithModel for ReplayJob<'_> {
+    type Output = Result<(), CliError>;
+
+    fn call<M: CliModel>(self) -> Self::Output {
+        let file = show_path(&self.args.file);
+        let recording = Recording::<M>::parse(self.bytes)
+            .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
+        let fg = match &self.args.fg {
+            Some(target) => Some(target.resolve().map_err(CliError::usage)?),
+            None => None,
+        };
+        let mut csv = match &self.args.csv {
+            Some(path) => {
+                if path == &self.args.file || crate::input::same_file(path, &self.args.file) {
+                    return Err(CliError::usage(format!(
+                        "--csv {} would overwrite the recording",
+                        show_path(path)
+                    )));
+                }
+                let out = SignalSafeWriter::create(path).map_err(|e| {
+                    CliError::usage(format!("cannot create CSV file {}: {e}", show_path(path)))
+                })?;
+                Some(CsvWriter::new(out, show_path(path)))
+            }
+            None => None,
+        };
+        let run = RunConfig {
+            fps: recording.fps,
+            mode: Mode::Headless {
+                frames: recording.frames,
+                json: self.args.json,
+                realtime: self.args.realtime,
+            },
+            csv: None,
+            fg,
+            origin: recording.origin,
+            plot: None,
+            dis: self.args.dis.resolve()?,
+        };
+        let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
+        let mut progress = StderrProgress::new(recording.frames);
+        let mut report = replay_flight(
+            &mut flight,
+            recording.events(),
+            recording.fps,
+            recording.frames,
+            self.args.realtime,
+            csv.as_mut(),
+            &mut progress,
+        )?;
+        if run.fg.is_some() {
+            report.fg = flight.link_stats().map(|l| LinkReport {
+                sent: l.sent,
+                failed: l.failed,
+            });
+        }
+        report.dis = flight.dis_report();
+        if let Some(csv) = csv {
+            csv.finish()?;
+        }
+        let text = if self.args.json {
+            report.to_json().context("encoding the JSON report")?
+        } else {
+            format!(
+                "{}\nreplayed {}: {} frames, {} resets",
+                report.human_summary(),
+                file,
+                recording.frames,
+                recording.resets
+            )
+        };
+        let mut out = io::stdout().lock();
+        writeln!(out, "{text}")
+            .and_then(|()| out.flush())
+            .context("writing to stdout")?;
+        Ok(())
+    }
+}
+
+/// `sim-cli replay`: reads (at most [`MAX_RECORDING_BYTES`]), validates
+/// and replays a recording.
+///
+/// # Errors
+/// [`CliError::Usage`] (exit status 2) for an unreadable, too large,
+/// truncated, corrupt, wrong-version or unknown-model file, naming the
+/// problem; [`CliError::Runtime`] for failures while replaying.
+pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
+    let path = &args.file;
+    let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
+    let kind =
+        recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
+    kind.with(ReplayJob {
+        bytes: &bytes,
+        args,
+    })
+}
