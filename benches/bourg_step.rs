@@ -1,4 +1,4 @@
-//! One step of the `f32` Bourg model from a representative flying state: the
+//! One step of the Bourg model from a representative flying state: the
 //! thesis "roll" scenario (thrust up on frames 1-5, pitch up 6-246, roll right
 //! 247-307) flown to frame 280, in the middle of the roll with the ailerons
 //! deflected, banked and turning, all eight elements well above 1 ft/s.
@@ -8,10 +8,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use fdm_core::bourg::{
-    step, AircraftOf, BourgAction, BourgAircraft, BourgControls, BourgControlsOf, BourgState,
-    BourgStateOf,
-};
+use fdm_core::bourg::{step, BourgAction, BourgAircraft, BourgControls, BourgState};
 use fdm_core::script::Script;
 
 const DT: f32 = 1.0 / 30.0;
@@ -43,37 +40,6 @@ fn bench_step(c: &mut Criterion) {
                 black_box(&controls),
                 black_box(&state),
                 black_box(DT),
-            )
-        });
-    });
-
-    let aircraft64 = AircraftOf::<f64>::bourg_default();
-    let controls64 = BourgControlsOf::<f64> {
-        thrust_lb: f64::from(controls.thrust_lb),
-        rudder_deg: f64::from(controls.rudder_deg),
-        port_aileron: controls.port_aileron,
-        starboard_aileron: controls.starboard_aileron,
-        elevators: controls.elevators,
-        landing_flaps: controls.landing_flaps,
-        pitch_trim: f64::from(controls.pitch_trim),
-    };
-    let widen = |v: &fdm_core::bourg::Vector3<f32>| v.map(f64::from);
-    let state64 = BourgStateOf::<f64> {
-        time_s: state.time_s,
-        position_ft: widen(&state.position_ft),
-        velocity_ftps: widen(&state.velocity_ftps),
-        velocity_body_ftps: widen(&state.velocity_body_ftps),
-        angular_velocity_radps: widen(&state.angular_velocity_radps),
-        orientation: fdm_core::bourg::Quaternion::from(state.orientation.coords.map(f64::from)),
-        stalling: state.stalling,
-    };
-    c.bench_function("bourg_step_f64", |b| {
-        b.iter(|| {
-            step(
-                black_box(&aircraft64),
-                black_box(&controls64),
-                black_box(&state64),
-                black_box(1.0f64 / 30.0),
             )
         });
     });

@@ -203,6 +203,55 @@ pub struct EcefState {
     pub angular_velocity_body_rad_s: Vector3<f64>,
 }
 
+impl EcefState {
+    /// A state given directly in ECEF (for shells that have ECEF already,
+    /// which saves the geodetic round trip of [`AircraftState::to_ecef`]):
+    /// the orientation's DIS angles are read from `body_to_ecef`.
+    #[must_use]
+    pub fn new(
+        time_s: f64,
+        location_m: Vector3<f64>,
+        body_to_ecef: Matrix3<f64>,
+        velocity_m_s: Vector3<f64>,
+        acceleration_m_s2: Vector3<f64>,
+        angular_velocity_body_rad_s: Vector3<f64>,
+    ) -> Self {
+        Self {
+            time_s,
+            location_m,
+            orientation: DisEuler::from_body_to_ecef(&body_to_ecef),
+            body_to_ecef,
+            velocity_m_s,
+            acceleration_m_s2,
+            angular_velocity_body_rad_s,
+        }
+    }
+
+    /// Checks that every number is finite.
+    ///
+    /// # Errors
+    /// [`DisOutputError::NonFinite`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), DisOutputError> {
+        let fields: [(&'static str, &[f64]); 6] = [
+            ("time_s", &[self.time_s]),
+            ("location_m", self.location_m.as_slice()),
+            ("body_to_ecef", self.body_to_ecef.as_slice()),
+            ("velocity_m_s", self.velocity_m_s.as_slice()),
+            ("acceleration_m_s2", self.acceleration_m_s2.as_slice()),
+            (
+                "angular_velocity_body_rad_s",
+                self.angular_velocity_body_rad_s.as_slice(),
+            ),
+        ];
+        for (name, values) in fields {
+            if !values.iter().all(|v| v.is_finite()) {
+                return Err(DisOutputError::NonFinite(name));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The NED-to-ECEF rotation at a geodetic latitude/longitude (degrees): its
 /// columns are the local north, east and down unit vectors in ECEF
 /// components. Its transpose maps ECEF components to NED.

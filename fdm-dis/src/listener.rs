@@ -172,6 +172,9 @@ pub struct ListenerStats {
     pub malformed_datagrams: u64,
     /// … of which because dis-rs panicked (should stay 0).
     pub decoder_panics: u64,
+    /// Entity State PDUs of entities not kept because the entity table was
+    /// full ([`Listener::with_max_entities`]); counted, not stored.
+    pub untracked_entity_pdus: u64,
 }
 
 /// A DIS receiver's bookkeeping: feed it datagrams, read counts and entities.
@@ -179,13 +182,36 @@ pub struct ListenerStats {
 pub struct Listener {
     stats: ListenerStats,
     entities: BTreeMap<EntityIdentity, EntityRecord>,
+    /// Most entities kept; `None`: no limit.
+    max_entities: Option<usize>,
 }
 
 impl Listener {
-    /// An empty listener.
+    /// An empty listener that keeps every entity it hears of (memory grows
+    /// with the number of distinct entities; see
+    /// [`Listener::with_max_entities`] for a bound).
     #[must_use]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// An empty listener that keeps at most `max` entities: once the table
+    /// holds `max`, Entity State PDUs of further entities are counted in
+    /// [`ListenerStats::untracked_entity_pdus`] and not stored, so memory
+    /// stays bounded whatever arrives. Entities already kept go on being
+    /// updated.
+    #[must_use]
+    pub fn with_max_entities(max: usize) -> Self {
+        Self {
+            max_entities: Some(max),
+            ..Self::default()
+        }
+    }
+
+    /// The bound set by [`Listener::with_max_entities`], if any.
+    #[must_use]
+    pub fn max_entities(&self) -> Option<usize> {
+        self.max_entities
     }
 
     /// Takes one datagram: counts it and, if it decodes, its PDUs, and
@@ -212,6 +238,12 @@ impl Listener {
             if let PduBody::EntityState(es) = &pdu.body {
                 self.stats.entity_state_pdus += 1;
                 let id = EntityIdentity::from_dis(&es.entity_id);
+                if let Some(max) = self.max_entities {
+                    if self.entities.len() >= max && !self.entities.contains_key(&id) {
+                        self.stats.untracked_entity_pdus += 1;
+                        continue;
+                    }
+                }
                 let location_m = Vector3::new(
                     es.entity_location.x_coordinate,
                     es.entity_location.y_coordinate,

@@ -8,7 +8,7 @@ use bytes::BytesMut;
 use crate::dead_reckoning::{DeadReckoner, DrThresholds, SendReason};
 use crate::entity::{encode_entity_state, EntityConfig, WireState, ENTITY_STATE_PDU_LEN};
 use crate::error::DisOutputError;
-use crate::frames::AircraftState;
+use crate::frames::{AircraftState, EcefState};
 
 /// Counts kept by an [`EntityPublisher`].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -92,6 +92,17 @@ impl EntityPublisher {
     /// the model is unchanged then.
     pub fn update(&mut self, state: &AircraftState) -> Result<Option<Due<'_>>, DisOutputError> {
         let ecef = state.to_ecef()?;
+        self.update_ecef(&ecef)
+    }
+
+    /// [`EntityPublisher::update`] for a state already in ECEF.
+    ///
+    /// # Errors
+    /// A non-finite state ([`EcefState::validate`]) or an encoding failure;
+    /// the model is unchanged then.
+    pub fn update_ecef(&mut self, ecef: &EcefState) -> Result<Option<Due<'_>>, DisOutputError> {
+        ecef.validate()?;
+        let ecef = *ecef;
         self.counts.frames += 1;
         let Some(reason) = self.reckoner.check(&ecef) else {
             return Ok(None);

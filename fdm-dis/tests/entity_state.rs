@@ -197,3 +197,39 @@ fn marking_and_id_validation() {
     }
     assert!(EntityIdentity::new(0xFFFE, 0xFFFE, 0xFFFD).is_ok());
 }
+
+/// `update_ecef` is `update` without the geodetic step: for the ECEF state
+/// `update` computes, the very same bytes; a non-finite ECEF state is refused
+/// (naming the field) and leaves the publisher unchanged.
+#[test]
+fn update_ecef_is_update_for_the_same_ecef_state() {
+    use fdm_dis::{DrThresholds, EcefState, EntityPublisher};
+    let config = EntityConfig::new(
+        EntityIdentity::new(1, 2, 3).unwrap(),
+        AircraftKind::Cessna172,
+        Marking::new("N172SP").unwrap(),
+    );
+    let mut a = EntityPublisher::new(config.clone(), DrThresholds::default()).unwrap();
+    let mut b = EntityPublisher::new(config, DrThresholds::default()).unwrap();
+    let s = sample_state();
+    let ecef = s.to_ecef().unwrap();
+    let rebuilt = EcefState::new(
+        ecef.time_s,
+        ecef.location_m,
+        ecef.body_to_ecef,
+        ecef.velocity_m_s,
+        ecef.acceleration_m_s2,
+        ecef.angular_velocity_body_rad_s,
+    );
+    assert_eq!(rebuilt, ecef);
+    let from_geodetic = a.update(&s).unwrap().unwrap().bytes.to_vec();
+    let mut bad = rebuilt;
+    bad.velocity_m_s.y = f64::NAN;
+    assert_eq!(
+        b.update_ecef(&bad),
+        Err(DisOutputError::NonFinite("velocity_m_s"))
+    );
+    assert_eq!(b.counts().frames, 0);
+    let from_ecef = b.update_ecef(&rebuilt).unwrap().unwrap().bytes.to_vec();
+    assert_eq!(from_geodetic, from_ecef);
+}

@@ -114,6 +114,30 @@ fn counts_entities_and_reads_back_geodetic() {
 }
 
 #[test]
+fn a_bounded_listener_keeps_its_first_entities_and_counts_the_rest() {
+    let mut l = Listener::with_max_entities(2);
+    assert_eq!(l.max_entities(), Some(2));
+    let s = state(0.0, 39.8, -84.0, 10.0);
+    for entity in 1..=5 {
+        let mut p = publisher(entity, AircraftKind::Cessna172, "C172", DisVersion::V7);
+        assert_eq!(l.ingest(&one_pdu(&mut p, &s)), Ok(1));
+    }
+    // Entity 1 again: it is kept, so it is updated.
+    let mut p = publisher(1, AircraftKind::Cessna172, "C172", DisVersion::V7);
+    l.ingest(&one_pdu(&mut p, &state(1.0, 39.9, -84.0, 10.0)))
+        .unwrap();
+    let ids: Vec<_> = l.entities().map(|r| r.id.entity).collect();
+    assert_eq!(ids, [1, 2]);
+    let st = l.stats();
+    assert_eq!((st.pdus, st.entity_state_pdus), (6, 6));
+    assert_eq!(st.untracked_entity_pdus, 3);
+    let r1 = l.entity(&EntityIdentity::new(1, 2, 1).unwrap()).unwrap();
+    assert_eq!(r1.updates, 2);
+    assert!((r1.position.lat_deg - 39.9).abs() < 1e-9);
+    assert_eq!(Listener::new().max_entities(), None);
+}
+
+#[test]
 fn malformed_datagrams_are_counted_and_skipped() {
     let mut p = publisher(9, AircraftKind::Cessna172, "X", DisVersion::V7);
     let good = one_pdu(&mut p, &state(0.0, 10.0, 10.0, 0.0));

@@ -56,15 +56,9 @@ const ANGLE_TOL_DEG: f64 = 1e-4;
 
 // ---------------------------------------------------------------- python setup
 
-/// opendis and the numpy it works with, pinned.
-const ENV: PythonEnv = PythonEnv {
-    name: "opendis-1.0",
-    override_var: "DIS_PYTHON",
-    packages: &["opendis==1.0", "numpy==1.26.4"],
-    distribution: "opendis",
-    version: OPENDIS_VERSION,
-    imports: &["opendis"],
-};
+/// opendis and the numpy it works with, pinned (shared with sim-cli's
+/// interop test through `fdm_tests::python`).
+const ENV: PythonEnv = fdm_tests::python::OPENDIS;
 
 fn python() -> &'static Path {
     static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();

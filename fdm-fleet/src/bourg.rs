@@ -20,8 +20,8 @@
 //! [`rudder_coefficients`](fdm_core::bourg::rudder_coefficients)) become a branchless interval count over `fdm_core`'s
 //! own tables and a lane-wise interpolation with the same formula (unit tests
 //! compare them with the scalar functions bit for bit). Only glibc's `asinf`
-//! goes lane by lane (through the same `BourgFloat::asin` the scalar step
-//! calls).
+//! goes lane by lane (through the same `fdm_core::math::asinf` the scalar
+//! step calls).
 //!
 //! What depends only on the controls is computed when they are set, with the
 //! scalar step's functions: the rudder's normal at its incidence and the table
@@ -31,9 +31,14 @@
 //! `tests/bourg_fleet.rs` checks it against the scalar step bit for bit on the
 //! reference scenarios and on random fleets.
 
-use fdm_core::bourg::{
-    BourgAircraft, BourgControls, BourgFloat, BourgState, Flap, Quaternion, Vector3,
+use fdm_core::bourg::airfoil::{
+    AIRFOIL_ALPHA_DEG, CD_NEUTRAL, CD_OUTSIDE, CD_TRAILING_EDGE_DOWN, CD_TRAILING_EDGE_UP,
+    CL_NEUTRAL, CL_TRAILING_EDGE_DOWN, CL_TRAILING_EDGE_UP, G_FTPS2, RHO_SLUG_FT3,
+    RUDDER_ALPHA_DEG, RUDDER_CD, RUDDER_CL,
 };
+use fdm_core::bourg::ops::{PI, TOL};
+use fdm_core::bourg::{BourgAircraft, BourgControls, BourgState, Flap, Quaternion, Vector3};
+use fdm_core::math::asinf;
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
@@ -158,7 +163,7 @@ impl V3 {
     /// components below `TOL` in magnitude flushed to zero.
     #[inline(always)]
     fn normalize(self) -> Self {
-        let tol = <f32 as BourgFloat>::TOL;
+        let tol = TOL;
         let m = self.magnitude();
         let m = m.le(tol).select(L::splat(1.0), m);
         let flush = |c: L| c.abs().lt(tol).select(L::splat(0.0), c);
@@ -385,24 +390,23 @@ fn lerp_lanes<const T: usize>(
 /// [`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients) lane-wise, each lane with its own flap tables.
 #[inline(always)]
 fn airfoil_lanes(angle: L, flaps: &[Flap; LANES]) -> (L, L) {
-    type F = f32;
-    let a = &<F as BourgFloat>::AIRFOIL_ALPHA_DEG;
+    let a = &AIRFOIL_ALPHA_DEG;
     let (index, valid) = interval_lanes(a, angle);
     let cl_tables = flaps.map(|flap| match flap {
-        Flap::Neutral => &<F as BourgFloat>::CL_NEUTRAL,
-        Flap::TrailingEdgeDown => &<F as BourgFloat>::CL_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &<F as BourgFloat>::CL_TRAILING_EDGE_UP,
+        Flap::Neutral => &CL_NEUTRAL,
+        Flap::TrailingEdgeDown => &CL_TRAILING_EDGE_DOWN,
+        Flap::TrailingEdgeUp => &CL_TRAILING_EDGE_UP,
     });
     let cd_tables = flaps.map(|flap| match flap {
-        Flap::Neutral => &<F as BourgFloat>::CD_NEUTRAL,
-        Flap::TrailingEdgeDown => &<F as BourgFloat>::CD_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &<F as BourgFloat>::CD_TRAILING_EDGE_UP,
+        Flap::Neutral => &CD_NEUTRAL,
+        Flap::TrailingEdgeDown => &CD_TRAILING_EDGE_DOWN,
+        Flap::TrailingEdgeUp => &CD_TRAILING_EDGE_UP,
     });
     let cl = lerp_lanes(a, cl_tables, &index, angle);
     let cd = lerp_lanes(a, cd_tables, &index, angle);
     (
         valid.select(cl, L::splat(0.0)),
-        valid.select(cd, L::splat(<F as BourgFloat>::CD_OUTSIDE)),
+        valid.select(cd, L::splat(CD_OUTSIDE)),
     )
 }
 
@@ -410,16 +414,15 @@ fn airfoil_lanes(angle: L, flaps: &[Flap; LANES]) -> (L, L) {
 /// negated below 0.
 #[inline(always)]
 fn rudder_lanes(angle: L) -> (L, L) {
-    type F = f32;
-    let a = &<F as BourgFloat>::RUDDER_ALPHA_DEG;
+    let a = &RUDDER_ALPHA_DEG;
     let abs = angle.abs();
     let (index, valid) = interval_lanes(a, abs);
-    let cl = lerp_lanes(a, [&<F as BourgFloat>::RUDDER_CL; LANES], &index, abs);
+    let cl = lerp_lanes(a, [&RUDDER_CL; LANES], &index, abs);
     let cl = angle.lt(0.0).select(-cl, cl);
-    let cd = lerp_lanes(a, [&<F as BourgFloat>::RUDDER_CD; LANES], &index, abs);
+    let cd = lerp_lanes(a, [&RUDDER_CD; LANES], &index, abs);
     (
         valid.select(cl, L::splat(0.0)),
-        valid.select(cd, L::splat(<F as BourgFloat>::CD_OUTSIDE)),
+        valid.select(cd, L::splat(CD_OUTSIDE)),
     )
 }
 
@@ -440,8 +443,8 @@ fn step_block(b: &mut Block, aircraft: &BourgAircraft, dt: f32) {
     let orientation = Q4::load(&b.orientation);
 
     // loads: per element, in element order.
-    let half = <f32 as BourgFloat>::HALF;
-    let rho = <f32 as BourgFloat>::RHO_SLUG_FT3;
+    let half = 0.5f32;
+    let rho = RHO_SLUG_FT3;
     let mut carried = zero3;
     let mut stalling = [false; LANES];
     let mut fb = zero3;
@@ -467,8 +470,7 @@ fn step_block(b: &mut Block, aircraft: &BourgAircraft, dt: f32) {
         let s = drag.dot(normal);
         let s = s.gt(1.0).select(L::splat(1.0), s);
         let s = s.lt(-1.0).select(L::splat(-1.0), s);
-        let attack_deg = s.map(<f32 as BourgFloat>::asin) * <f32 as BourgFloat>::DEG_180
-            / <f32 as BourgFloat>::PI;
+        let attack_deg = s.map(asinf) * 180.0f32 / PI;
         let q_area = half * rho * local_speed * local_speed * element.area_ft2;
         let resultant = if i == 7 {
             drag.scale(L::splat(half)).scale(q_area)
@@ -496,7 +498,7 @@ fn step_block(b: &mut Block, aircraft: &BourgAircraft, dt: f32) {
         z: 0.0 * thrust,
     });
     let mut force_earth = orientation.rotate(fb);
-    force_earth.z = force_earth.z + <f32 as BourgFloat>::G_FTPS2 * mass.mass_slug;
+    force_earth.z = force_earth.z + G_FTPS2 * mass.mass_slug;
     let moment_body = zero3.add(mb);
 
     // step: semi-implicit Euler.
@@ -745,7 +747,7 @@ mod tests {
     fn angles() -> Vec<f32> {
         let mut v: Vec<f32> = (-4000..=4000).map(|i| i as f32 * 0.01).collect();
         // Table points, their neighbours, and the special values.
-        for t in <f32 as BourgFloat>::AIRFOIL_ALPHA_DEG {
+        for t in AIRFOIL_ALPHA_DEG {
             for x in [t, -t] {
                 v.extend([
                     x,

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::dis::{FleetDisArgs, FlightDisArgs};
 use crate::fgaddr::{parse_fg_listen, parse_fg_target, FgTarget};
 use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
@@ -52,6 +53,8 @@ pub enum Command {
     FgfsCommand(FgfsArgs),
     /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
     Fleet(FleetArgs),
+    /// Receive DIS datagrams for a while: count entities, PDUs, bytes, malformed datagrams; show each entity's last position
+    DisListen(crate::dis_listen::DisListenArgs),
     /// Replay a flight recorded with --record, headless, to the same bits
     Replay(ReplayArgs),
     /// Draw a CSV written earlier with --csv as an SVG plot (as --plot does for a run)
@@ -144,6 +147,10 @@ pub struct CommonArgs {
     #[command(flatten)]
     pub start: crate::start::StartArgs,
 
+    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    #[command(flatten)]
+    pub dis: FlightDisArgs,
+
     /// Record the flight to FILE (binary flight log, docs/recording.md) for `sim-cli replay`
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
@@ -172,6 +179,10 @@ pub struct ReplayArgs {
     /// --realtime at the recorded pace; without, as fast as the replay runs)
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
+
+    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    #[command(flatten)]
+    pub dis: FlightDisArgs,
 }
 
 /// `sim-cli palmer`.
@@ -316,6 +327,10 @@ pub struct FleetArgs {
     #[arg(long)]
     pub json: bool,
 
+    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    #[command(flatten)]
+    pub dis: FleetDisArgs,
+
     /// Initial conditions and trim for every aircraft (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`) instead of the demonstration fleet's varied states.
     #[command(flatten)]
     pub start: crate::start::StartArgs,
@@ -352,7 +367,7 @@ pub struct FleetShowArgs {
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
 
-    /// One frame per 1/30 s of wall-clock time (what FlightGear needs to show the fleet)
+    /// One frame per 1/30 s of wall-clock time (what FlightGear needs to show the fleet; also paces a fleet published with --dis)
     #[arg(long)]
     pub realtime: bool,
 

@@ -14,6 +14,7 @@ use fdm_core::script::{Script, ScriptAction};
 
 use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
+use crate::dis::FlightDis;
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
@@ -52,6 +53,8 @@ pub struct RunConfig {
     pub fg: Option<SocketAddrV4>,
     /// Geodetic position of the model's earth-frame origin.
     pub origin: GeodeticOrigin,
+    /// DIS output (`--dis`), validated; `None` sends nothing.
+    pub dis: Option<FlightDis>,
     /// The `--plot` output, already created (like the CSV).
     pub plot: Option<PlotFile>,
 }
@@ -307,6 +310,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
     if mode == Mode::Interactive {
         crate::terminal::require_terminal()?;
     }
+    let dis = args.dis.resolve()?;
     let fg = match (&args.fg, mode) {
         (Some(target), _) => Some(target.resolve().map_err(CliError::usage)?),
         (None, Mode::Interactive) => Some(FgTarget::default().resolve().map_err(CliError::usage)?),
@@ -352,6 +356,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
             csv,
             fg,
             origin: args.origin,
+            dis,
             plot,
         },
         script,

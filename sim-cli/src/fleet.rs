@@ -15,6 +15,11 @@
 //!
 //! The report gives aircraft-steps per second and how many aircraft that
 //! throughput could keep at 30 Hz (steps/s ÷ 30).
+//!
+//! With `--dis` every aircraft is also published as a DIS entity after every
+//! frame ([`crate::dis::FleetDis`]; the time that takes is reported apart, in
+//! `dis.publish_seconds`), and `--realtime` paces the frames at 1/30 s of
+//! wall-clock time.
 
 use std::io::Write;
 use std::sync::Arc;
@@ -28,9 +33,12 @@ use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
 use crate::args::{FleetArgs, FleetKernel, FleetPrecision};
+use crate::dis::{DisReport, FleetDis};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
+use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
+use crate::report::RealtimeReport;
 use fdm_fleet::{LaneFleet, Precision};
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
@@ -178,6 +186,13 @@ pub struct FleetReport {
     /// frame on they are skipped (no longer stepped), and counted here instead
     /// of stopping the fleet.
     pub diverged: u64,
+    /// DIS output, with `--dis`: every aircraft is published after every
+    /// frame; that time is in `dis.publish_seconds`, not in `seconds`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dis: Option<DisReport>,
+    /// Real-time pacing, with `--realtime`: frames that missed their deadline.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub realtime: Option<RealtimeReport>,
 }
 
 impl FleetReport {
@@ -200,7 +215,10 @@ impl FleetReport {
             format!("\n{} aircraft diverged and were skipped", self.diverged)
         } else {
             String::new()
-        }
+        } + &self.dis.as_ref().map_or_else(String::new, |d| {
+            let publish = d.publish_seconds.unwrap_or(0.0);
+            format!("\n{}\ndis  {publish:.3} s publishing", d.summary())
+        })
     }
 }
 
@@ -211,9 +229,11 @@ impl WithModel for Measure<'_> {
     type Output = Result<FleetReport, CliError>;
 
     fn call<M: CliModel>(self) -> Self::Output {
+        // The first DIS failure, once, on stderr; never fatal.
+        let mut warn = |m: &str| eprintln!("{}", crate::run::link_warning(m));
         match self.0.kernel {
-            FleetKernel::Lanes => measure_lanes::<M>(self.0),
-            FleetKernel::Ecs => measure_model::<M>(self.0),
+            FleetKernel::Lanes => measure_lanes::<M>(self.0, &mut warn),
+            FleetKernel::Ecs => measure_model::<M>(self.0, &mut warn),
         }
     }
 }
@@ -227,7 +247,42 @@ pub fn measure(args: &FleetArgs) -> Result<FleetReport, CliError> {
     args.model.with(Measure(args))
 }
 
-fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
+/// `--dis` settings, checked before anything is spawned: entity numbers for
+/// the whole fleet must exist.
+fn dis_settings(args: &FleetArgs) -> Result<Option<crate::dis::DisSettings>, CliError> {
+    let settings = args.dis.common.settings()?;
+    if let Some(s) = &settings {
+        crate::dis::fleet_identity(
+            s.site,
+            s.application,
+            args.dis.entity_base,
+            args.aircraft - 1,
+        )?;
+    }
+    Ok(settings)
+}
+
+/// Waits for the end of the frame when `pacer` paces.
+fn pace(pacer: Option<&mut FramePacer>) {
+    if let Some(pacer) = pacer {
+        let sleep = pacer.finish_frame(Instant::now());
+        if !sleep.is_zero() {
+            std::thread::sleep(sleep);
+        }
+    }
+}
+
+fn new_pacer(args: &FleetArgs) -> Option<FramePacer> {
+    args.show
+        .realtime
+        .then(|| FramePacer::new(FramePacer::period_for(FLEET_FPS), Instant::now()))
+}
+
+fn measure_model<M: CliModel>(
+    args: &FleetArgs,
+    warn: &mut dyn FnMut(&str),
+) -> Result<FleetReport, CliError> {
+    let dis_settings = dis_settings(args)?;
     let n = usize::try_from(args.aircraft)
         .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;
     let threads = args
@@ -254,9 +309,42 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
     let measured_bytes_per_aircraft = before
         .zip(after)
         .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
-    let seconds = fly_frames::<M>(&mut sim, args.frames, execution, &pool);
+    let mut dis = match &dis_settings {
+        Some(s) => Some(FleetDis::attach::<M>(
+            sim.world_mut(),
+            s,
+            args.dis.entity_base,
+        )?),
+        None => None,
+    };
+    let mut pacer = new_pacer(args);
+    let seconds = if dis.is_none() && pacer.is_none() {
+        fly_frames::<M>(&mut sim, args.frames, execution, &pool)
+    } else {
+        // Frame by frame: step, publish, wait for the frame's deadline; only
+        // the steps are timed.
+        let mut seconds = 0.0;
+        let origin = sim.resources().origin;
+        for _ in 0..args.frames {
+            seconds += fly_frames::<M>(&mut sim, 1, execution, &pool);
+            if let Some(dis) = dis.as_mut() {
+                let world = sim.world_mut();
+                match execution {
+                    Execution::Sequential => dis.publish::<M>(world, &origin, false),
+                    Execution::Parallel => {
+                        pool.install(|| dis.publish::<M>(world, &origin, true));
+                    }
+                }
+                if let Some(message) = dis.take_failure() {
+                    warn(&message);
+                }
+            }
+            pace(pacer.as_mut());
+        }
+        seconds
+    };
     let diverged = u64::try_from(sim.diverged_count()).unwrap_or(u64::MAX);
-    Ok(report::<M>(
+    let mut report = report::<M>(
         args,
         threads,
         seconds,
@@ -264,7 +352,12 @@ fn measure_model<M: Model>(args: &FleetArgs) -> Result<FleetReport, CliError> {
         measured_bytes_per_aircraft,
         None,
         diverged,
-    ))
+    );
+    report.dis = dis.map(|d| d.report(FLEET_FPS));
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
 }
 
 /// The lanes kernel's precision for `--precision`.
@@ -277,7 +370,11 @@ fn precision(p: FleetPrecision) -> Precision {
 
 /// The fleet flown by model `M`'s structure-of-arrays kernel
 /// ([`CliModel::Lanes`]): the same demonstration fleet, the same frames.
-fn measure_lanes<M: CliModel>(args: &FleetArgs) -> Result<FleetReport, CliError> {
+fn measure_lanes<M: CliModel>(
+    args: &FleetArgs,
+    warn: &mut dyn FnMut(&str),
+) -> Result<FleetReport, CliError> {
+    let dis_settings = dis_settings(args)?;
     if !args.start.is_thesis() {
         return Err(CliError::usage(
             "--altitude-ft, --speed-kt, --heading-deg and --trim need --kernel ecs \
@@ -318,21 +415,51 @@ fn measure_lanes<M: CliModel>(args: &FleetArgs) -> Result<FleetReport, CliError>
         .zip(after)
         .map(|(b, a)| a.saturating_sub(b) as f64 / args.aircraft as f64);
     let fps = f64::from(FLEET_FPS);
-    let start = Instant::now();
-    pool.install(|| {
+    let mut dis = match &dis_settings {
+        Some(s) => Some(FleetDis::for_lanes::<M>(s, args.dis.entity_base, n)?),
+        None => None,
+    };
+    let mut pacer = new_pacer(args);
+    let seconds = if dis.is_none() && pacer.is_none() {
+        let start = Instant::now();
+        pool.install(|| {
+            for _ in 0..args.frames {
+                fleet.par_step(fps, precision)?;
+            }
+            Ok::<(), fdm_fleet::FleetError>(())
+        })
+        .map_err(|e| CliError::runtime(e.to_string()))?;
+        start.elapsed().as_secs_f64()
+    } else {
+        let mut seconds = 0.0;
+        let origin = fdm_ecs::geodesy::GeodeticOrigin::default();
+        let mut states = Vec::with_capacity(if dis.is_some() { n } else { 0 });
         for _ in 0..args.frames {
-            fleet.par_step(fps, precision)?;
+            let start = Instant::now();
+            pool.install(|| fleet.par_step(fps, precision))
+                .map_err(|e| CliError::runtime(e.to_string()))?;
+            seconds += start.elapsed().as_secs_f64();
+            if let Some(dis) = dis.as_mut() {
+                // The kernel's arrays are not shareable across threads; the
+                // states are copied out once per frame (a few MB at 100 000).
+                states.clear();
+                states.extend((0..n).map(|i| fleet.state(i)));
+                let states = &states;
+                pool.install(|| dis.publish_lanes::<M>(|i| states[i], &origin));
+                if let Some(message) = dis.take_failure() {
+                    warn(&message);
+                }
+            }
+            pace(pacer.as_mut());
         }
-        Ok::<(), fdm_fleet::FleetError>(())
-    })
-    .map_err(|e| CliError::runtime(e.to_string()))?;
-    let seconds = start.elapsed().as_secs_f64();
+        seconds
+    };
     // The lanes kernel steps every aircraft (it has no status to skip a
     // diverged one); those whose state is not finite are counted afterwards.
     let diverged = (0..fleet.len())
         .filter(|&i| fleet.state(i).is_some_and(|s| !M::is_finite(&s)))
         .count();
-    Ok(report::<M>(
+    let mut report = report::<M>(
         args,
         threads,
         seconds,
@@ -340,7 +467,12 @@ fn measure_lanes<M: CliModel>(args: &FleetArgs) -> Result<FleetReport, CliError>
         measured_bytes_per_aircraft,
         Some((precision, fleet.instruction_set())),
         u64::try_from(diverged).unwrap_or(u64::MAX),
-    ))
+    );
+    report.dis = dis.map(|d| d.report(FLEET_FPS));
+    report.realtime = pacer.map(|p| RealtimeReport {
+        overruns: p.overruns(),
+    });
+    Ok(report)
 }
 
 /// The report of a measured fleet.
@@ -373,6 +505,8 @@ fn report<M: Model>(
         estimated_bytes_per_aircraft,
         measured_bytes_per_aircraft,
         diverged,
+        dis: None,
+        realtime: None,
     }
 }
 
@@ -454,6 +588,7 @@ mod tests {
                 precision: FleetPrecision::Exact,
                 json: true,
                 start: crate::start::StartArgs::default(),
+                dis: crate::dis::FleetDisArgs::default(),
                 show: crate::args::FleetShowArgs::default(),
             };
             let report = measure(&args).unwrap();

@@ -312,7 +312,11 @@ pub fn run_show(args: &FleetArgs) -> Result<Option<String>, CliError> {
             (show_args.fg_mp_aircraft.is_some(), "--fg-mp-aircraft"),
             (show_args.pattern != FleetPattern::Demo, "--pattern"),
             (show_args.script.is_some(), "--script"),
-            (show_args.realtime, "--realtime"),
+            // --realtime also paces a fleet published with --dis.
+            (
+                show_args.realtime && args.dis.common.target.is_none(),
+                "--realtime",
+            ),
             (show_args.origin.is_some(), "--origin"),
         ] {
             if given {
@@ -321,6 +325,12 @@ pub fn run_show(args: &FleetArgs) -> Result<Option<String>, CliError> {
         }
         return Ok(None);
     };
+    if args.dis.common.target.is_some() {
+        return Err(CliError::usage(
+            "fleet --dis and --fg-mp cannot be used together (publish over DIS or stream to \
+             FlightGear, one at a time)",
+        ));
+    }
     if !show_args.realtime {
         return Err(CliError::usage(
             "fleet --fg-mp needs --realtime (FlightGear shows multiplayer aircraft in real time)",

@@ -26,6 +26,7 @@ use fdm_core::model::{FlightStatus, Model};
 use fdm_ecs::{Entity, FlightGearLink, Resources, Simulation};
 
 use crate::config::{ModelConfig, RunConfig, Start};
+use crate::dis::{DisOutput, DisReport};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
@@ -44,6 +45,8 @@ pub struct ModelFlight<M: Model> {
     fg: Option<SocketAddrV4>,
     /// The first send failure, as a message, until [`Flight::take_link_failure`].
     link_failure: Option<String>,
+    /// DIS output (`--dis`): published after every frame.
+    dis: Option<DisOutput>,
     /// The model's time step, for the divergence message.
     dt: M::TimeStep,
 }
@@ -66,6 +69,10 @@ impl<M: CliModel> ModelFlight<M> {
             ),
             None => None,
         };
+        let dis = match &run.dis {
+            Some(config) => Some(DisOutput::open::<M>(config, run.origin, run.fps)?),
+            None => None,
+        };
         let mut sim = Simulation::new(resources);
         let entity = sim.spawn::<M>(
             Arc::new(start.aircraft.clone()),
@@ -79,6 +86,7 @@ impl<M: CliModel> ModelFlight<M> {
             start,
             fg: run.fg,
             link_failure: None,
+            dis,
             dt: M::time_step(f64::from(run.fps)),
         })
     }
@@ -136,6 +144,11 @@ impl<M: CliModel> Flight for ModelFlight<M> {
                 self.sim.frame()
             ));
         }
+        if let Some(dis) = &mut self.dis {
+            if let Some(view) = self.sim.view::<M>(self.entity) {
+                dis.publish(&view);
+            }
+        }
         Ok(())
     }
 
@@ -190,7 +203,13 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     }
 
     fn take_link_failure(&mut self) -> Option<String> {
-        self.link_failure.take()
+        self.link_failure
+            .take()
+            .or_else(|| self.dis.as_mut().and_then(DisOutput::take_failure))
+    }
+
+    fn dis_report(&self) -> Option<DisReport> {
+        self.dis.as_ref().map(DisOutput::report)
     }
 }
 
@@ -264,6 +283,7 @@ mod tests {
             csv: None,
             fg,
             origin: GeodeticOrigin::default(),
+            dis: None,
             plot: None,
         }
     }

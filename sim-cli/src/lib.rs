@@ -22,10 +22,13 @@
 //! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
+//! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
 pub mod args;
 pub mod config;
 pub mod csv;
+pub mod dis;
+pub mod dis_listen;
 pub mod error;
 pub mod fgaddr;
 pub mod fgfs;
@@ -68,6 +71,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
+        Command::DisListen(args) => dis_listen::run(&args),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command_line(&args)?;
             let mut out = std::io::stdout().lock();
@@ -85,7 +89,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or replay (see --help)"
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot, replay or dis-listen (see --help)"
             .to_owned();
     }
     let text = error.render().to_string();
@@ -127,7 +131,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot or replay (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot, replay or dis-listen (see --help)"
         );
     }
 }

@@ -157,6 +157,10 @@ impl<F: Flight> Flight for Plotted<F> {
         self.inner.take_link_failure()
     }
 
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        self.inner.dis_report()
+    }
+
     fn finish(&mut self) -> anyhow::Result<()> {
         self.inner.finish()
     }
@@ -187,6 +191,10 @@ impl<F: Flight> Flight for &mut F {
 
     fn take_link_failure(&mut self) -> Option<String> {
         (**self).take_link_failure()
+    }
+
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        (**self).dis_report()
     }
 
     fn finish(&mut self) -> anyhow::Result<()> {

@@ -730,6 +730,10 @@ where
         self.flight.take_link_failure()
     }
 
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        self.flight.dis_report()
+    }
+
     fn finish(&mut self) -> anyhow::Result<()> {
         self.flight.finish()?;
         self.writer.finish()
@@ -774,6 +778,7 @@ mod tests {
             fg: None,
             origin: origin(),
             plot: None,
+            dis: None,
         }
     }
 

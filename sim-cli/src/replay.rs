@@ -10,6 +10,8 @@
 //!
 //! `--realtime` paces the replay at 1/fps of wall-clock time per frame, as it
 //! does headless flights, so that FlightGear (`--fg`) shows every frame.
+//! `--dis` publishes the replayed aircraft as a DIS entity, as the flight
+//! itself would ([`crate::dis`]).
 
 use std::io::{self, Write};
 use std::time::Instant;
@@ -137,6 +139,7 @@ impl WithModel for ReplayJob<'_> {
             fg,
             origin: recording.origin,
             plot: None,
+            dis: self.args.dis.resolve()?,
         };
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
         let mut progress = StderrProgress::new(recording.frames);
@@ -155,6 +158,7 @@ impl WithModel for ReplayJob<'_> {
                 failed: l.failed,
             });
         }
+        report.dis = flight.dis_report();
         if let Some(csv) = csv {
             csv.finish()?;
         }

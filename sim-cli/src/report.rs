@@ -46,6 +46,9 @@ pub struct Report<D> {
     /// Real-time pacing, when the run had `--realtime`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub realtime: Option<RealtimeReport>,
+    /// DIS output counters, when the run had `--dis` ([`crate::dis::DisReport`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dis: Option<crate::dis::DisReport>,
 }
 
 /// The JSON report's `fg` object: datagrams handed to the OS and sends that
@@ -78,6 +81,7 @@ impl<D: Details> Report<D> {
             common: snapshot.common,
             fg: None,
             realtime: None,
+            dis: None,
         }
     }
 
@@ -151,6 +155,10 @@ impl<D> Report<D> {
         }
         if let Some(rt) = self.realtime {
             s.push_str(&format!("\nrealtime  {} overruns", rt.overruns));
+        }
+        if let Some(dis) = &self.dis {
+            s.push('\n');
+            s.push_str(&dis.summary());
         }
         s
     }

@@ -15,6 +15,27 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, Stdio};
 
+/// Open-DIS for Python (PyPI `opendis` 1.0) and the numpy it works with,
+/// pinned: the independent DIS decoder of fdm-dis's and sim-cli's interop
+/// tests (one venv for both). `$DIS_PYTHON` can name a ready Python.
+pub const OPENDIS: PythonEnv = PythonEnv {
+    name: "opendis-1.0",
+    override_var: "DIS_PYTHON",
+    packages: &["opendis==1.0", "numpy==1.26.4"],
+    distribution: "opendis",
+    version: "1.0",
+    imports: &["opendis"],
+};
+
+/// The Python scripts of the DIS interop tests (`decode_udp.py` receives
+/// datagrams on 127.0.0.1 and prints what opendis decodes, with its own
+/// geodetic and roll/pitch/yaw conversions; `build_udp.py` builds and sends
+/// PDUs with opendis).
+pub const OPENDIS_SCRIPT_DIR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../fdm-dis/tests/opendis_interop"
+);
+
 /// A pinned Python environment for one interop test suite.
 #[derive(Debug, Clone, Copy)]
 pub struct PythonEnv {

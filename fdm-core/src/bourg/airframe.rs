@@ -1,13 +1,14 @@
-//! The airframe as data ([`ElementOf`], [`AirframeOf`]), its mass properties
-//! ([`MassPropertiesOf`]) and the two bundled ([`AircraftOf`]).
+//! The airframe as data ([`Element`], [`Airframe`], with Bourg's airplane in
+//! [`Airframe::bourg_default`]), its mass properties ([`MassProperties`]) and
+//! the two bundled ([`BourgAircraft`]).
 
 use core::fmt;
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::float::BourgFloat;
 use super::ops::{degrees_to_radians, determinant, inverse, normalize};
+use crate::math::{cosf, sinf};
 
 /// Which airfoil table an element flies with: the original's integer flap
 /// code (`iFlap`).
@@ -59,7 +60,7 @@ impl Flap {
 }
 
 /// One of the airframe's eight point-mass lifting elements (the original's
-/// `PointMass`), in float type `F` (see [`Element`] for the `f32` alias).
+/// `PointMass`).
 ///
 /// Roles are fixed by index, as in the original: 0 and 3 are the outboard
 /// wing sections with the ailerons (port, starboard), 1 and 2 the inboard
@@ -67,56 +68,125 @@ impl Flap {
 /// (port, starboard), 6 the all-moving vertical tail (rudder) and 7 the
 /// fuselage, which only makes drag.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "F: BourgFloat")]
-pub struct ElementOf<F: BourgFloat> {
+pub struct Element {
     /// Mass, slug.
-    pub mass_slug: F,
+    pub mass_slug: f32,
     /// Position in design coordinates, ft: measured from the tail (x forward),
     /// the centerline (y left) and the baseline (z up).
-    pub design_position_ft: Vector3<F>,
+    pub design_position_ft: Vector3<f32>,
     /// Moments of inertia about the element's own axes `(Ixx, Iyy, Izz)`, slug·ft².
-    pub local_inertia: Vector3<F>,
+    pub local_inertia: Vector3<f32>,
     /// Incidence (rotation about the body y axis), degrees. For the rudder
     /// (element 6) this is the rigging; the rudder control adds to it.
-    pub incidence_deg: F,
+    pub incidence_deg: f32,
     /// Dihedral (rotation about the body x axis), degrees; 90 for a vertical surface.
-    pub dihedral_deg: F,
+    pub dihedral_deg: f32,
     /// Planform area, ft².
-    pub area_ft2: F,
+    pub area_ft2: f32,
     /// The element's rigged flap setting: the table it flies with while no
-    /// control deflects it (see [`BourgControlsOf::element_flap`](super::BourgControlsOf::element_flap)).
+    /// control deflects it (see [`BourgControls::element_flap`](super::BourgControls::element_flap)).
     pub flap: Flap,
 }
 
-/// An airframe: eight lifting elements (see [`ElementOf`] for their fixed
-/// roles), in float type `F` (see [`Airframe`] for the `f32` alias).
+/// An airframe: eight lifting elements (see [`Element`] for their fixed
+/// roles).
 ///
 /// Serialisable, so airframes can come from user files; check those with
-/// [`validate`](Self::validate) (or build an [`AircraftOf`] with
-/// [`AircraftOf::new`], which does).
+/// [`validate`](Self::validate) (or build an [`BourgAircraft`] with
+/// [`BourgAircraft::new`], which does).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "F: BourgFloat")]
-pub struct AirframeOf<F: BourgFloat> {
+pub struct Airframe {
     /// The elements, in the order of their roles.
-    pub elements: [ElementOf<F>; 8],
+    pub elements: [Element; 8],
 }
 
-/// The `f32` element (the original's type).
-pub type Element = ElementOf<f32>;
-/// The `f32` airframe (the original's type).
-pub type Airframe = AirframeOf<f32>;
-/// The `f64` element.
-pub type Element64 = ElementOf<f64>;
-/// The `f64` airframe.
-pub type Airframe64 = AirframeOf<f64>;
+/// One element of the default airframe's data: `(mass, design position, local
+/// inertia, incidence, dihedral, area)`.
+type ElementData = (f32, [f32; 3], [f32; 3], f32, f32, f32);
 
-impl<F: BourgFloat> AirframeOf<F> {
+/// Bourg's airplane, element by element (the original's `float` literals).
+const DEFAULT_ELEMENTS: [ElementData; 8] = [
+    // 0: outboard port wing, aileron
+    (
+        6.56,
+        [14.5, 12.0, 2.5],
+        [13.92, 10.50, 24.00],
+        -3.5,
+        0.0,
+        31.2,
+    ),
+    // 1: inboard port wing, landing flap
+    (
+        7.31,
+        [14.5, 5.5, 2.5],
+        [21.95, 12.22, 33.67],
+        -3.5,
+        0.0,
+        36.4,
+    ),
+    // 2: inboard starboard wing, landing flap
+    (
+        7.31,
+        [14.5, -5.5, 2.5],
+        [21.95, 12.22, 33.67],
+        -3.5,
+        0.0,
+        36.4,
+    ),
+    // 3: outboard starboard wing, aileron
+    (
+        6.56,
+        [14.5, -12.0, 2.5],
+        [13.92, 10.50, 24.00],
+        -3.5,
+        0.0,
+        31.2,
+    ),
+    // 4: port elevator
+    (
+        2.62,
+        [3.03, 2.5, 3.0],
+        [0.837, 0.385, 1.206],
+        0.0,
+        0.0,
+        10.8,
+    ),
+    // 5: starboard elevator
+    (
+        2.62,
+        [3.03, -2.5, 3.0],
+        [0.837, 0.385, 1.206],
+        0.0,
+        0.0,
+        10.8,
+    ),
+    // 6: vertical tail / rudder
+    (
+        2.93,
+        [2.25, 0.0, 5.0],
+        [1.262, 1.942, 0.718],
+        0.0,
+        90.0,
+        12.0,
+    ),
+    // 7: fuselage
+    (
+        31.8,
+        [15.25, 0.0, 1.5],
+        [66.30, 861.9, 861.9],
+        0.0,
+        0.0,
+        84.0,
+    ),
+];
+
+impl Airframe {
     /// Bourg's airplane (docs/bourg-model.md "The airframe"), all flaps neutral.
     #[must_use]
     pub fn bourg_default() -> Self {
         let element = |i: usize| {
-            let (mass, dsg, inertia, incidence, dihedral, area) = F::DEFAULT_ELEMENTS[i];
-            ElementOf {
+            let (mass, dsg, inertia, incidence, dihedral, area) = DEFAULT_ELEMENTS[i];
+            Element {
                 mass_slug: mass,
                 design_position_ft: Vector3::new(dsg[0], dsg[1], dsg[2]),
                 local_inertia: Vector3::new(inertia[0], inertia[1], inertia[2]),
@@ -150,47 +220,47 @@ impl<F: BourgFloat> AirframeOf<F> {
                 ("dihedral_deg", e.dihedral_deg),
                 ("area_ft2", e.area_ft2),
             ];
-            if let Some((field, _)) = fields.iter().find(|(_, v)| !F::is_finite(*v)) {
+            if let Some((field, _)) = fields.iter().find(|(_, v)| !f32::is_finite(*v)) {
                 return Err(AirframeError::NonFinite {
                     element: index,
                     field,
                 });
             }
         }
-        let mass = MassPropertiesOf::from_airframe(self);
-        let positive = mass.mass_slug > F::ZERO; // false for NaN
-        if !positive || !F::is_finite(mass.mass_slug) {
+        let mass = MassProperties::from_airframe(self);
+        let positive = mass.mass_slug > 0.0; // false for NaN
+        if !positive || !f32::is_finite(mass.mass_slug) {
             return Err(AirframeError::NonPositiveMass {
-                total_mass_slug: mass.mass_slug.to_f64(),
+                total_mass_slug: f64::from(mass.mass_slug),
             });
         }
         let d = determinant(&mass.inertia);
-        let all_finite = |m: &Matrix3<F>| m.iter().all(|v| F::is_finite(*v));
-        if d == F::ZERO || !F::is_finite(d) || !all_finite(&mass.inertia_inverse) {
+        let all_finite = |m: &Matrix3<f32>| m.iter().all(|v| f32::is_finite(*v));
+        if d == 0.0 || !f32::is_finite(d) || !all_finite(&mass.inertia_inverse) {
             return Err(AirframeError::SingularInertia {
-                determinant: d.to_f64(),
+                determinant: f64::from(d),
             });
         }
-        let derived_finite = F::is_finite(mass.cg_ft.x)
-            && F::is_finite(mass.cg_ft.y)
-            && F::is_finite(mass.cg_ft.z)
+        let derived_finite = f32::is_finite(mass.cg_ft.x)
+            && f32::is_finite(mass.cg_ft.y)
+            && f32::is_finite(mass.cg_ft.z)
             && all_finite(&mass.inertia);
         if !derived_finite {
             return Err(AirframeError::SingularInertia {
-                determinant: d.to_f64(),
+                determinant: f64::from(d),
             });
         }
         Ok(())
     }
 }
 
-impl<F: BourgFloat> Default for AirframeOf<F> {
+impl Default for Airframe {
     fn default() -> Self {
         Self::bourg_default()
     }
 }
 
-/// Why an airframe was rejected by [`AirframeOf::validate`].
+/// Why an airframe was rejected by [`Airframe::validate`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AirframeError {
     /// A number of an element is NaN or infinite.
@@ -237,47 +307,41 @@ impl fmt::Display for AirframeError {
 impl std::error::Error for AirframeError {}
 
 /// Mass properties derived once from an airframe (the original's
-/// `CalcAirplaneMassProperties`), in float type `F` (see [`MassProperties`]).
+/// `CalcAirplaneMassProperties`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "F: BourgFloat")]
-pub struct MassPropertiesOf<F: BourgFloat> {
+pub struct MassProperties {
     /// Total mass, slug (67.71 for Bourg's airplane).
-    pub mass_slug: F,
+    pub mass_slug: f32,
     /// Centre of gravity in design coordinates, ft.
-    pub cg_ft: Vector3<F>,
+    pub cg_ft: Vector3<f32>,
     /// Each element's position relative to the CG (body axes), ft.
-    pub cg_offsets_ft: [Vector3<F>; 8],
+    pub cg_offsets_ft: [Vector3<f32>; 8],
     /// Each element's unit normal (body axes) at its rigged incidence and
     /// dihedral. The loads use the rudder's (element 6) at the current rudder
-    /// incidence instead ([`AircraftOf::rudder_normal`]).
-    pub normals: [Vector3<F>; 8],
+    /// incidence instead ([`BourgAircraft::rudder_normal`]).
+    pub normals: [Vector3<f32>; 8],
     /// Inertia tensor about the CG, body axes, slug·ft².
-    pub inertia: Matrix3<F>,
+    pub inertia: Matrix3<f32>,
     /// Its inverse as the original computes it, 1/(slug·ft²).
-    pub inertia_inverse: Matrix3<F>,
+    pub inertia_inverse: Matrix3<f32>,
 }
-
-/// The `f32` mass properties (the original's type).
-pub type MassProperties = MassPropertiesOf<f32>;
-/// The `f64` mass properties.
-pub type MassProperties64 = MassPropertiesOf<f64>;
 
 /// An element's unit normal for an incidence and a dihedral in degrees:
 /// `Normalize((sin in, cos in · sin di, cos in · cos di))` with `in`, `di` in
-/// radians, all in `F` (the original's `sinf`/`cosf` and float products).
+/// radians, all in `f32` (the original's `sinf`/`cosf` and float products).
 #[inline]
 #[must_use]
-pub fn element_normal<F: BourgFloat>(incidence_deg: F, dihedral_deg: F) -> Vector3<F> {
+pub fn element_normal(incidence_deg: f32, dihedral_deg: f32) -> Vector3<f32> {
     let inc = degrees_to_radians(incidence_deg);
     let dih = degrees_to_radians(dihedral_deg);
     normalize(&Vector3::new(
-        F::sin(inc),
-        F::cos(inc) * F::sin(dih),
-        F::cos(inc) * F::cos(dih),
+        sinf(inc),
+        cosf(inc) * sinf(dih),
+        cosf(inc) * cosf(dih),
     ))
 }
 
-impl<F: BourgFloat> MassPropertiesOf<F> {
+impl MassProperties {
     /// Computes the mass properties in the original's order: normals; total
     /// mass summed over elements 0..7; first moment `Σ mᵢ·dsgᵢ` and
     /// CG = moment / mass; offsets `dsgᵢ − CG`; the inertia sums
@@ -287,29 +351,29 @@ impl<F: BourgFloat> MassPropertiesOf<F> {
     /// and its [`inverse`].
     ///
     /// No validation: a zero mass gives non-finite values (see
-    /// [`AirframeOf::validate`]).
+    /// [`Airframe::validate`]).
     #[must_use]
-    pub fn from_airframe(airframe: &AirframeOf<F>) -> Self {
+    pub fn from_airframe(airframe: &Airframe) -> Self {
         let elements = &airframe.elements;
         let normals = core::array::from_fn(|i| {
             element_normal(elements[i].incidence_deg, elements[i].dihedral_deg)
         });
 
-        let mut mass = F::ZERO;
+        let mut mass = 0.0;
         for e in elements {
             mass += e.mass_slug;
         }
 
-        let mut moment = Vector3::new(F::ZERO, F::ZERO, F::ZERO);
+        let mut moment = Vector3::new(0.0, 0.0, 0.0);
         for e in elements {
             moment += e.design_position_ft * e.mass_slug;
         }
         let cg = moment / mass;
-        let cg_offsets: [Vector3<F>; 8] =
+        let cg_offsets: [Vector3<f32>; 8] =
             core::array::from_fn(|i| elements[i].design_position_ft - cg);
 
-        let (mut ixx, mut iyy, mut izz) = (F::ZERO, F::ZERO, F::ZERO);
-        let (mut ixy, mut ixz, mut iyz) = (F::ZERO, F::ZERO, F::ZERO);
+        let (mut ixx, mut iyy, mut izz) = (0.0, 0.0, 0.0);
+        let (mut ixy, mut ixz, mut iyz) = (0.0, 0.0, 0.0);
         for (e, c) in elements.iter().zip(&cg_offsets) {
             let (m, l) = (e.mass_slug, &e.local_inertia);
             ixx += l.x + m * (c.y * c.y + c.z * c.z);
@@ -333,60 +397,54 @@ impl<F: BourgFloat> MassPropertiesOf<F> {
 }
 
 /// An airframe bundled with its mass properties, computed once: what
-/// [`loads`](super::loads) and [`step`](super::step) take. In float type `F`
-/// (see [`BourgAircraft`](super::BourgAircraft)).
+/// [`loads`](super::loads) and [`step`](super::step) take.
 ///
 /// The fields are private so the two always agree; build one with
 /// [`new`](Self::new) (validating) or [`bourg_default`](Self::bourg_default).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AircraftOf<F: BourgFloat> {
+pub struct BourgAircraft {
     /// Maximum thrust a thrust-up action reaches, lb (the original's
     /// `_MAXTHRUST`, [`MAX_THRUST_LB`](MAX_THRUST_LB) by default).
-    pub max_thrust_lb: F,
+    pub max_thrust_lb: f32,
     /// Thrust change per thrust-up/down action, lb (the original's
     /// `_DTHRUST`, [`DELTA_THRUST_LB`](DELTA_THRUST_LB) by default).
-    pub delta_thrust_lb: F,
-    airframe: AirframeOf<F>,
-    mass: MassPropertiesOf<F>,
+    pub delta_thrust_lb: f32,
+    airframe: Airframe,
+    mass: MassProperties,
     /// The rudder's normal for the incidences the controls produce (rigging
     /// + 0, +16, −16 degrees), so the loads need not recompute it each frame.
-    rudder_normals: [(F, Vector3<F>); 3],
+    rudder_normals: [(f32, Vector3<f32>); 3],
 }
 
-/// The `f32` aircraft (the original's type).
-pub type BourgAircraft = AircraftOf<f32>;
-/// The `f64` aircraft.
-pub type Aircraft64 = AircraftOf<f64>;
-
-impl<F: BourgFloat> AircraftOf<F> {
+impl BourgAircraft {
     /// Validates the airframe and computes its mass properties.
     ///
     /// # Errors
-    /// [`AirframeError`] from [`AirframeOf::validate`].
-    pub fn new(airframe: AirframeOf<F>) -> Result<Self, AirframeError> {
+    /// [`AirframeError`] from [`Airframe::validate`].
+    pub fn new(airframe: Airframe) -> Result<Self, AirframeError> {
         airframe.validate()?;
         Ok(Self::from_valid(airframe))
     }
 
-    /// Bourg's airplane ([`AirframeOf::bourg_default`]).
+    /// Bourg's airplane ([`Airframe::bourg_default`]).
     #[must_use]
     pub fn bourg_default() -> Self {
-        Self::from_valid(AirframeOf::bourg_default())
+        Self::from_valid(Airframe::bourg_default())
     }
 
-    fn from_valid(airframe: AirframeOf<F>) -> Self {
+    fn from_valid(airframe: Airframe) -> Self {
         let rudder = &airframe.elements[6];
-        let deflection = F::from_f64(f64::from(RUDDER_DEFLECTION_DEG));
-        let normal_at = |deflection: F| {
+        let deflection = RUDDER_DEFLECTION_DEG;
+        let normal_at = |deflection: f32| {
             let incidence = rudder.incidence_deg + deflection;
             (incidence, element_normal(incidence, rudder.dihedral_deg))
         };
         Self {
-            max_thrust_lb: F::from_f64(f64::from(MAX_THRUST_LB)),
-            delta_thrust_lb: F::from_f64(f64::from(DELTA_THRUST_LB)),
-            mass: MassPropertiesOf::from_airframe(&airframe),
+            max_thrust_lb: MAX_THRUST_LB,
+            delta_thrust_lb: DELTA_THRUST_LB,
+            mass: MassProperties::from_airframe(&airframe),
             rudder_normals: [
-                normal_at(F::ZERO),
+                normal_at(0.0),
                 normal_at(deflection),
                 normal_at(-deflection),
             ],
@@ -401,7 +459,7 @@ impl<F: BourgFloat> AircraftOf<F> {
     /// otherwise.
     #[inline]
     #[must_use]
-    pub fn rudder_normal(&self, incidence_deg: F) -> Vector3<F> {
+    pub fn rudder_normal(&self, incidence_deg: f32) -> Vector3<f32> {
         for (incidence, normal) in &self.rudder_normals {
             if *incidence == incidence_deg {
                 return *normal;
@@ -412,18 +470,18 @@ impl<F: BourgFloat> AircraftOf<F> {
 
     /// The airframe.
     #[must_use]
-    pub fn airframe(&self) -> &AirframeOf<F> {
+    pub fn airframe(&self) -> &Airframe {
         &self.airframe
     }
 
     /// Its mass properties.
     #[must_use]
-    pub fn mass_properties(&self) -> &MassPropertiesOf<F> {
+    pub fn mass_properties(&self) -> &MassProperties {
         &self.mass
     }
 }
 
-impl<F: BourgFloat> Default for AircraftOf<F> {
+impl Default for BourgAircraft {
     fn default() -> Self {
         Self::bourg_default()
     }

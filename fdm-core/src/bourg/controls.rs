@@ -2,17 +2,16 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::airframe::{ElementOf, Flap, DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
-use super::float::BourgFloat;
+use super::airframe::{Element, Flap, DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
 use super::BourgAction;
 
 /// Thrust at start, lb.
 pub const INITIAL_THRUST_LB: f32 = 500.0;
 /// Pitch-trim change per trim key press or script action (an extension, see
-/// [`BourgControlsOf::pitch_trim`]): 1 % of the full elevator deflection.
+/// [`BourgControls::pitch_trim`]): 1 % of the full elevator deflection.
 pub const PITCH_TRIM_STEP: f32 = 0.01;
 
-/// The control settings of one frame, in float type `F` (see [`BourgControls`]).
+/// The control settings of one frame.
 ///
 /// The original mutates the control elements' `fIncidence` and `iFlap`
 /// directly; here the controls are a value and the model reads each element's
@@ -20,14 +19,13 @@ pub const PITCH_TRIM_STEP: f32 = 0.01;
 /// [`rudder_incidence_deg`](Self::rudder_incidence_deg). For Bourg's airframe
 /// (all rigging neutral) this is exactly the original's behaviour.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "F: BourgFloat")]
-pub struct BourgControlsOf<F: BourgFloat> {
+pub struct BourgControls {
     /// Engine thrust along the body x axis, lb, in `0..=MAX_THRUST_LB` when set
     /// through [`apply`](Self::apply).
-    pub thrust_lb: F,
+    pub thrust_lb: f32,
     /// Rudder deflection, degrees, added to element 6's rigged incidence:
     /// +16 yaw left, −16 yaw right, 0 neutral.
-    pub rudder_deg: F,
+    pub rudder_deg: f32,
     /// Port aileron (element 0).
     pub port_aileron: Flap,
     /// Starboard aileron (element 3).
@@ -44,26 +42,21 @@ pub struct BourgControlsOf<F: BourgFloat> {
     /// At 0, the default, the model is the original, bit for bit. It is not
     /// reset at the start of a frame.
     #[serde(default)]
-    pub pitch_trim: F,
+    pub pitch_trim: f32,
 }
 
-/// The `f32` controls (the original's type).
-pub type BourgControls = BourgControlsOf<f32>;
-/// The `f64` controls.
-pub type BourgControls64 = BourgControlsOf<f64>;
-
-impl<F: BourgFloat> BourgControlsOf<F> {
+impl BourgControls {
     /// The original's start: thrust 500 lb, surfaces neutral, flaps up.
     #[must_use]
     pub fn initial() -> Self {
         Self {
-            thrust_lb: F::from_f64(f64::from(INITIAL_THRUST_LB)),
-            rudder_deg: F::ZERO,
+            thrust_lb: INITIAL_THRUST_LB,
+            rudder_deg: 0.0,
             port_aileron: Flap::Neutral,
             starboard_aileron: Flap::Neutral,
             elevators: Flap::Neutral,
             landing_flaps: false,
-            pitch_trim: F::ZERO,
+            pitch_trim: 0.0,
         }
     }
 
@@ -72,11 +65,7 @@ impl<F: BourgFloat> BourgControlsOf<F> {
     /// [`apply_within`](Self::apply_within).
     #[must_use]
     pub fn apply(self, action: BourgAction) -> Self {
-        self.apply_within(
-            action,
-            F::from_f64(f64::from(MAX_THRUST_LB)),
-            F::from_f64(f64::from(DELTA_THRUST_LB)),
-        )
+        self.apply_within(action, MAX_THRUST_LB, DELTA_THRUST_LB)
     }
 
     /// One key press / script action, as the original's control functions:
@@ -88,8 +77,13 @@ impl<F: BourgFloat> BourgControlsOf<F> {
     /// * pitch up: elevators trailing edge up; pitch down: down;
     /// * flaps down: landing flaps down (they stay); flaps up: back up.
     #[must_use]
-    pub fn apply_within(self, action: BourgAction, max_thrust_lb: F, delta_thrust_lb: F) -> Self {
-        let rudder = F::from_f64(f64::from(RUDDER_DEFLECTION_DEG));
+    pub fn apply_within(
+        self,
+        action: BourgAction,
+        max_thrust_lb: f32,
+        delta_thrust_lb: f32,
+    ) -> Self {
+        let rudder = RUDDER_DEFLECTION_DEG;
         let mut c = self;
         match action {
             BourgAction::ThrustUp => {
@@ -100,8 +94,8 @@ impl<F: BourgFloat> BourgControlsOf<F> {
             }
             BourgAction::ThrustDown => {
                 c.thrust_lb -= delta_thrust_lb;
-                if c.thrust_lb < F::ZERO {
-                    c.thrust_lb = F::ZERO;
+                if c.thrust_lb < 0.0 {
+                    c.thrust_lb = 0.0;
                 }
             }
             BourgAction::YawLeft => c.rudder_deg = rudder,
@@ -119,19 +113,23 @@ impl<F: BourgFloat> BourgControlsOf<F> {
             BourgAction::FlapsDown => c.landing_flaps = true,
             BourgAction::FlapsUp => c.landing_flaps = false,
             BourgAction::TrimNoseUp | BourgAction::TrimNoseDown => {
-                let step = F::from_f64(f64::from(PITCH_TRIM_STEP));
+                let step = PITCH_TRIM_STEP;
                 let t = if action == BourgAction::TrimNoseUp {
                     c.pitch_trim + step
                 } else {
                     c.pitch_trim - step
                 };
-                c.pitch_trim = if t > F::ONE {
-                    F::ONE
-                } else if t < -F::ONE {
-                    -F::ONE
+                // Comparisons as before the f32-only rewrite (the same
+                // values as `clamp`, NaN included).
+                #[allow(clippy::manual_clamp)]
+                let clamped = if t > 1.0 {
+                    1.0
+                } else if t < -1.0 {
+                    -1.0
                 } else {
                     t
                 };
+                c.pitch_trim = clamped;
             }
         }
         c
@@ -150,23 +148,23 @@ impl<F: BourgFloat> BourgControlsOf<F> {
     pub fn elevator_coefficients(
         &self,
         index: usize,
-        element: &ElementOf<F>,
-        angle_deg: F,
-    ) -> (F, F) {
-        let base = super::model::airfoil_coefficients(angle_deg, self.element_flap(index, element));
-        if !matches!(index, 4 | 5) || self.elevators != Flap::Neutral || self.pitch_trim == F::ZERO
-        {
+        element: &Element,
+        angle_deg: f32,
+    ) -> (f32, f32) {
+        let base =
+            super::airfoil::airfoil_coefficients(angle_deg, self.element_flap(index, element));
+        if !matches!(index, 4 | 5) || self.elevators != Flap::Neutral || self.pitch_trim == 0.0 {
             return base;
         }
-        let (flap, mut t) = if self.pitch_trim > F::ZERO {
+        let (flap, mut t) = if self.pitch_trim > 0.0 {
             (Flap::TrailingEdgeUp, self.pitch_trim)
         } else {
             (Flap::TrailingEdgeDown, -self.pitch_trim)
         };
-        if t > F::ONE {
-            t = F::ONE;
+        if t > 1.0 {
+            t = 1.0;
         }
-        let (cl, cd) = super::model::airfoil_coefficients(angle_deg, flap);
+        let (cl, cd) = super::airfoil::airfoil_coefficients(angle_deg, flap);
         (base.0 + (cl - base.0) * t, base.1 + (cd - base.1) * t)
     }
 
@@ -176,7 +174,7 @@ impl<F: BourgFloat> BourgControlsOf<F> {
     #[must_use]
     pub fn neutralize_surfaces(self) -> Self {
         Self {
-            rudder_deg: F::ZERO,
+            rudder_deg: 0.0,
             port_aileron: Flap::Neutral,
             starboard_aileron: Flap::Neutral,
             elevators: Flap::Neutral,
@@ -187,10 +185,10 @@ impl<F: BourgFloat> BourgControlsOf<F> {
     /// The airfoil table element `index` flies with: the control's setting for
     /// a control surface that is deflected (ailerons 0 and 3, landing flaps 1
     /// and 2, elevators 4 and 5), otherwise the element's rigged
-    /// [`ElementOf::flap`].
+    /// [`Element::flap`].
     #[inline]
     #[must_use]
-    pub fn element_flap(&self, index: usize, element: &ElementOf<F>) -> Flap {
+    pub fn element_flap(&self, index: usize, element: &Element) -> Flap {
         let control = match index {
             0 => self.port_aileron,
             3 => self.starboard_aileron,
@@ -209,12 +207,12 @@ impl<F: BourgFloat> BourgControlsOf<F> {
     /// [`rudder_deg`](Self::rudder_deg).
     #[inline]
     #[must_use]
-    pub fn rudder_incidence_deg(&self, rudder: &ElementOf<F>) -> F {
+    pub fn rudder_incidence_deg(&self, rudder: &Element) -> f32 {
         rudder.incidence_deg + self.rudder_deg
     }
 }
 
-impl<F: BourgFloat> Default for BourgControlsOf<F> {
+impl Default for BourgControls {
     fn default() -> Self {
         Self::initial()
     }

@@ -17,19 +17,15 @@
 //! * [`Bourg`]: the model behind the common [`Model`](crate::model::Model) interface.
 //! * [`ops`]: the original's vector, matrix and quaternion operations in its
 //!   exact `f32` operation order.
+//! * [`airfoil`]: the airfoil and rudder tables, air density and gravity,
+//!   and the table look-ups.
 //!
-//! # Float types
+//! # Float type
 //!
-//! The model is generic over [`BourgFloat`], implemented for `f32` (the
-//! original's type, bit-identical to the C++ built with g++ and glibc when the
-//! `std` feature is on) and `f64`. The generic types end in `Of`
-//! ([`BourgStateOf<F>`], ...); the unsuffixed aliases are the `f32` model
-//! ([`BourgState`] = `BourgStateOf<f32>`), the `64` aliases the `f64` one
-//! ([`BourgState64`]). The `f64` model computes everything in `f64` with the
-//! original's `float` constants and data widened exactly (the C++ with every
-//! `float` variable a `double`), so it differs from the `f32` model only in
-//! rounding; like that C++ rebuild, it meets the thesis's 0.01 bar on four of
-//! the five reference cases and misses the pitch case by 0.09 ft.
+//! Everything is `f32`, the original's `float` (bit-identical to the C++
+//! built with g++ and glibc when the `std` feature is on), except where the
+//! original widens to `double` ([`ops::quat_from_euler_deg`],
+//! [`ops::euler_deg_from_quat`]).
 //!
 //! Bit-exactness needs the platform libm (`std` feature, glibc). Without
 //! `std`, the `libm` crate's `sinf`, `asinf`, `atan2`, ... differ from glibc's
@@ -50,28 +46,23 @@
 //! assert_eq!(state.position_ft.z, 1973.194580078125);
 //! ```
 
+pub mod airfoil;
 mod airframe;
 mod controls;
-mod float;
 mod model;
 pub mod ops;
 mod trim;
 
+pub use airfoil::{
+    airfoil_coefficients, drag_coefficient, lift_coefficient, rudder_coefficients,
+    rudder_drag_coefficient, rudder_lift_coefficient,
+};
 pub use airframe::{
-    element_normal, Aircraft64, AircraftOf, Airframe, Airframe64, AirframeError, AirframeOf,
-    BourgAircraft, Element, Element64, ElementOf, Flap, MassProperties, MassProperties64,
-    MassPropertiesOf,
+    element_normal, Airframe, AirframeError, BourgAircraft, Element, Flap, MassProperties,
 };
 pub use airframe::{DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
-pub use controls::{
-    BourgControls, BourgControls64, BourgControlsOf, INITIAL_THRUST_LB, PITCH_TRIM_STEP,
-};
-pub use float::BourgFloat;
-pub use model::{
-    airfoil_coefficients, drag_coefficient, lift_coefficient, loads, rudder_coefficients,
-    rudder_drag_coefficient, rudder_lift_coefficient, step, try_step, BourgState, BourgState64,
-    BourgStateOf, Loads, Loads64, LoadsOf, StepError,
-};
+pub use controls::{BourgControls, INITIAL_THRUST_LB, PITCH_TRIM_STEP};
+pub use model::{loads, step, try_step, BourgState, Loads, StepError};
 /// The nalgebra types of the public API, re-exported so users need not depend
 /// on nalgebra themselves.
 pub use nalgebra::{Matrix3, Quaternion, Vector3};
@@ -102,7 +93,7 @@ pub enum BourgAction {
     /// Landing flaps up (key L).
     FlapsUp,
     /// Pitch trim +0.01 toward nose up, up to 1 (key T; an extension, see
-    /// [`BourgControlsOf::pitch_trim`]).
+    /// [`BourgControls::pitch_trim`]).
     TrimNoseUp,
     /// Pitch trim −0.01 toward nose down, down to −1 (key G; an extension).
     TrimNoseDown,

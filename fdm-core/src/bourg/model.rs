@@ -6,16 +6,17 @@ use core::fmt;
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::airframe::{AircraftOf, Flap};
-use super::controls::BourgControlsOf;
-use super::float::BourgFloat;
+use super::airfoil::{rudder_coefficients, G_FTPS2, RHO_SLUG_FT3};
+use super::airframe::BourgAircraft;
+use super::controls::BourgControls;
 use super::ops::{
     conjugate, cross, dot, euler_deg_from_quat, magnitude, mat_mul_vec, normalize, quat_add,
     quat_div, quat_from_euler_deg, quat_magnitude, quat_mul_vec, quat_scale, qv_rotate,
     radians_to_degrees,
 };
+use crate::math::asinf;
 
-/// The aircraft's integrated state, in float type `F` (see [`BourgState`]).
+/// The aircraft's integrated state.
 ///
 /// Earth frame: x north, y west, z up. Body frame: x forward, y left, z up.
 ///
@@ -26,48 +27,41 @@ use super::ops::{
 /// at the end of every step; the Euler conversion alone was 18 % of a fleet
 /// step).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "F: BourgFloat")]
-pub struct BourgStateOf<F: BourgFloat> {
+pub struct BourgState {
     /// Simulated time, s: the sum of the time steps taken (each widened from
-    /// `F` to `f64` exactly). The original keeps no clock; nothing in the
+    /// `f32` to `f64` exactly). The original keeps no clock; nothing in the
     /// dynamics reads it.
     pub time_s: f64,
     /// Position of the CG, earth frame, ft.
-    pub position_ft: Vector3<F>,
+    pub position_ft: Vector3<f32>,
     /// Velocity, earth frame, ft/s.
-    pub velocity_ftps: Vector3<F>,
+    pub velocity_ftps: Vector3<f32>,
     /// Velocity in the body frame, ft/s, as of the end of the previous step:
     /// the loads use it. It is zero in [`initial`](Self::initial) although the
     /// velocity is not, as in the original, so the first frame has no
     /// aerodynamic forces (only thrust and gravity).
-    pub velocity_body_ftps: Vector3<F>,
+    pub velocity_body_ftps: Vector3<f32>,
     /// Angular velocity, body frame, rad/s.
-    pub angular_velocity_radps: Vector3<F>,
+    pub angular_velocity_radps: Vector3<f32>,
     /// Attitude, body → earth, as a unit quaternion (`w` the scalar part).
     /// The step renormalises it every frame, as the original does.
-    pub orientation: Quaternion<F>,
+    pub orientation: Quaternion<f32>,
     /// Whether a wing element (0..=3) had zero lift coefficient in the last
     /// step (a by-product of the loads, kept so it need not be recomputed).
     pub stalling: bool,
 }
 
-/// The `f32` state (the original's type).
-pub type BourgState = BourgStateOf<f32>;
-/// The `f64` state.
-pub type BourgState64 = BourgStateOf<f64>;
-
-impl<F: BourgFloat> BourgStateOf<F> {
+impl BourgState {
     /// The original's initial conditions: time 0, position (−5000, 0, 2000) ft,
     /// velocity (60, 0, 0) ft/s, no rotation, velocity_body 0, orientation
     /// from Euler angles (0, 0, 0) (the identity), not stalling.
     #[must_use]
     pub fn initial() -> Self {
-        let zero = Vector3::new(F::ZERO, F::ZERO, F::ZERO);
-        let f = F::from_f64;
+        let zero = Vector3::<f32>::new(0.0, 0.0, 0.0);
         Self {
             time_s: 0.0,
-            position_ft: Vector3::new(f(-5000.0), F::ZERO, f(2000.0)),
-            velocity_ftps: Vector3::new(f(60.0), F::ZERO, F::ZERO),
+            position_ft: Vector3::new(-5000.0, 0.0, 2000.0),
+            velocity_ftps: Vector3::new(60.0, 0.0, 0.0),
             velocity_body_ftps: zero,
             angular_velocity_radps: zero,
             orientation: quat_from_euler_deg(&zero),
@@ -78,7 +72,7 @@ impl<F: BourgFloat> BourgStateOf<F> {
     /// Speed `|velocity|`, ft/s, as the original's `fSpeed` (the same `f32`
     /// operations; divide by 1.688 for the original's knots).
     #[must_use]
-    pub fn speed_ftps(&self) -> F {
+    pub fn speed_ftps(&self) -> f32 {
         magnitude(&self.velocity_ftps)
     }
 
@@ -86,7 +80,7 @@ impl<F: BourgFloat> BourgStateOf<F> {
     /// `MakeEulerAnglesFromQ`: `x` roll, `y` pitch (positive nose-down), `z`
     /// yaw (positive left of north).
     #[must_use]
-    pub fn euler_angles_deg(&self) -> Vector3<F> {
+    pub fn euler_angles_deg(&self) -> Vector3<f32> {
         euler_deg_from_quat(&self.orientation)
     }
 
@@ -107,15 +101,15 @@ impl<F: BourgFloat> BourgStateOf<F> {
             ("angular_velocity_radps", &self.angular_velocity_radps),
         ];
         for (name, v) in vectors {
-            if !(F::is_finite(v.x) && F::is_finite(v.y) && F::is_finite(v.z)) {
+            if !(f32::is_finite(v.x) && f32::is_finite(v.y) && f32::is_finite(v.z)) {
                 return Some(name);
             }
         }
         let q = &self.orientation;
-        if !(F::is_finite(q.coords.w)
-            && F::is_finite(q.coords.x)
-            && F::is_finite(q.coords.y)
-            && F::is_finite(q.coords.z))
+        if !(f32::is_finite(q.coords.w)
+            && f32::is_finite(q.coords.x)
+            && f32::is_finite(q.coords.y)
+            && f32::is_finite(q.coords.z))
         {
             return Some("orientation");
         }
@@ -123,106 +117,21 @@ impl<F: BourgFloat> BourgStateOf<F> {
     }
 }
 
-impl<F: BourgFloat> Default for BourgStateOf<F> {
+impl Default for BourgState {
     fn default() -> Self {
         Self::initial()
     }
 }
 
-/// Forces and moments of one frame (the output of [`loads`]), in float type
-/// `F` (see [`Loads`]).
+/// Forces and moments of one frame (the output of [`loads`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound = "F: BourgFloat")]
-pub struct LoadsOf<F: BourgFloat> {
+pub struct Loads {
     /// Total force (aerodynamics, thrust and gravity), earth frame, lb.
-    pub force_earth: Vector3<F>,
+    pub force_earth: Vector3<f32>,
     /// Total moment about the CG, body frame, ft·lb.
-    pub moment_body: Vector3<F>,
+    pub moment_body: Vector3<f32>,
     /// Whether a wing element (0..=3) had zero lift coefficient (stall).
     pub stalling: bool,
-}
-
-/// The `f32` loads (the original's type).
-pub type Loads = LoadsOf<f32>;
-/// The `f64` loads.
-pub type Loads64 = LoadsOf<f64>;
-
-/// The airfoil tables' interval search, as the original: the first `i` with
-/// `a[i] ≤ angle < a[i+1]`; `None` outside the table or for NaN.
-#[inline(always)]
-fn interval<F: BourgFloat, const N: usize>(a: &[F; N], angle: F) -> Option<usize> {
-    (0..N - 1).find(|&i| a[i] <= angle && a[i + 1] > angle)
-}
-
-/// The original's linear interpolation in interval `i`:
-/// `t[i] − (a[i] − angle)·(t[i] − t[i+1])/(a[i] − a[i+1])`.
-#[inline(always)]
-fn lerp<F: BourgFloat, const N: usize>(a: &[F; N], t: &[F; N], i: usize, angle: F) -> F {
-    t[i] - (a[i] - angle) * (t[i] - t[i + 1]) / (a[i] - a[i + 1])
-}
-
-/// Lift and drag coefficients of a wing or elevator element at an angle of
-/// attack in degrees, from the tables of `flap` (`LiftCoefficient`,
-/// `DragCoefficient`; both use the same angle table, so the interval is
-/// searched once). Outside −8..24° (or for NaN): CL 0, CD 0.75.
-#[inline]
-#[must_use]
-pub fn airfoil_coefficients<F: BourgFloat>(angle_deg: F, flap: Flap) -> (F, F) {
-    let (cl, cd) = match flap {
-        Flap::Neutral => (&F::CL_NEUTRAL, &F::CD_NEUTRAL),
-        Flap::TrailingEdgeDown => (&F::CL_TRAILING_EDGE_DOWN, &F::CD_TRAILING_EDGE_DOWN),
-        Flap::TrailingEdgeUp => (&F::CL_TRAILING_EDGE_UP, &F::CD_TRAILING_EDGE_UP),
-    };
-    let a = &F::AIRFOIL_ALPHA_DEG;
-    match interval(a, angle_deg) {
-        Some(i) => (lerp(a, cl, i, angle_deg), lerp(a, cd, i, angle_deg)),
-        None => (F::ZERO, F::CD_OUTSIDE),
-    }
-}
-
-/// Lift coefficient of a wing or elevator element (`LiftCoefficient`); see
-/// [`airfoil_coefficients`].
-#[must_use]
-pub fn lift_coefficient<F: BourgFloat>(angle_deg: F, flap: Flap) -> F {
-    airfoil_coefficients(angle_deg, flap).0
-}
-
-/// Drag coefficient of a wing or elevator element (`DragCoefficient`); see
-/// [`airfoil_coefficients`].
-#[must_use]
-pub fn drag_coefficient<F: BourgFloat>(angle_deg: F, flap: Flap) -> F {
-    airfoil_coefficients(angle_deg, flap).1
-}
-
-/// Rudder lift and drag coefficients (`RudderLiftCoefficient`,
-/// `RudderDragCoefficient`), symmetric: the tables at `|angle|`, the lift
-/// negated for `angle < 0`. So CL jumps from +0.16 at 0° to −0.16 just below.
-/// Outside ±24° (or for NaN): CL 0, CD 0.75.
-#[inline]
-#[must_use]
-pub fn rudder_coefficients<F: BourgFloat>(angle_deg: F) -> (F, F) {
-    let a = &F::RUDDER_ALPHA_DEG;
-    let abs = F::abs(angle_deg);
-    match interval(a, abs) {
-        Some(i) => {
-            let cl = lerp(a, &F::RUDDER_CL, i, abs);
-            let cl = if angle_deg < F::ZERO { -cl } else { cl };
-            (cl, lerp(a, &F::RUDDER_CD, i, abs))
-        }
-        None => (F::ZERO, F::CD_OUTSIDE),
-    }
-}
-
-/// Rudder lift coefficient; see [`rudder_coefficients`].
-#[must_use]
-pub fn rudder_lift_coefficient<F: BourgFloat>(angle_deg: F) -> F {
-    rudder_coefficients(angle_deg).0
-}
-
-/// Rudder drag coefficient; see [`rudder_coefficients`].
-#[must_use]
-pub fn rudder_drag_coefficient<F: BourgFloat>(angle_deg: F) -> F {
-    rudder_coefficients(angle_deg).1
 }
 
 /// The forces and moments of one frame (the original's `CalcAirplaneLoads`).
@@ -236,7 +145,7 @@ pub fn rudder_drag_coefficient<F: BourgFloat>(angle_deg: F) -> F {
 /// `deg(asin(clamp(drag·normal, −1, 1)))`; the dynamic pressure times area
 /// `0.5·rho·V·V·area`; the element force from the airfoil tables (rudder tables
 /// for element 6, whose normal is that of the current rudder incidence,
-/// [`AircraftOf::rudder_normal`]; `drag·0.5·q` for the fuselage, element 7);
+/// [`BourgAircraft::rudder_normal`]; `drag·0.5·q` for the fuselage, element 7);
 /// running sums of the forces and of `cg_offset[i] ^ force`. Then thrust along
 /// body x is added, the force is rotated to the earth frame and gravity
 /// `−32.174·mass` is added to its z.
@@ -249,14 +158,10 @@ pub fn rudder_drag_coefficient<F: BourgFloat>(angle_deg: F) -> F {
 /// Pure: no allocation, no panics. NaN or infinite inputs propagate to NaN
 /// outputs (table lookups of a NaN angle give CL 0, CD 0.75).
 #[must_use]
-pub fn loads<F: BourgFloat>(
-    aircraft: &AircraftOf<F>,
-    controls: &BourgControlsOf<F>,
-    state: &BourgStateOf<F>,
-) -> LoadsOf<F> {
+pub fn loads(aircraft: &BourgAircraft, controls: &BourgControls, state: &BourgState) -> Loads {
     let mass = aircraft.mass_properties();
     let elements = &aircraft.airframe().elements;
-    let zero = Vector3::new(F::ZERO, F::ZERO, F::ZERO);
+    let zero = Vector3::<f32>::new(0.0, 0.0, 0.0);
 
     // The original is one loop over the elements. Each element's quantities
     // depend on the others only through the carried drag direction and the
@@ -268,7 +173,7 @@ pub fn loads<F: BourgFloat>(
     let mut normals = mass.normals;
     normals[6] = aircraft.rudder_normal(controls.rudder_incidence_deg(&elements[6]));
 
-    let mut local_speed = [F::ZERO; 8];
+    let mut local_speed = [0.0f32; 8];
     let mut drag_candidate = [zero; 8];
     for i in 0..8 {
         let local_velocity =
@@ -283,42 +188,44 @@ pub fn loads<F: BourgFloat>(
     let mut drag = [zero; 8];
     let mut carried = zero;
     for i in 0..8 {
-        if local_speed[i] > F::ONE {
+        if local_speed[i] > 1.0 {
             carried = drag_candidate[i];
         }
         drag[i] = carried;
     }
 
     let mut lift = [zero; 8];
-    let mut sin_attack = [F::ZERO; 8];
+    let mut sin_attack = [0.0f32; 8];
     for i in 0..8 {
         lift[i] = normalize(&cross(&cross(&drag[i], &normals[i]), &drag[i]));
         let mut s = dot(&drag[i], &normals[i]);
-        if s > F::ONE {
-            s = F::ONE;
+        // The original's two `if`s (the same values as `clamp`, kept in its form).
+        #[allow(clippy::manual_clamp)]
+        if s > 1.0 {
+            s = 1.0;
         }
-        if s < -F::ONE {
-            s = -F::ONE;
+        if s < -1.0 {
+            s = -1.0;
         }
         sin_attack[i] = s;
     }
 
-    let attack_deg = sin_attack.map(|s| radians_to_degrees(F::asin(s)));
+    let attack_deg = sin_attack.map(|s| radians_to_degrees(asinf(s)));
 
     let mut stalling = false;
     let mut resultant = [zero; 8];
     for (i, element) in elements.iter().enumerate() {
-        let q_area = F::HALF * F::RHO_SLUG_FT3 * local_speed[i] * local_speed[i] * element.area_ft2;
+        let q_area = 0.5 * RHO_SLUG_FT3 * local_speed[i] * local_speed[i] * element.area_ft2;
         let (a, l, d) = (attack_deg[i], &lift[i], &drag[i]);
         resultant[i] = match i {
             6 => {
                 let (cl, cd) = rudder_coefficients(a);
                 (l * cl + d * cd) * q_area
             }
-            7 => d * F::HALF * q_area,
+            7 => d * 0.5 * q_area,
             _ => {
                 let (cl, cd) = controls.elevator_coefficients(i, element, a);
-                if i <= 3 && cl == F::ZERO {
+                if i <= 3 && cl == 0.0 {
                     stalling = true;
                 }
                 (l * cl + d * cd) * q_area
@@ -326,7 +233,7 @@ pub fn loads<F: BourgFloat>(
         };
     }
 
-    let thrust = Vector3::new(F::ONE, F::ZERO, F::ZERO) * controls.thrust_lb;
+    let thrust = Vector3::<f32>::new(1.0, 0.0, 0.0) * controls.thrust_lb;
     let mut fb = zero;
     let mut mb = zero;
     for (r, cg_offset) in resultant.iter().zip(&mass.cg_offsets_ft) {
@@ -336,9 +243,9 @@ pub fn loads<F: BourgFloat>(
 
     fb += thrust;
     let mut force_earth = qv_rotate(&state.orientation, &fb);
-    force_earth.z += F::G_FTPS2 * mass.mass_slug;
+    force_earth.z += G_FTPS2 * mass.mass_slug;
 
-    LoadsOf {
+    Loads {
         force_earth,
         moment_body: zero + mb,
         stalling,
@@ -359,12 +266,12 @@ pub fn loads<F: BourgFloat>(
 /// ```
 ///
 /// The original also computes the speed and the Euler angles here; they are
-/// outputs nothing reads back, so [`BourgStateOf::speed_ftps`] and
-/// [`BourgStateOf::euler_angles_deg`] compute them (identically) on demand.
+/// outputs nothing reads back, so [`BourgState::speed_ftps`] and
+/// [`BourgState::euler_angles_deg`] compute them (identically) on demand.
 ///
 /// `aircraft` is the airframe with its mass properties (computed once),
-/// `controls` this frame's settings (after [`BourgControlsOf::neutralize_surfaces`]
-/// and the frame's [`BourgControlsOf::apply`] calls), `state` the state after
+/// `controls` this frame's settings (after [`BourgControls::neutralize_surfaces`]
+/// and the frame's [`BourgControls::apply`] calls), `state` the state after
 /// the previous frame, `dt` the time step in seconds (the reference runs use
 /// `1.0f32 / 30.0`).
 ///
@@ -394,12 +301,12 @@ pub fn loads<F: BourgFloat>(
 /// assert!(state.position_ft.x > -5000.0 && state.position_ft.z < 2000.0);
 /// ```
 #[must_use]
-pub fn step<F: BourgFloat>(
-    aircraft: &AircraftOf<F>,
-    controls: &BourgControlsOf<F>,
-    state: &BourgStateOf<F>,
-    dt: F,
-) -> BourgStateOf<F> {
+pub fn step(
+    aircraft: &BourgAircraft,
+    controls: &BourgControls,
+    state: &BourgState,
+    dt: f32,
+) -> BourgState {
     let mass = aircraft.mass_properties();
     let loads = loads(aircraft, controls, state);
 
@@ -414,16 +321,16 @@ pub fn step<F: BourgFloat>(
 
     let spin = quat_scale(
         &quat_mul_vec(&state.orientation, &angular_velocity),
-        F::HALF * dt,
+        0.5 * dt,
     );
     let mut orientation = quat_add(&state.orientation, &spin);
     let norm = quat_magnitude(&orientation);
-    if norm != F::ZERO {
+    if norm != 0.0 {
         orientation = quat_div(&orientation, norm);
     }
 
-    BourgStateOf {
-        time_s: state.time_s + dt.to_f64(),
+    BourgState {
+        time_s: state.time_s + f64::from(dt),
         position_ft: position,
         velocity_ftps: velocity,
         velocity_body_ftps: qv_rotate(&conjugate(&orientation), &velocity),
@@ -475,22 +382,22 @@ impl std::error::Error for StepError {}
 ///
 /// # Errors
 /// [`StepError`] naming the problem.
-pub fn try_step<F: BourgFloat>(
-    aircraft: &AircraftOf<F>,
-    controls: &BourgControlsOf<F>,
-    state: &BourgStateOf<F>,
-    dt: F,
-) -> Result<BourgStateOf<F>, StepError> {
+pub fn try_step(
+    aircraft: &BourgAircraft,
+    controls: &BourgControls,
+    state: &BourgState,
+    dt: f32,
+) -> Result<BourgState, StepError> {
     if let Some(field) = state.first_non_finite() {
         return Err(StepError::NonFiniteState { field });
     }
-    if !(F::is_finite(controls.thrust_lb)
-        && F::is_finite(controls.rudder_deg)
-        && F::is_finite(controls.pitch_trim))
+    if !(f32::is_finite(controls.thrust_lb)
+        && f32::is_finite(controls.rudder_deg)
+        && f32::is_finite(controls.pitch_trim))
     {
         return Err(StepError::NonFiniteControls);
     }
-    if !(F::is_finite(dt) && dt > F::ZERO) {
+    if !(f32::is_finite(dt) && dt > 0.0) {
         return Err(StepError::InvalidTimeStep);
     }
     let next = step(aircraft, controls, state, dt);

@@ -19,19 +19,25 @@
 
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
-use super::float::BourgFloat;
+use crate::math::sqrtf;
+
+/// π as the original writes it: `3.14159265f` (the `f32` 3.14159274).
+#[allow(clippy::excessive_precision, clippy::approx_constant)]
+pub const PI: f32 = 3.14159265;
+/// The `Normalize` tolerance: 1e-15.
+pub const TOL: f32 = 1e-15;
 
 /// Dot product `u·v = ux vx + uy vy + uz vz`, summed left to right.
 #[inline(always)]
 #[must_use]
-pub fn dot<F: BourgFloat>(u: &Vector3<F>, v: &Vector3<F>) -> F {
+pub fn dot(u: &Vector3<f32>, v: &Vector3<f32>) -> f32 {
     u.x * v.x + u.y * v.y + u.z * v.z
 }
 
 /// Cross product `u^v = (uy vz − uz vy, −ux vz + uz vx, ux vy − uy vx)`.
 #[inline(always)]
 #[must_use]
-pub fn cross<F: BourgFloat>(u: &Vector3<F>, v: &Vector3<F>) -> Vector3<F> {
+pub fn cross(u: &Vector3<f32>, v: &Vector3<f32>) -> Vector3<f32> {
     Vector3::new(
         u.y * v.z - u.z * v.y,
         -u.x * v.z + u.z * v.x,
@@ -42,8 +48,8 @@ pub fn cross<F: BourgFloat>(u: &Vector3<F>, v: &Vector3<F>) -> Vector3<F> {
 /// `Magnitude`: `sqrt(x² + y² + z²)`, the squares summed left to right.
 #[inline(always)]
 #[must_use]
-pub fn magnitude<F: BourgFloat>(u: &Vector3<F>) -> F {
-    F::sqrt(u.x * u.x + u.y * u.y + u.z * u.z)
+pub fn magnitude(u: &Vector3<f32>) -> f32 {
+    sqrtf(u.x * u.x + u.y * u.y + u.z * u.z)
 }
 
 /// `Normalize`: divides each component by the magnitude `m` (or by 1 if
@@ -52,19 +58,19 @@ pub fn magnitude<F: BourgFloat>(u: &Vector3<F>) -> F {
 /// A zero vector stays zero; NaN components stay NaN.
 #[inline(always)]
 #[must_use]
-pub fn normalize<F: BourgFloat>(u: &Vector3<F>) -> Vector3<F> {
+pub fn normalize(u: &Vector3<f32>) -> Vector3<f32> {
     let mut m = magnitude(u);
-    if m <= F::TOL {
-        m = F::ONE;
+    if m <= TOL {
+        m = 1.0;
     }
-    let flush = |c: F| if F::abs(c) < F::TOL { F::ZERO } else { c };
+    let flush = |c: f32| if abs(c) < TOL { 0.0 } else { c };
     Vector3::new(flush(u.x / m), flush(u.y / m), flush(u.z / m))
 }
 
 /// Matrix times vector: row-wise dot products, each summed left to right.
 #[inline(always)]
 #[must_use]
-pub fn mat_mul_vec<F: BourgFloat>(m: &Matrix3<F>, u: &Vector3<F>) -> Vector3<F> {
+pub fn mat_mul_vec(m: &Matrix3<f32>, u: &Vector3<f32>) -> Vector3<f32> {
     Vector3::new(
         m.m11 * u.x + m.m12 * u.y + m.m13 * u.z,
         m.m21 * u.x + m.m22 * u.y + m.m23 * u.z,
@@ -78,10 +84,10 @@ pub fn mat_mul_vec<F: BourgFloat>(m: &Matrix3<F>, u: &Vector3<F>) -> Vector3<F> 
 /// yields its adjugate rather than an error.
 #[inline]
 #[must_use]
-pub fn inverse<F: BourgFloat>(m: &Matrix3<F>) -> Matrix3<F> {
+pub fn inverse(m: &Matrix3<f32>) -> Matrix3<f32> {
     let mut d = determinant(m);
-    if d == F::ZERO {
-        d = F::ONE;
+    if d == 0.0 {
+        d = 1.0;
     }
     let (e11, e12, e13) = (m.m11, m.m12, m.m13);
     let (e21, e22, e23) = (m.m21, m.m22, m.m23);
@@ -103,7 +109,7 @@ pub fn inverse<F: BourgFloat>(m: &Matrix3<F>) -> Matrix3<F> {
 /// substitution).
 #[inline]
 #[must_use]
-pub fn determinant<F: BourgFloat>(m: &Matrix3<F>) -> F {
+pub fn determinant(m: &Matrix3<f32>) -> f32 {
     let (e11, e12, e13) = (m.m11, m.m12, m.m13);
     let (e21, e22, e23) = (m.m21, m.m22, m.m23);
     let (e31, e32, e33) = (m.m31, m.m32, m.m33);
@@ -114,7 +120,7 @@ pub fn determinant<F: BourgFloat>(m: &Matrix3<F>) -> F {
 /// Quaternion sum, component-wise.
 #[inline(always)]
 #[must_use]
-pub fn quat_add<F: BourgFloat>(a: &Quaternion<F>, b: &Quaternion<F>) -> Quaternion<F> {
+pub fn quat_add(a: &Quaternion<f32>, b: &Quaternion<f32>) -> Quaternion<f32> {
     Quaternion::new(
         a.coords.w + b.coords.w,
         a.coords.x + b.coords.x,
@@ -126,7 +132,7 @@ pub fn quat_add<F: BourgFloat>(a: &Quaternion<F>, b: &Quaternion<F>) -> Quaterni
 /// Quaternion times scalar, component-wise.
 #[inline(always)]
 #[must_use]
-pub fn quat_scale<F: BourgFloat>(q: &Quaternion<F>, s: F) -> Quaternion<F> {
+pub fn quat_scale(q: &Quaternion<f32>, s: f32) -> Quaternion<f32> {
     Quaternion::new(
         q.coords.w * s,
         q.coords.x * s,
@@ -139,7 +145,7 @@ pub fn quat_scale<F: BourgFloat>(q: &Quaternion<F>, s: F) -> Quaternion<F> {
 /// not a multiplication by `1/s`).
 #[inline(always)]
 #[must_use]
-pub fn quat_div<F: BourgFloat>(q: &Quaternion<F>, s: F) -> Quaternion<F> {
+pub fn quat_div(q: &Quaternion<f32>, s: f32) -> Quaternion<f32> {
     Quaternion::new(
         q.coords.w / s,
         q.coords.x / s,
@@ -151,15 +157,15 @@ pub fn quat_div<F: BourgFloat>(q: &Quaternion<F>, s: F) -> Quaternion<F> {
 /// Conjugate `~q = (n, −v)`.
 #[inline(always)]
 #[must_use]
-pub fn conjugate<F: BourgFloat>(q: &Quaternion<F>) -> Quaternion<F> {
+pub fn conjugate(q: &Quaternion<f32>) -> Quaternion<f32> {
     Quaternion::new(q.coords.w, -q.coords.x, -q.coords.y, -q.coords.z)
 }
 
 /// Quaternion magnitude `sqrt(n² + x² + y² + z²)`, summed left to right.
 #[inline(always)]
 #[must_use]
-pub fn quat_magnitude<F: BourgFloat>(q: &Quaternion<F>) -> F {
-    F::sqrt(
+pub fn quat_magnitude(q: &Quaternion<f32>) -> f32 {
+    sqrtf(
         q.coords.w * q.coords.w
             + q.coords.x * q.coords.x
             + q.coords.y * q.coords.y
@@ -172,7 +178,7 @@ pub fn quat_magnitude<F: BourgFloat>(q: &Quaternion<F>) -> F {
 ///   n1y2 + y1n2 + z1x2 − x1z2, n1z2 + z1n2 + x1y2 − y1x2)`.
 #[inline(always)]
 #[must_use]
-pub fn quat_mul<F: BourgFloat>(a: &Quaternion<F>, b: &Quaternion<F>) -> Quaternion<F> {
+pub fn quat_mul(a: &Quaternion<f32>, b: &Quaternion<f32>) -> Quaternion<f32> {
     let (n1, x1, y1, z1) = (a.coords.w, a.coords.x, a.coords.y, a.coords.z);
     let (n2, x2, y2, z2) = (b.coords.w, b.coords.x, b.coords.y, b.coords.z);
     Quaternion::new(
@@ -187,7 +193,7 @@ pub fn quat_mul<F: BourgFloat>(a: &Quaternion<F>, b: &Quaternion<F>) -> Quaterni
 /// `(−(x vx + y vy + z vz), n vx + y vz − z vy, n vy + z vx − x vz, n vz + x vy − y vx)`.
 #[inline(always)]
 #[must_use]
-pub fn quat_mul_vec<F: BourgFloat>(q: &Quaternion<F>, v: &Vector3<F>) -> Quaternion<F> {
+pub fn quat_mul_vec(q: &Quaternion<f32>, v: &Vector3<f32>) -> Quaternion<f32> {
     let (n, x, y, z) = (q.coords.w, q.coords.x, q.coords.y, q.coords.z);
     Quaternion::new(
         -(x * v.x + y * v.y + z * v.z),
@@ -202,40 +208,40 @@ pub fn quat_mul_vec<F: BourgFloat>(q: &Quaternion<F>, v: &Vector3<F>) -> Quatern
 /// its conjugate).
 #[inline(always)]
 #[must_use]
-pub fn qv_rotate<F: BourgFloat>(q: &Quaternion<F>, v: &Vector3<F>) -> Vector3<F> {
+pub fn qv_rotate(q: &Quaternion<f32>, v: &Vector3<f32>) -> Vector3<f32> {
     let t = quat_mul(&quat_mul_vec(q, v), &conjugate(q));
     Vector3::new(t.coords.x, t.coords.y, t.coords.z)
 }
 
-/// `DegreesToRadians(d) = d * pi / 180` in `F`, left to right, with the
+/// `DegreesToRadians(d) = d * pi / 180` in `f32`, left to right, with the
 /// original's `pi = 3.14159265`.
 #[inline(always)]
 #[must_use]
-pub fn degrees_to_radians<F: BourgFloat>(deg: F) -> F {
-    deg * F::PI / F::DEG_180
+pub fn degrees_to_radians(deg: f32) -> f32 {
+    deg * PI / 180.0
 }
 
-/// `RadiansToDegrees(r) = r * 180 / pi` in `F`, left to right.
+/// `RadiansToDegrees(r) = r * 180 / pi` in `f32`, left to right.
 #[inline(always)]
 #[must_use]
-pub fn radians_to_degrees<F: BourgFloat>(rad: F) -> F {
-    rad * F::DEG_180 / F::PI
+pub fn radians_to_degrees(rad: f32) -> f32 {
+    rad * 180.0 / PI
 }
 
 /// `MakeQFromEulerAngles(roll, pitch, yaw)`, angles in degrees:
 /// `euler_deg = (x roll, y pitch, z yaw)`.
 ///
-/// Each angle is converted with [`degrees_to_radians`] in `F`, then widened to
+/// Each angle is converted with [`degrees_to_radians`] in `f32`, then widened to
 /// `f64`; the half-angle sines and cosines and the products are `f64`, and each
-/// component is rounded back to `F` (for `f32` this is the C++'s `double` mix):
+/// component is rounded back to `f32` (the C++'s `float`/`double` mix):
 /// `n = cy cp cr + sy sp sr`, `x = cy cp sr − sy sp cr`,
 /// `y = cy sp cr + sy cp sr`, `z = sy cp cr − cy sp sr`.
 #[must_use]
-pub fn quat_from_euler_deg<F: BourgFloat>(euler_deg: &Vector3<F>) -> Quaternion<F> {
+pub fn quat_from_euler_deg(euler_deg: &Vector3<f32>) -> Quaternion<f32> {
     use crate::math::{cos, sin};
-    let roll = degrees_to_radians(euler_deg.x).to_f64();
-    let pitch = degrees_to_radians(euler_deg.y).to_f64();
-    let yaw = degrees_to_radians(euler_deg.z).to_f64();
+    let roll = f64::from(degrees_to_radians(euler_deg.x));
+    let pitch = f64::from(degrees_to_radians(euler_deg.y));
+    let yaw = f64::from(degrees_to_radians(euler_deg.z));
     let (cyaw, cpitch, croll) = (cos(0.5 * yaw), cos(0.5 * pitch), cos(0.5 * roll));
     let (syaw, spitch, sroll) = (sin(0.5 * yaw), sin(0.5 * pitch), sin(0.5 * roll));
     let cyawcpitch = cyaw * cpitch;
@@ -243,10 +249,10 @@ pub fn quat_from_euler_deg<F: BourgFloat>(euler_deg: &Vector3<F>) -> Quaternion<
     let cyawspitch = cyaw * spitch;
     let syawcpitch = syaw * cpitch;
     Quaternion::new(
-        F::from_f64(cyawcpitch * croll + syawspitch * sroll),
-        F::from_f64(cyawcpitch * sroll - syawspitch * croll),
-        F::from_f64(cyawspitch * croll + syawcpitch * sroll),
-        F::from_f64(syawcpitch * croll - cyawspitch * sroll),
+        (cyawcpitch * croll + syawspitch * sroll) as f32,
+        (cyawcpitch * sroll - syawspitch * croll) as f32,
+        (cyawspitch * croll + syawcpitch * sroll) as f32,
+        (syawcpitch * croll - cyawspitch * sroll) as f32,
     )
 }
 
@@ -254,45 +260,51 @@ pub fn quat_from_euler_deg<F: BourgFloat>(euler_deg: &Vector3<F>) -> Quaternion<
 /// pitch positive nose-down.
 ///
 /// The squares `n²`, `x²`, … and the inner products `xy + nz`, … are computed in
-/// `F` and widened to `f64`; the rotation-matrix sums, `atan2` and `asin` are
-/// `f64`; each angle is rounded to `F` and converted with
+/// `f32` and widened to `f64`; the rotation-matrix sums, `atan2` and `asin` are
+/// `f64`; each angle is rounded to `f32` and converted with
 /// [`radians_to_degrees`]. If `|r31| > 0.999999` (pitch ±90°), roll is 0,
 /// pitch is `−(pi/2)·r31/|r31|` and yaw `atan2(−r12, −r31·r13)`.
 #[must_use]
-pub fn euler_deg_from_quat<F: BourgFloat>(q: &Quaternion<F>) -> Vector3<F> {
+pub fn euler_deg_from_quat(q: &Quaternion<f32>) -> Vector3<f32> {
     use crate::math::{asin, atan2};
     let (n, x, y, z) = (q.coords.w, q.coords.x, q.coords.y, q.coords.z);
-    let q00 = (n * n).to_f64();
-    let q11 = (x * x).to_f64();
-    let q22 = (y * y).to_f64();
-    let q33 = (z * z).to_f64();
+    let q00 = f64::from(n * n);
+    let q11 = f64::from(x * x);
+    let q22 = f64::from(y * y);
+    let q33 = f64::from(z * z);
 
     let r11 = q00 + q11 - q22 - q33;
-    let r21 = (F::TWO * (x * y + n * z)).to_f64();
-    let r31 = (F::TWO * (x * z - n * y)).to_f64();
-    let r32 = (F::TWO * (y * z + n * x)).to_f64();
+    let r21 = f64::from(2.0 * (x * y + n * z));
+    let r31 = f64::from(2.0 * (x * z - n * y));
+    let r32 = f64::from(2.0 * (y * z + n * x));
     let r33 = q00 - q11 - q22 + q33;
 
     let tmp = abs_f64(r31);
     if tmp > 0.999_999 {
-        let r12 = (F::TWO * (x * y - n * z)).to_f64();
-        let r13 = (F::TWO * (x * z + n * y)).to_f64();
-        let half_pi = (-(F::PI / F::TWO)).to_f64();
+        let r12 = f64::from(2.0 * (x * y - n * z));
+        let r13 = f64::from(2.0 * (x * z + n * y));
+        let half_pi = f64::from(-(PI / 2.0));
         return Vector3::new(
-            radians_to_degrees(F::ZERO),
-            radians_to_degrees(F::from_f64(half_pi * r31 / tmp)),
-            radians_to_degrees(F::from_f64(atan2(-r12, -r31 * r13))),
+            radians_to_degrees(0.0),
+            radians_to_degrees((half_pi * r31 / tmp) as f32),
+            radians_to_degrees(atan2(-r12, -r31 * r13) as f32),
         );
     }
 
     Vector3::new(
-        radians_to_degrees(F::from_f64(atan2(r32, r33))),
-        radians_to_degrees(F::from_f64(asin(-r31))),
-        radians_to_degrees(F::from_f64(atan2(r21, r11))),
+        radians_to_degrees(atan2(r32, r33) as f32),
+        radians_to_degrees(asin(-r31) as f32),
+        radians_to_degrees(atan2(r21, r11) as f32),
     )
 }
 
 #[inline(always)]
 fn abs_f64(x: f64) -> f64 {
     f64::from_bits(x.to_bits() & (u64::MAX >> 1))
+}
+
+/// `fabsf`: clears the sign bit (also of −0 and NaN).
+#[inline(always)]
+pub(crate) fn abs(x: f32) -> f32 {
+    f32::from_bits(x.to_bits() & 0x7fff_ffff)
 }

@@ -4,7 +4,6 @@
 
 use nalgebra::Vector3;
 
-use super::airframe::AircraftOf;
 use super::controls::BourgControls;
 use super::model::{loads, BourgState};
 use super::ops::{conjugate, quat_from_euler_deg, qv_rotate};
@@ -66,7 +65,7 @@ const ITERATIONS: usize = 60;
 /// pitch_trim]`: the force along the heading and the vertical force (lb,
 /// gravity included) and the pitching moment (ft·lb), from [`loads`].
 fn residuals(
-    aircraft: &AircraftOf<f32>,
+    aircraft: &BourgAircraft,
     base: &BourgControls,
     conditions: &InitialConditions,
     x: [f64; 3],

@@ -58,6 +58,11 @@ pub trait Flight {
     /// Datagram counters, or `None` when nothing is sent.
     fn link_stats(&self) -> Option<LinkStats>;
 
+    /// The DIS output's counts (`--dis`), or `None` when nothing is published.
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        None
+    }
+
     /// A one-line description of the first failed datagram send, returned once (later
     /// failures are only counted in [`Self::link_stats`]). The loops print it on
     /// stderr at most once per run, never per frame; a failing link is never fatal.
@@ -107,6 +112,7 @@ pub fn fly<F: Flight>(
         mut csv,
         fg,
         origin: _,
+        dis: _,
         // Taken by `run_model`, which wraps the flight (crate::plot::fly_plotted).
         plot: _,
     } = run;
@@ -140,6 +146,7 @@ pub fn fly<F: Flight>(
                     failed: l.failed,
                 });
             }
+            report.dis = flight.dis_report();
             let text = if json {
                 report.to_json().context("encoding the JSON report")?
             } else {
@@ -160,8 +167,11 @@ pub fn fly<F: Flight>(
             let link = summary.link.map_or_else(String::new, |l| {
                 format!(", {} packets sent, {} failed", l.sent, l.failed)
             });
+            let dis = flight.dis_report().map_or_else(String::new, |d| {
+                format!(", {} DIS PDUs sent, {} failed", d.pdus, d.failed)
+            });
             eprintln!(
-                "sim-cli: flew {} frames, {} overruns{link}",
+                "sim-cli: flew {} frames, {} overruns{link}{dis}",
                 summary.frames, summary.overruns
             );
             Ok(())
