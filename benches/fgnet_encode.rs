@@ -1,5 +1,5 @@
 //! Criterion benchmarks of the FGNetFDM v24 encoders and decoders: the
-//! hand-written `to_be_bytes` path (`encode`, `decode`) against the serde +
+//! `to_be_bytes` path (`encode`, `decode`) against the serde +
 //! bincode 2 path (`encode_bincode`, `decode_bincode`), one datagram each.
 //!
 //! Run: `cargo bench --bench fgnet_encode -- --warm-up-time 1 --measurement-time 5`

@@ -26,220 +26,297 @@ pub const MAX_WHEELS: usize = 3;
 /// so [`FgNetFdm::new`] sends this value.
 pub const AGL_UNKNOWN: f32 = -9999.0;
 
-/// One FlightGear native-FDM datagram, protocol version 24 (`struct FGNetFDM`
-/// from FlightGear's `net_fdm.hxx`), 408 bytes on the wire.
+/// Declares the FGNetFDM v24 fields once, in wire order, and generates from
+/// that one list the struct (with every field's rustdoc and serde attributes),
+/// the neutral values behind [`FgNetFdm::new`], the encoder and decoder
+/// bodies, and the count clamping and checks.
 ///
-/// Field order, types and units follow the field table of docs/fgnetfdm.md §3; every field is
-/// sent big-endian. The "FlightGear does" notes describe what FlightGear 2020.3
-/// does with the field on receive (`FGNetFDM2Props`). `R2Df` is SimGear's
-/// *float* radians-to-degrees constant 57.2957763671875, so FlightGear shows
-/// angles 5.49e-8 (relative) smaller than the exact conversion.
-///
-/// The serde field names are the C header's (so `A_X_pilot`, not
-/// `a_x_pilot`), which lets the struct be read from JSON such as the
-/// project's golden datagram. Deserialization rejects unknown fields.
-///
-/// Array entries at index `>= num_*` are neither byte-swapped nor applied by
-/// FlightGear, but they are still transmitted and round-trip through
-/// [`encode`](Self::encode)/[`decode`](Self::decode).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FgNetFdm {
-    /// Offset 0, `u32`: protocol version, must be 24.
-    /// FlightGear byte-swaps the whole struct first and then compares this with
-    /// 24; on mismatch it logs `read N need 24` and applies nothing.
-    /// [`encode`](Self::encode) writes it verbatim (so a wrong version can be
-    /// sent on purpose); [`decode`](Self::decode) rejects anything but 24.
-    pub version: u32,
-    /// Offset 4, `u32`: alignment padding so the first double is 8-byte
-    /// aligned. FlightGear never reads it; send 0.
-    pub padding: u32,
-    /// Offset 8, `f64`: geodetic longitude, radians, east positive.
-    /// FlightGear: `/position/longitude-deg = longitude * R2Df`.
-    pub longitude: f64,
-    /// Offset 16, `f64`: geodetic latitude, radians, north positive.
-    /// FlightGear: `/position/latitude-deg = latitude * R2Df`.
-    pub latitude: f64,
-    /// Offset 24, `f64`: altitude above sea level, metres.
-    /// FlightGear: `/position/altitude-ft = altitude * 3.28083989501312335958`.
-    pub altitude: f64,
-    /// Offset 32, `f32`: altitude above ground level, metres.
-    /// FlightGear: if `agl > -9000`, `/position/altitude-agl-ft = agl * M2FT`;
-    /// otherwise it computes AGL from its own terrain (see [`AGL_UNKNOWN`]).
-    pub agl: f32,
-    /// Offset 36, `f32`: roll angle (phi), radians.
-    /// FlightGear: `/orientation/roll-deg = phi * R2Df`.
-    pub phi: f32,
-    /// Offset 40, `f32`: pitch angle (theta), radians.
-    /// FlightGear: `/orientation/pitch-deg = theta * R2Df`.
-    pub theta: f32,
-    /// Offset 44, `f32`: yaw angle (psi) = true heading, radians.
-    /// FlightGear: `/orientation/heading-deg = psi * R2Df` (same setter as
-    /// `/orientation/true-heading-deg`).
-    pub psi: f32,
-    /// Offset 48, `f32`: angle of attack, radians.
-    /// FlightGear: `/orientation/alpha-deg = alpha * R2Df`.
-    pub alpha: f32,
-    /// Offset 52, `f32`: sideslip angle, radians.
-    /// FlightGear: `/orientation/side-slip-rad = beta` (no conversion).
-    pub beta: f32,
-    /// Offset 56, `f32`: roll (Euler) rate, rad/s.
-    /// FlightGear: `/orientation/roll-rate-degps = phidot * R2Df`.
-    pub phidot: f32,
-    /// Offset 60, `f32`: pitch rate, rad/s.
-    /// FlightGear: `/orientation/pitch-rate-degps = thetadot * R2Df`.
-    pub thetadot: f32,
-    /// Offset 64, `f32`: yaw rate, rad/s.
-    /// FlightGear: `/orientation/yaw-rate-degps = psidot * R2Df`.
-    pub psidot: f32,
-    /// Offset 68, `f32`: calibrated airspeed, knots.
-    /// FlightGear: `/velocities/airspeed-kt`.
-    pub vcas: f32,
-    /// Offset 72, `f32`: vertical speed, ft/s (up positive).
-    /// FlightGear: `/velocities/vertical-speed-fps`.
-    pub climb_rate: f32,
-    /// Offset 76, `f32`: north velocity (NED frame), ft/s.
-    /// FlightGear: `/velocities/speed-north-fps`.
-    pub v_north: f32,
-    /// Offset 80, `f32`: east velocity (NED frame), ft/s.
-    /// FlightGear: `/velocities/speed-east-fps`.
-    pub v_east: f32,
-    /// Offset 84, `f32`: down velocity (NED frame), ft/s.
-    /// FlightGear: `/velocities/speed-down-fps`.
-    pub v_down: f32,
-    /// Offset 88, `f32`: ECEF velocity in the body frame, x (forward), ft/s.
-    /// FlightGear: `/velocities/uBody-fps`.
-    pub v_body_u: f32,
-    /// Offset 92, `f32`: ECEF velocity in the body frame, y (right), ft/s.
-    /// FlightGear: `/velocities/vBody-fps`.
-    pub v_body_v: f32,
-    /// Offset 96, `f32`: ECEF velocity in the body frame, z (down), ft/s.
-    /// FlightGear: `/velocities/wBody-fps`.
-    pub v_body_w: f32,
-    /// Offset 100, `f32`: pilot x acceleration, body frame, ft/s².
-    /// FlightGear: `/accelerations/pilot/x-accel-fps_sec`.
-    #[serde(rename = "A_X_pilot")]
-    pub a_x_pilot: f32,
-    /// Offset 104, `f32`: pilot y acceleration, body frame, ft/s².
-    /// FlightGear: `/accelerations/pilot/y-accel-fps_sec`.
-    #[serde(rename = "A_Y_pilot")]
-    pub a_y_pilot: f32,
-    /// Offset 108, `f32`: pilot z acceleration, body frame, ft/s².
-    /// FlightGear: `/accelerations/pilot/z-accel-fps_sec`.
-    #[serde(rename = "A_Z_pilot")]
-    pub a_z_pilot: f32,
-    /// Offset 112, `f32`: amount of stall, 0.0 to 1.0.
-    /// FlightGear: `/sim/alarms/stall-warning`.
-    pub stall_warning: f32,
-    /// Offset 116, `f32`: slip-ball deflection.
-    /// FlightGear: `/instrumentation/slip-skid-ball/indicated-slip-skid`, and
-    /// it also sets `/instrumentation/slip-skid-ball/override = true`.
-    pub slip_deg: f32,
-    /// Offset 120, `u32`: number of valid engines, at most [`MAX_ENGINES`].
-    /// FlightGear uses it unchecked as the loop bound for byte-swapping and
-    /// applying the engine arrays, so the encoder clamps it to 4 and
-    /// [`decode`](Self::decode) rejects larger values.
-    pub num_engines: u32,
-    /// Offset 124, `u32[4]`: engine state, 0 off, 1 cranking, 2 running.
-    /// FlightGear sets `/engines/engine[i]/cranking` and `/running`
-    /// (0 → false, false; 1 → true, false; 2 → false, true; other values leave
-    /// both unchanged).
-    pub eng_state: [u32; MAX_ENGINES],
-    /// Offset 140, `f32[4]`: engine speed, rev/min.
-    /// FlightGear: `/engines/engine[i]/rpm`.
-    pub rpm: [f32; MAX_ENGINES],
-    /// Offset 156, `f32[4]`: fuel flow, US gallons/hour.
-    /// FlightGear: `/engines/engine[i]/fuel-flow-gph`.
-    pub fuel_flow: [f32; MAX_ENGINES],
-    /// Offset 172, `f32[4]`: fuel pressure, psi.
-    /// FlightGear: `/engines/engine[i]/fuel-px-psi`.
-    pub fuel_px: [f32; MAX_ENGINES],
-    /// Offset 188, `f32[4]`: exhaust gas temperature, °F.
-    /// FlightGear: `/engines/engine[i]/egt-degf`.
-    pub egt: [f32; MAX_ENGINES],
-    /// Offset 204, `f32[4]`: cylinder head temperature, °F.
-    /// FlightGear: `/engines/engine[i]/cht-degf`.
-    pub cht: [f32; MAX_ENGINES],
-    /// Offset 220, `f32[4]`: manifold pressure (unit not stated by the
-    /// header; JSBSim sends inHg).
-    /// FlightGear: `/engines/engine[i]/mp-osi`.
-    pub mp_osi: [f32; MAX_ENGINES],
-    /// Offset 236, `f32[4]`: turbine inlet temperature (unit not stated by
-    /// the header).
-    /// FlightGear: `/engines/engine[i]/tit`.
-    pub tit: [f32; MAX_ENGINES],
-    /// Offset 252, `f32[4]`: oil temperature, °F.
-    /// FlightGear: `/engines/engine[i]/oil-temperature-degf`.
-    pub oil_temp: [f32; MAX_ENGINES],
-    /// Offset 268, `f32[4]`: oil pressure, psi.
-    /// FlightGear: `/engines/engine[i]/oil-pressure-psi`.
-    pub oil_px: [f32; MAX_ENGINES],
-    /// Offset 284, `u32`: number of valid tanks, at most [`MAX_TANKS`].
-    /// Unchecked loop bound in FlightGear: clamped by the encoder, rejected
-    /// above 4 by the decoder.
-    pub num_tanks: u32,
-    /// Offset 288, `f32[4]`: fuel per tank, US gallons (FlightGear's own
-    /// sender and receiver; JSBSim sends pounds).
-    /// FlightGear: `/consumables/fuel/tank[i]/level-gal_us`.
-    pub fuel_quantity: [f32; MAX_TANKS],
-    /// Offset 304, `u32`: number of valid gear units, at most [`MAX_WHEELS`].
-    /// Unchecked loop bound in FlightGear: clamped by the encoder, rejected
-    /// above 3 by the decoder.
-    pub num_wheels: u32,
-    /// Offset 308, `u32[3]`: weight on wheels, 0 or 1.
-    /// FlightGear: `/gear/gear[i]/wow` (written with `setDoubleValue`).
-    pub wow: [u32; MAX_WHEELS],
-    /// Offset 320, `f32[3]`: gear position, normalised (1 = down).
-    /// FlightGear: `/gear/gear[i]/position-norm`.
-    pub gear_pos: [f32; MAX_WHEELS],
-    /// Offset 332, `f32[3]`: gear steering, normalised.
-    /// FlightGear: `/gear/gear[i]/steering-norm`.
-    pub gear_steer: [f32; MAX_WHEELS],
-    /// Offset 344, `f32[3]`: gear compression, normalised.
-    /// FlightGear: `/gear/gear[i]/compression-norm`.
-    pub gear_compression: [f32; MAX_WHEELS],
-    /// Offset 356, `u32`: current Unix time, seconds.
-    /// FlightGear byte-swaps it and then ignores it.
-    pub cur_time: u32,
-    /// Offset 360, `i32`: offset in seconds to Unix time.
-    /// FlightGear byte-swaps it and then ignores it.
-    pub warp: i32,
-    /// Offset 364, `f32`: visibility, metres.
-    /// FlightGear byte-swaps it and then ignores it.
-    pub visibility: f32,
-    /// Offset 368, `f32`: elevator position, normalised.
-    /// FlightGear: `/surface-positions/elevator-pos-norm`.
-    pub elevator: f32,
-    /// Offset 372, `f32`: elevator trim tab position, normalised.
-    /// FlightGear: `/surface-positions/elevator-trim-tab-pos-norm`.
-    pub elevator_trim_tab: f32,
-    /// Offset 376, `f32`: left flap position, normalised.
-    /// FlightGear writes it to `/surface-positions/flap-pos-norm` and then
-    /// overwrites that same property with [`right_flap`](Self::right_flap):
-    /// in effect this field is ignored.
-    pub left_flap: f32,
-    /// Offset 380, `f32`: right flap position, normalised.
-    /// FlightGear: `/surface-positions/flap-pos-norm` (it wins over
-    /// [`left_flap`](Self::left_flap)).
-    pub right_flap: f32,
-    /// Offset 384, `f32`: left aileron position, normalised.
-    /// FlightGear: `/surface-positions/left-aileron-pos-norm`.
-    pub left_aileron: f32,
-    /// Offset 388, `f32`: right aileron position, normalised.
-    /// FlightGear: `/surface-positions/right-aileron-pos-norm`.
-    pub right_aileron: f32,
-    /// Offset 392, `f32`: rudder position, normalised.
-    /// FlightGear: `/surface-positions/rudder-pos-norm`.
-    pub rudder: f32,
-    /// Offset 396, `f32`: nose wheel position, normalised.
-    /// FlightGear: `/surface-positions/nose-wheel-pos-norm`.
-    pub nose_wheel: f32,
-    /// Offset 400, `f32`: speedbrake position, normalised.
-    /// FlightGear: `/surface-positions/speedbrake-pos-norm`.
-    pub speedbrake: f32,
-    /// Offset 404, `f32`: spoiler position, normalised.
-    /// FlightGear: `/surface-positions/spoilers-pos-norm`.
-    pub spoilers: f32,
+/// Each entry is `pub name: Type = neutral value`, optionally followed by
+/// `=> clamped to Count` for the three array counts (`Count` names a
+/// [`CountField`] variant): the encoders write `min(value, Count.max())` and
+/// the decoders reject larger values. Each type is written and read
+/// big-endian through [`Wire`], so the list needs no sizes or offsets; the
+/// layout tests in `tests/fgnet_layout.rs` pin every offset.
+macro_rules! fgnetfdm_fields {
+    (
+        $(#[$struct_meta:meta])*
+        pub struct $name:ident {
+            $(
+                $(#[$field_meta:meta])*
+                pub $field:ident : $ty:ty = $neutral:expr $(=> clamped to $count:ident)?,
+            )*
+        }
+    ) => {
+        $(#[$struct_meta])*
+        pub struct $name {
+            $(
+                $(#[$field_meta])*
+                pub $field: $ty,
+            )*
+        }
+
+        impl $name {
+            /// Every field at its neutral value (see [`FgNetFdm::new`]).
+            const fn neutral() -> Self {
+                Self { $($field: $neutral,)* }
+            }
+
+            /// `self` with each count clamped to its array length.
+            const fn clamp_counts(mut self) -> Self {
+                $($(self.$field = clamp_count(self.$field, CountField::$count);)?)*
+                self
+            }
+
+            /// The first count above its array length, if any.
+            fn check_counts(&self) -> Result<(), DecodeError> {
+                $($(
+                    if self.$field > CountField::$count.max() {
+                        return Err(DecodeError::CountTooLarge {
+                            field: CountField::$count,
+                            value: self.$field,
+                        });
+                    }
+                )?)*
+                Ok(())
+            }
+
+            /// Writes every field in wire order, counts clamped.
+            #[inline(always)]
+            fn write_fields(&self, w: &mut Writer<'_>) {
+                $(w.put(&fgnetfdm_fields!(@on_wire self.$field $(, $count)?));)*
+            }
+
+            /// Reads every field in wire order, unchecked.
+            #[inline(always)]
+            fn read_fields(r: &mut Reader<'_>) -> Self {
+                Self { $($field: r.get(),)* }
+            }
+        }
+    };
+    (@on_wire $value:expr) => {
+        $value
+    };
+    (@on_wire $value:expr, $count:ident) => {
+        clamp_count($value, CountField::$count)
+    };
+}
+
+fgnetfdm_fields! {
+    /// One FlightGear native-FDM datagram, protocol version 24 (`struct FGNetFDM`
+    /// from FlightGear's `net_fdm.hxx`), 408 bytes on the wire.
+    ///
+    /// Field order, types and units follow the field table of docs/fgnetfdm.md §3; every field is
+    /// sent big-endian. The "FlightGear does" notes describe what FlightGear 2020.3
+    /// does with the field on receive (`FGNetFDM2Props`). `R2Df` is SimGear's
+    /// *float* radians-to-degrees constant 57.2957763671875, so FlightGear shows
+    /// angles 5.49e-8 (relative) smaller than the exact conversion.
+    ///
+    /// The serde field names are the C header's (so `A_X_pilot`, not
+    /// `a_x_pilot`), which lets the struct be read from JSON such as the
+    /// project's golden datagram. Deserialization rejects unknown fields.
+    ///
+    /// Array entries at index `>= num_*` are neither byte-swapped nor applied by
+    /// FlightGear, but they are still transmitted and round-trip through
+    /// [`encode`](Self::encode)/[`decode`](Self::decode).
+    #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    pub struct FgNetFdm {
+        /// Offset 0, `u32`: protocol version, must be 24.
+        /// FlightGear byte-swaps the whole struct first and then compares this with
+        /// 24; on mismatch it logs `read N need 24` and applies nothing.
+        /// [`encode`](Self::encode) writes it verbatim (so a wrong version can be
+        /// sent on purpose); [`decode`](Self::decode) rejects anything but 24.
+        pub version: u32 = FG_NET_FDM_VERSION,
+        /// Offset 4, `u32`: alignment padding so the first double is 8-byte
+        /// aligned. FlightGear never reads it; send 0.
+        pub padding: u32 = 0,
+        /// Offset 8, `f64`: geodetic longitude, radians, east positive.
+        /// FlightGear: `/position/longitude-deg = longitude * R2Df`.
+        pub longitude: f64 = 0.0,
+        /// Offset 16, `f64`: geodetic latitude, radians, north positive.
+        /// FlightGear: `/position/latitude-deg = latitude * R2Df`.
+        pub latitude: f64 = 0.0,
+        /// Offset 24, `f64`: altitude above sea level, metres.
+        /// FlightGear: `/position/altitude-ft = altitude * 3.28083989501312335958`.
+        pub altitude: f64 = 0.0,
+        /// Offset 32, `f32`: altitude above ground level, metres.
+        /// FlightGear: if `agl > -9000`, `/position/altitude-agl-ft = agl * M2FT`;
+        /// otherwise it computes AGL from its own terrain (see [`AGL_UNKNOWN`]).
+        pub agl: f32 = AGL_UNKNOWN,
+        /// Offset 36, `f32`: roll angle (phi), radians.
+        /// FlightGear: `/orientation/roll-deg = phi * R2Df`.
+        pub phi: f32 = 0.0,
+        /// Offset 40, `f32`: pitch angle (theta), radians.
+        /// FlightGear: `/orientation/pitch-deg = theta * R2Df`.
+        pub theta: f32 = 0.0,
+        /// Offset 44, `f32`: yaw angle (psi) = true heading, radians.
+        /// FlightGear: `/orientation/heading-deg = psi * R2Df` (same setter as
+        /// `/orientation/true-heading-deg`).
+        pub psi: f32 = 0.0,
+        /// Offset 48, `f32`: angle of attack, radians.
+        /// FlightGear: `/orientation/alpha-deg = alpha * R2Df`.
+        pub alpha: f32 = 0.0,
+        /// Offset 52, `f32`: sideslip angle, radians.
+        /// FlightGear: `/orientation/side-slip-rad = beta` (no conversion).
+        pub beta: f32 = 0.0,
+        /// Offset 56, `f32`: roll (Euler) rate, rad/s.
+        /// FlightGear: `/orientation/roll-rate-degps = phidot * R2Df`.
+        pub phidot: f32 = 0.0,
+        /// Offset 60, `f32`: pitch rate, rad/s.
+        /// FlightGear: `/orientation/pitch-rate-degps = thetadot * R2Df`.
+        pub thetadot: f32 = 0.0,
+        /// Offset 64, `f32`: yaw rate, rad/s.
+        /// FlightGear: `/orientation/yaw-rate-degps = psidot * R2Df`.
+        pub psidot: f32 = 0.0,
+        /// Offset 68, `f32`: calibrated airspeed, knots.
+        /// FlightGear: `/velocities/airspeed-kt`.
+        pub vcas: f32 = 0.0,
+        /// Offset 72, `f32`: vertical speed, ft/s (up positive).
+        /// FlightGear: `/velocities/vertical-speed-fps`.
+        pub climb_rate: f32 = 0.0,
+        /// Offset 76, `f32`: north velocity (NED frame), ft/s.
+        /// FlightGear: `/velocities/speed-north-fps`.
+        pub v_north: f32 = 0.0,
+        /// Offset 80, `f32`: east velocity (NED frame), ft/s.
+        /// FlightGear: `/velocities/speed-east-fps`.
+        pub v_east: f32 = 0.0,
+        /// Offset 84, `f32`: down velocity (NED frame), ft/s.
+        /// FlightGear: `/velocities/speed-down-fps`.
+        pub v_down: f32 = 0.0,
+        /// Offset 88, `f32`: ECEF velocity in the body frame, x (forward), ft/s.
+        /// FlightGear: `/velocities/uBody-fps`.
+        pub v_body_u: f32 = 0.0,
+        /// Offset 92, `f32`: ECEF velocity in the body frame, y (right), ft/s.
+        /// FlightGear: `/velocities/vBody-fps`.
+        pub v_body_v: f32 = 0.0,
+        /// Offset 96, `f32`: ECEF velocity in the body frame, z (down), ft/s.
+        /// FlightGear: `/velocities/wBody-fps`.
+        pub v_body_w: f32 = 0.0,
+        /// Offset 100, `f32`: pilot x acceleration, body frame, ft/s².
+        /// FlightGear: `/accelerations/pilot/x-accel-fps_sec`.
+        #[serde(rename = "A_X_pilot")]
+        pub a_x_pilot: f32 = 0.0,
+        /// Offset 104, `f32`: pilot y acceleration, body frame, ft/s².
+        /// FlightGear: `/accelerations/pilot/y-accel-fps_sec`.
+        #[serde(rename = "A_Y_pilot")]
+        pub a_y_pilot: f32 = 0.0,
+        /// Offset 108, `f32`: pilot z acceleration, body frame, ft/s².
+        /// FlightGear: `/accelerations/pilot/z-accel-fps_sec`.
+        #[serde(rename = "A_Z_pilot")]
+        pub a_z_pilot: f32 = 0.0,
+        /// Offset 112, `f32`: amount of stall, 0.0 to 1.0.
+        /// FlightGear: `/sim/alarms/stall-warning`.
+        pub stall_warning: f32 = 0.0,
+        /// Offset 116, `f32`: slip-ball deflection.
+        /// FlightGear: `/instrumentation/slip-skid-ball/indicated-slip-skid`, and
+        /// it also sets `/instrumentation/slip-skid-ball/override = true`.
+        pub slip_deg: f32 = 0.0,
+        /// Offset 120, `u32`: number of valid engines, at most [`MAX_ENGINES`].
+        /// FlightGear uses it unchecked as the loop bound for byte-swapping and
+        /// applying the engine arrays, so the encoder clamps it to 4 and
+        /// [`decode`](Self::decode) rejects larger values.
+        pub num_engines: u32 = 0 => clamped to NumEngines,
+        /// Offset 124, `u32[4]`: engine state, 0 off, 1 cranking, 2 running.
+        /// FlightGear sets `/engines/engine[i]/cranking` and `/running`
+        /// (0 → false, false; 1 → true, false; 2 → false, true; other values leave
+        /// both unchanged).
+        pub eng_state: [u32; MAX_ENGINES] = [0; MAX_ENGINES],
+        /// Offset 140, `f32[4]`: engine speed, rev/min.
+        /// FlightGear: `/engines/engine[i]/rpm`.
+        pub rpm: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 156, `f32[4]`: fuel flow, US gallons/hour.
+        /// FlightGear: `/engines/engine[i]/fuel-flow-gph`.
+        pub fuel_flow: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 172, `f32[4]`: fuel pressure, psi.
+        /// FlightGear: `/engines/engine[i]/fuel-px-psi`.
+        pub fuel_px: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 188, `f32[4]`: exhaust gas temperature, °F.
+        /// FlightGear: `/engines/engine[i]/egt-degf`.
+        pub egt: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 204, `f32[4]`: cylinder head temperature, °F.
+        /// FlightGear: `/engines/engine[i]/cht-degf`.
+        pub cht: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 220, `f32[4]`: manifold pressure (unit not stated by the
+        /// header; JSBSim sends inHg).
+        /// FlightGear: `/engines/engine[i]/mp-osi`.
+        pub mp_osi: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 236, `f32[4]`: turbine inlet temperature (unit not stated by
+        /// the header).
+        /// FlightGear: `/engines/engine[i]/tit`.
+        pub tit: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 252, `f32[4]`: oil temperature, °F.
+        /// FlightGear: `/engines/engine[i]/oil-temperature-degf`.
+        pub oil_temp: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 268, `f32[4]`: oil pressure, psi.
+        /// FlightGear: `/engines/engine[i]/oil-pressure-psi`.
+        pub oil_px: [f32; MAX_ENGINES] = [0.0; MAX_ENGINES],
+        /// Offset 284, `u32`: number of valid tanks, at most [`MAX_TANKS`].
+        /// Unchecked loop bound in FlightGear: clamped by the encoder, rejected
+        /// above 4 by the decoder.
+        pub num_tanks: u32 = 0 => clamped to NumTanks,
+        /// Offset 288, `f32[4]`: fuel per tank, US gallons (FlightGear's own
+        /// sender and receiver; JSBSim sends pounds).
+        /// FlightGear: `/consumables/fuel/tank[i]/level-gal_us`.
+        pub fuel_quantity: [f32; MAX_TANKS] = [0.0; MAX_TANKS],
+        /// Offset 304, `u32`: number of valid gear units, at most [`MAX_WHEELS`].
+        /// Unchecked loop bound in FlightGear: clamped by the encoder, rejected
+        /// above 3 by the decoder.
+        pub num_wheels: u32 = 0 => clamped to NumWheels,
+        /// Offset 308, `u32[3]`: weight on wheels, 0 or 1.
+        /// FlightGear: `/gear/gear[i]/wow` (written with `setDoubleValue`).
+        pub wow: [u32; MAX_WHEELS] = [0; MAX_WHEELS],
+        /// Offset 320, `f32[3]`: gear position, normalised (1 = down).
+        /// FlightGear: `/gear/gear[i]/position-norm`.
+        pub gear_pos: [f32; MAX_WHEELS] = [0.0; MAX_WHEELS],
+        /// Offset 332, `f32[3]`: gear steering, normalised.
+        /// FlightGear: `/gear/gear[i]/steering-norm`.
+        pub gear_steer: [f32; MAX_WHEELS] = [0.0; MAX_WHEELS],
+        /// Offset 344, `f32[3]`: gear compression, normalised.
+        /// FlightGear: `/gear/gear[i]/compression-norm`.
+        pub gear_compression: [f32; MAX_WHEELS] = [0.0; MAX_WHEELS],
+        /// Offset 356, `u32`: current Unix time, seconds.
+        /// FlightGear byte-swaps it and then ignores it.
+        pub cur_time: u32 = 0,
+        /// Offset 360, `i32`: offset in seconds to Unix time.
+        /// FlightGear byte-swaps it and then ignores it.
+        pub warp: i32 = 0,
+        /// Offset 364, `f32`: visibility, metres.
+        /// FlightGear byte-swaps it and then ignores it.
+        pub visibility: f32 = 0.0,
+        /// Offset 368, `f32`: elevator position, normalised.
+        /// FlightGear: `/surface-positions/elevator-pos-norm`.
+        pub elevator: f32 = 0.0,
+        /// Offset 372, `f32`: elevator trim tab position, normalised.
+        /// FlightGear: `/surface-positions/elevator-trim-tab-pos-norm`.
+        pub elevator_trim_tab: f32 = 0.0,
+        /// Offset 376, `f32`: left flap position, normalised.
+        /// FlightGear writes it to `/surface-positions/flap-pos-norm` and then
+        /// overwrites that same property with [`right_flap`](Self::right_flap):
+        /// in effect this field is ignored.
+        pub left_flap: f32 = 0.0,
+        /// Offset 380, `f32`: right flap position, normalised.
+        /// FlightGear: `/surface-positions/flap-pos-norm` (it wins over
+        /// [`left_flap`](Self::left_flap)).
+        pub right_flap: f32 = 0.0,
+        /// Offset 384, `f32`: left aileron position, normalised.
+        /// FlightGear: `/surface-positions/left-aileron-pos-norm`.
+        pub left_aileron: f32 = 0.0,
+        /// Offset 388, `f32`: right aileron position, normalised.
+        /// FlightGear: `/surface-positions/right-aileron-pos-norm`.
+        pub right_aileron: f32 = 0.0,
+        /// Offset 392, `f32`: rudder position, normalised.
+        /// FlightGear: `/surface-positions/rudder-pos-norm`.
+        pub rudder: f32 = 0.0,
+        /// Offset 396, `f32`: nose wheel position, normalised.
+        /// FlightGear: `/surface-positions/nose-wheel-pos-norm`.
+        pub nose_wheel: f32 = 0.0,
+        /// Offset 400, `f32`: speedbrake position, normalised.
+        /// FlightGear: `/surface-positions/speedbrake-pos-norm`.
+        pub speedbrake: f32 = 0.0,
+        /// Offset 404, `f32`: spoiler position, normalised.
+        /// FlightGear: `/surface-positions/spoilers-pos-norm`.
+        pub spoilers: f32 = 0.0,
+    }
 }
 
 /// Which of the three array counts a [`DecodeError::CountTooLarge`] is about.
@@ -348,66 +425,7 @@ impl FgNetFdm {
     ///   at rest, surfaces centred, engines off, `cur_time`, `warp` and
     ///   `visibility` 0, which FlightGear ignores anyway).
     pub const fn new() -> Self {
-        Self {
-            version: FG_NET_FDM_VERSION,
-            padding: 0,
-            longitude: 0.0,
-            latitude: 0.0,
-            altitude: 0.0,
-            agl: AGL_UNKNOWN,
-            phi: 0.0,
-            theta: 0.0,
-            psi: 0.0,
-            alpha: 0.0,
-            beta: 0.0,
-            phidot: 0.0,
-            thetadot: 0.0,
-            psidot: 0.0,
-            vcas: 0.0,
-            climb_rate: 0.0,
-            v_north: 0.0,
-            v_east: 0.0,
-            v_down: 0.0,
-            v_body_u: 0.0,
-            v_body_v: 0.0,
-            v_body_w: 0.0,
-            a_x_pilot: 0.0,
-            a_y_pilot: 0.0,
-            a_z_pilot: 0.0,
-            stall_warning: 0.0,
-            slip_deg: 0.0,
-            num_engines: 0,
-            eng_state: [0; MAX_ENGINES],
-            rpm: [0.0; MAX_ENGINES],
-            fuel_flow: [0.0; MAX_ENGINES],
-            fuel_px: [0.0; MAX_ENGINES],
-            egt: [0.0; MAX_ENGINES],
-            cht: [0.0; MAX_ENGINES],
-            mp_osi: [0.0; MAX_ENGINES],
-            tit: [0.0; MAX_ENGINES],
-            oil_temp: [0.0; MAX_ENGINES],
-            oil_px: [0.0; MAX_ENGINES],
-            num_tanks: 0,
-            fuel_quantity: [0.0; MAX_TANKS],
-            num_wheels: 0,
-            wow: [0; MAX_WHEELS],
-            gear_pos: [0.0; MAX_WHEELS],
-            gear_steer: [0.0; MAX_WHEELS],
-            gear_compression: [0.0; MAX_WHEELS],
-            cur_time: 0,
-            warp: 0,
-            visibility: 0.0,
-            elevator: 0.0,
-            elevator_trim_tab: 0.0,
-            left_flap: 0.0,
-            right_flap: 0.0,
-            left_aileron: 0.0,
-            right_aileron: 0.0,
-            rudder: 0.0,
-            nose_wheel: 0.0,
-            speedbrake: 0.0,
-            spoilers: 0.0,
-        }
+        Self::neutral()
     }
 
     /// A copy with `num_engines`, `num_tanks` and `num_wheels` clamped to
@@ -422,17 +440,13 @@ impl FgNetFdm {
     /// ```
     #[must_use]
     pub const fn clamped(&self) -> Self {
-        let mut out = *self;
-        out.num_engines = clamp_count(self.num_engines, MAX_ENGINES);
-        out.num_tanks = clamp_count(self.num_tanks, MAX_TANKS);
-        out.num_wheels = clamp_count(self.num_wheels, MAX_WHEELS);
-        out
+        self.clamp_counts()
     }
 
     /// Encodes the datagram: exactly 408 bytes, every field big-endian, with
     /// the counts clamped to 4/4/3 (see [`clamped`](Self::clamped)).
     ///
-    /// Uses the hand-written `to_be_bytes` encoder; see the crate docs for
+    /// Uses the `to_be_bytes` encoder generated from the field list; see the crate docs for
     /// why, and [`encode_bincode`](Self::encode_bincode) for the serde +
     /// bincode 2 encoder that a test keeps byte-identical.
     ///
@@ -452,64 +466,7 @@ impl FgNetFdm {
     /// byte is overwritten).
     pub fn encode_into(&self, out: &mut [u8; DATAGRAM_LEN]) {
         let mut w = Writer { buf: out, pos: 0 };
-        w.u32(self.version);
-        w.u32(self.padding);
-        w.f64(self.longitude);
-        w.f64(self.latitude);
-        w.f64(self.altitude);
-        w.f32(self.agl);
-        w.f32(self.phi);
-        w.f32(self.theta);
-        w.f32(self.psi);
-        w.f32(self.alpha);
-        w.f32(self.beta);
-        w.f32(self.phidot);
-        w.f32(self.thetadot);
-        w.f32(self.psidot);
-        w.f32(self.vcas);
-        w.f32(self.climb_rate);
-        w.f32(self.v_north);
-        w.f32(self.v_east);
-        w.f32(self.v_down);
-        w.f32(self.v_body_u);
-        w.f32(self.v_body_v);
-        w.f32(self.v_body_w);
-        w.f32(self.a_x_pilot);
-        w.f32(self.a_y_pilot);
-        w.f32(self.a_z_pilot);
-        w.f32(self.stall_warning);
-        w.f32(self.slip_deg);
-        w.u32(clamp_count(self.num_engines, MAX_ENGINES));
-        w.u32s(&self.eng_state);
-        w.f32s(&self.rpm);
-        w.f32s(&self.fuel_flow);
-        w.f32s(&self.fuel_px);
-        w.f32s(&self.egt);
-        w.f32s(&self.cht);
-        w.f32s(&self.mp_osi);
-        w.f32s(&self.tit);
-        w.f32s(&self.oil_temp);
-        w.f32s(&self.oil_px);
-        w.u32(clamp_count(self.num_tanks, MAX_TANKS));
-        w.f32s(&self.fuel_quantity);
-        w.u32(clamp_count(self.num_wheels, MAX_WHEELS));
-        w.u32s(&self.wow);
-        w.f32s(&self.gear_pos);
-        w.f32s(&self.gear_steer);
-        w.f32s(&self.gear_compression);
-        w.u32(self.cur_time);
-        w.bytes(self.warp.to_be_bytes());
-        w.f32(self.visibility);
-        w.f32(self.elevator);
-        w.f32(self.elevator_trim_tab);
-        w.f32(self.left_flap);
-        w.f32(self.right_flap);
-        w.f32(self.left_aileron);
-        w.f32(self.right_aileron);
-        w.f32(self.rudder);
-        w.f32(self.nose_wheel);
-        w.f32(self.speedbrake);
-        w.f32(self.spoilers);
+        self.write_fields(&mut w);
         debug_assert_eq!(w.pos, DATAGRAM_LEN);
     }
 
@@ -558,66 +515,7 @@ impl FgNetFdm {
             .try_into()
             .map_err(|_| DecodeError::WrongLength { len: buf.len() })?;
         let mut r = Reader { buf, pos: 0 };
-        let fdm = Self {
-            version: r.u32(),
-            padding: r.u32(),
-            longitude: r.f64(),
-            latitude: r.f64(),
-            altitude: r.f64(),
-            agl: r.f32(),
-            phi: r.f32(),
-            theta: r.f32(),
-            psi: r.f32(),
-            alpha: r.f32(),
-            beta: r.f32(),
-            phidot: r.f32(),
-            thetadot: r.f32(),
-            psidot: r.f32(),
-            vcas: r.f32(),
-            climb_rate: r.f32(),
-            v_north: r.f32(),
-            v_east: r.f32(),
-            v_down: r.f32(),
-            v_body_u: r.f32(),
-            v_body_v: r.f32(),
-            v_body_w: r.f32(),
-            a_x_pilot: r.f32(),
-            a_y_pilot: r.f32(),
-            a_z_pilot: r.f32(),
-            stall_warning: r.f32(),
-            slip_deg: r.f32(),
-            num_engines: r.u32(),
-            eng_state: r.u32s(),
-            rpm: r.f32s(),
-            fuel_flow: r.f32s(),
-            fuel_px: r.f32s(),
-            egt: r.f32s(),
-            cht: r.f32s(),
-            mp_osi: r.f32s(),
-            tit: r.f32s(),
-            oil_temp: r.f32s(),
-            oil_px: r.f32s(),
-            num_tanks: r.u32(),
-            fuel_quantity: r.f32s(),
-            num_wheels: r.u32(),
-            wow: r.u32s(),
-            gear_pos: r.f32s(),
-            gear_steer: r.f32s(),
-            gear_compression: r.f32s(),
-            cur_time: r.u32(),
-            warp: i32::from_be_bytes(r.bytes()),
-            visibility: r.f32(),
-            elevator: r.f32(),
-            elevator_trim_tab: r.f32(),
-            left_flap: r.f32(),
-            right_flap: r.f32(),
-            left_aileron: r.f32(),
-            right_aileron: r.f32(),
-            rudder: r.f32(),
-            nose_wheel: r.f32(),
-            speedbrake: r.f32(),
-            spoilers: r.f32(),
-        };
+        let fdm = Self::read_fields(&mut r);
         debug_assert_eq!(r.pos, DATAGRAM_LEN);
         fdm.validate()
     }
@@ -646,22 +544,15 @@ impl FgNetFdm {
                 found: self.version,
             });
         }
-        for (field, value) in [
-            (CountField::NumEngines, self.num_engines),
-            (CountField::NumTanks, self.num_tanks),
-            (CountField::NumWheels, self.num_wheels),
-        ] {
-            if value > field.max() {
-                return Err(DecodeError::CountTooLarge { field, value });
-            }
-        }
+        self.check_counts()?;
         Ok(self)
     }
 }
 
-const fn clamp_count(value: u32, max: usize) -> u32 {
-    if value > max as u32 {
-        max as u32
+/// `value`, or the largest value `field` allows if `value` is larger.
+const fn clamp_count(value: u32, field: CountField) -> u32 {
+    if value > field.max() {
+        field.max()
     } else {
         value
     }
@@ -680,28 +571,8 @@ impl Writer<'_> {
         self.pos += N;
     }
     #[inline(always)]
-    fn u32(&mut self, v: u32) {
-        self.bytes(v.to_be_bytes());
-    }
-    #[inline(always)]
-    fn f32(&mut self, v: f32) {
-        self.bytes(v.to_be_bytes());
-    }
-    #[inline(always)]
-    fn f64(&mut self, v: f64) {
-        self.bytes(v.to_be_bytes());
-    }
-    #[inline(always)]
-    fn u32s<const N: usize>(&mut self, v: &[u32; N]) {
-        for &x in v {
-            self.u32(x);
-        }
-    }
-    #[inline(always)]
-    fn f32s<const N: usize>(&mut self, v: &[f32; N]) {
-        for &x in v {
-            self.f32(x);
-        }
+    fn put<T: Wire>(&mut self, v: &T) {
+        v.write(self);
     }
 }
 
@@ -720,24 +591,45 @@ impl Reader<'_> {
         b
     }
     #[inline(always)]
-    fn u32(&mut self) -> u32 {
-        u32::from_be_bytes(self.bytes())
+    fn get<T: Wire>(&mut self) -> T {
+        T::read(self)
+    }
+}
+
+/// A field type of the datagram: written and read big-endian, arrays entry
+/// by entry with no length prefix.
+trait Wire: Sized {
+    fn write(&self, w: &mut Writer<'_>);
+    fn read(r: &mut Reader<'_>) -> Self;
+}
+
+macro_rules! wire_scalar {
+    ($($t:ty),*) => {$(
+        impl Wire for $t {
+            #[inline(always)]
+            fn write(&self, w: &mut Writer<'_>) {
+                w.bytes(self.to_be_bytes());
+            }
+            #[inline(always)]
+            fn read(r: &mut Reader<'_>) -> Self {
+                Self::from_be_bytes(r.bytes())
+            }
+        }
+    )*};
+}
+
+wire_scalar!(u32, i32, f32, f64);
+
+impl<T: Wire, const N: usize> Wire for [T; N] {
+    #[inline(always)]
+    fn write(&self, w: &mut Writer<'_>) {
+        for x in self {
+            x.write(w);
+        }
     }
     #[inline(always)]
-    fn f32(&mut self) -> f32 {
-        f32::from_be_bytes(self.bytes())
-    }
-    #[inline(always)]
-    fn f64(&mut self) -> f64 {
-        f64::from_be_bytes(self.bytes())
-    }
-    #[inline(always)]
-    fn u32s<const N: usize>(&mut self) -> [u32; N] {
-        core::array::from_fn(|_| self.u32())
-    }
-    #[inline(always)]
-    fn f32s<const N: usize>(&mut self) -> [f32; N] {
-        core::array::from_fn(|_| self.f32())
+    fn read(r: &mut Reader<'_>) -> Self {
+        core::array::from_fn(|_| T::read(r))
     }
 }
 

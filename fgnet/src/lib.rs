@@ -23,18 +23,19 @@
 //! # Encoder choice
 //!
 //! [`FgNetFdm::encode`], [`FgNetFdm::encode_into`] and [`FgNetFdm::decode`]
-//! are hand-written: one `to_be_bytes`/`from_be_bytes` per field, in wire
-//! order, on a fixed-size `[u8; 408]`. The serde + bincode 2 path
+//! use one `to_be_bytes`/`from_be_bytes` per field, in wire order, on a
+//! fixed-size `[u8; 408]`; they, the struct and its neutral values are all
+//! generated from the one field list in `fdm.rs`. The serde + bincode 2 path
 //! (`bincode::config::standard().with_big_endian().with_fixed_int_encoding()`,
 //! arrays as serde tuples, so no length prefixes) is kept as
 //! [`FgNetFdm::encode_bincode`] and [`FgNetFdm::decode_bincode`]; tests assert
 //! that both give identical bytes and identical decoded values (NaN payloads
-//! included). The hand-written path is clearly better on speed, so it is the
+//! included). The `to_be_bytes` path is clearly better on speed, so it is the
 //! one used. Criterion medians of two runs (`benches/fgnet_encode.rs`,
 //! `cargo bench --bench fgnet_encode -- --warm-up-time 1 --measurement-time 5`,
 //! on the project's 2-core x86-64 machine shared with other builds):
 //!
-//! | operation | hand-written | serde + bincode 2 |
+//! | operation | `to_be_bytes` | serde + bincode 2 |
 //! | --- | ---: | ---: |
 //! | encode into an existing buffer | 18 ns (`encode_into`) | |
 //! | encode returning `[u8; 408]` | 40-46 ns (`encode`) | 157-162 ns (`encode_bincode`) |
@@ -42,7 +43,7 @@
 //!
 //! The bincode path goes through serde's per-field calls with a `Result` and
 //! a remaining-length check on every write or read, which is the likely
-//! source of its roughly 2.5 ns per field; the hand-written code works on a
+//! source of its roughly 2.5 ns per field; the `to_be_bytes` code works on a
 //! `[u8; 408]` with constant offsets and has no error paths. Returning the
 //! array by value measured about 25 ns more than [`FgNetFdm::encode_into`]
 //! (a zeroed 408-byte array, then copied out), which is why [`Sender`]
