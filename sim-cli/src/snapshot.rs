@@ -248,3 +248,22 @@ pub(crate) mod samples {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::samples;
+
+    /// Height and vertical speed are in metres whatever the model's own unit:
+    /// Bourg's feet are converted (0.3048 m per foot, exact), Palmer's metres
+    /// pass through. The samples share position z = 98.76 and vz = -0.25 in
+    /// their own units.
+    #[test]
+    fn heights_and_climb_rates_are_in_metres_for_every_model() {
+        let bourg = samples::bourg();
+        assert_eq!(bourg.height_m(), 98.76 * 0.3048);
+        assert_eq!(bourg.climb_rate_mps(), -0.25 * 0.3048);
+        let palmer = samples::palmer();
+        assert_eq!(palmer.height_m(), 98.76);
+        assert_eq!(palmer.climb_rate_mps(), -0.25);
+    }
+}
