@@ -23,15 +23,14 @@
 //!   and must give back the geodetic position and attitude opendis started
 //!   from, with the same tolerances.
 //!
-//! Python: `$DIS_PYTHON` if set (it must import opendis [`OPENDIS_VERSION`]);
+//! Python: `$DIS_PYTHON` if set (it must import the opendis version `fdm_tests::python::OPENDIS` pins);
 //! otherwise a virtualenv made once under `$CARGO_TARGET_TMPDIR` with
 //! `python3 -m venv` and `pip install opendis==1.0 numpy==1.26.4`. If that is
 //! not possible the tests fail with the reason; they never skip.
 
 use std::io::Write;
 use std::net::UdpSocket;
-use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::path::Path;
 
 use fdm_tests::python::{PyScript, PythonEnv};
 use std::time::Duration;
@@ -43,9 +42,6 @@ use fdm_dis::{
 };
 use nalgebra::Vector3;
 use serde_json::Value;
-
-/// The opendis release these tests pin.
-const OPENDIS_VERSION: &str = "1.0";
 
 const SCRIPT_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/opendis_interop");
 const TIMEOUT: Duration = Duration::from_secs(20);
@@ -60,24 +56,13 @@ const ANGLE_TOL_DEG: f64 = 1e-4;
 /// interop test through `fdm_tests::python`).
 const ENV: PythonEnv = fdm_tests::python::OPENDIS;
 
-fn python() -> &'static Path {
-    static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match PYTHON.get_or_init(|| ENV.python(Path::new(env!("CARGO_TARGET_TMPDIR")))) {
-        Ok(p) => p,
-        Err(e) => panic!(
-            "fdm-dis interop tests need Python with opendis=={OPENDIS_VERSION}:\n{e}\n\
-             Install python3 (with the venv module and access to PyPI), or set DIS_PYTHON \
-             to a Python that has it."
-        ),
-    }
-}
-
 /// A Python script of this test's directory, started with the pinned Python.
 struct Script;
 
 impl Script {
     fn start(name: &str, args: &[String]) -> PyScript {
-        PyScript::start(python(), &Path::new(SCRIPT_DIR).join(name), args)
+        let python = ENV.ready(Path::new(env!("CARGO_TARGET_TMPDIR")));
+        PyScript::start(&python, &Path::new(SCRIPT_DIR).join(name), args)
     }
 }
 

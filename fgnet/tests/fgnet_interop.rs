@@ -37,8 +37,7 @@
 
 use std::io::Write;
 use std::net::UdpSocket;
-use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::path::Path;
 
 use fdm_tests::python::{PyScript, PythonEnv};
 use std::time::Duration;
@@ -80,24 +79,13 @@ const ENV: PythonEnv = PythonEnv {
     imports: &["flightgear_python.fdm_v24", "flightgear_python.fg_if"],
 };
 
-fn python() -> &'static Path {
-    static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match PYTHON.get_or_init(|| ENV.python(Path::new(env!("CARGO_TARGET_TMPDIR")))) {
-        Ok(p) => p,
-        Err(e) => panic!(
-            "fgnet interop tests need Python with flightgear-python=={FGPY_VERSION}:\n{e}\n\
-             Install python3 (with the venv module and access to PyPI), or set FGNET_PYTHON \
-             to a Python that has it."
-        ),
-    }
-}
-
 /// A Python script of this test's directory, started with the pinned Python.
 struct Script;
 
 impl Script {
     fn start(name: &str, args: &[String]) -> PyScript {
-        PyScript::start(python(), &Path::new(SCRIPT_DIR).join(name), args)
+        let python = ENV.ready(Path::new(env!("CARGO_TARGET_TMPDIR")));
+        PyScript::start(&python, &Path::new(SCRIPT_DIR).join(name), args)
     }
 }
 

@@ -40,16 +40,7 @@ const FPS: f64 = 30.0;
 /// `decode_udp.py COUNT TIMEOUT` with the shared Open-DIS Python; returns
 /// the script and the port it bound on 127.0.0.1.
 fn start_decoder(count: u64) -> (PyScript, u16) {
-    let env = fdm_tests::python::OPENDIS;
-    let python = env
-        .python(Path::new(env!("CARGO_TARGET_TMPDIR")))
-        .unwrap_or_else(|e| {
-            panic!(
-                "this test needs Python with opendis=={}: {e}\n\
-                 Install python3 (with the venv module and access to PyPI), or set DIS_PYTHON.",
-                env.version
-            )
-        });
+    let python = fdm_tests::python::OPENDIS.ready(Path::new(env!("CARGO_TARGET_TMPDIR")));
     let script = Path::new(fdm_tests::python::OPENDIS_SCRIPT_DIR).join("decode_udp.py");
     let mut decoder = PyScript::start(&python, &script, &[count.to_string(), "20".to_owned()]);
     let port = decoder.port();

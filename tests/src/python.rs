@@ -14,6 +14,7 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, Stdio};
+use std::sync::Mutex;
 
 /// Open-DIS for Python (PyPI `opendis` 1.0) and the numpy it works with,
 /// pinned: the independent DIS decoder of fdm-dis's and sim-cli's interop
@@ -104,6 +105,37 @@ impl PythonEnv {
         }
         self.check(&venv_python)?;
         Ok(venv_python)
+    }
+
+    /// [`python`](Self::python), set up once per test process and
+    /// environment (tests running in parallel wait for the first setup
+    /// rather than building the venv twice).
+    ///
+    /// # Panics
+    /// When no such Python can be had: a test failure saying why and what to
+    /// do.
+    #[must_use]
+    pub fn ready(&self, cache_dir: &Path) -> PathBuf {
+        static READY: Mutex<Vec<(&str, Result<PathBuf, String>)>> = Mutex::new(Vec::new());
+        let mut ready = READY
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let found = match ready.iter().find(|(name, _)| *name == self.name) {
+            Some((_, found)) => found.clone(),
+            None => {
+                let found = self.python(cache_dir);
+                ready.push((self.name, found.clone()));
+                found
+            }
+        };
+        found.unwrap_or_else(|e| {
+            panic!(
+                "these interop tests need Python with {}=={}:\n{e}\n\
+                 Install python3 (with the venv module and access to PyPI), or set {} to a \
+                 Python that has it.",
+                self.distribution, self.version, self.override_var
+            )
+        })
     }
 
     /// Checks that `python` imports the modules and has the pinned version.
