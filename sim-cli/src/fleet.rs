@@ -138,13 +138,22 @@ pub fn resident_bytes() -> Option<u64> {
 /// # Errors
 /// [`CliError::Usage`] saying how much the fleet needs and the machine has.
 pub fn check_memory<M: Model>(n: u64, available: Option<u64>) -> Result<(), CliError> {
-    let per_aircraft = estimated_bytes_per_aircraft::<M>();
+    check_fleet_memory(M::NAME, n, estimated_bytes_per_aircraft::<M>(), available)
+}
+
+/// Refuses a fleet of `n` aircraft of `model` at `per_aircraft` bytes each
+/// when twice that (the arrays double as they grow) exceeds `available`.
+fn check_fleet_memory(
+    model: &str,
+    n: u64,
+    per_aircraft: u64,
+    available: Option<u64>,
+) -> Result<(), CliError> {
     let needed = n.saturating_mul(per_aircraft).saturating_mul(2);
     match available {
         Some(have) if needed > have => Err(CliError::usage(format!(
-            "a fleet of {n} {} aircraft needs about {} MiB ({per_aircraft} bytes each, twice that \
-             while the world grows); this machine has {} MiB available",
-            M::NAME,
+            "a fleet of {n} {model} aircraft needs about {} MiB ({per_aircraft} bytes each, twice \
+             that while the fleet grows); this machine has {} MiB available",
             needed / (1024 * 1024),
             have / (1024 * 1024)
         ))),
@@ -387,19 +396,12 @@ fn measure_lanes<M: CliModel>(
     M::Lanes::check_precision(precision)
         .map_err(|e| CliError::usage(format!("--precision: {e}")))?;
     let per_aircraft = M::Lanes::bytes_per_aircraft() as u64;
-    if let Some(have) = available_memory_bytes() {
-        let needed = args.aircraft.saturating_mul(per_aircraft).saturating_mul(2);
-        if needed > have {
-            return Err(CliError::usage(format!(
-                "a fleet of {} {} aircraft needs about {} MiB ({per_aircraft} bytes each, twice \
-                 that while it grows); this machine has {} MiB available",
-                args.aircraft,
-                M::NAME,
-                needed / (1024 * 1024),
-                have / (1024 * 1024)
-            )));
-        }
-    }
+    check_fleet_memory(
+        M::NAME,
+        args.aircraft,
+        per_aircraft,
+        available_memory_bytes(),
+    )?;
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
