@@ -409,6 +409,50 @@ mod tests {
         }
     }
 
+    /// The human summary carries the counters the JSON report has: the
+    /// FlightGear datagrams sent and failed, the pacing overruns, one line
+    /// each, and only when the run had that output.
+    #[test]
+    fn human_summary_lists_the_output_counters() {
+        let plain = Report::new(30, 900, &bourg());
+        let s = plain.human_summary();
+        assert!(!s.contains("flightgear") && !s.contains("realtime"), "{s}");
+        let mut report = plain.clone();
+        report.fg = Some(LinkReport {
+            sent: 8971,
+            failed: 29,
+        });
+        report.realtime = Some(RealtimeReport { overruns: 517 });
+        let s = report.human_summary();
+        assert!(s.starts_with(&plain.human_summary()), "{s}");
+        let extra: Vec<&str> = s[plain.human_summary().len()..].lines().collect();
+        assert_eq!(extra.len(), 3, "{s}");
+        assert!(extra[0].is_empty(), "{s}");
+        let fg_line = extra[1];
+        assert!(fg_line.starts_with("flightgear"), "{s}");
+        assert!(fg_line.contains(" 8971 ") && fg_line.contains(" 29 "), "{s}");
+        assert!(extra[2].starts_with("realtime") && extra[2].contains(" 517 "), "{s}");
+    }
+
+    /// The summary's heading is the report's heading rounded to 0.01 degree,
+    /// in [0, 360): values that round to 360.00 show as 0.00.
+    #[test]
+    fn human_summary_heading_is_rounded_to_hundredths() {
+        let mut snap = palmer();
+        for (heading, shown) in [
+            (123.456, "123.46"),
+            (7.004_999, "7.00"),
+            (0.004, "0.00"),
+            (359.994, "359.99"),
+            (359.995_1, "0.00"),
+            (180.0, "180.00"),
+        ] {
+            snap.common.attitude_deg.heading = heading;
+            let s = Report::new(30, 1, &snap).human_summary();
+            assert!(s.contains(&format!("heading {shown} deg")), "{heading}: {s}");
+        }
+    }
+
     #[test]
     fn human_summary_mentions_model_and_units() {
         let s = Report::new(30, 900, &bourg()).human_summary();
