@@ -430,8 +430,14 @@ mod tests {
         assert!(extra[0].is_empty(), "{s}");
         let fg_line = extra[1];
         assert!(fg_line.starts_with("flightgear"), "{s}");
-        assert!(fg_line.contains(" 8971 ") && fg_line.contains(" 29 "), "{s}");
-        assert!(extra[2].starts_with("realtime") && extra[2].contains(" 517 "), "{s}");
+        assert!(
+            fg_line.contains(" 8971 ") && fg_line.contains(" 29 "),
+            "{s}"
+        );
+        assert!(
+            extra[2].starts_with("realtime") && extra[2].contains(" 517 "),
+            "{s}"
+        );
     }
 
     /// The summary's heading is the report's heading rounded to 0.01 degree,
@@ -449,7 +455,10 @@ mod tests {
         ] {
             snap.common.attitude_deg.heading = heading;
             let s = Report::new(30, 1, &snap).human_summary();
-            assert!(s.contains(&format!("heading {shown} deg")), "{heading}: {s}");
+            assert!(
+                s.contains(&format!("heading {shown} deg")),
+                "{heading}: {s}"
+            );
         }
     }
 
