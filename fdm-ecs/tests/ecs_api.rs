@@ -27,9 +27,9 @@ use nalgebra::Vector3;
 #[test]
 fn params_are_equal_when_their_aircraft_data_are() {
     let aircraft = Palmer::default_aircraft();
-    let a = Params::<Palmer>::new(Arc::new(aircraft.clone()));
+    let a = Params::<Palmer>::new(Arc::new(aircraft));
     // Another allocation of the same data, and a clone sharing the first.
-    let b = Params::<Palmer>::new(Arc::new(aircraft.clone()));
+    let b = Params::<Palmer>::new(Arc::new(aircraft));
     assert!(!Arc::ptr_eq(&a.0, &b.0));
     assert!(a == b);
     assert!(a == a.clone());
