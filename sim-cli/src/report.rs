@@ -440,6 +440,28 @@ mod tests {
         );
     }
 
+    /// Bourg's summary line carries its own report fields (docs/cli.md,
+    /// "Headless output": speed, thrust, flaps and stall): the speed to 0.001
+    /// ft/s, the thrust, flaps up or down, stalling or not, the pitch trim.
+    #[test]
+    fn bourg_summary_shows_speed_thrust_flaps_stall_and_trim() {
+        let mut snap = bourg();
+        let s = Report::new(30, 1, &snap).human_summary();
+        let line = s.lines().find(|l| l.starts_with("speed")).unwrap_or("");
+        for part in ["183.123 ft/s", "3000 lb", "flaps down", "stalling no"] {
+            assert!(line.contains(part), "{part}: {s}");
+        }
+        snap.details.flaps = false;
+        snap.details.stalling = true;
+        snap.details.thrust_lb = 125.5;
+        snap.details.pitch_trim = -0.25;
+        let s = Report::new(30, 1, &snap).human_summary();
+        let line = s.lines().find(|l| l.starts_with("speed")).unwrap_or("");
+        for part in ["125.5 lb", "flaps up", "stalling yes", "-0.250"] {
+            assert!(line.contains(part), "{part}: {s}");
+        }
+    }
+
     /// The summary's heading is the report's heading rounded to 0.01 degree,
     /// in [0, 360): values that round to 360.00 show as 0.00.
     #[test]
