@@ -5,7 +5,9 @@
 //! ```
 //!
 //! Arguments: `scalar`, `exact`, `fast`, `exact-baseline` or `fast-baseline`
-//! (Palmer), `bourg-scalar` or `bourg` (Bourg, 1/30 s steps);
+//! (Palmer), `bourg-scalar` or `bourg` (Bourg, 1/30 s steps), `bourg-demo`
+//! (Bourg's demonstration fleet, `Model::fleet_member`, as `sim-cli fleet`
+//! flies it; prints the aircraft-steps per second);
 //! the number of aircraft; the number of steps. Prints the instruction set and
 //! a checksum of the final positions (so the work cannot be optimised away).
 
@@ -13,6 +15,7 @@ use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgStat
 use fdm_core::palmer::{step, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_fleet::bourg::BourgFleet;
 use fdm_fleet::palmer::{PalmerFleet, Precision};
+use fdm_fleet::LaneFleet;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -29,7 +32,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut start = PalmerState::at_rest();
     start.position_m.z = 500.0;
     start.velocity_mps.x = 40.0;
-    let checksum: f64 = if what.starts_with("bourg") {
+    let checksum: f64 = if what == "bourg-demo" {
+        let mut fleet = <BourgFleet as LaneFleet>::demonstration(n)?;
+        println!("instruction set: {}", fleet.instruction_set());
+        let dt = 1.0_f32 / 30.0;
+        fleet.step(dt);
+        let start = std::time::Instant::now();
+        for _ in 0..steps {
+            fleet.step(dt);
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        #[allow(clippy::cast_precision_loss)] // a rate
+        let rate = (n * steps) as f64 / seconds;
+        println!("{:.2} M aircraft-steps/s on one thread", rate / 1e6);
+        fleet.states().map(|s| f64::from(s.position_ft.z)).sum()
+    } else if what.starts_with("bourg") {
         let aircraft = BourgAircraft::bourg_default();
         let controls = BourgControls::initial()
             .apply(BourgAction::ThrustUp)

@@ -44,8 +44,8 @@ use rayon::prelude::*;
 
 use crate::lanes::{F32s, Mask};
 
-/// Aircraft per block: 8 f32 lanes (one AVX2 register, half an AVX-512 one).
-pub const LANES: usize = 8;
+/// Aircraft per block: 16 f32 lanes (one AVX-512 register, two AVX2 ones).
+pub const LANES: usize = 16;
 
 /// Blocks per rayon task in [`BourgFleet::par_step`].
 const BLOCKS_PER_TASK: usize = 32;
