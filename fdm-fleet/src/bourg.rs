@@ -18,14 +18,22 @@
 //! attack's sine, the stall flag and the quaternion renormalisation. The
 //! airfoil and rudder table look-ups ([`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients),
 //! [`rudder_coefficients`](fdm_core::bourg::rudder_coefficients)) become a branchless interval count over `fdm_core`'s
-//! own tables and a lane-wise interpolation with the same formula (unit tests
-//! compare them with the scalar functions bit for bit). Only glibc's `asinf`
-//! goes lane by lane (through the same `fdm_core::math::asinf` the scalar
-//! step calls).
+//! own tables (the three flap settings' tables of a coefficient laid end to
+//! end, so a lane's table is an offset and its two entries are a gather) and a
+//! lane-wise interpolation with the same formula (unit tests compare them with
+//! the scalar functions bit for bit). The pitch trim's blend of the elevators'
+//! coefficients ([`BourgControls::elevator_coefficients`], an extension of the
+//! original) is evaluated lane-wise too, only in blocks where a lane has one.
+//! Only glibc's `asinf` goes lane by lane (through the same
+//! `fdm_core::math::asinf` the scalar step calls): a lane-wise port of
+//! glibc 2.36's `asinf` (`sysdeps/ieee754/flt-32/e_asinf.c`) would remove
+//! that call, but its single-precision polynomial and coefficients are
+//! distributed under the LGPL 2.1 or later, which this crate (MIT OR
+//! Apache-2.0) cannot take in, so it is not ported.
 //!
 //! What depends only on the controls is computed when they are set, with the
-//! scalar step's functions: the rudder's normal at its incidence and the table
-//! (flap setting) of each element.
+//! scalar step's functions: the rudder's normal at its incidence, the table
+//! (flap setting) of each element, and the pitch trim's tables and factor.
 //!
 //! This module is written against `fdm_core::bourg`'s public API of the time;
 //! `tests/bourg_fleet.rs` checks it against the scalar step bit for bit on the
@@ -276,8 +284,15 @@ struct Block {
     thrust: [f32; LANES],
     /// The rudder's normal at its current incidence.
     rudder_normal: [[f32; LANES]; 3],
-    /// The airfoil table of elements 0..=5.
-    flaps: [[Flap; LANES]; 6],
+    /// The airfoil tables of elements 0..=5 ([`table_offset`]).
+    tables: [[u32; LANES]; 6],
+    /// Whether the elevators (elements 4 and 5) blend toward the pitch trim's
+    /// tables ([`BourgControls::elevator_coefficients`]).
+    trimmed: [bool; LANES],
+    /// The pitch trim's tables ([`table_offset`]).
+    trim_tables: [u32; LANES],
+    /// The pitch trim's blend factor, `|pitch_trim|` clamped to 1.
+    trim: [f32; LANES],
     controls: [BourgControls; LANES],
 }
 
@@ -293,7 +308,10 @@ impl Block {
             stalling: [false; LANES],
             thrust: [0.0; LANES],
             rudder_normal: [[0.0; LANES]; 3],
-            flaps: [[Flap::Neutral; LANES]; 6],
+            tables: [[0; LANES]; 6],
+            trimmed: [false; LANES],
+            trim_tables: [0; LANES],
+            trim: [0.0; LANES],
             controls: [BourgControls::initial(); LANES],
         };
         for lane in 0..LANES {
@@ -342,12 +360,59 @@ impl Block {
         self.rudder_normal[0][lane] = normal.x;
         self.rudder_normal[1][lane] = normal.y;
         self.rudder_normal[2][lane] = normal.z;
-        for (i, flaps) in self.flaps.iter_mut().enumerate() {
-            flaps[lane] = c.element_flap(i, &elements[i]);
+        for (i, tables) in self.tables.iter_mut().enumerate() {
+            tables[lane] = table_offset(c.element_flap(i, &elements[i]));
         }
+        // `elevator_coefficients`' trim, in its operations (NaN included).
+        self.trimmed[lane] = c.elevators == Flap::Neutral && c.pitch_trim != 0.0;
+        let (flap, mut t) = if c.pitch_trim > 0.0 {
+            (Flap::TrailingEdgeUp, c.pitch_trim)
+        } else {
+            (Flap::TrailingEdgeDown, -c.pitch_trim)
+        };
+        if t > 1.0 {
+            t = 1.0;
+        }
+        self.trim_tables[lane] = table_offset(flap);
+        self.trim[lane] = t;
         self.thrust[lane] = c.thrust_lb;
         self.controls[lane] = c;
     }
+}
+
+/// Three tables of one coefficient one after the other, in the order of
+/// [`table_offset`].
+const fn concat(neutral: &[f32; 9], down: &[f32; 9], up: &[f32; 9]) -> [f32; 27] {
+    let mut out = [0.0; 27];
+    let mut i = 0;
+    while i < 9 {
+        out[i] = neutral[i];
+        out[9 + i] = down[i];
+        out[18 + i] = up[i];
+        i += 1;
+    }
+    out
+}
+
+/// The airfoil lift tables, neutral, trailing edge down, trailing edge up.
+const CL_TABLES: [f32; 27] = concat(&CL_NEUTRAL, &CL_TRAILING_EDGE_DOWN, &CL_TRAILING_EDGE_UP);
+/// The airfoil drag tables, in the same order.
+const CD_TABLES: [f32; 27] = concat(&CD_NEUTRAL, &CD_TRAILING_EDGE_DOWN, &CD_TRAILING_EDGE_UP);
+
+/// Where `flap`'s table starts in [`CL_TABLES`] and [`CD_TABLES`].
+const fn table_offset(flap: Flap) -> u32 {
+    match flap {
+        Flap::Neutral => 0,
+        Flap::TrailingEdgeDown => 9,
+        Flap::TrailingEdgeUp => 18,
+    }
+}
+
+/// `table[i]`, `i` clamped to the table (a no-op for the indexes the
+/// look-ups make; it lets the compiler drop the bounds check and gather).
+#[inline(always)]
+fn entry(table: &[f32], i: u32) -> f32 {
+    table[(i as usize).min(table.len() - 1)]
 }
 
 /// The scalar look-up's interval search, lane-wise: in a strictly increasing
@@ -356,54 +421,56 @@ impl Block {
 /// `a[0] <= angle < a[last]` (false for NaN). Lanes without one get index 0
 /// and a cleared mask.
 #[inline(always)]
-fn interval_lanes<const T: usize>(a: &[f32; T], angle: L) -> ([usize; LANES], M) {
-    let mut count = [0_usize; LANES];
+fn interval_lanes<const T: usize>(a: &[f32; T], angle: L) -> ([u32; LANES], M) {
+    let mut count = [0_u32; LANES];
     for &entry in a {
         for (c, &x) in count.iter_mut().zip(&angle.0) {
-            *c += usize::from(entry <= x);
+            *c += u32::from(entry <= x);
         }
     }
     let valid = Mask(core::array::from_fn(|l| {
         a[0] <= angle.0[l] && angle.0[l] < a[T - 1]
     }));
-    let index = core::array::from_fn(|l| if valid.0[l] { count[l] - 1 } else { 0 });
+    let index = core::array::from_fn(|l| {
+        if valid.0[l] {
+            count[l].wrapping_sub(1)
+        } else {
+            0
+        }
+    });
     (index, valid)
 }
 
 /// The scalar `lerp` in each lane's interval:
-/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, with each
-/// lane's own table `t`.
+/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, lane `l`'s
+/// table `t` starting at `tables[offset[l]]`.
 #[inline(always)]
 fn lerp_lanes<const T: usize>(
     a: &[f32; T],
-    tables: [&[f32; T]; LANES],
-    index: &[usize; LANES],
+    tables: &[f32],
+    offset: &[u32; LANES],
+    index: &[u32; LANES],
     angle: L,
 ) -> L {
-    let a0 = F32s(core::array::from_fn(|l| a[index[l]]));
-    let a1 = F32s(core::array::from_fn(|l| a[index[l] + 1]));
-    let t0 = F32s(core::array::from_fn(|l| tables[l][index[l]]));
-    let t1 = F32s(core::array::from_fn(|l| tables[l][index[l] + 1]));
+    let a0 = F32s(core::array::from_fn(|l| entry(a, index[l])));
+    let a1 = F32s(core::array::from_fn(|l| entry(a, index[l] + 1)));
+    let t0 = F32s(core::array::from_fn(|l| {
+        entry(tables, offset[l] + index[l])
+    }));
+    let t1 = F32s(core::array::from_fn(|l| {
+        entry(tables, offset[l] + index[l] + 1)
+    }));
     t0 - (a0 - angle) * (t0 - t1) / (a0 - a1)
 }
 
-/// [`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients) lane-wise, each lane with its own flap tables.
+/// [`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients) lane-wise,
+/// lane `l` with the tables at `offset[l]` ([`table_offset`]).
 #[inline(always)]
-fn airfoil_lanes(angle: L, flaps: &[Flap; LANES]) -> (L, L) {
+fn airfoil_lanes(angle: L, offset: &[u32; LANES]) -> (L, L) {
     let a = &AIRFOIL_ALPHA_DEG;
     let (index, valid) = interval_lanes(a, angle);
-    let cl_tables = flaps.map(|flap| match flap {
-        Flap::Neutral => &CL_NEUTRAL,
-        Flap::TrailingEdgeDown => &CL_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &CL_TRAILING_EDGE_UP,
-    });
-    let cd_tables = flaps.map(|flap| match flap {
-        Flap::Neutral => &CD_NEUTRAL,
-        Flap::TrailingEdgeDown => &CD_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &CD_TRAILING_EDGE_UP,
-    });
-    let cl = lerp_lanes(a, cl_tables, &index, angle);
-    let cd = lerp_lanes(a, cd_tables, &index, angle);
+    let cl = lerp_lanes(a, &CL_TABLES, offset, &index, angle);
+    let cd = lerp_lanes(a, &CD_TABLES, offset, &index, angle);
     (
         valid.select(cl, L::splat(0.0)),
         valid.select(cd, L::splat(CD_OUTSIDE)),
@@ -417,9 +484,10 @@ fn rudder_lanes(angle: L) -> (L, L) {
     let a = &RUDDER_ALPHA_DEG;
     let abs = angle.abs();
     let (index, valid) = interval_lanes(a, abs);
-    let cl = lerp_lanes(a, [&RUDDER_CL; LANES], &index, abs);
+    let zero = [0; LANES];
+    let cl = lerp_lanes(a, &RUDDER_CL, &zero, &index, abs);
     let cl = angle.lt(0.0).select(-cl, cl);
-    let cd = lerp_lanes(a, [&RUDDER_CD; LANES], &index, abs);
+    let cd = lerp_lanes(a, &RUDDER_CD, &zero, &index, abs);
     (
         valid.select(cl, L::splat(0.0)),
         valid.select(cd, L::splat(CD_OUTSIDE)),
@@ -478,7 +546,18 @@ fn step_block(b: &mut Block, aircraft: &BourgAircraft, dt: f32) {
             let (cl, cd) = if i == 6 {
                 rudder_lanes(attack_deg)
             } else {
-                airfoil_lanes(attack_deg, &b.flaps[i])
+                let base = airfoil_lanes(attack_deg, &b.tables[i]);
+                let trimmed = Mask(b.trimmed);
+                if (i == 4 || i == 5) && trimmed.any() {
+                    let (cl, cd) = airfoil_lanes(attack_deg, &b.trim_tables);
+                    let t = F32s(b.trim);
+                    (
+                        trimmed.select(base.0 + (cl - base.0) * t, base.0),
+                        trimmed.select(base.1 + (cd - base.1) * t, base.1),
+                    )
+                } else {
+                    base
+                }
             };
             if i <= 3 {
                 let stalled = cl.eq(0.0);
@@ -779,7 +858,7 @@ mod tests {
             let mut lanes = [0.0; LANES];
             lanes[..chunk.len()].copy_from_slice(chunk);
             let flap_lanes: [Flap; LANES] = core::array::from_fn(|l| flaps[l % 3]);
-            let (cl, cd) = airfoil_lanes(F32s(lanes), &flap_lanes);
+            let (cl, cd) = airfoil_lanes(F32s(lanes), &flap_lanes.map(table_offset));
             let (rl, rd) = rudder_lanes(F32s(lanes));
             for l in 0..LANES {
                 let (scl, scd) = airfoil_coefficients(lanes[l], flap_lanes[l]);
