@@ -9,7 +9,9 @@
 //! (Bourg's demonstration fleet, `Model::fleet_member`, as `sim-cli fleet`
 //! flies it; prints the aircraft-steps per second) or `bourg-demo-2t` (the
 //! same on a 2-thread rayon pool, `par_step`);
-//! the number of aircraft; the number of steps. Prints the instruction set and
+//! the number of aircraft; the number of steps; for `bourg-demo*`, `fly` to
+//! fly whole frames with the flight status (`BourgFleet::fly`) instead of
+//! bare steps. Prints the instruction set and
 //! a checksum of the final positions (so the work cannot be optimised away).
 
 use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
@@ -48,12 +50,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()?;
-        let run = |fleet: &mut BourgFleet| {
-            if threads == 1 {
-                fleet.step(dt);
-            } else {
-                pool.install(|| fleet.par_step(dt));
-            }
+        let fly = args.get(3).is_some_and(|a| a == "fly");
+        let run = |fleet: &mut BourgFleet| match (threads, fly) {
+            (1, false) => fleet.step(dt),
+            (1, true) => fleet.fly(dt),
+            (_, false) => pool.install(|| fleet.par_step(dt)),
+            (_, true) => pool.install(|| fleet.par_fly(dt)),
         };
         run(&mut fleet);
         let cpu = on_cpu_ns();

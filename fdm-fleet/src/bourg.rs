@@ -45,8 +45,10 @@ use fdm_core::bourg::airfoil::{
     RUDDER_ALPHA_DEG, RUDDER_CD, RUDDER_CL,
 };
 use fdm_core::bourg::ops::{PI, TOL};
+use fdm_core::bourg::Bourg;
 use fdm_core::bourg::{BourgAircraft, BourgControls, BourgState, Flap, Quaternion, Vector3};
 use fdm_core::math::asinf;
+use fdm_core::model::{fly, settle, FlightStatus, Model};
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
@@ -294,7 +296,29 @@ struct Block {
     /// The pitch trim's blend factor, `|pitch_trim|` clamped to 1.
     trim: [f32; LANES],
     controls: [BourgControls; LANES],
+    /// Each aircraft's flight status ([`BourgFleet::fly`]).
+    status: [FlightStatus; LANES],
 }
+
+/// The fields of a block that a step changes, as they were before it.
+#[derive(Clone, Copy)]
+struct Saved {
+    time: [f64; LANES],
+    position: [[f32; LANES]; 3],
+    velocity: [[f32; LANES]; 3],
+    velocity_body: [[f32; LANES]; 3],
+    angular_velocity: [[f32; LANES]; 3],
+    orientation: [[f32; LANES]; 4],
+    stalling: [bool; LANES],
+}
+
+/// Beyond this magnitude a component of a stepped state sends its aircraft
+/// down the scalar path of [`BourgFleet::fly`] (which then checks
+/// [`Model::is_finite`] exactly): small enough that the speed of a state
+/// whose components are all below it cannot overflow `f32`
+/// (`3 · 1e18² < f32::MAX`), so every lane not flagged is finite for the
+/// model.
+const SUSPECT_F32: f32 = 1e18;
 
 impl Block {
     fn idle(aircraft: &BourgAircraft) -> Self {
@@ -313,6 +337,7 @@ impl Block {
             trim_tables: [0; LANES],
             trim: [0.0; LANES],
             controls: [BourgControls::initial(); LANES],
+            status: [FlightStatus::Airborne; LANES],
         };
         for lane in 0..LANES {
             block.set_state(lane, &BourgState::initial());
@@ -338,6 +363,86 @@ impl Block {
         self.orientation[2][lane] = q.y;
         self.orientation[3][lane] = q.z;
         self.stalling[lane] = s.stalling;
+    }
+
+    fn saved(&self) -> Saved {
+        Saved {
+            time: self.time,
+            position: self.position,
+            velocity: self.velocity,
+            velocity_body: self.velocity_body,
+            angular_velocity: self.angular_velocity,
+            orientation: self.orientation,
+            stalling: self.stalling,
+        }
+    }
+
+    /// Lane `lane`'s state as it was in `saved`.
+    fn saved_state(saved: &Saved, lane: usize) -> BourgState {
+        let get = |a: &[[f32; LANES]; 3]| Vector3::new(a[0][lane], a[1][lane], a[2][lane]);
+        let o = &saved.orientation;
+        BourgState {
+            time_s: saved.time[lane],
+            position_ft: get(&saved.position),
+            velocity_ftps: get(&saved.velocity),
+            velocity_body_ftps: get(&saved.velocity_body),
+            angular_velocity_radps: get(&saved.angular_velocity),
+            orientation: Quaternion::new(o[0][lane], o[1][lane], o[2][lane], o[3][lane]),
+            stalling: saved.stalling[lane],
+        }
+    }
+
+    /// The lanes whose stepped state may not be finite for the model: a
+    /// component at or beyond [`SUSPECT_F32`] in magnitude, NaN, or a
+    /// non-finite clock.
+    #[inline(always)]
+    fn suspect(&self) -> [bool; LANES] {
+        let mut ok: [bool; LANES] = core::array::from_fn(|l| self.time[l].is_finite());
+        let fields = self
+            .position
+            .iter()
+            .chain(&self.velocity)
+            .chain(&self.velocity_body)
+            .chain(&self.angular_velocity)
+            .chain(&self.orientation);
+        for field in fields {
+            for (ok, x) in ok.iter_mut().zip(field) {
+                *ok &= x.abs() < SUSPECT_F32;
+            }
+        }
+        ok.map(|ok| !ok)
+    }
+
+    /// The flight-status half of [`BourgFleet::fly`] for a block the kernel
+    /// has just stepped from `saved`: every lane ends as
+    /// [`fdm_core::model::fly`] would have left it.
+    #[inline(always)]
+    fn settle(&mut self, saved: &Saved, aircraft: &BourgAircraft, dt: f32) {
+        let suspect = self.suspect();
+        for (lane, suspect) in suspect.into_iter().enumerate() {
+            let status = self.status[lane];
+            if status == FlightStatus::Airborne && self.position[2][lane] > 0.0 && !suspect {
+                // `fly`'s result: the step's state, still airborne.
+                continue;
+            }
+            let (state, status) = if suspect || status.is_final() {
+                // Crashed, diverged, or a step that may not be finite: the
+                // scalar frame from the state before the step.
+                fly::<Bourg>(
+                    aircraft,
+                    &self.controls[lane],
+                    status,
+                    &Self::saved_state(saved, lane),
+                    dt,
+                )
+            } else {
+                // A finite step (the kernel's bits are `step`'s): only the
+                // status and the ground contact.
+                settle::<Bourg>(aircraft, status, &self.state(lane))
+            };
+            self.set_state(lane, &state);
+            self.status[lane] = status;
+        }
     }
 
     fn state(&self, lane: usize) -> BourgState {
@@ -626,6 +731,9 @@ struct StepBlocks<'a> {
     blocks: &'a mut [Block],
     aircraft: &'a BourgAircraft,
     dt: f32,
+    /// Whole frames with the flight status ([`BourgFleet::fly`]) rather than
+    /// bare steps.
+    fly: bool,
 }
 
 impl WithSimd for StepBlocks<'_> {
@@ -633,8 +741,16 @@ impl WithSimd for StepBlocks<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
-        for b in self.blocks {
-            step_block(b, self.aircraft, self.dt);
+        if self.fly {
+            for b in self.blocks {
+                let saved = b.saved();
+                step_block(b, self.aircraft, self.dt);
+                b.settle(&saved, self.aircraft, self.dt);
+            }
+        } else {
+            for b in self.blocks {
+                step_block(b, self.aircraft, self.dt);
+            }
         }
     }
 }
@@ -681,7 +797,8 @@ impl BourgFleet {
         }
     }
 
-    /// Adds an aircraft; returns its index. Nothing is checked, as in
+    /// Adds an aircraft; returns its index. Its flight status starts as
+    /// [`FlightStatus::initial`] of its height. Nothing is checked, as in
     /// [`fdm_core::bourg::step`]: non-finite values propagate into that
     /// aircraft's lanes only.
     pub fn push(&mut self, state: BourgState, controls: BourgControls) -> usize {
@@ -693,6 +810,7 @@ impl BourgFleet {
         if let Some(block) = self.blocks.last_mut() {
             block.set_state(lane, &state);
             block.set_controls(lane, &self.aircraft, controls);
+            block.status[lane] = FlightStatus::initial(Bourg::height_m(&state));
         }
         self.len += 1;
         index
@@ -727,7 +845,8 @@ impl BourgFleet {
         (0..self.len).map(|i| self.blocks[i / LANES].state(i % LANES))
     }
 
-    /// Replaces aircraft `index`'s state.
+    /// Replaces aircraft `index`'s state (its flight status is kept: see
+    /// [`BourgFleet::set_status`]).
     ///
     /// # Errors
     /// [`crate::FleetError::OutOfRange`] past the end.
@@ -764,37 +883,96 @@ impl BourgFleet {
     }
 
     /// Advances every aircraft by `dt` seconds (one Euler step), on this
-    /// thread, with the best instruction set of this CPU.
+    /// thread, with the best instruction set of this CPU: every aircraft's
+    /// state becomes [`fdm_core::bourg::step`]'s, bit for bit, whatever its
+    /// status (the statuses are not read or changed).
     pub fn step(&mut self, dt: f32) {
-        self.arch.dispatch(StepBlocks {
-            blocks: &mut self.blocks,
-            aircraft: &self.aircraft,
-            dt,
-        });
+        self.run(self.arch, dt, false, false);
     }
 
     /// [`BourgFleet::step`] on the threads of the current rayon pool; the same
     /// bits.
     pub fn par_step(&mut self, dt: f32) {
-        let (aircraft, arch) = (&self.aircraft, self.arch);
-        self.blocks
-            .par_chunks_mut(BLOCKS_PER_TASK)
-            .for_each(|blocks| {
-                arch.dispatch(StepBlocks {
-                    blocks,
-                    aircraft,
-                    dt,
-                });
-            });
+        self.run(self.arch, dt, false, true);
     }
 
     /// [`BourgFleet::step`] with the kernel compiled for the SSE2 baseline.
     pub fn step_baseline(&mut self, dt: f32) {
-        Arch::Scalar.dispatch(StepBlocks {
-            blocks: &mut self.blocks,
-            aircraft: &self.aircraft,
-            dt,
-        });
+        self.run(Arch::Scalar, dt, false, false);
+    }
+
+    /// One whole frame of every aircraft with its flight status, on this
+    /// thread: each aircraft's state and status become those of
+    /// [`fdm_core::model::fly`] (the model's step, then the ground contact
+    /// and the touchdown; a crashed aircraft stays at rest; a step that is
+    /// not finite is not kept and the aircraft is
+    /// [`Diverged`](FlightStatus::Diverged) from then on), bit for bit.
+    ///
+    /// The kernel steps every block; the scalar `fly` or `settle` runs only
+    /// for the aircraft that need it (not airborne above the ground plane,
+    /// or with a component too large to be sure the state is finite), found
+    /// by a lane-wise check.
+    pub fn fly(&mut self, dt: f32) {
+        self.run(self.arch, dt, true, false);
+    }
+
+    /// [`BourgFleet::fly`] on the threads of the current rayon pool; the same
+    /// bits.
+    pub fn par_fly(&mut self, dt: f32) {
+        self.run(self.arch, dt, true, true);
+    }
+
+    /// [`BourgFleet::fly`] with the kernel compiled for the SSE2 baseline.
+    pub fn fly_baseline(&mut self, dt: f32) {
+        self.run(Arch::Scalar, dt, true, false);
+    }
+
+    fn run(&mut self, arch: Arch, dt: f32, fly: bool, parallel: bool) {
+        let aircraft = &self.aircraft;
+        if parallel {
+            self.blocks
+                .par_chunks_mut(BLOCKS_PER_TASK)
+                .for_each(|blocks| {
+                    arch.dispatch(StepBlocks {
+                        blocks,
+                        aircraft,
+                        dt,
+                        fly,
+                    });
+                });
+        } else {
+            arch.dispatch(StepBlocks {
+                blocks: &mut self.blocks,
+                aircraft,
+                dt,
+                fly,
+            });
+        }
+    }
+
+    /// Aircraft `index`'s flight status, `None` past the end.
+    #[must_use]
+    pub fn status(&self, index: usize) -> Option<FlightStatus> {
+        (index < self.len).then(|| self.blocks[index / LANES].status[index % LANES])
+    }
+
+    /// Every aircraft's flight status, in index order.
+    pub fn statuses(&self) -> impl ExactSizeIterator<Item = FlightStatus> + '_ {
+        (0..self.len).map(|i| self.blocks[i / LANES].status[i % LANES])
+    }
+
+    /// Replaces aircraft `index`'s flight status.
+    ///
+    /// # Errors
+    /// [`crate::FleetError::OutOfRange`] past the end.
+    pub fn set_status(
+        &mut self,
+        index: usize,
+        status: FlightStatus,
+    ) -> Result<(), crate::FleetError> {
+        self.check(index)?;
+        self.blocks[index / LANES].status[index % LANES] = status;
+        Ok(())
     }
 
     /// The instruction set [`BourgFleet::step`] runs on, as detected at

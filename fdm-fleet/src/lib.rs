@@ -11,6 +11,10 @@
 //!   of [`bourg::LANES`] aircraft, every aircraft bit-identical to
 //!   [`fdm_core::bourg::step`].
 //!
+//! Both fleets keep a [`FlightStatus`] per aircraft: their `fly` frames are
+//! [`fdm_core::model::fly`] per aircraft (ground contact, touchdown, crash,
+//! divergence), their `step` the bare model step.
+//!
 //! Safe Rust throughout (the workspace forbids `unsafe`): the instruction set is
 //! chosen at run time by [`pulp::Arch`] (SSE2 baseline, AVX2/FMA, AVX-512),
 //! whose `#[target_feature]` functions hold the only `unsafe`, inside pulp. No
@@ -28,7 +32,7 @@ pub use bourg::BourgFleet;
 pub use palmer::{FleetError, PalmerFleet, Precision};
 
 use fdm_core::bourg::Bourg;
-use fdm_core::model::Model;
+use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
 
 /// A structure-of-arrays fleet of one model, as model-generic code (the
@@ -68,6 +72,18 @@ pub trait LaneFleet: Sized + Send {
     /// As [`Self::check_precision`].
     fn par_step(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError>;
 
+    /// One whole frame of every aircraft with its flight status at `fps`
+    /// frames per second on rayon's current pool: each aircraft as
+    /// [`fdm_core::model::fly`] leaves it (bit for bit in
+    /// [`Precision::Exact`]).
+    ///
+    /// # Errors
+    /// As [`Self::check_precision`].
+    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError>;
+
+    /// Aircraft `index`'s flight status.
+    fn status(&self, index: usize) -> Option<FlightStatus>;
+
     /// The instruction set the kernel dispatched to, e.g. `"x86-64-v3"`.
     fn instruction_set(&self) -> &'static str;
 
@@ -102,6 +118,15 @@ impl LaneFleet for PalmerFleet {
     fn par_step(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
         self.par_step(Palmer::time_step(fps), precision);
         Ok(())
+    }
+
+    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
+        self.par_fly(Palmer::time_step(fps), precision);
+        Ok(())
+    }
+
+    fn status(&self, index: usize) -> Option<FlightStatus> {
+        self.status(index)
     }
 
     fn instruction_set(&self) -> &'static str {
@@ -147,6 +172,16 @@ impl LaneFleet for BourgFleet {
         Self::check_precision(precision)?;
         self.par_step(Bourg::time_step(fps));
         Ok(())
+    }
+
+    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.par_fly(Bourg::time_step(fps));
+        Ok(())
+    }
+
+    fn status(&self, index: usize) -> Option<FlightStatus> {
+        self.status(index)
     }
 
     fn instruction_set(&self) -> &'static str {
