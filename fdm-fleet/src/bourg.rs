@@ -950,6 +950,26 @@ impl BourgFleet {
         }
     }
 
+    /// `out` becomes every aircraft's position in metres (x north, y west, z
+    /// up; each foot widened to `f64` and multiplied by
+    /// [`METRES_PER_FOOT`](fdm_core::units::METRES_PER_FOOT), as
+    /// `Bourg::view` does), in index order.
+    pub fn positions_m(&self, out: &mut Vec<Vector3<f64>>) {
+        use fdm_core::units::METRES_PER_FOOT;
+        out.clear();
+        out.extend(self.blocks.iter().flat_map(|b| {
+            (0..LANES).map(move |l| {
+                let p = &b.position;
+                Vector3::new(
+                    f64::from(p[0][l]) * METRES_PER_FOOT,
+                    f64::from(p[1][l]) * METRES_PER_FOOT,
+                    f64::from(p[2][l]) * METRES_PER_FOOT,
+                )
+            })
+        }));
+        out.truncate(self.len);
+    }
+
     /// Aircraft `index`'s flight status, `None` past the end.
     #[must_use]
     pub fn status(&self, index: usize) -> Option<FlightStatus> {

@@ -25,6 +25,7 @@
 
 pub mod bourg;
 mod fastmath;
+pub mod geodesy;
 mod lanes;
 pub mod palmer;
 
@@ -84,6 +85,12 @@ pub trait LaneFleet: Sized + Send {
     /// Aircraft `index`'s flight status.
     fn status(&self, index: usize) -> Option<FlightStatus>;
 
+    /// `out` becomes every aircraft's position in the model frame, metres
+    /// (x north, y west, z up), in index order: the `position_m` of
+    /// [`Model::view`], bit for bit, read straight from the fleet's arrays
+    /// (for [`geodesy::BatchGeodesy`]).
+    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>);
+
     /// The instruction set the kernel dispatched to, e.g. `"x86-64-v3"`.
     fn instruction_set(&self) -> &'static str;
 
@@ -127,6 +134,10 @@ impl LaneFleet for PalmerFleet {
 
     fn status(&self, index: usize) -> Option<FlightStatus> {
         self.status(index)
+    }
+
+    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+        self.positions_m(out);
     }
 
     fn instruction_set(&self) -> &'static str {
@@ -182,6 +193,10 @@ impl LaneFleet for BourgFleet {
 
     fn status(&self, index: usize) -> Option<FlightStatus> {
         self.status(index)
+    }
+
+    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+        self.positions_m(out);
     }
 
     fn instruction_set(&self) -> &'static str {

@@ -815,6 +815,16 @@ impl PalmerFleet {
         }
     }
 
+    /// `out` becomes every aircraft's position, metres (x north, y west, z
+    /// up), in index order.
+    pub fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+        out.clear();
+        out.extend(self.blocks.iter().flat_map(|b| {
+            (0..LANES).map(move |l| fdm_core::bourg::Vector3::new(b.q[1][l], b.q[3][l], b.q[5][l]))
+        }));
+        out.truncate(self.len);
+    }
+
     /// Aircraft `index`'s flight status, `None` past the end.
     #[must_use]
     pub fn status(&self, index: usize) -> Option<FlightStatus> {
