@@ -9,9 +9,9 @@
 //! (Bourg's demonstration fleet, `Model::fleet_member`, as `sim-cli fleet`
 //! flies it; prints the aircraft-steps per second) or `bourg-demo-2t` (the
 //! same on a 2-thread rayon pool, `par_step`);
-//! the number of aircraft; the number of steps; for `bourg-demo*`, `fly` to
-//! fly whole frames with the flight status (`BourgFleet::fly`) instead of
-//! bare steps. Prints the instruction set and
+//! the number of aircraft; the number of steps; `fly` to fly whole frames
+//! with the flight status (`fly`) instead of bare steps (not for the scalar
+//! kernels). Prints the instruction set and
 //! a checksum of the final positions (so the work cannot be optimised away).
 
 use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
@@ -122,12 +122,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let mut fleet = PalmerFleet::from_states(cessna, vec![(start, controls); n])?;
         println!("instruction set: {}", fleet.instruction_set());
+        let fly = args.get(3).is_some_and(|a| a == "fly");
+        let cpu = on_cpu_ns();
         for _ in 0..steps {
-            if baseline {
-                fleet.step_baseline(0.1, precision);
-            } else {
-                fleet.step(0.1, precision);
+            match (baseline, fly) {
+                (true, false) => fleet.step_baseline(0.1, precision),
+                (true, true) => fleet.fly_baseline(0.1, precision),
+                (false, false) => fleet.step(0.1, precision),
+                (false, true) => fleet.fly(0.1, precision),
             }
+        }
+        if let Some((after, before)) = on_cpu_ns().zip(cpu) {
+            #[allow(clippy::cast_precision_loss)] // a rate
+            let ns = (after - before) as f64 / (n * steps) as f64;
+            println!("{ns:.2} ns on the CPU per aircraft-step");
         }
         fleet.states().map(|s| s.position_m.z).sum()
     };
