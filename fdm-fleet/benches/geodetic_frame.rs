@@ -63,13 +63,7 @@ fn frame<M: Model>(
     position_m: fn(&M::State) -> Vector3<f64>,
     m: &mut Member<M>,
 ) {
-    (m.state, m.status) = fly::<M>(
-        aircraft,
-        &m.controls,
-        m.status,
-        &m.state,
-        M::time_step(FPS),
-    );
+    (m.state, m.status) = fly::<M>(aircraft, &m.controls, m.status, &m.state, M::time_step(FPS));
     m.geodetic = origin.model_to_geodetic(position_m(&m.state));
 }
 

@@ -352,13 +352,35 @@ impl Block {
     #[inline(always)]
     fn settle(&mut self, time: [f64; LANES], q: &[[f64; LANES]; 6], a: &PalmerAircraft, dt: f64) {
         let suspect = self.suspect();
-        for (lane, suspect) in suspect.into_iter().enumerate() {
+        // Lanes where `fly`'s result is the step's state, still airborne:
+        // found for the whole block at once (usually every lane).
+        let airborne: [bool; LANES] = core::array::from_fn(|l| {
+            (self.status[l] == FlightStatus::Airborne) & (self.q[5][l] > 0.0) & !suspect[l]
+        });
+        if !airborne.iter().fold(true, |all, &a| all & a) {
+            self.settle_lanes(&airborne, &suspect, time, q, a, dt);
+        }
+    }
+
+    /// The scalar part of [`Self::settle`], for the lanes not `airborne`
+    /// (rare: out of the hot loop).
+    #[cold]
+    #[inline(never)]
+    fn settle_lanes(
+        &mut self,
+        airborne: &[bool; LANES],
+        suspect: &[bool; LANES],
+        time: [f64; LANES],
+        q: &[[f64; LANES]; 6],
+        a: &PalmerAircraft,
+        dt: f64,
+    ) {
+        for lane in 0..LANES {
             let status = self.status[lane];
-            if status == FlightStatus::Airborne && self.q[5][lane] > 0.0 && !suspect {
-                // `fly`'s result: the step's state, still airborne.
+            if airborne[lane] {
                 continue;
             }
-            let (state, status) = if suspect || status.is_final() {
+            let (state, status) = if suspect[lane] || status.is_final() {
                 // Crashed, diverged, or a step that may not be finite: the
                 // scalar frame from the state before the step.
                 fly::<Palmer>(

@@ -500,8 +500,13 @@ fn measure_lanes<M: CliModel>(
             if let Some(dis) = dis.as_mut() {
                 // The kernel's arrays are not shareable across threads; the
                 // states are copied out once per frame (a few MB at 100 000).
+                // A diverged aircraft is no longer sent, as with the ECS.
                 states.clear();
-                states.extend((0..n).map(|i| fleet.state(i)));
+                states.extend((0..n).map(|i| {
+                    fleet
+                        .state(i)
+                        .filter(|_| fleet.status(i) != Some(FlightStatus::Diverged))
+                }));
                 let states = &states;
                 pool.install(|| dis.publish_lanes::<M>(|i| states[i], &origin));
                 if let Some(message) = dis.take_failure() {
