@@ -207,3 +207,8 @@ impl LaneFleet for BourgFleet {
         Self::bytes_per_aircraft()
     }
 }
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
