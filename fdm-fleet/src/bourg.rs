@@ -417,16 +417,37 @@ impl Block {
     /// has just stepped from `saved`: every lane ends as
     /// [`fdm_core::model::fly`] would have left it.
     #[inline(always)]
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x < y)` is true for NaN, as wanted
     fn settle(&mut self, saved: &Saved, aircraft: &BourgAircraft, dt: f32) {
+        // Whether any lane needs more than the step (usually none): one
+        // lane-wise OR of integer flags, which vectorises.
+        let mut flags = [0_u32; LANES];
+        for (f, (&t, &s)) in flags.iter_mut().zip(self.time.iter().zip(&self.status)) {
+            *f = u32::from(!t.is_finite()) | u32::from(s != FlightStatus::Airborne);
+        }
+        for (f, &z) in flags.iter_mut().zip(&self.position[2]) {
+            *f |= u32::from(!(z > 0.0));
+        }
+        let fields = self
+            .position
+            .iter()
+            .chain(&self.velocity)
+            .chain(&self.velocity_body)
+            .chain(&self.angular_velocity)
+            .chain(&self.orientation);
+        for field in fields {
+            for (f, x) in flags.iter_mut().zip(field) {
+                *f |= u32::from(!(x.abs() < SUSPECT_F32));
+            }
+        }
+        if flags.iter().fold(0, |any, &f| any | f) == 0 {
+            return;
+        }
         let suspect = self.suspect();
-        // Lanes where `fly`'s result is the step's state, still airborne:
-        // found for the whole block at once (usually every lane).
         let airborne: [bool; LANES] = core::array::from_fn(|l| {
             (self.status[l] == FlightStatus::Airborne) & (self.position[2][l] > 0.0) & !suspect[l]
         });
-        if !airborne.iter().fold(true, |all, &a| all & a) {
-            self.settle_lanes(&airborne, &suspect, saved, aircraft, dt);
-        }
+        self.settle_lanes(&airborne, &suspect, saved, aircraft, dt);
     }
 
     /// The scalar part of [`Self::settle`], for the lanes not `airborne`

@@ -350,16 +350,30 @@ impl Block {
     /// [`fdm_core::model::fly`] would have left it (`Exact`; see
     /// [`PalmerFleet::fly`] for `Fast`).
     #[inline(always)]
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x < y)` is true for NaN, as wanted
     fn settle(&mut self, time: [f64; LANES], q: &[[f64; LANES]; 6], a: &PalmerAircraft, dt: f64) {
+        // Whether any lane needs more than the step (usually none): one
+        // lane-wise OR of integer flags, which vectorises.
+        let mut flags = [0_u64; LANES];
+        for (f, (&t, &s)) in flags.iter_mut().zip(self.time.iter().zip(&self.status)) {
+            *f = u64::from(!t.is_finite()) | u64::from(s != FlightStatus::Airborne);
+        }
+        for (f, &z) in flags.iter_mut().zip(&self.q[5]) {
+            *f |= u64::from(!(z > 0.0));
+        }
+        for field in &self.q {
+            for (f, x) in flags.iter_mut().zip(field) {
+                *f |= u64::from(!(x.abs() < SUSPECT_F64));
+            }
+        }
+        if flags.iter().fold(0, |any, &f| any | f) == 0 {
+            return;
+        }
         let suspect = self.suspect();
-        // Lanes where `fly`'s result is the step's state, still airborne:
-        // found for the whole block at once (usually every lane).
         let airborne: [bool; LANES] = core::array::from_fn(|l| {
             (self.status[l] == FlightStatus::Airborne) & (self.q[5][l] > 0.0) & !suspect[l]
         });
-        if !airborne.iter().fold(true, |all, &a| all & a) {
-            self.settle_lanes(&airborne, &suspect, time, q, a, dt);
-        }
+        self.settle_lanes(&airborne, &suspect, time, q, a, dt);
     }
 
     /// The scalar part of [`Self::settle`], for the lanes not `airborne`
