@@ -194,7 +194,7 @@ pub fn with_multiplayer(line: &str, port: u16) -> String {
     let line = line.replacen(" --disable-ai-models", "", 1);
     // PORT + 1, or PORT - 1 at the top of the range FlightGear reads
     // ([`crate::args::MAX_FG_MP_PORT`]).
-    let out = if port >= crate::args::MAX_FG_MP_PORT + 1 {
+    let out = if port > crate::args::MAX_FG_MP_PORT {
         port - 1
     } else {
         port + 1
