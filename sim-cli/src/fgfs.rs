@@ -187,8 +187,8 @@ pub const VIEWER_CALLSIGN: &str = "viewer";
 /// FlightGear's multiplayer input on `port` (all interfaces, read at
 /// [`crate::fleet::FLEET_FPS`]), the output channel FlightGear needs before it
 /// listens (to the next port on 127.0.0.1, where nothing has to listen), the
-/// viewer's callsign, and no `--disable-ai-models`, because multiplayer
-/// aircraft are AI models.
+/// viewer's callsign, no `--disable-ai-models`, because multiplayer
+/// aircraft are AI models, and [`MP_DETAIL_OPTIONS`].
 #[must_use]
 pub fn with_multiplayer(line: &str, port: u16) -> String {
     let line = line.replacen(" --disable-ai-models", "", 1);
@@ -201,10 +201,19 @@ pub fn with_multiplayer(line: &str, port: u16) -> String {
     };
     format!(
         "{line} --multiplay=in,{},,{port} --multiplay=out,10,127.0.0.1,{out} \
-         --callsign={VIEWER_CALLSIGN}",
+         --callsign={VIEWER_CALLSIGN} {MP_DETAIL_OPTIONS}",
         crate::fleet::FLEET_FPS
     )
 }
+
+/// FlightGear 2020.3 draws a multiplayer aircraft with its own model only while
+/// it covers at least `aimp-detailed` = 400 pixels of the screen, and as its
+/// fallback glider otherwise, so a fleet a few hundred metres away shows as
+/// gliders (seen live). These options switch the test to distance and draw the
+/// real models within 5 km.
+pub const MP_DETAIL_OPTIONS: &str =
+    "--prop:bool:/sim/rendering/static-lod/aimp-range-mode-distance=true \
+     --prop:double:/sim/rendering/static-lod/aimp-detailed=5000";
 
 /// `program` as one shell word: itself when it has only safe characters, else
 /// single-quoted.
@@ -352,7 +361,9 @@ mod tests {
         let mp = with_multiplayer(&plain, 5000);
         assert!(plain.contains(" --disable-ai-models "));
         assert!(!mp.contains("--disable-ai-models"), "{mp}");
-        let added = " --multiplay=in,30,,5000 --multiplay=out,10,127.0.0.1,5001 --callsign=viewer";
+        let added = " --multiplay=in,30,,5000 --multiplay=out,10,127.0.0.1,5001 --callsign=viewer \
+             --prop:bool:/sim/rendering/static-lod/aimp-range-mode-distance=true \
+             --prop:double:/sim/rendering/static-lod/aimp-detailed=5000";
         assert!(mp.ends_with(added), "{mp}");
         assert_eq!(
             mp.len(),
