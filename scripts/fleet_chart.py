@@ -12,6 +12,9 @@ one million aircraft at 30 Hz (30 M aircraft-steps/s) for reference.
     python3 scripts/fleet_chart.py --table              # also prints figure 13 and the fleet numbers (Markdown)
     python3 scripts/fleet_chart.py --all                # every benchmark's median (Markdown)
     python3 scripts/fleet_chart.py --criterion DIR --out FILE
+    python3 scripts/fleet_chart.py --kernels            # docs/fleet_kernels.svg: the SIMD kernels
+                                                        # (cargo bench -p fdm-fleet, fleet_kernels and
+                                                        # geodetic_frame) against the scalar step
 """
 
 import argparse
@@ -238,6 +241,58 @@ def all_table(benches):
     return "\n".join(lines) + "\n"
 
 
+KERNEL_ROWS = [
+    # (criterion id, label, target in aircraft-steps or -frames per second, or None)
+    ("palmer_fleet/scalar/2t/1000000", "Palmer scalar step, 1M aircraft", None),
+    ("palmer_fleet/exact/2t/1000000", "Palmer lanes exact, 1M", 18e6),
+    ("palmer_fleet/fast/2t/1000000", "Palmer lanes fast, 1M", 30e6),
+    ("bourg_fleet/scalar/2t/1000000", "Bourg scalar step, 1M", None),
+    ("bourg_fleet/exact/2t/1000000", "Bourg lanes exact, 1M", 25e6),
+    ("geodetic_frame/palmer/per_aircraft/2t/100000", "Palmer frame + geodesy, per aircraft, 100k", None),
+    ("geodetic_frame/palmer/lanes_exact/2t/100000", "Palmer frame + geodesy, lanes exact, 100k", 10e6),
+    ("geodetic_frame/palmer/lanes_fast/2t/100000", "Palmer frame + geodesy, lanes fast, 100k", 10e6),
+    ("geodetic_frame/bourg/per_aircraft/2t/100000", "Bourg frame + geodesy, per aircraft, 100k", None),
+    ("geodetic_frame/bourg/lanes/2t/100000", "Bourg frame + geodesy, lanes, 100k", 10e6),
+]
+
+
+def kernels_chart(benches):
+    """Horizontal bars: 2-thread throughput of the fleet kernels and of whole frames, each
+    target as a tick on its bar. Returns (svg text, rows found)."""
+    by_id = {b["id"]: b for b in benches}
+    rows = []
+    for bid, label, target in KERNEL_ROWS:
+        b = by_id.get(bid)
+        if b and b["elements"]:
+            rows.append((label, b["elements"] / b["median_ns"] * 1e9, target, b["mtime"]))
+    if not rows:
+        return None, rows
+    left, width, bar, gap = 330, 420, 18, 8
+    height = 60 + len(rows) * (bar + gap) + 40
+    top = max(max(r[1] for r in rows), max(r[2] or 0 for r in rows)) * 1.1
+    x = lambda v: left + width * v / top
+    when = time.strftime("%Y-%m-%d %H:%M", time.gmtime(min(r[3] for r in rows)))
+    out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">'
+           % (left + width + 90, height),
+           '<rect width="100%" height="100%" fill="white"/>',
+           '<text x="10" y="20" font-size="14">Fleet kernels on 2 threads (million aircraft-steps or '
+           'aircraft-frames per second; | = target)</text>',
+           '<text x="10" y="38" fill="#555">criterion medians, %s UTC (cargo bench -p fdm-fleet '
+           '--bench fleet_kernels / geodetic_frame)</text>' % escape(when)]
+    for i, (label, rate, target, _) in enumerate(rows):
+        y = 55 + i * (bar + gap)
+        colour = "#999999" if target is None else "#1f77b4"
+        out.append('<text x="%d" y="%d" text-anchor="end">%s</text>' % (left - 6, y + 13, escape(label)))
+        out.append('<rect x="%d" y="%d" width="%.1f" height="%d" fill="%s"/>' % (left, y, x(rate) - left, bar, colour))
+        out.append('<text x="%.1f" y="%d">%.1f M</text>' % (x(rate) + 4, y + 13, rate / 1e6))
+        if target:
+            out.append('<line x1="%.1f" y1="%d" x2="%.1f" y2="%d" stroke="#d62728" stroke-width="2"/>'
+                       % (x(target), y - 3, x(target), y + bar + 3))
+    out.append('<line x1="%d" y1="50" x2="%d" y2="%d" stroke="black"/>' % (left, left, height - 35))
+    out.append("</svg>\n")
+    return "\n".join(out), rows
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     repo = os.path.dirname(here)
@@ -249,9 +304,24 @@ def main():
     ap.add_argument("--table", action="store_true",
                     help="print figure 13 (Palmer/Bourg per FPS) and the fleet numbers as Markdown tables")
     ap.add_argument("--all", action="store_true", help="print every benchmark's median as a Markdown table")
+    ap.add_argument("--kernels", action="store_true",
+                    help="draw docs/fleet_kernels.svg from the fdm-fleet benchmarks instead")
     args = ap.parse_args()
 
     benches = read_benchmarks(args.criterion)
+    if args.kernels:
+        svg, rows = kernels_chart(benches)
+        if svg is None:
+            print("no fdm-fleet benchmarks under %s: run `cargo bench -p fdm-fleet` first" % args.criterion,
+                  file=sys.stderr)
+            return 1
+        out = os.path.join(repo, "docs", "fleet_kernels.svg")
+        with open(out, "w") as f:
+            f.write(svg)
+        for label, rate, target, _ in rows:
+            print("| %s | %.2f M/s | %s |" % (label, rate / 1e6, "%.0f M" % (target / 1e6) if target else ""))
+        print("wrote %s" % os.path.relpath(out), file=sys.stderr)
+        return 0
     if args.all:
         sys.stdout.write(all_table(benches))
     series = fleet_series(benches)

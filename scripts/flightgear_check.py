@@ -108,10 +108,13 @@ def predict(fields):
     }
 
 
-def make_datagram(lat_deg, lon_deg, alt_m, roll_deg=0.0, little_endian_version=False):
-    """A hand-made datagram for the negative checks (all counts 0, docs/fgnetfdm.md §5)."""
+def make_datagram(lat_deg, lon_deg, alt_m, roll_deg=0.0, little_endian_version=False,
+                  pitch_deg=0.0, heading_deg=0.0):
+    """A hand-made datagram for the negative checks and for placing the viewer (all counts
+    0, docs/fgnetfdm.md §5)."""
     values = [24, 0, math.radians(lon_deg), math.radians(lat_deg), alt_m, -9999.0,
-              math.radians(roll_deg)] + [0.0] * 20 + [0] + [0] * 4 + [0.0] * 36 + [0]
+              math.radians(roll_deg), math.radians(pitch_deg), math.radians(heading_deg)]
+    values += [0.0] * 18 + [0] + [0] * 4 + [0.0] * 36 + [0]
     values += [0.0] * 4 + [0] + [0] * 3 + [0.0] * 9 + [0, 0, 0.0] + [0.0] * 10
     data = FULL.pack(*values)
     if little_endian_version:
@@ -205,12 +208,19 @@ def print_tolerance(text):
 
 # ---------------------------------------------------------------- processes
 
-def free_port(kind):
-    s = socket.socket(socket.AF_INET, kind)
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
+def free_port(kind, below=None):
+    """A free port on 127.0.0.1; `below`: one under that number (FlightGear 2020.3 keeps its
+    multiplayer ports in signed 16-bit integers, so its input must be at most 32766)."""
+    for port in ([0] if below is None else range(below - 1, 1024, -2)):
+        s = socket.socket(socket.AF_INET, kind)
+        try:
+            s.bind(("127.0.0.1", port))
+            return s.getsockname()[1]
+        except OSError:
+            continue
+        finally:
+            s.close()
+    raise RuntimeError("no free port")
 
 
 def start_xvfb(width, height):
@@ -257,7 +267,7 @@ class FlightGear:
         self.model = model
         self.udp_port = free_port(socket.SOCK_DGRAM)
         self.telnet_port = free_port(socket.SOCK_STREAM)
-        self.mp_port = free_port(socket.SOCK_DGRAM) if args.fleet else None
+        self.mp_port = free_port(socket.SOCK_DGRAM, below=32767) if args.fleet else None
         mp = ["--fg-mp", str(self.mp_port)] if self.mp_port else []
         line = run_sim(args, ["fgfs-command", model, "--fps", str(fps),
                               "--fg", f"127.0.0.1:{self.udp_port}", "--origin", args.origin,
@@ -500,15 +510,48 @@ def ecef_to_geodetic(x, y, z):
     return math.degrees(lat), math.degrees(lon), p / math.cos(lat) - n
 
 
+def geodetic_to_ecef(lat_deg, lon_deg, h):
+    """ECEF metres of a WGS-84 latitude, longitude (degrees) and height (m)."""
+    a, f = 6378137.0, 1 / 298.257223563
+    e2 = f * (2 - f)
+    lat, lon = math.radians(lat_deg), math.radians(lon_deg)
+    n = a / math.sqrt(1 - e2 * math.sin(lat) ** 2)
+    return ((n + h) * math.cos(lat) * math.cos(lon), (n + h) * math.cos(lat) * math.sin(lon),
+            (n * (1 - e2) + h) * math.sin(lat))
+
+
+def closest_on_track(track, point, frame_s):
+    """The point of a callsign's streamed track nearest to `point` (all ECEF): FlightGear
+    draws a multiplayer aircraft at its messages interpolated linearly in ECEF at its own
+    clock minus a lag, or extrapolated past the last one, so what it shows lies on the
+    polyline of the messages or on the continuation of its last segment. Returns (the ECEF
+    point, its time relative to the last message in seconds)."""
+    best = None
+    n = len(track)
+    for k in range(max(0, n - 300), n - 1):
+        p, q = track[k], track[k + 1]
+        d = [q[i] - p[i] for i in range(3)]
+        dd = sum(c * c for c in d)
+        u = 0.0 if dd == 0 else sum((point[i] - p[i]) * d[i] for i in range(3)) / dd
+        # Inside the segment, or (last one) up to 10 s of extrapolation past its end.
+        u = max(0.0, min(u, 1.0 if k < n - 2 else 1.0 + 10.0 / frame_s))
+        c = [p[i] + u * d[i] for i in range(3)]
+        dist = math.dist(c, point)
+        if best is None or dist < best[0]:
+            best = (dist, c, (k + u - (n - 1)) * frame_s)
+    return best[1], best[2]
+
+
 def fleet_check(args, fg, model, results):
-    """`sim-cli fleet --fg-mp` through a relay into fgfs's multiplayer input: FlightGear's
-    /ai/models/multiplayer[i] positions must equal the last message of each callsign
-    within 1e-6 degrees (and 1e-3 ft)."""
+    """`sim-cli fleet --fg-mp` through a relay into fgfs's multiplayer input: the position
+    FlightGear shows under /ai/models/multiplayer[i] must be on the callsign's streamed track,
+    within 1e-6 degrees (and 1e-3 ft) of the nearest point of it (FlightGear shows
+    multiplayer aircraft a little in the past, interpolating between messages)."""
     rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     rx.bind(("127.0.0.1", 0))
     rx.settimeout(0.2)
     tx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    last, done = {}, threading.Event()
+    last, tracks, done = {}, {}, threading.Event()
 
     def relay():
         while True:
@@ -521,6 +564,7 @@ def fleet_check(args, fg, model, results):
             tx.sendto(d, ("127.0.0.1", fg.mp_port))  # forwarded at once: real-time pace kept
             callsign = d[24:32].rstrip(b"\0").decode()
             last[callsign] = struct.unpack(">3d", d[144:168])
+            tracks.setdefault(callsign, []).append(last[callsign])
 
     thread = threading.Thread(target=relay)
     thread.start()
@@ -529,30 +573,74 @@ def fleet_check(args, fg, model, results):
     argv = ["fleet", "--model", model, "--aircraft", "4", "--frames", str(args.fleet_frames),
             "--pattern", "rows", "--origin", args.origin, "--script", script,
             "--fg-mp", f"127.0.0.1:{rx.getsockname()[1]}", "--realtime", "--json"]
+    # Read FlightGear back while the fleet is still streaming (two thirds of the way), so
+    # it shows the aircraft between two received messages rather than extrapolated past
+    # the last one; `ls` gives all of an aircraft's position properties from one frame.
+    # The viewer's own aircraft back at the fleet's start (one frame, straight to fgfs), so
+    # the chase view behind it looks at the fleet.
+    run_sim(args, [model, "--headless", "--json", "--frames", "1", "--origin", args.origin,
+                   "--fg", f"127.0.0.1:{fg.udp_port}"])
+    proc = subprocess.Popen([args.sim_cli] + argv, cwd=REPO, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    shown_at = {}
     try:
-        report = run_sim(args, argv)
+        time.sleep(args.fleet_frames / 30 * 2 / 3)
+        for i in range(8):
+            base = f"/ai/models/multiplayer[{i}]"
+            listing = fg.telnet.command(f"ls {base}/position")
+            values = dict(re.findall(r"^(\S+) =\s+'([^']*)'", listing, re.M))
+            callsign = fg.telnet.get(f"{base}/callsign")[0]
+            if all(k in values for k in ("latitude-deg", "longitude-deg", "altitude-ft")):
+                # Messages of this callsign forwarded by then (the relay's list grows).
+                received = len(tracks.get(callsign, []))
+                shown_at[callsign] = (base, received, {k: float(values[k]) for k in
+                                                       ("latitude-deg", "longitude-deg",
+                                                        "altitude-ft")})
+        if args.screenshots:
+            # The viewer's aircraft put 100 m south of the fleet's middle at its height,
+            # heading north, and its own view (view 0): the fleet's rows are 50 to 150 m
+            # ahead. Best with the UFO as viewer (it has no cockpit in the way).
+            os.makedirs(args.screenshots, exist_ok=True)
+            mid = [sum(t[-1][i] for t in tracks.values()) / len(tracks) for i in range(3)]
+            lat, lon, h = ecef_to_geodetic(*mid)
+            send(fg.udp_port, [make_datagram(lat - 100 / 110_750, lon, h)], 0)
+            fg.telnet.set("/sim/current-view/view-number", 0)
+            fg.telnet.set("/sim/current-view/pitch-offset-deg", 0)
+            fg.telnet.set("/sim/current-view/heading-offset-deg", 0)
+            time.sleep(2)  # the models load in the background
+            path = os.path.join(args.screenshots, f"fleet-{model}.png")
+            screenshot(args.display_used, path)
+            log(f"   screenshot {path} ({os.path.getsize(path)} bytes)")
+            fg.telnet.set("/sim/current-view/view-number", 2)
+        out, err = proc.communicate(timeout=600)
     finally:
+        if proc.poll() is None:
+            proc.kill()
         done.set()
         thread.join()
         rx.close()
         tx.close()
-    time.sleep(args.settle)
+    if proc.returncode != 0:
+        raise RuntimeError(f"sim-cli {' '.join(argv)} exited {proc.returncode}: {err}")
+    report = json.loads(out)
     rows, ok = {}, len(last) == 4
-    for i in range(8):
-        base = f"/ai/models/multiplayer[{i}]"
-        callsign = fg.telnet.get(f"{base}/callsign")[0]
-        if callsign not in last:
+    for callsign, (base, received, got) in sorted(shown_at.items()):
+        if callsign not in tracks or received < 2:
             continue
-        lat, lon, h = ecef_to_geodetic(*last[callsign])
-        got = {k: float(fg.telnet.get(f"{base}/position/{k}")[0])
-               for k in ("latitude-deg", "longitude-deg", "altitude-ft")}
+        shown = geodetic_to_ecef(got["latitude-deg"], got["longitude-deg"],
+                                 got["altitude-ft"] / M2FT)
+        nearest, t_rel = closest_on_track(tracks[callsign][:received], shown, 1 / 30)
+        lat, lon, h = ecef_to_geodetic(*nearest)
         diffs = {"latitude-deg": got["latitude-deg"] - lat,
                  "longitude-deg": got["longitude-deg"] - lon,
                  "altitude-ft": got["altitude-ft"] - h * M2FT}
+        # 1e-6 degrees of latitude is 0.11 m: the same distance vertically, 0.36 ft.
         good = (abs(diffs["latitude-deg"]) <= 1e-6 and abs(diffs["longitude-deg"]) <= 1e-6
-                and abs(diffs["altitude-ft"]) <= 1e-3)
-        rows[callsign] = {"fg": got, "sent": [lat, lon, h * M2FT], "diff": diffs, "ok": good}
+                and abs(diffs["altitude-ft"]) <= 0.11 * M2FT)
+        rows[callsign] = {"fg": got, "on_track": [lat, lon, h * M2FT], "diff": diffs,
+                          "track_time_s": t_rel, "messages": received, "ok": good}
         log(f"   {base} {callsign}: " + ", ".join(f"{k} {v:+.1e}" for k, v in diffs.items())
+            + f" (track point {t_rel:+.3f} s from the last message received)"
             + (" ok" if good else " MISMATCH"))
         ok &= good
     ok &= len(rows) == 4
@@ -568,15 +656,27 @@ def check_options(fg, model, results):
     expected = {"/sim/current-view/view-number": "2"}
     if model == "bourg":
         expected["/sim/model/always-show-in-MP"] = "true"
+    if fg.mp_port is not None:
+        # fgfs-command --fg-mp: multiplayer aircraft drawn with their own models within 5 km.
+        expected["/sim/rendering/static-lod/aimp-range-mode-distance"] = "true"
+        expected["/sim/rendering/static-lod/aimp-detailed"] = "5000"
     if model == "palmer":
         expected["/consumables/fuel/tank[0]/level-gal_us"] = "20"
         expected["/consumables/fuel/tank[1]/level-gal_us"] = "20"
-    rows = {}
-    for path, want in expected.items():
-        got = fg.telnet.get(path)[0]
-        same = got == want or (want.replace(".", "").isdigit() and float(got) == float(want))
-        rows[path] = {"fg": got, "expected": want, "ok": same}
-        log(f"   {path} = {got!r} (want {want!r}) {'ok' if same else 'MISMATCH'}")
+    # fgfs-command's Nasal start-up script sets them 1 s after the FDM is
+    # initialised: allow it 20 s of simulated start-up.
+    deadline = time.time() + 20
+    while True:
+        rows = {}
+        for path, want in expected.items():
+            got = fg.telnet.get(path)[0]
+            same = got == want or (want.replace(".", "").isdigit() and float(got) == float(want))
+            rows[path] = {"fg": got, "expected": want, "ok": same}
+        if all(r["ok"] for r in rows.values()) or time.time() > deadline:
+            break
+        time.sleep(1)
+    for path, r in rows.items():
+        log(f"   {path} = {r['fg']!r} (want {r['expected']!r}) {'ok' if r['ok'] else 'MISMATCH'}")
     results.setdefault("options", {})[model] = rows
     return all(r["ok"] for r in rows.values())
 
@@ -738,6 +838,7 @@ def main():
     width, height = (int(v) for v in args.geometry.split("x"))
     xvfb, display = (None, args.display) if args.display else start_xvfb(width, height)
     log(f"X display {display}")
+    args.display_used = display
     results = {"scenarios": {}}
     ok = True
     try:
@@ -749,6 +850,8 @@ def main():
                 took = fg.wait_initialized(args.init_timeout)
                 log(f"[{model}] /sim/fdm-initialized after {took:.0f} s")
                 ok &= check_options(fg, model, results)
+                # "Out of fuel!" before the fuel is in is expected; none after.
+                dry_before = fg.stderr_text().count("Out of fuel!")
                 results.setdefault("fgfs", {})[model] = {"command": fg.ours,
                                                         "headless_flags": fg.headless_flags}
                 for name, argv in scenarios:
@@ -759,6 +862,12 @@ def main():
                 if args.fleet:
                     ok &= fleet_check(args, fg, model, results)
                 if model == "palmer":
+                    # The c172p's engine.nas logs this whenever the engine runs dry.
+                    dry = fg.stderr_text().count("Out of fuel!") - dry_before
+                    results["out_of_fuel_messages"] = dry
+                    log(f"\n== c172p 'Out of fuel!' messages while flying: {dry}"
+                        + (" ok" if dry == 0 else " MISMATCH"))
+                    ok &= dry == 0
                     ok &= negative_checks(args, fg, results)
                     if not args.no_direct:
                         direct_run(args, fg, results)

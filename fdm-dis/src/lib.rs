@@ -169,3 +169,8 @@ pub use publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
 /// The dis-rs crate, for its enumerations (`ForceId`, `Country`, …) and PDU
 /// model.
 pub use dis_rs;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

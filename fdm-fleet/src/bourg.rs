@@ -18,14 +18,22 @@
 //! attack's sine, the stall flag and the quaternion renormalisation. The
 //! airfoil and rudder table look-ups ([`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients),
 //! [`rudder_coefficients`](fdm_core::bourg::rudder_coefficients)) become a branchless interval count over `fdm_core`'s
-//! own tables and a lane-wise interpolation with the same formula (unit tests
-//! compare them with the scalar functions bit for bit). Only glibc's `asinf`
-//! goes lane by lane (through the same `fdm_core::math::asinf` the scalar
-//! step calls).
+//! own tables (the three flap settings' tables of a coefficient laid end to
+//! end, so a lane's table is an offset and its two entries are a gather) and a
+//! lane-wise interpolation with the same formula (unit tests compare them with
+//! the scalar functions bit for bit). The pitch trim's blend of the elevators'
+//! coefficients ([`BourgControls::elevator_coefficients`], an extension of the
+//! original) is evaluated lane-wise too, only in blocks where a lane has one.
+//! Only glibc's `asinf` goes lane by lane (through the same
+//! `fdm_core::math::asinf` the scalar step calls): a lane-wise port of
+//! glibc 2.36's `asinf` (`sysdeps/ieee754/flt-32/e_asinf.c`) would remove
+//! that call, but its single-precision polynomial and coefficients are
+//! distributed under the LGPL 2.1 or later, which this crate (MIT OR
+//! Apache-2.0) cannot take in, so it is not ported.
 //!
 //! What depends only on the controls is computed when they are set, with the
-//! scalar step's functions: the rudder's normal at its incidence and the table
-//! (flap setting) of each element.
+//! scalar step's functions: the rudder's normal at its incidence, the table
+//! (flap setting) of each element, and the pitch trim's tables and factor.
 //!
 //! This module is written against `fdm_core::bourg`'s public API of the time;
 //! `tests/bourg_fleet.rs` checks it against the scalar step bit for bit on the
@@ -37,15 +45,17 @@ use fdm_core::bourg::airfoil::{
     RUDDER_ALPHA_DEG, RUDDER_CD, RUDDER_CL,
 };
 use fdm_core::bourg::ops::{PI, TOL};
+use fdm_core::bourg::Bourg;
 use fdm_core::bourg::{BourgAircraft, BourgControls, BourgState, Flap, Quaternion, Vector3};
 use fdm_core::math::asinf;
+use fdm_core::model::{fly, settle, FlightStatus, Model};
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
 use crate::lanes::{F32s, Mask};
 
-/// Aircraft per block: 8 f32 lanes (one AVX2 register, half an AVX-512 one).
-pub const LANES: usize = 8;
+/// Aircraft per block: 16 f32 lanes (one AVX-512 register, two AVX2 ones).
+pub const LANES: usize = 16;
 
 /// Blocks per rayon task in [`BourgFleet::par_step`].
 const BLOCKS_PER_TASK: usize = 32;
@@ -276,10 +286,39 @@ struct Block {
     thrust: [f32; LANES],
     /// The rudder's normal at its current incidence.
     rudder_normal: [[f32; LANES]; 3],
-    /// The airfoil table of elements 0..=5.
-    flaps: [[Flap; LANES]; 6],
+    /// The airfoil tables of elements 0..=5 ([`table_offset`]).
+    tables: [[u32; LANES]; 6],
+    /// Whether the elevators (elements 4 and 5) blend toward the pitch trim's
+    /// tables ([`BourgControls::elevator_coefficients`]).
+    trimmed: [bool; LANES],
+    /// The pitch trim's tables ([`table_offset`]).
+    trim_tables: [u32; LANES],
+    /// The pitch trim's blend factor, `|pitch_trim|` clamped to 1.
+    trim: [f32; LANES],
     controls: [BourgControls; LANES],
+    /// Each aircraft's flight status ([`BourgFleet::fly`]).
+    status: [FlightStatus; LANES],
 }
+
+/// The fields of a block that a step changes, as they were before it.
+#[derive(Clone, Copy)]
+struct Saved {
+    time: [f64; LANES],
+    position: [[f32; LANES]; 3],
+    velocity: [[f32; LANES]; 3],
+    velocity_body: [[f32; LANES]; 3],
+    angular_velocity: [[f32; LANES]; 3],
+    orientation: [[f32; LANES]; 4],
+    stalling: [bool; LANES],
+}
+
+/// Beyond this magnitude a component of a stepped state sends its aircraft
+/// down the scalar path of [`BourgFleet::fly`] (which then checks
+/// [`Model::is_finite`] exactly): small enough that the speed of a state
+/// whose components are all below it cannot overflow `f32`
+/// (`3 · 1e18² < f32::MAX`), so every lane not flagged is finite for the
+/// model.
+const SUSPECT_F32: f32 = 1e18;
 
 impl Block {
     fn idle(aircraft: &BourgAircraft) -> Self {
@@ -293,8 +332,12 @@ impl Block {
             stalling: [false; LANES],
             thrust: [0.0; LANES],
             rudder_normal: [[0.0; LANES]; 3],
-            flaps: [[Flap::Neutral; LANES]; 6],
+            tables: [[0; LANES]; 6],
+            trimmed: [false; LANES],
+            trim_tables: [0; LANES],
+            trim: [0.0; LANES],
             controls: [BourgControls::initial(); LANES],
+            status: [FlightStatus::Airborne; LANES],
         };
         for lane in 0..LANES {
             block.set_state(lane, &BourgState::initial());
@@ -322,6 +365,128 @@ impl Block {
         self.stalling[lane] = s.stalling;
     }
 
+    fn saved(&self) -> Saved {
+        Saved {
+            time: self.time,
+            position: self.position,
+            velocity: self.velocity,
+            velocity_body: self.velocity_body,
+            angular_velocity: self.angular_velocity,
+            orientation: self.orientation,
+            stalling: self.stalling,
+        }
+    }
+
+    /// Lane `lane`'s state as it was in `saved`.
+    fn saved_state(saved: &Saved, lane: usize) -> BourgState {
+        let get = |a: &[[f32; LANES]; 3]| Vector3::new(a[0][lane], a[1][lane], a[2][lane]);
+        let o = &saved.orientation;
+        BourgState {
+            time_s: saved.time[lane],
+            position_ft: get(&saved.position),
+            velocity_ftps: get(&saved.velocity),
+            velocity_body_ftps: get(&saved.velocity_body),
+            angular_velocity_radps: get(&saved.angular_velocity),
+            orientation: Quaternion::new(o[0][lane], o[1][lane], o[2][lane], o[3][lane]),
+            stalling: saved.stalling[lane],
+        }
+    }
+
+    /// The lanes whose stepped state may not be finite for the model: a
+    /// component at or beyond [`SUSPECT_F32`] in magnitude, NaN, or a
+    /// non-finite clock.
+    #[inline(always)]
+    fn suspect(&self) -> [bool; LANES] {
+        let mut ok: [bool; LANES] = core::array::from_fn(|l| self.time[l].is_finite());
+        let fields = self
+            .position
+            .iter()
+            .chain(&self.velocity)
+            .chain(&self.velocity_body)
+            .chain(&self.angular_velocity)
+            .chain(&self.orientation);
+        for field in fields {
+            for (ok, x) in ok.iter_mut().zip(field) {
+                *ok &= x.abs() < SUSPECT_F32;
+            }
+        }
+        ok.map(|ok| !ok)
+    }
+
+    /// The flight-status half of [`BourgFleet::fly`] for a block the kernel
+    /// has just stepped from `saved`: every lane ends as
+    /// [`fdm_core::model::fly`] would have left it.
+    #[inline(always)]
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x < y)` is true for NaN, as wanted
+    fn settle(&mut self, saved: &Saved, aircraft: &BourgAircraft, dt: f32) {
+        // Whether any lane needs more than the step (usually none): one
+        // lane-wise OR of integer flags, which vectorises.
+        let mut flags = [0_u32; LANES];
+        for (f, (&t, &s)) in flags.iter_mut().zip(self.time.iter().zip(&self.status)) {
+            *f = u32::from(!t.is_finite()) | u32::from(s != FlightStatus::Airborne);
+        }
+        for (f, &z) in flags.iter_mut().zip(&self.position[2]) {
+            *f |= u32::from(!(z > 0.0));
+        }
+        let fields = self
+            .position
+            .iter()
+            .chain(&self.velocity)
+            .chain(&self.velocity_body)
+            .chain(&self.angular_velocity)
+            .chain(&self.orientation);
+        for field in fields {
+            for (f, x) in flags.iter_mut().zip(field) {
+                *f |= u32::from(!(x.abs() < SUSPECT_F32));
+            }
+        }
+        if flags.iter().fold(0, |any, &f| any | f) == 0 {
+            return;
+        }
+        let suspect = self.suspect();
+        let airborne: [bool; LANES] = core::array::from_fn(|l| {
+            (self.status[l] == FlightStatus::Airborne) & (self.position[2][l] > 0.0) & !suspect[l]
+        });
+        self.settle_lanes(&airborne, &suspect, saved, aircraft, dt);
+    }
+
+    /// The scalar part of [`Self::settle`], for the lanes not `airborne`
+    /// (rare: out of the hot loop).
+    #[cold]
+    #[inline(never)]
+    fn settle_lanes(
+        &mut self,
+        airborne: &[bool; LANES],
+        suspect: &[bool; LANES],
+        saved: &Saved,
+        aircraft: &BourgAircraft,
+        dt: f32,
+    ) {
+        for lane in 0..LANES {
+            let status = self.status[lane];
+            if airborne[lane] {
+                continue;
+            }
+            let (state, status) = if suspect[lane] || status.is_final() {
+                // Crashed, diverged, or a step that may not be finite: the
+                // scalar frame from the state before the step.
+                fly::<Bourg>(
+                    aircraft,
+                    &self.controls[lane],
+                    status,
+                    &Self::saved_state(saved, lane),
+                    dt,
+                )
+            } else {
+                // A finite step (the kernel's bits are `step`'s): only the
+                // status and the ground contact.
+                settle::<Bourg>(aircraft, status, &self.state(lane))
+            };
+            self.set_state(lane, &state);
+            self.status[lane] = status;
+        }
+    }
+
     fn state(&self, lane: usize) -> BourgState {
         let get = |a: &[[f32; LANES]; 3]| Vector3::new(a[0][lane], a[1][lane], a[2][lane]);
         let o = &self.orientation;
@@ -342,12 +507,59 @@ impl Block {
         self.rudder_normal[0][lane] = normal.x;
         self.rudder_normal[1][lane] = normal.y;
         self.rudder_normal[2][lane] = normal.z;
-        for (i, flaps) in self.flaps.iter_mut().enumerate() {
-            flaps[lane] = c.element_flap(i, &elements[i]);
+        for (i, tables) in self.tables.iter_mut().enumerate() {
+            tables[lane] = table_offset(c.element_flap(i, &elements[i]));
         }
+        // `elevator_coefficients`' trim, in its operations (NaN included).
+        self.trimmed[lane] = c.elevators == Flap::Neutral && c.pitch_trim != 0.0;
+        let (flap, mut t) = if c.pitch_trim > 0.0 {
+            (Flap::TrailingEdgeUp, c.pitch_trim)
+        } else {
+            (Flap::TrailingEdgeDown, -c.pitch_trim)
+        };
+        if t > 1.0 {
+            t = 1.0;
+        }
+        self.trim_tables[lane] = table_offset(flap);
+        self.trim[lane] = t;
         self.thrust[lane] = c.thrust_lb;
         self.controls[lane] = c;
     }
+}
+
+/// Three tables of one coefficient one after the other, in the order of
+/// [`table_offset`].
+const fn concat(neutral: &[f32; 9], down: &[f32; 9], up: &[f32; 9]) -> [f32; 27] {
+    let mut out = [0.0; 27];
+    let mut i = 0;
+    while i < 9 {
+        out[i] = neutral[i];
+        out[9 + i] = down[i];
+        out[18 + i] = up[i];
+        i += 1;
+    }
+    out
+}
+
+/// The airfoil lift tables, neutral, trailing edge down, trailing edge up.
+const CL_TABLES: [f32; 27] = concat(&CL_NEUTRAL, &CL_TRAILING_EDGE_DOWN, &CL_TRAILING_EDGE_UP);
+/// The airfoil drag tables, in the same order.
+const CD_TABLES: [f32; 27] = concat(&CD_NEUTRAL, &CD_TRAILING_EDGE_DOWN, &CD_TRAILING_EDGE_UP);
+
+/// Where `flap`'s table starts in [`CL_TABLES`] and [`CD_TABLES`].
+const fn table_offset(flap: Flap) -> u32 {
+    match flap {
+        Flap::Neutral => 0,
+        Flap::TrailingEdgeDown => 9,
+        Flap::TrailingEdgeUp => 18,
+    }
+}
+
+/// `table[i]`, `i` clamped to the table (a no-op for the indexes the
+/// look-ups make; it lets the compiler drop the bounds check and gather).
+#[inline(always)]
+fn entry(table: &[f32], i: u32) -> f32 {
+    table[(i as usize).min(table.len() - 1)]
 }
 
 /// The scalar look-up's interval search, lane-wise: in a strictly increasing
@@ -356,54 +568,56 @@ impl Block {
 /// `a[0] <= angle < a[last]` (false for NaN). Lanes without one get index 0
 /// and a cleared mask.
 #[inline(always)]
-fn interval_lanes<const T: usize>(a: &[f32; T], angle: L) -> ([usize; LANES], M) {
-    let mut count = [0_usize; LANES];
+fn interval_lanes<const T: usize>(a: &[f32; T], angle: L) -> ([u32; LANES], M) {
+    let mut count = [0_u32; LANES];
     for &entry in a {
         for (c, &x) in count.iter_mut().zip(&angle.0) {
-            *c += usize::from(entry <= x);
+            *c += u32::from(entry <= x);
         }
     }
     let valid = Mask(core::array::from_fn(|l| {
         a[0] <= angle.0[l] && angle.0[l] < a[T - 1]
     }));
-    let index = core::array::from_fn(|l| if valid.0[l] { count[l] - 1 } else { 0 });
+    let index = core::array::from_fn(|l| {
+        if valid.0[l] {
+            count[l].wrapping_sub(1)
+        } else {
+            0
+        }
+    });
     (index, valid)
 }
 
 /// The scalar `lerp` in each lane's interval:
-/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, with each
-/// lane's own table `t`.
+/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, lane `l`'s
+/// table `t` starting at `tables[offset[l]]`.
 #[inline(always)]
 fn lerp_lanes<const T: usize>(
     a: &[f32; T],
-    tables: [&[f32; T]; LANES],
-    index: &[usize; LANES],
+    tables: &[f32],
+    offset: &[u32; LANES],
+    index: &[u32; LANES],
     angle: L,
 ) -> L {
-    let a0 = F32s(core::array::from_fn(|l| a[index[l]]));
-    let a1 = F32s(core::array::from_fn(|l| a[index[l] + 1]));
-    let t0 = F32s(core::array::from_fn(|l| tables[l][index[l]]));
-    let t1 = F32s(core::array::from_fn(|l| tables[l][index[l] + 1]));
+    let a0 = F32s(core::array::from_fn(|l| entry(a, index[l])));
+    let a1 = F32s(core::array::from_fn(|l| entry(a, index[l] + 1)));
+    let t0 = F32s(core::array::from_fn(|l| {
+        entry(tables, offset[l] + index[l])
+    }));
+    let t1 = F32s(core::array::from_fn(|l| {
+        entry(tables, offset[l] + index[l] + 1)
+    }));
     t0 - (a0 - angle) * (t0 - t1) / (a0 - a1)
 }
 
-/// [`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients) lane-wise, each lane with its own flap tables.
+/// [`airfoil_coefficients`](fdm_core::bourg::airfoil_coefficients) lane-wise,
+/// lane `l` with the tables at `offset[l]` ([`table_offset`]).
 #[inline(always)]
-fn airfoil_lanes(angle: L, flaps: &[Flap; LANES]) -> (L, L) {
+fn airfoil_lanes(angle: L, offset: &[u32; LANES]) -> (L, L) {
     let a = &AIRFOIL_ALPHA_DEG;
     let (index, valid) = interval_lanes(a, angle);
-    let cl_tables = flaps.map(|flap| match flap {
-        Flap::Neutral => &CL_NEUTRAL,
-        Flap::TrailingEdgeDown => &CL_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &CL_TRAILING_EDGE_UP,
-    });
-    let cd_tables = flaps.map(|flap| match flap {
-        Flap::Neutral => &CD_NEUTRAL,
-        Flap::TrailingEdgeDown => &CD_TRAILING_EDGE_DOWN,
-        Flap::TrailingEdgeUp => &CD_TRAILING_EDGE_UP,
-    });
-    let cl = lerp_lanes(a, cl_tables, &index, angle);
-    let cd = lerp_lanes(a, cd_tables, &index, angle);
+    let cl = lerp_lanes(a, &CL_TABLES, offset, &index, angle);
+    let cd = lerp_lanes(a, &CD_TABLES, offset, &index, angle);
     (
         valid.select(cl, L::splat(0.0)),
         valid.select(cd, L::splat(CD_OUTSIDE)),
@@ -417,9 +631,10 @@ fn rudder_lanes(angle: L) -> (L, L) {
     let a = &RUDDER_ALPHA_DEG;
     let abs = angle.abs();
     let (index, valid) = interval_lanes(a, abs);
-    let cl = lerp_lanes(a, [&RUDDER_CL; LANES], &index, abs);
+    let zero = [0; LANES];
+    let cl = lerp_lanes(a, &RUDDER_CL, &zero, &index, abs);
     let cl = angle.lt(0.0).select(-cl, cl);
-    let cd = lerp_lanes(a, [&RUDDER_CD; LANES], &index, abs);
+    let cd = lerp_lanes(a, &RUDDER_CD, &zero, &index, abs);
     (
         valid.select(cl, L::splat(0.0)),
         valid.select(cd, L::splat(CD_OUTSIDE)),
@@ -478,7 +693,18 @@ fn step_block(b: &mut Block, aircraft: &BourgAircraft, dt: f32) {
             let (cl, cd) = if i == 6 {
                 rudder_lanes(attack_deg)
             } else {
-                airfoil_lanes(attack_deg, &b.flaps[i])
+                let base = airfoil_lanes(attack_deg, &b.tables[i]);
+                let trimmed = Mask(b.trimmed);
+                if (i == 4 || i == 5) && trimmed.any() {
+                    let (cl, cd) = airfoil_lanes(attack_deg, &b.trim_tables);
+                    let t = F32s(b.trim);
+                    (
+                        trimmed.select(base.0 + (cl - base.0) * t, base.0),
+                        trimmed.select(base.1 + (cd - base.1) * t, base.1),
+                    )
+                } else {
+                    base
+                }
             };
             if i <= 3 {
                 let stalled = cl.eq(0.0);
@@ -547,6 +773,9 @@ struct StepBlocks<'a> {
     blocks: &'a mut [Block],
     aircraft: &'a BourgAircraft,
     dt: f32,
+    /// Whole frames with the flight status ([`BourgFleet::fly`]) rather than
+    /// bare steps.
+    fly: bool,
 }
 
 impl WithSimd for StepBlocks<'_> {
@@ -554,8 +783,16 @@ impl WithSimd for StepBlocks<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
-        for b in self.blocks {
-            step_block(b, self.aircraft, self.dt);
+        if self.fly {
+            for b in self.blocks {
+                let saved = b.saved();
+                step_block(b, self.aircraft, self.dt);
+                b.settle(&saved, self.aircraft, self.dt);
+            }
+        } else {
+            for b in self.blocks {
+                step_block(b, self.aircraft, self.dt);
+            }
         }
     }
 }
@@ -602,7 +839,8 @@ impl BourgFleet {
         }
     }
 
-    /// Adds an aircraft; returns its index. Nothing is checked, as in
+    /// Adds an aircraft; returns its index. Its flight status starts as
+    /// [`FlightStatus::initial`] of its height. Nothing is checked, as in
     /// [`fdm_core::bourg::step`]: non-finite values propagate into that
     /// aircraft's lanes only.
     pub fn push(&mut self, state: BourgState, controls: BourgControls) -> usize {
@@ -614,6 +852,7 @@ impl BourgFleet {
         if let Some(block) = self.blocks.last_mut() {
             block.set_state(lane, &state);
             block.set_controls(lane, &self.aircraft, controls);
+            block.status[lane] = FlightStatus::initial(Bourg::height_m(&state));
         }
         self.len += 1;
         index
@@ -648,7 +887,8 @@ impl BourgFleet {
         (0..self.len).map(|i| self.blocks[i / LANES].state(i % LANES))
     }
 
-    /// Replaces aircraft `index`'s state.
+    /// Replaces aircraft `index`'s state (its flight status is kept: see
+    /// [`BourgFleet::set_status`]).
     ///
     /// # Errors
     /// [`crate::FleetError::OutOfRange`] past the end.
@@ -685,37 +925,116 @@ impl BourgFleet {
     }
 
     /// Advances every aircraft by `dt` seconds (one Euler step), on this
-    /// thread, with the best instruction set of this CPU.
+    /// thread, with the best instruction set of this CPU: every aircraft's
+    /// state becomes [`fdm_core::bourg::step`]'s, bit for bit, whatever its
+    /// status (the statuses are not read or changed).
     pub fn step(&mut self, dt: f32) {
-        self.arch.dispatch(StepBlocks {
-            blocks: &mut self.blocks,
-            aircraft: &self.aircraft,
-            dt,
-        });
+        self.run(self.arch, dt, false, false);
     }
 
     /// [`BourgFleet::step`] on the threads of the current rayon pool; the same
     /// bits.
     pub fn par_step(&mut self, dt: f32) {
-        let (aircraft, arch) = (&self.aircraft, self.arch);
-        self.blocks
-            .par_chunks_mut(BLOCKS_PER_TASK)
-            .for_each(|blocks| {
-                arch.dispatch(StepBlocks {
-                    blocks,
-                    aircraft,
-                    dt,
-                });
-            });
+        self.run(self.arch, dt, false, true);
     }
 
     /// [`BourgFleet::step`] with the kernel compiled for the SSE2 baseline.
     pub fn step_baseline(&mut self, dt: f32) {
-        Arch::Scalar.dispatch(StepBlocks {
-            blocks: &mut self.blocks,
-            aircraft: &self.aircraft,
-            dt,
-        });
+        self.run(Arch::Scalar, dt, false, false);
+    }
+
+    /// One whole frame of every aircraft with its flight status, on this
+    /// thread: each aircraft's state and status become those of
+    /// [`fdm_core::model::fly`] (the model's step, then the ground contact
+    /// and the touchdown; a crashed aircraft stays at rest; a step that is
+    /// not finite is not kept and the aircraft is
+    /// [`Diverged`](FlightStatus::Diverged) from then on), bit for bit.
+    ///
+    /// The kernel steps every block; the scalar `fly` or `settle` runs only
+    /// for the aircraft that need it (not airborne above the ground plane,
+    /// or with a component too large to be sure the state is finite), found
+    /// by a lane-wise check.
+    pub fn fly(&mut self, dt: f32) {
+        self.run(self.arch, dt, true, false);
+    }
+
+    /// [`BourgFleet::fly`] on the threads of the current rayon pool; the same
+    /// bits.
+    pub fn par_fly(&mut self, dt: f32) {
+        self.run(self.arch, dt, true, true);
+    }
+
+    /// [`BourgFleet::fly`] with the kernel compiled for the SSE2 baseline.
+    pub fn fly_baseline(&mut self, dt: f32) {
+        self.run(Arch::Scalar, dt, true, false);
+    }
+
+    fn run(&mut self, arch: Arch, dt: f32, fly: bool, parallel: bool) {
+        let aircraft = &self.aircraft;
+        if parallel {
+            self.blocks
+                .par_chunks_mut(BLOCKS_PER_TASK)
+                .for_each(|blocks| {
+                    arch.dispatch(StepBlocks {
+                        blocks,
+                        aircraft,
+                        dt,
+                        fly,
+                    });
+                });
+        } else {
+            arch.dispatch(StepBlocks {
+                blocks: &mut self.blocks,
+                aircraft,
+                dt,
+                fly,
+            });
+        }
+    }
+
+    /// `out` becomes every aircraft's position in metres (x north, y west, z
+    /// up; each foot widened to `f64` and multiplied by
+    /// [`METRES_PER_FOOT`](fdm_core::units::METRES_PER_FOOT), as
+    /// `Bourg::view` does), in index order.
+    pub fn positions_m(&self, out: &mut Vec<Vector3<f64>>) {
+        use fdm_core::units::METRES_PER_FOOT;
+        out.clear();
+        out.extend(self.blocks.iter().flat_map(|b| {
+            (0..LANES).map(move |l| {
+                let p = &b.position;
+                Vector3::new(
+                    f64::from(p[0][l]) * METRES_PER_FOOT,
+                    f64::from(p[1][l]) * METRES_PER_FOOT,
+                    f64::from(p[2][l]) * METRES_PER_FOOT,
+                )
+            })
+        }));
+        out.truncate(self.len);
+    }
+
+    /// Aircraft `index`'s flight status, `None` past the end.
+    #[must_use]
+    pub fn status(&self, index: usize) -> Option<FlightStatus> {
+        (index < self.len).then(|| self.blocks[index / LANES].status[index % LANES])
+    }
+
+    /// Every aircraft's flight status, in index order.
+    pub fn statuses(&self) -> impl ExactSizeIterator<Item = FlightStatus> + '_ {
+        (0..self.len).map(|i| self.blocks[i / LANES].status[i % LANES])
+    }
+
+    /// Replaces aircraft `index`'s flight status.
+    ///
+    /// # Errors
+    /// [`crate::FleetError::OutOfRange`] past the end.
+    pub fn set_status(
+        &mut self,
+        index: usize,
+        status: FlightStatus,
+    ) -> Result<(), crate::FleetError> {
+        self.check(index)?;
+        self.blocks[index / LANES].status[index % LANES] = status;
+        Ok(())
     }
 
     /// The instruction set [`BourgFleet::step`] runs on, as detected at
@@ -779,7 +1098,7 @@ mod tests {
             let mut lanes = [0.0; LANES];
             lanes[..chunk.len()].copy_from_slice(chunk);
             let flap_lanes: [Flap; LANES] = core::array::from_fn(|l| flaps[l % 3]);
-            let (cl, cd) = airfoil_lanes(F32s(lanes), &flap_lanes);
+            let (cl, cd) = airfoil_lanes(F32s(lanes), &flap_lanes.map(table_offset));
             let (rl, rd) = rudder_lanes(F32s(lanes));
             for l in 0..LANES {
                 let (scl, scd) = airfoil_coefficients(lanes[l], flap_lanes[l]);

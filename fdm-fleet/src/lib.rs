@@ -11,6 +11,10 @@
 //!   of [`bourg::LANES`] aircraft, every aircraft bit-identical to
 //!   [`fdm_core::bourg::step`].
 //!
+//! Both fleets keep a [`FlightStatus`] per aircraft: their `fly` frames are
+//! [`fdm_core::model::fly`] per aircraft (ground contact, touchdown, crash,
+//! divergence), their `step` the bare model step.
+//!
 //! Safe Rust throughout (the workspace forbids `unsafe`): the instruction set is
 //! chosen at run time by [`pulp::Arch`] (SSE2 baseline, AVX2/FMA, AVX-512),
 //! whose `#[target_feature]` functions hold the only `unsafe`, inside pulp. No
@@ -21,6 +25,7 @@
 
 pub mod bourg;
 mod fastmath;
+pub mod geodesy;
 mod lanes;
 pub mod palmer;
 
@@ -28,7 +33,7 @@ pub use bourg::BourgFleet;
 pub use palmer::{FleetError, PalmerFleet, Precision};
 
 use fdm_core::bourg::Bourg;
-use fdm_core::model::Model;
+use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
 
 /// A structure-of-arrays fleet of one model, as model-generic code (the
@@ -68,6 +73,24 @@ pub trait LaneFleet: Sized + Send {
     /// As [`Self::check_precision`].
     fn par_step(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError>;
 
+    /// One whole frame of every aircraft with its flight status at `fps`
+    /// frames per second on rayon's current pool: each aircraft as
+    /// [`fdm_core::model::fly`] leaves it (bit for bit in
+    /// [`Precision::Exact`]).
+    ///
+    /// # Errors
+    /// As [`Self::check_precision`].
+    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError>;
+
+    /// Aircraft `index`'s flight status.
+    fn status(&self, index: usize) -> Option<FlightStatus>;
+
+    /// `out` becomes every aircraft's position in the model frame, metres
+    /// (x north, y west, z up), in index order: the `position_m` of
+    /// [`Model::view`], bit for bit, read straight from the fleet's arrays
+    /// (for [`geodesy::BatchGeodesy`]).
+    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>);
+
     /// The instruction set the kernel dispatched to, e.g. `"x86-64-v3"`.
     fn instruction_set(&self) -> &'static str;
 
@@ -102,6 +125,19 @@ impl LaneFleet for PalmerFleet {
     fn par_step(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
         self.par_step(Palmer::time_step(fps), precision);
         Ok(())
+    }
+
+    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
+        self.par_fly(Palmer::time_step(fps), precision);
+        Ok(())
+    }
+
+    fn status(&self, index: usize) -> Option<FlightStatus> {
+        self.status(index)
+    }
+
+    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+        self.positions_m(out);
     }
 
     fn instruction_set(&self) -> &'static str {
@@ -149,6 +185,20 @@ impl LaneFleet for BourgFleet {
         Ok(())
     }
 
+    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.par_fly(Bourg::time_step(fps));
+        Ok(())
+    }
+
+    fn status(&self, index: usize) -> Option<FlightStatus> {
+        self.status(index)
+    }
+
+    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+        self.positions_m(out);
+    }
+
     fn instruction_set(&self) -> &'static str {
         self.instruction_set()
     }
@@ -157,3 +207,8 @@ impl LaneFleet for BourgFleet {
         Self::bytes_per_aircraft()
     }
 }
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

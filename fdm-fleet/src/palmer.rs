@@ -64,8 +64,9 @@ use core::fmt;
 use core::str::FromStr;
 
 use fdm_core::math;
+use fdm_core::model::{fly, settle, FlightStatus, Model};
 use fdm_core::palmer::{
-    AircraftError, Flaps, PalmerAircraft, PalmerControls, PalmerState, GRAVITY_MPS2,
+    AircraftError, Flaps, Palmer, PalmerAircraft, PalmerControls, PalmerState, GRAVITY_MPS2,
 };
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
@@ -265,7 +266,16 @@ struct Block {
     /// The controls as set (read back by [`PalmerFleet::controls`]; the kernel
     /// reads the terms above).
     controls: [PalmerControls; LANES],
+    /// Each aircraft's flight status ([`PalmerFleet::fly`]).
+    status: [FlightStatus; LANES],
 }
+
+/// Beyond this magnitude a component of a stepped state sends its aircraft
+/// down the scalar path of [`PalmerFleet::fly`] (which then checks
+/// [`Model::is_finite`] exactly): small enough that the airspeed of a state
+/// whose components are all below it cannot overflow (`3 · 1e150² <
+/// f64::MAX`), so every lane not flagged is finite for the model.
+const SUSPECT_F64: f64 = 1e150;
 
 impl Block {
     /// A block of aircraft at rest, idle.
@@ -280,6 +290,7 @@ impl Block {
             half_cl: [0.0; LANES],
             half_cd: [0.0; LANES],
             controls: [PalmerControls::default(); LANES],
+            status: [FlightStatus::OnGround; LANES],
         };
         for lane in 0..LANES {
             block.set_controls(lane, a, shared, PalmerControls::default());
@@ -303,9 +314,14 @@ impl Block {
     }
 
     fn state(&self, lane: usize) -> PalmerState {
-        let q = |j: usize| self.q[j][lane];
+        Self::state_of(self.time, &self.q, lane)
+    }
+
+    /// Lane `lane`'s state in the clocks `time` and the state arrays `q`.
+    fn state_of(time: [f64; LANES], q: &[[f64; LANES]; 6], lane: usize) -> PalmerState {
+        let q = |j: usize| q[j][lane];
         let mut s = PalmerState::at_rest();
-        s.time_s = self.time[lane];
+        s.time_s = time[lane];
         s.position_m.x = q(1);
         s.position_m.y = q(3);
         s.position_m.z = q(5);
@@ -313,6 +329,88 @@ impl Block {
         s.velocity_mps.y = q(2);
         s.velocity_mps.z = q(4);
         s
+    }
+
+    /// The lanes whose stepped state may not be finite for the model: a
+    /// component at or beyond [`SUSPECT_F64`] in magnitude, NaN, or a
+    /// non-finite clock.
+    #[inline(always)]
+    fn suspect(&self) -> [bool; LANES] {
+        let mut ok: [bool; LANES] = core::array::from_fn(|l| self.time[l].is_finite());
+        for field in &self.q {
+            for (ok, x) in ok.iter_mut().zip(field) {
+                *ok &= x.abs() < SUSPECT_F64;
+            }
+        }
+        ok.map(|ok| !ok)
+    }
+
+    /// The flight-status half of [`PalmerFleet::fly`] for a block the kernel
+    /// has just stepped from `time` and `q`: every lane ends as
+    /// [`fdm_core::model::fly`] would have left it (`Exact`; see
+    /// [`PalmerFleet::fly`] for `Fast`).
+    #[inline(always)]
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x < y)` is true for NaN, as wanted
+    fn settle(&mut self, time: [f64; LANES], q: &[[f64; LANES]; 6], a: &PalmerAircraft, dt: f64) {
+        // Whether any lane needs more than the step (usually none): one
+        // lane-wise OR of integer flags, which vectorises.
+        let mut flags = [0_u64; LANES];
+        for (f, (&t, &s)) in flags.iter_mut().zip(self.time.iter().zip(&self.status)) {
+            *f = u64::from(!t.is_finite()) | u64::from(s != FlightStatus::Airborne);
+        }
+        for (f, &z) in flags.iter_mut().zip(&self.q[5]) {
+            *f |= u64::from(!(z > 0.0));
+        }
+        for field in &self.q {
+            for (f, x) in flags.iter_mut().zip(field) {
+                *f |= u64::from(!(x.abs() < SUSPECT_F64));
+            }
+        }
+        if flags.iter().fold(0, |any, &f| any | f) == 0 {
+            return;
+        }
+        let suspect = self.suspect();
+        let airborne: [bool; LANES] = core::array::from_fn(|l| {
+            (self.status[l] == FlightStatus::Airborne) & (self.q[5][l] > 0.0) & !suspect[l]
+        });
+        self.settle_lanes(&airborne, &suspect, time, q, a, dt);
+    }
+
+    /// The scalar part of [`Self::settle`], for the lanes not `airborne`
+    /// (rare: out of the hot loop).
+    #[cold]
+    #[inline(never)]
+    fn settle_lanes(
+        &mut self,
+        airborne: &[bool; LANES],
+        suspect: &[bool; LANES],
+        time: [f64; LANES],
+        q: &[[f64; LANES]; 6],
+        a: &PalmerAircraft,
+        dt: f64,
+    ) {
+        for lane in 0..LANES {
+            let status = self.status[lane];
+            if airborne[lane] {
+                continue;
+            }
+            let (state, status) = if suspect[lane] || status.is_final() {
+                // Crashed, diverged, or a step that may not be finite: the
+                // scalar frame from the state before the step.
+                fly::<Palmer>(
+                    a,
+                    &self.controls[lane],
+                    status,
+                    &Self::state_of(time, q, lane),
+                    dt,
+                )
+            } else {
+                // A finite step: only the status and the ground contact.
+                settle::<Palmer>(a, status, &self.state(lane))
+            };
+            self.set_state(lane, &state);
+            self.status[lane] = status;
+        }
     }
 
     fn set_controls(
@@ -467,6 +565,9 @@ struct StepBlocks<'a> {
     /// Whether the instruction set has FMA (used only for the exact product
     /// errors of the fast `pow`, see `fastmath`).
     fma: bool,
+    /// Whole frames with the flight status ([`PalmerFleet::fly`]) rather than
+    /// bare steps.
+    fly: Option<&'a PalmerAircraft>,
 }
 
 impl WithSimd for StepBlocks<'_> {
@@ -474,22 +575,30 @@ impl WithSimd for StepBlocks<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
-        let (shared, ds) = (self.shared, self.ds);
         match (self.precision, self.fma) {
-            (Precision::Exact, _) => {
-                for b in self.blocks {
-                    step_block::<false, false>(b, shared, ds);
-                }
+            (Precision::Exact, _) => self.each::<false, false>(),
+            (Precision::Fast, false) => self.each::<true, false>(),
+            (Precision::Fast, true) => self.each::<true, true>(),
+        }
+    }
+}
+
+impl StepBlocks<'_> {
+    /// The kernel on every block, each followed by its flight status with
+    /// [`Self::fly`].
+    #[inline(always)]
+    fn each<const FAST: bool, const FMA: bool>(self) {
+        let step = step_block::<FAST, FMA>;
+        let (shared, ds) = (self.shared, self.ds);
+        if let Some(aircraft) = self.fly {
+            for b in self.blocks {
+                let (time, q) = (b.time, b.q);
+                step(b, shared, ds);
+                b.settle(time, &q, aircraft, ds);
             }
-            (Precision::Fast, false) => {
-                for b in self.blocks {
-                    step_block::<true, false>(b, shared, ds);
-                }
-            }
-            (Precision::Fast, true) => {
-                for b in self.blocks {
-                    step_block::<true, true>(b, shared, ds);
-                }
+        } else {
+            for b in self.blocks {
+                step(b, shared, ds);
             }
         }
     }
@@ -569,9 +678,10 @@ impl PalmerFleet {
         Ok(fleet)
     }
 
-    /// Adds an aircraft; returns its index. States and controls are not checked,
-    /// as in [`fdm_core::palmer::step`]: non-finite values propagate into that
-    /// aircraft's lanes only.
+    /// Adds an aircraft; returns its index. Its flight status starts as
+    /// [`FlightStatus::initial`] of its height. States and controls are not
+    /// checked, as in [`fdm_core::palmer::step`]: non-finite values propagate
+    /// into that aircraft's lanes only.
     pub fn push(&mut self, state: PalmerState, controls: PalmerControls) -> usize {
         let index = self.len;
         let lane = index % LANES;
@@ -582,6 +692,7 @@ impl PalmerFleet {
         if let Some(block) = self.blocks.last_mut() {
             block.set_state(lane, &state);
             block.set_controls(lane, &aircraft, &shared, controls);
+            block.status[lane] = FlightStatus::initial(Palmer::height_m(&state));
         }
         self.len += 1;
         index
@@ -633,7 +744,8 @@ impl PalmerFleet {
         }
     }
 
-    /// Replaces aircraft `index`'s state.
+    /// Replaces aircraft `index`'s state (its flight status is kept: see
+    /// [`PalmerFleet::set_status`]).
     ///
     /// # Errors
     /// [`FleetError::OutOfRange`] past the end.
@@ -661,15 +773,10 @@ impl PalmerFleet {
 
     /// Advances every aircraft by `dt_s` with one RK4 step, on this thread, with
     /// the best instruction set of this CPU. Like [`fdm_core::palmer::step`] it
-    /// checks nothing: a non-finite `dt_s` makes every state non-finite.
+    /// checks nothing: a non-finite `dt_s` makes every state non-finite. The
+    /// statuses are not read or changed.
     pub fn step(&mut self, dt_s: f64, precision: Precision) {
-        self.arch.dispatch(StepBlocks {
-            blocks: &mut self.blocks,
-            shared: &self.shared,
-            ds: dt_s,
-            precision,
-            fma: has_fma(self.arch),
-        });
+        self.run(self.arch, dt_s, precision, false, false);
     }
 
     /// [`PalmerFleet::step`] on the threads of the current rayon pool (the
@@ -677,31 +784,102 @@ impl PalmerFleet {
     /// 256 aircraft. The results are the same bits as [`PalmerFleet::step`]:
     /// each aircraft is stepped by the same code whichever thread takes it.
     pub fn par_step(&mut self, dt_s: f64, precision: Precision) {
-        let (shared, arch) = (&self.shared, self.arch);
-        self.blocks
-            .par_chunks_mut(BLOCKS_PER_TASK)
-            .for_each(|blocks| {
-                arch.dispatch(StepBlocks {
-                    blocks,
-                    shared,
-                    ds: dt_s,
-                    precision,
-                    fma: has_fma(arch),
-                });
-            });
+        self.run(self.arch, dt_s, precision, false, true);
     }
 
     /// [`PalmerFleet::step`] with the kernel compiled for the SSE2 baseline,
     /// whatever the CPU has: for comparing instruction sets (the tests check
     /// that it gives the same bits as the dispatched kernel).
     pub fn step_baseline(&mut self, dt_s: f64, precision: Precision) {
-        Arch::Scalar.dispatch(StepBlocks {
-            blocks: &mut self.blocks,
-            shared: &self.shared,
-            ds: dt_s,
-            precision,
-            fma: false,
-        });
+        self.run(Arch::Scalar, dt_s, precision, false, false);
+    }
+
+    /// One whole frame of every aircraft with its flight status, on this
+    /// thread. In [`Precision::Exact`] each aircraft's state and status become
+    /// those of [`fdm_core::model::fly`], bit for bit (the model's step, then
+    /// the ground contact and the touchdown; a crashed aircraft stays at
+    /// rest; a step that is not finite is not kept and the aircraft is
+    /// [`Diverged`](FlightStatus::Diverged) from then on).
+    ///
+    /// The kernel steps every block; the scalar `fly` or `settle` runs only
+    /// for the aircraft that need it (not airborne above the ground plane,
+    /// or with a component too large to be sure the state is finite), found
+    /// by a lane-wise check. In [`Precision::Fast`] the aircraft the scalar
+    /// `fly` takes (crashed, diverged, or with such a large component) get the
+    /// exact step for that frame.
+    pub fn fly(&mut self, dt_s: f64, precision: Precision) {
+        self.run(self.arch, dt_s, precision, true, false);
+    }
+
+    /// [`PalmerFleet::fly`] on the threads of the current rayon pool; the
+    /// same bits.
+    pub fn par_fly(&mut self, dt_s: f64, precision: Precision) {
+        self.run(self.arch, dt_s, precision, true, true);
+    }
+
+    /// [`PalmerFleet::fly`] with the kernel compiled for the SSE2 baseline.
+    pub fn fly_baseline(&mut self, dt_s: f64, precision: Precision) {
+        self.run(Arch::Scalar, dt_s, precision, true, false);
+    }
+
+    fn run(&mut self, arch: Arch, ds: f64, precision: Precision, fly: bool, parallel: bool) {
+        let (shared, aircraft) = (&self.shared, &self.aircraft);
+        let fly = fly.then_some(aircraft);
+        let fma = has_fma(arch);
+        if parallel {
+            self.blocks
+                .par_chunks_mut(BLOCKS_PER_TASK)
+                .for_each(|blocks| {
+                    arch.dispatch(StepBlocks {
+                        blocks,
+                        shared,
+                        ds,
+                        precision,
+                        fma,
+                        fly,
+                    });
+                });
+        } else {
+            arch.dispatch(StepBlocks {
+                blocks: &mut self.blocks,
+                shared,
+                ds,
+                precision,
+                fma,
+                fly,
+            });
+        }
+    }
+
+    /// `out` becomes every aircraft's position, metres (x north, y west, z
+    /// up), in index order.
+    pub fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+        out.clear();
+        out.extend(self.blocks.iter().flat_map(|b| {
+            (0..LANES).map(move |l| fdm_core::bourg::Vector3::new(b.q[1][l], b.q[3][l], b.q[5][l]))
+        }));
+        out.truncate(self.len);
+    }
+
+    /// Aircraft `index`'s flight status, `None` past the end.
+    #[must_use]
+    pub fn status(&self, index: usize) -> Option<FlightStatus> {
+        (index < self.len).then(|| self.blocks[index / LANES].status[index % LANES])
+    }
+
+    /// Every aircraft's flight status, in index order.
+    pub fn statuses(&self) -> impl ExactSizeIterator<Item = FlightStatus> + '_ {
+        (0..self.len).map(|i| self.blocks[i / LANES].status[i % LANES])
+    }
+
+    /// Replaces aircraft `index`'s flight status.
+    ///
+    /// # Errors
+    /// [`FleetError::OutOfRange`] past the end.
+    pub fn set_status(&mut self, index: usize, status: FlightStatus) -> Result<(), FleetError> {
+        self.check(index)?;
+        self.blocks[index / LANES].status[index % LANES] = status;
+        Ok(())
     }
 
     /// The instruction set [`PalmerFleet::step`] runs on, as detected at

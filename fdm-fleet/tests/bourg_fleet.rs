@@ -257,3 +257,48 @@ fn accessors_and_memory() {
     println!("{per} bytes per Bourg aircraft");
     assert!(per <= 300, "{per}");
 }
+
+/// The pitch trim (an extension of the original: the elevators' tables
+/// blended toward the trim's, `BourgControls::elevator_coefficients`) flies
+/// as in the scalar step, bit for bit: trims of both signs, beyond ±1
+/// (clamped), zero, and with the elevators deflected (no blend).
+#[test]
+fn bit_identical_with_pitch_trim() {
+    let aircraft = BourgAircraft::bourg_default();
+    let mut rng = Rng(77);
+    let mut members: Vec<(BourgControls, BourgState)> = (0..3 * LANES + 5)
+        .map(|i| {
+            let mut c = random_controls(&mut rng);
+            c.pitch_trim = match i % 4 {
+                0 => 0.0,
+                1 => rng.range(-1.5, 1.5),
+                2 => rng.range(0.0, 1.0),
+                _ => rng.range(-1.0, 0.0),
+            };
+            if i % 3 == 0 {
+                c.elevators = Flap::Neutral;
+            }
+            (c, random_state(&mut rng))
+        })
+        .collect();
+    assert!(members.iter().any(|m| m.0.pitch_trim > 1.0));
+    let mut fleet = BourgFleet::new(aircraft);
+    for (c, s) in &members {
+        fleet.push(*s, *c);
+    }
+    let mut baseline = fleet.clone();
+    for frame in 0..100 {
+        fleet.step(DT);
+        baseline.step_baseline(DT);
+        for m in &mut members {
+            m.1 = step(&aircraft, &m.0, &m.1, DT);
+        }
+        let states: Vec<_> = members.iter().map(|m| m.1).collect();
+        assert_bits(&fleet, &states, &format!("trim, frame {}", frame + 1));
+        assert_bits(
+            &baseline,
+            &states,
+            &format!("trim baseline, frame {}", frame + 1),
+        );
+    }
+}

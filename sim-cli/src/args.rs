@@ -253,16 +253,29 @@ pub struct FgfsArgs {
     pub fgfs: String,
 
     /// Also show a fleet streamed with `sim-cli fleet --fg-mp HOST:PORT`: FlightGear's multiplayer
-    /// input listens on PORT (all interfaces)
-    #[arg(long, value_name = "PORT", value_parser = parse_port)]
+    /// input listens on PORT (all interfaces; 1..32766, see docs/cli.md)
+    #[arg(long, value_name = "PORT", value_parser = parse_fg_mp_port)]
     pub fg_mp: Option<u16>,
 }
 
-/// A UDP port, 1 to 65535.
-pub fn parse_port(text: &str) -> Result<u16, String> {
+/// Largest multiplayer input port FlightGear 2020.3 accepts: it keeps the
+/// receive and send ports in signed 16-bit integers, so 32768 and above read
+/// as negative and it logs "Cannot enable multiplayer mode: No receiver port
+/// specified." (measured live, docs/flightgear-check.md). `fgfs-command`
+/// sends FlightGear's own multiplayer output to PORT + 1, which must fit too.
+pub const MAX_FG_MP_PORT: u16 = 32_766;
+
+/// A FlightGear multiplayer input port, 1 to [`MAX_FG_MP_PORT`].
+pub fn parse_fg_mp_port(text: &str) -> Result<u16, String> {
     match text.trim().parse::<u16>() {
-        Ok(p) if p > 0 => Ok(p),
-        _ => Err(format!("`{text}` is not a port number (1..65535)")),
+        Ok(p) if (1..=MAX_FG_MP_PORT).contains(&p) => Ok(p),
+        Ok(p) if p > MAX_FG_MP_PORT => Err(format!(
+            "`{text}` is too large: FlightGear 2020.3 stores multiplayer ports as signed 16-bit \
+             numbers and ignores 32768 and above; use 1..{MAX_FG_MP_PORT} (e.g. 5000)"
+        )),
+        _ => Err(format!(
+            "`{text}` is not a port number (1..{MAX_FG_MP_PORT})"
+        )),
     }
 }
 

@@ -8,11 +8,14 @@
 //! for the default origin (Ohio) is not in the Debian data package, so TerraSync is
 //! what loads it (the named origins `phli` and `bikf` are, see [`crate::origin`]).
 //!
-//! Then what a user needs to see the aircraft: the start view
-//! (`--prop:int:/sim/current-view/view-number=N`, chase by default, so the aircraft is
-//! seen from outside) and the model's [`CliModel::FG_OPTIONS`] (the UFO draws itself
-//! only with `/sim/model/always-show-in-MP` set; the c172p gets fuel so that its
-//! scripts do not pop up "Out of fuel!").
+//! Then what a user needs to see the aircraft: the model's [`CliModel::FG_OPTIONS`]
+//! (the UFO draws itself only with `/sim/model/always-show-in-MP` set) and a Nasal
+//! start-up script, [`startup_nasal`], that sets the start view (chase by default,
+//! so the aircraft is seen from outside) and the model's
+//! [`CliModel::FG_STARTUP_NASAL`] (the c172p's fuel, so that its scripts do not pop
+//! up "Out of fuel!") once the FDM is initialised. A `--prop:` option cannot do
+//! that: FlightGear 2020.3 resets the view number while it starts, and keeps the
+//! c172p's tank levels at 0 (both measured, docs/flightgear-check.md).
 //!
 //! The start preset (`--lat/--lon/--altitude/--heading`) is where the ECS places the
 //! model before its first frame, computed by the same functions MakePacket uses
@@ -70,7 +73,16 @@ pub fn start_pose_of<M: CliModel>(
 struct Preset<'a>(&'a GeodeticOrigin, &'a StartArgs);
 
 impl WithModel for Preset<'_> {
-    type Output = Result<(&'static str, &'static [&'static str], Geodetic, Attitude), CliError>;
+    type Output = Result<
+        (
+            &'static str,
+            &'static [&'static str],
+            &'static str,
+            Geodetic,
+            Attitude,
+        ),
+        CliError,
+    >;
 
     fn call<M: CliModel>(self) -> Self::Output {
         let (geodetic, attitude) = if self.1.is_thesis() {
@@ -80,7 +92,13 @@ impl WithModel for Preset<'_> {
                 crate::start::start_for::<M>(M::default_aircraft(), M::initial_controls(), self.1)?;
             start_pose_of::<M>(&start, self.0)
         };
-        Ok((M::FG_AIRCRAFT, M::FG_OPTIONS, geodetic, attitude))
+        Ok((
+            M::FG_AIRCRAFT,
+            M::FG_OPTIONS,
+            M::FG_STARTUP_NASAL,
+            geodetic,
+            attitude,
+        ))
     }
 }
 
@@ -169,18 +187,33 @@ pub const VIEWER_CALLSIGN: &str = "viewer";
 /// FlightGear's multiplayer input on `port` (all interfaces, read at
 /// [`crate::fleet::FLEET_FPS`]), the output channel FlightGear needs before it
 /// listens (to the next port on 127.0.0.1, where nothing has to listen), the
-/// viewer's callsign, and no `--disable-ai-models`, because multiplayer
-/// aircraft are AI models.
+/// viewer's callsign, no `--disable-ai-models`, because multiplayer
+/// aircraft are AI models, and [`MP_DETAIL_OPTIONS`].
 #[must_use]
 pub fn with_multiplayer(line: &str, port: u16) -> String {
     let line = line.replacen(" --disable-ai-models", "", 1);
-    let out = if port == u16::MAX { port - 1 } else { port + 1 };
+    // PORT + 1, or PORT - 1 at the top of the range FlightGear reads
+    // ([`crate::args::MAX_FG_MP_PORT`]).
+    let out = if port > crate::args::MAX_FG_MP_PORT {
+        port - 1
+    } else {
+        port + 1
+    };
     format!(
         "{line} --multiplay=in,{},,{port} --multiplay=out,10,127.0.0.1,{out} \
-         --callsign={VIEWER_CALLSIGN}",
+         --callsign={VIEWER_CALLSIGN} {MP_DETAIL_OPTIONS}",
         crate::fleet::FLEET_FPS
     )
 }
+
+/// FlightGear 2020.3 draws a multiplayer aircraft with its own model only while
+/// it covers at least `aimp-detailed` = 400 pixels of the screen, and as its
+/// fallback glider otherwise, so a fleet a few hundred metres away shows as
+/// gliders (seen live). These options switch the test to distance and draw the
+/// real models within 5 km.
+pub const MP_DETAIL_OPTIONS: &str =
+    "--prop:bool:/sim/rendering/static-lod/aimp-range-mode-distance=true \
+     --prop:double:/sim/rendering/static-lod/aimp-detailed=5000";
 
 /// `program` as one shell word: itself when it has only safe characters, else
 /// single-quoted.
@@ -191,6 +224,27 @@ fn shell_word(program: &str) -> String {
     } else {
         format!("'{}'", program.replace('\'', r"'\''"))
     }
+}
+
+/// The `--prop:` option holding the Nasal script that FlightGear loads as
+/// module `afitfdm` at start-up (every `/nasal/NAME/script` property is one):
+/// one second after each `/sim/signals/fdm-initialized` (FlightGear's
+/// aircraft scripts have run by then), it selects `view` and runs
+/// `model_nasal`. Returned as one shell word.
+#[must_use]
+pub fn startup_nasal(view: FgView, model_nasal: &str) -> String {
+    let mut body = format!(
+        "setprop(\"/sim/current-view/view-number\", {});",
+        view.number()
+    );
+    if !model_nasal.is_empty() {
+        body.push(' ');
+        body.push_str(model_nasal);
+    }
+    shell_word(&format!(
+        "--prop:/nasal/afitfdm/script=setlistener(\"/sim/signals/fdm-initialized\", \
+         func {{ settimer(func {{ {body} }}, 1); }});"
+    ))
 }
 
 fn command(
@@ -209,19 +263,18 @@ fn command(
         None => ("", 5500),
     };
     // The thesis showed Bourg's aircraft as the UFO (`CliModel::FG_AIRCRAFT`).
-    let (aircraft, options, start, attitude) = model.with(Preset(origin, start))?;
+    let (aircraft, options, nasal, start, attitude) = model.with(Preset(origin, start))?;
     let mut line = format!(
         "{} --fdm=null --native-fdm=socket,in,{fps},{host},{port},udp --aircraft={aircraft} \
          --lat={} --lon={} --altitude={:.1} --heading={} --timeofday=noon \
          --disable-panel --enable-hud --disable-sound --disable-random-objects \
-         --disable-real-weather-fetch --disable-ai-models --disable-splash-screen \
-         --prop:int:/sim/current-view/view-number={}",
+         --disable-real-weather-fetch --disable-ai-models --disable-splash-screen {}",
         shell_word(program),
         degrees(start.lat_deg),
         degrees(start.lon_deg),
         start.alt_m * FT_PER_M,
         heading(attitude.heading_deg),
-        view.number(),
+        startup_nasal(view, nasal),
     );
     for option in options {
         line.push(' ');
@@ -247,9 +300,13 @@ mod tests {
              --lat=39.8264 --lon=-84.0483 --altitude=823.5 --heading=0 --timeofday=noon \
              --disable-panel --enable-hud --disable-sound --disable-random-objects \
              --disable-real-weather-fetch --disable-ai-models --disable-splash-screen \
-             --prop:int:/sim/current-view/view-number=2 \
-             '--prop:double:/consumables/fuel/tank[0]/level-gal_us=20' \
-             '--prop:double:/consumables/fuel/tank[1]/level-gal_us=20'"
+             '--prop:/nasal/afitfdm/script=setlistener(\"/sim/signals/fdm-initialized\", \
+             func { settimer(func { setprop(\"/sim/current-view/view-number\", 2); \
+             var refuel = func { foreach (var tank; [0, 1]) { \
+             var path = \"/consumables/fuel/tank[\" ~ tank ~ \"]/\"; \
+             if (getprop(path ~ \"level-gal_us\") < 1) { setprop(path ~ \"capacity-gal_us\", 28); \
+             setprop(path ~ \"density-ppg\", 6); setprop(path ~ \"level-gal_us\", 20); } } \
+             settimer(refuel, 2); }; refuel(); }, 1); });'"
         );
     }
 
@@ -258,7 +315,8 @@ mod tests {
         let cmd = fgfs_command(ModelKind::Bourg, 30, None, &GeodeticOrigin::default());
         assert!(
             cmd.ends_with(
-                " --prop:int:/sim/current-view/view-number=2 \
+                " '--prop:/nasal/afitfdm/script=setlistener(\"/sim/signals/fdm-initialized\", \
+                 func { settimer(func { setprop(\"/sim/current-view/view-number\", 2); }, 1); });' \
                  --prop:bool:/sim/model/always-show-in-MP=true"
             ),
             "{cmd}"
@@ -282,7 +340,7 @@ mod tests {
             fgfs_command_line(&args(&["--view", "cockpit", "--fgfs", "/usr/games/fgfs"])).unwrap();
         assert!(line.starts_with("/usr/games/fgfs --fdm=null "), "{line}");
         assert!(
-            line.contains(" --prop:int:/sim/current-view/view-number=0 "),
+            line.contains(r#"setprop("/sim/current-view/view-number", 0);"#),
             "{line}"
         );
         let line = fgfs_command_line(&args(&[
@@ -293,7 +351,7 @@ mod tests {
         ]))
         .unwrap();
         assert!(line.starts_with("'/opt/my fg/fgfs' --fdm"), "{line}");
-        assert!(line.contains("view-number=1 "), "{line}");
+        assert!(line.contains(r#"view-number", 1);"#), "{line}");
         assert_eq!(shell_word("it's"), r"'it'\''s'");
     }
 
@@ -303,13 +361,23 @@ mod tests {
         let mp = with_multiplayer(&plain, 5000);
         assert!(plain.contains(" --disable-ai-models "));
         assert!(!mp.contains("--disable-ai-models"), "{mp}");
-        let added = " --multiplay=in,30,,5000 --multiplay=out,10,127.0.0.1,5001 --callsign=viewer";
+        let added = " --multiplay=in,30,,5000 --multiplay=out,10,127.0.0.1,5001 --callsign=viewer \
+             --prop:bool:/sim/rendering/static-lod/aimp-range-mode-distance=true \
+             --prop:double:/sim/rendering/static-lod/aimp-detailed=5000";
         assert!(mp.ends_with(added), "{mp}");
         assert_eq!(
             mp.len(),
             plain.len() - " --disable-ai-models".len() + added.len()
         );
-        assert!(with_multiplayer(&plain, 65535).contains("out,10,127.0.0.1,65534 "));
+        assert!(with_multiplayer(&plain, 32766).contains("out,10,127.0.0.1,32767 "));
+        assert!(with_multiplayer(&plain, 32767).contains("out,10,127.0.0.1,32766 "));
+        assert_eq!(crate::args::parse_fg_mp_port("32766"), Ok(32766));
+        for bad in ["0", "32767", "35606", "65535", "x"] {
+            assert!(crate::args::parse_fg_mp_port(bad).is_err(), "{bad}");
+        }
+        assert!(crate::args::parse_fg_mp_port("35606")
+            .unwrap_err()
+            .contains("signed 16-bit"));
     }
 
     #[test]

@@ -6,15 +6,21 @@
 //! EquationsOfMotion system runs `frames` times at 30 frames per second:
 //! in parallel on a rayon pool of `threads` threads
 //! ([`equations_of_motion_parallel`]), or on this thread when `threads` is 1
-//! ([`equations_of_motion_sequential`]). Only those frames are timed. The
+//! ([`equations_of_motion_sequential`]). Only those frames are timed; after
+//! each, untimed, the FlightStatus system ([`flight_status`]) updates every
+//! aircraft's status and ground contact, so each aircraft ends as
+//! [`fdm_core::model::fly`] leaves it. With `--kernel lanes` the
+//! structure-of-arrays kernels ([`LaneFleet::par_fly`]) fly the same frames,
+//! status included (it is part of their timed frame). The
 //! other systems (keyboard input, FlightGear packets) are per-aircraft I/O
 //! that a headless fleet does not need, so the figure is the model's
 //! throughput through the ECS: the same quantity as the `fleet` criterion
 //! benchmark (`benches/fleet.rs`), which flies the very same fleets
 //! (each model's [`Model::fleet_member`]).
 //!
-//! The report gives aircraft-steps per second and how many aircraft that
-//! throughput could keep at 30 Hz (steps/s ÷ 30).
+//! The report gives aircraft-steps per second, how many aircraft that
+//! throughput could keep at 30 Hz (steps/s ÷ 30), and how many aircraft end
+//! in each flight status ([`StatusCounts`]).
 //!
 //! With `--dis` every aircraft is also published as a DIS entity after every
 //! frame ([`crate::dis::FleetDis`]; the time that takes is reported apart, in
@@ -28,7 +34,9 @@ use std::time::Instant;
 use anyhow::Context as _;
 use fdm_core::model::{FlightStatus, Model};
 use fdm_ecs::components::{FrameInput, Params};
-use fdm_ecs::systems::{equations_of_motion_parallel, equations_of_motion_sequential};
+use fdm_ecs::systems::{
+    equations_of_motion_parallel, equations_of_motion_sequential, flight_status,
+};
 use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
@@ -193,8 +201,10 @@ pub struct FleetReport {
     pub measured_bytes_per_aircraft: Option<f64>,
     /// Aircraft whose state became non-finite during the run: from that
     /// frame on they are skipped (no longer stepped), and counted here instead
-    /// of stopping the fleet.
+    /// of stopping the fleet (the same number as `statuses.diverged`).
     pub diverged: u64,
+    /// How many aircraft end the run in each flight status.
+    pub statuses: StatusCounts,
     /// DIS output, with `--dis`: every aircraft is published after every
     /// frame; that time is in `dis.publish_seconds`, not in `seconds`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -224,10 +234,56 @@ impl FleetReport {
             format!("\n{} aircraft diverged and were skipped", self.diverged)
         } else {
             String::new()
+        } + &{
+            let s = &self.statuses;
+            let landed = s.landed_safe + s.landed_rough + s.crashed;
+            if landed > 0 {
+                format!("\n{landed} aircraft landed ({} crashed)", s.crashed)
+            } else {
+                String::new()
+            }
         } + &self.dis.as_ref().map_or_else(String::new, |d| {
             let publish = d.publish_seconds.unwrap_or(0.0);
             format!("\n{}\ndis  {publish:.3} s publishing", d.summary())
         })
+    }
+}
+
+/// How many aircraft of a fleet are in each [`FlightStatus`] (the JSON
+/// report's `statuses`, keyed by [`FlightStatus::code`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct StatusCounts {
+    /// On the ground, not flown yet.
+    pub on_ground: u64,
+    /// Above the ground plane.
+    pub airborne: u64,
+    /// Landed safely (and rolling).
+    pub landed_safe: u64,
+    /// Landed hard (and rolling).
+    pub landed_rough: u64,
+    /// Crashed: at rest where they came down.
+    pub crashed: u64,
+    /// Diverged: no longer stepped.
+    pub diverged: u64,
+}
+
+impl StatusCounts {
+    /// The counts of `statuses`.
+    pub fn of(statuses: impl IntoIterator<Item = FlightStatus>) -> Self {
+        use fdm_core::model::LandingState;
+        let mut counts = Self::default();
+        for status in statuses {
+            let count = match status {
+                FlightStatus::OnGround => &mut counts.on_ground,
+                FlightStatus::Airborne => &mut counts.airborne,
+                FlightStatus::Landed(LandingState::Safe) => &mut counts.landed_safe,
+                FlightStatus::Landed(LandingState::Rough) => &mut counts.landed_rough,
+                FlightStatus::Landed(LandingState::Crash) => &mut counts.crashed,
+                FlightStatus::Diverged => &mut counts.diverged,
+            };
+            *count += 1;
+        }
+        counts
     }
 }
 
@@ -352,7 +408,7 @@ fn measure_model<M: CliModel>(
         }
         seconds
     };
-    let diverged = u64::try_from(sim.diverged_count()).unwrap_or(u64::MAX);
+    let statuses = StatusCounts::of(sim.world().query::<&FlightStatus>().iter().copied());
     let mut report = report::<M>(
         args,
         threads,
@@ -360,7 +416,7 @@ fn measure_model<M: CliModel>(
         estimated_bytes_per_aircraft::<M>(),
         measured_bytes_per_aircraft,
         None,
-        diverged,
+        statuses,
     );
     report.dis = dis.map(|d| d.report(FLEET_FPS));
     report.realtime = pacer.map(|p| RealtimeReport {
@@ -426,7 +482,7 @@ fn measure_lanes<M: CliModel>(
         let start = Instant::now();
         pool.install(|| {
             for _ in 0..args.frames {
-                fleet.par_step(fps, precision)?;
+                fleet.par_fly(fps, precision)?;
             }
             Ok::<(), fdm_fleet::FleetError>(())
         })
@@ -438,14 +494,19 @@ fn measure_lanes<M: CliModel>(
         let mut states = Vec::with_capacity(if dis.is_some() { n } else { 0 });
         for _ in 0..args.frames {
             let start = Instant::now();
-            pool.install(|| fleet.par_step(fps, precision))
+            pool.install(|| fleet.par_fly(fps, precision))
                 .map_err(|e| CliError::runtime(e.to_string()))?;
             seconds += start.elapsed().as_secs_f64();
             if let Some(dis) = dis.as_mut() {
                 // The kernel's arrays are not shareable across threads; the
                 // states are copied out once per frame (a few MB at 100 000).
+                // A diverged aircraft is no longer sent, as with the ECS.
                 states.clear();
-                states.extend((0..n).map(|i| fleet.state(i)));
+                states.extend((0..n).map(|i| {
+                    fleet
+                        .state(i)
+                        .filter(|_| fleet.status(i) != Some(FlightStatus::Diverged))
+                }));
                 let states = &states;
                 pool.install(|| dis.publish_lanes::<M>(|i| states[i], &origin));
                 if let Some(message) = dis.take_failure() {
@@ -456,11 +517,7 @@ fn measure_lanes<M: CliModel>(
         }
         seconds
     };
-    // The lanes kernel steps every aircraft (it has no status to skip a
-    // diverged one); those whose state is not finite are counted afterwards.
-    let diverged = (0..fleet.len())
-        .filter(|&i| fleet.state(i).is_some_and(|s| !M::is_finite(&s)))
-        .count();
+    let statuses = StatusCounts::of((0..fleet.len()).filter_map(|i| fleet.status(i)));
     let mut report = report::<M>(
         args,
         threads,
@@ -468,7 +525,7 @@ fn measure_lanes<M: CliModel>(
         per_aircraft,
         measured_bytes_per_aircraft,
         Some((precision, fleet.instruction_set())),
-        u64::try_from(diverged).unwrap_or(u64::MAX),
+        statuses,
     );
     report.dis = dis.map(|d| d.report(FLEET_FPS));
     report.realtime = pacer.map(|p| RealtimeReport {
@@ -485,7 +542,7 @@ fn report<M: Model>(
     estimated_bytes_per_aircraft: u64,
     measured_bytes_per_aircraft: Option<f64>,
     lanes: Option<(Precision, &'static str)>,
-    diverged: u64,
+    statuses: StatusCounts,
 ) -> FleetReport {
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
     let steps = args.aircraft as f64 * args.frames as f64;
@@ -506,15 +563,17 @@ fn report<M: Model>(
         dt_s: M::time_step(f64::from(FLEET_FPS)).into(),
         estimated_bytes_per_aircraft,
         measured_bytes_per_aircraft,
-        diverged,
+        diverged: statuses.diverged,
+        statuses,
         dis: None,
         realtime: None,
     }
 }
 
 /// Runs `frames` frames of EquationsOfMotion on the fleet in `sim` (on
-/// `pool` when parallel): what [`measure`] times. Returns the seconds the
-/// frames took.
+/// `pool` when parallel), each followed by the FlightStatus system: what
+/// [`measure`] flies. Returns the seconds the EquationsOfMotion frames took
+/// (the status updates are not timed).
 fn fly_frames<M: Model>(
     sim: &mut Simulation,
     frames: u64,
@@ -524,20 +583,19 @@ fn fly_frames<M: Model>(
     let resources = *sim.resources();
     let world = sim.world_mut();
 
-    let start = Instant::now();
-    match execution {
-        Execution::Sequential => {
-            for _ in 0..frames {
-                equations_of_motion_sequential::<M>(world, &resources);
+    let mut seconds = 0.0;
+    for _ in 0..frames {
+        let start = Instant::now();
+        match execution {
+            Execution::Sequential => equations_of_motion_sequential::<M>(world, &resources),
+            Execution::Parallel => {
+                pool.install(|| equations_of_motion_parallel::<M>(world, &resources));
             }
         }
-        Execution::Parallel => pool.install(|| {
-            for _ in 0..frames {
-                equations_of_motion_parallel::<M>(world, &resources);
-            }
-        }),
+        seconds += start.elapsed().as_secs_f64();
+        flight_status::<M>(world, &resources);
     }
-    start.elapsed().as_secs_f64()
+    seconds
 }
 
 /// `sim-cli fleet`: [`measure`], then the summary or (`--json`) the report
@@ -605,15 +663,30 @@ mod tests {
                 (report.aircraft_steps_per_s / 30.0).floor() as u64
             );
             assert!(report.summary().contains("aircraft at 30 Hz"));
+            assert_eq!(report.statuses.airborne, 10, "{:?}", report.statuses);
+            assert_eq!(report.diverged, 0);
         }
     }
 
+    /// Member `i` of the demonstration fleet flown alone for `frames`
+    /// frames by the core's whole frame, `fdm_core::model::fly`.
+    fn alone<M: Model>(i: usize, frames: u64) -> (M::State, FlightStatus) {
+        let aircraft = M::default_aircraft();
+        let dt = M::time_step(f64::from(FLEET_FPS));
+        let (controls, mut state) = M::fleet_member(i);
+        let mut status = FlightStatus::initial(M::height_m(&state));
+        for _ in 0..frames {
+            (state, status) = fdm_core::model::fly::<M>(&aircraft, &controls, status, &state, dt);
+        }
+        (state, status)
+    }
+
     /// Each aircraft of the fleet `measure` flies ends where the same member
-    /// flown alone, by the core step, ends: bit for bit, sequential and
-    /// parallel, both models.
+    /// flown alone, by the core's `fly`, ends, with the same status: bit for
+    /// bit, sequential and parallel, both models, both kernels.
     #[test]
     fn each_fleet_member_ends_as_if_flown_alone() {
-        fn check<M: Model>(execution: Execution, threads: usize) {
+        fn check<M: CliModel>(execution: Execution, threads: usize) {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
@@ -621,20 +694,37 @@ mod tests {
             let (n, frames) = (23, 40);
             let mut sim = spawn_fleet::<M>(n, execution);
             fly_frames::<M>(&mut sim, frames, execution, &pool);
-            let fleet: Vec<M::State> = sim.world().query::<&M::State>().iter().copied().collect();
+            let fleet: Vec<(M::State, FlightStatus)> = sim
+                .world()
+                .query::<(&M::State, &FlightStatus)>()
+                .iter()
+                .map(|(s, f)| (*s, *f))
+                .collect();
             assert_eq!(fleet.len(), n);
-            let aircraft = M::default_aircraft();
-            let dt = M::time_step(f64::from(FLEET_FPS));
+            let mut lanes = M::Lanes::demonstration(n).unwrap();
+            for _ in 0..frames {
+                pool.install(|| lanes.par_fly(f64::from(FLEET_FPS), Precision::Exact))
+                    .unwrap();
+            }
             for (i, got) in fleet.iter().enumerate() {
-                let (controls, mut alone) = M::fleet_member(i);
-                let start = alone;
-                for _ in 0..frames {
-                    alone = M::step(&aircraft, &controls, &alone, dt);
-                }
+                let want = alone::<M>(i, frames);
                 // Debug prints every float in shortest round-trip form, so
                 // equal text is equal bits here.
-                assert_eq!(format!("{got:?}"), format!("{alone:?}"), "{} #{i}", M::NAME);
-                assert_ne!(format!("{got:?}"), format!("{start:?}"), "{} #{i}", M::NAME);
+                assert_eq!(format!("{got:?}"), format!("{want:?}"), "{} #{i}", M::NAME);
+                let start = M::fleet_member(i).1;
+                assert_ne!(
+                    format!("{:?}", got.0),
+                    format!("{start:?}"),
+                    "{} #{i}",
+                    M::NAME
+                );
+                let lane = (lanes.state(i).unwrap(), lanes.status(i).unwrap());
+                assert_eq!(
+                    format!("{lane:?}"),
+                    format!("{want:?}"),
+                    "{} lanes #{i}",
+                    M::NAME
+                );
             }
         }
         for (execution, threads) in [(Execution::Sequential, 1), (Execution::Parallel, 2)] {

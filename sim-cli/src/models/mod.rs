@@ -84,6 +84,12 @@ pub trait CliModel:
     /// `sim-cli fgfs-command`, already shell-quoted where needed).
     const FG_OPTIONS: &'static [&'static str] = &[];
 
+    /// Nasal statements FlightGear runs once its FDM is initialised (after the
+    /// aircraft's own scripts, which reset properties given as `--prop:`
+    /// options): property settings the aircraft needs with `--fdm=null`.
+    /// Double quotes only (the whole script is one single-quoted shell word).
+    const FG_STARTUP_NASAL: &'static str = "";
+
     /// The model file FlightGear loads for this model as a multiplayer
     /// aircraft (relative to its data directory).
     const FG_MP_MODEL: &'static str;

@@ -1,0 +1,326 @@
+//! The fleets' whole frames with a flight status (`PalmerFleet::fly` in
+//! `Exact`, `BourgFleet::fly`) against the scalar `fdm_core::model::fly`, one
+//! aircraft at a time.
+//!
+//! Tolerance: none. After every frame each aircraft's state and status must
+//! be those of `fly` bit for bit, including aircraft that touch the ground
+//! (safe, rough and crash landings), rest on it, take off again, and diverge:
+//! the kernels step with the model's own operations and the fleets run the
+//! scalar `fly` or `settle` for exactly the aircraft that need them.
+
+use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap, Quaternion};
+use fdm_core::model::{fly, FlightStatus, LandingState, Model};
+use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
+use fdm_fleet::bourg::BourgFleet;
+use fdm_fleet::palmer::{PalmerFleet, Precision, LANES};
+
+/// SplitMix64.
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn unit(&mut self) -> f64 {
+        #[allow(clippy::cast_precision_loss)] // 53 random bits, exact
+        let unit = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        unit
+    }
+
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    #[allow(clippy::cast_possible_truncation)] // a random f32 is what is wanted
+    fn range32(&mut self, lo: f32, hi: f32) -> f32 {
+        self.range(f64::from(lo), f64::from(hi)) as f32
+    }
+
+    fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+}
+
+/// A status to start from: mostly the initial one for the height, some
+/// aircraft already landed, crashed or diverged.
+fn start_status(rng: &mut Rng, height_m: f64) -> FlightStatus {
+    match rng.below(12) {
+        0 => FlightStatus::Landed(LandingState::Safe),
+        1 => FlightStatus::Landed(LandingState::Rough),
+        2 => FlightStatus::Landed(LandingState::Crash),
+        3 => FlightStatus::Diverged,
+        _ => FlightStatus::initial(height_m),
+    }
+}
+
+fn palmer_bits(s: &PalmerState) -> [u64; 7] {
+    [
+        s.time_s.to_bits(),
+        s.position_m.x.to_bits(),
+        s.position_m.y.to_bits(),
+        s.position_m.z.to_bits(),
+        s.velocity_mps.x.to_bits(),
+        s.velocity_mps.y.to_bits(),
+        s.velocity_mps.z.to_bits(),
+    ]
+}
+
+fn bourg_bits(s: &BourgState) -> Vec<u64> {
+    let mut v = vec![s.time_s.to_bits(), u64::from(s.stalling)];
+    for vec in [
+        s.position_ft,
+        s.velocity_ftps,
+        s.velocity_body_ftps,
+        s.angular_velocity_radps,
+    ] {
+        v.extend([vec.x, vec.y, vec.z].map(|c| u64::from(c.to_bits())));
+    }
+    let q = s.orientation.coords;
+    v.extend([q.w, q.x, q.y, q.z].map(|c| u64::from(c.to_bits())));
+    v
+}
+
+/// Palmer aircraft low and descending (touchdowns of every kind), on the
+/// ground (rolls, take-offs), and a few that diverge: a non-finite throttle,
+/// or a speed so large that the airspeed overflows.
+fn palmer_members(seed: u64, n: usize) -> Vec<(PalmerControls, PalmerState, FlightStatus)> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|i| {
+            let mut controls = PalmerControls {
+                throttle: rng.range(0.0, 1.0),
+                alpha_deg: rng.range(-2.0, 10.0),
+                bank_deg: rng.range(-20.0, 20.0),
+                flaps: [Flaps::Up, Flaps::Deg20][i % 2],
+            };
+            let mut state = PalmerState::at_rest();
+            state.time_s = rng.range(0.0, 10.0);
+            match rng.below(5) {
+                // On the ground, rolling or at rest.
+                0 => state.velocity_mps.x = rng.range(0.0, 40.0),
+                // Low, descending at up to 12 m/s.
+                1..=3 => {
+                    state.position_m.z = rng.range(0.0, 15.0);
+                    state.velocity_mps.x = rng.range(20.0, 60.0);
+                    state.velocity_mps.y = rng.range(-10.0, 10.0);
+                    state.velocity_mps.z = rng.range(-12.0, 1.0);
+                }
+                // Already below the plane.
+                _ => {
+                    state.position_m.z = rng.range(-3.0, 0.0);
+                    state.velocity_mps.x = rng.range(20.0, 60.0);
+                    state.velocity_mps.z = rng.range(-8.0, 0.0);
+                }
+            }
+            match i % 29 {
+                7 => controls.throttle = f64::NAN,
+                13 => state.velocity_mps.x = 1e154,
+                19 => state.velocity_mps.y = 9e153,
+                _ => {}
+            }
+            let status = start_status(&mut rng, state.position_m.z);
+            (controls, state, status)
+        })
+        .collect()
+}
+
+fn random_flap(rng: &mut Rng) -> Flap {
+    [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp]
+        [usize::try_from(rng.below(3)).unwrap()]
+}
+
+/// Bourg aircraft low and descending at various attitudes, a few on the
+/// plane, and a few that diverge (a non-finite thrust, an absurd rotation).
+fn bourg_members(seed: u64, n: usize) -> Vec<(BourgControls, BourgState, FlightStatus)> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|i| {
+            let mut c = BourgControls::initial();
+            c.thrust_lb = rng.range32(0.0, 3000.0);
+            c.rudder_deg = [-16.0, 0.0, 16.0][usize::try_from(rng.below(3)).unwrap()];
+            c.port_aileron = random_flap(&mut rng);
+            c.starboard_aileron = random_flap(&mut rng);
+            c.elevators = random_flap(&mut rng);
+            c.landing_flaps = rng.below(2) == 0;
+            let mut s = BourgState::initial();
+            s.time_s = rng.range(0.0, 10.0);
+            s.position_ft.x = rng.range32(-5000.0, 5000.0);
+            s.position_ft.z = match rng.below(4) {
+                0 => 0.0,
+                _ => rng.range32(-5.0, 60.0),
+            };
+            s.velocity_ftps.x = rng.range32(60.0, 200.0);
+            s.velocity_ftps.y = rng.range32(-10.0, 10.0);
+            s.velocity_ftps.z = rng.range32(-40.0, 5.0);
+            s.velocity_body_ftps = s.velocity_ftps;
+            s.angular_velocity_radps.x = rng.range32(-0.3, 0.3);
+            let (w, x, y, z) = (
+                1.0,
+                rng.range32(-0.1, 0.1),
+                rng.range32(-0.1, 0.1),
+                rng.range32(-0.1, 0.1),
+            );
+            let norm = (w * w + x * x + y * y + z * z).sqrt();
+            s.orientation = Quaternion::new(w / norm, x / norm, y / norm, z / norm);
+            match i % 23 {
+                5 => c.thrust_lb = f32::INFINITY,
+                11 => s.angular_velocity_radps.y = 1e19,
+                17 => s.velocity_body_ftps.x = 2e18,
+                _ => {}
+            }
+            let status = start_status(&mut rng, Bourg::height_m(&s));
+            (c, s, status)
+        })
+        .collect()
+}
+
+/// Counts of the statuses reached, to check the cases were exercised.
+#[derive(Default)]
+struct Seen {
+    safe: bool,
+    rough: bool,
+    crash: bool,
+    diverged_in_flight: bool,
+    airborne: bool,
+}
+
+impl Seen {
+    fn note(&mut self, before: FlightStatus, after: FlightStatus) {
+        self.safe |= after == FlightStatus::Landed(LandingState::Safe);
+        self.rough |= after == FlightStatus::Landed(LandingState::Rough);
+        self.crash |= after == FlightStatus::Landed(LandingState::Crash);
+        self.airborne |= after == FlightStatus::Airborne;
+        self.diverged_in_flight |=
+            before != FlightStatus::Diverged && after == FlightStatus::Diverged;
+    }
+
+    fn all(&self) -> bool {
+        self.safe && self.rough && self.crash && self.diverged_in_flight && self.airborne
+    }
+}
+
+#[test]
+fn palmer_fleet_frames_are_fly_bit_for_bit() {
+    let aircraft = Palmer::default_aircraft();
+    let dt = Palmer::time_step(30.0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let mut seen = Seen::default();
+    for (seed, n) in [(1_u64, 1), (2, LANES - 1), (3, LANES + 3), (4, 301)] {
+        let mut members = palmer_members(seed, n);
+        let mut fleet = PalmerFleet::new(aircraft).unwrap();
+        for (i, (c, s, status)) in members.iter().enumerate() {
+            fleet.push(*s, *c);
+            fleet.set_status(i, *status).unwrap();
+        }
+        let mut baseline = fleet.clone();
+        let mut parallel = fleet.clone();
+        for frame in 1..=120 {
+            fleet.fly(dt, Precision::Exact);
+            baseline.fly_baseline(dt, Precision::Exact);
+            pool.install(|| parallel.par_fly(dt, Precision::Exact));
+            for (i, m) in members.iter_mut().enumerate() {
+                let before = m.2;
+                (m.1, m.2) = fly::<Palmer>(&aircraft, &m.0, m.2, &m.1, dt);
+                seen.note(before, m.2);
+                for (what, f) in [
+                    ("dispatched", &fleet),
+                    ("baseline", &baseline),
+                    ("par_fly", &parallel),
+                ] {
+                    let got = f.state(i).unwrap();
+                    assert_eq!(
+                        (palmer_bits(&got), f.status(i)),
+                        (palmer_bits(&m.1), Some(m.2)),
+                        "seed {seed}, frame {frame}, aircraft {i}, {what}: {got:?} != {:?}",
+                        m.1
+                    );
+                }
+            }
+        }
+        assert_eq!(fleet.statuses().count(), n);
+    }
+    assert!(seen.all(), "not every case was flown");
+}
+
+#[test]
+fn bourg_fleet_frames_are_fly_bit_for_bit() {
+    let aircraft = Bourg::default_aircraft();
+    let dt = Bourg::time_step(30.0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let mut seen = Seen::default();
+    let lanes = fdm_fleet::bourg::LANES;
+    for (seed, n) in [(1_u64, 1), (2, lanes - 1), (3, lanes + 3), (4, 301)] {
+        let mut members = bourg_members(seed, n);
+        let mut fleet = BourgFleet::new(aircraft);
+        for (i, (c, s, status)) in members.iter().enumerate() {
+            fleet.push(*s, *c);
+            fleet.set_status(i, *status).unwrap();
+        }
+        let mut baseline = fleet.clone();
+        let mut parallel = fleet.clone();
+        for frame in 1..=120 {
+            fleet.fly(dt);
+            baseline.fly_baseline(dt);
+            pool.install(|| parallel.par_fly(dt));
+            for (i, m) in members.iter_mut().enumerate() {
+                let before = m.2;
+                (m.1, m.2) = fly::<Bourg>(&aircraft, &m.0, m.2, &m.1, dt);
+                seen.note(before, m.2);
+                for (what, f) in [
+                    ("dispatched", &fleet),
+                    ("baseline", &baseline),
+                    ("par_fly", &parallel),
+                ] {
+                    let got = f.state(i).unwrap();
+                    assert_eq!(
+                        (bourg_bits(&got), f.status(i)),
+                        (bourg_bits(&m.1), Some(m.2)),
+                        "seed {seed}, frame {frame}, aircraft {i}, {what}: {got:?} != {:?}",
+                        m.1
+                    );
+                }
+            }
+        }
+        assert_eq!(fleet.statuses().count(), n);
+    }
+    assert!(seen.all(), "not every case was flown");
+}
+
+/// Above the ground and airborne, `fly` is the bare step: the demonstration
+/// fleets' first frames leave every aircraft airborne with the state `step`
+/// gives.
+#[test]
+fn airborne_frames_are_the_bare_steps() {
+    use fdm_fleet::LaneFleet;
+    let mut flown = <BourgFleet as LaneFleet>::demonstration(100).unwrap();
+    let mut stepped = flown.clone();
+    for _ in 0..30 {
+        flown.fly(Bourg::time_step(30.0));
+        stepped.step(Bourg::time_step(30.0));
+    }
+    for (a, b) in flown.states().zip(stepped.states()) {
+        assert_eq!(bourg_bits(&a), bourg_bits(&b));
+    }
+    assert!(flown.statuses().all(|s| s == FlightStatus::Airborne));
+    let mut flown = <PalmerFleet as LaneFleet>::demonstration(100).unwrap();
+    let mut stepped = flown.clone();
+    for _ in 0..30 {
+        flown.fly(Palmer::time_step(30.0), Precision::Fast);
+        stepped.step(Palmer::time_step(30.0), Precision::Fast);
+    }
+    for (a, b) in flown.states().zip(stepped.states()) {
+        assert_eq!(palmer_bits(&a), palmer_bits(&b));
+    }
+    assert!(flown.statuses().all(|s| s == FlightStatus::Airborne));
+}
