@@ -20,7 +20,6 @@ fn view() -> FlightView {
         time_s: 12.5,
         position_m: Vector3::new(100.0, -20.0, 300.0),
         velocity_mps: Vector3::new(50.0, 3.0, 4.0),
-        ..PalmerState::at_rest()
     };
     Palmer::view(&aircraft, &controls, &state)
 }
