@@ -210,8 +210,16 @@ pub fn attitude_from_ecef_angle_axis(
     let ec2hl = from_lon_lat_rad(deg2rad(longitude_deg), deg2rad(latitude_deg));
     let hl2body = mul(conj(ec2hl), from_angle_axis(angle_axis_rad));
     let (yaw, pitch, roll) = euler_rad(hl2body);
+    // A yaw a hair below 0 becomes exactly 2π when SimGear's wrap adds 2π
+    // (found by a test: heading 0 at 89° S came back as 360.0); keep the
+    // documented [0, 360).
+    let heading_deg = rad2deg(yaw);
     HorizontalAttitudeDeg {
-        heading_deg: rad2deg(yaw),
+        heading_deg: if heading_deg >= 360.0 {
+            heading_deg - 360.0
+        } else {
+            heading_deg
+        },
         pitch_deg: rad2deg(pitch),
         roll_deg: rad2deg(roll),
     }
