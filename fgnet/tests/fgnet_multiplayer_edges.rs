@@ -76,3 +76,38 @@ fn a_heading_of_zero_is_zero_not_360() {
     }
     assert!(exact_zero > 0, "no case came back as exactly 0");
 }
+
+#[test]
+fn quarter_and_half_turns_come_back_as_sent() {
+    // Headings and rolls of exactly 90° and 180°, where one of the two terms
+    // each Euler angle is an arc tangent of can be exactly 0: the angle must
+    // still come back as sent, not be taken for an undefined one.
+    for (lat, lon) in PLACES {
+        for (heading, roll) in [
+            (180.0, 0.0),
+            (90.0, 0.0),
+            (270.0, 0.0),
+            (0.0, 180.0),
+            (0.0, 90.0),
+            (0.0, -90.0),
+            (180.0, 180.0),
+        ] {
+            let sent = HorizontalAttitudeDeg {
+                heading_deg: heading,
+                pitch_deg: 0.0,
+                roll_deg: roll,
+            };
+            let back = round_trip(lat, lon, sent);
+            let same_angle = |a: f64, b: f64| {
+                let d = (a - b).rem_euclid(360.0);
+                d.min(360.0 - d) < 1e-6
+            };
+            assert!(
+                same_angle(back.heading_deg, heading)
+                    && same_angle(back.roll_deg, roll)
+                    && back.pitch_deg.abs() < 1e-6,
+                "{sent:?} at ({lat}, {lon}) came back as {back:?}"
+            );
+        }
+    }
+}
