@@ -48,7 +48,7 @@ use fdm_core::bourg::ops::{PI, TOL};
 use fdm_core::bourg::Bourg;
 use fdm_core::bourg::{BourgAircraft, BourgControls, BourgState, Flap, Quaternion, Vector3};
 use fdm_core::math::asinf;
-use fdm_core::model::{fly, settle, FlightStatus, Model};
+use fdm_core::model::{FlightStatus, Model};
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
@@ -467,21 +467,15 @@ impl Block {
             if airborne[lane] {
                 continue;
             }
-            let (state, status) = if suspect[lane] || status.is_final() {
-                // Crashed, diverged, or a step that may not be finite: the
-                // scalar frame from the state before the step.
-                fly::<Bourg>(
-                    aircraft,
-                    &self.controls[lane],
-                    status,
-                    &Self::saved_state(saved, lane),
-                    dt,
-                )
-            } else {
-                // A finite step (the kernel's bits are `step`'s): only the
-                // status and the ground contact.
-                settle::<Bourg>(aircraft, status, &self.state(lane))
-            };
+            let (state, status) = crate::finish_lane::<Bourg>(
+                aircraft,
+                &self.controls[lane],
+                status,
+                suspect[lane],
+                || Self::saved_state(saved, lane),
+                || self.state(lane),
+                dt,
+            );
             self.set_state(lane, &state);
             self.status[lane] = status;
         }

@@ -98,6 +98,29 @@ pub trait LaneFleet: Sized + Send {
     fn bytes_per_aircraft() -> usize;
 }
 
+/// The frame of one lane that the kernel's step alone does not finish (not
+/// airborne above the ground plane, or `suspect`: a component too large to be
+/// sure the step is finite), as [`fdm_core::model::fly`] would end it: a
+/// crashed, diverged or suspect aircraft flies the scalar frame again from
+/// its state `before` the step; any other keeps the kernel's step (`after`,
+/// `step`'s bits) and only settles its status and ground contact. Both fleets
+/// call this for such lanes.
+pub(crate) fn finish_lane<M: Model>(
+    aircraft: &M::Aircraft,
+    controls: &M::Controls,
+    status: fdm_core::model::FlightStatus,
+    suspect: bool,
+    before: impl FnOnce() -> M::State,
+    after: impl FnOnce() -> M::State,
+    dt: M::TimeStep,
+) -> (M::State, fdm_core::model::FlightStatus) {
+    if suspect || status.is_final() {
+        fdm_core::model::fly::<M>(aircraft, controls, status, &before(), dt)
+    } else {
+        fdm_core::model::settle::<M>(aircraft, status, &after())
+    }
+}
+
 impl LaneFleet for PalmerFleet {
     type Model = Palmer;
 

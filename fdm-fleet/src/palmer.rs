@@ -64,7 +64,7 @@ use core::fmt;
 use core::str::FromStr;
 
 use fdm_core::math;
-use fdm_core::model::{fly, settle, FlightStatus, Model};
+use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{
     AircraftError, Flaps, Palmer, PalmerAircraft, PalmerControls, PalmerState, GRAVITY_MPS2,
 };
@@ -394,20 +394,15 @@ impl Block {
             if airborne[lane] {
                 continue;
             }
-            let (state, status) = if suspect[lane] || status.is_final() {
-                // Crashed, diverged, or a step that may not be finite: the
-                // scalar frame from the state before the step.
-                fly::<Palmer>(
-                    a,
-                    &self.controls[lane],
-                    status,
-                    &Self::state_of(time, q, lane),
-                    dt,
-                )
-            } else {
-                // A finite step: only the status and the ground contact.
-                settle::<Palmer>(a, status, &self.state(lane))
-            };
+            let (state, status) = crate::finish_lane::<Palmer>(
+                a,
+                &self.controls[lane],
+                status,
+                suspect[lane],
+                || Self::state_of(time, q, lane),
+                || self.state(lane),
+                dt,
+            );
             self.set_state(lane, &state);
             self.status[lane] = status;
         }
