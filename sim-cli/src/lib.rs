@@ -40,7 +40,6 @@ pub mod input;
 pub mod keys;
 pub mod models;
 pub mod origin;
-pub mod output;
 pub mod pacer;
 pub mod plot;
 pub mod progress;

@@ -35,11 +35,10 @@ fn real_main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    // Everything sim-cli does ends on stdout; a closed one would lose it silently.
-    if let Err(e) = sim_cli::output::check_stdout() {
-        eprintln!("sim-cli: error: {}", e.one_line());
-        return ExitCode::from(e.exit_code());
-    }
+    // A stdout that is /dev/null (even opened read-write, as Python's
+    // `subprocess.DEVNULL`, Node's `stdio: 'ignore'` and systemd's `StandardOutput=null`
+    // hand it over, or put in place by the runtime for a closed descriptor 1) is the
+    // caller's decision to discard it: the run goes on normally (docs/cli.md).
     // SIGTERM/SIGHUP/SIGINT/SIGQUIT: restore the terminal, flush the CSV, exit 128+N.
     if let Err(e) = sim_cli::signals::install() {
         eprintln!("sim-cli: warning: cannot watch for signals ({e}); a signal will not restore the terminal");

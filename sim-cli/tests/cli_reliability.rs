@@ -296,12 +296,17 @@ fn fg_targets_must_be_one_plain_host() {
     }
 }
 
+/// A closed stdout cannot be told from a read-write `/dev/null` handed over on
+/// purpose (the runtime opens one in its place before `main`), and a discarded
+/// stdout is the caller's decision: the run goes on (docs/cli.md, "A discarded
+/// stdout"). Until the third release this was refused with exit 1, which made
+/// every program starting sim-cli with `subprocess.DEVNULL` fail.
 #[test]
-fn a_closed_stdout_is_an_error() {
+fn a_closed_stdout_runs_normally() {
     let child = shell(r#"exec "$0" palmer --headless --frames 10 >&-"#);
     let done = finish_within(child, Duration::from_secs(60), ">&-");
-    assert_eq!(done.status.code(), Some(1), "{}", done.stderr);
-    assert!(done.stderr.contains("stdout is closed"), "{}", done.stderr);
+    assert_eq!(done.status.code(), Some(0), "{}", done.stderr);
+    assert_eq!(done.stderr, "", ">&-");
 }
 
 #[cfg(target_os = "linux")] // /dev/full
