@@ -5,7 +5,7 @@ A manual check, not run by CI (FlightGear is a 2 GB install). Python 3 standard
 library only; see docs/flightgear-check.md for what it does and what it found.
 
 Needs: fgfs 2020.3 (Debian: `apt-get install flightgear xvfb libgl1-mesa-dri xauth
-dbus x11-apps`), a release build of sim-cli (`cargo build --release -p sim-cli`).
+dbus x11-apps`), a release build of sim-cli (`cargo build --release -p afit-fdm-cli`).
 
 For each model it starts fgfs with the command line `sim-cli fgfs-command MODEL`
 prints, adapted only for a headless machine (telnet read-back, no TerraSync, small

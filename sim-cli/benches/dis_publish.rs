@@ -11,7 +11,7 @@
 //! * `udp_send_144`: sending one 144-byte datagram to 127.0.0.1 (a bound
 //!   socket that is drained between samples, so the kernel does not drop).
 //!
-//! `cargo bench -p sim-cli --bench dis_publish -- --warm-up-time 1 --measurement-time 5`
+//! `cargo bench -p afit-fdm-cli --bench dis_publish -- --warm-up-time 1 --measurement-time 5`
 
 use std::hint::black_box;
 use std::net::UdpSocket;

@@ -7,7 +7,7 @@
 //! the traffic, the sending is measured separately (`benches/dis_publish.rs`).
 //!
 //! ```sh
-//! cargo run --release -p sim-cli --example dis_traffic -- [AIRCRAFT] [WARMUP_S] [WINDOW_S] [SCENARIO|MODE...]
+//! cargo run --release -p afit-fdm-cli --example dis_traffic -- [AIRCRAFT] [WARMUP_S] [WINDOW_S] [SCENARIO|MODE...]
 //! ```
 //!
 //! SCENARIO: `cruise`, `turns`, `manoeuvre` (default all); MODE: `rvw`,
