@@ -558,4 +558,120 @@ mod tests {
         let text = String::from_utf8_lossy(&out).into_owned();
         assert!(text.contains("\x1b[2;1H"), "{text:?}");
     }
+
+    /// The HUD samples in README.md ("Flying from the keyboard") are what
+    /// `render_hud` draws for the quantities they show, so the README cannot
+    /// drift from the HUD (it once lacked Bourg's TRIM field and T/G keys).
+    #[test]
+    fn readme_hud_samples_are_what_the_hud_draws() {
+        use crate::keys::KeyAction;
+        use crate::models::bourg::BourgDetails;
+        use crate::models::palmer::{PalmerControlsReport, PalmerDetails};
+        use crate::models::Details;
+        use fdm_core::bourg::BourgAction;
+        use fdm_core::palmer::PalmerAction;
+
+        let readme = include_str!("../../README.md");
+        let section = &readme[readme
+            .find("## Flying from the keyboard")
+            .expect("README section")..];
+        let samples: Vec<Vec<&str>> = section
+            .split("```text\n")
+            .skip(1)
+            .take(3)
+            .map(|block| block.split("\n```").next().unwrap().lines().collect())
+            .collect();
+
+        let link = |port, sent, failed, overruns, frame| {
+            (
+                Some(SocketAddrV4::new(Ipv4Addr::LOCALHOST, port)),
+                Some(LinkStats { sent, failed }),
+                LoopStatus {
+                    frame,
+                    fps: 30,
+                    overruns,
+                    paused: false,
+                },
+            )
+        };
+        let palmer_controls = PalmerDetails {
+            airspeed: 45.4,
+            controls: PalmerControlsReport {
+                throttle: 1.0,
+                alpha_deg: 5.0,
+                bank_deg: 15.0,
+                flaps_deg: 0.0,
+            },
+            climb_angle_deg: 0.0,
+            climb_rate: 0.0,
+            heading_deg: 0.0,
+        }
+        .hud_controls();
+        let (fg_target, link_stats, run) = link(5597, 1477, 4, 34, 1481);
+        let mut palmer = HudData {
+            model: Palmer::TITLE,
+            time_s: 49.37,
+            altitude_m: 359.3,
+            airspeed_mps: 45.4,
+            height_m: 108.1,
+            climb_rate_mps: 4.049,
+            heading_deg: 33.0,
+            roll_deg: 15.2,
+            pitch_deg: 10.0,
+            controls: palmer_controls,
+            status: status_label(FlightStatus::Airborne, false),
+            fg_target,
+            link: link_stats,
+            run,
+            key_help: PalmerAction::KEY_HELP,
+        };
+        assert_eq!(render_hud(&palmer, 80), samples[0], "README's Palmer HUD");
+
+        let bourg_controls = BourgDetails {
+            speed: 0.0,
+            euler_deg: [0.0; 3],
+            thrust_lb: 1000.0,
+            flaps: false,
+            stalling: false,
+            pitch_trim: 0.0,
+        }
+        .hud_controls();
+        let (fg_target, link_stats, run) = link(5598, 321, 4, 3, 325);
+        let bourg = HudData {
+            model: Bourg::TITLE,
+            time_s: 10.83,
+            altitude_m: 861.1,
+            airspeed_mps: 34.47,
+            height_m: 610.0,
+            climb_rate_mps: 2.13,
+            heading_deg: 11.0,
+            roll_deg: 78.6,
+            pitch_deg: 10.3,
+            controls: bourg_controls,
+            status: status_label(FlightStatus::Airborne, false),
+            fg_target,
+            link: link_stats,
+            run,
+            key_help: BourgAction::KEY_HELP,
+        };
+        assert_eq!(render_hud(&bourg, 80), samples[1], "README's Bourg HUD");
+
+        // The Palmer flight 0.07 s earlier, in 40 columns.
+        palmer.time_s = 49.30;
+        palmer.run.frame = 1479;
+        palmer.altitude_m = 359.05;
+        palmer.height_m = 107.8;
+        palmer.climb_rate_mps = 3.968;
+        palmer.pitch_deg = 9.9;
+        palmer.link = Some(LinkStats {
+            sent: 1476,
+            failed: 3,
+        });
+        palmer.run.overruns = 33;
+        assert_eq!(
+            render_hud(&palmer, 40),
+            samples[2],
+            "README's 40-column HUD"
+        );
+    }
 }
