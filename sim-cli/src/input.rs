@@ -19,6 +19,8 @@
 use std::fs::{self, File};
 use std::io::Read;
 use std::path::Path;
+use std::sync::mpsc;
+use std::time::Duration;
 
 pub use fdm_core::script::Echo;
 
@@ -111,26 +113,16 @@ pub fn read_text(path: &Path, what: &str, limit: u64) -> Result<String, CliError
 pub fn read_bytes(path: &Path, what: &str, limit: u64) -> Result<Vec<u8>, CliError> {
     let shown = show_path(path);
     let cannot = |e: std::io::Error| CliError::usage(format!("cannot read {what} {shown}: {e}"));
-    // Follows symlinks, so /dev/stdin is judged by what stdin really is.
-    let meta = fs::metadata(path).map_err(cannot)?;
-    let file_type = meta.file_type();
-    let pipe = is_pipe(file_type);
-    if !file_type.is_file() && !pipe {
-        return Err(CliError::usage(format!(
-            "cannot read {what} {shown}: it is {}; give a regular file or a pipe",
-            kind_of(file_type)
-        )));
-    }
     let too_big = || {
         CliError::usage(format!(
             "{what} {shown} is larger than the {} MiB limit",
             limit / (1024 * 1024)
         ))
     };
-    if file_type.is_file() && meta.len() > limit {
+    if fs::metadata(path).is_ok_and(|meta| meta.is_file() && meta.len() > limit) {
         return Err(too_big());
     }
-    let file = File::open(path).map_err(cannot)?;
+    let file = open_input(path, what)?;
     let mut bytes = Vec::new();
     // One byte past the limit tells "exactly at the limit" from "more" (a file can
     // also grow between the size check and the read).
@@ -141,6 +133,51 @@ pub fn read_bytes(path: &Path, what: &str, limit: u64) -> Result<Vec<u8>, CliErr
         return Err(too_big());
     }
     Ok(bytes)
+}
+
+/// How long opening a named pipe may wait for its writer before saying so.
+const FIFO_NOTE_AFTER: Duration = Duration::from_secs(1);
+
+/// Opens `path` for reading if it is a regular file or a pipe (see the module
+/// docs); `what` names it in messages ("CSV").
+///
+/// Opening a named pipe waits until a program opens it for writing; past
+/// [`FIFO_NOTE_AFTER`] a note on stderr says what sim-cli is waiting for
+/// (Ctrl-C stops it, as any run), instead of hanging silently.
+///
+/// # Errors
+/// [`CliError::Usage`] for a missing or unreadable path, or a path that is
+/// neither a regular file nor a pipe.
+pub fn open_input(path: &Path, what: &str) -> Result<File, CliError> {
+    let shown = show_path(path);
+    let cannot = |e: std::io::Error| CliError::usage(format!("cannot read {what} {shown}: {e}"));
+    // Follows symlinks, so /dev/stdin is judged by what stdin really is.
+    let meta = fs::metadata(path).map_err(cannot)?;
+    let file_type = meta.file_type();
+    let pipe = is_pipe(file_type);
+    if !file_type.is_file() && !pipe {
+        return Err(CliError::usage(format!(
+            "cannot read {what} {shown}: it is {}; give a regular file or a pipe",
+            kind_of(file_type)
+        )));
+    }
+    if !pipe {
+        return File::open(path).map_err(cannot);
+    }
+    let (opened, wait) = mpsc::channel::<()>();
+    let note = format!(
+        "sim-cli: waiting for a program to open the pipe {shown} for writing ({what}); \
+         Ctrl-C stops"
+    );
+    let noter = std::thread::spawn(move || {
+        if wait.recv_timeout(FIFO_NOTE_AFTER) == Err(mpsc::RecvTimeoutError::Timeout) {
+            eprintln!("{note}");
+        }
+    });
+    let file = File::open(path);
+    drop(opened);
+    let _ = noter.join();
+    file.map_err(cannot)
 }
 
 /// Whether two paths name the same file: same device and inode, so hard links and

@@ -15,11 +15,23 @@
 //! recomputed row by row with [`FlightStatus::update`] from the height and the
 //! climb rate exactly as the simulation computes it.
 //!
-//! After a reset (interactive R key, or a CSV row with frame 0 after the first)
-//! time starts again at 0: each such segment is drawn as its own line.
+//! After a reset (interactive R key, or a CSV row whose time goes back) the
+//! model's clock starts again at 0; the plot's time axis does not: it is the
+//! simulated time elapsed since the start of the run, so each segment is drawn
+//! after the previous one (its own line, a grey vertical line at the reset)
+//! instead of over it.
+//!
+//! Any run plots in a small SVG. The samples are kept in bounded memory
+//! ([`TraceBuilder`]: past [`KEEP_SAMPLES`], they are thinned to the first,
+//! last, lowest and highest sample of every quantity in each of
+//! [`KEEP_COLUMNS`] time columns), and each curve is drawn from the first,
+//! last, lowest and highest of its points in each of [`DRAW_COLUMNS`] columns
+//! (about two per pixel), which draws the same picture as every point would.
+//! A two-hour run at 100 fps gives an SVG of a few hundred kilobytes; the CSV
+//! keeps every sample.
 
 use std::fs::File;
-use std::io::Write;
+use std::io::{BufRead, Read as _, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
@@ -28,12 +40,14 @@ use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
 use fdm_core::script::Script;
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::config::RunConfig;
 use crate::error::CliError;
 use crate::hud::{status_label, LinkStats};
+use crate::input::Echo;
 use crate::models::Details;
 use crate::run::{fly, Flight};
 use crate::snapshot::Snapshot;
@@ -62,6 +76,8 @@ pub struct PlotSample {
     pub status: FlightStatus,
     /// Whether the model reports a stall.
     pub stalling: bool,
+    /// The first sample after a reset (it starts a new segment).
+    pub reset: bool,
 }
 
 impl PlotSample {
@@ -81,17 +97,195 @@ impl PlotSample {
             east_m: -c.position[1] * scale,
             status: s.status,
             stalling: s.stalling,
+            reset: false,
         }
+    }
+
+    /// The values thinning keeps the extremes of: every drawn quantity.
+    fn extremes_of(&self) -> [f64; 8] {
+        [
+            self.height_m,
+            self.airspeed_mps,
+            self.roll_deg,
+            self.pitch_deg,
+            self.heading_deg,
+            f64::from(status_level(self)),
+            self.north_m,
+            self.east_m,
+        ]
     }
 }
 
-/// A flight to plot: a title and its samples in order.
+/// A flight to plot: a title and its samples in order, their `time_s` the
+/// simulated time elapsed since the start (continuing across resets).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Trace {
     /// Shown above the panels.
     pub title: String,
-    /// The samples, in the order they were taken.
+    /// The samples kept, in the order they were taken.
     pub samples: Vec<PlotSample>,
+    /// How many samples the flight gave (at least `samples.len()`).
+    pub total_samples: u64,
+}
+
+/// Samples a [`TraceBuilder`] holds before it thins them: 262,144 (about
+/// 25 MB), more than two hours at 30 fps unthinned.
+pub const KEEP_SAMPLES: usize = 1 << 18;
+
+/// Time columns a [`TraceBuilder`] thins to: several per pixel of a panel.
+pub const KEEP_COLUMNS: usize = 4096;
+
+/// Columns each curve is drawn with: about two per pixel of a panel.
+pub const DRAW_COLUMNS: usize = 1200;
+
+/// Collects a flight's samples in bounded memory (see the module docs): the
+/// model's clock going back is a reset, after which the time axis continues.
+#[derive(Debug, Clone)]
+pub struct TraceBuilder {
+    trace: Trace,
+    /// Added to the model's clock: the elapsed time at the last reset minus
+    /// the clock there.
+    offset_s: f64,
+    /// The model's clock at the last sample.
+    last_clock_s: Option<f64>,
+}
+
+impl TraceBuilder {
+    /// An empty trace titled `title`.
+    #[must_use]
+    pub fn new(title: String) -> Self {
+        Self {
+            trace: Trace {
+                title,
+                samples: Vec::new(),
+                total_samples: 0,
+            },
+            offset_s: 0.0,
+            last_clock_s: None,
+        }
+    }
+
+    /// Adds `sample`, whose `time_s` is the model's clock (it restarts at a
+    /// reset); a sample whose clock is behind the previous one starts a new
+    /// segment.
+    pub fn push(&mut self, mut sample: PlotSample) {
+        let clock_s = sample.time_s;
+        if let (Some(last_clock_s), Some(last)) = (self.last_clock_s, self.trace.samples.last()) {
+            if clock_s < last_clock_s {
+                self.offset_s = last.time_s - clock_s;
+                sample.reset = true;
+            }
+        }
+        self.last_clock_s = Some(clock_s);
+        sample.time_s = clock_s + self.offset_s;
+        self.trace.samples.push(sample);
+        self.trace.total_samples += 1;
+        if self.trace.samples.len() > KEEP_SAMPLES {
+            self.trace.samples = thin_samples(&self.trace.samples, KEEP_COLUMNS);
+        }
+    }
+
+    /// The trace so far.
+    #[must_use]
+    pub fn trace(&self) -> &Trace {
+        &self.trace
+    }
+
+    /// The finished trace.
+    #[must_use]
+    pub fn finish(self) -> Trace {
+        self.trace
+    }
+}
+
+/// Which column of `columns` over `start..=end` the time `t` falls in.
+fn column_of(t: f64, start: f64, end: f64, columns: usize) -> usize {
+    if end <= start || !t.is_finite() {
+        return 0;
+    }
+    // In 0..=columns-1; the float-to-int cast saturates.
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let column = ((t - start) / (end - start) * columns as f64) as usize;
+    column.min(columns - 1)
+}
+
+/// The samples that keep the picture: in each of `columns` time columns the
+/// first and last sample and the lowest and highest of every quantity, and
+/// both samples around each reset, in their order.
+fn thin_samples(samples: &[PlotSample], columns: usize) -> Vec<PlotSample> {
+    let (Some(first), Some(last)) = (samples.first(), samples.last()) else {
+        return Vec::new();
+    };
+    let (start, end) = (first.time_s, last.time_s);
+    let mut keep = vec![false; samples.len()];
+    let mut i = 0;
+    while i < samples.len() {
+        let column = column_of(samples[i].time_s, start, end, columns);
+        let mut j = i;
+        let mut low = [i; 8];
+        let mut high = [i; 8];
+        while j < samples.len() && column_of(samples[j].time_s, start, end, columns) == column {
+            let values = samples[j].extremes_of();
+            for q in 0..8 {
+                if values[q] < samples[low[q]].extremes_of()[q] {
+                    low[q] = j;
+                }
+                if values[q] > samples[high[q]].extremes_of()[q] {
+                    high[q] = j;
+                }
+            }
+            if samples[j].reset {
+                keep[j] = true;
+                keep[j.saturating_sub(1)] = true;
+            }
+            j += 1;
+        }
+        keep[i] = true;
+        keep[j - 1] = true;
+        for q in 0..8 {
+            keep[low[q]] = true;
+            keep[high[q]] = true;
+        }
+        i = j;
+    }
+    samples
+        .iter()
+        .zip(keep)
+        .filter_map(|(s, k)| k.then_some(*s))
+        .collect()
+}
+
+/// The points of one curve that draw it as all its points would at
+/// `columns` columns over `x`: in each column the first, last, lowest and
+/// highest point (by `y`), in their order.
+fn thin_curve(points: &[(f64, f64)], x: &std::ops::Range<f64>, columns: usize) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(points.len().min(columns * 4));
+    let mut i = 0;
+    while i < points.len() {
+        let column = column_of(points[i].0, x.start, x.end, columns);
+        let mut j = i;
+        let (mut low, mut high) = (i, i);
+        while j < points.len() && column_of(points[j].0, x.start, x.end, columns) == column {
+            if points[j].1 < points[low].1 {
+                low = j;
+            }
+            if points[j].1 > points[high].1 {
+                high = j;
+            }
+            j += 1;
+        }
+        let mut picked = [i, low, high, j - 1];
+        picked.sort_unstable();
+        let mut previous = None;
+        for k in picked {
+            if previous != Some(k) {
+                out.push(points[k]);
+                previous = Some(k);
+            }
+        }
+        i = j;
+    }
+    out
 }
 
 /// A [`Flight`] that records a [`PlotSample`] of the wrapped flight at
@@ -99,31 +293,26 @@ pub struct Trace {
 #[derive(Debug)]
 pub struct Plotted<F> {
     inner: F,
-    trace: Trace,
+    trace: TraceBuilder,
 }
 
 impl<F: Flight> Plotted<F> {
     /// Wraps `inner` and records its initial state.
     pub fn new(inner: F) -> Self {
-        let first = PlotSample::from_snapshot(&inner.snapshot());
-        Self {
-            inner,
-            trace: Trace {
-                title: F::TITLE.to_owned(),
-                samples: vec![first],
-            },
-        }
+        let mut trace = TraceBuilder::new(F::TITLE.to_owned());
+        trace.push(PlotSample::from_snapshot(&inner.snapshot()));
+        Self { inner, trace }
     }
 
     /// The samples so far.
     #[must_use]
     pub fn trace(&self) -> &Trace {
-        &self.trace
+        self.trace.trace()
     }
 
     fn record(&mut self) {
         let sample = PlotSample::from_snapshot(&self.inner.snapshot());
-        self.trace.samples.push(sample);
+        self.trace.push(sample);
     }
 }
 
@@ -276,12 +465,12 @@ fn status_level(sample: &PlotSample) -> i32 {
         .unwrap_or(0)
 }
 
-/// Splits `samples` where time goes backwards (a reset).
+/// Splits `samples` at each reset.
 fn segments(samples: &[PlotSample]) -> Vec<&[PlotSample]> {
     let mut out = Vec::new();
     let mut start = 0;
     for i in 1..samples.len() {
-        if samples[i].time_s < samples[i - 1].time_s {
+        if samples[i].reset {
             out.push(&samples[start..i]);
             start = i;
         }
@@ -346,6 +535,22 @@ fn draw_error(e: impl std::fmt::Display) -> CliError {
     CliError::runtime(format!("drawing the plot: {e}"))
 }
 
+/// A thin grey vertical line at each reset, from `y.start` to `y.end`.
+fn draw_resets<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    samples: &[PlotSample],
+    y: &std::ops::Range<f64>,
+) -> Result<(), CliError> {
+    let resets = samples.iter().filter(|s| s.reset).map(|s| {
+        PathElement::new(
+            vec![(s.time_s, y.start), (s.time_s, y.end)],
+            RGBColor(150, 150, 150).stroke_width(1),
+        )
+    });
+    chart.draw_series(resets).map_err(draw_error)?;
+    Ok(())
+}
+
 /// One time-series panel: `series` are (legend, colour, value of a sample).
 type Series<'a> = (&'a str, RGBColor, fn(&PlotSample) -> f64);
 
@@ -369,7 +574,7 @@ fn time_panel(
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(60)
-        .build_cartesian_2d(x, y)
+        .build_cartesian_2d(x.clone(), y.clone())
         .map_err(draw_error)?;
     chart
         .configure_mesh()
@@ -378,11 +583,13 @@ fn time_panel(
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(draw_error)?;
+    draw_resets(&mut chart, samples, &y)?;
     for &(label, colour, value) in series {
         for (i, segment) in segments(samples).into_iter().enumerate() {
+            let points: Vec<(f64, f64)> = segment.iter().map(|s| (s.time_s, value(s))).collect();
             let drawn = chart
                 .draw_series(LineSeries::new(
-                    segment.iter().map(|s| (s.time_s, value(s))),
+                    thin_curve(&points, &x, DRAW_COLUMNS),
                     colour.stroke_width(2),
                 ))
                 .map_err(draw_error)?;
@@ -418,7 +625,7 @@ fn heading_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Re
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(60)
-        .build_cartesian_2d(x, y)
+        .build_cartesian_2d(x.clone(), y.clone())
         .map_err(draw_error)?;
     chart
         .configure_mesh()
@@ -427,9 +634,13 @@ fn heading_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Re
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(draw_error)?;
+    draw_resets(&mut chart, samples, &y)?;
     for run in runs {
         chart
-            .draw_series(LineSeries::new(run, MAGENTA.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                thin_curve(&run, &x, DRAW_COLUMNS),
+                MAGENTA.stroke_width(2),
+            ))
             .map_err(draw_error)?;
     }
     Ok(())
@@ -444,7 +655,7 @@ fn status_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Res
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(110)
-        .build_cartesian_2d(x, -1..top)
+        .build_cartesian_2d(x.clone(), -1..top)
         .map_err(draw_error)?;
     chart
         .configure_mesh()
@@ -460,14 +671,23 @@ fn status_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Res
         .draw()
         .map_err(draw_error)?;
     for segment in segments(samples) {
+        let levels: Vec<(f64, f64)> = segment
+            .iter()
+            .map(|s| (s.time_s, f64::from(status_level(s))))
+            .collect();
+        let levels = thin_curve(&levels, &x, DRAW_COLUMNS);
         // A step line: each status holds until the next sample.
-        let mut points = Vec::with_capacity(segment.len() * 2);
-        for (i, s) in segment.iter().enumerate() {
-            let level = status_level(s);
+        let mut points = Vec::with_capacity(levels.len() * 2);
+        for (i, &(t, level)) in levels.iter().enumerate() {
+            // Levels are small whole numbers (status_level), so the casts are exact.
+            #[allow(clippy::cast_possible_truncation)]
+            let level = level as i32;
             if i > 0 {
-                points.push((s.time_s, status_level(&segment[i - 1])));
+                #[allow(clippy::cast_possible_truncation)]
+                let previous = levels[i - 1].1 as i32;
+                points.push((t, previous));
             }
-            points.push((s.time_s, level));
+            points.push((t, level));
         }
         chart
             .draw_series(LineSeries::new(points, BLACK.stroke_width(2)))
@@ -488,6 +708,12 @@ fn track_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Resu
     };
     widen(&mut east);
     widen(&mut north);
+    // Room above the track for the legend (upper left), the scales kept equal:
+    // 30 % more height, and as much more width shared by both sides.
+    let room = span * 0.3;
+    north.end += room;
+    east.start -= room / 2.0;
+    east.end += room / 2.0;
     let mut chart = ChartBuilder::on(area)
         .caption("Ground track", ("sans-serif", 18))
         .margin(8)
@@ -502,12 +728,33 @@ fn track_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Resu
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(draw_error)?;
+    let time = padded_range(samples.iter().map(|s| s.time_s));
     for (i, segment) in segments(samples).into_iter().enumerate() {
+        // Thinned in time, keeping each column's extremes north and east.
+        let by_east: Vec<(f64, f64)> = segment.iter().map(|s| (s.time_s, s.east_m)).collect();
+        let by_north: Vec<(f64, f64)> = segment.iter().map(|s| (s.time_s, s.north_m)).collect();
+        let mut kept: Vec<f64> = thin_curve(&by_east, &time, DRAW_COLUMNS)
+            .into_iter()
+            .chain(thin_curve(&by_north, &time, DRAW_COLUMNS))
+            .map(|(t, _)| t)
+            .collect();
+        kept.sort_by(f64::total_cmp);
+        kept.dedup();
+        let mut next = kept.iter().peekable();
+        let points: Vec<(f64, f64)> = segment
+            .iter()
+            .filter(|s| {
+                if next.peek().is_some_and(|&&t| t == s.time_s) {
+                    next.next();
+                    true
+                } else {
+                    false
+                }
+            })
+            .map(|s| (s.east_m, s.north_m))
+            .collect();
         let drawn = chart
-            .draw_series(LineSeries::new(
-                segment.iter().map(|s| (s.east_m, s.north_m)),
-                BLUE.stroke_width(2),
-            ))
+            .draw_series(LineSeries::new(points, BLUE.stroke_width(2)))
             .map_err(draw_error)?;
         if i == 0 {
             drawn
@@ -528,6 +775,7 @@ fn track_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Resu
     }
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
@@ -561,7 +809,7 @@ pub fn render_svg(trace: &Trace) -> Result<String, CliError> {
         let title = format!(
             "{}: {} samples, t = {first:.2} to {last:.2} s{resets}",
             trace.title,
-            trace.samples.len()
+            trace.total_samples.max(trace.samples.len() as u64)
         );
         let root = root
             .titled(&title, ("sans-serif", 24))
@@ -608,7 +856,57 @@ const CSV_NEEDED: [&str; 8] = [
     "pitch_deg",
 ];
 
-/// Reads a CSV written by `--csv` back into a [`Trace`] titled `<model> from <name>`.
+/// Largest CSV `sim-cli plot` reads: 8 GiB, some 25 million rows (a day at
+/// 300 fps). Memory stays bounded whatever the size ([`TraceBuilder`]).
+pub const MAX_CSV_BYTES: u64 = 8 << 30;
+
+/// Longest CSV line accepted: 64 KiB (a row of `--csv` is a few hundred bytes).
+pub const MAX_CSV_LINE_BYTES: u64 = 64 * 1024;
+
+/// A CSV read back by [`trace_from_csv`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsvTrace {
+    /// The flight, ready to draw.
+    pub trace: Trace,
+    /// Set when the last row was torn (the file does not end with a newline,
+    /// as when the writing run was killed mid-row): what was left out.
+    pub torn_last_row: Option<String>,
+}
+
+/// Reads one line of at most [`MAX_CSV_LINE_BYTES`] into `line` (cleared
+/// first); `Ok(false)` at the end of the input. The newline is kept.
+fn read_csv_line(
+    reader: &mut impl BufRead,
+    line: &mut Vec<u8>,
+    name: &str,
+    line_no: usize,
+    read_total: &mut u64,
+) -> Result<bool, CliError> {
+    line.clear();
+    let n = reader
+        .by_ref()
+        .take(MAX_CSV_LINE_BYTES + 1)
+        .read_until(b'\n', line)
+        .map_err(|e| CliError::usage(format!("cannot read {name}: {e}")))?;
+    if u64::try_from(line.len()).unwrap_or(u64::MAX) > MAX_CSV_LINE_BYTES {
+        return Err(CliError::usage(format!(
+            "{name}:{line_no}: a line longer than {} KiB: not a CSV written by sim-cli --csv",
+            MAX_CSV_LINE_BYTES / 1024
+        )));
+    }
+    *read_total += u64::try_from(n).unwrap_or(u64::MAX);
+    if *read_total > MAX_CSV_BYTES {
+        return Err(CliError::usage(format!(
+            "{name} is larger than the {} GiB limit",
+            MAX_CSV_BYTES >> 30
+        )));
+    }
+    Ok(n > 0)
+}
+
+/// Reads a CSV written by `--csv` back into a [`Trace`] titled `<model> from <name>`,
+/// line by line in bounded memory ([`TraceBuilder`], [`MAX_CSV_LINE_BYTES`],
+/// [`MAX_CSV_BYTES`]).
 ///
 /// The model is recognised by its speed column: Palmer's `airspeed` (m/s,
 /// positions in metres) or Bourg's `speed` (ft/s, positions in feet). The status
@@ -619,17 +917,31 @@ const CSV_NEEDED: [&str; 8] = [
 /// rate in metres, as the simulation did before the ground contact; Bourg's
 /// `stalling` column gives the stall.
 ///
+/// A last row without its newline is a torn row (the writing run was killed
+/// mid-row): it is left out and reported in [`CsvTrace::torn_last_row`].
+///
 /// # Errors
 /// [`CliError::Usage`] naming `name` and the line for anything that is not such
-/// a CSV.
-pub fn trace_from_csv(text: &str, name: &str) -> Result<Trace, CliError> {
+/// a CSV, including a value that is not a finite number.
+pub fn trace_from_csv(mut reader: impl BufRead, name: &str) -> Result<CsvTrace, CliError> {
     let bad = |line: usize, what: String| CliError::usage(format!("{name}:{line}: {what}"));
-    let mut lines = text.lines().enumerate();
-    let header: Vec<&str> = match lines.next() {
-        Some((_, h)) => h.trim_end_matches('\r').split(',').collect(),
-        None => return Err(CliError::usage(format!("{name}: empty CSV file"))),
-    };
-    let column = |wanted: &str| header.iter().position(|&c| c == wanted);
+    let mut buffer = Vec::new();
+    let mut read_total = 0u64;
+    if !read_csv_line(&mut reader, &mut buffer, name, 1, &mut read_total)? {
+        return Err(CliError::usage(format!("{name}: empty CSV file")));
+    }
+    let header_text = std::str::from_utf8(&buffer).map_err(|_| {
+        bad(
+            1,
+            "not UTF-8 text: not a CSV written by sim-cli --csv".to_owned(),
+        )
+    })?;
+    let header: Vec<String> = header_text
+        .trim_end_matches(['\n', '\r'])
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let column = |wanted: &str| header.iter().position(|c| c == wanted);
     let mut index = [0usize; CSV_NEEDED.len()];
     for (slot, wanted) in index.iter_mut().zip(CSV_NEEDED) {
         *slot = column(wanted).ok_or_else(|| {
@@ -652,23 +964,46 @@ pub fn trace_from_csv(text: &str, name: &str) -> Result<Trace, CliError> {
     };
     let stall_i = column("stalling");
     let status_i = column("status");
-    let mut samples = Vec::new();
+    let mut builder = TraceBuilder::new(format!("{model} from {name}"));
     let mut status = FlightStatus::OnGround;
     let mut values = Vec::with_capacity(header.len());
-    for (n, line) in lines {
-        let line_no = n + 1;
-        let line = line.trim_end_matches('\r');
+    let mut torn_last_row = None;
+    let mut line_no = 1;
+    while read_csv_line(&mut reader, &mut buffer, name, line_no + 1, &mut read_total)? {
+        line_no += 1;
+        if buffer.last() != Some(&b'\n') {
+            // The end of the input without a newline: a torn row.
+            torn_last_row = Some(format!(
+                "{name}:{line_no}: the last row is incomplete (no newline at the end of the \
+                 file, as when the run writing it was killed): plotted up to line {}",
+                line_no - 1
+            ));
+            break;
+        }
+        let line = std::str::from_utf8(&buffer)
+            .map_err(|_| bad(line_no, "not UTF-8 text".to_owned()))?
+            .trim_end_matches(['\n', '\r']);
         if line.is_empty() {
             continue;
         }
         values.clear();
         for field in line.split(',') {
-            values.push(
-                field
-                    .trim()
-                    .parse::<f64>()
-                    .map_err(|_| bad(line_no, format!("`{field}` is not a number")))?,
-            );
+            let value = field.trim().parse::<f64>().map_err(|_| {
+                bad(
+                    line_no,
+                    format!("`{}` is not a number", Echo::new(field, 40)),
+                )
+            })?;
+            if !value.is_finite() {
+                return Err(bad(
+                    line_no,
+                    format!(
+                        "`{}` is not a finite number (sim-cli --csv never writes one)",
+                        Echo::new(field, 40)
+                    ),
+                ));
+            }
+            values.push(value);
         }
         if values.len() != header.len() {
             return Err(bad(
@@ -686,7 +1021,7 @@ pub fn trace_from_csv(text: &str, name: &str) -> Result<Trace, CliError> {
             None if values[frame_i] == 0.0 => FlightStatus::initial(height_m),
             None => status.update(height_m, values[vz_i] * scale),
         };
-        samples.push(PlotSample {
+        builder.push(PlotSample {
             time_s: values[time_i],
             height_m,
             airspeed_mps: values[speed_i] * scale,
@@ -697,28 +1032,33 @@ pub fn trace_from_csv(text: &str, name: &str) -> Result<Trace, CliError> {
             east_m: -values[y_i] * scale,
             status,
             stalling: stall_i.is_some_and(|i| values[i] != 0.0),
+            reset: false,
         });
     }
-    if samples.is_empty() {
+    let trace = builder.finish();
+    if trace.samples.is_empty() {
         return Err(CliError::usage(format!("{name}: no data rows to plot")));
     }
-    Ok(Trace {
-        title: format!("{model} from {name}"),
-        samples,
+    Ok(CsvTrace {
+        trace,
+        torn_last_row,
     })
 }
 
-/// `sim-cli plot FILE.csv -o FILE.svg`.
+/// `sim-cli plot FILE.csv -o FILE.svg`: the CSV is read as scripts and
+/// recordings are (a regular file or a pipe, nothing else), line by line.
 ///
 /// # Errors
 /// [`CliError::Usage`] for an unreadable or malformed CSV or an uncreatable
 /// output; [`CliError::Runtime`] if drawing or writing fails.
 pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
-    let text = std::fs::read_to_string(csv)
-        .map_err(|e| CliError::usage(format!("cannot read {}: {e}", csv.display())))?;
+    let file = crate::input::open_input(csv, "CSV")?;
     let name = csv.display().to_string();
-    let trace = trace_from_csv(&text, &name)?;
-    PlotFile::create(output)?.write(&trace)
+    let read = trace_from_csv(std::io::BufReader::new(file), &name)?;
+    if let Some(warning) = &read.torn_last_row {
+        eprintln!("sim-cli: warning: {warning}");
+    }
+    PlotFile::create(output)?.write(&read.trace)
 }
 
 #[cfg(test)]
@@ -739,6 +1079,7 @@ mod tests {
             east_m: 0.0,
             status,
             stalling: false,
+            reset: false,
         }
     }
 
@@ -754,16 +1095,28 @@ mod tests {
         assert_eq!(b.airspeed_mps, samples::bourg().airspeed_mps);
     }
 
+    /// A reset (the model's clock going back) starts a new segment, and the
+    /// time axis goes on from where the previous segment ended instead of
+    /// drawing the new segment over the first one.
     #[test]
     fn resets_split_segments_and_headings_split_at_north() {
-        let s = [
+        let mut builder = TraceBuilder::new("t".to_owned());
+        for s in [
             sample(0.0, 0.0, FlightStatus::OnGround),
             sample(1.0, 1.0, FlightStatus::Airborne),
             sample(2.0, 2.0, FlightStatus::Airborne),
             sample(0.0, 0.0, FlightStatus::OnGround),
-        ];
+            sample(0.5, 0.0, FlightStatus::OnGround),
+        ] {
+            builder.push(s);
+        }
+        let trace = builder.finish();
+        let s = trace.samples;
+        let times: Vec<f64> = s.iter().map(|s| s.time_s).collect();
+        assert_eq!(times, [0.0, 1.0, 2.0, 2.0, 2.5]);
         let parts = segments(&s);
-        assert_eq!(parts.iter().map(|p| p.len()).collect::<Vec<_>>(), [3, 1]);
+        assert_eq!(parts.iter().map(|p| p.len()).collect::<Vec<_>>(), [3, 2]);
+        let s = [s[0], s[1], s[2], s[3]];
         // 350 → 359 → 1 → 359: through north and back.
         let mut wrap = s;
         wrap[1].heading_deg = 359.0;
@@ -804,7 +1157,7 @@ mod tests {
                    1,0.1,1,0,1,10,0,2,0,5,0,10\n\
                    2,0.2,2,-1,-0.5,10,0,-6,0,-5,0,12\n\
                    0,0,0,0,0,0,0,0,0,0,0,0\n";
-        let t = trace_from_csv(csv, "t.csv").unwrap();
+        let t = trace_from_csv(csv.as_bytes(), "t.csv").unwrap().trace;
         let statuses: Vec<_> = t.samples.iter().map(|s| s.status).collect();
         assert_eq!(
             statuses,
@@ -822,21 +1175,132 @@ mod tests {
 
     #[test]
     fn bad_csv_is_a_usage_error_naming_the_line() {
-        let err = trace_from_csv("a,b\n1,2\n", "x.csv").unwrap_err();
+        let err = trace_from_csv("a,b\n1,2\n".as_bytes(), "x.csv").unwrap_err();
         assert_eq!(err.exit_code(), 2);
         assert!(
             err.to_string().starts_with("x.csv:1: no `frame` column"),
             "{err}"
         );
         let csv = "frame,time_s,x,y,z,vz,roll_deg,pitch_deg,speed\n0,0,0,0,0,0,0,0,oops\n";
-        let err = trace_from_csv(csv, "x.csv").unwrap_err();
+        let err = trace_from_csv(csv.as_bytes(), "x.csv").unwrap_err();
         assert_eq!(err.to_string(), "x.csv:2: `oops` is not a number");
-        let err = trace_from_csv("", "x.csv").unwrap_err();
+        let err = trace_from_csv("".as_bytes(), "x.csv").unwrap_err();
         assert_eq!(err.to_string(), "x.csv: empty CSV file");
     }
 
     #[test]
     fn empty_trace_is_an_error_not_a_panic() {
         assert!(render_svg(&Trace::default()).is_err());
+    }
+
+    const PALMER_HEADER: &str =
+        "frame,time_s,x,y,z,vx,vy,vz,roll_deg,pitch_deg,fg_heading_deg,airspeed\n";
+
+    #[test]
+    fn non_finite_values_are_refused_with_their_line() {
+        for bad in ["NaN", "inf", "-inf", "1e999"] {
+            let csv =
+                format!("{PALMER_HEADER}0,0,0,0,0,0,0,0,0,0,0,0\n1,0.1,{bad},0,0,0,0,0,0,0,0,0\n");
+            let err = trace_from_csv(csv.as_bytes(), "x.csv").unwrap_err();
+            assert_eq!(err.exit_code(), 2);
+            assert!(
+                err.to_string()
+                    .starts_with(&format!("x.csv:3: `{bad}` is not a finite number")),
+                "{err}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_torn_last_row_is_left_out_with_a_warning() {
+        let csv =
+            format!("{PALMER_HEADER}0,0,0,0,0,0,0,0,0,0,0,0\n1,0.1,1,0,1,1,0,0,0,0,0,1\n2,0.2,2,0");
+        let read = trace_from_csv(csv.as_bytes(), "x.csv").unwrap();
+        assert_eq!(read.trace.samples.len(), 2);
+        let warning = read.torn_last_row.unwrap();
+        assert!(
+            warning.starts_with("x.csv:4: the last row is incomplete"),
+            "{warning}"
+        );
+        assert!(warning.ends_with("plotted up to line 3"), "{warning}");
+        // A complete file has no warning.
+        let whole = format!("{PALMER_HEADER}0,0,0,0,0,0,0,0,0,0,0,0\n");
+        assert_eq!(
+            trace_from_csv(whole.as_bytes(), "x.csv")
+                .unwrap()
+                .torn_last_row,
+            None
+        );
+    }
+
+    #[test]
+    fn an_endless_line_is_refused_at_the_line_limit() {
+        let endless = std::io::repeat(b'1');
+        let err = trace_from_csv(std::io::BufReader::new(endless), "x.csv").unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("x.csv:1: a line longer than 64 KiB"),
+            "{err}"
+        );
+    }
+
+    /// Two hours at 100 fps: memory stays bounded while collecting, every
+    /// curve is drawn with at most 4 points per column, the SVG stays small,
+    /// and the extremes survive the thinning.
+    #[test]
+    fn long_runs_are_thinned_for_drawing_only_as_far_as_pixels_need() {
+        let frames: u32 = 2 * 3600 * 100;
+        let mut builder = TraceBuilder::new("long".to_owned());
+        for i in 0..=frames {
+            let t = f64::from(i) / 100.0;
+            let mut s = sample(t, 100.0 + 50.0 * (t / 7.0).sin(), FlightStatus::Airborne);
+            s.heading_deg = (t * 3.0) % 360.0;
+            s.north_m = 1000.0 * (t / 60.0).cos();
+            s.east_m = 1000.0 * (t / 60.0).sin();
+            if i == 123_457 {
+                s.height_m = 10_000.0; // one spike: must still be drawn
+            }
+            builder.push(s);
+            assert!(builder.trace().samples.len() <= KEEP_SAMPLES + 1);
+        }
+        let trace = builder.finish();
+        assert_eq!(trace.total_samples, u64::from(frames) + 1);
+        assert!(trace.samples.iter().any(|s| s.height_m == 10_000.0));
+        let svg = render_svg(&trace).unwrap();
+        assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
+        assert!(
+            svg.contains("720001 samples"),
+            "the title counts every sample"
+        );
+        let longest_attribute = svg.split('"').map(str::len).max().unwrap();
+        assert!(longest_attribute < 200_000, "{longest_attribute}");
+    }
+
+    #[test]
+    fn thin_curve_keeps_first_last_and_extremes_per_column() {
+        let points: Vec<(f64, f64)> = (0..100).map(|i| (f64::from(i), f64::from(i % 7))).collect();
+        let thin = thin_curve(&points, &(0.0..100.0), 10);
+        assert_eq!(thin.first(), points.first());
+        assert_eq!(thin.last(), points.last());
+        assert!(thin.len() <= 40);
+        // Every column still reaches its lowest and highest value.
+        for column in 0..10 {
+            let x = f64::from(column) * 10.0;
+            let inside = |p: &&(f64, f64)| p.0 >= x && p.0 < x + 10.0;
+            let all_max = points
+                .iter()
+                .filter(inside)
+                .map(|p| p.1)
+                .fold(f64::MIN, f64::max);
+            let kept_max = thin
+                .iter()
+                .filter(inside)
+                .map(|p| p.1)
+                .fold(f64::MIN, f64::max);
+            assert_eq!(all_max, kept_max);
+        }
+        // Few points are drawn as they are.
+        let few = &points[..5];
+        assert_eq!(thin_curve(few, &(0.0..100.0), 1200), few);
     }
 }

@@ -241,3 +241,102 @@ fn bad_plot_inputs_are_usage_errors() {
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("would overwrite the --csv file"));
 }
+
+/// Two hours at 100 fps (the size that once gave a 43 MB SVG with a 10 MB
+/// attribute that rsvg-convert could not parse): the SVG is small, and when
+/// `rsvg-convert` is installed (`.ci/run` installs it) an independent SVG
+/// renderer opens it.
+#[test]
+fn a_two_hour_csv_at_100_fps_plots_small_enough_for_viewers() {
+    use std::fmt::Write as _;
+    let dir = scratch("plot-long");
+    let csv = dir.join("long.csv");
+    let svg = dir.join("long.svg");
+    let mut rows = String::from("frame,time_s,x,y,z,vx,vy,vz,lat_deg,lon_deg,alt_m,roll_deg,pitch_deg,fg_heading_deg,airspeed,throttle,alpha_deg,bank_deg,flaps_deg,climb_angle_deg,climb_rate,heading_deg,status\n");
+    let frames = 2 * 3600 * 100;
+    for frame in 0..=frames {
+        let t = f64::from(frame) / 100.0;
+        let (x, y) = (2000.0 * (t / 90.0).cos(), 2000.0 * (t / 90.0).sin());
+        let z = 300.0 + 20.0 * (t / 13.0).sin();
+        let status = u8::from(frame > 0);
+        writeln!(
+            rows,
+            "{frame},{t},{x},{y},{z},0,0,0,0,0,0,5,2,{},50,1,4,5,0,0,0,0,{status}",
+            (t * 4.0) % 360.0
+        )
+        .unwrap();
+    }
+    std::fs::write(&csv, rows).unwrap();
+    run_ok(&["plot", csv.to_str().unwrap(), "-o", svg.to_str().unwrap()]);
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawn.len() < 2_000_000, "{} bytes", drawn.len());
+    let parsed = parse(&drawn);
+    assert!(parsed.texts[0].ends_with("720001 samples, t = 0.00 to 7200.00 s"));
+    assert!(parsed.polylines.iter().all(|&n| n <= 4 * 1200 * 2 + 2));
+    match std::process::Command::new("rsvg-convert")
+        .arg(&svg)
+        .arg("-o")
+        .arg(dir.join("long.png"))
+        .output()
+    {
+        Ok(out) => assert!(out.status.success(), "rsvg-convert: {}", text(&out.stderr)),
+        Err(e) => eprintln!("rsvg-convert not run ({e}); install librsvg2-bin to check"),
+    }
+}
+
+/// `yes 1,2,3 | sim-cli plot /dev/stdin` once grew by gigabytes a second:
+/// the stream is read line by line and refused at its header.
+#[test]
+fn an_endless_pipe_is_refused_without_reading_it_all() {
+    let dir = scratch("plot-pipe");
+    let script = format!(
+        r#"yes 1,2,3 | "$0" plot /dev/stdin -o {}"#,
+        dir.join("x.svg").display()
+    );
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script, env!("CARGO_BIN_EXE_sim-cli")])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("no `frame` column"));
+}
+
+/// A named pipe that nobody writes to no longer hangs silently: sim-cli says
+/// what it waits for, and plots once a writer comes.
+#[cfg(unix)]
+#[test]
+fn a_fifo_without_a_writer_is_waited_for_out_loud() {
+    use std::io::{Read as _, Write as _};
+    use std::process::{Command, Stdio};
+    let dir = scratch("plot-fifo");
+    let fifo = dir.join("in.csv");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    let svg = dir.join("x.svg");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+        .args(["plot", fifo.to_str().unwrap(), "-o", svg.to_str().unwrap()])
+        .stdin(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The note comes after a second; read its line before writing.
+    let mut stderr = child.stderr.take().unwrap();
+    let mut note = Vec::new();
+    let mut byte = [0u8; 1];
+    while stderr.read(&mut byte).unwrap() == 1 && byte[0] != b'\n' {
+        note.push(byte[0]);
+    }
+    let note = String::from_utf8(note).unwrap();
+    assert!(
+        note.contains("waiting for a program to open the pipe"),
+        "{note}"
+    );
+    let mut writer = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
+    writer
+        .write_all(b"frame,time_s,x,y,z,vz,roll_deg,pitch_deg,airspeed\n0,0,0,0,0,0,0,0,0\n1,0.1,1,0,1,0,0,0,1\n")
+        .unwrap();
+    drop(writer);
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(0));
+    assert!(svg.exists());
+}
