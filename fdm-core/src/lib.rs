@@ -21,6 +21,7 @@ pub mod geodesy;
 pub mod math;
 pub mod model;
 pub mod palmer;
+pub mod real;
 #[cfg(feature = "alloc")]
 pub mod script;
 pub mod start;

@@ -7,8 +7,15 @@
 //! banked about it, drag from a parabolic polar, gravity; semi-implicit Euler
 //! in `f64`, SI units. The pilot changes the lift coefficient and the bank.
 //!
+//! Its step is written once ([`glider_step`]), over `fdm_core::real`'s number
+//! type: `f64` for one aircraft ([`Model::step`], what the ECS flies) and
+//! lane vectors for a structure-of-arrays fleet (`fdm_fleet::Fleet<Glider>`,
+//! through [`LaneModel`]), with nothing written twice and no hand-written
+//! kernel; [`fly_glider_fleet`] flies both and the test checks the bits.
+//!
 //! Run it with `cargo run -p fdm-ecs --example third_model`; the test
-//! `fdm-ecs/tests/third_model.rs` runs [`fly_mixed_fleet`] and checks it.
+//! `fdm-ecs/tests/third_model.rs` runs [`fly_mixed_fleet`] and
+//! [`fly_glider_fleet`] and checks them.
 
 use std::sync::Arc;
 
@@ -16,7 +23,9 @@ use fdm_core::bourg::Bourg;
 use fdm_core::geodesy::Attitude;
 use fdm_core::model::{FlightView, Model, ScriptAction};
 use fdm_core::palmer::Palmer;
+use fdm_core::real::{F64s, LaneMask, LaneModel, Maths, Real, V3};
 use fdm_ecs::{Entity, Resources, Simulation};
+use fdm_fleet::{Fleet, Precision};
 use nalgebra::Vector3;
 
 /// Standard gravity, m/s².
@@ -159,25 +168,13 @@ impl Model for Glider {
     }
 
     fn step(a: &GliderAircraft, c: &GliderControls, s: &GliderState, dt: f64) -> GliderState {
-        let v = s.velocity_mps;
-        let speed = v.norm();
-        let along = v / speed;
-        // Lift acts perpendicular to the velocity, in the vertical plane
-        // through it, tilted by the bank (right bank turns toward -y, east).
-        let horizontal_right = Vector3::new(along.y, -along.x, 0.0).normalize();
-        let up = horizontal_right.cross(&along);
-        let bank = c.bank_deg.to_radians();
-        let lift_direction = up * bank.cos() + horizontal_right * bank.sin();
-        let q_area = 0.5 * a.air_density_kgpm3 * speed * speed * a.wing_area_m2;
-        let cl = c.lift_coefficient;
-        let lift = lift_direction * (q_area * cl);
-        let drag = -along * (q_area * (a.cd0 + a.induced_k * cl * cl));
-        let weight = Vector3::new(0.0, 0.0, -a.mass_kg * G_MPS2);
-        let velocity_mps = v + (lift + drag + weight) / a.mass_kg * dt;
+        let terms = GliderTerms::new(a, c);
+        let (position_m, velocity_mps) =
+            glider_step::<f64>(a, &terms, s.position_m.into(), s.velocity_mps.into(), dt);
         GliderState {
             time_s: s.time_s + dt,
-            position_m: s.position_m + velocity_mps * dt,
-            velocity_mps,
+            position_m: position_m.into(),
+            velocity_mps: velocity_mps.into(),
         }
     }
 
@@ -242,6 +239,210 @@ impl Model for Glider {
     }
 }
 
+/// What the glider's step reads of its controls: one aircraft's (`R = f64`)
+/// or every lane's, computed when the controls are set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GliderTerms<R> {
+    /// `cos` of the bank.
+    pub cos_bank: R,
+    /// `sin` of the bank.
+    pub sin_bank: R,
+    /// The lift coefficient.
+    pub cl: R,
+    /// The drag coefficient of the polar, `cd0 + k·CL²`.
+    pub cd: R,
+}
+
+impl GliderTerms<f64> {
+    /// The terms of `c` on `a`.
+    #[must_use]
+    pub fn new(a: &GliderAircraft, c: &GliderControls) -> Self {
+        let bank = c.bank_deg.to_radians();
+        let cl = c.lift_coefficient;
+        Self {
+            cos_bank: fdm_core::math::cos(bank),
+            sin_bank: fdm_core::math::sin(bank),
+            cl,
+            cd: a.cd0 + a.induced_k * cl * cl,
+        }
+    }
+}
+
+/// The glider's one step, over any number type `R` (a float for one
+/// aircraft, lanes for a fleet): position and velocity after `dt` seconds.
+/// It calls no transcendental function (`sqrt` only), so it takes no
+/// `fdm_core::real::Maths`: `exact` and `fast` are the same step.
+///
+/// | value | read | written |
+/// |---|---|---|
+/// | `velocity` | speed, direction, lift and drag | `v + (L + D + W) / m · dt` |
+/// | `position` | | `p + v' · dt` (the new velocity) |
+/// | [`GliderTerms`] | bank, CL, CD | never |
+#[inline(always)]
+pub fn glider_step<R: Real<Scalar = f64>>(
+    a: &GliderAircraft,
+    k: &GliderTerms<R>,
+    position_m: V3<R>,
+    velocity_mps: V3<R>,
+    dt: f64,
+) -> (V3<R>, V3<R>) {
+    let c = R::splat;
+    let v = velocity_mps;
+    let speed = v.magnitude();
+    let along = v / speed;
+    // Lift acts perpendicular to the velocity, in the vertical plane
+    // through it, tilted by the bank (right bank turns toward -y, east).
+    let horizontal = V3::new(along.y, -along.x, c(0.0));
+    let horizontal_right = horizontal / horizontal.magnitude();
+    let up = horizontal_right.cross(along);
+    let lift_direction = up * k.cos_bank + horizontal_right * k.sin_bank;
+    let q_area = c(0.5 * a.air_density_kgpm3) * speed * speed * a.wing_area_m2;
+    let lift = lift_direction * (q_area * k.cl);
+    let drag = -along * (q_area * k.cd);
+    let weight = V3::new(c(0.0), c(0.0), c(-a.mass_kg * G_MPS2));
+    let velocity = v + (lift + drag + weight) / c(a.mass_kg) * c(dt);
+    (position_m + velocity * c(dt), velocity)
+}
+
+/// Aircraft per block of a glider fleet.
+const GLIDER_LANES: usize = 8;
+type GliderLanes = F64s<GLIDER_LANES>;
+
+/// The glider's lanes: what a `fdm_fleet::Fleet<Glider>` needs besides the
+/// step (which is [`glider_step`] itself): moving one aircraft in and out of
+/// a block of lanes.
+impl LaneModel for Glider {
+    type Lanes = GliderLanes;
+    type Shared = ();
+    /// Position and velocity.
+    type Vars = [V3<GliderLanes>; 2];
+    type Terms = GliderTerms<GliderLanes>;
+    type AircraftError = std::convert::Infallible;
+    const HAS_FAST: bool = false;
+    const SUSPECT: f64 = 1e150;
+
+    fn check_aircraft(_: &GliderAircraft) -> Result<(), Self::AircraftError> {
+        Ok(())
+    }
+
+    fn shared(_: &GliderAircraft) {}
+
+    fn idle(a: &GliderAircraft) -> (Self::Vars, Self::Terms) {
+        let s = Self::initial_state();
+        let t = GliderTerms::new(a, &Self::initial_controls());
+        let splat = |v: Vector3<f64>| V3::splat(v.x, v.y, v.z);
+        let terms = GliderTerms {
+            cos_bank: F64s::splat(t.cos_bank),
+            sin_bank: F64s::splat(t.sin_bank),
+            cl: F64s::splat(t.cl),
+            cd: F64s::splat(t.cd),
+        };
+        ([splat(s.position_m), splat(s.velocity_mps)], terms)
+    }
+
+    fn state(vars: &Self::Vars, time_s: f64, lane: usize) -> GliderState {
+        GliderState {
+            time_s,
+            position_m: vars[0].lane(lane).into(),
+            velocity_mps: vars[1].lane(lane).into(),
+        }
+    }
+
+    fn set_state(vars: &mut Self::Vars, lane: usize, s: &GliderState) -> f64 {
+        vars[0].set_lane(lane, s.position_m.into());
+        vars[1].set_lane(lane, s.velocity_mps.into());
+        s.time_s
+    }
+
+    fn set_controls(
+        terms: &mut Self::Terms,
+        lane: usize,
+        a: &GliderAircraft,
+        (): &(),
+        c: &GliderControls,
+    ) {
+        let t = GliderTerms::new(a, c);
+        terms.cos_bank.set_lane(lane, t.cos_bank);
+        terms.sin_bank.set_lane(lane, t.sin_bank);
+        terms.cl.set_lane(lane, t.cl);
+        terms.cd.set_lane(lane, t.cd);
+    }
+
+    #[inline(always)]
+    fn step_lanes<F: Maths>(
+        a: &GliderAircraft,
+        (): &(),
+        terms: &Self::Terms,
+        vars: &Self::Vars,
+        dt: f64,
+    ) -> Self::Vars {
+        let (position, velocity) = glider_step::<GliderLanes>(a, terms, vars[0], vars[1], dt);
+        [position, velocity]
+    }
+
+    fn for_each_component(vars: &Self::Vars, mut f: impl FnMut(GliderLanes)) {
+        for v in vars {
+            f(v.x);
+            f(v.y);
+            f(v.z);
+        }
+    }
+
+    fn above_ground(vars: &Self::Vars) -> LaneMask<GLIDER_LANES> {
+        vars[0].z.gt(0.0)
+    }
+
+    fn position_m(state: &GliderState) -> Vector3<f64> {
+        state.position_m
+    }
+}
+
+/// Flies `n` gliders for `frames` frames at 30 FPS two ways, each member
+/// with its own lift coefficient and bank (the first banking right over
+/// frames 1 to 6, as in [`fly_mixed_fleet`]): one aircraft at a time with
+/// [`Model::step`], and all together in a `Fleet<Glider>` of lanes. Returns
+/// both final states, in member order.
+///
+/// # Errors
+/// If the fleet refuses the aircraft (it does not).
+pub fn fly_glider_fleet(
+    n: usize,
+    frames: u64,
+) -> Result<(Vec<GliderState>, Vec<GliderState>), Box<dyn std::error::Error>> {
+    let aircraft = Glider::default_aircraft();
+    let dt = Glider::time_step(30.0);
+    let member = |i: usize| {
+        let small = f64::from(u16::try_from(i % 100).unwrap_or(0));
+        let mut c = Glider::initial_controls();
+        c.lift_coefficient = 0.4 + 0.01 * small;
+        c.bank_deg = -20.0 + 0.5 * small;
+        if i == 0 {
+            c = Glider::initial_controls();
+        }
+        let mut s = Glider::initial_state();
+        s.position_m.y += 30.0 * small;
+        (c, s)
+    };
+    let mut alone: Vec<(GliderControls, GliderState)> = (0..n).map(member).collect();
+    let mut fleet =
+        Fleet::<Glider>::from_states(aircraft.clone(), alone.iter().map(|&(c, s)| (s, c)))?;
+    for frame in 1..=frames {
+        if frame <= 6 {
+            let (c, _) = &mut alone[0];
+            *c = Glider::apply(&aircraft, *c, GliderAction::BankRight);
+            fleet.set_controls(0, *c)?;
+        }
+        for (c, s) in &mut alone {
+            *s = Glider::step(&aircraft, c, s, dt);
+        }
+        fleet.fly_with(dt, Precision::Exact)?;
+    }
+    Ok((
+        alone.into_iter().map(|m| m.1).collect(),
+        fleet.states().collect(),
+    ))
+}
+
 /// What [`fly_mixed_fleet`] left behind.
 pub struct MixedFleet {
     /// The world after the flight.
@@ -293,6 +494,15 @@ pub fn fly_mixed_fleet(frames: u64) -> Result<MixedFleet, Box<dyn std::error::Er
 #[allow(dead_code)] // the test includes this file as a module and calls only the library part
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let fleet = fly_mixed_fleet(300)?;
+    let (alone, lanes) = fly_glider_fleet(21, 300)?;
+    let same = alone.iter().zip(&lanes).filter(|(a, b)| a == b).count();
+    println!(
+        "glider fleet: {same} of {} gliders in lanes bit-identical to the scalar step after 300 frames",
+        alone.len()
+    );
+    if fleet.sim.state::<Glider>(fleet.glider) != Some(lanes[0]) {
+        return Err("the ECS glider differs from the fleet's first glider".into());
+    }
     for (name, entity) in [
         ("glider", fleet.glider),
         ("palmer", fleet.palmer),

@@ -9,7 +9,7 @@ use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fgnet::FgNetFdm;
-use third_model::{fly_mixed_fleet, Glider, GliderAction};
+use third_model::{fly_glider_fleet, fly_mixed_fleet, Glider, GliderAction};
 
 #[test]
 fn a_third_model_flies_in_a_mixed_fleet_and_reaches_flightgear() {
@@ -73,4 +73,22 @@ fn a_third_model_flies_in_a_mixed_fleet_and_reaches_flightgear() {
         glider_alt > origin_alt + 500.0 && glider_alt < origin_alt + 600.0,
         "{glider_alt}"
     );
+}
+
+/// The glider's one step flies one aircraft in the ECS and many in a fleet
+/// of lanes, bit for bit: every glider of a fleet of 21 (two whole blocks of
+/// 8 and a partial one) ends where the scalar step takes it alone, and the
+/// first ends where the ECS's glider ends (same script, same frames).
+#[test]
+fn the_glider_flies_in_lanes_as_alone_and_as_in_the_ecs() {
+    let frames = 90;
+    let (alone, lanes) = fly_glider_fleet(21, frames).unwrap();
+    assert_eq!(alone.len(), 21);
+    for (i, (a, l)) in alone.iter().zip(&lanes).enumerate() {
+        assert_eq!(a, l, "glider {i}");
+    }
+    // Their flights differ from each other (the test is not vacuous).
+    assert_ne!(alone[1], alone[2]);
+    let fleet = fly_mixed_fleet(frames).unwrap();
+    assert_eq!(fleet.sim.state::<Glider>(fleet.glider), Some(lanes[0]));
 }

@@ -29,7 +29,7 @@ use fdm_core::math::{atan2, cbrt, hypot};
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
-use crate::lanes::{F64s, Mask};
+use fdm_core::real::{F64s, LaneMask as Mask, Mask as _, Real};
 
 /// Aircraft per lane vector: 8 f64 (one AVX-512 register).
 const N: usize = 8;

@@ -1,19 +1,28 @@
-//! Fleet kernels: many aircraft of one model laid out as structure-of-arrays and
-//! stepped several per SIMD instruction.
+//! Fleet kernels: many aircraft of one model laid out as structure-of-arrays
+//! and stepped several per SIMD instruction.
 //!
-//! * [`palmer`]: [`PalmerFleet`], Palmer's Cessna 172 (RK4, f64) in lanes of
-//!   [`palmer::LANES`] aircraft, in two precisions: [`Precision::Exact`] (every
-//!   aircraft bit-identical to [`fdm_core::palmer::step`]) and
-//!   [`Precision::Fast`] (a vectorised `pow`, within 1e-9 m and 1e-9 m/s of
-//!   `Exact` after 1,800 steps).
-//!
-//! * [`bourg`]: [`BourgFleet`], Bourg's 6-DoF aircraft (Euler, f32) in lanes
-//!   of [`bourg::LANES`] aircraft, every aircraft bit-identical to
+//! * [`Fleet`]: the one container, for any model whose step is written over
+//!   `fdm_core::real`'s number type ([`LaneModel`]): the blocks, clocks,
+//!   controls and flight statuses, `step`/`fly` on one thread or rayon's
+//!   pool, the instruction-set dispatch, the [`Precision`] and the
+//!   [`FleetError`]s. No physics: each model's step is its own, one source
+//!   for one aircraft and for lanes.
+//! * [`PalmerFleet`] (`Fleet<Palmer>`): Palmer's Cessna 172 (RK4, f64) in
+//!   lanes of [`palmer::LANES`] aircraft, in two precisions:
+//!   [`Precision::Exact`] (every aircraft bit-identical to
+//!   [`fdm_core::palmer::step`]) and [`Precision::Fast`] (a vectorised `pow`,
+//!   within 1e-9 m and 1e-9 m/s of `Exact` after 1,800 steps).
+//! * [`BourgFleet`] (`Fleet<Bourg>`): Bourg's 6-DoF aircraft (Euler, f32) in
+//!   lanes of [`bourg::LANES`] aircraft, every aircraft bit-identical to
 //!   [`fdm_core::bourg::step`].
 //!
-//! Both fleets keep a [`FlightStatus`] per aircraft: their `fly` frames are
+//! A third model gets a fleet by implementing [`LaneModel`] (its step over
+//! the number type, and the moves of one aircraft in and out of a block):
+//! `fdm-ecs/examples/third_model.rs` flies a glider that way.
+//!
+//! Every fleet keeps a [`FlightStatus`] per aircraft: its `fly` frames are
 //! [`fdm_core::model::fly`] per aircraft (ground contact, touchdown, crash,
-//! divergence), their `step` the bare model step.
+//! divergence), its `step` the bare model step.
 //!
 //! Safe Rust throughout (the workspace forbids `unsafe`): the instruction set is
 //! chosen at run time by [`pulp::Arch`] (SSE2 baseline, AVX2/FMA, AVX-512),
@@ -24,17 +33,16 @@
 //! worlds; a fleet is for many aircraft of one type flown together.
 
 pub mod bourg;
-mod fastmath;
+pub mod fleet;
 pub mod geodesy;
-mod lanes;
 pub mod palmer;
 
 pub use bourg::BourgFleet;
-pub use palmer::{FleetError, PalmerFleet, Precision};
+pub use fdm_core::real::LaneModel;
+pub use fleet::{Fleet, FleetError, Precision};
+pub use palmer::PalmerFleet;
 
-use fdm_core::bourg::Bourg;
 use fdm_core::model::{FlightStatus, Model};
-use fdm_core::palmer::Palmer;
 
 /// A structure-of-arrays fleet of one model, as model-generic code (the
 /// `sim-cli fleet` command, benchmarks) drives it.
@@ -98,120 +106,37 @@ pub trait LaneFleet: Sized + Send {
     fn bytes_per_aircraft() -> usize;
 }
 
-/// The frame of one lane that the kernel's step alone does not finish (not
-/// airborne above the ground plane, or `suspect`: a component too large to be
-/// sure the step is finite), as [`fdm_core::model::fly`] would end it: a
-/// crashed, diverged or suspect aircraft flies the scalar frame again from
-/// its state `before` the step; any other keeps the kernel's step (`after`,
-/// `step`'s bits) and only settles its status and ground contact. Both fleets
-/// call this for such lanes.
-pub(crate) fn finish_lane<M: Model>(
-    aircraft: &M::Aircraft,
-    controls: &M::Controls,
-    status: fdm_core::model::FlightStatus,
-    suspect: bool,
-    before: impl FnOnce() -> M::State,
-    after: impl FnOnce() -> M::State,
-    dt: M::TimeStep,
-) -> (M::State, fdm_core::model::FlightStatus) {
-    if suspect || status.is_final() {
-        fdm_core::model::fly::<M>(aircraft, controls, status, &before(), dt)
-    } else {
-        fdm_core::model::settle::<M>(aircraft, status, &after())
-    }
-}
-
-impl LaneFleet for PalmerFleet {
-    type Model = Palmer;
+impl<M: LaneModel> LaneFleet for Fleet<M> {
+    type Model = M;
 
     fn demonstration(n: usize) -> Result<Self, FleetError> {
-        let mut fleet = Self::new(Palmer::default_aircraft())?;
-        for i in 0..n {
-            let (controls, state) = Palmer::fleet_member(i);
-            fleet.push(state, controls);
-        }
-        Ok(fleet)
+        Self::from_states(
+            M::default_aircraft(),
+            (0..n).map(|i| {
+                let (controls, state) = M::fleet_member(i);
+                (state, controls)
+            }),
+        )
     }
 
     fn len(&self) -> usize {
         self.len()
     }
 
-    fn state(&self, index: usize) -> Option<fdm_core::palmer::PalmerState> {
-        self.state(index)
-    }
-
-    fn check_precision(_: Precision) -> Result<(), FleetError> {
-        Ok(())
-    }
-
-    fn par_step(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
-        self.par_step(Palmer::time_step(fps), precision);
-        Ok(())
-    }
-
-    fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
-        self.par_fly(Palmer::time_step(fps), precision);
-        Ok(())
-    }
-
-    fn status(&self, index: usize) -> Option<FlightStatus> {
-        self.status(index)
-    }
-
-    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
-        self.positions_m(out);
-    }
-
-    fn instruction_set(&self) -> &'static str {
-        self.instruction_set()
-    }
-
-    fn bytes_per_aircraft() -> usize {
-        Self::bytes_per_aircraft()
-    }
-}
-
-impl LaneFleet for BourgFleet {
-    type Model = Bourg;
-
-    fn demonstration(n: usize) -> Result<Self, FleetError> {
-        let mut fleet = Self::new(Bourg::default_aircraft());
-        for i in 0..n {
-            let (controls, state) = Bourg::fleet_member(i);
-            fleet.push(state, controls);
-        }
-        Ok(fleet)
-    }
-
-    fn len(&self) -> usize {
-        self.len()
-    }
-
-    fn state(&self, index: usize) -> Option<fdm_core::bourg::BourgState> {
+    fn state(&self, index: usize) -> Option<M::State> {
         self.state(index)
     }
 
     fn check_precision(precision: Precision) -> Result<(), FleetError> {
-        match precision {
-            Precision::Exact => Ok(()),
-            Precision::Fast => Err(FleetError::PrecisionUnavailable {
-                model: Bourg::NAME,
-                precision,
-            }),
-        }
+        Self::check_precision(precision)
     }
 
     fn par_step(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.par_step(Bourg::time_step(fps));
-        Ok(())
+        self.par_step_with(M::time_step(fps), precision)
     }
 
     fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.par_fly(Bourg::time_step(fps));
-        Ok(())
+        self.par_fly_with(M::time_step(fps), precision)
     }
 
     fn status(&self, index: usize) -> Option<FlightStatus> {

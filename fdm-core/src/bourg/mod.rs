@@ -49,6 +49,8 @@
 pub mod airfoil;
 mod airframe;
 mod controls;
+mod generic;
+mod lanes;
 mod model;
 pub mod ops;
 mod trim;
@@ -62,6 +64,8 @@ pub use airframe::{
 };
 pub use airframe::{DELTA_THRUST_LB, MAX_THRUST_LB, RUDDER_DEFLECTION_DEG};
 pub use controls::{BourgControls, INITIAL_THRUST_LB, PITCH_TRIM_STEP};
+pub use generic::{BourgReal, BourgTerms, BourgVars, Q4};
+pub use lanes::{BourgLanes, LANES};
 pub use model::{loads, step, try_step, BourgState, Loads, StepError};
 /// The nalgebra types of the public API, re-exported so users need not depend
 /// on nalgebra themselves.

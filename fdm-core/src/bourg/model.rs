@@ -6,15 +6,11 @@ use core::fmt;
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::airfoil::{rudder_coefficients, G_FTPS2, RHO_SLUG_FT3};
 use super::airframe::BourgAircraft;
 use super::controls::BourgControls;
-use super::ops::{
-    conjugate, cross, dot, euler_deg_from_quat, magnitude, mat_mul_vec, normalize, quat_add,
-    quat_div, quat_from_euler_deg, quat_magnitude, quat_mul_vec, quat_scale, qv_rotate,
-    radians_to_degrees,
-};
-use crate::math::asinf;
+use super::generic::{self, BourgTerms, BourgVars};
+use super::ops::{euler_deg_from_quat, magnitude, quat_from_euler_deg};
+use crate::real::Exact;
 
 /// The aircraft's integrated state.
 ///
@@ -159,96 +155,40 @@ pub struct Loads {
 /// outputs (table lookups of a NaN angle give CL 0, CD 0.75).
 #[must_use]
 pub fn loads(aircraft: &BourgAircraft, controls: &BourgControls, state: &BourgState) -> Loads {
-    let mass = aircraft.mass_properties();
-    let elements = &aircraft.airframe().elements;
-    let zero = Vector3::<f32>::new(0.0, 0.0, 0.0);
-
-    // The original is one loop over the elements. Each element's quantities
-    // depend on the others only through the carried drag direction and the
-    // running sums, so they are computed here phase by phase for all eight
-    // elements: every value comes from the same expression on the same inputs
-    // (bit-identical), but the eight dependency chains (sqrt, divisions, asin)
-    // are independent and the CPU can overlap them. The sums stay in element
-    // order.
-    let mut normals = mass.normals;
-    normals[6] = aircraft.rudder_normal(controls.rudder_incidence_deg(&elements[6]));
-
-    let mut local_speed = [0.0f32; 8];
-    let mut drag_candidate = [zero; 8];
-    for i in 0..8 {
-        let local_velocity =
-            state.velocity_body_ftps + cross(&state.angular_velocity_radps, &mass.cg_offsets_ft[i]);
-        local_speed[i] = magnitude(&local_velocity);
-        drag_candidate[i] = -local_velocity / local_speed[i];
-    }
-
-    // `vDragVector` is declared once before the loop: an element whose local
-    // speed is not above 1 ft/s keeps the previous element's drag direction
-    // (zero before the first update).
-    let mut drag = [zero; 8];
-    let mut carried = zero;
-    for i in 0..8 {
-        if local_speed[i] > 1.0 {
-            carried = drag_candidate[i];
-        }
-        drag[i] = carried;
-    }
-
-    let mut lift = [zero; 8];
-    let mut sin_attack = [0.0f32; 8];
-    for i in 0..8 {
-        lift[i] = normalize(&cross(&cross(&drag[i], &normals[i]), &drag[i]));
-        let mut s = dot(&drag[i], &normals[i]);
-        // The original's two `if`s (the same values as `clamp`, kept in its form).
-        #[allow(clippy::manual_clamp)]
-        if s > 1.0 {
-            s = 1.0;
-        }
-        if s < -1.0 {
-            s = -1.0;
-        }
-        sin_attack[i] = s;
-    }
-
-    let attack_deg = sin_attack.map(|s| radians_to_degrees(asinf(s)));
-
-    let mut stalling = false;
-    let mut resultant = [zero; 8];
-    for (i, element) in elements.iter().enumerate() {
-        let q_area = 0.5 * RHO_SLUG_FT3 * local_speed[i] * local_speed[i] * element.area_ft2;
-        let (a, l, d) = (attack_deg[i], &lift[i], &drag[i]);
-        resultant[i] = match i {
-            6 => {
-                let (cl, cd) = rudder_coefficients(a);
-                (l * cl + d * cd) * q_area
-            }
-            7 => d * 0.5 * q_area,
-            _ => {
-                let (cl, cd) = controls.elevator_coefficients(i, element, a);
-                if i <= 3 && cl == 0.0 {
-                    stalling = true;
-                }
-                (l * cl + d * cd) * q_area
-            }
-        };
-    }
-
-    let thrust = Vector3::<f32>::new(1.0, 0.0, 0.0) * controls.thrust_lb;
-    let mut fb = zero;
-    let mut mb = zero;
-    for (r, cg_offset) in resultant.iter().zip(&mass.cg_offsets_ft) {
-        fb += r;
-        mb += cross(cg_offset, r);
-    }
-
-    fb += thrust;
-    let mut force_earth = qv_rotate(&state.orientation, &fb);
-    force_earth.z += G_FTPS2 * mass.mass_slug;
-
+    let terms = BourgTerms::new(aircraft, controls);
+    let (force_earth, moment_body, stalling) =
+        generic::loads::<f32, Exact>(aircraft, &terms, &vars(state));
     Loads {
-        force_earth,
-        moment_body: zero + mb,
+        force_earth: force_earth.into(),
+        moment_body: moment_body.into(),
         stalling,
+    }
+}
+
+/// The state's integrated values as the generic step reads them.
+#[inline(always)]
+pub(crate) fn vars(state: &BourgState) -> BourgVars<f32> {
+    BourgVars {
+        position_ft: state.position_ft.into(),
+        velocity_ftps: state.velocity_ftps.into(),
+        velocity_body_ftps: state.velocity_body_ftps.into(),
+        angular_velocity_radps: state.angular_velocity_radps.into(),
+        orientation: state.orientation.into(),
+        stalling: state.stalling,
+    }
+}
+
+/// The state of `vars` at time `time_s`.
+#[inline(always)]
+pub(crate) fn state_of(vars: &BourgVars<f32>, time_s: f64) -> BourgState {
+    BourgState {
+        time_s,
+        position_ft: vars.position_ft.into(),
+        velocity_ftps: vars.velocity_ftps.into(),
+        velocity_body_ftps: vars.velocity_body_ftps.into(),
+        angular_velocity_radps: vars.angular_velocity_radps.into(),
+        orientation: vars.orientation.into(),
+        stalling: vars.stalling,
     }
 }
 
@@ -307,37 +247,9 @@ pub fn step(
     state: &BourgState,
     dt: f32,
 ) -> BourgState {
-    let mass = aircraft.mass_properties();
-    let loads = loads(aircraft, controls, state);
-
-    let acceleration = loads.force_earth / mass.mass_slug;
-    let velocity = state.velocity_ftps + acceleration * dt;
-    let position = state.position_ft + velocity * dt;
-
-    let omega = state.angular_velocity_radps;
-    let gyroscopic = cross(&omega, &mat_mul_vec(&mass.inertia, &omega));
-    let angular_velocity =
-        omega + mat_mul_vec(&mass.inertia_inverse, &(loads.moment_body - gyroscopic)) * dt;
-
-    let spin = quat_scale(
-        &quat_mul_vec(&state.orientation, &angular_velocity),
-        0.5 * dt,
-    );
-    let mut orientation = quat_add(&state.orientation, &spin);
-    let norm = quat_magnitude(&orientation);
-    if norm != 0.0 {
-        orientation = quat_div(&orientation, norm);
-    }
-
-    BourgState {
-        time_s: state.time_s + f64::from(dt),
-        position_ft: position,
-        velocity_ftps: velocity,
-        velocity_body_ftps: qv_rotate(&conjugate(&orientation), &velocity),
-        angular_velocity_radps: angular_velocity,
-        orientation,
-        stalling: loads.stalling,
-    }
+    let terms = BourgTerms::new(aircraft, controls);
+    let next = generic::step::<f32, Exact>(aircraft, &terms, &vars(state), dt);
+    state_of(&next, state.time_s + f64::from(dt))
 }
 
 /// Why [`try_step`] refused to step or to return a result.

@@ -39,41 +39,69 @@ use core::fmt;
 use nalgebra::Vector3;
 
 use super::{AircraftError, Flaps, PalmerAircraft, PalmerControls, PalmerState};
-use crate::math::{cos, pow, sin, sqrt};
+use crate::math::{cos, sin};
+use crate::real::{Exact, Mask, Maths, Real};
 
 /// Gravitational acceleration along z, m/s² (`G` of docs/palmer-model.md).
 pub const GRAVITY_MPS2: f64 = -9.81;
 
-/// The model's state vector `[vx, x, vy, y, vz, z]` (the original's order).
-type Q = [f64; 6];
+/// The model's state vector `[vx, x, vy, y, vz, z]` (the original's order),
+/// of one aircraft (`R = f64`) or of lanes.
+type Q<R> = [R; 6];
 
-/// Everything in the right-hand side that is the same in all four RK stages.
-#[derive(Clone, Copy)]
-struct StageInvariants {
-    /// `cos(bank * pi / 180)`.
-    cos_w: f64,
-    /// `sin(bank * pi / 180)`.
-    sin_w: f64,
-    /// Lift coefficient from alpha and flaps (without ground effect).
-    cl_without_ground_effect: f64,
-    /// `0.5 * cl` of that lift coefficient (the first product of step 8's lift).
-    half_cl_without_ground_effect: f64,
-    /// Step 9's drag coefficient `cdp + cl * cl / (pi * aspect_ratio * eff)`
-    /// of that lift coefficient, times 0.5 (the first product of the drag).
-    half_cd_without_ground_effect: f64,
+/// What the right-hand side derives from the aircraft alone: the same in
+/// every RK stage, every step and every aircraft of a fleet.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AircraftTerms {
     /// `engine_rps * prop_diameter`.
-    rps_times_diameter: f64,
-    /// `pi * aspect_ratio * eff`.
-    induced_drag_divisor: f64,
+    pub rps_times_diameter: f64,
+    /// `pi * aspect_ratio * eff`, `aspect_ratio = span * span / area`.
+    pub induced_drag_divisor: f64,
     /// `mass * G` (step 11's weight term).
-    weight: f64,
-    /// The throttle (step 6).
-    throttle: f64,
+    pub weight: f64,
 }
 
-impl StageInvariants {
+impl AircraftTerms {
+    /// The terms of `aircraft`.
     #[inline(always)]
-    fn new(aircraft: &PalmerAircraft, controls: &PalmerControls) -> Self {
+    #[must_use]
+    pub fn new(aircraft: &PalmerAircraft) -> Self {
+        // Step 9, the aspect ratio.
+        let aspect_ratio = aircraft.wing_span_m * aircraft.wing_span_m / aircraft.wing_area_m2;
+        Self {
+            rps_times_diameter: aircraft.engine_rps * aircraft.prop_diameter_m,
+            induced_drag_divisor: PI * aspect_ratio * aircraft.eff,
+            weight: aircraft.mass_kg * GRAVITY_MPS2,
+        }
+    }
+}
+
+/// What the right-hand side derives from one aircraft's controls (and the
+/// aircraft): the same in all four RK stages. `R = f64` for one aircraft,
+/// lanes for a fleet (computed when the controls are set).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControlTerms<R> {
+    /// `cos(bank * pi / 180)`.
+    pub cos_w: R,
+    /// `sin(bank * pi / 180)`.
+    pub sin_w: R,
+    /// Lift coefficient from alpha and flaps (without ground effect).
+    pub cl_without_ground_effect: R,
+    /// `0.5 * cl` of that lift coefficient (the first product of step 8's lift).
+    pub half_cl_without_ground_effect: R,
+    /// Step 9's drag coefficient `cdp + cl * cl / (pi * aspect_ratio * eff)`
+    /// of that lift coefficient, times 0.5 (the first product of the drag).
+    pub half_cd_without_ground_effect: R,
+    /// The throttle (step 6).
+    pub throttle: R,
+}
+
+impl ControlTerms<f64> {
+    /// The terms of `controls` on `aircraft` (whose [`AircraftTerms`] are
+    /// `at`).
+    #[inline(always)]
+    #[must_use]
+    pub fn new(aircraft: &PalmerAircraft, at: &AircraftTerms, controls: &PalmerControls) -> Self {
         // Step 1 (alpha stays in degrees).
         let bank_rad = controls.bank_deg * PI / 180.0;
         // Step 7, the part that does not depend on z.
@@ -88,80 +116,115 @@ impl StageInvariants {
             Flaps::Deg20 => cl += 0.25,
             Flaps::Deg40 => cl += 0.5,
         }
-        // Step 9, the aspect ratio.
-        let aspect_ratio = aircraft.wing_span_m * aircraft.wing_span_m / aircraft.wing_area_m2;
-        let induced_drag_divisor = PI * aspect_ratio * aircraft.eff;
         Self {
             // Step 10, bank.
             cos_w: cos(bank_rad),
             sin_w: sin(bank_rad),
             cl_without_ground_effect: cl,
             half_cl_without_ground_effect: 0.5 * cl,
-            half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / induced_drag_divisor),
-            rps_times_diameter: aircraft.engine_rps * aircraft.prop_diameter_m,
-            induced_drag_divisor,
-            weight: aircraft.mass_kg * GRAVITY_MPS2,
+            half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / at.induced_drag_divisor),
             throttle: controls.throttle,
         }
     }
 }
 
+impl<R: Real<Scalar = f64>> ControlTerms<R> {
+    /// Every lane `t`.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(t: &ControlTerms<f64>) -> Self {
+        Self {
+            cos_w: R::splat(t.cos_w),
+            sin_w: R::splat(t.sin_w),
+            cl_without_ground_effect: R::splat(t.cl_without_ground_effect),
+            half_cl_without_ground_effect: R::splat(t.half_cl_without_ground_effect),
+            half_cd_without_ground_effect: R::splat(t.half_cd_without_ground_effect),
+            throttle: R::splat(t.throttle),
+        }
+    }
+
+    /// Sets lane `i` to `t`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, i: usize, t: &ControlTerms<f64>) {
+        self.cos_w.set_lane(i, t.cos_w);
+        self.sin_w.set_lane(i, t.sin_w);
+        self.cl_without_ground_effect
+            .set_lane(i, t.cl_without_ground_effect);
+        self.half_cl_without_ground_effect
+            .set_lane(i, t.half_cl_without_ground_effect);
+        self.half_cd_without_ground_effect
+            .set_lane(i, t.half_cd_without_ground_effect);
+        self.throttle.set_lane(i, t.throttle);
+    }
+}
+
 /// Step 4's pressure at altitude `z`: `101325 * pow(1 - 0.0065 * z / 288.15, 5.25)`.
 #[inline(always)]
-fn pressure_at(z: f64) -> f64 {
-    let grp = 1.0 - 0.0065 * z / 288.15;
-    101_325.0 * pow(grp, 5.25)
+fn pressure_at<R: Real<Scalar = f64>, F: Maths>(z: R) -> R {
+    let c = R::splat;
+    let grp = c(1.0) - c(0.0065) * z / 288.15;
+    c(101_325.0) * F::pow(grp, 5.25)
 }
 
 /// The `rhs(` of docs/palmer-model.md: `rhs(q, delta_q, ds, q_scale)`: the change of `q` over `ds`
 /// (already multiplied by `ds`) at the intermediate state `q + q_scale * delta_q`,
 /// given [`pressure_at`] that state's altitude `q[5] + q_scale * delta_q[5]`.
+///
+/// Written over [`Real`]: each scalar `if` is a mask and a
+/// [`Real::select`] of both values (for `f64` a plain `if`).
 #[inline(always)]
-#[allow(clippy::similar_names)] // names follow the original C: cosW/cosP/cosT, sinW/...
-fn rhs(
+#[allow(clippy::similar_names, clippy::too_many_arguments)] // names follow the original C: cosW/cosP/cosT, sinW/...
+fn rhs<R: Real<Scalar = f64>>(
     aircraft: &PalmerAircraft,
-    k: &StageInvariants,
-    q: &Q,
-    delta_q: &Q,
+    at: &AircraftTerms,
+    k: &ControlTerms<R>,
+    q: &Q<R>,
+    delta_q: &Q<R>,
     ds: f64,
     q_scale: f64,
-    pressure: f64,
-) -> Q {
-    // Step 2.
-    let new_q: Q = core::array::from_fn(|i| q[i] + q_scale * delta_q[i]);
+    pressure: R,
+) -> Q<R> {
+    let c = R::splat;
+    // Step 2 (x and y of the intermediate state are never read).
+    let vx = q[0] + c(q_scale) * delta_q[0];
+    let vy = q[2] + c(q_scale) * delta_q[2];
+    let vz = q[4] + c(q_scale) * delta_q[4];
+    let z = q[5] + c(q_scale) * delta_q[5];
     // Step 3.
-    let vx = new_q[0];
-    let vy = new_q[2];
-    let vz = new_q[4];
-    let z = new_q[5];
-    let vh = sqrt(vx * vx + vy * vy);
-    let vtotal = sqrt(vx * vx + vy * vy + vz * vz);
+    let vh = (vx * vx + vy * vy).sqrt();
+    let vtotal = (vx * vx + vy * vy + vz * vz).sqrt();
 
     // Step 4: atmosphere (the pressure at this `z` comes from [`pressure_at`]).
-    let temperature = 288.15 - 0.0065 * z;
-    let density = 0.00348 * pressure / temperature;
+    let temperature = c(288.15) - c(0.0065) * z;
+    let density = c(0.00348) * pressure / temperature;
 
     // Step 5: power drop-off.
     let omega = density / 1.225;
     let factor = (omega - 0.12) / 0.88;
 
     // Step 6: thrust.
-    let advance_ratio = vtotal / k.rps_times_diameter;
+    let advance_ratio = vtotal / at.rps_times_diameter;
     let thrust = k.throttle
         * factor
         * aircraft.engine_power_w
-        * (aircraft.prop_a + aircraft.prop_b * advance_ratio * advance_ratio)
-        / k.rps_times_diameter;
+        * (c(aircraft.prop_a) + c(aircraft.prop_b) * advance_ratio * advance_ratio)
+        / at.rps_times_diameter;
 
     // Step 7: lift coefficient; ground effect below 5 m. Step 9's drag
     // coefficient depends on nothing else, so away from the ground both come
     // precomputed (as `0.5 * cl` and `0.5 * cd`, the first products of steps
-    // 8 and 9).
-    let (half_cl, half_cd) = if z < 5.0 {
+    // 8 and 9); the ground-effect values are computed only when an aircraft
+    // (a lane) is that low.
+    let low = z.lt(5.0);
+    let (half_cl, half_cd) = if low.any() {
         let cl = k.cl_without_ground_effect + 0.25;
         (
-            0.5 * cl,
-            0.5 * (aircraft.cdp + cl * cl / k.induced_drag_divisor),
+            R::select(low, c(0.5) * cl, k.half_cl_without_ground_effect),
+            R::select(
+                low,
+                c(0.5) * (c(aircraft.cdp) + cl * cl / at.induced_drag_divisor),
+                k.half_cd_without_ground_effect,
+            ),
         )
     } else {
         (
@@ -176,44 +239,67 @@ fn rhs(
     // Step 9.
     let drag = half_cd * density * vtotal * vtotal * aircraft.wing_area_m2;
 
-    // Step 10.
+    // Step 10 (a zero speed's divisions give NaN that the select drops).
     let (cos_w, sin_w) = (k.cos_w, k.sin_w);
-    let (cos_p, sin_p) = if vtotal == 0.0 {
-        (1.0, 0.0)
-    } else {
-        (vh / vtotal, vz / vtotal)
-    };
-    let (cos_t, sin_t) = if vh == 0.0 {
-        (1.0, 0.0)
-    } else {
-        (vx / vh, vy / vh)
-    };
+    let still = vtotal.eq(0.0);
+    let cos_p = R::select(still, c(1.0), vh / vtotal);
+    let sin_p = R::select(still, c(0.0), vz / vtotal);
+    let vertical = vh.eq(0.0);
+    let cos_t = R::select(vertical, c(1.0), vx / vh);
+    let sin_t = R::select(vertical, c(0.0), vy / vh);
 
     // Step 11.
     let fx = cos_t * cos_p * (thrust - drag) + (sin_t * sin_w - cos_t * sin_p * cos_w) * lift;
     let fy = sin_t * cos_p * (thrust - drag) + (-cos_t * sin_w - sin_t * sin_p * cos_w) * lift;
-    let mut fz = sin_p * (thrust - drag) + cos_p * cos_w * lift;
-    fz += k.weight; // `Fz = Fz + mass * G`
+    let fz = sin_p * (thrust - drag) + cos_p * cos_w * lift;
+    let fz = fz + at.weight; // `Fz = Fz + mass * G`
 
     // Step 12: the ground holds the aircraft up.
-    if z <= 0.0 && fz <= 0.0 {
-        fz = 0.0;
-    }
+    let fz = R::select(z.le(0.0).and(fz.le(0.0)), c(0.0), fz);
 
     // Step 13 (force divided by the mass first, see the module docs).
     let mass = aircraft.mass_kg;
     [
-        ds * (fx / mass),
-        ds * vx,
-        ds * (fy / mass),
-        ds * vy,
-        ds * (fz / mass),
-        ds * vz,
+        c(ds) * (fx / mass),
+        c(ds) * vx,
+        c(ds) * (fy / mass),
+        c(ds) * vy,
+        c(ds) * (fz / mass),
+        c(ds) * vz,
     ]
 }
 
+/// One RK4 step of `q` (one aircraft, or lanes) over `ds` seconds with the
+/// maths `F`, the clock aside: `q + (dq1 + 2·dq2 + 2·dq3 + dq4) / 6`. [`step`]
+/// is this with `R = f64` and [`Exact`]; a fleet's kernel is this with lanes.
 #[inline(always)]
-fn to_q(state: &PalmerState) -> Q {
+pub(crate) fn rk4<R: Real<Scalar = f64>, F: Maths>(
+    aircraft: &PalmerAircraft,
+    at: &AircraftTerms,
+    k: &ControlTerms<R>,
+    q: &Q<R>,
+    ds: f64,
+) -> Q<R> {
+    let c = R::splat;
+    // Stage k's altitude is `q[5] + q_scale_k * dq_(k-1)[5]` with
+    // `dq_(k-1)[5] = ds * (q[4] + q_scale_(k-1) * dq_(k-2)[4])`: it depends on
+    // the vertical force of stage k-2, not k-1. So each stage's pressure (the
+    // `pow`, the slowest operation) is computed one stage early, from the same
+    // operations on the same values as `rhs` would use, and overlaps with the
+    // previous stage's forces instead of lengthening the chain.
+    let p1 = pressure_at::<R, F>(q[5] + c(0.0) * q[5]);
+    let p2 = pressure_at::<R, F>(q[5] + c(0.5) * (c(ds) * (q[4] + c(0.0) * q[4])));
+    let dq1 = rhs(aircraft, at, k, q, q, ds, 0.0, p1);
+    let p3 = pressure_at::<R, F>(q[5] + c(0.5) * (c(ds) * (q[4] + c(0.5) * dq1[4])));
+    let dq2 = rhs(aircraft, at, k, q, &dq1, ds, 0.5, p2);
+    let p4 = pressure_at::<R, F>(q[5] + c(1.0) * (c(ds) * (q[4] + c(0.5) * dq2[4])));
+    let dq3 = rhs(aircraft, at, k, q, &dq2, ds, 0.5, p3);
+    let dq4 = rhs(aircraft, at, k, q, &dq3, ds, 1.0, p4);
+    core::array::from_fn(|j| q[j] + (dq1[j] + c(2.0) * dq2[j] + c(2.0) * dq3[j] + dq4[j]) / 6.0)
+}
+
+#[inline(always)]
+fn to_q(state: &PalmerState) -> Q<f64> {
     let (p, v) = (&state.position_m, &state.velocity_mps);
     [v.x, p.x, v.y, p.y, v.z, p.z]
 }
@@ -248,10 +334,11 @@ pub fn derivatives(
     controls: &PalmerControls,
     state: &PalmerState,
 ) -> PalmerDerivative {
-    let k = StageInvariants::new(aircraft, controls);
+    let at = AircraftTerms::new(aircraft);
+    let k = ControlTerms::new(aircraft, &at, controls);
     let q = to_q(state);
-    let pressure = pressure_at(q[5] + 0.0 * q[5]);
-    let dq = rhs(aircraft, &k, &q, &q, 1.0, 0.0, pressure);
+    let pressure = pressure_at::<f64, Exact>(q[5] + 0.0 * q[5]);
+    let dq = rhs(aircraft, &at, &k, &q, &q, 1.0, 0.0, pressure);
     PalmerDerivative {
         velocity_mps: Vector3::new(dq[1], dq[3], dq[5]),
         acceleration_mps2: Vector3::new(dq[0], dq[2], dq[4]),
@@ -290,25 +377,10 @@ pub fn step(
     state: &PalmerState,
     dt_s: f64,
 ) -> PalmerState {
-    let k = StageInvariants::new(aircraft, controls);
-    let q = to_q(state);
+    let at = AircraftTerms::new(aircraft);
+    let k = ControlTerms::new(aircraft, &at, controls);
     let ds = dt_s;
-    // Stage k's altitude is `q[5] + q_scale_k * dq_(k-1)[5]` with
-    // `dq_(k-1)[5] = ds * (q[4] + q_scale_(k-1) * dq_(k-2)[4])`: it depends on
-    // the vertical force of stage k-2, not k-1. So each stage's pressure (the
-    // `pow`, the slowest operation) is computed one stage early, from the same
-    // operations on the same values as `rhs` would use, and overlaps with the
-    // previous stage's forces instead of lengthening the chain.
-    let p1 = pressure_at(q[5] + 0.0 * q[5]);
-    let p2 = pressure_at(q[5] + 0.5 * (ds * (q[4] + 0.0 * q[4])));
-    let dq1 = rhs(aircraft, &k, &q, &q, ds, 0.0, p1);
-    let p3 = pressure_at(q[5] + 0.5 * (ds * (q[4] + 0.5 * dq1[4])));
-    let dq2 = rhs(aircraft, &k, &q, &dq1, ds, 0.5, p2);
-    let p4 = pressure_at(q[5] + 1.0 * (ds * (q[4] + 0.5 * dq2[4])));
-    let dq3 = rhs(aircraft, &k, &q, &dq2, ds, 0.5, p3);
-    let dq4 = rhs(aircraft, &k, &q, &dq3, ds, 1.0, p4);
-    let next: Q =
-        core::array::from_fn(|j| q[j] + (dq1[j] + 2.0 * dq2[j] + 2.0 * dq3[j] + dq4[j]) / 6.0);
+    let next = rk4::<f64, Exact>(aircraft, &at, &k, &to_q(state), ds);
     PalmerState {
         time_s: state.time_s + ds,
         position_m: Vector3::new(next[1], next[3], next[5]),
@@ -448,9 +520,19 @@ mod tests {
     fn derivatives_match_the_first_rk_stage() {
         let (state, controls, dt) = (flying(), climb(), 0.1);
         let d = derivatives(&CESSNA, &controls, &state);
-        let k = StageInvariants::new(&CESSNA, &controls);
+        let at = AircraftTerms::new(&CESSNA);
+        let k = ControlTerms::new(&CESSNA, &at, &controls);
         let q = to_q(&state);
-        let dq1 = rhs(&CESSNA, &k, &q, &q, dt, 0.0, pressure_at(q[5]));
+        let dq1 = rhs(
+            &CESSNA,
+            &at,
+            &k,
+            &q,
+            &q,
+            dt,
+            0.0,
+            pressure_at::<f64, Exact>(q[5]),
+        );
         // `ds * (F / m)` with ds = 1 is exactly `F / m`: the stage is dt times it.
         assert_eq!(dq1[1], dt * d.velocity_mps.x);
         assert_eq!(dq1[3], dt * d.velocity_mps.y);

@@ -39,6 +39,7 @@ mod aircraft;
 mod controls;
 mod dynamics;
 mod landing;
+mod lanes;
 mod state;
 mod trim;
 
@@ -47,10 +48,14 @@ pub use controls::{
     Flaps, InvalidFlaps, PalmerControls, ALPHA_MAX_DEG, ALPHA_MIN_DEG, ANGLE_STEP_DEG,
     BANK_LIMIT_DEG, THROTTLE_STEP,
 };
-pub use dynamics::{derivatives, step, try_step, PalmerDerivative, StepError, GRAVITY_MPS2};
+pub use dynamics::{
+    derivatives, step, try_step, AircraftTerms, ControlTerms, PalmerDerivative, StepError,
+    GRAVITY_MPS2,
+};
 pub use landing::{
     landing_state, FlightPhase, LandingState, ROUGH_LANDING_VZ_MPS, SAFE_LANDING_VZ_MPS,
 };
+pub use lanes::{PalmerLanes, LANES};
 pub use state::{compass_from_heading_deg, flight_data, FlightData, PalmerState};
 pub use trim::{state_at, trim};
 

@@ -78,7 +78,7 @@ impl Details for BourgDetails {
 impl CliModel for Bourg {
     type Details = BourgDetails;
 
-    type Lanes = fdm_fleet::BourgFleet;
+    type Lanes = fdm_fleet::Fleet<Self>;
 
     const FG_AIRCRAFT: &'static str = "ufo";
 

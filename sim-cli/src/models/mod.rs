@@ -54,8 +54,9 @@ pub trait CliModel:
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
 
-    /// The model's structure-of-arrays fleet kernel (`sim-cli fleet
-    /// --kernel lanes`).
+    /// The model's structure-of-arrays fleet (`sim-cli fleet --kernel
+    /// lanes`): `fdm_fleet::Fleet<Self>` for any model whose step is written
+    /// over `fdm_core::real`'s number type (no hand-written kernel).
     type Lanes: fdm_fleet::LaneFleet<Model = Self>;
 
     /// The aircraft's parameters as a recording stores them: everything

@@ -92,7 +92,7 @@ impl Details for PalmerDetails {
 impl CliModel for Palmer {
     type Details = PalmerDetails;
 
-    type Lanes = fdm_fleet::PalmerFleet;
+    type Lanes = fdm_fleet::Fleet<Self>;
 
     const FG_AIRCRAFT: &'static str = "c172p";
 

@@ -1,0 +1,103 @@
+//! Palmer's step in lanes: the [`LaneModel`] seam a structure-of-arrays fleet
+//! flies it through. The physics is [`super::dynamics`]'s `rk4`, the one
+//! source of the scalar [`step`](super::step), instantiated with lane vectors.
+//!
+//! | fleet block | lanes | read by the step | written by the step |
+//! |---|---|---|---|
+//! | `Vars` | `[vx, x, vy, y, vz, z]`, one [`PalmerLanes`] each | all six | all six |
+//! | `Terms` | [`ControlTerms`] of each lane's controls | all | never (set with the controls) |
+//! | `Shared` | [`AircraftTerms`] and the aircraft | all | never |
+
+use nalgebra::Vector3;
+
+use super::dynamics::{rk4, AircraftTerms, ControlTerms};
+use super::{AircraftError, Palmer, PalmerAircraft, PalmerControls, PalmerState};
+use crate::real::{F64s, LaneMask, LaneModel, Maths, Real};
+
+/// Aircraft per block of a Palmer fleet: 8 `f64` lanes (one AVX-512 register,
+/// two AVX2 registers or four SSE2 registers).
+pub const LANES: usize = 8;
+
+/// The lane vector of a Palmer fleet.
+pub type PalmerLanes = F64s<LANES>;
+
+impl LaneModel for Palmer {
+    type Lanes = PalmerLanes;
+    type Shared = AircraftTerms;
+    type Vars = [PalmerLanes; 6];
+    type Terms = ControlTerms<PalmerLanes>;
+    type AircraftError = AircraftError;
+    const HAS_FAST: bool = true;
+    /// `3 · 1e150² < f64::MAX`: the airspeed of a state whose components
+    /// are all below it cannot overflow.
+    const SUSPECT: f64 = 1e150;
+
+    fn check_aircraft(aircraft: &PalmerAircraft) -> Result<(), AircraftError> {
+        aircraft.validate()
+    }
+
+    fn shared(aircraft: &PalmerAircraft) -> AircraftTerms {
+        AircraftTerms::new(aircraft)
+    }
+
+    fn idle(aircraft: &PalmerAircraft) -> (Self::Vars, Self::Terms) {
+        let at = AircraftTerms::new(aircraft);
+        let controls = ControlTerms::new(aircraft, &at, &PalmerControls::default());
+        ([F64s::splat_zero(); 6], ControlTerms::splat(&controls))
+    }
+
+    #[inline]
+    fn state(vars: &Self::Vars, time_s: f64, lane: usize) -> PalmerState {
+        let q = |j: usize| vars[j].0[lane];
+        PalmerState {
+            time_s,
+            position_m: Vector3::new(q(1), q(3), q(5)),
+            velocity_mps: Vector3::new(q(0), q(2), q(4)),
+        }
+    }
+
+    #[inline]
+    fn set_state(vars: &mut Self::Vars, lane: usize, s: &PalmerState) -> f64 {
+        let (p, v) = (&s.position_m, &s.velocity_mps);
+        for (field, value) in vars.iter_mut().zip([v.x, p.x, v.y, p.y, v.z, p.z]) {
+            field.0[lane] = value;
+        }
+        s.time_s
+    }
+
+    fn set_controls(
+        terms: &mut Self::Terms,
+        lane: usize,
+        aircraft: &PalmerAircraft,
+        shared: &AircraftTerms,
+        controls: &PalmerControls,
+    ) {
+        terms.set_lane(lane, &ControlTerms::new(aircraft, shared, controls));
+    }
+
+    #[inline(always)]
+    fn step_lanes<F: Maths>(
+        aircraft: &PalmerAircraft,
+        shared: &AircraftTerms,
+        terms: &Self::Terms,
+        vars: &Self::Vars,
+        dt: f64,
+    ) -> Self::Vars {
+        rk4::<PalmerLanes, F>(aircraft, shared, terms, vars, dt)
+    }
+
+    #[inline(always)]
+    fn for_each_component(vars: &Self::Vars, f: impl FnMut(PalmerLanes)) {
+        vars.iter().copied().for_each(f);
+    }
+
+    #[inline(always)]
+    fn above_ground(vars: &Self::Vars) -> LaneMask<LANES> {
+        vars[5].gt(0.0)
+    }
+
+    #[inline]
+    fn position_m(state: &PalmerState) -> Vector3<f64> {
+        state.position_m
+    }
+}

@@ -1,0 +1,788 @@
+//! [`Fleet`]: many aircraft of one [`LaneModel`] laid out as structure-of-arrays
+//! and stepped [`Real::LANES`] aircraft per SIMD instruction, for any model
+//! whose step is written over `fdm_core::real`'s number type. The physics is
+//! the model's own (`LaneModel::step_lanes`, the one source of its scalar
+//! step); this module owns only the layout, the precision, the instruction
+//! set, the threads and the flight status.
+//!
+//! # Layout
+//!
+//! The fleet is a `Vec` of blocks of `LANES` aircraft ("array of structures of
+//! arrays"): inside a block every value of the model's state and control
+//! terms is one lane vector (`[f64; LANES]` or `[f32; LANES]`), which the
+//! kernel loads as one vector; beside them the clocks, the controls as set and
+//! the flight statuses, one per lane. The last block is padded with idle
+//! aircraft, stepped along and never shown, so any fleet size works; rayon
+//! hands whole runs of blocks to its threads. What depends only on the
+//! aircraft and the controls (the model's `Terms`) is computed when the
+//! controls are set, with the scalar step's own functions: the same bits, and
+//! off the per-step path.
+//!
+//! # Precisions
+//!
+//! * [`Precision::Exact`]: the step with [`Exact`] maths: every aircraft
+//!   bit-identical to [`Model::step`] (glibc's functions lane by lane, every
+//!   other operation SIMD).
+//! * [`Precision::Fast`]: the step with [`Fast`] maths (vectorised forms of
+//!   the functions that have one; for Palmer the pressure's `pow`: every
+//!   aircraft within 1e-9 m and 1e-9 m/s of `Exact` after 1,800 steps). A
+//!   model whose step calls no such function ([`LaneModel::HAS_FAST`] false,
+//!   e.g. Bourg) refuses it.
+//!
+//! # Why the instruction set cannot change the `Exact` bits
+//!
+//! The kernel is compiled several times and one copy is picked at run time
+//! ([`pulp::Arch`]: x86-64-v4 with AVX-512, x86-64-v3 with AVX2 and FMA, or the
+//! SSE2 baseline). Addition, subtraction, multiplication, division and square
+//! root are correctly rounded IEEE operations in every one of these
+//! instruction sets, so a lane of `vdivpd ymm` has the bits of a scalar
+//! `divsd`. The one thing that could differ is fusion: `a * b + c` as one FMA
+//! rounds once instead of twice. Rust never contracts a multiplication and an
+//! addition into an FMA on its own (it gives LLVM no fast-math or `contract`
+//! flags, with or without the `fma` target feature), and the exact maths never
+//! call `mul_add`, so the FMA copy computes the same roundings. glibc's
+//! functions are the same whichever copy calls them. The fast `pow` calls
+//! `mul_add` only where the CPU has FMA, to get the exact rounding error of a
+//! product, which the baseline copy gets exactly too with Dekker's splitting,
+//! so `Fast` is also the same bits on every instruction set. The tests step
+//! the same fleet through the dispatched copy and the baseline copy
+//! ([`Fleet::step_baseline_with`]) and compare the bits.
+//!
+//! # The flight status
+//!
+//! [`Fleet::fly_with`] frames are [`fdm_core::model::fly`] per aircraft. The
+//! kernel steps every block; a lane-wise check then finds the lanes the step
+//! alone does not finish (not airborne above the ground plane, or with a
+//! component at or beyond [`LaneModel::SUSPECT`], too large to be sure the
+//! state is finite), and only those go through the scalar rule of
+//! [`finish_lane`].
+
+use core::fmt;
+use core::str::FromStr;
+use std::sync::Arc;
+
+use fdm_core::bourg::Vector3;
+use fdm_core::model::{FlightStatus, Model};
+use fdm_core::real::{Exact, Fast, LaneModel, Lanes, Mask, Maths, Real};
+use pulp::{Arch, Simd, WithSimd};
+use rayon::prelude::*;
+
+/// Blocks per rayon task in the parallel methods: large enough that
+/// scheduling costs nothing next to the stepping, small enough to balance two
+/// threads on a 1,000-aircraft fleet.
+const BLOCKS_PER_TASK: usize = 32;
+
+/// Which maths a fleet's step uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Precision {
+    /// [`Exact`] maths: every aircraft bit-identical to the model's scalar
+    /// step.
+    #[default]
+    Exact,
+    /// [`Fast`] maths: vectorised functions where the model's step has one
+    /// (Palmer: every aircraft within 1e-9 m and 1e-9 m/s of
+    /// [`Precision::Exact`] after 1,800 steps).
+    Fast,
+}
+
+impl Precision {
+    /// The name `FromStr` reads: `"exact"` or `"fast"`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Exact => "exact",
+            Self::Fast => "fast",
+        }
+    }
+}
+
+impl fmt::Display for Precision {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Precision {
+    type Err = FleetError;
+
+    /// `"exact"` or `"fast"` (as `sim-cli fleet --precision` takes them).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "exact" => Ok(Self::Exact),
+            "fast" => Ok(Self::Fast),
+            _ => Err(FleetError::UnknownPrecision(s.to_owned())),
+        }
+    }
+}
+
+/// What a fleet operation refused.
+#[derive(Debug, Clone)]
+pub enum FleetError {
+    /// The shared aircraft cannot be flown: [`LaneModel::check_aircraft`]'s
+    /// error (the model's own type, e.g. Palmer's `AircraftError`; it is the
+    /// [`source`](std::error::Error::source) of this error).
+    InvalidAircraft(Arc<dyn std::error::Error + Send + Sync>),
+    /// An aircraft index past the end of the fleet.
+    OutOfRange {
+        /// The index asked for.
+        index: usize,
+        /// The fleet's size.
+        len: usize,
+    },
+    /// A precision name other than `exact` or `fast`.
+    UnknownPrecision(String),
+    /// The model has no kernel of this precision (its step calls no function
+    /// with a fast form: Bourg has only `exact`).
+    PrecisionUnavailable {
+        /// The model's name.
+        model: &'static str,
+        /// The precision asked for.
+        precision: Precision,
+    },
+}
+
+impl fmt::Display for FleetError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::InvalidAircraft(err) => write!(f, "invalid aircraft: {err}"),
+            Self::OutOfRange { index, len } => {
+                write!(f, "aircraft {index} is out of range for a fleet of {len}")
+            }
+            Self::UnknownPrecision(name) => {
+                write!(f, "precision must be `exact` or `fast`, got `{name}`")
+            }
+            Self::PrecisionUnavailable { model, precision } => {
+                write!(
+                    f,
+                    "the {model} fleet kernel has no `{precision}` precision (use `exact`)"
+                )
+            }
+        }
+    }
+}
+
+/// Equal variants with equal fields; two [`FleetError::InvalidAircraft`] are
+/// equal when their reasons read the same.
+impl PartialEq for FleetError {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::InvalidAircraft(a), Self::InvalidAircraft(b)) => a.to_string() == b.to_string(),
+            (Self::OutOfRange { index: i, len: n }, Self::OutOfRange { index: j, len: m }) => {
+                (i, n) == (j, m)
+            }
+            (Self::UnknownPrecision(a), Self::UnknownPrecision(b)) => a == b,
+            (
+                Self::PrecisionUnavailable {
+                    model: a,
+                    precision: p,
+                },
+                Self::PrecisionUnavailable {
+                    model: b,
+                    precision: q,
+                },
+            ) => (a, p) == (b, q),
+            _ => false,
+        }
+    }
+}
+
+impl std::error::Error for FleetError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::InvalidAircraft(err) => Some(err.as_ref()),
+            _ => None,
+        }
+    }
+}
+
+/// The lane arrays of model `M`'s blocks.
+type Array<M, T> = <<M as LaneModel>::Lanes as Lanes>::Array<T>;
+
+/// `LANES` aircraft of model `M`, field by field.
+#[derive(Debug, Clone, Copy)]
+struct Block<M: LaneModel> {
+    /// Each lane's clock, s.
+    time: Array<M, f64>,
+    /// Each lane's integrated state.
+    vars: M::Vars,
+    /// Each lane's control terms.
+    terms: M::Terms,
+    /// The controls as set (read back by [`Fleet::controls`]; the kernel
+    /// reads the terms).
+    controls: Array<M, M::Controls>,
+    /// Each aircraft's flight status ([`Fleet::fly_with`]).
+    status: Array<M, FlightStatus>,
+}
+
+impl<M: LaneModel> Block<M> {
+    /// A block of idle aircraft.
+    fn idle(aircraft: &M::Aircraft) -> Self {
+        let (vars, terms) = M::idle(aircraft);
+        Self {
+            time: M::Lanes::array(|_| 0.0),
+            vars,
+            terms,
+            controls: M::Lanes::array(|_| M::initial_controls()),
+            status: M::Lanes::array(|_| FlightStatus::initial(M::height_m(&M::initial_state()))),
+        }
+    }
+
+    fn state(&self, lane: usize) -> M::State {
+        M::state(&self.vars, self.time.as_ref()[lane], lane)
+    }
+
+    fn set_state(&mut self, lane: usize, state: &M::State) {
+        self.time.as_mut()[lane] = M::set_state(&mut self.vars, lane, state);
+    }
+
+    /// One step of every lane with the maths `F`.
+    #[inline(always)]
+    fn step<F: Maths>(&mut self, aircraft: &M::Aircraft, shared: &M::Shared, dt: M::TimeStep) {
+        self.vars = M::step_lanes::<F>(aircraft, shared, &self.terms, &self.vars, dt);
+        let dt_s: f64 = dt.into();
+        for t in self.time.as_mut() {
+            *t += dt_s;
+        }
+    }
+
+    /// The flight-status half of [`Fleet::fly_with`] for a block the kernel
+    /// has just stepped from `time` and `vars`: every lane ends as
+    /// [`fdm_core::model::fly`] would have left it.
+    #[inline(always)]
+    fn settle(
+        &mut self,
+        time: &Array<M, f64>,
+        vars: &M::Vars,
+        aircraft: &M::Aircraft,
+        dt: M::TimeStep,
+    ) {
+        // Whether any lane needs more than the step (usually none).
+        let mut suspect = <M::Lanes as Real>::Mask::splat(false);
+        M::for_each_component(&self.vars, |x| {
+            suspect = suspect.or(x.abs().lt(M::SUSPECT).not());
+        });
+        let mut unfinished = M::above_ground(&self.vars).not();
+        for (l, (t, s)) in self
+            .time
+            .as_ref()
+            .iter()
+            .zip(self.status.as_ref())
+            .enumerate()
+        {
+            if !t.is_finite() {
+                suspect.set_lane(l, true);
+            }
+            if *s != FlightStatus::Airborne {
+                unfinished.set_lane(l, true);
+            }
+        }
+        let unfinished = unfinished.or(suspect);
+        if unfinished.any() {
+            self.settle_lanes(unfinished, suspect, time, vars, aircraft, dt);
+        }
+    }
+
+    /// The scalar part of [`Self::settle`], for the lanes `unfinished`
+    /// (rare: out of the hot loop).
+    #[cold]
+    #[inline(never)]
+    fn settle_lanes(
+        &mut self,
+        unfinished: <M::Lanes as Real>::Mask,
+        suspect: <M::Lanes as Real>::Mask,
+        time: &Array<M, f64>,
+        vars: &M::Vars,
+        aircraft: &M::Aircraft,
+        dt: M::TimeStep,
+    ) {
+        for lane in 0..M::Lanes::LANES {
+            if !unfinished.lane(lane) {
+                continue;
+            }
+            let (state, status) = finish_lane::<M>(
+                aircraft,
+                &self.controls.as_ref()[lane],
+                self.status.as_ref()[lane],
+                suspect.lane(lane),
+                || M::state(vars, time.as_ref()[lane], lane),
+                || self.state(lane),
+                dt,
+            );
+            self.set_state(lane, &state);
+            self.status.as_mut()[lane] = status;
+        }
+    }
+}
+
+/// The frame of one lane that the kernel's step alone does not finish (not
+/// airborne above the ground plane, or `suspect`: a component too large to be
+/// sure the step is finite), as [`fdm_core::model::fly`] would end it: a
+/// crashed, diverged or suspect aircraft flies the scalar frame again from
+/// its state `before` the step; any other keeps the kernel's step (`after`,
+/// `step`'s bits) and only settles its status and ground contact.
+pub(crate) fn finish_lane<M: Model>(
+    aircraft: &M::Aircraft,
+    controls: &M::Controls,
+    status: FlightStatus,
+    suspect: bool,
+    before: impl FnOnce() -> M::State,
+    after: impl FnOnce() -> M::State,
+    dt: M::TimeStep,
+) -> (M::State, FlightStatus) {
+    if suspect || status.is_final() {
+        fdm_core::model::fly::<M>(aircraft, controls, status, &before(), dt)
+    } else {
+        fdm_core::model::settle::<M>(aircraft, status, &after())
+    }
+}
+
+/// The stepping loop over some blocks, generic over the instruction set pulp
+/// picked: `with_simd` and everything it calls are inlined into pulp's
+/// `#[target_feature]` function, so the lane loops compile to that set.
+struct StepBlocks<'a, M: LaneModel> {
+    blocks: &'a mut [Block<M>],
+    aircraft: &'a M::Aircraft,
+    shared: &'a M::Shared,
+    dt: M::TimeStep,
+    precision: Precision,
+    /// Whether the instruction set has FMA (used only by the fast maths).
+    fma: bool,
+    /// Whole frames with the flight status rather than bare steps.
+    fly: bool,
+}
+
+impl<M: LaneModel> WithSimd for StepBlocks<'_, M> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        match (self.precision, self.fma) {
+            (Precision::Fast, false) if M::HAS_FAST => self.each::<Fast<false>>(),
+            (Precision::Fast, true) if M::HAS_FAST => self.each::<Fast<true>>(),
+            _ => self.each::<Exact>(),
+        }
+    }
+}
+
+impl<M: LaneModel> StepBlocks<'_, M> {
+    /// The kernel on every block, each followed by its flight status with
+    /// [`Self::fly`].
+    #[inline(always)]
+    fn each<F: Maths>(self) {
+        let (aircraft, shared, dt) = (self.aircraft, self.shared, self.dt);
+        if self.fly {
+            for b in self.blocks {
+                let (time, vars) = (b.time, b.vars);
+                b.step::<F>(aircraft, shared, dt);
+                b.settle(&time, &vars, aircraft, dt);
+            }
+        } else {
+            for b in self.blocks {
+                b.step::<F>(aircraft, shared, dt);
+            }
+        }
+    }
+}
+
+/// Whether `arch` has FMA instructions (x86-64-v3 and v4 do; the baseline and
+/// other architectures are treated as not having them, which is always
+/// correct, only slower).
+const fn has_fma(arch: Arch) -> bool {
+    match arch {
+        #[cfg(target_arch = "x86_64")]
+        Arch::V4(_) | Arch::V3(_) => true,
+        _ => false,
+    }
+}
+
+/// A fleet of one [`LaneModel`]'s aircraft sharing one aircraft type, each
+/// with its own state, controls and flight status, stepped as
+/// structure-of-arrays (see the [module docs](self)).
+/// [`PalmerFleet`](crate::PalmerFleet) and [`BourgFleet`](crate::BourgFleet)
+/// are this type for the two models.
+///
+/// ```
+/// use fdm_core::model::Model;
+/// use fdm_core::palmer::Palmer;
+/// use fdm_fleet::{Fleet, Precision};
+///
+/// let aircraft = Palmer::default_aircraft();
+/// let mut fleet = Fleet::<Palmer>::try_new(aircraft)?;
+/// let (controls, state) = Palmer::fleet_member(3);
+/// for _ in 0..10 {
+///     fleet.push(state, controls);
+/// }
+/// let mut one = state;
+/// for _ in 0..100 {
+///     fleet.step_with(0.1, Precision::Exact)?;
+///     one = Palmer::step(&aircraft, &controls, &one, 0.1);
+/// }
+/// assert_eq!(fleet.state(9), Some(one)); // bit for bit
+/// # Ok::<(), fdm_fleet::FleetError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Fleet<M: LaneModel> {
+    aircraft: M::Aircraft,
+    shared: M::Shared,
+    blocks: Vec<Block<M>>,
+    len: usize,
+    arch: Arch,
+}
+
+impl<M: LaneModel> Fleet<M> {
+    /// An empty fleet of `aircraft`, which must pass
+    /// [`LaneModel::check_aircraft`]. Detects the CPU's instruction set once.
+    ///
+    /// # Errors
+    /// [`FleetError::InvalidAircraft`] if the aircraft cannot be flown.
+    pub fn try_new(aircraft: M::Aircraft) -> Result<Self, FleetError> {
+        M::check_aircraft(&aircraft).map_err(|e| FleetError::InvalidAircraft(Arc::new(e)))?;
+        Ok(Self::unchecked(aircraft))
+    }
+
+    /// An empty fleet of an aircraft already known to be valid.
+    pub(crate) fn unchecked(aircraft: M::Aircraft) -> Self {
+        Self {
+            shared: M::shared(&aircraft),
+            aircraft,
+            blocks: Vec::new(),
+            len: 0,
+            arch: Arch::new(),
+        }
+    }
+
+    /// A fleet of `aircraft` flying the given states and controls, in order.
+    ///
+    /// # Errors
+    /// [`FleetError::InvalidAircraft`] if the aircraft cannot be flown.
+    pub fn from_states(
+        aircraft: M::Aircraft,
+        members: impl IntoIterator<Item = (M::State, M::Controls)>,
+    ) -> Result<Self, FleetError> {
+        let mut fleet = Self::try_new(aircraft)?;
+        for (state, controls) in members {
+            fleet.push(state, controls);
+        }
+        Ok(fleet)
+    }
+
+    /// Whether the fleet has `precision`.
+    ///
+    /// # Errors
+    /// [`FleetError::PrecisionUnavailable`] for [`Precision::Fast`] when the
+    /// model's step has no function with a fast form
+    /// ([`LaneModel::HAS_FAST`]).
+    pub const fn check_precision(precision: Precision) -> Result<(), FleetError> {
+        match precision {
+            Precision::Fast if !M::HAS_FAST => Err(FleetError::PrecisionUnavailable {
+                model: M::NAME,
+                precision,
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Adds an aircraft; returns its index. Its flight status starts as
+    /// [`FlightStatus::initial`] of its height. States and controls are not
+    /// checked, as in [`Model::step`]: non-finite values propagate into that
+    /// aircraft's lanes only.
+    pub fn push(&mut self, state: M::State, controls: M::Controls) -> usize {
+        let index = self.len;
+        let lane = index % M::Lanes::LANES;
+        if lane == 0 {
+            self.blocks.push(Block::idle(&self.aircraft));
+        }
+        if let Some(block) = self.blocks.last_mut() {
+            block.set_state(lane, &state);
+            M::set_controls(
+                &mut block.terms,
+                lane,
+                &self.aircraft,
+                &self.shared,
+                &controls,
+            );
+            block.controls.as_mut()[lane] = controls;
+            block.status.as_mut()[lane] = FlightStatus::initial(M::height_m(&state));
+        }
+        self.len += 1;
+        index
+    }
+
+    /// Number of aircraft.
+    #[must_use]
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the fleet has no aircraft.
+    #[must_use]
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The shared aircraft parameters.
+    #[must_use]
+    pub const fn aircraft(&self) -> &M::Aircraft {
+        &self.aircraft
+    }
+
+    /// The instruction set detected at construction.
+    pub(crate) const fn arch(&self) -> Arch {
+        self.arch
+    }
+
+    /// Block and lane of aircraft `index`.
+    const fn at(index: usize) -> (usize, usize) {
+        (index / M::Lanes::LANES, index % M::Lanes::LANES)
+    }
+
+    fn check(&self, index: usize) -> Result<(usize, usize), FleetError> {
+        if index < self.len {
+            Ok(Self::at(index))
+        } else {
+            Err(FleetError::OutOfRange {
+                index,
+                len: self.len,
+            })
+        }
+    }
+
+    /// Aircraft `index`'s state, `None` past the end.
+    #[must_use]
+    pub fn state(&self, index: usize) -> Option<M::State> {
+        let (b, l) = self.check(index).ok()?;
+        Some(self.blocks[b].state(l))
+    }
+
+    /// Aircraft `index`'s controls, `None` past the end.
+    #[must_use]
+    pub fn controls(&self, index: usize) -> Option<M::Controls> {
+        let (b, l) = self.check(index).ok()?;
+        Some(self.blocks[b].controls.as_ref()[l])
+    }
+
+    /// Every aircraft's state, in index order.
+    pub fn states(&self) -> impl ExactSizeIterator<Item = M::State> + '_ {
+        (0..self.len).map(|i| {
+            let (b, l) = Self::at(i);
+            self.blocks[b].state(l)
+        })
+    }
+
+    /// Replaces aircraft `index`'s state (its flight status is kept: see
+    /// [`Fleet::set_status`]).
+    ///
+    /// # Errors
+    /// [`FleetError::OutOfRange`] past the end.
+    pub fn set_state(&mut self, index: usize, state: &M::State) -> Result<(), FleetError> {
+        let (b, l) = self.check(index)?;
+        self.blocks[b].set_state(l, state);
+        Ok(())
+    }
+
+    /// Replaces aircraft `index`'s controls (and recomputes its control
+    /// terms).
+    ///
+    /// # Errors
+    /// [`FleetError::OutOfRange`] past the end.
+    pub fn set_controls(&mut self, index: usize, controls: M::Controls) -> Result<(), FleetError> {
+        let (b, l) = self.check(index)?;
+        let block = &mut self.blocks[b];
+        M::set_controls(&mut block.terms, l, &self.aircraft, &self.shared, &controls);
+        block.controls.as_mut()[l] = controls;
+        Ok(())
+    }
+
+    /// Aircraft `index`'s flight status, `None` past the end.
+    #[must_use]
+    pub fn status(&self, index: usize) -> Option<FlightStatus> {
+        let (b, l) = self.check(index).ok()?;
+        Some(self.blocks[b].status.as_ref()[l])
+    }
+
+    /// Every aircraft's flight status, in index order.
+    pub fn statuses(&self) -> impl ExactSizeIterator<Item = FlightStatus> + '_ {
+        (0..self.len).map(|i| {
+            let (b, l) = Self::at(i);
+            self.blocks[b].status.as_ref()[l]
+        })
+    }
+
+    /// Replaces aircraft `index`'s flight status.
+    ///
+    /// # Errors
+    /// [`FleetError::OutOfRange`] past the end.
+    pub fn set_status(&mut self, index: usize, status: FlightStatus) -> Result<(), FleetError> {
+        let (b, l) = self.check(index)?;
+        self.blocks[b].status.as_mut()[l] = status;
+        Ok(())
+    }
+
+    /// Advances every aircraft by `dt` with one step of the model, on this
+    /// thread, with the best instruction set of this CPU. Like
+    /// [`Model::step`] it checks nothing: a non-finite `dt` makes every state
+    /// non-finite. The statuses are not read or changed.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn step_with(&mut self, dt: M::TimeStep, precision: Precision) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.run(self.arch, dt, precision, false, false);
+        Ok(())
+    }
+
+    /// [`Fleet::step_with`] on the threads of the current rayon pool (the
+    /// global pool, or the one `ThreadPool::install` runs in), in runs of
+    /// blocks. The same bits: each aircraft is stepped by the same code
+    /// whichever thread takes it.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn par_step_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+    ) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.run(self.arch, dt, precision, false, true);
+        Ok(())
+    }
+
+    /// [`Fleet::step_with`] with the kernel compiled for the SSE2 baseline,
+    /// whatever the CPU has: for comparing instruction sets.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn step_baseline_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+    ) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.run(Arch::Scalar, dt, precision, false, false);
+        Ok(())
+    }
+
+    /// One whole frame of every aircraft with its flight status, on this
+    /// thread. In [`Precision::Exact`] each aircraft's state and status become
+    /// those of [`fdm_core::model::fly`], bit for bit (the model's step, then
+    /// the ground contact and the touchdown; a crashed aircraft stays at
+    /// rest; a step that is not finite is not kept and the aircraft is
+    /// [`Diverged`](FlightStatus::Diverged) from then on). In
+    /// [`Precision::Fast`] the aircraft the scalar `fly` takes (crashed,
+    /// diverged, or with a component too large to be sure the state is
+    /// finite) get the exact step for that frame.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn fly_with(&mut self, dt: M::TimeStep, precision: Precision) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.run(self.arch, dt, precision, true, false);
+        Ok(())
+    }
+
+    /// [`Fleet::fly_with`] on the threads of the current rayon pool; the same
+    /// bits.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn par_fly_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+    ) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.run(self.arch, dt, precision, true, true);
+        Ok(())
+    }
+
+    /// [`Fleet::fly_with`] with the kernel compiled for the SSE2 baseline.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn fly_baseline_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+    ) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        self.run(Arch::Scalar, dt, precision, true, false);
+        Ok(())
+    }
+
+    /// The kernel over every block with `arch`'s instruction set
+    /// (`precision` already checked, or `Exact`).
+    pub(crate) fn run(
+        &mut self,
+        arch: Arch,
+        dt: M::TimeStep,
+        precision: Precision,
+        fly: bool,
+        parallel: bool,
+    ) {
+        let (aircraft, shared) = (&self.aircraft, &self.shared);
+        let fma = has_fma(arch);
+        if parallel {
+            self.blocks
+                .par_chunks_mut(BLOCKS_PER_TASK)
+                .for_each(|blocks| {
+                    arch.dispatch(StepBlocks::<M> {
+                        blocks,
+                        aircraft,
+                        shared,
+                        dt,
+                        precision,
+                        fma,
+                        fly,
+                    });
+                });
+        } else {
+            arch.dispatch(StepBlocks::<M> {
+                blocks: &mut self.blocks,
+                aircraft,
+                shared,
+                dt,
+                precision,
+                fma,
+                fly,
+            });
+        }
+    }
+
+    /// `out` becomes every aircraft's position in the model frame, metres (x
+    /// north, y west, z up), in index order: the `position_m` of
+    /// [`Model::view`], bit for bit ([`LaneModel::position_m`]).
+    pub fn positions_m(&self, out: &mut Vec<Vector3<f64>>) {
+        out.clear();
+        out.extend(self.states().map(|s| M::position_m(&s)));
+    }
+
+    /// The instruction set the kernel runs on, as detected at construction:
+    /// `"x86-64-v4"` (AVX-512), `"x86-64-v3"` (AVX2 and FMA) or `"baseline"`
+    /// (SSE2 on x86-64, or another architecture's default).
+    #[must_use]
+    pub const fn instruction_set(&self) -> &'static str {
+        match self.arch {
+            #[cfg(target_arch = "x86_64")]
+            Arch::V4(_) => "x86-64-v4",
+            #[cfg(target_arch = "x86_64")]
+            Arch::V3(_) => "x86-64-v3",
+            _ => "baseline",
+        }
+    }
+
+    /// Memory per aircraft in the fleet's arrays, bytes (the last block's
+    /// padding aside): the state, the control terms, the clock, the controls
+    /// as set and the status.
+    #[must_use]
+    pub const fn bytes_per_aircraft() -> usize {
+        core::mem::size_of::<Block<M>>() / M::Lanes::LANES
+    }
+
+    /// Memory the fleet's arrays take now, bytes (whole blocks, padding
+    /// included; the `Vec`'s spare capacity not counted).
+    #[must_use]
+    pub const fn bytes(&self) -> usize {
+        self.blocks.len() * core::mem::size_of::<Block<M>>()
+    }
+}
