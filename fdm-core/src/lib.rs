@@ -17,6 +17,7 @@
 extern crate alloc;
 
 pub mod bourg;
+pub mod fingerprint;
 pub mod geodesy;
 pub mod math;
 pub mod model;

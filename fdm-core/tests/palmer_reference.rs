@@ -5,13 +5,17 @@
 use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 use serde_json::Value;
 
-/// Absolute tolerance on every compared number. The Rust code evaluates the
-/// same f64 equations as the C original, operation by operation, with the same
-/// libm (glibc) through `std`; the only way to differ is a slipped operation
-/// order or a libm that rounds differently in the last ulp, which after 600
-/// smooth RK4 steps stays many orders of magnitude below 1e-9 (the thesis
-/// accepted 1e-6). Anything larger means an equation is wrong.
-const TOLERANCE: f64 = 1e-9;
+/// Every compared number must equal the original's f64 exactly (`==`, so
+/// that `+0.0` equals `-0.0`; see [`final_states_are_bit_identical`]). The Rust
+/// code evaluates the same f64 equations as the C original, operation by
+/// operation, and `fdm_core::math::pow` reproduces the bits of the glibc `pow`
+/// the original called, on every target (docs/determinism.md). Before the
+/// deterministic maths this was a 1e-9 tolerance, which could not tell a
+/// platform whose libm rounds differently in the last ulp (the thesis accepted
+/// 1e-6).
+fn exact(got: f64, want: f64) -> bool {
+    got == want
+}
 
 struct Case {
     name: String,
@@ -152,8 +156,8 @@ fn final_states_match_the_original_c_program() {
         for (what, got, want) in pairs {
             let err = (got - want).abs();
             assert!(
-                err <= TOLERANCE,
-                "{}: {what} = {got:?}, reference {want:?}, |error| = {err:e} > {TOLERANCE:e}",
+                exact(got, want),
+                "{}: {what} = {got:?}, reference {want:?}, |error| = {err:e}",
                 case.name
             );
             if err > worst.0 || worst.1.is_empty() {
@@ -171,8 +175,8 @@ fn final_states_match_the_original_c_program() {
 
 /// Frames, not accumulated time, decide how long a run is: the reference is
 /// exactly 600 steps, and its final time is 600 f64 additions of 0.1
-/// (60.00000000000058), not 60.0 or `600.0 * 0.1`. One frame more or fewer is far
-/// outside the tolerance.
+/// (60.00000000000058), not 60.0 or `600.0 * 0.1`. One frame more or fewer does
+/// not match.
 #[test]
 fn frames_decide_the_length_not_accumulated_time() {
     let case = &cases()[0];
@@ -197,18 +201,18 @@ fn frames_decide_the_length_not_accumulated_time() {
         }
     }
     for (frame, time_s, x) in x_after {
-        let matches = (x - case.position[0]).abs() <= TOLERANCE;
+        let matches = exact(x, case.position[0]);
         assert_eq!(matches, frame == 600, "frame {frame}: x = {x}");
         assert_eq!(time_s.to_bits() == case.time_s.to_bits(), frame == 600);
     }
 }
 
-/// On glibc (the platform the reference was produced on, and whose libm `std`
-/// calls), the port is not merely within tolerance: every final number is the
-/// original's f64, bit for bit. This pins the operation order.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
+/// On every target (the maths are `fdm_core::math`'s, not the platform's), every
+/// final number is the original's f64, bit for bit. This pins the operation
+/// order. (It was limited to glibc targets while the model called the platform's
+/// libm.)
 #[test]
-fn final_states_are_bit_identical_on_glibc() {
+fn final_states_are_bit_identical() {
     for case in cases() {
         let got = run(&case);
         let pairs = [

@@ -1,0 +1,243 @@
+//! `pow` for f64: a Rust port of the algorithm of ARM's optimized-routines
+//! `pow` (Szabolcs Nagy, 2018; published under MIT OR Apache-2.0 WITH
+//! LLVM-exception, and the `pow` of musl and of glibc since 2.28), in the form
+//! glibc 2.36 runs on an x86-64 CPU with FMA (`__pow_fma`): the three places
+//! the algorithm writes a fused multiply-add, and the products the compiler
+//! contracts into fused multiply-adds there, are fused here too, through
+//! [`fma`](super::fma) (correctly rounded on every target, so the bits do not
+//! depend on the CPU).
+//!
+//! `log(x)` is computed in double-double from a 128-entry table, multiplied
+//! by `y`, and `exp` of that from another 128-entry table: within 0.52 ulp of
+//! the exact power (not always correctly rounded: see docs/determinism.md).
+
+use super::fma;
+use super::pow_data::{
+    EXP_POLY, EXP_TAB, INV_LN2_N, LN2HI, LN2LO, LOG_POLY, LOG_TAB, NEG_LN2_HI_N, NEG_LN2_LO_N,
+    SHIFT,
+};
+
+const OFF: u64 = 0x3fe6_9555_0000_0000;
+const SIGN_BIAS: u64 = 0x800 << 7;
+
+#[inline(always)]
+fn d(bits: u64) -> f64 {
+    f64::from_bits(bits)
+}
+
+#[inline(always)]
+fn top12(x: f64) -> u32 {
+    (x.to_bits() >> 52) as u32
+}
+
+/// `log(x)` for the bits `ix` of a positive normal x, as `hi + tail`.
+#[inline(always)]
+fn log_inline(ix: u64) -> (f64, f64) {
+    let tmp = ix.wrapping_sub(OFF);
+    let i = ((tmp >> (52 - 7)) % 128) as usize;
+    let k = (tmp as i64) >> 52;
+    let iz = ix.wrapping_sub(tmp & (0xfff << 52));
+    let z = d(iz);
+    let kd = k as f64;
+    let [invc, logc, logctail] = LOG_TAB[i];
+    let (invc, logc, logctail) = (d(invc), d(logc), d(logctail));
+    // r = z/c - 1, exact.
+    let r = fma(z, invc, -1.0);
+    // k*ln2 + log(c) + r.
+    let t1 = fma(kd, d(LN2HI), logc);
+    let t2 = t1 + r;
+    let lo1 = fma(kd, d(LN2LO), logctail);
+    let lo2 = t1 - t2 + r;
+    let a = LOG_POLY.map(d);
+    let ar = a[0] * r;
+    let ar2 = r * ar;
+    let ar3 = r * ar2;
+    let hi = t2 + ar2;
+    let lo3 = fma(ar, r, -ar2);
+    let lo4 = t2 - hi + ar2;
+    // p = log1p(r) - r - A[0]*r*r; the compiler fuses each product into the
+    // sum that takes it.
+    let q = fma(ar2, fma(r, a[6], a[5]), fma(r, a[4], a[3]));
+    let q = fma(ar2, q, fma(r, a[2], a[1]));
+    let lo = fma(ar3, q, lo1 + lo2 + lo3 + lo4);
+    let y = hi + lo;
+    (y, hi - y + lo)
+}
+
+/// The scaling when the result may overflow or underflow.
+#[inline(never)]
+fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
+    if ki & 0x8000_0000 == 0 {
+        // k > 0: the exponent of scale may have overflowed by <= 460.
+        let scale = d(sbits.wrapping_sub(1009 << 52));
+        return 2f64.powi(1009) * fma(scale, tmp, scale);
+    }
+    // k < 0: care in the subnormal range.
+    let scale = d(sbits.wrapping_add(1022 << 52));
+    let mut y = fma(scale, tmp, scale);
+    if y.abs() < 1.0 {
+        let one = if y < 0.0 { -1.0 } else { 1.0 };
+        let lo = fma(scale, tmp, scale - y);
+        let hi = one + y;
+        let lo = one - hi + y + lo;
+        y = (hi + lo) - one;
+        if y == 0.0 {
+            y = d(sbits & 0x8000_0000_0000_0000);
+        }
+    }
+    f64::MIN_POSITIVE * y
+}
+
+/// `exp(x + xtail)`, negated when `sign_bias` is set.
+#[inline(always)]
+fn exp_inline(x: f64, xtail: f64, sign_bias: u64) -> f64 {
+    let mut abstop = top12(x) & 0x7ff;
+    if abstop.wrapping_sub(top12(2f64.powi(-54))) >= top12(512.0) - top12(2f64.powi(-54)) {
+        if abstop.wrapping_sub(top12(2f64.powi(-54))) >= 0x8000_0000 {
+            // Tiny x: exp(x) rounds to 1.
+            let one = 1.0 + x;
+            return if sign_bias != 0 { -one } else { one };
+        }
+        if abstop >= top12(1024.0) {
+            let sign = if sign_bias != 0 { -1.0 } else { 1.0 };
+            return if x.to_bits() >> 63 != 0 {
+                sign * 0.0
+            } else {
+                sign * f64::INFINITY
+            };
+        }
+        // Large |x| is special-cased below.
+        abstop = 0;
+    }
+    let mut kd = fma(d(INV_LN2_N), x, d(SHIFT));
+    let ki = kd.to_bits();
+    kd -= d(SHIFT);
+    let r = fma(kd, d(NEG_LN2_LO_N), fma(kd, d(NEG_LN2_HI_N), x));
+    let r = r + xtail;
+    let idx = (2 * (ki % 128)) as usize;
+    let top = ki.wrapping_add(sign_bias) << (52 - 7);
+    let tail = d(EXP_TAB[idx]);
+    let sbits = EXP_TAB[idx + 1].wrapping_add(top);
+    let c = EXP_POLY.map(d);
+    let r2 = r * r;
+    let tmp = fma(
+        r2 * r2,
+        fma(r, c[3], c[2]),
+        fma(r2, fma(r, c[1], c[0]), tail + r),
+    );
+    if abstop == 0 {
+        return special_case(tmp, sbits, ki);
+    }
+    let scale = d(sbits);
+    fma(scale, tmp, scale)
+}
+
+/// 0 if the bits `iy` of a finite non-zero y are not an integer, 1 if an odd
+/// integer, 2 if an even one.
+#[inline(always)]
+fn checkint(iy: u64) -> u32 {
+    let e = (iy >> 52 & 0x7ff) as i32;
+    if e < 0x3ff {
+        return 0;
+    }
+    if e > 0x3ff + 52 {
+        return 2;
+    }
+    let unit = 1u64 << (0x3ff + 52 - e);
+    if iy & (unit - 1) != 0 {
+        return 0;
+    }
+    if iy & unit != 0 {
+        1
+    } else {
+        2
+    }
+}
+
+/// True for the bits of 0, infinity or NaN.
+#[inline(always)]
+fn zeroinfnan(i: u64) -> bool {
+    (i << 1).wrapping_sub(1) >= (f64::INFINITY.to_bits() << 1) - 1
+}
+
+/// `x` raised to the power `y`, C's `pow`.
+pub(super) fn pow(x: f64, y: f64) -> f64 {
+    let mut sign_bias = 0;
+    let mut ix = x.to_bits();
+    let iy = y.to_bits();
+    let mut topx = top12(x);
+    let topy = top12(y);
+    if topx.wrapping_sub(0x001) >= 0x7ff - 0x001
+        || (topy & 0x7ff).wrapping_sub(0x3be) >= 0x43e - 0x3be
+    {
+        // Special cases: x < 2^-1022 (or negative), inf or NaN; |y| < 2^-65,
+        // |y| >= 2^63 or NaN.
+        if zeroinfnan(iy) {
+            if iy << 1 == 0 {
+                return 1.0;
+            }
+            if ix == 1f64.to_bits() {
+                return 1.0;
+            }
+            if ix << 1 > f64::INFINITY.to_bits() << 1 || iy << 1 > f64::INFINITY.to_bits() << 1 {
+                return x + y;
+            }
+            if ix << 1 == 1f64.to_bits() << 1 {
+                return 1.0;
+            }
+            if ((ix << 1) < 1f64.to_bits() << 1) == (iy >> 63 == 0) {
+                return 0.0; // |x| < 1 and y = inf, or |x| > 1 and y = -inf.
+            }
+            return y * y;
+        }
+        if zeroinfnan(ix) {
+            let mut x2 = x * x;
+            if ix >> 63 != 0 && checkint(iy) == 1 {
+                x2 = -x2;
+            }
+            return if iy >> 63 != 0 { 1.0 / x2 } else { x2 };
+        }
+        // x and y are non-zero finite.
+        if ix >> 63 != 0 {
+            // x < 0.
+            let yint = checkint(iy);
+            if yint == 0 {
+                return f64::NAN;
+            }
+            if yint == 1 {
+                sign_bias = SIGN_BIAS;
+            }
+            ix &= 0x7fff_ffff_ffff_ffff;
+            topx &= 0x7ff;
+        }
+        if (topy & 0x7ff).wrapping_sub(0x3be) >= 0x43e - 0x3be {
+            // sign_bias == 0 here: y is not odd.
+            if ix == 1f64.to_bits() {
+                return 1.0;
+            }
+            if (topy & 0x7ff) < 0x3be {
+                // |y| < 2^-65: x^y ~= 1 + y*log(x).
+                return if ix > 1f64.to_bits() {
+                    1.0 + y
+                } else {
+                    1.0 - y
+                };
+            }
+            return if (ix > 1f64.to_bits()) == (topy < 0x800) {
+                f64::INFINITY
+            } else {
+                0.0
+            };
+        }
+        if topx == 0 {
+            // Subnormal x: normalise so that the exponent becomes negative.
+            ix = (x * 2f64.powi(52)).to_bits();
+            ix &= 0x7fff_ffff_ffff_ffff;
+            ix = ix.wrapping_sub(52 << 52);
+        }
+    }
+    let (hi, lo) = log_inline(ix);
+    let ehi = y * hi;
+    let elo = fma(y, lo, fma(y, hi, -ehi));
+    exp_inline(ehi, elo, sign_bias)
+}
