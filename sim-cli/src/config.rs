@@ -291,7 +291,7 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
             )));
         }
     }
-    let file = File::create(path)
+    let file = crate::outfile::create_locked(path)
         .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
     Ok(Some(RecordFile {
         path: path.clone(),

@@ -46,7 +46,7 @@ impl CsvWriter<BufWriter<File>> {
     /// # Errors
     /// [`CliError::Usage`] naming the path and the OS reason.
     pub fn create(path: &Path) -> Result<Self, CliError> {
-        let file = File::create(path).map_err(|e| {
+        let file = crate::outfile::create_locked(path).map_err(|e| {
             CliError::usage(format!("cannot create CSV file {}: {e}", path.display()))
         })?;
         Ok(Self::new(

@@ -40,6 +40,7 @@ pub mod input;
 pub mod keys;
 pub mod models;
 pub mod origin;
+pub mod outfile;
 pub mod pacer;
 pub mod plot;
 pub mod progress;

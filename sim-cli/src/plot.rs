@@ -405,7 +405,7 @@ impl PlotFile {
     /// # Errors
     /// [`CliError::Usage`] naming the path and the OS reason.
     pub fn create(path: &Path) -> Result<Self, CliError> {
-        let file = File::create(path).map_err(|e| {
+        let file = crate::outfile::create_locked(path).map_err(|e| {
             CliError::usage(format!("cannot create plot file {}: {e}", path.display()))
         })?;
         Ok(Self {

@@ -99,3 +99,62 @@ fn fleet_shards_with_a_discarded_stdout_send_their_pdus() {
     }
     assert_eq!(listener.entity_count(), 40, "20 aircraft from each shard");
 }
+
+/// Two runs writing the same `--csv` once both exited 0 with Palmer's and
+/// Bourg's rows spliced into one file. The second is refused before it
+/// changes a byte, naming the process that holds the file.
+#[test]
+fn a_second_run_writing_the_same_csv_is_refused() {
+    let dir = scratch("orchestration-lock");
+    let csv = dir.join("shared.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let mut first = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+        .args([
+            "palmer",
+            "--headless",
+            "--realtime",
+            "--duration",
+            "4",
+            "--csv",
+            csv_arg,
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    // The first run has created (and locked) the file once its header is there.
+    let deadline = std::time::Instant::now() + Duration::from_secs(30);
+    while std::fs::metadata(&csv).map_or(true, |m| m.len() == 0) {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the first run never wrote"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let second = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+        .args(["bourg", "--headless", "--frames", "30", "--csv", csv_arg])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = text(&second.stderr);
+    assert_eq!(second.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "is being written by another process (pid {})",
+            first.id()
+        )),
+        "{stderr}"
+    );
+    assert!(first.wait().unwrap().success());
+    let written = std::fs::read_to_string(&csv).unwrap();
+    let header = written.lines().next().unwrap();
+    assert!(header.contains(",airspeed,"), "Palmer's columns: {header}");
+    assert!(!header.contains(",speed,"));
+    let columns = header.split(',').count();
+    assert!(written.lines().all(|row| row.split(',').count() == columns));
+    assert_eq!(
+        written.lines().count(),
+        1 + 121,
+        "4 s at 30 fps and frame 0"
+    );
+}

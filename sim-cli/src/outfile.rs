@@ -1,0 +1,99 @@
+//! Output files that two runs cannot write at once.
+//!
+//! Every file a run writes (`--csv`, `--record`, `--plot`, `sim-cli plot -o`)
+//! is opened with [`create_locked`]: opened without truncating, locked
+//! exclusively (an advisory `flock` lock, held until the file is closed, which
+//! the OS does for a killed process too), and only then emptied. A second run
+//! naming the same file, through any path or link, finds it locked before it
+//! has changed a byte of it, and is refused (exit status 2) with the process
+//! that holds it, read from `/proc/locks` where there is one. Before this, two
+//! runs writing the same `--csv` both exited 0 and spliced their rows into one
+//! file.
+
+use std::fs::{File, OpenOptions, TryLockError};
+use std::io;
+use std::path::Path;
+
+/// Creates `path` for writing, as [`File::create`] does, but refuses a file
+/// another process is writing through this function (see the module docs).
+///
+/// # Errors
+/// The OS error from opening or emptying the file; for a file that another
+/// process holds, an error of kind [`io::ErrorKind::WouldBlock`] saying which
+/// process.
+pub fn create_locked(path: &Path) -> io::Result<File> {
+    let file = OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)?;
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(TryLockError::WouldBlock) => {
+            let holder = holder_of(&file).map_or_else(
+                || "another process".to_owned(),
+                |pid| format!("another process (pid {pid})"),
+            );
+            return Err(io::Error::new(
+                io::ErrorKind::WouldBlock,
+                format!("it is being written by {holder}; refusing to write it too"),
+            ));
+        }
+        Err(TryLockError::Error(e)) => return Err(e),
+    }
+    file.set_len(0)?;
+    Ok(file)
+}
+
+/// The process holding a `flock` lock on `file`, from `/proc/locks` (Linux).
+#[cfg(target_os = "linux")]
+fn holder_of(file: &File) -> Option<u32> {
+    use std::os::unix::fs::MetadataExt as _;
+    let meta = file.metadata().ok()?;
+    let dev = meta.dev();
+    // The kernel's encoding of a device number (glibc's gnu_dev_major/minor).
+    let major = ((dev >> 8) & 0xfff) | ((dev >> 32) & !0xfff);
+    let minor = (dev & 0xff) | ((dev >> 12) & !0xff);
+    let wanted = format!("{major:02x}:{minor:02x}:{}", meta.ino());
+    let locks = std::fs::read_to_string("/proc/locks").ok()?;
+    // "1: FLOCK  ADVISORY  WRITE 12345 fd:01:1234567 0 EOF"
+    locks.lines().find_map(|line| {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let (kind, pid, id) = (fields.get(1)?, fields.get(4)?, fields.get(5)?);
+        (*kind == "FLOCK" && *id == wanted)
+            .then(|| pid.parse().ok())
+            .flatten()
+    })
+}
+
+#[cfg(not(target_os = "linux"))]
+fn holder_of(_file: &File) -> Option<u32> {
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_second_writer_is_refused_and_the_file_left_alone() {
+        let dir = std::env::temp_dir().join(format!("outfile-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.csv");
+        let mut first = create_locked(&path).unwrap();
+        io::Write::write_all(&mut first, b"row 1\n").unwrap();
+        // A second open file description (as another process has) is refused.
+        let err = create_locked(&path).unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::WouldBlock);
+        let expected = format!("another process (pid {})", std::process::id());
+        #[cfg(target_os = "linux")]
+        assert!(err.to_string().contains(&expected), "{err}");
+        assert_eq!(std::fs::read(&path).unwrap(), b"row 1\n", "not truncated");
+        drop(first);
+        // Released on close: the next run may write it (and empties it).
+        let again = create_locked(&path).unwrap();
+        assert_eq!(again.metadata().unwrap().len(), 0);
+        drop(again);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
