@@ -10,7 +10,8 @@ A benchmark, not a test: run it by hand on a quiet machine::
 Every figure is the median of ``--repeats`` timed runs (after one warm-up), as
 env-steps (aircraft-steps at the agent rate) per second. The agent rate is
 30 Hz everywhere: afit_fdm steps one 30 fps frame per env step; JSBSim's c172p
-runs at 120 Hz, four model steps per env step.
+runs at 120 Hz, four model steps per env step; jsbgym's HeadingControlTask
+integrates at 60 Hz, two JSBSim steps per env step.
 """
 
 from __future__ import annotations
@@ -135,7 +136,8 @@ def bench_jsbgym(steps: int, repeats: int) -> Optional[float]:
     env_id = "C172-HeadingControlTask-Shaping.STANDARD-NoFG-v0"
     if env_id not in gym.registry:
         return None
-    env = gym.make(env_id)
+    # jsbgym integrates at 60 Hz; a 30 Hz agent is 2 JSBSim steps per env step.
+    env = gym.make(env_id, agent_interaction_freq=30)
     env.reset(seed=0)
     env.action_space.seed(0)
 

@@ -305,11 +305,14 @@ where
         Ok(())
     }
     fn controls(&self) -> Vec<Vec<f64>> {
-        let mut out = vec![Vec::with_capacity(self.len); M::CONTROL_FIELDS.len()];
+        let k = M::CONTROL_FIELDS.len();
+        let mut out = vec![vec![0.0; self.len]; k];
+        let mut row = vec![0.0; k];
         for i in 0..self.len {
             let c = self.fleet.controls(i).unwrap_or_else(M::initial_controls);
-            for (f, v) in M::control_values(&c).into_iter().enumerate() {
-                out[f].push(v);
+            M::control_values(&c, &mut row);
+            for (column, v) in out.iter_mut().zip(&row) {
+                column[i] = *v;
             }
         }
         out

@@ -179,11 +179,9 @@ impl<M: BindModel> AnyFlight for Single<M> {
         M::STATE_FIELDS.iter().copied().zip(values).collect()
     }
     fn controls(&self) -> Vec<(&'static str, f64)> {
-        M::CONTROL_FIELDS
-            .iter()
-            .map(|c| c.0)
-            .zip(M::control_values(&self.controls))
-            .collect()
+        let mut values = vec![0.0; M::CONTROL_FIELDS.len()];
+        M::control_values(&self.controls, &mut values);
+        M::CONTROL_FIELDS.iter().map(|c| c.0).zip(values).collect()
     }
     fn set_controls(&mut self, values: &[(String, f64)]) -> Result<(), (bool, String)> {
         self.controls = apply_named::<M>(self.controls, values)?;

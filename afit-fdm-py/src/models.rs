@@ -26,9 +26,9 @@ pub trait BindModel: Model {
     /// (`f32` values widened exactly; booleans 0 or 1).
     fn state_values(state: &Self::State, out: &mut [f64]);
 
-    /// The controls as numbers, in [`CONTROL_FIELDS`](Self::CONTROL_FIELDS)
-    /// order.
-    fn control_values(controls: &Self::Controls) -> Vec<f64>;
+    /// `out` becomes the controls as numbers, in
+    /// [`CONTROL_FIELDS`](Self::CONTROL_FIELDS) order.
+    fn control_values(controls: &Self::Controls, out: &mut [f64]);
 
     /// `controls` with control `index` (of [`CONTROL_FIELDS`](Self::CONTROL_FIELDS))
     /// set to `value`, which the caller has checked is finite and in range.
@@ -125,8 +125,8 @@ impl BindModel for Palmer {
         ]);
     }
 
-    fn control_values(c: &PalmerControls) -> Vec<f64> {
-        vec![c.throttle, c.alpha_deg, c.bank_deg, c.flaps.degrees()]
+    fn control_values(c: &PalmerControls, out: &mut [f64]) {
+        out.copy_from_slice(&[c.throttle, c.alpha_deg, c.bank_deg, c.flaps.degrees()]);
     }
 
     fn set_control(
@@ -234,7 +234,7 @@ impl BindModel for Bourg {
         ]);
     }
 
-    fn control_values(c: &BourgControls) -> Vec<f64> {
+    fn control_values(c: &BourgControls, out: &mut [f64]) {
         let rudder = if c.rudder_deg > 0.0 {
             -1.0
         } else if c.rudder_deg < 0.0 {
@@ -242,15 +242,16 @@ impl BindModel for Bourg {
         } else {
             0.0
         };
-        vec![
+        out.copy_from_slice(&[
             f64::from(c.thrust_lb),
             flap_code(c.elevators),
-            // roll-right: port trailing edge down (−1): aileron +1.
-            -flap_code(c.port_aileron),
+            // roll-right: port trailing edge down (−1): aileron +1. No −0.0
+            // for neutral.
+            0.0 - flap_code(c.port_aileron),
             rudder,
             if c.landing_flaps { 1.0 } else { 0.0 },
             f64::from(c.pitch_trim),
-        ]
+        ]);
     }
 
     #[allow(clippy::cast_possible_truncation)] // checked ranges; f32 is the model's type

@@ -28,7 +28,7 @@ frames per second (defaults 30 and 1: a 30 Hz agent).
 **Observations** (``Box(-10, 10)``, float32, clipped), both models:
 altitude error (target minus altitude) / 1000 ft, heading error (target minus
 track, wrapped to -180..180) / 180 degrees, climb rate / 20 ft/s, ground speed
-/ 200 kt, sine and cosine of the track, then the controls as set (Palmer:
+/ 200 kt, sine and cosine of the track (0 and 1 when not moving), then the controls as set (Palmer:
 throttle, alpha / 20, bank / 20, flaps / 40; Bourg: thrust / 3000, elevator,
 aileron, rudder, pitch trim). Track and speeds come from the velocity (no
 wind).
@@ -77,6 +77,7 @@ FT_PER_M = 1.0 / 0.3048
 KT_PER_MPS = 3600.0 / 1852.0
 TASKS = ("heading-altitude", "climb")
 OBS_LIMIT = 10.0
+AIRBORNE = int(Status.AIRBORNE)
 
 
 def _surface(a: np.ndarray) -> np.ndarray:
@@ -152,18 +153,19 @@ class _Task:
         if self.model == "palmer":
             alt_ft = f["z_m"] * FT_PER_M
             vx, vy, vz_fps = f["vx_mps"], f["vy_mps"], f["vz_mps"] * FT_PER_M
-            ground_kt = np.hypot(vx, vy) * KT_PER_MPS
+            ground_mps = np.hypot(vx, vy)
         else:
             alt_ft = np.array(f["z_ft"])
             vx, vy, vz_fps = f["vx_ftps"], f["vy_ftps"], np.array(f["vz_ftps"])
-            ground_kt = np.hypot(vx, vy) * 0.3048 * KT_PER_MPS
+            ground_mps = np.hypot(vx, vy) * 0.3048
         # y points west: the track is clockwise from north toward east (-y).
         track_deg = np.degrees(np.arctan2(-vy, vx)) % 360.0
-        return alt_ft, vz_fps, ground_kt, track_deg
+        return alt_ft, vz_fps, ground_mps * KT_PER_MPS, track_deg, vx, vy, ground_mps
 
     def observe(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Observations, rewards and the ended-by-status mask."""
-        alt_ft, vz_fps, ground_kt, track_deg = self._kinematics()
+        """Observations, rewards and the ended-by-status mask. (The fleet's
+        state is always finite: a diverged aircraft keeps its last finite state.)"""
+        alt_ft, vz_fps, ground_kt, track_deg, vx, vy, ground = self._kinematics()
         alt_err = self.target_alt_ft - alt_ft
         hdg_err = (self.target_heading_deg - track_deg + 180.0) % 360.0 - 180.0
         c = self.fleet.controls
@@ -171,24 +173,26 @@ class _Task:
             ctl = [c["throttle"], c["alpha_deg"] / 20.0, c["bank_deg"] / 20.0, c["flaps_deg"] / 40.0]
         else:
             ctl = [c["thrust_lb"] / 3000.0, c["elevator"], c["aileron"], c["rudder"], c["pitch_trim"]]
-        track = np.radians(track_deg)
-        obs = np.stack(
-            [alt_err / 1000.0, hdg_err / 180.0, vz_fps / 20.0, ground_kt / 200.0, np.sin(track), np.cos(track), *ctl],
-            axis=1,
-        )
-        obs = np.clip(np.nan_to_num(obs), -OBS_LIMIT, OBS_LIMIT).astype(np.float32)
+        moving = ground > 0.0
+        safe = np.where(moving, ground, 1.0)
+        obs = np.empty((self.n, self.observation_space.shape[0]), dtype=np.float32)
+        columns = [alt_err / 1000.0, hdg_err / 180.0, vz_fps / 20.0, ground_kt / 200.0,
+                   np.where(moving, -vy / safe, 0.0), np.where(moving, vx / safe, 1.0), *ctl]
+        for k, column in enumerate(columns):
+            obs[:, k] = column
+        np.clip(obs, -OBS_LIMIT, OBS_LIMIT, out=obs)
+        a_err, h_err = np.abs(alt_err), np.abs(hdg_err)
         if self.task == "heading-altitude":
-            reward = 1.0 - 0.5 * np.minimum(np.abs(alt_err) / 500.0, 1.0) - 0.5 * np.minimum(np.abs(hdg_err) / 45.0, 1.0)
+            reward = 1.0 - 0.5 * np.minimum(a_err / 500.0, 1.0) - 0.5 * np.minimum(h_err / 45.0, 1.0)
         else:
-            near = np.abs(alt_err) <= 200.0
             reward = np.where(
-                near,
-                1.0 - 0.7 * np.minimum(np.abs(alt_err) / 1000.0, 1.0) - 0.3 * np.minimum(np.abs(vz_fps) / 10.0, 1.0),
-                0.3 * (1.0 - np.minimum(np.abs(alt_err) / 2000.0, 1.0)),
+                a_err <= 200.0,
+                1.0 - 0.7 * np.minimum(a_err / 1000.0, 1.0) - 0.3 * np.minimum(np.abs(vz_fps) / 10.0, 1.0),
+                0.3 * (1.0 - np.minimum(a_err / 2000.0, 1.0)),
             )
-        ended = np.asarray(self.fleet.status) != Status.AIRBORNE
-        reward = np.where(ended, 0.0, reward)
-        return obs, reward.astype(np.float64), ended
+        ended = self.fleet.status != AIRBORNE
+        reward[ended] = 0.0
+        return obs, reward, ended
 
 
 def _statuses(fleet: Fleet) -> np.ndarray:
