@@ -1,0 +1,191 @@
+"""Type stubs and API reference of the ``afit_fdm._afit_fdm`` extension module."""
+
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+MODELS: Dict[str, Dict[str, Any]]
+"""Per model name (``"palmer"``, ``"bourg"``): ``title``, ``state_fields``
+(names with units), ``controls`` (``(name, low, high)`` triples) and
+``actions`` (script action names)."""
+
+Number = Union[float, int]
+PerAircraft = Union[float, int, npt.NDArray[np.float64]]
+
+class Flight:
+    """One aircraft, flown frame by frame exactly as ``sim-cli`` flies it.
+
+    ``model`` is ``"palmer"`` or ``"bourg"``; ``fps`` a whole number 1..10000
+    (``dt = 1/fps`` in the model's float type). Without ``altitude_ft``,
+    ``speed_kt``, ``heading_deg`` and ``trim`` the start is the thesis's
+    (Palmer at rest on the runway; Bourg 2000 ft up at 60 ft/s); with any of
+    them the aircraft starts level at those conditions (the others from the
+    model's own start), trimmed when ``trim=True`` (Palmer's throttle and
+    angle of attack; Bourg's thrust, pitch and pitch trim). Keyword controls
+    set the controls at frame 0: Palmer ``throttle`` (0..1), ``alpha_deg``
+    (-16..20), ``bank_deg`` (-20..20), ``flaps_deg`` (0, 20 or 40); Bourg
+    ``thrust_lb`` (0..3000), ``landing_flaps`` (0 or 1), ``pitch_trim``
+    (-1..1). ``script`` is a control script's text (``START-END action`` lines,
+    docs/cli.md). Bad values raise ``ValueError``/``TypeError`` naming the
+    argument.
+    """
+
+    def __init__(
+        self,
+        model: str,
+        *,
+        fps: int = 30,
+        altitude_ft: Optional[float] = None,
+        speed_kt: Optional[float] = None,
+        heading_deg: Optional[float] = None,
+        trim: bool = False,
+        script: Optional[str] = None,
+        **controls: Number,
+    ) -> None: ...
+    def step(self, n: int = 1, actions: Optional[Sequence[str]] = None) -> None:
+        """Steps ``n`` frames. Each frame: the model's start of frame (Bourg's
+        rudder, ailerons and elevators back to neutral), the script's actions
+        for the frame, then ``actions`` (names as in scripts, e.g.
+        ``"thrust-up"``), then the model's step, the ground contact and the
+        status. A crashed aircraft stays at rest; a step that would give a
+        non-finite state is not kept and the status becomes ``"diverged"``."""
+    def reset(self) -> None:
+        """Back to the start: state, controls, status, frame 0."""
+    def set_controls(self, **controls: Number) -> None:
+        """Sets controls by name, validated as in the constructor."""
+    @property
+    def model(self) -> str: ...
+    @property
+    def frame(self) -> int:
+        """Frames stepped since the start or the last reset."""
+    @property
+    def fps(self) -> float: ...
+    @property
+    def dt_s(self) -> float:
+        """The time step, s (Bourg's float32 widened exactly)."""
+    @property
+    def time_s(self) -> float:
+        """Simulated time, s."""
+    @property
+    def state(self) -> Dict[str, float]:
+        """The model's own state by name, units in the names: Palmer
+        ``time_s, x_m, y_m, z_m, vx_mps, vy_mps, vz_mps`` (x north, y west, z
+        up); Bourg ``time_s, x_ft .. vz_ftps``, body velocity ``u_ftps, v_ftps,
+        w_ftps``, body rates ``p_radps, q_radps, r_radps``, the attitude
+        quaternion ``qw, qx, qy, qz``, ``stalling`` (0/1), and the derived
+        ``speed_ftps, euler_x_deg, euler_y_deg, euler_z_deg`` (the model's own
+        Euler angles). Bourg's float32 values are widened exactly."""
+    @property
+    def controls(self) -> Dict[str, float]:
+        """The controls now, by name (Bourg adds the per-frame surfaces
+        ``elevator``, ``aileron``, ``rudder``: -1, 0 or +1, +1 being
+        pitch-up, roll-right, yaw-right)."""
+    @property
+    def view(self) -> Dict[str, Union[float, bool]]:
+        """The models' common view, SI units, shared earth frame (x north, y
+        west, z up): ``time_s, x_m, y_m, z_m, vx_mps, vy_mps, vz_mps,
+        roll_deg, pitch_deg, heading_deg, u_mps, v_mps, w_mps, airspeed_mps,
+        alpha_deg, beta_deg, flaps_norm, engine_running, engine_rpm,
+        stalling``."""
+    @property
+    def status(self) -> str:
+        """``on_ground``, ``airborne``, ``landed_safe``, ``landed_rough``,
+        ``crashed`` or ``diverged``."""
+    @property
+    def status_code(self) -> int:
+        """The status as an :class:`afit_fdm.Status` code."""
+    @property
+    def actions(self) -> List[str]:
+        """The model's action names."""
+
+class Fleet:
+    """``n`` aircraft of one model, stepped together by the SIMD kernels
+    (``precision="exact"``: every aircraft bit-identical to :class:`Flight`
+    without script; ``"fast"``: Palmer only, within 1e-9).
+
+    Start and control arguments are numbers (the same for every aircraft) or
+    one-dimensional float64 arrays of shape ``(n,)`` (one each); the controls
+    are Palmer's ``throttle, alpha_deg, bank_deg, flaps_deg`` or Bourg's
+    ``thrust_lb, elevator, aileron, rudder, landing_flaps, pitch_trim``
+    (the surfaces -1, 0 or +1 and held until changed: a fleet has no start-of-
+    frame reset). Wrong types and dtypes raise ``TypeError``, wrong shapes,
+    non-finite or out-of-range values ``ValueError``; both name the argument
+    (and the first bad index). A refused call changes nothing.
+
+    **State views and their lifetime.** :attr:`state`, ``fleet[name]``,
+    :attr:`columns` and :attr:`status` are read-only NumPy views of buffers
+    the fleet writes in place at the end of every :meth:`step` and
+    :meth:`reset`; reading them never copies. A view stays valid (it keeps its
+    buffer alive) after the fleet is gone, and then keeps its last values.
+    Values change in place on the next step: copy (``np.array(view)``) what
+    must be kept. Do not read a fleet's views in one thread while another
+    thread steps that fleet.
+    """
+
+    def __init__(
+        self,
+        model: str,
+        n: int,
+        *,
+        fps: int = 30,
+        precision: str = "exact",
+        parallel: bool = True,
+        altitude_ft: Optional[PerAircraft] = None,
+        speed_kt: Optional[PerAircraft] = None,
+        heading_deg: Optional[PerAircraft] = None,
+        trim: bool = False,
+        **controls: PerAircraft,
+    ) -> None: ...
+    def step(self, frames: int = 1) -> None:
+        """Steps every aircraft ``frames`` frames (ground contact, touchdown,
+        crash and divergence per aircraft), with the GIL released, then
+        refreshes the views. ``parallel=True`` uses every core (rayon)."""
+    def reset(
+        self,
+        mask: Optional[npt.NDArray[np.bool_]] = None,
+        *,
+        altitude_ft: Optional[PerAircraft] = None,
+        speed_kt: Optional[PerAircraft] = None,
+        heading_deg: Optional[PerAircraft] = None,
+        trim: bool = False,
+        **controls: PerAircraft,
+    ) -> None:
+        """Restarts the aircraft where ``mask`` (bool, shape ``(n,)``) is
+        true, all without it, as the constructor would start them."""
+    def set_controls(
+        self, mask: Optional[npt.NDArray[np.bool_]] = None, **controls: PerAircraft
+    ) -> None:
+        """Sets controls of the aircraft where ``mask`` is true (all without it)."""
+    @property
+    def state(self) -> Dict[str, npt.NDArray[np.float64]]:
+        """State columns by name (read-only float64 views of shape ``(n,)``;
+        the names of :attr:`Flight.state`)."""
+    def __getitem__(self, name: str) -> npt.NDArray[np.float64]: ...
+    @property
+    def columns(self) -> npt.NDArray[np.float64]:
+        """All state columns, shape ``(len(fields), n)``, read-only."""
+    @property
+    def status(self) -> npt.NDArray[np.uint8]:
+        """Status codes (:class:`afit_fdm.Status`), read-only view."""
+    @property
+    def controls(self) -> Dict[str, npt.NDArray[np.float64]]:
+        """The controls by name (new arrays)."""
+    @property
+    def fields(self) -> List[str]: ...
+    @property
+    def model(self) -> str: ...
+    @property
+    def fps(self) -> float: ...
+    @property
+    def precision(self) -> str: ...
+    @property
+    def instruction_set(self) -> str:
+        """``x86-64-v4``, ``x86-64-v3`` or ``baseline``."""
+    @property
+    def last_step_interval(self) -> Tuple[float, float]:
+        """``(start, end)`` of the last :meth:`step`'s work, seconds on a
+        process-wide monotonic clock, measured in Rust with the GIL released."""
+    def __len__(self) -> int: ...

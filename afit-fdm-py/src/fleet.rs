@@ -1,0 +1,485 @@
+//! Many aircraft of one model: `afit_fdm.Fleet`, over `fdm-fleet`'s SIMD
+//! kernels ([`FleetOps`], the one adapter to today's fleet API).
+//!
+//! The state the Python side sees is the binding's own column buffer: one
+//! C-contiguous `(fields, n)` float64 array and one `(n,)` uint8 status array,
+//! owned by NumPy, refreshed in place at the end of every call that changes
+//! the fleet (`step`, `reset`, construction). Reading them never copies: the
+//! read-only views handed out are views of those buffers. The kernel's own
+//! arrays are lane blocks (8 or 16 aircraft, field by field) that `fdm-fleet`
+//! keeps private, so the refresh is one gather per `step` call, not per frame.
+
+use std::sync::OnceLock;
+use std::time::Instant;
+
+use fdm_core::model::{FlightStatus, Model};
+use fdm_fleet::Precision;
+use numpy::ndarray::ArrayView1;
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+use crate::flight::to_py;
+use crate::models::{status_code, BindModel, ControlRange, FleetOps};
+use crate::start::StartSpec;
+
+/// A per-aircraft argument: one number for every aircraft, or one each.
+#[derive(Debug, Clone)]
+pub enum Column {
+    /// The same value for every aircraft.
+    Scalar(f64),
+    /// One value per aircraft.
+    Values(Vec<f64>),
+}
+
+impl Column {
+    /// The value for aircraft `i`.
+    pub fn get(&self, i: usize) -> f64 {
+        match self {
+            Self::Scalar(v) => *v,
+            Self::Values(v) => v[i],
+        }
+    }
+
+    /// Reads `obj` as argument `name` for `n` aircraft: a Python number, or
+    /// a one-dimensional float64 NumPy array of length `n`.
+    ///
+    /// # Errors
+    /// `TypeError` for anything else (naming the argument and what it got),
+    /// `ValueError` for a wrong shape.
+    pub fn extract(obj: &Bound<'_, PyAny>, name: &str, n: usize) -> PyResult<Self> {
+        if obj.hasattr("dtype")? && obj.hasattr("shape")? {
+            let dtype: String = obj.getattr("dtype")?.str()?.extract()?;
+            let shape: Vec<usize> = obj.getattr("shape")?.extract()?;
+            if shape.is_empty() {
+                // A NumPy scalar (or 0-d array): one number.
+                if dtype != "float64" && dtype != "bool" && !dtype.starts_with("int") {
+                    return Err(PyTypeError::new_err(format!(
+                        "{name}: expected a number or a float64 array, got a {dtype} scalar"
+                    )));
+                }
+                return Ok(Self::Scalar(obj.call_method0("item")?.extract::<f64>()?));
+            }
+            if dtype != "float64" {
+                return Err(PyTypeError::new_err(format!(
+                    "{name}: expected a float64 array, got dtype {dtype} \
+                     (convert with .astype(numpy.float64))"
+                )));
+            }
+            if shape != [n] {
+                return Err(PyValueError::new_err(format!(
+                    "{name}: expected shape ({n},), got {shape:?}"
+                )));
+            }
+            let array: PyReadonlyArray1<'_, f64> = obj.extract().map_err(|_| {
+                PyTypeError::new_err(format!("{name}: expected a float64 NumPy array"))
+            })?;
+            let view: ArrayView1<'_, f64> = array.as_array();
+            return Ok(Self::Values(view.iter().copied().collect()));
+        }
+        if obj.is_instance_of::<pyo3::types::PyString>() {
+            return Err(PyTypeError::new_err(format!(
+                "{name}: expected a number or a float64 array, got a str"
+            )));
+        }
+        obj.extract::<f64>().map(Self::Scalar).map_err(|_| {
+            let ty = obj
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".to_owned(), |n| n.to_string());
+            PyTypeError::new_err(format!(
+                "{name}: expected a number or a float64 array, got {ty}"
+            ))
+        })
+    }
+
+    /// Checks every value is finite and in `lo..=hi`.
+    ///
+    /// # Errors
+    /// `ValueError` naming the argument, the first bad index and its value.
+    pub fn check_range(&self, name: &str, lo: f64, hi: f64) -> PyResult<()> {
+        let bad = |v: f64| !v.is_finite() || !(lo..=hi).contains(&v);
+        match self {
+            Self::Scalar(v) if bad(*v) => Err(PyValueError::new_err(format!(
+                "{name}: {v} is not a finite number in {lo}..{hi}"
+            ))),
+            Self::Values(vs) => match vs.iter().position(|&v| bad(v)) {
+                Some(i) => Err(PyValueError::new_err(format!(
+                    "{name}[{i}]: {} is not a finite number in {lo}..{hi}",
+                    vs[i]
+                ))),
+                None => Ok(()),
+            },
+            Self::Scalar(_) => Ok(()),
+        }
+    }
+}
+
+/// Per-aircraft start arguments, each optional.
+#[derive(Debug, Clone, Default)]
+pub struct StartColumns {
+    /// Feet above the origin.
+    pub altitude_ft: Option<Column>,
+    /// Knots.
+    pub speed_kt: Option<Column>,
+    /// Degrees clockwise from north.
+    pub heading_deg: Option<Column>,
+    /// Trim each aircraft.
+    pub trim: bool,
+}
+
+impl StartColumns {
+    fn spec(&self, i: usize) -> StartSpec {
+        StartSpec {
+            altitude_ft: self.altitude_ft.as_ref().map(|c| c.get(i)),
+            speed_kt: self.speed_kt.as_ref().map(|c| c.get(i)),
+            heading_deg: self.heading_deg.as_ref().map(|c| c.get(i)),
+            trim: self.trim,
+        }
+    }
+}
+
+/// Control arguments by the model's control index.
+pub type ControlColumns = Vec<(usize, Column)>;
+
+/// Seconds since the first fleet step of the process (a monotonic clock the
+/// tests compare between threads).
+fn now_s() -> f64 {
+    static EPOCH: OnceLock<Instant> = OnceLock::new();
+    EPOCH.get_or_init(Instant::now).elapsed().as_secs_f64()
+}
+
+/// What `Fleet` needs from a fleet of any model.
+pub trait AnyFleet: Send + Sync {
+    /// The model's name.
+    fn model(&self) -> &'static str;
+    /// Number of aircraft.
+    fn len(&self) -> usize;
+    /// Whether the fleet has no aircraft.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The state columns' names.
+    fn state_fields(&self) -> &'static [&'static str];
+    /// The controls' names and ranges.
+    fn control_fields(&self) -> &'static [ControlRange];
+    /// Steps `frames` frames, then refreshes the buffers; returns the
+    /// (start, end) of the work, seconds on a process-wide monotonic clock.
+    fn step(&mut self, frames: u64, columns: &mut [f64], status: &mut [u8]) -> (f64, f64);
+    /// Refreshes the buffers.
+    fn gather(&self, columns: &mut [f64], status: &mut [u8]);
+    /// Sets controls (already range-checked) for the aircraft with `mask`.
+    ///
+    /// # Errors
+    /// A value in range but not allowed (ValueError).
+    fn set_controls(&mut self, controls: &ControlColumns, mask: Option<&[bool]>) -> PyResult<()>;
+    /// Each control as a column.
+    fn controls(&self) -> Vec<Vec<f64>>;
+    /// Restarts the aircraft with `mask` (all without) at `start` with
+    /// `controls` (the rest of the controls from the model's start).
+    ///
+    /// # Errors
+    /// As the constructor.
+    fn reset(
+        &mut self,
+        mask: Option<&[bool]>,
+        start: &StartColumns,
+        controls: &ControlColumns,
+    ) -> PyResult<()>;
+    /// The kernel's instruction set.
+    fn instruction_set(&self) -> &'static str;
+}
+
+/// A fleet of model `M` and how it steps.
+pub struct Lanes<M: BindModel> {
+    fleet: M::Fleet,
+    len: usize,
+    fps: f64,
+    precision: Precision,
+    parallel: bool,
+}
+
+fn start_of<M: BindModel>(
+    i: usize,
+    start: &StartColumns,
+    controls: &ControlColumns,
+) -> PyResult<(M::Controls, M::State)> {
+    let mut c = M::initial_controls();
+    for (index, column) in controls {
+        c = M::set_control(c, *index, column.get(i)).map_err(|e| {
+            PyValueError::new_err(format!("{}[{i}]: {e}", M::CONTROL_FIELDS[*index].0))
+        })?;
+    }
+    start
+        .spec(i)
+        .start::<M>(&M::default_aircraft(), c)
+        .map_err(|e| PyValueError::new_err(format!("aircraft {i}: {}", e.0)))
+}
+
+impl<M: BindModel> Lanes<M> {
+    /// `n` aircraft from `start` and `controls`.
+    ///
+    /// # Errors
+    /// ValueError for a start or control that cannot be flown.
+    pub fn new(
+        n: usize,
+        fps: f64,
+        precision: Precision,
+        parallel: bool,
+        start: &StartColumns,
+        controls: &ControlColumns,
+    ) -> PyResult<Self> {
+        M::Fleet::check_precision(precision)
+            .map_err(|e| PyValueError::new_err(format!("precision: {e}")))?;
+        let mut fleet = M::Fleet::empty().map_err(|e| PyValueError::new_err(e.to_string()))?;
+        for i in 0..n {
+            let (c, s) = start_of::<M>(i, start, controls)?;
+            fleet.push(s, c);
+        }
+        Ok(Self {
+            fleet,
+            len: n,
+            fps,
+            precision,
+            parallel,
+        })
+    }
+}
+
+impl<M: BindModel> AnyFleet for Lanes<M>
+where
+    M::Fleet: Sync,
+{
+    fn model(&self) -> &'static str {
+        M::NAME
+    }
+    fn len(&self) -> usize {
+        self.len
+    }
+    fn state_fields(&self) -> &'static [&'static str] {
+        M::STATE_FIELDS
+    }
+    fn control_fields(&self) -> &'static [ControlRange] {
+        M::CONTROL_FIELDS
+    }
+    fn step(&mut self, frames: u64, columns: &mut [f64], status: &mut [u8]) -> (f64, f64) {
+        let start = now_s();
+        for _ in 0..frames {
+            self.fleet.fly(self.fps, self.precision, self.parallel);
+        }
+        self.gather(columns, status);
+        (start, now_s())
+    }
+    fn gather(&self, columns: &mut [f64], status: &mut [u8]) {
+        let (n, k) = (self.len, M::STATE_FIELDS.len());
+        let mut row = vec![0.0; k];
+        self.fleet.for_each_state(|i, s| {
+            M::state_values(s, &mut row);
+            for (f, v) in row.iter().enumerate() {
+                columns[f * n + i] = *v;
+            }
+        });
+        self.fleet
+            .for_each_status(|i, s| status[i] = status_code(s));
+    }
+    fn set_controls(&mut self, controls: &ControlColumns, mask: Option<&[bool]>) -> PyResult<()> {
+        // Build every new control first, so a refused value changes nothing.
+        let mut new = Vec::with_capacity(self.len);
+        for i in 0..self.len {
+            if mask.is_some_and(|m| !m[i]) {
+                continue;
+            }
+            let mut c = self.fleet.controls(i).unwrap_or_else(M::initial_controls);
+            for (index, column) in controls {
+                c = M::set_control(c, *index, column.get(i)).map_err(|e| {
+                    PyValueError::new_err(format!("{}[{i}]: {e}", M::CONTROL_FIELDS[*index].0))
+                })?;
+            }
+            new.push((i, c));
+        }
+        for (i, c) in new {
+            self.fleet
+                .set_controls(i, c)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        }
+        Ok(())
+    }
+    fn controls(&self) -> Vec<Vec<f64>> {
+        let k = M::CONTROL_FIELDS.len();
+        let mut out = vec![vec![0.0; self.len]; k];
+        let mut row = vec![0.0; k];
+        for i in 0..self.len {
+            let c = self.fleet.controls(i).unwrap_or_else(M::initial_controls);
+            M::control_values(&c, &mut row);
+            for (column, v) in out.iter_mut().zip(&row) {
+                column[i] = *v;
+            }
+        }
+        out
+    }
+    fn reset(
+        &mut self,
+        mask: Option<&[bool]>,
+        start: &StartColumns,
+        controls: &ControlColumns,
+    ) -> PyResult<()> {
+        let mut new = Vec::new();
+        for i in 0..self.len {
+            if mask.is_some_and(|m| !m[i]) {
+                continue;
+            }
+            new.push((i, start_of::<M>(i, start, controls)?));
+        }
+        for (i, (c, s)) in new {
+            let status = FlightStatus::initial(M::height_m(&s));
+            self.fleet
+                .set(i, &s, c, status)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        }
+        Ok(())
+    }
+    fn instruction_set(&self) -> &'static str {
+        self.fleet.instruction_set()
+    }
+}
+
+/// The start and control keyword arguments of `Fleet(...)` and
+/// `Fleet.reset(...)`, read and range-checked for `n` aircraft.
+///
+/// # Errors
+/// TypeError/ValueError naming the argument.
+pub fn read_arguments(
+    controls_fields: &[ControlRange],
+    model: &str,
+    n: usize,
+    start: [(&str, Option<&Bound<'_, PyAny>>); 3],
+    trim: bool,
+    kwargs: Option<&Bound<'_, pyo3::types::PyDict>>,
+) -> PyResult<(StartColumns, ControlColumns)> {
+    let limits = [
+        (0.0, crate::start::MAX_ALTITUDE_FT),
+        (0.0, crate::start::MAX_SPEED_KT),
+        (-360.0, 360.0),
+    ];
+    let mut cols: [Option<Column>; 3] = [None, None, None];
+    for (k, (name, obj)) in start.into_iter().enumerate() {
+        if let Some(obj) = obj.filter(|o| !o.is_none()) {
+            let c = Column::extract(obj, name, n)?;
+            c.check_range(name, limits[k].0, limits[k].1)?;
+            cols[k] = Some(c);
+        }
+    }
+    let [altitude_ft, speed_kt, heading_deg] = cols;
+    let mut controls = Vec::new();
+    if let Some(kwargs) = kwargs {
+        for (key, value) in kwargs.iter() {
+            let key: String = key.extract()?;
+            let Some(index) = controls_fields.iter().position(|c| c.0 == key) else {
+                let known: Vec<&str> = controls_fields.iter().map(|c| c.0).collect();
+                return Err(to_py((
+                    true,
+                    format!(
+                        "{key}: not a control of {model} (controls: {})",
+                        known.join(", ")
+                    ),
+                )));
+            };
+            let (_, lo, hi) = controls_fields[index];
+            let c = Column::extract(&value, &key, n)?;
+            c.check_range(&key, lo, hi)?;
+            controls.push((index, c));
+        }
+    }
+    Ok((
+        StartColumns {
+            altitude_ft,
+            speed_kt,
+            heading_deg,
+            trim,
+        },
+        controls,
+    ))
+}
+
+/// Buffers: the `(fields, n)` state array and the `(n,)` status array, and
+/// their read-only views.
+pub struct Buffers {
+    /// The state columns (written by the binding only).
+    pub columns: Py<PyArray2<f64>>,
+    /// The status codes (written by the binding only).
+    pub status: Py<PyArray1<u8>>,
+    /// Read-only view of `columns`.
+    pub columns_view: Py<PyAny>,
+    /// Read-only view of `status`.
+    pub status_view: Py<PyAny>,
+}
+
+impl Buffers {
+    /// New zeroed buffers for `fields × n`.
+    ///
+    /// # Errors
+    /// NumPy's.
+    pub fn new(py: Python<'_>, fields: usize, n: usize) -> PyResult<Self> {
+        let columns = PyArray2::<f64>::zeros(py, [fields, n], false);
+        let status = PyArray1::<u8>::zeros(py, n, false);
+        let read_only = |a: &Bound<'_, PyAny>| -> PyResult<Py<PyAny>> {
+            let v = a.call_method0("view")?;
+            v.getattr("flags")?.setattr("writeable", false)?;
+            Ok(v.unbind())
+        };
+        Ok(Self {
+            columns_view: read_only(columns.as_any())?,
+            status_view: read_only(status.as_any())?,
+            columns: columns.unbind(),
+            status: status.unbind(),
+        })
+    }
+
+    /// Runs `f` on the buffers' memory (while the GIL is held or released
+    /// by `f`'s caller).
+    ///
+    /// # Errors
+    /// If the buffers are borrowed elsewhere in Rust.
+    pub fn with_mut<R>(
+        &self,
+        py: Python<'_>,
+        f: impl FnOnce(&mut [f64], &mut [u8]) -> R,
+    ) -> PyResult<R> {
+        let columns = self.columns.bind(py);
+        let status = self.status.bind(py);
+        let mut c = columns.try_readwrite()?;
+        let mut s = status.try_readwrite()?;
+        let c = c
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let s = s
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(f(c, s))
+    }
+}
+
+/// Shorthand: a fleet of model `M` boxed.
+///
+/// # Errors
+/// As [`Lanes::new`].
+pub fn new_lanes<M: BindModel>(
+    n: usize,
+    fps: f64,
+    precision: Precision,
+    parallel: bool,
+    start: &StartColumns,
+    controls: &ControlColumns,
+) -> PyResult<Box<dyn AnyFleet>>
+where
+    M::Fleet: Sync,
+{
+    Ok(Box::new(Lanes::<M>::new(
+        n, fps, precision, parallel, start, controls,
+    )?))
+}
+
+/// The model's name, for messages.
+pub fn model_name<M: Model>() -> &'static str {
+    M::NAME
+}

@@ -1,0 +1,507 @@
+//! The `afit_fdm._afit_fdm` extension module: Python bindings of the
+//! workspace's flight models ([`flight`]: one aircraft, `Flight`) and fleets
+//! ([`fleet`]: many aircraft as NumPy columns, `Fleet`). The Python package
+//! `afit_fdm` (in `python/afit_fdm/`) re-exports them and adds the Gymnasium
+//! environments; its documentation is `python/afit_fdm/_afit_fdm.pyi` and
+//! the README's Python section.
+
+pub mod fleet;
+pub mod flight;
+pub mod models;
+pub mod start;
+
+use fdm_core::bourg::Bourg;
+use fdm_core::model::{Model, ScriptAction};
+use fdm_core::palmer::Palmer;
+use fdm_fleet::Precision;
+use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use fleet::{AnyFleet, Buffers};
+use flight::AnyFlight;
+use models::{status_code, BindModel};
+use start::StartSpec;
+
+/// The models this build knows, by name.
+const MODELS: [&str; 2] = [Palmer::NAME, Bourg::NAME];
+
+fn unknown_model(model: &str) -> PyErr {
+    PyValueError::new_err(format!(
+        "model: {model:?} is not a model (models: {})",
+        MODELS.join(", ")
+    ))
+}
+
+fn check_fps(fps: u32) -> PyResult<f64> {
+    if (1..=10_000).contains(&fps) {
+        Ok(f64::from(fps))
+    } else {
+        Err(PyValueError::new_err(format!(
+            "fps: {fps} is not a whole number in 1..10000"
+        )))
+    }
+}
+
+/// Reads `**controls` of a single flight: name → finite number.
+fn named_controls(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
+    let mut out = Vec::new();
+    if let Some(kwargs) = kwargs {
+        for (k, v) in kwargs.iter() {
+            let name: String = k.extract()?;
+            let value = fleet::Column::extract(&v, &name, 1)?;
+            match value {
+                fleet::Column::Scalar(x) => out.push((name, x)),
+                fleet::Column::Values(_) => {
+                    return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                        "{name}: expected a number"
+                    )))
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One aircraft of a model, flown frame by frame as `sim-cli` flies it.
+#[pyclass(module = "afit_fdm._afit_fdm", name = "Flight")]
+pub struct PyFlight {
+    inner: Box<dyn AnyFlight>,
+}
+
+#[pymethods]
+impl PyFlight {
+    /// See `_afit_fdm.pyi`.
+    #[new]
+    #[pyo3(signature = (model, *, fps=30, altitude_ft=None, speed_kt=None, heading_deg=None, trim=false, script=None, **controls))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        model: &str,
+        fps: u32,
+        altitude_ft: Option<f64>,
+        speed_kt: Option<f64>,
+        heading_deg: Option<f64>,
+        trim: bool,
+        script: Option<&str>,
+        controls: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let fps = check_fps(fps)?;
+        let spec = StartSpec {
+            altitude_ft,
+            speed_kt,
+            heading_deg,
+            trim,
+        };
+        let controls = named_controls(controls)?;
+        if trim && model == Bourg::NAME && controls.iter().any(|(n, _)| n == "thrust_lb") {
+            return Err(PyValueError::new_err(
+                "thrust_lb: cannot be given with trim=True (the trim sets the thrust)",
+            ));
+        }
+        let inner = match model {
+            "palmer" => flight::new_single::<Palmer>(fps, &spec, &controls, script)?,
+            "bourg" => flight::new_single::<Bourg>(fps, &spec, &controls, script)?,
+            other => return Err(unknown_model(other)),
+        };
+        Ok(Self { inner })
+    }
+
+    /// Steps `n` frames; `actions` (script action names) are applied on each
+    /// of them after the script's.
+    #[pyo3(signature = (n=1, actions=None))]
+    fn step(&mut self, py: Python<'_>, n: u64, actions: Option<Vec<String>>) -> PyResult<()> {
+        let actions = actions.unwrap_or_default();
+        let inner = &mut self.inner;
+        let result = if n >= 256 {
+            py.detach(|| inner.step(n, &actions))
+        } else {
+            inner.step(n, &actions)
+        };
+        result.map_err(PyValueError::new_err)
+    }
+
+    /// Back to the start: state, controls, status, frame 0, script from frame 1.
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+
+    /// Sets controls by name (validated; e.g. `throttle=0.5`).
+    #[pyo3(signature = (**controls))]
+    fn set_controls(&mut self, controls: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        let values = named_controls(controls)?;
+        self.inner.set_controls(&values).map_err(flight::to_py)
+    }
+
+    /// The model's name.
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.inner.model()
+    }
+
+    /// Frames stepped.
+    #[getter]
+    fn frame(&self) -> u64 {
+        self.inner.frame()
+    }
+
+    /// Frames per second.
+    #[getter]
+    fn fps(&self) -> f64 {
+        self.inner.fps()
+    }
+
+    /// The time step, s.
+    #[getter]
+    fn dt_s(&self) -> f64 {
+        self.inner.dt_s()
+    }
+
+    /// Simulated time, s.
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.inner.view().time_s
+    }
+
+    /// The model's state by name.
+    #[getter]
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, v) in self.inner.state() {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// The controls by name.
+    #[getter]
+    fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, v) in self.inner.controls() {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// The common `FlightView` by name (SI units, shared earth frame).
+    #[getter]
+    fn view<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        flight::view_dict(py, &self.inner.view())
+    }
+
+    /// The flight status as a word (`on_ground`, `airborne`, `landed_safe`,
+    /// `landed_rough`, `crashed`, `diverged`).
+    #[getter]
+    fn status(&self) -> &'static str {
+        self.inner.status().code()
+    }
+
+    /// The flight status as its integer code (0..5, `afit_fdm.Status`).
+    #[getter]
+    fn status_code(&self) -> u8 {
+        status_code(self.inner.status())
+    }
+
+    /// The model's script action names.
+    #[getter]
+    fn actions(&self) -> Vec<&'static str> {
+        self.inner.action_names().to_vec()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Flight(model={:?}, fps={}, frame={}, status={:?})",
+            self.inner.model(),
+            self.inner.fps(),
+            self.inner.frame(),
+            self.inner.status().code()
+        )
+    }
+}
+
+/// Many aircraft of one model, stepped by the SIMD fleet kernels.
+#[pyclass(module = "afit_fdm._afit_fdm", name = "Fleet")]
+pub struct PyFleet {
+    inner: Box<dyn AnyFleet>,
+    buffers: Buffers,
+    views: Py<PyDict>,
+    last_step: (f64, f64),
+    fps: f64,
+    precision: &'static str,
+}
+
+fn read_mask(mask: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Option<Vec<bool>>> {
+    let Some(mask) = mask.filter(|m| !m.is_none()) else {
+        return Ok(None);
+    };
+    if !(mask.hasattr("dtype")? && mask.getattr("dtype")?.str()? == "bool") {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "mask: expected a bool NumPy array",
+        ));
+    }
+    let shape: Vec<usize> = mask.getattr("shape")?.extract()?;
+    if shape != [n] {
+        return Err(PyValueError::new_err(format!(
+            "mask: expected shape ({n},), got {shape:?}"
+        )));
+    }
+    let array: numpy::PyReadonlyArray1<'_, bool> = mask.extract()?;
+    Ok(Some(array.as_array().iter().copied().collect()))
+}
+
+#[pymethods]
+impl PyFleet {
+    /// See `_afit_fdm.pyi`.
+    #[new]
+    #[pyo3(signature = (model, n, *, fps=30, precision="exact", parallel=true, altitude_ft=None, speed_kt=None, heading_deg=None, trim=false, **controls))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        model: &str,
+        n: usize,
+        fps: u32,
+        precision: &str,
+        parallel: bool,
+        altitude_ft: Option<&Bound<'_, PyAny>>,
+        speed_kt: Option<&Bound<'_, PyAny>>,
+        heading_deg: Option<&Bound<'_, PyAny>>,
+        trim: bool,
+        controls: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let fps = check_fps(fps)?;
+        let precision_value: Precision = precision
+            .parse()
+            .map_err(|e| PyValueError::new_err(format!("precision: {e}")))?;
+        let precision = match precision_value {
+            Precision::Exact => "exact",
+            Precision::Fast => "fast",
+        };
+        let start = [
+            ("altitude_ft", altitude_ft),
+            ("speed_kt", speed_kt),
+            ("heading_deg", heading_deg),
+        ];
+        fn build<M: BindModel>(
+            n: usize,
+            fps: f64,
+            precision: Precision,
+            parallel: bool,
+            start: [(&str, Option<&Bound<'_, PyAny>>); 3],
+            trim: bool,
+            controls: Option<&Bound<'_, PyDict>>,
+        ) -> PyResult<Box<dyn AnyFleet>>
+        where
+            M::Fleet: Sync,
+        {
+            let (s, c) =
+                fleet::read_arguments(M::CONTROL_FIELDS, M::NAME, n, start, trim, controls)?;
+            fleet::new_lanes::<M>(n, fps, precision, parallel, &s, &c)
+        }
+        let inner = match model {
+            "palmer" => build::<Palmer>(n, fps, precision_value, parallel, start, trim, controls)?,
+            "bourg" => build::<Bourg>(n, fps, precision_value, parallel, start, trim, controls)?,
+            other => return Err(unknown_model(other)),
+        };
+        let fields = inner.state_fields();
+        let buffers = Buffers::new(py, fields.len(), n)?;
+        buffers.with_mut(py, |c, s| inner.gather(c, s))?;
+        let views = PyDict::new(py);
+        let columns = buffers.columns_view.bind(py);
+        for (i, name) in fields.iter().enumerate() {
+            views.set_item(*name, columns.get_item(i)?)?;
+        }
+        Ok(Self {
+            inner,
+            buffers,
+            views: views.unbind(),
+            last_step: (0.0, 0.0),
+            fps,
+            precision,
+        })
+    }
+
+    /// Steps every aircraft `frames` frames with the GIL released, then
+    /// refreshes the state views.
+    #[pyo3(signature = (frames=1))]
+    fn step(&mut self, py: Python<'_>, frames: u64) -> PyResult<()> {
+        let inner = &mut self.inner;
+        self.last_step = self
+            .buffers
+            .with_mut(py, |c, s| py.detach(|| inner.step(frames, c, s)))?;
+        Ok(())
+    }
+
+    /// Restarts the aircraft selected by `mask` (all without one).
+    #[pyo3(signature = (mask=None, *, altitude_ft=None, speed_kt=None, heading_deg=None, trim=false, **controls))]
+    #[allow(clippy::too_many_arguments)]
+    fn reset(
+        &mut self,
+        py: Python<'_>,
+        mask: Option<&Bound<'_, PyAny>>,
+        altitude_ft: Option<&Bound<'_, PyAny>>,
+        speed_kt: Option<&Bound<'_, PyAny>>,
+        heading_deg: Option<&Bound<'_, PyAny>>,
+        trim: bool,
+        controls: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<()> {
+        let n = self.inner.len();
+        let mask = read_mask(mask, n)?;
+        let (s, c) = fleet::read_arguments(
+            self.inner.control_fields(),
+            self.inner.model(),
+            n,
+            [
+                ("altitude_ft", altitude_ft),
+                ("speed_kt", speed_kt),
+                ("heading_deg", heading_deg),
+            ],
+            trim,
+            controls,
+        )?;
+        self.inner.reset(mask.as_deref(), &s, &c)?;
+        let inner = &self.inner;
+        self.buffers.with_mut(py, |cols, st| inner.gather(cols, st))
+    }
+
+    /// Sets controls of the aircraft selected by `mask` (all without one).
+    #[pyo3(signature = (mask=None, **controls))]
+    fn set_controls(
+        &mut self,
+        mask: Option<&Bound<'_, PyAny>>,
+        controls: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<()> {
+        let n = self.inner.len();
+        let mask = read_mask(mask, n)?;
+        let (_, c) = fleet::read_arguments(
+            self.inner.control_fields(),
+            self.inner.model(),
+            n,
+            [
+                ("altitude_ft", None),
+                ("speed_kt", None),
+                ("heading_deg", None),
+            ],
+            false,
+            controls,
+        )?;
+        self.inner.set_controls(&c, mask.as_deref())
+    }
+
+    /// The state columns by name: read-only views, refreshed in place.
+    #[getter]
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.views.bind(py).copy()
+    }
+
+    /// One state column by name (a read-only view).
+    fn __getitem__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        self.views.bind(py).get_item(name)?.ok_or_else(|| {
+            pyo3::exceptions::PyKeyError::new_err(format!(
+                "{name:?} is not a state field of {} (fields: {})",
+                self.inner.model(),
+                self.inner.state_fields().join(", ")
+            ))
+        })
+    }
+
+    /// The whole `(fields, n)` state array, read-only.
+    #[getter]
+    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        self.buffers.columns_view.bind(py).clone()
+    }
+
+    /// Statuses as a read-only `uint8` view (codes of `afit_fdm.Status`).
+    #[getter]
+    fn status<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        self.buffers.status_view.bind(py).clone()
+    }
+
+    /// The controls by name, as new arrays.
+    #[getter]
+    fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for ((name, _, _), column) in self
+            .inner
+            .control_fields()
+            .iter()
+            .zip(self.inner.controls())
+        {
+            d.set_item(*name, PyArray1::from_vec(py, column))?;
+        }
+        Ok(d)
+    }
+
+    /// Names of the state columns, in `columns` order.
+    #[getter]
+    fn fields(&self) -> Vec<&'static str> {
+        self.inner.state_fields().to_vec()
+    }
+
+    /// The model's name.
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.inner.model()
+    }
+
+    /// Frames per second.
+    #[getter]
+    fn fps(&self) -> f64 {
+        self.fps
+    }
+
+    /// `"exact"` or `"fast"`.
+    #[getter]
+    fn precision(&self) -> &'static str {
+        self.precision
+    }
+
+    /// The instruction set the kernel runs on.
+    #[getter]
+    fn instruction_set(&self) -> &'static str {
+        self.inner.instruction_set()
+    }
+
+    /// `(start, end)` of the last `step`'s work, seconds on a process-wide
+    /// monotonic clock, measured inside Rust with the GIL released.
+    #[getter]
+    fn last_step_interval(&self) -> (f64, f64) {
+        self.last_step
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Fleet(model={:?}, n={}, fps={}, precision={:?})",
+            self.inner.model(),
+            self.inner.len(),
+            self.fps,
+            self.precision
+        )
+    }
+}
+
+/// The models' facts: state fields, controls with ranges, action names.
+fn describe<M: BindModel>(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("title", M::TITLE)?;
+    d.set_item("state_fields", PyList::new(py, M::STATE_FIELDS)?)?;
+    d.set_item("controls", M::CONTROL_FIELDS.to_vec())?;
+    d.set_item("actions", PyList::new(py, M::Action::NAMES)?)?;
+    Ok(d)
+}
+
+#[pymodule]
+fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<PyFlight>()?;
+    m.add_class::<PyFleet>()?;
+    let models = PyDict::new(py);
+    models.set_item(Palmer::NAME, describe::<Palmer>(py)?)?;
+    models.set_item(Bourg::NAME, describe::<Bourg>(py)?)?;
+    m.add("MODELS", models)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

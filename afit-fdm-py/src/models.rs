@@ -1,0 +1,389 @@
+//! What the binding needs to know of each model beyond `fdm_core::model::Model`:
+//! its state and controls as named numbers (units in the names), the controls'
+//! ranges, and its fleet kernel. One impl per model; everything else in the
+//! crate is generic over [`BindModel`].
+
+use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap};
+use fdm_core::model::{FlightStatus, Model};
+use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
+use fdm_fleet::{BourgFleet, FleetError, PalmerFleet, Precision};
+
+/// A control's name and its accepted range (inclusive; `None` for a set of
+/// allowed values checked by [`BindModel::set_control`]).
+pub type ControlRange = (&'static str, f64, f64);
+
+/// A model as the Python binding exposes it.
+pub trait BindModel: Model {
+    /// The model's fleet kernel behind the one adapter the binding uses.
+    type Fleet: FleetOps<Self>;
+
+    /// Names of [`state_values`](Self::state_values), units in the names.
+    const STATE_FIELDS: &'static [&'static str];
+    /// Names of [`control_values`](Self::control_values), units in the names.
+    const CONTROL_FIELDS: &'static [ControlRange];
+
+    /// The state as numbers, in [`STATE_FIELDS`](Self::STATE_FIELDS) order
+    /// (`f32` values widened exactly; booleans 0 or 1).
+    fn state_values(state: &Self::State, out: &mut [f64]);
+
+    /// `out` becomes the controls as numbers, in
+    /// [`CONTROL_FIELDS`](Self::CONTROL_FIELDS) order.
+    fn control_values(controls: &Self::Controls, out: &mut [f64]);
+
+    /// `controls` with control `index` (of [`CONTROL_FIELDS`](Self::CONTROL_FIELDS))
+    /// set to `value`, which the caller has checked is finite and in range.
+    ///
+    /// # Errors
+    /// A message when the value is in range but not one of the allowed values
+    /// (Palmer's flaps: 0, 20 or 40).
+    fn set_control(
+        controls: Self::Controls,
+        index: usize,
+        value: f64,
+    ) -> Result<Self::Controls, String>;
+}
+
+/// The few fleet operations the binding uses (today's `fdm-fleet` API; one
+/// place to change when the fleets become one generic type).
+pub trait FleetOps<M: Model>: Send + Sized {
+    /// An empty fleet of the model's default aircraft.
+    ///
+    /// # Errors
+    /// The kernel's refusal of the aircraft.
+    fn empty() -> Result<Self, FleetError>;
+    /// Adds an aircraft.
+    fn push(&mut self, state: M::State, controls: M::Controls);
+    /// Replaces aircraft `index`'s state, controls and status.
+    ///
+    /// # Errors
+    /// Out of range.
+    fn set(
+        &mut self,
+        index: usize,
+        state: &M::State,
+        controls: M::Controls,
+        status: FlightStatus,
+    ) -> Result<(), FleetError>;
+    /// Replaces aircraft `index`'s controls.
+    ///
+    /// # Errors
+    /// Out of range.
+    fn set_controls(&mut self, index: usize, controls: M::Controls) -> Result<(), FleetError>;
+    /// Aircraft `index`'s controls.
+    fn controls(&self, index: usize) -> Option<M::Controls>;
+    /// One frame of every aircraft with its status ([`fdm_core::model::fly`]),
+    /// on this thread or on rayon's pool.
+    fn fly(&mut self, fps: f64, precision: Precision, parallel: bool);
+    /// Every aircraft's state, in order.
+    fn for_each_state(&self, f: impl FnMut(usize, &M::State));
+    /// Every aircraft's status, in order.
+    fn for_each_status(&self, f: impl FnMut(usize, FlightStatus));
+    /// Whether the kernel has `precision`.
+    ///
+    /// # Errors
+    /// When it does not.
+    fn check_precision(precision: Precision) -> Result<(), FleetError>;
+    /// The instruction set the kernel dispatched to.
+    fn instruction_set(&self) -> &'static str;
+}
+
+/// The integer code of a status (the CSV's `status` column of `sim-cli`,
+/// without its report-only 6 "stalling").
+pub const fn status_code(status: FlightStatus) -> u8 {
+    use fdm_core::model::LandingState;
+    match status {
+        FlightStatus::OnGround => 0,
+        FlightStatus::Airborne => 1,
+        FlightStatus::Landed(LandingState::Safe) => 2,
+        FlightStatus::Landed(LandingState::Rough) => 3,
+        FlightStatus::Landed(LandingState::Crash) => 4,
+        FlightStatus::Diverged => 5,
+    }
+}
+
+impl BindModel for Palmer {
+    type Fleet = PalmerFleet;
+
+    const STATE_FIELDS: &'static [&'static str] =
+        &["time_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
+    const CONTROL_FIELDS: &'static [ControlRange] = &[
+        ("throttle", 0.0, 1.0),
+        ("alpha_deg", -16.0, 20.0),
+        ("bank_deg", -20.0, 20.0),
+        ("flaps_deg", 0.0, 40.0),
+    ];
+
+    fn state_values(s: &PalmerState, out: &mut [f64]) {
+        out.copy_from_slice(&[
+            s.time_s,
+            s.position_m.x,
+            s.position_m.y,
+            s.position_m.z,
+            s.velocity_mps.x,
+            s.velocity_mps.y,
+            s.velocity_mps.z,
+        ]);
+    }
+
+    fn control_values(c: &PalmerControls, out: &mut [f64]) {
+        out.copy_from_slice(&[c.throttle, c.alpha_deg, c.bank_deg, c.flaps.degrees()]);
+    }
+
+    fn set_control(
+        mut c: PalmerControls,
+        index: usize,
+        value: f64,
+    ) -> Result<PalmerControls, String> {
+        match index {
+            0 => c.throttle = value,
+            1 => c.alpha_deg = value,
+            2 => c.bank_deg = value,
+            _ => {
+                c.flaps = [Flaps::Up, Flaps::Deg20, Flaps::Deg40]
+                    .into_iter()
+                    .find(|f| f.degrees() == value)
+                    .ok_or_else(|| format!("{value} is not 0, 20 or 40"))?;
+            }
+        }
+        Ok(c)
+    }
+}
+
+/// A Bourg surface as a number: −1, 0 or +1.
+fn flap_code(f: Flap) -> f64 {
+    match f {
+        Flap::TrailingEdgeDown => -1.0,
+        Flap::Neutral => 0.0,
+        Flap::TrailingEdgeUp => 1.0,
+    }
+}
+
+fn flap_from(value: f64) -> Result<Flap, String> {
+    match value {
+        -1.0 => Ok(Flap::TrailingEdgeDown),
+        0.0 => Ok(Flap::Neutral),
+        1.0 => Ok(Flap::TrailingEdgeUp),
+        v => Err(format!("{v} is not -1, 0 or 1")),
+    }
+}
+
+impl BindModel for Bourg {
+    type Fleet = BourgFleet;
+
+    const STATE_FIELDS: &'static [&'static str] = &[
+        "time_s",
+        "x_ft",
+        "y_ft",
+        "z_ft",
+        "vx_ftps",
+        "vy_ftps",
+        "vz_ftps",
+        "u_ftps",
+        "v_ftps",
+        "w_ftps",
+        "p_radps",
+        "q_radps",
+        "r_radps",
+        "qw",
+        "qx",
+        "qy",
+        "qz",
+        "stalling",
+        "speed_ftps",
+        "euler_x_deg",
+        "euler_y_deg",
+        "euler_z_deg",
+    ];
+    // Surfaces: +1 is the action's direction (`elevator` +1 = pitch-up,
+    // `aileron` +1 = roll-right, `rudder` +1 = yaw-right).
+    const CONTROL_FIELDS: &'static [ControlRange] = &[
+        ("thrust_lb", 0.0, 3000.0),
+        ("elevator", -1.0, 1.0),
+        ("aileron", -1.0, 1.0),
+        ("rudder", -1.0, 1.0),
+        ("landing_flaps", 0.0, 1.0),
+        ("pitch_trim", -1.0, 1.0),
+    ];
+
+    fn state_values(s: &BourgState, out: &mut [f64]) {
+        let e = s.euler_angles_deg();
+        let w = f64::from;
+        out.copy_from_slice(&[
+            s.time_s,
+            w(s.position_ft.x),
+            w(s.position_ft.y),
+            w(s.position_ft.z),
+            w(s.velocity_ftps.x),
+            w(s.velocity_ftps.y),
+            w(s.velocity_ftps.z),
+            w(s.velocity_body_ftps.x),
+            w(s.velocity_body_ftps.y),
+            w(s.velocity_body_ftps.z),
+            w(s.angular_velocity_radps.x),
+            w(s.angular_velocity_radps.y),
+            w(s.angular_velocity_radps.z),
+            w(s.orientation.w),
+            w(s.orientation.i),
+            w(s.orientation.j),
+            w(s.orientation.k),
+            if s.stalling { 1.0 } else { 0.0 },
+            w(s.speed_ftps()),
+            w(e.x),
+            w(e.y),
+            w(e.z),
+        ]);
+    }
+
+    fn control_values(c: &BourgControls, out: &mut [f64]) {
+        let rudder = if c.rudder_deg > 0.0 {
+            -1.0
+        } else if c.rudder_deg < 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+        out.copy_from_slice(&[
+            f64::from(c.thrust_lb),
+            flap_code(c.elevators),
+            // roll-right: port trailing edge down (−1): aileron +1. No −0.0
+            // for neutral.
+            0.0 - flap_code(c.port_aileron),
+            rudder,
+            if c.landing_flaps { 1.0 } else { 0.0 },
+            f64::from(c.pitch_trim),
+        ]);
+    }
+
+    #[allow(clippy::cast_possible_truncation)] // checked ranges; f32 is the model's type
+    fn set_control(
+        mut c: BourgControls,
+        index: usize,
+        value: f64,
+    ) -> Result<BourgControls, String> {
+        match index {
+            0 => c.thrust_lb = value as f32,
+            1 => c.elevators = flap_from(value)?,
+            2 => {
+                c.port_aileron = flap_from(-value)?;
+                c.starboard_aileron = flap_from(value)?;
+            }
+            3 => {
+                c.rudder_deg = match value {
+                    1.0 => -fdm_core::bourg::RUDDER_DEFLECTION_DEG,
+                    -1.0 => fdm_core::bourg::RUDDER_DEFLECTION_DEG,
+                    0.0 => 0.0,
+                    v => return Err(format!("{v} is not -1, 0 or 1")),
+                }
+            }
+            4 => {
+                c.landing_flaps = match value {
+                    1.0 => true,
+                    0.0 => false,
+                    v => return Err(format!("{v} is not 0 or 1")),
+                }
+            }
+            _ => c.pitch_trim = value as f32,
+        }
+        Ok(c)
+    }
+}
+
+impl FleetOps<Palmer> for PalmerFleet {
+    fn empty() -> Result<Self, FleetError> {
+        Self::new(Palmer::default_aircraft())
+    }
+    fn push(&mut self, state: PalmerState, controls: PalmerControls) {
+        Self::push(self, state, controls);
+    }
+    fn set(
+        &mut self,
+        index: usize,
+        state: &PalmerState,
+        controls: PalmerControls,
+        status: FlightStatus,
+    ) -> Result<(), FleetError> {
+        self.set_state(index, state)?;
+        Self::set_controls(self, index, controls)?;
+        self.set_status(index, status)
+    }
+    fn set_controls(&mut self, index: usize, controls: PalmerControls) -> Result<(), FleetError> {
+        Self::set_controls(self, index, controls)
+    }
+    fn controls(&self, index: usize) -> Option<PalmerControls> {
+        Self::controls(self, index)
+    }
+    fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) {
+        let dt = Palmer::time_step(fps);
+        if parallel {
+            self.par_fly(dt, precision);
+        } else {
+            Self::fly(self, dt, precision);
+        }
+    }
+    fn for_each_state(&self, mut f: impl FnMut(usize, &PalmerState)) {
+        for (i, s) in self.states().enumerate() {
+            f(i, &s);
+        }
+    }
+    fn for_each_status(&self, mut f: impl FnMut(usize, FlightStatus)) {
+        for (i, s) in self.statuses().enumerate() {
+            f(i, s);
+        }
+    }
+    fn check_precision(_: Precision) -> Result<(), FleetError> {
+        Ok(())
+    }
+    fn instruction_set(&self) -> &'static str {
+        Self::instruction_set(self)
+    }
+}
+
+impl FleetOps<Bourg> for BourgFleet {
+    fn empty() -> Result<Self, FleetError> {
+        Ok(Self::new(Bourg::default_aircraft()))
+    }
+    fn push(&mut self, state: BourgState, controls: BourgControls) {
+        Self::push(self, state, controls);
+    }
+    fn set(
+        &mut self,
+        index: usize,
+        state: &BourgState,
+        controls: BourgControls,
+        status: FlightStatus,
+    ) -> Result<(), FleetError> {
+        self.set_state(index, state)?;
+        Self::set_controls(self, index, controls)?;
+        self.set_status(index, status)
+    }
+    fn set_controls(&mut self, index: usize, controls: BourgControls) -> Result<(), FleetError> {
+        Self::set_controls(self, index, controls)
+    }
+    fn controls(&self, index: usize) -> Option<BourgControls> {
+        Self::controls(self, index)
+    }
+    fn fly(&mut self, fps: f64, _precision: Precision, parallel: bool) {
+        let dt = Bourg::time_step(fps);
+        if parallel {
+            self.par_fly(dt);
+        } else {
+            Self::fly(self, dt);
+        }
+    }
+    fn for_each_state(&self, mut f: impl FnMut(usize, &BourgState)) {
+        for (i, s) in self.states().enumerate() {
+            f(i, &s);
+        }
+    }
+    fn for_each_status(&self, mut f: impl FnMut(usize, FlightStatus)) {
+        for (i, s) in self.statuses().enumerate() {
+            f(i, s);
+        }
+    }
+    fn check_precision(precision: Precision) -> Result<(), FleetError> {
+        <Self as fdm_fleet::LaneFleet>::check_precision(precision)
+    }
+    fn instruction_set(&self) -> &'static str {
+        Self::instruction_set(self)
+    }
+}

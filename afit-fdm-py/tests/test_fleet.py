@@ -1,0 +1,185 @@
+"""``Fleet``: the SIMD kernels from NumPy, against ``Flight`` aircraft by aircraft."""
+
+from __future__ import annotations
+
+import gc
+import threading
+
+import numpy as np
+import pytest
+
+import afit_fdm
+from afit_fdm import Status
+
+
+def test_exact_palmer_fleet_is_flight_bit_for_bit() -> None:
+    n = 37  # not a multiple of the 8 lanes
+    throttle = np.linspace(0.3, 1.0, n)
+    alpha = np.linspace(-2.0, 8.0, n)
+    bank = np.linspace(-20.0, 20.0, n)
+    altitude = np.linspace(500.0, 5000.0, n)
+    heading = np.linspace(-180.0, 180.0, n)
+    fleet = afit_fdm.Fleet(
+        "palmer", n, fps=30, altitude_ft=altitude, speed_kt=90.0, heading_deg=heading,
+        throttle=throttle, alpha_deg=alpha, bank_deg=bank, flaps_deg=20.0,
+    )
+    fleet.step(300)
+    for i in range(n):
+        f = afit_fdm.Flight(
+            "palmer", fps=30, altitude_ft=altitude[i], speed_kt=90.0, heading_deg=heading[i],
+            throttle=throttle[i], alpha_deg=alpha[i], bank_deg=bank[i], flaps_deg=20,
+        )
+        f.step(300)
+        for name, value in f.state.items():
+            assert fleet[name][i] == value, (i, name)
+        assert fleet.status[i] == f.status_code
+
+
+def test_exact_bourg_fleet_is_flight_bit_for_bit() -> None:
+    n = 21
+    thrust = np.linspace(0.0, 3000.0, n)
+    fleet = afit_fdm.Fleet("bourg", n, fps=30, altitude_ft=3000.0, speed_kt=90.0, trim=True)
+    fleet.set_controls(thrust_lb=thrust, landing_flaps=1.0)
+    fleet.step(120)
+    for i in range(n):
+        f = afit_fdm.Flight("bourg", fps=30, altitude_ft=3000.0, speed_kt=90.0, trim=True)
+        f.set_controls(thrust_lb=thrust[i], landing_flaps=1)
+        f.step(120)
+        for name, value in f.state.items():
+            assert fleet[name][i] == value, (i, name)
+
+
+def test_views_are_read_only_zero_copy_and_refreshed_in_place() -> None:
+    fleet = afit_fdm.Fleet("palmer", 10, throttle=1.0, alpha_deg=4.0)
+    x = fleet["x_m"]
+    assert x.shape == (10,) and x.dtype == np.float64
+    assert not x.flags.writeable
+    with pytest.raises(ValueError):
+        x[0] = 1.0
+    assert fleet.columns.shape == (len(fleet.fields), 10)
+    assert np.shares_memory(x, fleet.columns)  # a view, not a copy
+    assert np.shares_memory(fleet.state["x_m"], x)
+    before = np.array(x)
+    fleet.step(10)
+    assert (x > before).all()  # the same view shows the new state
+    assert fleet.status.dtype == np.uint8 and not fleet.status.flags.writeable
+    del fleet
+    gc.collect()
+    assert x.sum() > 0  # the view keeps its buffer alive after the fleet
+
+
+def test_statuses_are_codes_with_names() -> None:
+    # From 300 ft at 80 kt, nose down and idle: every aircraft comes down;
+    # the steepest crash, the gentlest land.
+    alpha = np.array([-16.0, -10.0, 0.0, 2.0])
+    fleet = afit_fdm.Fleet("palmer", 4, altitude_ft=300.0, speed_kt=80.0, alpha_deg=alpha)
+    assert (fleet.status == Status.AIRBORNE).all()
+    fleet.step(30 * 120)
+    codes = [Status(c) for c in fleet.status]
+    assert codes[0] == Status.CRASHED
+    assert all(c in (Status.CRASHED, Status.LANDED_SAFE, Status.LANDED_ROUGH) for c in codes)
+    crashed = fleet.status == Status.CRASHED
+    assert (fleet["vx_mps"][crashed] == 0).all() and (fleet["z_m"] >= 0).all()
+
+
+def test_reset_with_a_mask_restarts_only_those() -> None:
+    fleet = afit_fdm.Fleet("palmer", 6, altitude_ft=1000.0, speed_kt=90.0, throttle=0.7, alpha_deg=3.0)
+    fleet.step(60)
+    x = np.array(fleet["x_m"])
+    mask = np.array([True, False, True, False, False, False])
+    fleet.reset(mask, altitude_ft=np.full(6, 2000.0), speed_kt=100.0, trim=True)
+    assert (fleet["x_m"][mask] == 0).all() and (fleet["x_m"][~mask] == x[~mask]).all()
+    assert fleet["z_m"][0] == pytest.approx(2000 * 0.3048)
+    assert fleet.controls["throttle"][0] != 0.7 and fleet.controls["throttle"][1] == 0.7
+
+
+def test_bad_controls_raise_naming_the_argument_and_change_nothing() -> None:
+    fleet = afit_fdm.Fleet("palmer", 4, throttle=0.5)
+    with pytest.raises(TypeError, match="throttle.*float64.*int64"):
+        fleet.set_controls(throttle=np.array([1, 0, 1, 0]))
+    with pytest.raises(TypeError, match="throttle.*float32"):
+        fleet.set_controls(throttle=np.zeros(4, dtype=np.float32))
+    with pytest.raises(ValueError, match=r"throttle: expected shape \(4,\)"):
+        fleet.set_controls(throttle=np.zeros(5))
+    with pytest.raises(ValueError, match=r"throttle: expected shape \(4,\)"):
+        fleet.set_controls(throttle=np.zeros((4, 1)))
+    with pytest.raises(ValueError, match=r"alpha_deg\[2\]: NaN"):
+        fleet.set_controls(throttle=1.0, alpha_deg=np.array([0.0, 1.0, np.nan, 2.0]))
+    with pytest.raises(ValueError, match=r"bank_deg\[1\]: 21"):
+        fleet.set_controls(bank_deg=np.array([0.0, 21.0, 0.0, 0.0]))
+    with pytest.raises(ValueError, match=r"flaps_deg\[0\]: 10 is not 0, 20 or 40"):
+        fleet.set_controls(flaps_deg=10.0)
+    with pytest.raises(TypeError, match="thrust_lb: not a control of palmer"):
+        fleet.set_controls(thrust_lb=1.0)
+    with pytest.raises(TypeError, match="throttle: expected a number"):
+        fleet.set_controls(throttle="full")
+    with pytest.raises(TypeError, match="mask"):
+        fleet.set_controls(np.array([1, 0, 1, 0]), throttle=1.0)
+    with pytest.raises(ValueError, match="altitude_ft"):
+        fleet.reset(altitude_ft=np.array([0.0, 1.0, np.inf, 0.0]))
+    assert (fleet.controls["throttle"] == 0.5).all()
+    assert (fleet.controls["alpha_deg"] == 0.0).all()
+    with pytest.raises(ValueError, match="precision"):
+        afit_fdm.Fleet("bourg", 2, precision="fast")
+    with pytest.raises(ValueError, match="precision"):
+        afit_fdm.Fleet("palmer", 2, precision="sloppy")
+    with pytest.raises(ValueError, match="elevator"):
+        afit_fdm.Fleet("bourg", 2, elevator=0.5)
+    with pytest.raises(KeyError, match="x_ft"):
+        fleet["x_ft"]
+
+
+def test_fast_precision_stays_close_to_exact() -> None:
+    kw = dict(altitude_ft=2000.0, speed_kt=100.0, trim=True)
+    exact = afit_fdm.Fleet("palmer", 16, precision="exact", **kw)
+    fast = afit_fdm.Fleet("palmer", 16, precision="fast", **kw)
+    exact.step(1800)
+    fast.step(1800)
+    assert np.abs(exact.columns - fast.columns).max() < 1e-9
+
+
+def test_two_threads_step_two_fleets_in_parallel() -> None:
+    """``step`` releases the GIL: two Python threads stepping two fleets on
+    one core each overlap in time, measured inside Rust (each step's
+    ``last_step_interval``), not by wall-clock ratios."""
+    fleets = [afit_fdm.Fleet("palmer", 4096, parallel=False, throttle=1.0, alpha_deg=4.0) for _ in range(2)]
+    fleets[0].step(5)  # warm up (page in the buffers)
+    fleets[1].step(5)
+    barrier = threading.Barrier(2)
+
+    def work(fleet: afit_fdm.Fleet) -> None:
+        barrier.wait()
+        fleet.step(600)  # about 0.1 to 1 s on one core
+
+    threads = [threading.Thread(target=work, args=(f,)) for f in fleets]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    (a0, a1), (b0, b1) = (f.last_step_interval for f in fleets)
+    overlap = min(a1, b1) - max(a0, b0)
+    shorter = min(a1 - a0, b1 - b0)
+    # Holding the GIL would serialise them (overlap <= 0). Released, they
+    # overlap for most of the shorter one (both threads start at the barrier).
+    assert overlap > 0.5 * shorter, ((a0, a1), (b0, b1))
+
+
+def test_a_fleet_stepped_by_another_thread_is_busy_not_corrupted() -> None:
+    fleet = afit_fdm.Fleet("palmer", 2048, parallel=False, throttle=1.0, alpha_deg=4.0)
+    errors = []
+    started = threading.Event()
+
+    def work() -> None:
+        started.set()
+        fleet.step(2000)
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    try:
+        for _ in range(1000):
+            fleet.step(1)
+    except RuntimeError as e:  # "Already borrowed": PyO3's own guard
+        errors.append(e)
+    t.join()
+    assert errors or fleet.status is not None

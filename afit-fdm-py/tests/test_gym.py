@@ -1,0 +1,140 @@
+"""The Gymnasium environments: Gymnasium's checker, the vector env against
+``SyncVectorEnv`` over the single env (Gymnasium's documented autoreset
+semantics) in all three modes, bit for bit, and seeding."""
+
+from __future__ import annotations
+
+import pathlib
+import subprocess
+import sys
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+from gymnasium.vector import AutoresetMode, SyncVectorEnv
+
+import afit_fdm  # noqa: F401  (registers the ids)
+from afit_fdm.gym import AircraftEnv, AircraftVectorEnv
+
+IDS = [
+    "afit_fdm/PalmerHeadingAltitude-v0",
+    "afit_fdm/PalmerClimb-v0",
+    "afit_fdm/BourgHeadingAltitude-v0",
+    "afit_fdm/BourgClimb-v0",
+]
+
+
+@pytest.mark.parametrize("env_id", IDS)
+def test_registered_envs_pass_gymnasiums_checker(env_id: str) -> None:
+    env = gym.make(env_id)  # with Gymnasium's passive checker
+    check_env(env.unwrapped)
+    obs, info = env.reset(seed=0)
+    assert env.observation_space.contains(obs)
+    for _ in range(50):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert env.observation_space.contains(obs) and 0.0 <= reward <= 1.0
+    vec = gym.make_vec(env_id, num_envs=3, vectorization_mode="vector_entry_point")
+    assert isinstance(vec.unwrapped, AircraftVectorEnv)
+    assert vec.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+    obs, info = vec.reset(seed=0)
+    assert vec.observation_space.contains(obs)
+
+
+def actions_for(space: gym.Space, num_envs: int, steps: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    shape = space.shape
+    a = rng.uniform(-1.0, 1.0, size=(steps, num_envs, shape[0])).astype(np.float32)
+    a[:, 0, :] = -1.0  # aircraft 0: idle, nose down hard: it comes down (termination)
+    if shape[0] == 4:
+        a[:, 0, 1] = -1.0
+    return a
+
+
+def same(x, y) -> bool:
+    if isinstance(x, dict):
+        return x.keys() == y.keys() and all(same(x[k], y[k]) for k in x)
+    if x is None or y is None:
+        return x is y
+    x, y = np.asarray(x), np.asarray(y)
+    if x.dtype == object:
+        return y.dtype == object and x.shape == y.shape and all(same(a, b) for a, b in zip(x, y))
+    return x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes()
+
+
+@pytest.mark.parametrize("mode", [AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP, AutoresetMode.DISABLED])
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+def test_vector_env_is_sync_vector_env_bit_for_bit(mode: AutoresetMode, model: str) -> None:
+    n, steps = 5, 150
+    kw = dict(model=model, task="heading-altitude", fps=30, frame_skip=30, max_episode_steps=25)
+    ours = AircraftVectorEnv(num_envs=n, autoreset_mode=mode, parallel=False, **kw)
+    sync = SyncVectorEnv([lambda: AircraftEnv(**kw) for _ in range(n)], autoreset_mode=mode)
+    assert ours.metadata["autoreset_mode"] == sync.metadata["autoreset_mode"] == mode
+    o1, i1 = ours.reset(seed=42)
+    o2, i2 = sync.reset(seed=42)
+    assert same(o1, o2) and same(i1, i2)
+    ended_by_status = truncated_seen = 0
+    for a in actions_for(ours.single_action_space, n, steps, seed=7):
+        r1 = ours.step(a)
+        r2 = sync.step(a)
+        for x, y in zip(r1, r2):
+            assert same(x, y)
+        ended_by_status += int(r1[2].sum())
+        truncated_seen += int(r1[3].sum())
+        if mode == AutoresetMode.DISABLED:
+            done = r1[2] | r1[3]
+            if done.any():
+                o1, i1 = ours.reset(options={"reset_mask": done.copy()})
+                o2, i2 = sync.reset(options={"reset_mask": done.copy()})
+                assert same(o1, o2) and same(i1, i2)
+    assert ended_by_status > 0 and truncated_seen > 0  # both kinds of ending happened
+
+
+def test_seeding_repeats_rollouts_bit_for_bit() -> None:
+    def rollout(seed: int) -> bytes:
+        env = AircraftVectorEnv("palmer", "climb", num_envs=8)
+        obs, _ = env.reset(seed=seed)
+        env.action_space.seed(seed)
+        out = [obs.tobytes()]
+        for _ in range(100):
+            obs, reward, terminated, truncated, _ = env.step(env.action_space.sample())
+            out += [obs.tobytes(), reward.tobytes(), terminated.tobytes(), truncated.tobytes()]
+        return b"".join(out)
+
+    assert rollout(3) == rollout(3)
+    assert rollout(3) != rollout(4)
+
+
+def test_crashed_aircraft_terminate_cleanly() -> None:
+    env = AircraftEnv("palmer", "heading-altitude", frame_skip=30)
+    env.reset(seed=1)
+    for _ in range(200):
+        obs, reward, terminated, truncated, info = env.step(np.array([-1, -1, 0, -1], dtype=np.float32))
+        assert np.isfinite(obs).all()
+        if terminated:
+            break
+    assert terminated and reward == 0.0
+    assert afit_fdm.Status(info["status"]) in (
+        afit_fdm.Status.CRASHED, afit_fdm.Status.LANDED_ROUGH, afit_fdm.Status.LANDED_SAFE,
+    )
+
+
+def test_bad_reset_masks_are_refused() -> None:
+    env = AircraftVectorEnv("palmer", num_envs=3, autoreset_mode=AutoresetMode.DISABLED)
+    env.reset(seed=0)
+    with pytest.raises(TypeError):
+        env.reset(options={"reset_mask": np.array([1, 0, 0])})
+    with pytest.raises(ValueError):
+        env.reset(options={"reset_mask": np.array([True, False])})
+    with pytest.raises(ValueError):
+        env.reset(options={"reset_mask": np.zeros(3, dtype=bool)})
+
+
+def test_example_training_loop_runs_and_improves() -> None:
+    example = pathlib.Path(__file__).resolve().parents[1] / "examples" / "train_heading.py"
+    out = subprocess.run(
+        [sys.executable, "-W", "error", str(example), "--iterations", "8", "--population", "32"],
+        check=True, capture_output=True, text=True, timeout=300,
+    )
+    lines = [l for l in out.stdout.splitlines() if l.startswith("iteration")]
+    assert len(lines) == 8

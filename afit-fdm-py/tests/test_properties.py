@@ -1,0 +1,120 @@
+"""Hypothesis: random scenarios flown from Python and by ``sim-cli`` (Rust)
+agree bit for bit; random fleets agree with single flights."""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import afit_fdm
+from test_flight import compare, fly_rows
+from conftest import run_csv
+
+PALMER_ACTIONS = afit_fdm.MODELS["palmer"]["actions"]
+BOURG_ACTIONS = afit_fdm.MODELS["bourg"]["actions"]
+
+
+def scripts(actions):
+    rule = st.tuples(st.integers(1, 120), st.integers(0, 60), st.sampled_from(actions)).map(
+        lambda r: f"{r[0]}-{r[0] + r[1]} {r[2]}"
+    )
+    return st.lists(rule, max_size=6).map(lambda rules: "".join(r + "\n" for r in rules))
+
+
+starts = st.fixed_dictionaries(
+    {},
+    optional={
+        "altitude_ft": st.floats(0, 8000),
+        "speed_kt": st.floats(0, 160),
+        "heading_deg": st.floats(-360, 360),
+    },
+)
+slow = settings(
+    max_examples=20,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
+
+
+def cli_start_args(start: dict) -> list:
+    args = []
+    for k, flag in (("altitude_ft", "--altitude-ft"), ("speed_kt", "--speed-kt"), ("heading_deg", "--heading-deg")):
+        if k in start:
+            args += [flag, repr(start[k])]
+    return args
+
+
+@slow
+@given(
+    start=starts,
+    throttle=st.floats(0, 1),
+    alpha=st.floats(-16, 20),
+    bank=st.floats(-20, 20),
+    flaps=st.sampled_from([0, 20, 40]),
+    fps=st.integers(5, 120),
+    frames=st.integers(0, 200),
+    script=scripts(PALMER_ACTIONS),
+)
+def test_random_palmer_flights_match_sim_cli(sim_cli: pathlib.Path, tmp_path_factory, start, throttle, alpha, bank, flaps, fps, frames, script) -> None:
+    tmp = tmp_path_factory.mktemp("p")
+    (tmp / "s.txt").write_text(script, encoding="utf-8")
+    args = ["palmer", "--fps", str(fps), "--frames", str(frames), "--script", str(tmp / "s.txt"),
+            "--throttle", repr(throttle), "--alpha", repr(alpha), "--bank", repr(bank),
+            "--flaps", str(flaps), *cli_start_args(start)]
+    flight = afit_fdm.Flight("palmer", fps=fps, script=script, throttle=throttle,
+                             alpha_deg=alpha, bank_deg=bank, flaps_deg=flaps, **start)
+    compare(run_csv(sim_cli, args, tmp), fly_rows(flight, frames), "palmer")
+
+
+@slow
+@given(
+    start=starts,
+    thrust=st.floats(0, 3000),
+    fps=st.integers(10, 120),
+    frames=st.integers(0, 200),
+    script=scripts(BOURG_ACTIONS),
+)
+def test_random_bourg_flights_match_sim_cli(sim_cli: pathlib.Path, tmp_path_factory, start, thrust, fps, frames, script) -> None:
+    tmp = tmp_path_factory.mktemp("b")
+    (tmp / "s.txt").write_text(script, encoding="utf-8")
+    args = ["bourg", "--fps", str(fps), "--frames", str(frames), "--script", str(tmp / "s.txt"),
+            "--thrust-lb", repr(thrust), *cli_start_args(start)]
+    flight = afit_fdm.Flight("bourg", fps=fps, script=script, thrust_lb=thrust, **start)
+    compare(run_csv(sim_cli, args, tmp), fly_rows(flight, frames), "bourg")
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    n=st.integers(1, 20),
+    seed=st.integers(0, 2**32 - 1),
+    frames=st.integers(1, 400),
+    model=st.sampled_from(["palmer", "bourg"]),
+)
+def test_random_exact_fleets_match_flights(n, seed, frames, model) -> None:
+    rng = np.random.default_rng(seed)
+    start = dict(
+        altitude_ft=rng.uniform(0.0, 6000.0, n),
+        speed_kt=rng.uniform(0.0, 150.0, n),
+        heading_deg=rng.uniform(-360.0, 360.0, n),
+    )
+    if model == "palmer":
+        controls = dict(
+            throttle=rng.uniform(0, 1, n), alpha_deg=rng.uniform(-16, 20, n),
+            bank_deg=rng.uniform(-20, 20, n), flaps_deg=rng.choice([0.0, 20.0, 40.0], n),
+        )
+    else:
+        controls = dict(
+            thrust_lb=rng.uniform(0, 3000, n), landing_flaps=rng.choice([0.0, 1.0], n),
+            pitch_trim=rng.uniform(-1, 1, n),
+        )
+    fleet = afit_fdm.Fleet(model, n, parallel=bool(seed % 2), **start, **controls)
+    fleet.step(frames)
+    for i in range(n):
+        f = afit_fdm.Flight(model, **{k: float(v[i]) for k, v in {**start, **controls}.items()})
+        f.step(frames)
+        for name, value in f.state.items():
+            assert fleet[name][i] == value or (value != value and fleet[name][i] != fleet[name][i]), (i, name)
+        assert fleet.status[i] == f.status_code
