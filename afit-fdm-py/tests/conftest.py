@@ -31,7 +31,7 @@ def _find_sim_cli() -> pathlib.Path:
         if candidate.exists():
             return candidate
     raise FileNotFoundError(
-        "sim-cli not found: build it (cargo build -p sim-cli) or set AFIT_FDM_SIM_CLI"
+        "sim-cli not found: build it (cargo build -p afit-fdm-cli) or set AFIT_FDM_SIM_CLI"
     )
 
 

@@ -45,13 +45,23 @@ const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 fn sim_cli(build_dir: &Path) -> PathBuf {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     let status = Command::new(cargo)
-        .args(["build", "-q", "-p", "sim-cli", "--bin", "sim-cli"])
+        // Release, in the directory maturin built the extension in: the two
+        // builds share their dependencies. (The package is `afit-fdm-cli`.)
+        .args([
+            "build",
+            "-q",
+            "--release",
+            "-p",
+            "afit-fdm-cli",
+            "--bin",
+            "sim-cli",
+        ])
         .current_dir(CRATE_DIR)
         .env("CARGO_TARGET_DIR", build_dir)
         .status()
         .expect("cannot run cargo to build sim-cli");
-    assert!(status.success(), "cargo build -p sim-cli failed");
-    build_dir.join("debug").join("sim-cli")
+    assert!(status.success(), "cargo build -p afit-fdm-cli failed");
+    build_dir.join("release").join("sim-cli")
 }
 
 fn with_path(venv_bin: &Path) -> std::ffi::OsString {
