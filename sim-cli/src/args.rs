@@ -16,13 +16,9 @@ use crate::fgaddr::{parse_fg_listen, parse_fg_target, FgTarget};
 use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
 
-/// Highest accepted `--fps`. Far above any useful real-time rate; it only keeps
-/// dt = 1/N away from values where f32 (Bourg) loses all meaning.
-pub const MAX_FPS: u32 = 10_000;
-
-/// Longest accepted run in frames (`--frames`, or `--duration` × `--fps` rounded).
-/// About 1e9 frames is hours of CPU even for Palmer; more is surely a typo.
-pub const MAX_FRAMES: u64 = 1_000_000_000;
+/// Highest accepted `--fps` and longest accepted run in frames (`--frames`, or
+/// `--duration` × `--fps` rounded): the run library's limits.
+pub use fdm_run::{MAX_FPS, MAX_FRAMES};
 
 /// `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft.
 #[derive(Debug, Parser)]

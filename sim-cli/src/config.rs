@@ -59,28 +59,8 @@ pub struct RunConfig {
     pub plot: Option<PlotFile>,
 }
 
-/// How an aircraft of model `M` starts (and restarts on reset).
-#[derive(Debug, Clone)]
-pub struct Start<M: Model> {
-    /// The aircraft's parameters.
-    pub aircraft: M::Aircraft,
-    /// Controls at frame 0.
-    pub controls: M::Controls,
-    /// State at frame 0.
-    pub state: M::State,
-}
-
-impl<M: Model> Start<M> {
-    /// The thesis's start: the default aircraft, initial controls and state.
-    #[must_use]
-    pub fn thesis() -> Self {
-        Self {
-            aircraft: M::default_aircraft(),
-            controls: M::initial_controls(),
-            state: M::initial_state(),
-        }
-    }
-}
+/// How the aircraft starts (and restarts on a reset): the run library's.
+pub use fdm_run::Start;
 
 /// A validated `sim-cli <model>` run of model `M`.
 #[derive(Debug)]

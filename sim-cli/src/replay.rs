@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 
-use crate::args::ReplayArgs;
+use crate::args::{ModelKind, ReplayArgs};
 use crate::config::{Mode, RunConfig};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
@@ -193,6 +193,13 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
     let kind =
         recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
+    let kind = ModelKind::named(kind).ok_or_else(|| {
+        CliError::usage(format!(
+            "{}: {}",
+            show_path(path),
+            RecordingError::UnknownModel(kind.to_owned())
+        ))
+    })?;
     kind.with(ReplayJob {
         bytes: &bytes,
         args,
