@@ -43,8 +43,8 @@ use std::marker::PhantomData;
 use std::path::Path;
 use std::str::FromStr;
 
-use fdm_core::geodesy::Geodetic;
-use fdm_core::model::{FlightStatus, LandingState};
+use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
+use fdm_core::model::{FlightStatus, FlightView, LandingState};
 
 use crate::model::RunModel;
 use crate::output::{Event, Frame, Output, OutputError, Placement};
@@ -391,6 +391,43 @@ impl AcmiWriter {
             let _ = writeln!(self.text, "-{:x}", index + 1);
         }
         self.flush_text(false)
+    }
+
+    /// Writes frame `flown` of a fleet of model `M` placed at `origin`:
+    /// item `i` of `aircraft` is aircraft `i`'s view and status (`None`:
+    /// skip it this frame). Aircraft are declared on their first frame
+    /// ([`ObjectInfo::of`]); a crashed one is written once more and removed,
+    /// a diverged one removed.
+    ///
+    /// # Errors
+    /// Writing fails.
+    pub fn fleet_frame<M: RunModel>(
+        &mut self,
+        flown: u64,
+        origin: &GeodeticOrigin,
+        aircraft: impl IntoIterator<Item = Option<(FlightView, FlightStatus)>>,
+    ) -> Result<(), AcmiError> {
+        self.begin_frame(flown);
+        for (i, item) in aircraft.into_iter().enumerate() {
+            let Some((view, status)) = item else {
+                continue;
+            };
+            if !matches!(self.tracks.get(i), Some(Some(_))) {
+                self.declare(i, ObjectInfo::of::<M>(i));
+            }
+            if self.is_removed(i) {
+                continue;
+            }
+            match status {
+                FlightStatus::Diverged => self.remove(i)?,
+                FlightStatus::Landed(LandingState::Crash) => {
+                    self.sample(i, &Placement::of(&view, origin))?;
+                    self.remove(i)?;
+                }
+                _ => self.sample(i, &Placement::of(&view, origin))?,
+            }
+        }
+        Ok(())
     }
 
     /// Whether object `index` was removed.

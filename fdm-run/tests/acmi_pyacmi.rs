@@ -1,6 +1,6 @@
 //! Tacview ACMI files read back by an independent reader: pyacmi (PyPI
-//! `pyacmi` 1.2.4, pinned, in a venv built once like the other interop
-//! tests'), through `tests/acmi_interop/read_acmi.py`.
+//! `pyacmi` 1.2.4, pinned: `fdm_tests::python::PYACMI`, a venv built once
+//! like the other interop tests'), through `tests/acmi_interop/read_acmi.py`.
 //!
 //! Every aircraft's track as pyacmi reads it matches the placements the run
 //! computed, frame by frame, within 1e-7 degrees of longitude and latitude,
@@ -21,27 +21,10 @@ use fdm_run::acmi::{AcmiHeader, AcmiOutput, AcmiWriter, ObjectInfo, ReferenceTim
 use fdm_run::{
     Frame, Output, OutputError, Placement, Run, RunModel, Scenario, SharedOutput, Start,
 };
-use fdm_tests::python::{PyScript, PythonEnv};
-
-/// pyacmi and what it imports, pinned (`constantly` is imported by pyacmi
-/// but not declared as its dependency). `$ACMI_PYTHON` can name a ready
-/// Python.
-const PYACMI: PythonEnv = PythonEnv {
-    name: "pyacmi-1.2.4",
-    override_var: "ACMI_PYTHON",
-    packages: &[
-        "pyacmi==1.2.4",
-        "constantly==23.10.4",
-        "sortedcontainers==2.4.0",
-        "tqdm==4.67.1",
-    ],
-    distribution: "pyacmi",
-    version: "1.2.4",
-    imports: &["pyacmi"],
-};
+use fdm_tests::python::{PyScript, PYACMI, PYACMI_SCRIPT};
 
 fn script_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/acmi_interop/read_acmi.py")
+    PathBuf::from(PYACMI_SCRIPT)
 }
 
 fn python() -> PathBuf {

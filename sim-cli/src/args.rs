@@ -20,6 +20,8 @@ use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
 /// `--duration` × `--fps` rounded): the run library's limits.
 pub use fdm_run::{MAX_FPS, MAX_FRAMES};
 
+use fdm_run::acmi::ReferenceTime;
+
 /// `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft.
 #[derive(Debug, Parser)]
 #[command(
@@ -150,6 +152,28 @@ pub struct CommonArgs {
     /// Record the flight to FILE (binary flight log, docs/recording.md) for `sim-cli replay`
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+
+    /// Tacview ACMI output (`--acmi FILE`, `--acmi-reference-time`).
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
+}
+
+/// `--acmi FILE` and `--acmi-reference-time` (`palmer`, `bourg`, `replay`, `fleet`).
+#[derive(Debug, Clone, Default, Args)]
+pub struct AcmiArgs {
+    /// Write the flight as Tacview ACMI 2.2 to FILE as the frames are flown (zip-compressed when FILE ends in .zip.acmi)
+    #[arg(long, value_name = "FILE")]
+    pub acmi: Option<PathBuf>,
+
+    /// The ACMI file's ReferenceTime, UTC, e.g. 2024-05-01T12:00:00Z [default: 2000-01-01T00:00:00Z, so that files are reproducible]
+    #[arg(long, value_name = "ISO8601", requires = "acmi", value_parser = parse_reference_time)]
+    pub acmi_reference_time: Option<ReferenceTime>,
+}
+
+/// `--acmi-reference-time`: `YYYY-MM-DDTHH:MM:SS[.fraction]Z`.
+pub fn parse_reference_time(text: &str) -> Result<ReferenceTime, String> {
+    text.parse()
+        .map_err(|e: fdm_run::acmi::ReferenceTimeError| crate::error::one_line(&e.to_string()))
 }
 
 /// `sim-cli replay`.
@@ -179,6 +203,10 @@ pub struct ReplayArgs {
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FlightDisArgs,
+
+    /// Tacview ACMI output of the replayed flight.
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
 }
 
 /// `sim-cli palmer`.
@@ -339,6 +367,10 @@ pub struct FleetArgs {
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FleetDisArgs,
+
+    /// Tacview ACMI output: every aircraft of the fleet, every frame.
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
 
     /// Initial conditions and trim for every aircraft (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`) instead of the demonstration fleet's varied states.
     #[command(flatten)]

@@ -23,6 +23,7 @@ use std::net::SocketAddrV4;
 use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
 use fdm_ecs::{Entity, FlightGearLink, Simulation};
+use fdm_run::acmi::AcmiOutput;
 use fdm_run::{Output, Run, RunError, Scenario};
 
 use crate::config::{ModelConfig, RunConfig, Start};
@@ -218,15 +219,23 @@ pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError
         script,
         start,
         record,
+        acmi,
     } = config;
-    let Some(record) = record else {
-        let flight = ModelFlight::new(&run, start)?;
-        return fly_maybe_plotted(flight, &script, run, plot);
+    let writer = match record {
+        Some(record) => Some(
+            RecordWriter::new(record.out, run.fps, &run.origin, &start)
+                .with_context(|| format!("recording to {}", record.path.display()))?,
+        ),
+        None => None,
     };
-    let writer = RecordWriter::new(record.out, run.fps, &run.origin, &start)
-        .with_context(|| format!("recording to {}", record.path.display()))?;
-    let flight = ModelFlight::new(&run, start)?;
-    fly_maybe_plotted(Recorded::new(flight, writer), &script, run, plot)
+    let mut flight = ModelFlight::new(&run, start)?;
+    if let Some(acmi) = acmi {
+        flight.attach(AcmiOutput::<M>::new(acmi))?;
+    }
+    match writer {
+        None => fly_maybe_plotted(flight, &script, run, plot),
+        Some(writer) => fly_maybe_plotted(Recorded::new(flight, writer), &script, run, plot),
+    }
 }
 
 /// [`fly`], or with `--plot` [`crate::plot::fly_plotted`].

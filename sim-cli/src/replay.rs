@@ -31,6 +31,7 @@ use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_
 use crate::report::{LinkReport, RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
+use fdm_run::acmi::AcmiOutput;
 
 /// Flies the recorded events on `flight` (which starts where the recording
 /// starts): each run of frames steps the flight with its actions, a reset
@@ -141,9 +142,22 @@ impl WithModel for ReplayJob<'_> {
             plot: None,
             dis: self.args.dis.resolve()?,
         };
+        let acmi = crate::acmi::create(
+            &self.args.acmi,
+            M::NAME,
+            recording.fps,
+            &recording.origin,
+            &[
+                (Some(self.args.file.as_path()), "recording"),
+                (self.args.csv.as_deref(), "--csv"),
+            ],
+        )?;
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
+        if let Some(acmi) = acmi {
+            flight.attach(AcmiOutput::<M>::new(acmi))?;
+        }
         let mut progress = StderrProgress::new(recording.frames);
-        let mut report = replay_flight(
+        let report = replay_flight(
             &mut flight,
             recording.events(),
             recording.fps,
@@ -151,7 +165,11 @@ impl WithModel for ReplayJob<'_> {
             self.args.realtime,
             csv.as_mut(),
             &mut progress,
-        )?;
+        );
+        // The outputs (--acmi) are completed even when the replay stopped early.
+        let finished = flight.finish();
+        let mut report = report?;
+        finished?;
         if run.fg.is_some() {
             report.fg = flight.link_stats().map(|l| LinkReport {
                 sent: l.sent,
