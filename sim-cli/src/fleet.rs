@@ -700,6 +700,7 @@ mod tests {
                 start: crate::start::StartArgs::default(),
                 dis: crate::dis::FleetDisArgs::default(),
                 show: crate::args::FleetShowArgs::default(),
+                acmi: crate::args::AcmiArgs::default(),
             };
             let report = measure(&args).unwrap();
             assert_eq!(report.model, model.name());
