@@ -4,8 +4,10 @@
 //! Every value parser returns a one-line message so clap's error, which `main`
 //! squeezes onto one line, stays readable; clap exits usage errors with status 2.
 //!
-//! `fleet` (many aircraft, headless, for throughput) has its own arguments,
-//! [`FleetArgs`], and its own module, [`crate::fleet`].
+//! `fleet` (many aircraft: throughput, and their DIS, FlightGear multiplayer and
+//! ACMI outputs) has its own arguments, [`FleetArgs`], and its own module,
+//! [`crate::fleet`]. The limits (`--fps`, `--frames`) are the run library's
+//! ([`fdm_run::MAX_FPS`], [`fdm_run::MAX_FRAMES`]).
 
 use std::path::PathBuf;
 

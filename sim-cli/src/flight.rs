@@ -31,7 +31,7 @@ use crate::dis::{DisOutput, DisReport};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
-use crate::recording::{RecordWriter, Recorded};
+use crate::recording::RecordWriter;
 use crate::run::{fly, Flight};
 use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 
@@ -229,13 +229,15 @@ pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError
         None => None,
     };
     let mut flight = ModelFlight::new(&run, start)?;
+    // Outputs of the run: it hands them every frame and reset, and
+    // `Flight::finish` completes them.
+    if let Some(writer) = writer {
+        flight.attach(writer)?;
+    }
     if let Some(acmi) = acmi {
         flight.attach(AcmiOutput::<M>::new(acmi))?;
     }
-    match writer {
-        None => fly_maybe_plotted(flight, &script, run, plot),
-        Some(writer) => fly_maybe_plotted(Recorded::new(flight, writer), &script, run, plot),
-    }
+    fly_maybe_plotted(flight, &script, run, plot)
 }
 
 /// [`fly`], or with `--plot` [`crate::plot::fly_plotted`].

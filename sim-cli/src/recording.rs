@@ -1,85 +1,11 @@
-//! `--record FILE`: the [`Recorded`] [`Flight`] wrapper, which logs every step
-//! and reset of the flight it wraps so the headless and interactive loops
-//! record without knowing it. The format itself (docs/recording.md), its
-//! reader and writer live in the run library: [`fdm_run::recording`],
-//! re-exported here.
-
-use std::io::Write;
+//! `--record FILE`: the recording format (docs/recording.md), its reader and
+//! writer live in the run library ([`fdm_run::recording`], re-exported here).
+//! The writer is an [`fdm_run::Output`]: [`crate::flight::run_model`]
+//! attaches it to the flight's run, which hands it every frame's actions and
+//! every reset, so the headless and interactive loops record without knowing
+//! it.
 
 pub use fdm_run::recording::*;
-
-use crate::hud::LinkStats;
-use crate::run::Flight;
-use crate::snapshot::Snapshot;
-
-/// A [`Flight`] that records every step and reset of the flight it wraps.
-#[derive(Debug)]
-pub struct Recorded<F: Flight, W: Write> {
-    flight: F,
-    writer: RecordWriter<F::Action, W>,
-}
-
-impl<F: Flight, W: Write> Recorded<F, W>
-where
-    F::Action: PartialEq,
-{
-    /// Wraps `flight`; `writer` has written the header of the flight's start.
-    pub fn new(flight: F, writer: RecordWriter<F::Action, W>) -> Self {
-        Self { flight, writer }
-    }
-
-    /// The wrapped flight.
-    #[must_use]
-    pub fn flight(&self) -> &F {
-        &self.flight
-    }
-
-    /// The flight and the writer, for tests and callers that finish themselves.
-    pub fn into_parts(self) -> (F, RecordWriter<F::Action, W>) {
-        (self.flight, self.writer)
-    }
-}
-
-impl<F: Flight, W: Write> Flight for Recorded<F, W>
-where
-    F::Action: PartialEq,
-{
-    type Action = F::Action;
-    type Details = F::Details;
-
-    const TITLE: &'static str = F::TITLE;
-
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
-        RecordWriter::frame(&mut self.writer, actions)?;
-        self.flight.step(actions)
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        self.writer.reset()?;
-        self.flight.reset()
-    }
-
-    fn snapshot(&self) -> Snapshot<Self::Details> {
-        self.flight.snapshot()
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.flight.link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.flight.take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
-        self.flight.dis_report()
-    }
-
-    fn finish(&mut self) -> anyhow::Result<()> {
-        self.flight.finish()?;
-        Ok(self.writer.finish()?)
-    }
-}
 
 #[cfg(test)]
 mod tests {
@@ -93,6 +19,7 @@ mod tests {
     use crate::progress::StderrProgress;
     use crate::replay::replay_flight;
     use crate::report::Report;
+    use crate::run::Flight;
     use crate::run::{run_headless, Flow, Session};
     use fdm_core::bourg::Bourg;
     use fdm_core::geodesy::GeodeticOrigin;
@@ -142,8 +69,9 @@ mod tests {
     fn headless<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
         let run = run_config(fps);
         let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
-        let flight = ModelFlight::new(&run, start).unwrap();
-        let mut flight = Recorded::new(flight, writer);
+        let mut flight = ModelFlight::new(&run, start).unwrap();
+        let recorder = fdm_run::SharedOutput::new(writer);
+        flight.attach(recorder.clone()).unwrap();
         let script = Script::parse(script).unwrap();
         let mut csv = CsvWriter::new(Vec::new(), "csv");
         let report = run_headless(
@@ -160,7 +88,7 @@ mod tests {
         Outcome {
             json: report.to_json().unwrap(),
             csv: csv.finish().unwrap(),
-            recording: flight.into_parts().1.into_inner(),
+            recording: recorder.take().unwrap().into_inner(),
         }
     }
 
@@ -172,8 +100,9 @@ mod tests {
     fn interactive<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
         let run = run_config(fps);
         let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
-        let flight = ModelFlight::new(&run, start).unwrap();
-        let mut flight = Recorded::new(flight, writer);
+        let mut flight = ModelFlight::new(&run, start).unwrap();
+        let recorder = fdm_run::SharedOutput::new(writer);
+        flight.attach(recorder.clone()).unwrap();
         let script = Script::parse(script).unwrap();
         let mut csv = CsvWriter::new(Vec::new(), "csv");
         csv.write_record(0, &flight.snapshot()).unwrap();
@@ -214,7 +143,7 @@ mod tests {
         Outcome {
             json: report.to_json().unwrap(),
             csv: csv.finish().unwrap(),
-            recording: flight.into_parts().1.into_inner(),
+            recording: recorder.take().unwrap().into_inner(),
         }
     }
 
