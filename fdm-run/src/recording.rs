@@ -23,7 +23,7 @@
 //! intact recording of this format version; they never panic.
 //!
 //! Writing goes through [`RecordWriter`], which is also an
-//! [`Output`](crate::Output): attached to a [`Run`](crate::Run), it logs every
+//! [`Output`]: attached to a [`Run`](crate::Run), it logs every
 //! frame's actions and every reset as the run flies them.
 
 use std::fmt;

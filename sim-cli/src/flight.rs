@@ -1,6 +1,7 @@
-//! Any [`CliModel`] as a [`Flight`]: one aircraft entity in an
-//! [`fdm_ecs::Simulation`], with a [`FlightGearLink`] when the run sends
-//! packets.
+//! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
+//! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with a
+//! [`FlightGearLink`] when the run sends packets, and the run's outputs
+//! (`--record`, `--acmi`) attached.
 //!
 //! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
 //! loop has already put the script's rules for the frame first, in file order,
@@ -8,7 +9,7 @@
 //! the thesis schedule: FlightControl (the model's start of frame, e.g. Bourg's
 //! surfaces back to neutral, then the actions) → EquationsOfMotion →
 //! FlightStatus → MakePacket → SendPacket. The frame rate is the simulation's
-//! [`Resources`], so dt is the model's own [`Model::time_step`] (docs/cli.md).
+//! [`Resources`](fdm_ecs::Resources), so dt is the model's own [`Model::time_step`] (docs/cli.md).
 //!
 //! Geodetic position and attitude in the [`Snapshot`] are the entity's
 //! [`Geodetic`] and [`Attitude`] components, which MakePacket fills from the
