@@ -5,26 +5,28 @@
 use std::path::Path;
 
 use fdm_core::geodesy::GeodeticOrigin;
-use fdm_run::acmi::{AcmiHeader, AcmiWriter};
+use fdm_run::acmi::{AcmiHeader, AcmiWriter, ReferenceTime};
 
-use crate::args::AcmiArgs;
 use crate::error::CliError;
 use crate::input::show_path;
 
-/// The ACMI writer `args` ask for (`None` without `--acmi`): `title` and the
-/// run's `fps` and `origin` go into the header. `others` are the run's other
-/// files with their option names; none may be the ACMI file.
+/// The ACMI writer for `--acmi path` (`None` without it) with
+/// `--acmi-reference-time reference_time` (default
+/// [`fdm_run::acmi::DEFAULT_REFERENCE_TIME`]): `title` and the run's `fps`
+/// and `origin` go into the header. `others` are the run's other files with
+/// their option names; none may be the ACMI file.
 ///
 /// # Errors
 /// [`CliError::Usage`]: the file is one of `others`, or cannot be created.
 pub fn create(
-    args: &AcmiArgs,
+    path: Option<&Path>,
+    reference_time: Option<&ReferenceTime>,
     title: &str,
     fps: u32,
     origin: &GeodeticOrigin,
     others: &[(Option<&Path>, &str)],
 ) -> Result<Option<AcmiWriter>, CliError> {
-    let Some(path) = &args.acmi else {
+    let Some(path) = path else {
         return Ok(None);
     };
     for &(other, name) in others {
@@ -36,7 +38,7 @@ pub fn create(
         }
     }
     let header = AcmiHeader {
-        reference_time: args.acmi_reference_time.clone().unwrap_or_default(),
+        reference_time: reference_time.cloned().unwrap_or_default(),
         title: title.to_owned(),
         origin: origin.geodetic(),
     };

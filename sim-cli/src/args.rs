@@ -73,25 +73,8 @@ pub struct PlotArgs {
     pub output: PathBuf,
 }
 
-/// Which model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelKind {
-    /// Palmer's Cessna 172.
-    Palmer,
-    /// Bourg's 6-DoF aircraft.
-    Bourg,
-}
-
-impl ModelKind {
-    /// The lowercase name used on the command line and in the JSON report.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Palmer => "palmer",
-            Self::Bourg => "bourg",
-        }
-    }
-}
+/// Which model (the registry, [`crate::models`]).
+pub use crate::models::ModelKind;
 
 /// Options both models share (docs/cli.md "Options both models share").
 #[derive(Debug, Clone, Args)]
@@ -327,6 +310,9 @@ impl FgView {
         }
     }
 }
+
+/// The frame rate `sim-cli fleet` flies at (and the one "could fly" refers to).
+pub const FLEET_FPS: u32 = 30;
 
 /// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
 /// 600 bytes with its display components, so this is some 6 GB).

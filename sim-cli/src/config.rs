@@ -339,7 +339,8 @@ fn prepare<A: ScriptAction>(args: CommonArgs, model: &str) -> Result<Prepared<A>
     };
     let record = create_record(&args)?;
     let acmi = crate::acmi::create(
-        &args.acmi,
+        args.acmi.acmi.as_deref(),
+        args.acmi.acmi_reference_time.as_ref(),
         model,
         args.fps,
         &args.origin,

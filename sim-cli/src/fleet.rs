@@ -51,7 +51,7 @@ use fdm_fleet::{LaneFleet, Precision};
 use fdm_run::acmi::AcmiWriter;
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
-pub const FLEET_FPS: u32 = 30;
+pub use crate::args::FLEET_FPS;
 
 /// Aircraft spawned between two progress updates.
 const SPAWN_CHUNK: usize = 50_000;
@@ -385,7 +385,14 @@ fn measure_model<M: CliModel>(
     };
     let mut pacer = new_pacer(args);
     let origin = sim.resources().origin;
-    let mut acmi = crate::acmi::create(&args.acmi, M::NAME, FLEET_FPS, &origin, &[])?;
+    let mut acmi = crate::acmi::create(
+        args.acmi.acmi.as_deref(),
+        args.acmi.acmi_reference_time.as_ref(),
+        M::NAME,
+        FLEET_FPS,
+        &origin,
+        &[],
+    )?;
     let entities: Vec<_> = if acmi.is_some() {
         sim.world().iter().map(|e| e.entity()).collect()
     } else {
@@ -503,7 +510,14 @@ fn measure_lanes<M: CliModel>(
     };
     let mut pacer = new_pacer(args);
     let origin = fdm_ecs::geodesy::GeodeticOrigin::default();
-    let mut acmi = crate::acmi::create(&args.acmi, M::NAME, FLEET_FPS, &origin, &[])?;
+    let mut acmi = crate::acmi::create(
+        args.acmi.acmi.as_deref(),
+        args.acmi.acmi_reference_time.as_ref(),
+        M::NAME,
+        FLEET_FPS,
+        &origin,
+        &[],
+    )?;
     let aircraft = M::default_aircraft();
     let write_acmi = |acmi: &mut Option<AcmiWriter>, fleet: &M::Lanes, flown| match acmi {
         Some(w) => w

@@ -143,7 +143,8 @@ impl WithModel for ReplayJob<'_> {
             dis: self.args.dis.resolve()?,
         };
         let acmi = crate::acmi::create(
-            &self.args.acmi,
+            self.args.acmi.acmi.as_deref(),
+            self.args.acmi.acmi_reference_time.as_ref(),
             M::NAME,
             recording.fps,
             &recording.origin,

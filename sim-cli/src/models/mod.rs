@@ -16,8 +16,29 @@ use fdm_run::RunModel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::args::ModelKind;
+use clap::ValueEnum;
+
 use crate::keys::KeyAction;
+
+/// Which model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModelKind {
+    /// Palmer's Cessna 172.
+    Palmer,
+    /// Bourg's 6-DoF aircraft.
+    Bourg,
+}
+
+impl ModelKind {
+    /// The lowercase name used on the command line and in the JSON report.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Palmer => "palmer",
+            Self::Bourg => "bourg",
+        }
+    }
+}
 
 /// Something to do with a model type chosen at run time: the one place that
 /// maps the command line's [`ModelKind`] to the model types
