@@ -2,7 +2,7 @@
 # Fuzzes every parser of outside input with cargo-fuzz (libFuzzer):
 #   fgnet_decode  FGNetFDM datagrams (FgNetFdm::decode; accepted input re-encodes identically)
 #   script_parse  --script files (Script::parse; accepted scripts print and parse back equal)
-#   recording_parse  sim-cli replay files (parse_recording; never panics, one-line messages)
+#   recording_parse  recordings, fdm_run::recording (parse_recording; never panics, one-line messages)
 #
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   (default 60 s, every target)
 #

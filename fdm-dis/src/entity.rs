@@ -28,7 +28,9 @@ pub const SUBCATEGORY_SINGLE_PISTON: u8 = 11;
 /// Specific 1 of USA / 85 / 11: "Cessna 172 Skyhawk".
 pub const SPECIFIC_CESSNA_172_SKYHAWK: u8 = 1;
 
-/// The flight models this project flies, each with its DIS entity type.
+/// An aircraft's DIS entity type (SISO-REF-010's seven numbers), a value:
+/// a model states its own, and a new model needs no change here. The
+/// project's two models have theirs as constants.
 ///
 /// Values from SISO-REF-010 (the DIS enumerations; dis-rs 0.14 is generated
 /// from version 35 of that document):
@@ -44,28 +46,59 @@ pub const SPECIFIC_CESSNA_172_SKYHAWK: u8 = 1;
 /// one thrust force), so only its class is stated: a small civil fixed-wing
 /// aircraft, country and subcategory "Other".
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum AircraftKind {
-    /// Palmer's Cessna 172: 1.2.225.85.11.1.0.
-    Cessna172,
-    /// Bourg's generic aircraft: 1.2.0.85.0.0.0.
-    BourgGeneric,
+pub struct AircraftKind {
+    /// Entity kind (1: platform).
+    pub kind: u8,
+    /// Domain (2: air).
+    pub domain: u8,
+    /// Country (SISO-REF-010 code; 0: other).
+    pub country: u16,
+    /// Category within kind, domain and country.
+    pub category: u8,
+    /// Subcategory.
+    pub subcategory: u8,
+    /// Specific type.
+    pub specific: u8,
+    /// Extra.
+    pub extra: u8,
 }
 
+// The constants keep the names of the enum variants they replace.
+#[allow(non_upper_case_globals)]
 impl AircraftKind {
-    /// The SISO-REF-010 entity type of this aircraft (see the table above).
+    /// Palmer's Cessna 172: 1.2.225.85.11.1.0.
+    pub const Cessna172: Self = Self {
+        kind: 1,
+        domain: 2,
+        country: COUNTRY_USA,
+        category: CATEGORY_CIVIL_FIXED_WING_SMALL,
+        subcategory: SUBCATEGORY_SINGLE_PISTON,
+        specific: SPECIFIC_CESSNA_172_SKYHAWK,
+        extra: 0,
+    };
+
+    /// Bourg's generic aircraft: 1.2.0.85.0.0.0.
+    pub const BourgGeneric: Self = Self {
+        kind: 1,
+        domain: 2,
+        country: 0,
+        category: CATEGORY_CIVIL_FIXED_WING_SMALL,
+        subcategory: 0,
+        specific: 0,
+        extra: 0,
+    };
+
+    /// The dis-rs entity type of these seven numbers.
     #[must_use]
     pub fn entity_type(self) -> EntityType {
-        let base = EntityType::default()
-            .with_kind(EntityKind::Platform)
-            .with_domain(PlatformDomain::Air)
-            .with_category(CATEGORY_CIVIL_FIXED_WING_SMALL);
-        match self {
-            Self::Cessna172 => base
-                .with_country(Country::from(COUNTRY_USA))
-                .with_subcategory(SUBCATEGORY_SINGLE_PISTON)
-                .with_specific(SPECIFIC_CESSNA_172_SKYHAWK),
-            Self::BourgGeneric => base.with_country(Country::from(0u16)),
-        }
+        EntityType::default()
+            .with_kind(EntityKind::from(self.kind))
+            .with_domain(PlatformDomain::from(self.domain))
+            .with_country(Country::from(self.country))
+            .with_category(self.category)
+            .with_subcategory(self.subcategory)
+            .with_specific(self.specific)
+            .with_extra(self.extra)
     }
 }
 

@@ -1,5 +1,6 @@
 //! [`Simulation`]: a world, its resources and the thesis's schedule behind a
-//! small builder API (what `sim-cli` uses).
+//! small builder API (what `fdm_run::Run` flies one aircraft in, and what
+//! `sim-cli`'s fleets use).
 
 use std::io;
 use std::sync::Arc;

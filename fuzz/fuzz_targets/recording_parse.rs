@@ -1,4 +1,4 @@
-//! `sim-cli replay` files: [`parse_recording`] must never panic on any bytes
+//! Recordings (`fdm_run::recording`, read by `sim-cli replay`): [`parse_recording`] must never panic on any bytes
 //! (docs/recording.md); its error messages are one line without control
 //! characters (whatever names the file stores); and an accepted recording
 //! parses the same again.
@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use sim_cli::recording::parse_recording;
+use fdm_run::recording::parse_recording;
 
 fuzz_target!(|data: &[u8]| {
     match parse_recording(data) {

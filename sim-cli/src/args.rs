@@ -4,8 +4,10 @@
 //! Every value parser returns a one-line message so clap's error, which `main`
 //! squeezes onto one line, stays readable; clap exits usage errors with status 2.
 //!
-//! `fleet` (many aircraft, headless, for throughput) has its own arguments,
-//! [`FleetArgs`], and its own module, [`crate::fleet`].
+//! `fleet` (many aircraft: throughput, and their DIS, FlightGear multiplayer and
+//! ACMI outputs) has its own arguments, [`FleetArgs`], and its own module,
+//! [`crate::fleet`]. The limits (`--fps`, `--frames`) are the run library's
+//! ([`fdm_run::MAX_FPS`], [`fdm_run::MAX_FRAMES`]).
 
 use std::path::PathBuf;
 
@@ -16,13 +18,11 @@ use crate::fgaddr::{parse_fg_listen, parse_fg_target, FgTarget};
 use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
 
-/// Highest accepted `--fps`. Far above any useful real-time rate; it only keeps
-/// dt = 1/N away from values where f32 (Bourg) loses all meaning.
-pub const MAX_FPS: u32 = 10_000;
+/// Highest accepted `--fps` and longest accepted run in frames (`--frames`, or
+/// `--duration` × `--fps` rounded): the run library's limits.
+pub use fdm_run::{MAX_FPS, MAX_FRAMES};
 
-/// Longest accepted run in frames (`--frames`, or `--duration` × `--fps` rounded).
-/// About 1e9 frames is hours of CPU even for Palmer; more is surely a typo.
-pub const MAX_FRAMES: u64 = 1_000_000_000;
+use fdm_run::acmi::ReferenceTime;
 
 /// `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft.
 #[derive(Debug, Parser)]
@@ -73,25 +73,8 @@ pub struct PlotArgs {
     pub output: PathBuf,
 }
 
-/// Which model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelKind {
-    /// Palmer's Cessna 172.
-    Palmer,
-    /// Bourg's 6-DoF aircraft.
-    Bourg,
-}
-
-impl ModelKind {
-    /// The lowercase name used on the command line and in the JSON report.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Palmer => "palmer",
-            Self::Bourg => "bourg",
-        }
-    }
-}
+/// Which model (the registry, [`crate::models`]).
+pub use crate::models::ModelKind;
 
 /// Options both models share (docs/cli.md "Options both models share").
 #[derive(Debug, Clone, Args)]
@@ -154,6 +137,28 @@ pub struct CommonArgs {
     /// Record the flight to FILE (binary flight log, docs/recording.md) for `sim-cli replay`
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+
+    /// Tacview ACMI output (`--acmi FILE`, `--acmi-reference-time`).
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
+}
+
+/// `--acmi FILE` and `--acmi-reference-time` (`palmer`, `bourg`, `replay`, `fleet`).
+#[derive(Debug, Clone, Default, Args)]
+pub struct AcmiArgs {
+    /// Write the flight as Tacview ACMI 2.2 to FILE as the frames are flown (zip-compressed when FILE ends in .zip.acmi)
+    #[arg(long, value_name = "FILE")]
+    pub acmi: Option<PathBuf>,
+
+    /// The ACMI file's ReferenceTime, UTC, e.g. 2024-05-01T12:00:00Z [default: 2000-01-01T00:00:00Z, so that files are reproducible]
+    #[arg(long, value_name = "ISO8601", requires = "acmi", value_parser = parse_reference_time)]
+    pub acmi_reference_time: Option<ReferenceTime>,
+}
+
+/// `--acmi-reference-time`: `YYYY-MM-DDTHH:MM:SS[.fraction]Z`.
+pub fn parse_reference_time(text: &str) -> Result<ReferenceTime, String> {
+    text.parse()
+        .map_err(|e: fdm_run::acmi::ReferenceTimeError| crate::error::one_line(&e.to_string()))
 }
 
 /// `sim-cli replay`.
@@ -183,6 +188,10 @@ pub struct ReplayArgs {
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FlightDisArgs,
+
+    /// Tacview ACMI output of the replayed flight.
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
 }
 
 /// `sim-cli palmer`.
@@ -302,6 +311,9 @@ impl FgView {
     }
 }
 
+/// The frame rate `sim-cli fleet` flies at (and the one "could fly" refers to).
+pub const FLEET_FPS: u32 = 30;
+
 /// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
 /// 600 bytes with its display components, so this is some 6 GB).
 pub const MAX_FLEET: u64 = 10_000_000;
@@ -343,6 +355,10 @@ pub struct FleetArgs {
     /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
     #[command(flatten)]
     pub dis: FleetDisArgs,
+
+    /// Tacview ACMI output: every aircraft of the fleet, every frame.
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
 
     /// Initial conditions and trim for every aircraft (`--altitude-ft`, `--speed-kt`, `--heading-deg`, `--trim`) instead of the demonstration fleet's varied states.
     #[command(flatten)]

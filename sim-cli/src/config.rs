@@ -59,28 +59,8 @@ pub struct RunConfig {
     pub plot: Option<PlotFile>,
 }
 
-/// How an aircraft of model `M` starts (and restarts on reset).
-#[derive(Debug, Clone)]
-pub struct Start<M: Model> {
-    /// The aircraft's parameters.
-    pub aircraft: M::Aircraft,
-    /// Controls at frame 0.
-    pub controls: M::Controls,
-    /// State at frame 0.
-    pub state: M::State,
-}
-
-impl<M: Model> Start<M> {
-    /// The thesis's start: the default aircraft, initial controls and state.
-    #[must_use]
-    pub fn thesis() -> Self {
-        Self {
-            aircraft: M::default_aircraft(),
-            controls: M::initial_controls(),
-            state: M::initial_state(),
-        }
-    }
-}
+/// How the aircraft starts (and restarts on a reset): the run library's.
+pub use fdm_run::Start;
 
 /// A validated `sim-cli <model>` run of model `M`.
 #[derive(Debug)]
@@ -93,6 +73,8 @@ pub struct ModelConfig<M: Model> {
     pub start: Start<M>,
     /// The `--record` file, already created.
     pub record: Option<RecordFile>,
+    /// The `--acmi` file, already created.
+    pub acmi: Option<fdm_run::acmi::AcmiWriter>,
 }
 
 /// The `--record` output, created before the run (so an unwritable path is a
@@ -126,11 +108,12 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
         flaps,
     };
     let start = start_model::<Palmer>(controls, &start_args)?;
-    let (run, script, record) = prepare(args.common)?;
+    let (run, script, record, acmi) = prepare(args.common, Palmer::NAME)?;
     Ok(ModelConfig {
         run,
         script,
         record,
+        acmi,
         start,
     })
 }
@@ -162,11 +145,12 @@ pub fn prepare_bourg(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
         }
     }
     let start = start_model::<Bourg>(controls, &args.common.start)?;
-    let (run, script, record) = prepare(args.common)?;
+    let (run, script, record, acmi) = prepare(args.common, Bourg::NAME)?;
     Ok(ModelConfig {
         run,
         script,
         record,
+        acmi,
         start,
     })
 }
@@ -299,9 +283,14 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
     }))
 }
 
-type Prepared<A> = (RunConfig, Script<A>, Option<RecordFile>);
+type Prepared<A> = (
+    RunConfig,
+    Script<A>,
+    Option<RecordFile>,
+    Option<fdm_run::acmi::AcmiWriter>,
+);
 
-fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
+fn prepare<A: ScriptAction>(args: CommonArgs, model: &str) -> Result<Prepared<A>, CliError> {
     let mode = resolve_mode(&args)?;
     let script = match &args.script {
         Some(path) => load_script(path)?,
@@ -349,6 +338,19 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
         None => None,
     };
     let record = create_record(&args)?;
+    let acmi = crate::acmi::create(
+        args.acmi.acmi.as_deref(),
+        args.acmi.acmi_reference_time.as_ref(),
+        model,
+        args.fps,
+        &args.origin,
+        &[
+            (args.script.as_deref(), "--script"),
+            (args.csv.as_deref(), "--csv"),
+            (args.plot.as_deref(), "--plot"),
+            (args.record.as_deref(), "--record"),
+        ],
+    )?;
     Ok((
         RunConfig {
             fps: args.fps,
@@ -361,6 +363,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs) -> Result<Prepared<A>, CliError> {
         },
         script,
         record,
+        acmi,
     ))
 }
 

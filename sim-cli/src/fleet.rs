@@ -48,9 +48,10 @@ use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
 use crate::report::RealtimeReport;
 use fdm_fleet::{LaneFleet, Precision};
+use fdm_run::acmi::AcmiWriter;
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
-pub const FLEET_FPS: u32 = 30;
+pub use crate::args::FLEET_FPS;
 
 /// Aircraft spawned between two progress updates.
 const SPAWN_CHUNK: usize = 50_000;
@@ -383,15 +384,42 @@ fn measure_model<M: CliModel>(
         None => None,
     };
     let mut pacer = new_pacer(args);
-    let seconds = if dis.is_none() && pacer.is_none() {
+    let origin = sim.resources().origin;
+    let mut acmi = crate::acmi::create(
+        args.acmi.acmi.as_deref(),
+        args.acmi.acmi_reference_time.as_ref(),
+        M::NAME,
+        FLEET_FPS,
+        &origin,
+        &[],
+    )?;
+    let entities: Vec<_> = if acmi.is_some() {
+        sim.world().iter().map(|e| e.entity()).collect()
+    } else {
+        Vec::new()
+    };
+    let write_acmi = |acmi: &mut Option<AcmiWriter>, sim: &Simulation, flown| match acmi {
+        Some(w) => w
+            .fleet_frame::<M>(
+                flown,
+                &origin,
+                entities
+                    .iter()
+                    .map(|&e| sim.view::<M>(e).zip(sim.status(e))),
+            )
+            .context("--acmi"),
+        None => Ok(()),
+    };
+    write_acmi(&mut acmi, &sim, 0)?;
+    let seconds = if dis.is_none() && pacer.is_none() && acmi.is_none() {
         fly_frames::<M>(&mut sim, args.frames, execution, &pool)
     } else {
         // Frame by frame: step, publish, wait for the frame's deadline; only
         // the steps are timed.
         let mut seconds = 0.0;
-        let origin = sim.resources().origin;
-        for _ in 0..args.frames {
+        for flown in 1..=args.frames {
             seconds += fly_frames::<M>(&mut sim, 1, execution, &pool);
+            write_acmi(&mut acmi, &sim, flown)?;
             if let Some(dis) = dis.as_mut() {
                 let world = sim.world_mut();
                 match execution {
@@ -408,6 +436,9 @@ fn measure_model<M: CliModel>(
         }
         seconds
     };
+    if let Some(acmi) = acmi.as_mut() {
+        acmi.finish().context("--acmi")?;
+    }
     let statuses = StatusCounts::of(sim.world().query::<&FlightStatus>().iter().copied());
     let mut report = report::<M>(
         args,
@@ -478,7 +509,32 @@ fn measure_lanes<M: CliModel>(
         None => None,
     };
     let mut pacer = new_pacer(args);
-    let seconds = if dis.is_none() && pacer.is_none() {
+    let origin = fdm_ecs::geodesy::GeodeticOrigin::default();
+    let mut acmi = crate::acmi::create(
+        args.acmi.acmi.as_deref(),
+        args.acmi.acmi_reference_time.as_ref(),
+        M::NAME,
+        FLEET_FPS,
+        &origin,
+        &[],
+    )?;
+    let aircraft = M::default_aircraft();
+    let write_acmi = |acmi: &mut Option<AcmiWriter>, fleet: &M::Lanes, flown| match acmi {
+        Some(w) => w
+            .fleet_frame::<M>(
+                flown,
+                &origin,
+                (0..n).map(|i| {
+                    let state = fleet.state(i)?;
+                    let (controls, _) = M::fleet_member(i);
+                    Some((M::view(&aircraft, &controls, &state), fleet.status(i)?))
+                }),
+            )
+            .context("--acmi"),
+        None => Ok(()),
+    };
+    write_acmi(&mut acmi, &fleet, 0)?;
+    let seconds = if dis.is_none() && pacer.is_none() && acmi.is_none() {
         let start = Instant::now();
         pool.install(|| {
             for _ in 0..args.frames {
@@ -490,13 +546,13 @@ fn measure_lanes<M: CliModel>(
         start.elapsed().as_secs_f64()
     } else {
         let mut seconds = 0.0;
-        let origin = fdm_ecs::geodesy::GeodeticOrigin::default();
         let mut states = Vec::with_capacity(if dis.is_some() { n } else { 0 });
-        for _ in 0..args.frames {
+        for flown in 1..=args.frames {
             let start = Instant::now();
             pool.install(|| fleet.par_fly(fps, precision))
                 .map_err(|e| CliError::runtime(e.to_string()))?;
             seconds += start.elapsed().as_secs_f64();
+            write_acmi(&mut acmi, &fleet, flown)?;
             if let Some(dis) = dis.as_mut() {
                 // The kernel's arrays are not shareable across threads; the
                 // states are copied out once per frame (a few MB at 100 000).
@@ -517,6 +573,9 @@ fn measure_lanes<M: CliModel>(
         }
         seconds
     };
+    if let Some(acmi) = acmi.as_mut() {
+        acmi.finish().context("--acmi")?;
+    }
     let statuses = StatusCounts::of((0..fleet.len()).filter_map(|i| fleet.status(i)));
     let mut report = report::<M>(
         args,
@@ -604,6 +663,11 @@ fn fly_frames<M: Model>(
 /// # Errors
 /// See [`measure`]; writing to stdout can fail too (exit status 1).
 pub fn run(args: &FleetArgs) -> Result<(), CliError> {
+    if args.show.fg_mp.is_some() && args.acmi.acmi.is_some() {
+        return Err(CliError::usage(
+            "--acmi cannot be combined with --fg-mp (fly the fleet without --fg-mp to write it)",
+        ));
+    }
     if let Some(text) = crate::fleet_mp::run_show(args)? {
         return print_line(&text);
     }
@@ -650,6 +714,7 @@ mod tests {
                 start: crate::start::StartArgs::default(),
                 dis: crate::dis::FleetDisArgs::default(),
                 show: crate::args::FleetShowArgs::default(),
+                acmi: crate::args::AcmiArgs::default(),
             };
             let report = measure(&args).unwrap();
             assert_eq!(report.model, model.name());

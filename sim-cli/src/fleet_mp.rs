@@ -28,10 +28,9 @@ use fdm_ecs::{Entity, Resources, Simulation};
 use fgnet::{HorizontalAttitudeDeg, MultiplayerPosition, MP_POSITION_LEN};
 use serde::Serialize;
 
-use crate::args::{FleetArgs, FleetPattern};
+use crate::args::{FleetArgs, FleetPattern, FLEET_FPS};
 use crate::config::load_script;
 use crate::error::CliError;
-use crate::fleet::FLEET_FPS;
 use crate::models::{CliModel, WithModel};
 use crate::pacer::FramePacer;
 

@@ -1,6 +1,7 @@
-//! Any [`CliModel`] as a [`Flight`]: one aircraft entity in an
-//! [`fdm_ecs::Simulation`], with a [`FlightGearLink`] when the run sends
-//! packets.
+//! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
+//! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with a
+//! [`FlightGearLink`] when the run sends packets, and the run's outputs
+//! (`--record`, `--acmi`) attached.
 //!
 //! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
 //! loop has already put the script's rules for the frame first, in file order,
@@ -8,7 +9,7 @@
 //! the thesis schedule: FlightControl (the model's start of frame, e.g. Bourg's
 //! surfaces back to neutral, then the actions) → EquationsOfMotion →
 //! FlightStatus → MakePacket → SendPacket. The frame rate is the simulation's
-//! [`Resources`], so dt is the model's own [`Model::time_step`] (docs/cli.md).
+//! [`Resources`](fdm_ecs::Resources), so dt is the model's own [`Model::time_step`] (docs/cli.md).
 //!
 //! Geodetic position and attitude in the [`Snapshot`] are the entity's
 //! [`Geodetic`] and [`Attitude`] components, which MakePacket fills from the
@@ -19,49 +20,43 @@
 //! [`Attitude`]: fdm_ecs::geodesy::Attitude
 
 use std::net::SocketAddrV4;
-use std::sync::Arc;
 
 use anyhow::{anyhow, Context as _};
-use fdm_core::model::{FlightStatus, Model};
-use fdm_ecs::{Entity, FlightGearLink, Resources, Simulation};
+use fdm_core::model::Model;
+use fdm_ecs::{Entity, FlightGearLink, Simulation};
+use fdm_run::acmi::AcmiOutput;
+use fdm_run::{Output, Run, RunError, Scenario};
 
 use crate::config::{ModelConfig, RunConfig, Start};
 use crate::dis::{DisOutput, DisReport};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
-use crate::recording::{RecordWriter, Recorded};
+use crate::recording::RecordWriter;
 use crate::run::{fly, Flight};
 use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 
-/// One aircraft of model `M` in its own simulation, and what the CLI adds
-/// around it.
+/// One aircraft of model `M`: an [`fdm_run::Run`] (its own simulation and
+/// the outputs attached to it), and what the CLI adds around it.
 #[derive(Debug)]
 pub struct ModelFlight<M: Model> {
-    sim: Simulation,
-    entity: Entity,
-    start: Start<M>,
+    run: Run<M>,
     /// The FlightGear target, for the one-time failure message.
     fg: Option<SocketAddrV4>,
     /// The first send failure, as a message, until [`Flight::take_link_failure`].
     link_failure: Option<String>,
     /// DIS output (`--dis`): published after every frame.
     dis: Option<DisOutput>,
-    /// The model's time step, for the divergence message.
-    dt: M::TimeStep,
 }
 
 impl<M: CliModel> ModelFlight<M> {
-    /// A simulation at the run's frame rate and origin with one aircraft
+    /// A run at the configured frame rate and origin with one aircraft
     /// starting at `start`, with a FlightGear link when the run has a target.
     ///
     /// # Errors
-    /// [`CliError::Usage`] for a frame rate the ECS refuses,
+    /// [`CliError::Usage`] for a frame rate the run refuses,
     /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
     pub fn new(run: &RunConfig, start: Start<M>) -> Result<Self, CliError> {
-        let resources = Resources::new(f64::from(run.fps))
-            .map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?
-            .with_origin(run.origin);
         let link = match run.fg {
             Some(addr) => Some(
                 FlightGearLink::connect(&addr.to_string())
@@ -73,41 +68,41 @@ impl<M: CliModel> ModelFlight<M> {
             Some(config) => Some(DisOutput::open::<M>(config, run.origin, run.fps)?),
             None => None,
         };
-        let mut sim = Simulation::new(resources);
-        let entity = sim.spawn::<M>(
-            Arc::new(start.aircraft.clone()),
-            start.controls,
-            start.state,
-            link,
-        );
-        Ok(Self {
-            sim,
-            entity,
+        let scenario = Scenario {
             start,
+            origin: run.origin,
+            fps: run.fps,
+            frames: 0,
+            script: fdm_core::script::Script::default(),
+        };
+        let flight = Run::with_link(scenario, link)
+            .map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
+        Ok(Self {
+            run: flight,
             fg: run.fg,
             link_failure: None,
             dis,
-            dt: M::time_step(f64::from(run.fps)),
         })
+    }
+
+    /// Attaches an output to the run (e.g. `--acmi`).
+    ///
+    /// # Errors
+    /// The output fails on frame 0.
+    pub fn attach(&mut self, output: impl Output<M> + 'static) -> anyhow::Result<()> {
+        Ok(self.run.attach(output)?)
     }
 
     /// The simulation the aircraft flies in.
     #[must_use]
     pub fn simulation(&self) -> &Simulation {
-        &self.sim
+        self.run.simulation()
     }
 
     /// The aircraft's entity.
     #[must_use]
     pub fn entity(&self) -> Entity {
-        self.entity
-    }
-
-    /// The model's state now.
-    fn state(&self) -> anyhow::Result<M::State> {
-        self.sim
-            .state::<M>(self.entity)
-            .ok_or_else(|| anyhow!("the {} aircraft is gone from the simulation", M::NAME))
+        self.run.entity()
     }
 }
 
@@ -124,28 +119,27 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     /// the last finite state and sent nothing from the non-finite one, and the
     /// run stops here, before any row, report or HUD is made from it.
     fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
-        for &action in actions {
-            self.sim.push_input(self.entity, action)?;
+        match self.run.step_actions(actions) {
+            Ok(()) => {}
+            Err(RunError::Diverged { model, dt, .. }) => {
+                return Err(anyhow!(
+                    "the {model} model diverged (non-finite state) at dt = {dt} s; try a higher --fps"
+                ));
+            }
+            Err(e) => return Err(e.into()),
         }
-        self.sim.run_frame();
-        if self.sim.status(self.entity) == Some(FlightStatus::Diverged) {
-            return Err(anyhow!(
-                "the {} model diverged (non-finite state) at dt = {:?} s; try a higher --fps",
-                M::NAME,
-                self.dt
-            ));
-        }
-        if let Some(error) = self.sim.take_send_failure(self.entity) {
+        let entity = self.run.entity();
+        if let Some(error) = self.run.simulation_mut().take_send_failure(entity) {
             let target = self
                 .fg
                 .map_or_else(|| "FlightGear".to_owned(), |a| a.to_string());
             self.link_failure = Some(format!(
                 "sending to {target} failed on frame {}: {error}; the run goes on and counts failures",
-                self.sim.frame()
+                self.run.simulation().frame()
             ));
         }
         if let Some(dis) = &mut self.dis {
-            if let Some(view) = self.sim.view::<M>(self.entity) {
+            if let Some(view) = self.run.simulation().view::<M>(self.run.entity()) {
                 dis.publish(&view);
             }
         }
@@ -153,22 +147,19 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     }
 
     fn reset(&mut self) -> anyhow::Result<()> {
-        self.sim
-            .reset::<M>(self.entity, self.start.controls, self.start.state)?;
-        Ok(())
+        Ok(self.run.reset()?)
     }
 
     fn snapshot(&self) -> Snapshot<M::Details> {
-        let state = self.state().unwrap_or(self.start.state);
-        let controls = self
-            .sim
-            .controls::<M>(self.entity)
-            .unwrap_or(self.start.controls);
-        let aircraft = &self.start.aircraft;
+        let start = &self.run.scenario().start;
+        let state = self.run.state().unwrap_or(start.state);
+        let controls = self.run.controls().unwrap_or(start.controls);
+        let aircraft = &start.aircraft;
         let view = M::view(aircraft, &controls, &state);
         // Spawn computes both components, so they exist for the entity's lifetime.
-        let geodetic = self.sim.geodetic(self.entity);
-        let attitude = self.sim.attitude(self.entity);
+        let sim = self.run.simulation();
+        let geodetic = sim.geodetic(self.run.entity());
+        let attitude = sim.attitude(self.run.entity());
         Snapshot {
             common: CommonState {
                 time_s: view.time_s,
@@ -186,20 +177,20 @@ impl<M: CliModel> Flight for ModelFlight<M> {
                 }),
             },
             details: M::details(aircraft, &controls, &state),
-            status: self
-                .sim
-                .status(self.entity)
-                .unwrap_or(FlightStatus::OnGround),
+            status: self.run.status(),
             stalling: view.stalling,
             airspeed_mps: view.airspeed_mps,
         }
     }
 
     fn link_stats(&self) -> Option<LinkStats> {
-        self.sim.send_stats(self.entity).map(|s| LinkStats {
-            sent: s.sent,
-            failed: s.failed,
-        })
+        self.run
+            .simulation()
+            .send_stats(self.run.entity())
+            .map(|s| LinkStats {
+                sent: s.sent,
+                failed: s.failed,
+            })
     }
 
     fn take_link_failure(&mut self) -> Option<String> {
@@ -210,6 +201,11 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     fn dis_report(&self) -> Option<DisReport> {
         self.dis.as_ref().map(DisOutput::report)
+    }
+
+    /// Completes the run's outputs (`--acmi`).
+    fn finish(&mut self) -> anyhow::Result<()> {
+        Ok(self.run.finish()?)
     }
 }
 
@@ -224,15 +220,25 @@ pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError
         script,
         start,
         record,
+        acmi,
     } = config;
-    let Some(record) = record else {
-        let flight = ModelFlight::new(&run, start)?;
-        return fly_maybe_plotted(flight, &script, run, plot);
+    let writer = match record {
+        Some(record) => Some(
+            RecordWriter::new(record.out, run.fps, &run.origin, &start)
+                .with_context(|| format!("recording to {}", record.path.display()))?,
+        ),
+        None => None,
     };
-    let writer = RecordWriter::new(record.out, run.fps, &run.origin, &start)
-        .with_context(|| format!("recording to {}", record.path.display()))?;
-    let flight = ModelFlight::new(&run, start)?;
-    fly_maybe_plotted(Recorded::new(flight, writer), &script, run, plot)
+    let mut flight = ModelFlight::new(&run, start)?;
+    // Outputs of the run: it hands them every frame and reset, and
+    // `Flight::finish` completes them.
+    if let Some(writer) = writer {
+        flight.attach(writer)?;
+    }
+    if let Some(acmi) = acmi {
+        flight.attach(AcmiOutput::<M>::new(acmi))?;
+    }
+    fly_maybe_plotted(flight, &script, run, plot)
 }
 
 /// [`fly`], or with `--plot` [`crate::plot::fly_plotted`].
@@ -268,7 +274,7 @@ mod tests {
     use crate::hud::status_label;
     use crate::origin::GeodeticOrigin;
     use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
-    use fdm_core::model::LandingState;
+    use fdm_core::model::{FlightStatus, LandingState};
     use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
     use std::net::UdpSocket;
 
@@ -414,7 +420,7 @@ mod tests {
     #[test]
     fn bourg_surfaces_are_neutral_at_the_start_of_every_frame() {
         let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
-        let controls = |f: &ModelFlight<Bourg>| f.sim.controls::<Bourg>(f.entity).unwrap();
+        let controls = |f: &ModelFlight<Bourg>| f.run.controls().unwrap();
         flight
             .step(&[
                 BourgAction::PitchUp,
@@ -496,7 +502,7 @@ mod tests {
             flight.step(&[BourgAction::RollRight]).unwrap();
         }
         assert_eq!(flight.link_stats(), Some(LinkStats { sent: 5, failed: 0 }));
-        let packet = flight.sim.packet(flight.entity).unwrap();
+        let packet = flight.simulation().packet(flight.entity()).unwrap();
         let s = flight.snapshot();
         assert_eq!(packet.latitude, s.common.geodetic.lat_deg.to_radians());
         assert_eq!(packet.longitude, s.common.geodetic.lon_deg.to_radians());

@@ -293,7 +293,6 @@ pub fn render_hud(d: &HudData, width: u16) -> Vec<String> {
         ),
         // The status is never abbreviated: it is what matters most.
         Field::fixed(d.status.to_owned()),
-        // Slot: trim (reported by another change) joins this line here.
     ];
     let controls = [Field::new(
         d.controls.clone(),

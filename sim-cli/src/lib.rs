@@ -21,9 +21,11 @@
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
 //! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
+//! | [`acmi`](mod@acmi) | `--acmi FILE`: Tacview ACMI through the run library |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
 //! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
+pub mod acmi;
 pub mod args;
 pub mod config;
 pub mod csv;

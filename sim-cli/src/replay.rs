@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 
-use crate::args::ReplayArgs;
+use crate::args::{ModelKind, ReplayArgs};
 use crate::config::{Mode, RunConfig};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
@@ -31,6 +31,7 @@ use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_
 use crate::report::{LinkReport, RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
+use fdm_run::acmi::AcmiOutput;
 
 /// Flies the recorded events on `flight` (which starts where the recording
 /// starts): each run of frames steps the flight with its actions, a reset
@@ -141,9 +142,23 @@ impl WithModel for ReplayJob<'_> {
             plot: None,
             dis: self.args.dis.resolve()?,
         };
+        let acmi = crate::acmi::create(
+            self.args.acmi.acmi.as_deref(),
+            self.args.acmi.acmi_reference_time.as_ref(),
+            M::NAME,
+            recording.fps,
+            &recording.origin,
+            &[
+                (Some(self.args.file.as_path()), "recording"),
+                (self.args.csv.as_deref(), "--csv"),
+            ],
+        )?;
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
+        if let Some(acmi) = acmi {
+            flight.attach(AcmiOutput::<M>::new(acmi))?;
+        }
         let mut progress = StderrProgress::new(recording.frames);
-        let mut report = replay_flight(
+        let report = replay_flight(
             &mut flight,
             recording.events(),
             recording.fps,
@@ -151,7 +166,11 @@ impl WithModel for ReplayJob<'_> {
             self.args.realtime,
             csv.as_mut(),
             &mut progress,
-        )?;
+        );
+        // The outputs (--acmi) are completed even when the replay stopped early.
+        let finished = flight.finish();
+        let mut report = report?;
+        finished?;
         if run.fg.is_some() {
             report.fg = flight.link_stats().map(|l| LinkReport {
                 sent: l.sent,
@@ -193,6 +212,13 @@ pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
     let kind =
         recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
+    let kind = ModelKind::named(kind).ok_or_else(|| {
+        CliError::usage(format!(
+            "{}: {}",
+            show_path(path),
+            RecordingError::UnknownModel(kind.to_owned())
+        ))
+    })?;
     kind.with(ReplayJob {
         bytes: &bytes,
         args,

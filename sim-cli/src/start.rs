@@ -13,9 +13,9 @@ use fdm_core::model::Model;
 use fdm_core::start::{InitialConditions, StartError, TrimReport};
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 
-use crate::config::Start;
 use crate::error::CliError;
 use crate::input::Echo;
+use fdm_run::Start;
 
 /// Highest accepted `--altitude-ft`: far above both models' ceilings (the
 /// atmosphere of Palmer's model ends near 145 000 ft).

@@ -1,5 +1,6 @@
 //! The model modules' record and placement functions through the public
-//! `CliModel` trait (found by mutation testing, docs/testing.md): a recorded
+//! `RunModel` (record) and `CliModel` (placement) traits (found by mutation
+//! testing, docs/testing.md): a recorded
 //! aircraft comes back as it was, bad thrust limits are refused naming the
 //! field, and `offset_state` moves a state by the given metres, converted to
 //! the model's own unit (Bourg: feet, 1 ft = 0.3048 m exactly).
@@ -7,6 +8,7 @@
 use fdm_core::bourg::{Bourg, BourgAircraft, BourgState};
 use fdm_core::model::Model;
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerState};
+use fdm_run::RunModel;
 use sim_cli::models::CliModel;
 
 fn bourg_aircraft() -> BourgAircraft {

@@ -37,6 +37,31 @@ pub const OPENDIS_SCRIPT_DIR: &str = concat!(
     "/../fdm-dis/tests/opendis_interop"
 );
 
+/// pyacmi (PyPI `pyacmi` 1.2.4, a Tacview ACMI parser) and what it imports,
+/// pinned (`constantly` is imported by pyacmi without being declared as its
+/// dependency): the independent ACMI reader of fdm-run's and sim-cli's
+/// `--acmi` tests. `$ACMI_PYTHON` can name a ready Python.
+pub const PYACMI: PythonEnv = PythonEnv {
+    name: "pyacmi-1.2.4",
+    override_var: "ACMI_PYTHON",
+    packages: &[
+        "pyacmi==1.2.4",
+        "constantly==23.10.4",
+        "sortedcontainers==2.4.0",
+        "tqdm==4.67.1",
+    ],
+    distribution: "pyacmi",
+    version: "1.2.4",
+    imports: &["pyacmi"],
+};
+
+/// The ACMI reader script (`read_acmi.py`: every object's track, frame by
+/// frame, as pyacmi reads it).
+pub const PYACMI_SCRIPT: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../fdm-run/tests/acmi_interop/read_acmi.py"
+);
+
 /// A pinned Python environment for one interop test suite.
 #[derive(Debug, Clone, Copy)]
 pub struct PythonEnv {

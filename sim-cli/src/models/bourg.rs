@@ -1,7 +1,7 @@
 //! Bourg's 6-DoF aircraft in the CLI: its report fields and keys.
 
 use crossterm::event::KeyCode;
-use fdm_core::bourg::{Airframe, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::bourg::{Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
 use serde::{Deserialize, Serialize};
 
 use super::{CliModel, Details};
@@ -103,31 +103,6 @@ impl CliModel for Bourg {
         moved
     }
 
-    type AircraftRecord = BourgAircraftRecord;
-
-    fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
-        BourgAircraftRecord {
-            airframe: *aircraft.airframe(),
-            max_thrust_lb: aircraft.max_thrust_lb,
-            delta_thrust_lb: aircraft.delta_thrust_lb,
-        }
-    }
-
-    fn aircraft_from_record(record: BourgAircraftRecord) -> Result<BourgAircraft, String> {
-        let mut aircraft = BourgAircraft::new(record.airframe).map_err(|e| e.to_string())?;
-        for (name, value) in [
-            ("max_thrust_lb", record.max_thrust_lb),
-            ("delta_thrust_lb", record.delta_thrust_lb),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(format!("{name} {value} is not a finite thrust >= 0"));
-            }
-        }
-        aircraft.max_thrust_lb = record.max_thrust_lb;
-        aircraft.delta_thrust_lb = record.delta_thrust_lb;
-        Ok(aircraft)
-    }
-
     fn native_position(state: &BourgState) -> [f64; 3] {
         state.position_ft.map(f64::from).into()
     }
@@ -152,18 +127,8 @@ impl CliModel for Bourg {
     }
 }
 
-/// Bourg's aircraft as a recording stores it: the airframe (from which
-/// [`BourgAircraft::new`] recomputes the mass properties, exactly as the
-/// original did) and the thrust limits.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct BourgAircraftRecord {
-    /// The eight lifting elements.
-    pub airframe: Airframe,
-    /// Maximum thrust, lb.
-    pub max_thrust_lb: f32,
-    /// Thrust change per thrust-up/down action, lb.
-    pub delta_thrust_lb: f32,
-}
+/// Bourg's aircraft as a recording stores it (the run library's).
+pub use fdm_run::model::BourgAircraftRecord;
 
 impl KeyAction for BourgAction {
     const KEY_HELP: &'static str =

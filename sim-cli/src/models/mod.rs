@@ -12,12 +12,33 @@ pub mod palmer;
 
 use std::fmt::Debug;
 
-use fdm_core::model::Model;
+use fdm_run::RunModel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::args::ModelKind;
+use clap::ValueEnum;
+
 use crate::keys::KeyAction;
+
+/// Which model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModelKind {
+    /// Palmer's Cessna 172.
+    Palmer,
+    /// Bourg's 6-DoF aircraft.
+    Bourg,
+}
+
+impl ModelKind {
+    /// The lowercase name used on the command line and in the JSON report.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Palmer => "palmer",
+            Self::Bourg => "bourg",
+        }
+    }
+}
 
 /// Something to do with a model type chosen at run time: the one place that
 /// maps the command line's [`ModelKind`] to the model types
@@ -30,6 +51,15 @@ pub trait WithModel {
 }
 
 impl ModelKind {
+    /// The kind of the model named `name` (its [`fdm_core::model::Model::NAME`]).
+    #[must_use]
+    pub fn named(name: &str) -> Option<Self> {
+        <Self as clap::ValueEnum>::value_variants()
+            .iter()
+            .copied()
+            .find(|kind| kind.name() == name)
+    }
+
     /// Runs `job` with this kind's model type.
     pub fn with<W: WithModel>(self, job: W) -> W::Output {
         match self {
@@ -39,17 +69,9 @@ impl ModelKind {
     }
 }
 
-/// A model as `sim-cli` flies it.
-///
-/// State and controls are serde types so that `--record` can store them
-/// (docs/recording.md); the aircraft goes through [`Self::AircraftRecord`].
-pub trait CliModel:
-    Model<
-    Action: KeyAction,
-    State: Serialize + DeserializeOwned,
-    Controls: Serialize + DeserializeOwned,
->
-{
+/// A model as `sim-cli` flies it: a [`RunModel`] (what the run library
+/// needs to fly, record and replay it) with the CLI's own parts.
+pub trait CliModel: RunModel<Action: KeyAction> {
     /// The model's own report fields (JSON next to the common ones, CSV
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
@@ -58,19 +80,6 @@ pub trait CliModel:
     /// lanes`): `fdm_fleet::Fleet<Self>` for any model whose step is written
     /// over `fdm_core::real`'s number type (no hand-written kernel).
     type Lanes: fdm_fleet::LaneFleet<Model = Self>;
-
-    /// The aircraft's parameters as a recording stores them: everything
-    /// needed to rebuild an identical [`Model::Aircraft`].
-    type AircraftRecord: Serialize + DeserializeOwned + Debug;
-
-    /// The record of `aircraft`.
-    fn aircraft_record(aircraft: &Self::Aircraft) -> Self::AircraftRecord;
-
-    /// Rebuilds (and validates) the aircraft from its record.
-    ///
-    /// # Errors
-    /// A one-line message naming what is wrong with the parameters.
-    fn aircraft_from_record(record: Self::AircraftRecord) -> Result<Self::Aircraft, String>;
 
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;

@@ -124,17 +124,6 @@ impl CliModel for Palmer {
         moved
     }
 
-    type AircraftRecord = PalmerAircraft;
-
-    fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
-        *aircraft
-    }
-
-    fn aircraft_from_record(record: PalmerAircraft) -> Result<PalmerAircraft, String> {
-        record.validate().map_err(|e| e.to_string())?;
-        Ok(record)
-    }
-
     fn native_position(state: &PalmerState) -> [f64; 3] {
         state.position_m.into()
     }

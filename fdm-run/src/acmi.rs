@@ -1,0 +1,667 @@
+//! Tacview ACMI 2.2: the flight-recording text format air-combat and
+//! flight-test users load into Tacview to debrief.
+//!
+//! [`AcmiWriter`] writes any number of aircraft as the frames are flown, in
+//! plain text or zip-compressed ([`AcmiWriter::create`] with a name ending in
+//! `.zip.acmi`). [`AcmiOutput`] is the single-aircraft [`Output`] of a
+//! [`Run`](crate::Run); fleets call the writer directly.
+//!
+//! ```text
+//! FileType=text/acmi/tacview
+//! FileVersion=2.2
+//! 0,ReferenceTime=2000-01-01T00:00:00Z
+//! 0,ReferenceLongitude=-84
+//! 0,ReferenceLatitude=40
+//! 0,DataSource=afit-fdm
+//! 0,Title=palmer
+//! #0
+//! 1,T=-0.0483|-0.1736|251|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1
+//! #0.033333
+//! 1,T=|-0.1735999|251.01|||
+//! -1
+//! ```
+//!
+//! * One object per aircraft, id = its index + 1 (hexadecimal, as ACMI
+//!   wants), `T=lon|lat|alt|roll|pitch|yaw`: longitude and latitude as
+//!   offsets from the integer `ReferenceLongitude`/`ReferenceLatitude`
+//!   (degrees, rounded to 1e-7°, about 1 cm), altitude metres above the
+//!   ellipsoid (rounded to 1 cm), roll, pitch and yaw (the heading) in
+//!   degrees rounded to 0.01°. A field whose rounded value did not change
+//!   since the object's last line is left empty; an object none of whose
+//!   fields changed gets no line at all.
+//! * `Name` (the aircraft type), `Type` and `CallSign` on the object's first
+//!   line; `-id` when the aircraft crashes or diverges.
+//! * Times `#t` are the run's clock: frames flown / fps, in seconds rounded to
+//!   the microsecond; a time line is written only before a line that needs it.
+//! * No wall-clock time anywhere: the same flight gives the same bytes
+//!   ([`DEFAULT_REFERENCE_TIME`] unless another is given).
+
+use std::fmt::Write as _;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::marker::PhantomData;
+use std::path::Path;
+use std::str::FromStr;
+
+use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
+use fdm_core::model::{FlightStatus, FlightView, LandingState};
+
+use crate::model::RunModel;
+use crate::output::{Event, Frame, Output, OutputError, Placement};
+
+/// The `ReferenceTime` of files written without one: a fixed instant, so
+/// that the same flight always gives the same file.
+pub const DEFAULT_REFERENCE_TIME: &str = "2000-01-01T00:00:00Z";
+
+/// A file name ending that asks for a zip-compressed ACMI file.
+pub const ZIP_SUFFIX: &str = ".zip.acmi";
+
+/// Bytes of text gathered before they go to the file (or the compressor).
+const CHUNK_BYTES: usize = 1 << 16;
+
+/// An ACMI `ReferenceTime`: a UTC instant written
+/// `YYYY-MM-DDTHH:MM:SS[.fraction]Z` (ISO 8601).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ReferenceTime(String);
+
+impl Default for ReferenceTime {
+    fn default() -> Self {
+        Self(DEFAULT_REFERENCE_TIME.to_owned())
+    }
+}
+
+impl ReferenceTime {
+    /// The text as written in the file.
+    #[must_use]
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+}
+
+/// Why a `ReferenceTime` was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{0}` is not a UTC time YYYY-MM-DDTHH:MM:SSZ (e.g. {DEFAULT_REFERENCE_TIME}), optionally with a fraction of a second before the Z")]
+pub struct ReferenceTimeError(String);
+
+impl FromStr for ReferenceTime {
+    type Err = ReferenceTimeError;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let refuse = || ReferenceTimeError(text.chars().take(64).collect());
+        let b = text.as_bytes();
+        if b.len() < 20 || b.len() > 30 || !text.is_ascii() {
+            return Err(refuse());
+        }
+        let digits = |range: std::ops::Range<usize>| -> Option<u32> {
+            b.get(range.clone())?
+                .iter()
+                .all(u8::is_ascii_digit)
+                .then(|| text[range].parse().ok())?
+        };
+        let punctuation = [(4, b'-'), (7, b'-'), (10, b'T'), (13, b':'), (16, b':')];
+        if punctuation.iter().any(|&(i, c)| b[i] != c) || b[b.len() - 1] != b'Z' {
+            return Err(refuse());
+        }
+        let (Some(year), Some(month), Some(day), Some(hour), Some(minute), Some(second)) = (
+            digits(0..4),
+            digits(5..7),
+            digits(8..10),
+            digits(11..13),
+            digits(14..16),
+            digits(17..19),
+        ) else {
+            return Err(refuse());
+        };
+        let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+        let days = match month {
+            1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
+            4 | 6 | 9 | 11 => 30,
+            2 if leap => 29,
+            2 => 28,
+            _ => return Err(refuse()),
+        };
+        if year < 1 || !(1..=days).contains(&day) || hour > 23 || minute > 59 || second > 59 {
+            return Err(refuse());
+        }
+        let rest = &b[19..b.len() - 1];
+        let fraction_ok = rest.is_empty()
+            || (rest.len() >= 2 && rest[0] == b'.' && rest[1..].iter().all(u8::is_ascii_digit));
+        if !fraction_ok {
+            return Err(refuse());
+        }
+        Ok(Self(text.to_owned()))
+    }
+}
+
+/// The file's global properties.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AcmiHeader {
+    /// `ReferenceTime`: the instant of time 0.
+    pub reference_time: ReferenceTime,
+    /// `Title`.
+    pub title: String,
+    /// The run's origin; the integer degrees nearest to it become
+    /// `ReferenceLongitude`/`ReferenceLatitude`.
+    pub origin: Geodetic,
+}
+
+/// What Tacview shows for one object.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ObjectInfo {
+    /// `Name`: the aircraft type, e.g. `C172`.
+    pub name: String,
+    /// `Type` tags, e.g. `Air+FixedWing`.
+    pub type_tags: String,
+    /// `CallSign`, e.g. `C172-1`.
+    pub callsign: String,
+}
+
+impl ObjectInfo {
+    /// Aircraft number `index` (0-based) of model `M`: callsign
+    /// `{M::CALLSIGN}-{index + 1}`.
+    #[must_use]
+    pub fn of<M: RunModel>(index: usize) -> Self {
+        Self {
+            name: M::ACMI_NAME.to_owned(),
+            type_tags: M::ACMI_TYPE.to_owned(),
+            callsign: format!("{}-{}", M::CALLSIGN, index + 1),
+        }
+    }
+}
+
+/// One object's track as written so far.
+#[derive(Debug, Clone)]
+struct Track {
+    info: ObjectInfo,
+    /// Its declaration (name, type, callsign) is still to be written.
+    fresh: bool,
+    removed: bool,
+    /// The fields of its last line, in their written units (fixed point).
+    last: [i64; 6],
+}
+
+/// Where the text goes.
+enum Sink {
+    Plain(Box<dyn Write + Send>),
+    Zip(Box<zip::ZipWriter<BufWriter<File>>>),
+}
+
+impl Sink {
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        match self {
+            Self::Plain(w) => w.write_all(bytes),
+            Self::Zip(w) => w.write_all(bytes),
+        }
+    }
+}
+
+/// Writes an ACMI 2.2 file as the frames are flown (see the module docs for
+/// the layout).
+pub struct AcmiWriter {
+    sink: Option<Sink>,
+    text: String,
+    written: u64,
+    ref_lon_deg: f64,
+    ref_lat_deg: f64,
+    fps: u32,
+    /// The frame of the time the next object line belongs to, and whether
+    /// its `#` line is written.
+    frame: u64,
+    frame_written: bool,
+    tracks: Vec<Option<Track>>,
+}
+
+impl std::fmt::Debug for AcmiWriter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AcmiWriter")
+            .field("fps", &self.fps)
+            .field("frame", &self.frame)
+            .field("objects", &self.tracks.len())
+            .field("bytes", &self.bytes_written())
+            .finish_non_exhaustive()
+    }
+}
+
+/// Why an ACMI file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum AcmiError {
+    /// Creating, writing or compressing failed.
+    #[error("writing the ACMI file: {0}")]
+    Io(#[from] io::Error),
+    /// The zip container failed.
+    #[error("writing the ACMI file: {0}")]
+    Zip(#[from] zip::result::ZipError),
+    /// Written after [`AcmiWriter::finish`].
+    #[error("the ACMI file is already finished")]
+    Finished,
+}
+
+impl AcmiWriter {
+    /// An ACMI file at `path` for a run at `fps`: zip-compressed (one entry,
+    /// the file's name without `.zip`) when the name ends in
+    /// [`ZIP_SUFFIX`], plain text otherwise. The header is written now.
+    ///
+    /// # Errors
+    /// The file cannot be created or written.
+    pub fn create(path: &Path, header: &AcmiHeader, fps: u32) -> Result<Self, AcmiError> {
+        let file = File::create(path)?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let sink = match name.strip_suffix(ZIP_SUFFIX) {
+            Some(stem) => {
+                let mut zip = zip::ZipWriter::new(BufWriter::new(file));
+                let options = zip::write::SimpleFileOptions::default()
+                    .compression_method(zip::CompressionMethod::Deflated)
+                    .last_modified_time(zip::DateTime::default())
+                    .large_file(true);
+                zip.start_file(format!("{stem}.txt.acmi"), options)?;
+                Sink::Zip(Box::new(zip))
+            }
+            None => Sink::Plain(Box::new(BufWriter::new(file))),
+        };
+        Self::with_sink(sink, header, fps)
+    }
+
+    /// Plain ACMI text to `out`.
+    ///
+    /// # Errors
+    /// Writing the header fails.
+    pub fn new(
+        out: impl Write + Send + 'static,
+        header: &AcmiHeader,
+        fps: u32,
+    ) -> Result<Self, AcmiError> {
+        Self::with_sink(Sink::Plain(Box::new(out)), header, fps)
+    }
+
+    fn with_sink(sink: Sink, header: &AcmiHeader, fps: u32) -> Result<Self, AcmiError> {
+        let ref_lon_deg = round_reference(header.origin.lon_deg);
+        let ref_lat_deg = round_reference(header.origin.lat_deg);
+        let mut writer = Self {
+            sink: Some(sink),
+            text: String::with_capacity(CHUNK_BYTES * 2),
+            written: 0,
+            ref_lon_deg,
+            ref_lat_deg,
+            fps: fps.max(1),
+            frame: 0,
+            frame_written: false,
+            tracks: Vec::new(),
+        };
+        let t = &mut writer.text;
+        t.push_str("FileType=text/acmi/tacview\nFileVersion=2.2\n");
+        let _ = writeln!(t, "0,ReferenceTime={}", header.reference_time.as_str());
+        let _ = writeln!(t, "0,ReferenceLongitude={ref_lon_deg}");
+        let _ = writeln!(t, "0,ReferenceLatitude={ref_lat_deg}");
+        t.push_str("0,DataSource=afit-fdm\n");
+        t.push_str("0,Title=");
+        escape_into(t, &header.title);
+        t.push('\n');
+        writer.flush_text(false)?;
+        Ok(writer)
+    }
+
+    /// Declares object `index` (0-based; its ACMI id is `index + 1`): its
+    /// name, type and callsign go out with its first sample. Declaring an
+    /// index again (e.g. after a reset brought a removed aircraft back)
+    /// starts its track anew.
+    pub fn declare(&mut self, index: usize, info: ObjectInfo) {
+        if self.tracks.len() <= index {
+            self.tracks.resize(index + 1, None);
+        }
+        self.tracks[index] = Some(Track {
+            info,
+            fresh: true,
+            removed: false,
+            last: [0; 6],
+        });
+    }
+
+    /// The samples that follow belong to the run's frame `flown` (time =
+    /// `flown` / fps).
+    pub fn begin_frame(&mut self, flown: u64) {
+        if flown != self.frame {
+            self.frame = flown;
+            self.frame_written = false;
+        }
+    }
+
+    /// Writes object `index`'s placement in the current frame (only the
+    /// fields that changed). Undeclared or removed objects are skipped.
+    ///
+    /// # Errors
+    /// Writing fails.
+    pub fn sample(&mut self, index: usize, placement: &Placement) -> Result<(), AcmiError> {
+        let fields = self.fields(placement);
+        let Some(Some(track)) = self.tracks.get_mut(index) else {
+            return Ok(());
+        };
+        if track.removed {
+            return Ok(());
+        }
+        let fresh = track.fresh;
+        if !fresh && fields == track.last {
+            return Ok(());
+        }
+        let last = track.last;
+        track.last = fields;
+        track.fresh = false;
+        let info = fresh.then(|| track.info.clone());
+        self.time_line();
+        let t = &mut self.text;
+        let _ = write!(t, "{:x},T=", index + 1);
+        for (k, (&value, decimals)) in fields.iter().zip([7, 7, 2, 2, 2, 2]).enumerate() {
+            if k > 0 {
+                t.push('|');
+            }
+            if fresh || value != last[k] {
+                push_fixed(t, value, decimals);
+            }
+        }
+        if let Some(info) = info {
+            t.push_str(",Name=");
+            escape_into(t, &info.name);
+            t.push_str(",Type=");
+            escape_into(t, &info.type_tags);
+            t.push_str(",CallSign=");
+            escape_into(t, &info.callsign);
+        }
+        t.push('\n');
+        self.flush_text(false)
+    }
+
+    /// Removes object `index` in the current frame (`-id`), once; later
+    /// samples are skipped until it is declared again.
+    ///
+    /// # Errors
+    /// Writing fails.
+    pub fn remove(&mut self, index: usize) -> Result<(), AcmiError> {
+        let Some(Some(track)) = self.tracks.get_mut(index) else {
+            return Ok(());
+        };
+        if track.removed {
+            return Ok(());
+        }
+        track.removed = true;
+        let written = !track.fresh;
+        if written {
+            self.time_line();
+            let _ = writeln!(self.text, "-{:x}", index + 1);
+        }
+        self.flush_text(false)
+    }
+
+    /// Writes frame `flown` of a fleet of model `M` placed at `origin`:
+    /// item `i` of `aircraft` is aircraft `i`'s view and status (`None`:
+    /// skip it this frame). Aircraft are declared on their first frame
+    /// ([`ObjectInfo::of`]); a crashed one is written once more and removed,
+    /// a diverged one removed.
+    ///
+    /// # Errors
+    /// Writing fails.
+    pub fn fleet_frame<M: RunModel>(
+        &mut self,
+        flown: u64,
+        origin: &GeodeticOrigin,
+        aircraft: impl IntoIterator<Item = Option<(FlightView, FlightStatus)>>,
+    ) -> Result<(), AcmiError> {
+        self.begin_frame(flown);
+        for (i, item) in aircraft.into_iter().enumerate() {
+            let Some((view, status)) = item else {
+                continue;
+            };
+            if !matches!(self.tracks.get(i), Some(Some(_))) {
+                self.declare(i, ObjectInfo::of::<M>(i));
+            }
+            if self.is_removed(i) {
+                continue;
+            }
+            match status {
+                FlightStatus::Diverged => self.remove(i)?,
+                FlightStatus::Landed(LandingState::Crash) => {
+                    self.sample(i, &Placement::of(&view, origin))?;
+                    self.remove(i)?;
+                }
+                _ => self.sample(i, &Placement::of(&view, origin))?,
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether object `index` was removed.
+    #[must_use]
+    pub fn is_removed(&self, index: usize) -> bool {
+        matches!(self.tracks.get(index), Some(Some(t)) if t.removed)
+    }
+
+    /// Ends the file: a last time line for the current frame if it has none
+    /// yet (so the file lasts as long as the run), then flushes and closes
+    /// the zip container. Later calls do nothing.
+    ///
+    /// # Errors
+    /// Writing fails.
+    pub fn finish(&mut self) -> Result<(), AcmiError> {
+        if self.sink.is_none() {
+            return Ok(());
+        }
+        self.time_line();
+        self.flush_text(true)?;
+        match self.sink.take() {
+            Some(Sink::Plain(mut w)) => w.flush()?,
+            Some(Sink::Zip(zip)) => {
+                let mut inner = (*zip).finish()?;
+                inner.flush()?;
+            }
+            None => {}
+        }
+        Ok(())
+    }
+
+    /// Bytes of text written so far (before compression).
+    #[must_use]
+    pub fn bytes_written(&self) -> u64 {
+        self.written + self.text.len() as u64
+    }
+
+    /// The fields of `placement` in their written fixed-point units.
+    fn fields(&self, p: &Placement) -> [i64; 6] {
+        [
+            fixed(p.geodetic.lon_deg - self.ref_lon_deg, 1e7),
+            fixed(p.geodetic.lat_deg - self.ref_lat_deg, 1e7),
+            fixed(p.geodetic.alt_m, 1e2),
+            fixed(p.attitude.roll_deg, 1e2),
+            fixed(p.attitude.pitch_deg, 1e2),
+            fixed(p.attitude.heading_deg, 1e2),
+        ]
+    }
+
+    /// The current frame's `#` line, if not written yet.
+    fn time_line(&mut self) {
+        if self.frame_written {
+            return;
+        }
+        self.frame_written = true;
+        // Microseconds, rounded half up, in integers: the same text on
+        // every machine.
+        let fps = u128::from(self.fps);
+        let micros = (u128::from(self.frame) * 2_000_000 + fps) / (2 * fps);
+        let micros = i64::try_from(micros).unwrap_or(i64::MAX);
+        self.text.push('#');
+        push_fixed(&mut self.text, micros, 6);
+        self.text.push('\n');
+    }
+
+    fn flush_text(&mut self, force: bool) -> Result<(), AcmiError> {
+        if !force && self.text.len() < CHUNK_BYTES {
+            return Ok(());
+        }
+        let sink = self.sink.as_mut().ok_or(AcmiError::Finished)?;
+        sink.write_all(self.text.as_bytes())?;
+        self.written += self.text.len() as u64;
+        self.text.clear();
+        Ok(())
+    }
+}
+
+/// The integer degree nearest to `deg` (0 for a non-finite value).
+fn round_reference(deg: f64) -> f64 {
+    if deg.is_finite() {
+        deg.round()
+    } else {
+        0.0
+    }
+}
+
+/// `value × scale` rounded to the nearest integer (half away from zero);
+/// non-finite values become 0.
+fn fixed(value: f64, scale: f64) -> i64 {
+    let scaled = (value * scale).round();
+    if scaled.is_finite() {
+        // Saturating: far beyond any placement on Earth.
+        #[allow(clippy::cast_possible_truncation)]
+        let v = scaled as i64;
+        v
+    } else {
+        0
+    }
+}
+
+/// Appends `value / 10^decimals` in decimal, without trailing zeros or a
+/// trailing point.
+fn push_fixed(out: &mut String, value: i64, decimals: u32) {
+    let scale = 10_u64.pow(decimals);
+    if value < 0 {
+        out.push('-');
+    }
+    let magnitude = value.unsigned_abs();
+    let whole = magnitude / scale;
+    let mut fraction = magnitude % scale;
+    let _ = write!(out, "{whole}");
+    if fraction != 0 {
+        let mut width = decimals as usize;
+        while fraction.is_multiple_of(10) {
+            fraction /= 10;
+            width -= 1;
+        }
+        let _ = write!(out, ".{fraction:0width$}");
+    }
+}
+
+/// Appends `text` escaped for an ACMI property value: `\,` for commas,
+/// `\` + newline for line breaks.
+fn escape_into(out: &mut String, text: &str) {
+    for c in text.chars() {
+        match c {
+            ',' => out.push_str("\\,"),
+            '\n' => out.push_str("\\\n"),
+            '\r' => {}
+            '\\' => out.push_str("\\\\"),
+            c => out.push(c),
+        }
+    }
+}
+
+/// The ACMI output of a single-aircraft [`Run`](crate::Run): object 1, the
+/// model's name, type and callsign `{CALLSIGN}-1`; removed on a crash or a
+/// divergence, declared again by a reset.
+pub struct AcmiOutput<M> {
+    writer: AcmiWriter,
+    _model: PhantomData<fn() -> M>,
+}
+
+impl<M> std::fmt::Debug for AcmiOutput<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("AcmiOutput").field(&self.writer).finish()
+    }
+}
+
+impl<M: RunModel> AcmiOutput<M> {
+    /// The output writing to `writer`.
+    #[must_use]
+    pub fn new(writer: AcmiWriter) -> Self {
+        Self {
+            writer,
+            _model: PhantomData,
+        }
+    }
+
+    /// The writer.
+    #[must_use]
+    pub fn writer(&self) -> &AcmiWriter {
+        &self.writer
+    }
+}
+
+impl<M: RunModel> Output<M> for AcmiOutput<M> {
+    fn frame(&mut self, frame: &Frame<'_, M>) -> Result<(), OutputError> {
+        let w = &mut self.writer;
+        w.begin_frame(frame.flown);
+        match frame.event {
+            Event::Start | Event::Reset => {
+                w.declare(0, ObjectInfo::of::<M>(0));
+                w.sample(0, frame.placement)?;
+            }
+            Event::Step => match frame.status {
+                FlightStatus::Diverged => w.remove(0)?,
+                FlightStatus::Landed(LandingState::Crash) => {
+                    w.sample(0, frame.placement)?;
+                    w.remove(0)?;
+                }
+                _ => w.sample(0, frame.placement)?,
+            },
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), OutputError> {
+        Ok(self.writer.finish()?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_point_text() {
+        let mut s = String::new();
+        for (v, d) in [
+            (0, 7),
+            (-483_000, 7),
+            (1_234_567, 2),
+            (-5, 2),
+            (100, 2),
+            (33_333, 6),
+        ] {
+            push_fixed(&mut s, v, d);
+            s.push(' ');
+        }
+        assert_eq!(s, "0 -0.0483 12345.67 -0.05 1 0.033333 ");
+    }
+
+    #[test]
+    fn reference_times() {
+        for ok in [
+            "2000-01-01T00:00:00Z",
+            "2024-02-29T23:59:59Z",
+            "2011-06-02T05:00:00.5Z",
+        ] {
+            assert_eq!(ok.parse::<ReferenceTime>().unwrap().as_str(), ok);
+        }
+        for bad in [
+            "",
+            "2023-02-29T00:00:00Z",
+            "2000-01-01 00:00:00Z",
+            "2000-01-01T00:00:00",
+            "2000-13-01T00:00:00Z",
+            "2000-01-01T24:00:00Z",
+            "2000-01-01T00:00:00.Z",
+            "2000-01-01T00:00:00+01:00",
+            "0000-01-01T00:00:00Z",
+        ] {
+            assert!(bad.parse::<ReferenceTime>().is_err(), "{bad}");
+        }
+    }
+}

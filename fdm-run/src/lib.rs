@@ -1,0 +1,67 @@
+//! A flight as a library: a [`Scenario`] becomes a [`Run`] that another
+//! program drives frame by frame ([`Run::step_frame`]) or to the end
+//! ([`Run::run_to_end`]), headless or paced in real time, with [`Output`]s
+//! attached; record and replay ([`recording`]); Tacview ACMI ([`acmi`]).
+//!
+//! `sim-cli` flies its single aircraft through this crate; the Python
+//! bindings and study runners are meant to build on it the same way.
+//!
+//! ```
+//! use fdm_core::palmer::{Palmer, PalmerAction};
+//! use fdm_core::script::Script;
+//! use fdm_run::recording::{RecordWriter, Recording, Replayed};
+//! use fdm_run::{Run, Scenario, Start};
+//!
+//! // A scripted take-off, recorded in memory as it flies.
+//! let script = Script::parse("1-20 throttle-up\n1-5 alpha-up\n")?;
+//! let scenario = Scenario::<Palmer>::new(Start::thesis(), 30, 300)?.with_script(script);
+//! let mut run = Run::new(scenario.clone())?;
+//! let writer = RecordWriter::new(Vec::new(), 30, &scenario.origin, &scenario.start)?;
+//! let shared = fdm_run::SharedOutput::new(writer);
+//! run.attach(shared.clone())?;
+//! run.run_to_end()?;
+//! run.finish()?;
+//! let bytes = shared.take().map(|w| w.into_inner()).unwrap_or_default();
+//!
+//! // The replay is bit-identical.
+//! let recording = Recording::<Palmer>::parse(&bytes)?;
+//! let mut replay = Run::new(Scenario::new(recording.start.clone(), recording.fps, 0)?)?;
+//! for event in recording.events() {
+//!     match event? {
+//!         Replayed::Frames { count, actions } => {
+//!             for _ in 0..count {
+//!                 replay.step_actions(&actions)?;
+//!             }
+//!         }
+//!         Replayed::Reset => replay.reset()?,
+//!     }
+//! }
+//! assert_eq!(replay.state()?, run.state()?);
+//! # let _ = PalmerAction::ThrottleUp;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! | module | what |
+//! |---|---|
+//! | [`scenario`] | [`Scenario`], [`Start`], the run limits ([`MAX_FPS`], [`MAX_FRAMES`]) |
+//! | [`mod@run`] | [`Run`]: the run loop over one `fdm_ecs::Simulation` |
+//! | [`output`] | [`Output`], [`Frame`], [`Placement`]: outputs as plugins |
+//! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
+//! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
+//! | [`model`] | [`RunModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
+//! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
+
+pub mod acmi;
+pub mod model;
+pub mod output;
+pub mod pacer;
+pub mod recording;
+pub mod run;
+pub mod scenario;
+mod shared;
+
+pub use model::RunModel;
+pub use output::{Event, Frame, Output, OutputError, Placement};
+pub use run::{End, Run, RunError};
+pub use scenario::{Scenario, ScenarioError, Start, MAX_FPS, MAX_FRAMES};
+pub use shared::SharedOutput;

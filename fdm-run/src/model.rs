@@ -1,0 +1,125 @@
+//! The models a run can fly and record, and the one registry that names them.
+//!
+//! [`RunModel`] is [`Model`] plus what a recording needs: serde state and
+//! controls, and the aircraft's parameters as a storable record. The
+//! registry ([`MODELS`], [`with_model`]) is the one place above `fdm-core`
+//! that lists the models by name: the recording's model names, `sim-cli`'s
+//! subcommands and CSV model names all come from it.
+
+use std::fmt::Debug;
+
+use fdm_core::bourg::{Airframe, Bourg, BourgAircraft};
+use fdm_core::model::Model;
+use fdm_core::palmer::{Palmer, PalmerAircraft};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+/// A model a run can fly, record and replay.
+pub trait RunModel:
+    Model<State: Serialize + DeserializeOwned, Controls: Serialize + DeserializeOwned>
+{
+    /// The aircraft's parameters as a recording stores them: everything
+    /// needed to rebuild an identical [`Model::Aircraft`].
+    type AircraftRecord: Serialize + DeserializeOwned + Debug;
+
+    /// What Tacview shows for this model: its ACMI `Type` tags
+    /// (e.g. `Air+FixedWing`) and object `Name`.
+    const ACMI_TYPE: &'static str = "Air+FixedWing";
+
+    /// The object `Name` Tacview shows (the aircraft type), e.g. `C172`.
+    const ACMI_NAME: &'static str;
+
+    /// The start of callsigns of this model's aircraft: `C172-1`, `C172-2`, ...
+    const CALLSIGN: &'static str;
+
+    /// The record of `aircraft`.
+    fn aircraft_record(aircraft: &Self::Aircraft) -> Self::AircraftRecord;
+
+    /// Rebuilds (and validates) the aircraft from its record.
+    ///
+    /// # Errors
+    /// A one-line message naming what is wrong with the parameters.
+    fn aircraft_from_record(record: Self::AircraftRecord) -> Result<Self::Aircraft, String>;
+}
+
+impl RunModel for Palmer {
+    type AircraftRecord = PalmerAircraft;
+
+    const ACMI_NAME: &'static str = "C172";
+    const CALLSIGN: &'static str = "C172";
+
+    fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
+        *aircraft
+    }
+
+    fn aircraft_from_record(record: PalmerAircraft) -> Result<PalmerAircraft, String> {
+        record.validate().map_err(|e| e.to_string())?;
+        Ok(record)
+    }
+}
+
+/// Bourg's aircraft as a recording stores it: the airframe (from which
+/// [`BourgAircraft::new`] derives the mass properties) and the thrust limits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BourgAircraftRecord {
+    /// The eight lifting elements.
+    pub airframe: Airframe,
+    /// Maximum thrust, lb.
+    pub max_thrust_lb: f32,
+    /// Thrust change per thrust-up/down action, lb.
+    pub delta_thrust_lb: f32,
+}
+
+impl RunModel for Bourg {
+    type AircraftRecord = BourgAircraftRecord;
+
+    const ACMI_NAME: &'static str = "Bourg 6-DoF";
+    const CALLSIGN: &'static str = "BRG";
+
+    fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
+        BourgAircraftRecord {
+            airframe: *aircraft.airframe(),
+            max_thrust_lb: aircraft.max_thrust_lb,
+            delta_thrust_lb: aircraft.delta_thrust_lb,
+        }
+    }
+
+    fn aircraft_from_record(record: BourgAircraftRecord) -> Result<BourgAircraft, String> {
+        let mut aircraft = BourgAircraft::new(record.airframe).map_err(|e| e.to_string())?;
+        for (name, value) in [
+            ("max_thrust_lb", record.max_thrust_lb),
+            ("delta_thrust_lb", record.delta_thrust_lb),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(format!("{name} {value} is not a finite thrust >= 0"));
+            }
+        }
+        aircraft.max_thrust_lb = record.max_thrust_lb;
+        aircraft.delta_thrust_lb = record.delta_thrust_lb;
+        Ok(aircraft)
+    }
+}
+
+/// Something to do with a model type chosen at run time by name
+/// ([`with_model`]).
+pub trait ModelJob {
+    /// What it returns.
+    type Output;
+    /// Does it for model `M`.
+    fn call<M: RunModel>(self) -> Self::Output;
+}
+
+/// The models of the registry, by [`Model::NAME`], in the order help texts
+/// list them.
+pub const MODELS: &[&str] = &[Palmer::NAME, Bourg::NAME];
+
+/// Runs `job` with the model named `name` ([`Model::NAME`]), or `None`
+/// when the registry has no such model. The one place above `fdm-core` that
+/// maps a model's name to its type.
+pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
+    match name {
+        n if n == Palmer::NAME => Some(job.call::<Palmer>()),
+        n if n == Bourg::NAME => Some(job.call::<Bourg>()),
+        _ => None,
+    }
+}

@@ -1,0 +1,115 @@
+//! Outputs as plugins: one interface for everything a run writes or sends
+//! as it flies.
+//!
+//! An [`Output`] is attached to a [`Run`](crate::Run) with
+//! [`Run::attach`](crate::Run::attach). The run calls [`Output::frame`] with
+//! the start (frame 0, at attach time), after every flown frame and after every
+//! reset, and [`Output::finish`] once at the end. Each call carries a
+//! [`Frame`]: the frame's actions, the model's controls, state and
+//! [`FlightView`], the flight status, and the aircraft's [`Placement`] on
+//! WGS-84, computed once per frame by the ECS and shared by every output.
+//!
+//! A new protocol is one type implementing [`Output`]; the run loop does not
+//! change.
+
+use fdm_core::geodesy::{Attitude, Geodetic, GeodeticOrigin};
+use fdm_core::model::{FlightStatus, FlightView, Model};
+
+/// What an output's failure carries (any error; its message should be one
+/// line).
+pub type OutputError = Box<dyn std::error::Error + Send + Sync + 'static>;
+
+/// Why the run calls an output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// Frame 0, when the output is attached.
+    Start,
+    /// A frame was flown (its actions applied, then one model step).
+    Step,
+    /// The aircraft went back to its start (frame 0 again).
+    Reset,
+}
+
+/// An aircraft's place on WGS-84: position and attitude relative to the
+/// local north-east-down frame at the aircraft.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// WGS-84 position.
+    pub geodetic: Geodetic,
+    /// Roll (right wing down +), pitch (nose up +) and heading (clockwise
+    /// from true north, `[0, 360)`), degrees.
+    pub attitude: Attitude,
+}
+
+impl Placement {
+    /// `view` placed at `origin`: the same numbers the FlightGear datagram
+    /// carries (`fgnet::bridge::display`), for aircraft flown outside the ECS
+    /// (the fleet kernels).
+    #[must_use]
+    pub fn of(view: &FlightView, origin: &GeodeticOrigin) -> Self {
+        let display = fgnet::bridge::display(view, origin);
+        Self {
+            geodetic: display.geodetic,
+            attitude: display.attitude,
+        }
+    }
+}
+
+/// One frame as the outputs see it.
+#[derive(Debug)]
+pub struct Frame<'a, M: Model> {
+    /// Why this call.
+    pub event: Event,
+    /// The frame number since the start or the last reset (0 at both).
+    pub number: u64,
+    /// Frames flown since the run began, across resets: the run's clock in
+    /// frames ([`Self::clock_s`]).
+    pub flown: u64,
+    /// Frames per second.
+    pub fps: u32,
+    /// The actions the frame applied, in order (empty for start and reset).
+    pub actions: &'a [M::Action],
+    /// The model's controls after the frame.
+    pub controls: &'a M::Controls,
+    /// The model's state after the frame (for a diverged step: the last
+    /// finite state).
+    pub state: &'a M::State,
+    /// The model's common view of the state.
+    pub view: &'a FlightView,
+    /// The aircraft on WGS-84.
+    pub placement: &'a Placement,
+    /// The flight status after the frame.
+    pub status: FlightStatus,
+}
+
+impl<M: Model> Frame<'_, M> {
+    /// The run's clock, seconds: [`Self::flown`] / [`Self::fps`]. It only
+    /// goes forward (a reset does not turn it back), unlike the model's
+    /// own `time_s`.
+    #[must_use]
+    pub fn clock_s(&self) -> f64 {
+        // Exact for any frame count below 2^53.
+        #[allow(clippy::cast_precision_loss)]
+        let flown = self.flown as f64;
+        flown / f64::from(self.fps)
+    }
+}
+
+/// Something a run writes or sends as it flies: a file, a network link, a
+/// counter.
+pub trait Output<M: Model> {
+    /// Takes one frame (see [`Event`] for when).
+    ///
+    /// # Errors
+    /// Whatever makes the output unusable; the run stops with it.
+    fn frame(&mut self, frame: &Frame<'_, M>) -> Result<(), OutputError>;
+
+    /// Completes the output when the run ends (flushes, writes trailers).
+    /// The default does nothing.
+    ///
+    /// # Errors
+    /// As [`Self::frame`].
+    fn finish(&mut self) -> Result<(), OutputError> {
+        Ok(())
+    }
+}

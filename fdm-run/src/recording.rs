@@ -1,0 +1,734 @@
+//! Flight recordings: the binary flight log `--record FILE` writes and
+//! `sim-cli replay FILE` reads (format: docs/recording.md).
+//!
+//! A recording holds what reproduces a flight bit for bit: the model, its
+//! aircraft parameters, the frame rate, the origin, the controls and state at
+//! frame 0, then per frame the actions the model applied (script and keys
+//! together, in order) and every reset. Consecutive frames with the same
+//! actions are stored once with a count, so a scripted or idle flight takes a
+//! few bytes per script rule, not per frame.
+//!
+//! ```text
+//! magic "SIMCLIRC" (8 bytes) | format version (u16, little-endian)
+//! header  (bincode 2 standard: model name, fps, origin, aircraft, controls, state, action names)
+//! events  (bincode 2 standard): Frames { count, actions } | Reset
+//! end     (bincode 2 standard): End { frames, checksum }  -- FNV-1a 64 of every byte before it
+//! ```
+//!
+//! Reading is bounded and total: `sim-cli replay` reads at most
+//! [`MAX_RECORDING_BYTES`] (`crate::input::read_bytes`: a regular file or a pipe);
+//! [`parse_recording`] and [`Recording::parse`] take a byte slice, decode with a
+//! [`DECODE_LIMIT`] on what any one length field may claim, and return a
+//! [`RecordingError`] naming the problem for anything that is not a complete,
+//! intact recording of this format version; they never panic.
+//!
+//! Writing goes through [`RecordWriter`], which is also an
+//! [`Output`]: attached to a [`Run`](crate::Run), it logs every
+//! frame's actions and every reset as the run flies them.
+
+use std::fmt;
+use std::io::Write;
+use std::marker::PhantomData;
+
+use bincode::config::{Configuration, Limit, LittleEndian, Varint};
+use bincode::error::DecodeError;
+use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
+use fdm_core::script::{Echo, ScriptAction};
+use serde::{Deserialize, Serialize};
+
+use crate::model::{with_model, ModelJob, RunModel, MODELS};
+use crate::output::{self, Frame, Output, OutputError};
+use crate::scenario::{Start, MAX_FPS, MAX_FRAMES};
+
+/// The first eight bytes of every recording.
+pub const MAGIC: [u8; 8] = *b"SIMCLIRC";
+
+/// The format version this `sim-cli` writes and reads (the two bytes after
+/// [`MAGIC`], little-endian). Any change to the layout bumps it.
+pub const FORMAT_VERSION: u16 = 1;
+
+/// Largest recording `sim-cli` writes or reads, bytes (64 MiB). Hours of
+/// interactive flying with a key change every frame take a few MB; a longer
+/// recording stops the flight with an error rather than produce a file that
+/// could not be replayed.
+pub const MAX_RECORDING_BYTES: u64 = 64 * 1024 * 1024;
+
+/// Most bytes one header or one event may claim for its variable-length
+/// fields (strings, action lists): 1 MiB. A length field beyond it is refused
+/// before anything is allocated.
+pub const DECODE_LIMIT: usize = 1 << 20;
+
+/// The bincode configuration of every header and event: bincode 2's standard
+/// (little-endian, variable-length integers), with [`DECODE_LIMIT`].
+type Format = Configuration<LittleEndian, Varint, Limit<DECODE_LIMIT>>;
+
+fn format() -> Format {
+    bincode::config::standard().with_limit::<DECODE_LIMIT>()
+}
+
+/// Length of the fixed prefix: magic and version.
+const PREFIX_LEN: usize = MAGIC.len() + 2;
+
+/// The header as stored (owned, for decoding and encoding alike).
+#[derive(Debug, Serialize, Deserialize)]
+struct Header<A, C, S> {
+    /// The model's name ([`fdm_core::model::Model::NAME`]), first so that a
+    /// reader can pick the model before decoding the rest.
+    model: String,
+    /// Frames per second.
+    fps: u32,
+    /// The earth-frame origin.
+    origin: Geodetic,
+    /// The aircraft's parameters ([`RunModel::AircraftRecord`]).
+    aircraft: A,
+    /// Controls at frame 0 (and after every reset).
+    controls: C,
+    /// State at frame 0 (and after every reset).
+    state: S,
+    /// The names of the actions the events index, in index order.
+    actions: Vec<String>,
+}
+
+/// One event of the log as stored.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+enum Event {
+    /// `count` (>= 1) consecutive frames, each applying `actions` (indices
+    /// into the header's action names) in order before its step.
+    Frames {
+        /// How many frames.
+        count: u64,
+        /// The frame's actions.
+        actions: Vec<u16>,
+    },
+    /// The flight went back to the header's controls and state (frame 0).
+    Reset,
+    /// The last event: the total number of frames and the checksum of every
+    /// byte before this event.
+    End {
+        /// Frames in all [`Event::Frames`] together.
+        frames: u64,
+        /// FNV-1a 64 of the file up to this event.
+        checksum: u64,
+    },
+}
+
+/// FNV-1a, 64 bits: any change of a single byte changes the result (each
+/// step is a bijection of the state for a given byte).
+#[derive(Debug, Clone, Copy)]
+struct Fnv64(u64);
+
+impl Fnv64 {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+
+    fn new() -> Self {
+        Self(Self::OFFSET)
+    }
+
+    fn update(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(Self::PRIME);
+        }
+    }
+}
+
+/// Why a recording was refused. Every message names the problem in one line.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RecordingError {
+    /// Larger than [`MAX_RECORDING_BYTES`].
+    #[error(
+        "the file is {size} bytes, more than the {MAX_RECORDING_BYTES}-byte limit for recordings"
+    )]
+    TooLarge {
+        /// The size seen (at least).
+        size: u64,
+    },
+    /// Does not start with [`MAGIC`].
+    #[error("not a sim-cli recording (it does not start with the bytes \"SIMCLIRC\")")]
+    NotARecording,
+    /// Another format version.
+    #[error("recording format version {found}; this sim-cli reads version {FORMAT_VERSION}")]
+    WrongVersion {
+        /// The version in the file.
+        found: u16,
+    },
+    /// A model this `sim-cli` does not have (the name as stored).
+    #[error("recorded with model `{}`, which this sim-cli does not have ({})", Echo::short(.0), MODELS.join(", "))]
+    UnknownModel(String),
+    /// A recording of another model than the one asked for.
+    #[error("a recording of model `{}`, not `{expected}`", Echo::short(.found))]
+    WrongModel {
+        /// The model asked for.
+        expected: &'static str,
+        /// The model in the file.
+        found: String,
+    },
+    /// The file ends early.
+    #[error("truncated: the file ends {0}")]
+    Truncated(&'static str),
+    /// Anything else that is not a well-formed recording.
+    #[error("corrupt recording: {0}")]
+    Corrupt(String),
+}
+
+impl RecordingError {
+    fn corrupt(message: impl fmt::Display) -> Self {
+        Self::Corrupt(message.to_string())
+    }
+
+    /// A bincode error while decoding `what`: running out of bytes is a
+    /// truncation, anything else corruption.
+    fn decode(error: &DecodeError, what: &'static str, truncated: &'static str) -> Self {
+        match error {
+            DecodeError::UnexpectedEnd { .. } => Self::Truncated(truncated),
+            DecodeError::LimitExceeded => Self::Corrupt(format!(
+                "{what}: a length field claims more than {DECODE_LIMIT} bytes"
+            )),
+            other => Self::Corrupt(format!("{what}: {other}")),
+        }
+    }
+}
+
+/// Reads magic, version and model name.
+fn prefix(bytes: &[u8]) -> Result<(String, &[u8]), RecordingError> {
+    if bytes.len() as u64 > MAX_RECORDING_BYTES {
+        return Err(RecordingError::TooLarge {
+            size: bytes.len() as u64,
+        });
+    }
+    let Some(magic) = bytes.get(..MAGIC.len()) else {
+        return Err(if MAGIC.starts_with(bytes) {
+            RecordingError::Truncated("inside the magic bytes")
+        } else {
+            RecordingError::NotARecording
+        });
+    };
+    if magic != MAGIC {
+        return Err(RecordingError::NotARecording);
+    }
+    let Some(&[lo, hi]) = bytes.get(MAGIC.len()..PREFIX_LEN) else {
+        return Err(RecordingError::Truncated("inside the format version"));
+    };
+    let version = u16::from_le_bytes([lo, hi]);
+    if version != FORMAT_VERSION {
+        return Err(RecordingError::WrongVersion { found: version });
+    }
+    let rest = &bytes[PREFIX_LEN..];
+    let (model, _) = bincode::serde::decode_from_slice::<String, _>(rest, format())
+        .map_err(|e| RecordingError::decode(&e, "model name", "inside the header"))?;
+    Ok((model, rest))
+}
+
+/// The model a recording was made with, from its first bytes: its name in
+/// the registry ([`MODELS`]).
+///
+/// # Errors
+/// As [`parse_recording`], for the prefix only.
+pub fn recorded_model(bytes: &[u8]) -> Result<&'static str, RecordingError> {
+    let (model, _) = prefix(bytes)?;
+    MODELS
+        .iter()
+        .copied()
+        .find(|&name| name == model)
+        .ok_or(RecordingError::UnknownModel(model))
+}
+
+/// What [`parse_recording`] found in a valid recording.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RecordingInfo {
+    /// The model's name.
+    pub model: &'static str,
+    /// Frames per second.
+    pub fps: u32,
+    /// Frames in total, across resets.
+    pub frames: u64,
+    /// Resets.
+    pub resets: u64,
+    /// Events (runs of identical frames and resets).
+    pub events: u64,
+}
+
+struct ParseJob<'a>(&'a [u8]);
+
+impl ModelJob for ParseJob<'_> {
+    type Output = Result<RecordingInfo, RecordingError>;
+
+    fn call<M: RunModel>(self) -> Self::Output {
+        Recording::<M>::parse(self.0).map(|r| r.info())
+    }
+}
+
+/// Checks a whole recording of any model, as `sim-cli replay` does before
+/// flying it: pure, total (never panics) and bounded, for tests and fuzzing.
+///
+/// # Errors
+/// A [`RecordingError`] naming the first problem.
+pub fn parse_recording(bytes: &[u8]) -> Result<RecordingInfo, RecordingError> {
+    let name = recorded_model(bytes)?;
+    with_model(name, ParseJob(bytes))
+        .unwrap_or_else(|| Err(RecordingError::UnknownModel(name.to_owned())))
+}
+
+/// One step of a replay.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Replayed<A> {
+    /// `count` frames, each applying `actions` in order.
+    Frames {
+        /// How many frames (>= 1).
+        count: u64,
+        /// The actions of each of those frames.
+        actions: Vec<A>,
+    },
+    /// Back to the recording's start (frame 0).
+    Reset,
+}
+
+/// A validated recording of model `M`, borrowing the file's bytes.
+#[derive(Debug)]
+pub struct Recording<'a, M: RunModel> {
+    /// Frames per second.
+    pub fps: u32,
+    /// The earth-frame origin.
+    pub origin: GeodeticOrigin,
+    /// Aircraft, controls and state at frame 0.
+    pub start: Start<M>,
+    /// Frames in total, across resets.
+    pub frames: u64,
+    /// Resets.
+    pub resets: u64,
+    /// Events (runs and resets).
+    pub events: u64,
+    table: Vec<M::Action>,
+    body: &'a [u8],
+}
+
+impl<'a, M: RunModel> Recording<'a, M> {
+    /// Parses and validates a whole recording: prefix, header (model `M`,
+    /// fps, origin, aircraft, action names), every event, the end marker and
+    /// its checksum, and that nothing follows it.
+    ///
+    /// # Errors
+    /// A [`RecordingError`] naming the first problem.
+    pub fn parse(bytes: &'a [u8]) -> Result<Self, RecordingError> {
+        let (model, rest) = prefix(bytes)?;
+        if model != M::NAME {
+            return Err(RecordingError::WrongModel {
+                expected: M::NAME,
+                found: model,
+            });
+        }
+        type H<M> = Header<
+            <M as RunModel>::AircraftRecord,
+            <M as fdm_core::model::Model>::Controls,
+            <M as fdm_core::model::Model>::State,
+        >;
+        let (header, used) = bincode::serde::decode_from_slice::<H<M>, _>(rest, format())
+            .map_err(|e| RecordingError::decode(&e, "header", "inside the header"))?;
+        if !(1..=MAX_FPS).contains(&header.fps) {
+            return Err(RecordingError::corrupt(format!(
+                "header: fps {} is not in 1..={MAX_FPS}",
+                header.fps
+            )));
+        }
+        let origin = GeodeticOrigin::from_geodetic(header.origin)
+            .map_err(|e| RecordingError::corrupt(format!("header: origin: {e}")))?;
+        let aircraft = M::aircraft_from_record(header.aircraft)
+            .map_err(|e| RecordingError::corrupt(format!("header: aircraft: {e}")))?;
+        let table = header
+            .actions
+            .iter()
+            .map(|name| {
+                <M::Action as ScriptAction>::from_name(name).ok_or_else(|| {
+                    RecordingError::corrupt(format!(
+                        "header: `{}` is not an action of {}",
+                        Echo::short(name),
+                        M::NAME
+                    ))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let body = &rest[used..];
+        let mut recording = Self {
+            fps: header.fps,
+            origin,
+            start: Start {
+                aircraft,
+                controls: header.controls,
+                state: header.state,
+            },
+            frames: 0,
+            resets: 0,
+            events: 0,
+            table,
+            body,
+        };
+        recording.validate(bytes)?;
+        Ok(recording)
+    }
+
+    /// Walks the events once: indices in range, counts >= 1, the end
+    /// marker's frame count and checksum, nothing after it.
+    fn validate(&mut self, whole: &[u8]) -> Result<(), RecordingError> {
+        let mut cursor = self.body;
+        let mut frames = 0_u64;
+        loop {
+            let offset = whole.len() - cursor.len();
+            let (event, used) = decode_event(cursor, offset)?;
+            match event {
+                Event::Frames { count, actions } => {
+                    self.check_frames(count, &actions, offset)?;
+                    frames = frames.checked_add(count).ok_or_else(|| {
+                        RecordingError::corrupt(format!(
+                            "event at byte {offset}: the frame count overflows"
+                        ))
+                    })?;
+                    self.events += 1;
+                }
+                Event::Reset => {
+                    self.resets += 1;
+                    self.events += 1;
+                }
+                Event::End {
+                    frames: total,
+                    checksum,
+                } => {
+                    let mut hash = Fnv64::new();
+                    hash.update(&whole[..offset]);
+                    if hash.0 != checksum {
+                        return Err(RecordingError::corrupt(format!(
+                            "checksum mismatch (stored {checksum:#018x}, computed {:#018x})",
+                            hash.0
+                        )));
+                    }
+                    if total != frames {
+                        return Err(RecordingError::corrupt(format!(
+                            "the end marker counts {total} frames, the events {frames}"
+                        )));
+                    }
+                    if frames > MAX_FRAMES {
+                        return Err(RecordingError::corrupt(format!(
+                            "{frames} frames, more than the {MAX_FRAMES} a run can have"
+                        )));
+                    }
+                    let trailing = cursor.len() - used;
+                    if trailing != 0 {
+                        return Err(RecordingError::corrupt(format!(
+                            "{trailing} bytes after the end marker"
+                        )));
+                    }
+                    self.frames = frames;
+                    // The body the iterator walks stops before the end marker.
+                    self.body = &self.body[..self.body.len() - cursor.len()];
+                    return Ok(());
+                }
+            }
+            cursor = &cursor[used..];
+        }
+    }
+
+    fn check_frames(
+        &self,
+        count: u64,
+        actions: &[u16],
+        offset: usize,
+    ) -> Result<(), RecordingError> {
+        if count == 0 {
+            return Err(RecordingError::corrupt(format!(
+                "event at byte {offset}: a run of 0 frames"
+            )));
+        }
+        if let Some(&bad) = actions
+            .iter()
+            .find(|&&i| usize::from(i) >= self.table.len())
+        {
+            return Err(RecordingError::corrupt(format!(
+                "event at byte {offset}: action index {bad} is not below the header's {} actions",
+                self.table.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// What a summary needs.
+    #[must_use]
+    pub fn info(&self) -> RecordingInfo {
+        RecordingInfo {
+            model: M::NAME,
+            fps: self.fps,
+            frames: self.frames,
+            resets: self.resets,
+            events: self.events,
+        }
+    }
+
+    /// The events in order (already validated by [`Self::parse`]; each item is
+    /// still a `Result`, so that nothing here can panic).
+    pub fn events(&self) -> impl Iterator<Item = Result<Replayed<M::Action>, RecordingError>> + '_ {
+        let mut cursor = self.body;
+        let mut offset = 0;
+        std::iter::from_fn(move || {
+            if cursor.is_empty() {
+                return None;
+            }
+            let item = decode_event(cursor, offset).and_then(|(event, used)| {
+                cursor = &cursor[used..];
+                offset += used;
+                match event {
+                    Event::Frames { count, actions } => Ok(Replayed::Frames {
+                        count,
+                        actions: actions
+                            .iter()
+                            .map(|&i| {
+                                self.table.get(usize::from(i)).copied().ok_or_else(|| {
+                                    RecordingError::corrupt(format!("action index {i}"))
+                                })
+                            })
+                            .collect::<Result<_, _>>()?,
+                    }),
+                    Event::Reset => Ok(Replayed::Reset),
+                    Event::End { .. } => Err(RecordingError::corrupt("end marker inside the body")),
+                }
+            });
+            if item.is_err() {
+                cursor = &[];
+            }
+            Some(item)
+        })
+    }
+}
+
+fn decode_event(bytes: &[u8], offset: usize) -> Result<(Event, usize), RecordingError> {
+    if bytes.is_empty() {
+        return Err(RecordingError::Truncated("before its end marker"));
+    }
+    bincode::serde::decode_from_slice::<Event, _>(bytes, format()).map_err(|e| match e {
+        DecodeError::UnexpectedEnd { .. } => RecordingError::Truncated("before its end marker"),
+        other => {
+            RecordingError::decode(&other, "event", "before its end marker").with_offset(offset)
+        }
+    })
+}
+
+impl RecordingError {
+    fn with_offset(self, offset: usize) -> Self {
+        match self {
+            Self::Corrupt(message) => Self::Corrupt(format!("{message} (at byte {offset})")),
+            other => other,
+        }
+    }
+}
+
+/// Why writing a recording failed. The messages read as one line each
+/// (the cause is part of the message, not a separate source).
+#[derive(Debug, thiserror::Error)]
+pub enum RecordWriteError {
+    /// The header does not encode.
+    #[error("encoding the recording's header: {0}")]
+    Header(bincode::error::EncodeError),
+    /// An event does not encode.
+    #[error("encoding a recording event: {0}")]
+    Event(bincode::error::EncodeError),
+    /// The recording would outgrow [`MAX_RECORDING_BYTES`].
+    #[error(
+        "the recording would exceed {MAX_RECORDING_BYTES} bytes, the most `sim-cli replay` reads"
+    )]
+    TooLarge,
+    /// Writing or flushing failed.
+    #[error("writing the recording: {0}")]
+    Io(std::io::Error),
+    /// An action the model's action list does not have.
+    #[error("an action outside the model's action list")]
+    UnknownAction,
+}
+
+/// Writes a recording as a flight goes: header first, then runs of identical
+/// frames and resets, and the end marker on [`Self::finish`].
+#[derive(Debug)]
+pub struct RecordWriter<A, W: Write> {
+    out: W,
+    hash: Fnv64,
+    written: u64,
+    /// The current run: its action indices and length (0: no run yet).
+    run: Vec<u16>,
+    run_count: u64,
+    scratch: Vec<u16>,
+    frames: u64,
+    finished: bool,
+    _actions: PhantomData<A>,
+}
+
+impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
+    /// Starts a recording of model `M` flown at `fps` from `origin` and
+    /// `start`: writes the magic, the version and the header.
+    ///
+    /// # Errors
+    /// Encoding or writing fails.
+    pub fn new<M: RunModel<Action = A>>(
+        out: W,
+        fps: u32,
+        origin: &GeodeticOrigin,
+        start: &Start<M>,
+    ) -> Result<Self, RecordWriteError> {
+        let mut writer = Self {
+            out,
+            hash: Fnv64::new(),
+            written: 0,
+            run: Vec::new(),
+            run_count: 0,
+            scratch: Vec::new(),
+            frames: 0,
+            finished: false,
+            _actions: PhantomData,
+        };
+        writer.put(&MAGIC)?;
+        writer.put(&FORMAT_VERSION.to_le_bytes())?;
+        let header = Header {
+            model: M::NAME.to_owned(),
+            fps,
+            origin: origin.geodetic(),
+            aircraft: M::aircraft_record(&start.aircraft),
+            controls: start.controls,
+            state: start.state,
+            actions: A::NAMES.iter().map(|&n| n.to_owned()).collect(),
+        };
+        let bytes =
+            bincode::serde::encode_to_vec(&header, format()).map_err(RecordWriteError::Header)?;
+        writer.put(&bytes)?;
+        Ok(writer)
+    }
+
+    fn put(&mut self, bytes: &[u8]) -> Result<(), RecordWriteError> {
+        self.written += bytes.len() as u64;
+        if self.written > MAX_RECORDING_BYTES {
+            return Err(RecordWriteError::TooLarge);
+        }
+        self.hash.update(bytes);
+        self.out.write_all(bytes).map_err(RecordWriteError::Io)
+    }
+
+    fn put_event(&mut self, event: &Event) -> Result<(), RecordWriteError> {
+        let bytes =
+            bincode::serde::encode_to_vec(event, format()).map_err(RecordWriteError::Event)?;
+        self.put(&bytes)
+    }
+
+    fn flush_run(&mut self) -> Result<(), RecordWriteError> {
+        if self.run_count > 0 {
+            let event = Event::Frames {
+                count: self.run_count,
+                actions: std::mem::take(&mut self.run),
+            };
+            self.put_event(&event)?;
+            if let Event::Frames { actions, .. } = event {
+                self.run = actions;
+            }
+            self.run_count = 0;
+        }
+        Ok(())
+    }
+
+    /// Records one frame that applied `actions` in order.
+    ///
+    /// # Errors
+    /// Writing fails, or the recording outgrows [`MAX_RECORDING_BYTES`].
+    pub fn frame(&mut self, actions: &[A]) -> Result<(), RecordWriteError> {
+        self.scratch.clear();
+        for action in actions {
+            let index = A::ALL
+                .iter()
+                .position(|a| a == action)
+                .and_then(|i| u16::try_from(i).ok())
+                .ok_or(RecordWriteError::UnknownAction)?;
+            self.scratch.push(index);
+        }
+        if self.run_count > 0 && self.scratch != self.run {
+            self.flush_run()?;
+        }
+        if self.run_count == 0 {
+            std::mem::swap(&mut self.run, &mut self.scratch);
+        }
+        self.run_count += 1;
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// Records a reset.
+    ///
+    /// # Errors
+    /// As [`Self::frame`].
+    pub fn reset(&mut self) -> Result<(), RecordWriteError> {
+        self.flush_run()?;
+        self.put_event(&Event::Reset)
+    }
+
+    /// Writes the last run and the end marker and flushes. Later calls do
+    /// nothing.
+    ///
+    /// # Errors
+    /// As [`Self::frame`], and flushing.
+    pub fn finish(&mut self) -> Result<(), RecordWriteError> {
+        if self.finished {
+            return Ok(());
+        }
+        self.flush_run()?;
+        let end = Event::End {
+            frames: self.frames,
+            checksum: self.hash.0,
+        };
+        self.put_event(&end)?;
+        self.out.flush().map_err(RecordWriteError::Io)?;
+        self.finished = true;
+        Ok(())
+    }
+
+    /// Bytes written so far.
+    #[must_use]
+    pub fn bytes_written(&self) -> u64 {
+        self.written
+    }
+
+    /// The underlying writer (finish first).
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+}
+
+impl<M: RunModel, W: Write> Output<M> for RecordWriter<M::Action, W> {
+    /// Logs every flown frame's actions and every reset; the start is the
+    /// header, written by [`RecordWriter::new`].
+    fn frame(&mut self, frame: &Frame<'_, M>) -> Result<(), OutputError> {
+        match frame.event {
+            output::Event::Start => Ok(()),
+            output::Event::Step => Ok(RecordWriter::frame(self, frame.actions)?),
+            output::Event::Reset => Ok(self.reset()?),
+        }
+    }
+
+    fn finish(&mut self) -> Result<(), OutputError> {
+        Ok(RecordWriter::finish(self)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::palmer::Palmer;
+
+    /// A well-formed recording of more frames than any run may have (here
+    /// 2^40, written by hand) is refused rather than replayed for ever.
+    /// (Moved here from `sim-cli` with the format: it sets private fields.)
+    #[test]
+    fn endless_recordings_are_refused() {
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let mut writer = RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+        writer.run_count = 1 << 40;
+        writer.frames = 1 << 40;
+        writer.finish().unwrap();
+        let err = parse_recording(&writer.into_inner()).unwrap_err();
+        assert!(
+            err.to_string().contains("more than the 1000000000"),
+            "{err}"
+        );
+    }
+}
