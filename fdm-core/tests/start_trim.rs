@@ -164,7 +164,7 @@ fn bourg_pitch_trim_moves_in_steps_and_zero_is_the_original() {
 /// The speed range searched by the property tests, kt: from below both
 /// models' stall to above both models' full-power speed at these altitudes
 /// (measured at 2000 ft: Palmer trims from about 53 to 125 kt, Bourg from
-/// about 57 to 143 kt).
+/// 59.5 to 143.5 kt, `physics_edges.rs`).
 const SPEEDS_KT: core::ops::Range<f64> = 30.0..200.0;
 
 proptest! {
