@@ -104,3 +104,25 @@ fn accessors() {
         0
     );
 }
+
+/// docs/cli.md: an unknown action's message lists the valid ones: every
+/// script name of the model, in its order, separated by ", ".
+#[test]
+fn an_unknown_actions_message_lists_every_valid_action_once() {
+    use fdm_core::bourg::BourgAction;
+    use fdm_core::model::ScriptAction;
+    let err = Script::<PalmerAction>::parse("1-2 thrust-up").unwrap_err();
+    let names = PalmerAction::NAMES.join(", ");
+    let message = err.to_string();
+    assert!(
+        message.ends_with(&format!("unknown action `thrust-up` (valid: {names})")),
+        "{message}"
+    );
+    let err = Script::<BourgAction>::parse("\n7-9 throttle-up").unwrap_err();
+    let names = BourgAction::NAMES.join(", ");
+    assert!(
+        err.to_string()
+            .ends_with(&format!("unknown action `throttle-up` (valid: {names})")),
+        "{err}"
+    );
+}
