@@ -418,7 +418,9 @@ fn trim_edge<M: Model>(
             &InitialConditions::from_feet_knots(altitude_ft, kt, 0.0),
         )
     };
-    let mut refusal = trim(bad).err().expect("bad is refused");
+    let Err(mut refusal) = trim(bad) else {
+        panic!("{bad} kt trims")
+    };
     while (bad - ok).abs() > 1e-6 {
         let mid = 0.5 * (ok + bad);
         match trim(mid) {
@@ -429,7 +431,10 @@ fn trim_edge<M: Model>(
             }
         }
     }
-    (ok, trim(ok).ok().unwrap(), refusal)
+    let Ok(trimmed) = trim(ok) else {
+        panic!("{ok} kt does not trim")
+    };
+    (ok, trimmed, refusal)
 }
 
 #[test]
