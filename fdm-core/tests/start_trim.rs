@@ -207,3 +207,23 @@ proptest! {
         }
     }
 }
+
+/// Every refusal is one line for the CLI's `sim-cli: error:` (docs/cli.md,
+/// exit status 2), and the trim refusals name the speed asked, in knots.
+#[test]
+fn start_errors_are_one_line_naming_the_speed_in_knots() {
+    let speed_mps = 30.0 / KNOTS_PER_MPS;
+    for e in [
+        StartError::InvalidConditions,
+        StartError::Unsupported,
+        StartError::BelowStall { speed_mps },
+        StartError::AboveMaxPower { speed_mps },
+        StartError::OutOfTrim { speed_mps },
+    ] {
+        let text = e.to_string();
+        assert!(!text.is_empty() && !text.contains('\n'), "{e:?}: {text:?}");
+        if !matches!(e, StartError::InvalidConditions | StartError::Unsupported) {
+            assert!(text.contains("30.0 kt"), "{e:?}: {text}");
+        }
+    }
+}
