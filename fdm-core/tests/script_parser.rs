@@ -104,3 +104,51 @@ fn accessors() {
         0
     );
 }
+
+/// docs/cli.md: an unknown action's message lists the valid ones: every
+/// script name of the model, in its order, separated by ", ".
+#[test]
+fn an_unknown_actions_message_lists_every_valid_action_once() {
+    use fdm_core::bourg::BourgAction;
+    use fdm_core::model::ScriptAction;
+    let err = Script::<PalmerAction>::parse("1-2 thrust-up").unwrap_err();
+    let names = PalmerAction::NAMES.join(", ");
+    let message = err.to_string();
+    assert!(
+        message.ends_with(&format!("unknown action `thrust-up` (valid: {names})")),
+        "{message}"
+    );
+    let err = Script::<BourgAction>::parse("\n7-9 throttle-up").unwrap_err();
+    let names = BourgAction::NAMES.join(", ");
+    assert!(
+        err.to_string()
+            .ends_with(&format!("unknown action `throttle-up` (valid: {names})")),
+        "{err}"
+    );
+}
+
+/// `ScriptCursor::actions` is exactly `script.actions_at(frame)`, also when
+/// one cursor is handed another script (with another number of rules) part
+/// way through, and when frames go back.
+#[test]
+fn a_cursor_handed_another_script_gives_that_scripts_actions() {
+    use fdm_core::script::ScriptCursor;
+    let a = Script::<PalmerAction>::parse("1-10 throttle-up\n3-4 alpha-up\n").unwrap();
+    let b =
+        Script::<PalmerAction>::parse("1-3 bank-left\n2-9 flaps-down\n5-6 alpha-down\n").unwrap();
+    let mut cursor = ScriptCursor::new();
+    for (script, frame) in [
+        (&a, 1),
+        (&a, 3),
+        (&b, 5),
+        (&b, 6),
+        (&a, 7),
+        (&a, 2),
+        (&b, 2),
+    ] {
+        let got: Vec<_> = cursor.actions(script, frame).collect();
+        let want: Vec<_> = script.actions_at(frame).collect();
+        assert_eq!(got, want, "frame {frame}");
+        assert_eq!(cursor.frame(), frame);
+    }
+}

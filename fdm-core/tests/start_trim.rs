@@ -164,7 +164,7 @@ fn bourg_pitch_trim_moves_in_steps_and_zero_is_the_original() {
 /// The speed range searched by the property tests, kt: from below both
 /// models' stall to above both models' full-power speed at these altitudes
 /// (measured at 2000 ft: Palmer trims from about 53 to 125 kt, Bourg from
-/// about 57 to 143 kt).
+/// 59.5 to 143.5 kt, `physics_edges.rs`).
 const SPEEDS_KT: core::ops::Range<f64> = 30.0..200.0;
 
 proptest! {
@@ -204,6 +204,26 @@ proptest! {
             }
             Err(StartError::AboveMaxPower { .. }) => prop_assert!(kt > 120.0, "{kt}"),
             Err(e) => prop_assert!(false, "{kt} kt: {e}"),
+        }
+    }
+}
+
+/// Every refusal is one line for the CLI's `sim-cli: error:` (docs/cli.md,
+/// exit status 2), and the trim refusals name the speed asked, in knots.
+#[test]
+fn start_errors_are_one_line_naming_the_speed_in_knots() {
+    let speed_mps = 30.0 / KNOTS_PER_MPS;
+    for e in [
+        StartError::InvalidConditions,
+        StartError::Unsupported,
+        StartError::BelowStall { speed_mps },
+        StartError::AboveMaxPower { speed_mps },
+        StartError::OutOfTrim { speed_mps },
+    ] {
+        let text = e.to_string();
+        assert!(!text.is_empty() && !text.contains('\n'), "{e:?}: {text:?}");
+        if !matches!(e, StartError::InvalidConditions | StartError::Unsupported) {
+            assert!(text.contains("30.0 kt"), "{e:?}: {text}");
         }
     }
 }
