@@ -11,6 +11,7 @@
 
 use std::f64::consts::PI;
 
+use fdm_core::math;
 use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 use proptest::prelude::*;
 
@@ -32,7 +33,7 @@ fn rhs(
     let vtotal = (vx * vx + vy * vy + vz * vz).sqrt();
     let temperature = 288.15 - 0.0065 * z;
     let grp = 1.0 - 0.0065 * z / 288.15;
-    let pressure = 101_325.0 * grp.powf(5.25);
+    let pressure = 101_325.0 * math::pow(grp, 5.25);
     let density = 0.00348 * pressure / temperature;
     let omega = density / 1.225;
     let factor = (omega - 0.12) / 0.88;
@@ -59,7 +60,7 @@ fn rhs(
     let aspect_ratio = a.wing_span_m * a.wing_span_m / a.wing_area_m2;
     let cd = a.cdp + cl * cl / (PI * aspect_ratio * a.eff);
     let drag = 0.5 * cd * density * vtotal * vtotal * a.wing_area_m2;
-    let (cos_w, sin_w) = (bank.cos(), bank.sin());
+    let (cos_w, sin_w) = (math::cos(bank), math::sin(bank));
     let (cos_p, sin_p) = if vtotal == 0.0 {
         (1.0, 0.0)
     } else {

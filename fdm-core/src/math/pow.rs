@@ -41,10 +41,17 @@ fn log_inline(ix: u64) -> (f64, f64) {
     let kd = k as f64;
     let [invc, logc, logctail] = LOG_TAB[i];
     let (invc, logc, logctail) = (d(invc), d(logc), d(logctail));
-    // r = z/c - 1, exact.
-    let r = fma(z, invc, -1.0);
-    // k*ln2 + log(c) + r.
-    let t1 = fma(kd, d(LN2HI), logc);
+    // r = z/c - 1, exact. glibc's FMA form computes it with one fused
+    // multiply-add; since the result is exact, the split form (invc has at most
+    // 9 significant bits, so zhi*invc and zlo*invc are exact) gives the same
+    // bits without one.
+    let zhi = d(iz & !((1 << 27) - 1));
+    let zlo = z - zhi;
+    let r = (zhi * invc - 1.0) + zlo * invc;
+    // k*ln2 + log(c) + r. LN2HI has 42 significant bits and |k| < 2^11, so the
+    // product is exact and the fused multiply-add of the FMA form is one
+    // rounding of the sum.
+    let t1 = kd * d(LN2HI) + logc;
     let t2 = t1 + r;
     let lo1 = fma(kd, d(LN2LO), logctail);
     let lo2 = t1 - t2 + r;
@@ -53,7 +60,9 @@ fn log_inline(ix: u64) -> (f64, f64) {
     let ar2 = r * ar;
     let ar3 = r * ar2;
     let hi = t2 + ar2;
-    let lo3 = fma(ar, r, -ar2);
+    // The exact error of ar2 = r * ar with ar = -r/2 (the FMA form's
+    // `fma(ar, r, -ar2)`): minus half the error of r*r, by Dekker's product.
+    let lo3 = -0.5 * square_error(r, -2.0 * ar2);
     let lo4 = t2 - hi + ar2;
     // p = log1p(r) - r - A[0]*r*r; the compiler fuses each product into the
     // sum that takes it.
@@ -62,6 +71,17 @@ fn log_inline(ix: u64) -> (f64, f64) {
     let lo = fma(ar3, q, lo1 + lo2 + lo3 + lo4);
     let y = hi + lo;
     (y, hi - y + lo)
+}
+
+/// `r*r - q` exactly, for `q = round(r*r)` (Dekker's product with Veltkamp's
+/// split; exact while `r*r` neither overflows nor underflows, as here:
+/// `|r| < 2^-6` and `r` is 0 or above 2^-62).
+#[inline(always)]
+fn square_error(r: f64, q: f64) -> f64 {
+    let c = 134_217_729.0 * r; // 2^27 + 1
+    let rh = c - (c - r);
+    let rl = r - rh;
+    ((rh * rh - q) + 2.0 * rh * rl) + rl * rl
 }
 
 /// The scaling when the result may overflow or underflow.
