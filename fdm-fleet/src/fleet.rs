@@ -55,7 +55,7 @@
 //! alone does not finish (not airborne above the ground plane, or with a
 //! component at or beyond [`LaneModel::SUSPECT`], too large to be sure the
 //! state is finite), and only those go through the scalar rule of
-//! [`finish_lane`].
+//! `finish_lane`.
 
 use core::fmt;
 use core::str::FromStr;
