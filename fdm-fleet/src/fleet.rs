@@ -55,7 +55,7 @@
 //! alone does not finish (not airborne above the ground plane, or with a
 //! component at or beyond [`LaneModel::SUSPECT`], too large to be sure the
 //! state is finite), and only those go through the scalar rule of
-//! [`finish_lane`].
+//! `finish_lane`.
 
 use core::fmt;
 use core::str::FromStr;
@@ -626,9 +626,7 @@ impl<M: LaneModel> Fleet<M> {
     /// # Errors
     /// As [`Fleet::check_precision`].
     pub fn step_with(&mut self, dt: M::TimeStep, precision: Precision) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.run(self.arch, dt, precision, false, false);
-        Ok(())
+        self.checked_run(self.arch, dt, precision, false, false)
     }
 
     /// [`Fleet::step_with`] on the threads of the current rayon pool (the
@@ -643,9 +641,7 @@ impl<M: LaneModel> Fleet<M> {
         dt: M::TimeStep,
         precision: Precision,
     ) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.run(self.arch, dt, precision, false, true);
-        Ok(())
+        self.checked_run(self.arch, dt, precision, false, true)
     }
 
     /// [`Fleet::step_with`] with the kernel compiled for the SSE2 baseline,
@@ -658,9 +654,7 @@ impl<M: LaneModel> Fleet<M> {
         dt: M::TimeStep,
         precision: Precision,
     ) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.run(Arch::Scalar, dt, precision, false, false);
-        Ok(())
+        self.checked_run(Arch::Scalar, dt, precision, false, false)
     }
 
     /// One whole frame of every aircraft with its flight status, on this
@@ -676,9 +670,7 @@ impl<M: LaneModel> Fleet<M> {
     /// # Errors
     /// As [`Fleet::check_precision`].
     pub fn fly_with(&mut self, dt: M::TimeStep, precision: Precision) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.run(self.arch, dt, precision, true, false);
-        Ok(())
+        self.checked_run(self.arch, dt, precision, true, false)
     }
 
     /// [`Fleet::fly_with`] on the threads of the current rayon pool; the same
@@ -691,9 +683,7 @@ impl<M: LaneModel> Fleet<M> {
         dt: M::TimeStep,
         precision: Precision,
     ) -> Result<(), FleetError> {
-        Self::check_precision(precision)?;
-        self.run(self.arch, dt, precision, true, true);
-        Ok(())
+        self.checked_run(self.arch, dt, precision, true, true)
     }
 
     /// [`Fleet::fly_with`] with the kernel compiled for the SSE2 baseline.
@@ -705,8 +695,20 @@ impl<M: LaneModel> Fleet<M> {
         dt: M::TimeStep,
         precision: Precision,
     ) -> Result<(), FleetError> {
+        self.checked_run(Arch::Scalar, dt, precision, true, false)
+    }
+
+    /// [`Self::run`] after [`Fleet::check_precision`].
+    fn checked_run(
+        &mut self,
+        arch: Arch,
+        dt: M::TimeStep,
+        precision: Precision,
+        fly: bool,
+        parallel: bool,
+    ) -> Result<(), FleetError> {
         Self::check_precision(precision)?;
-        self.run(Arch::Scalar, dt, precision, true, false);
+        self.run(arch, dt, precision, fly, parallel);
         Ok(())
     }
 

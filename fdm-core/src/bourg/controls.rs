@@ -156,6 +156,17 @@ impl BourgControls {
         if !matches!(index, 4 | 5) || self.elevators != Flap::Neutral || self.pitch_trim == 0.0 {
             return base;
         }
+        let (flap, t) = self.trim_tables();
+        let (cl, cd) = super::airfoil::airfoil_coefficients(angle_deg, flap);
+        (base.0 + (cl - base.0) * t, base.1 + (cd - base.1) * t)
+    }
+
+    /// The pitch trim's tables and blend factor for
+    /// [`elevator_coefficients`](Self::elevator_coefficients):
+    /// trailing-edge-up and `trim` for a positive trim, trailing-edge-down
+    /// and `−trim` otherwise, the factor clamped to 1 (NaN kept).
+    #[inline]
+    pub(crate) fn trim_tables(&self) -> (Flap, f32) {
         let (flap, mut t) = if self.pitch_trim > 0.0 {
             (Flap::TrailingEdgeUp, self.pitch_trim)
         } else {
@@ -164,8 +175,7 @@ impl BourgControls {
         if t > 1.0 {
             t = 1.0;
         }
-        let (cl, cd) = super::airfoil::airfoil_coefficients(angle_deg, flap);
-        (base.0 + (cl - base.0) * t, base.1 + (cd - base.1) * t)
+        (flap, t)
     }
 
     /// Rudder, ailerons and elevators back to neutral (done at the start of

@@ -274,15 +274,8 @@ impl BourgTerms<f32> {
     pub fn new(aircraft: &BourgAircraft, controls: &BourgControls) -> Self {
         let c = controls;
         let elements = &aircraft.airframe().elements;
-        // `elevator_coefficients`' trim, in its operations (NaN included).
-        let (trim_tables, mut trim) = if c.pitch_trim > 0.0 {
-            (Flap::TrailingEdgeUp, c.pitch_trim)
-        } else {
-            (Flap::TrailingEdgeDown, -c.pitch_trim)
-        };
-        if trim > 1.0 {
-            trim = 1.0;
-        }
+        // `elevator_coefficients`' trim (NaN included).
+        let (trim_tables, trim) = c.trim_tables();
         Self {
             thrust_lb: c.thrust_lb,
             rudder_normal: aircraft

@@ -130,7 +130,7 @@ fn lerp_lanes<const T: usize, const N: usize>(
 }
 
 impl<const N: usize> BourgReal for F32s<N> {
-    /// Each lane's offset in the tables laid end to end ([`table_offset`]).
+    /// Each lane's offset in the tables laid end to end (`table_offset`).
     type Table = [u32; N];
 
     #[inline(always)]

@@ -32,6 +32,32 @@
 //!   one, so the `pow` overlaps with the previous stage's forces.
 //!
 //! Measured with `benches/palmer_step.rs` (see `BENCHMARKS.md`).
+//!
+//! # One source for one aircraft and for lanes
+//!
+//! The right-hand side and the RK4 step (`rhs`, `rk4`) are written once over
+//! the number type [`Real`](crate::real::Real) and the maths
+//! [`Maths`](crate::real::Maths): [`step`] is `rk4::<f64, Exact>`, a fleet's
+//! kernel `rk4::<PalmerLanes, Exact or Fast>` (`palmer/lanes.rs`). Only two
+//! spellings differ from a plain `f64` program, and neither changes a bit:
+//!
+//! | plain `f64` | generic | why |
+//! |---|---|---|
+//! | `0.5 * cl` | `c(0.5) * cl` (`c = R::splat`) | a constant on the left stays on the left (the same operation, and the same NaN operand order) |
+//! | `if z < 5.0 { a } else { b }` | `R::select(z.lt(5.0), a, b)` | lanes take both branches and blend; for `f64` it is the `if` |
+//! | `pow(grp, 5.25)` | `F::pow(grp, 5.25)` | `Exact` is [`crate::math::pow`]; `Fast` a vectorised form for fleets |
+//!
+//! What the step reads and writes, per aircraft:
+//!
+//! | value | read | written |
+//! |---|---|---|
+//! | `q = [vx, x, vy, y, vz, z]` | `vx, vy, vz, z` by every stage; all six by the RK sum | all six: `q + (dq1 + 2·dq2 + 2·dq3 + dq4) / 6` |
+//! | `time_s` | | `time_s + dt` (by the caller: [`step`], or the fleet) |
+//! | [`ControlTerms`] | bank's `cos`/`sin`, `cl`, `0.5·cl`, `0.5·cd`, throttle | never |
+//! | [`AircraftTerms`] and the aircraft | `rps·d`, `π·AR·e`, `m·G`, mass, areas, propeller, `cdp` | never |
+//!
+//! The ground-effect values (below 5 m) are computed only when a lane is that
+//! low (`low.any()`), so a fleet in the air skips them as the scalar step does.
 
 use core::f64::consts::PI;
 use core::fmt;
