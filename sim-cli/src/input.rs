@@ -142,7 +142,7 @@ const FIFO_NOTE_AFTER: Duration = Duration::from_secs(1);
 /// docs); `what` names it in messages ("CSV").
 ///
 /// Opening a named pipe waits until a program opens it for writing; past
-/// [`FIFO_NOTE_AFTER`] a note on stderr says what sim-cli is waiting for
+/// a second, a note on stderr says what sim-cli is waiting for
 /// (Ctrl-C stops it, as any run), instead of hanging silently.
 ///
 /// # Errors

@@ -114,7 +114,7 @@ fn a_second_run_writing_the_same_csv_is_refused() {
             "--headless",
             "--realtime",
             "--duration",
-            "4",
+            "10",
             "--csv",
             csv_arg,
         ])
@@ -122,15 +122,18 @@ fn a_second_run_writing_the_same_csv_is_refused() {
         .stdout(Stdio::null())
         .spawn()
         .unwrap();
-    // The first run has created (and locked) the file once its header is there.
+    // The first run creates and locks the file before it flies (its rows stay
+    // in its buffer for a while, so the file's size says nothing yet); the
+    // lock follows the creation within microseconds.
     let deadline = std::time::Instant::now() + Duration::from_secs(30);
-    while std::fs::metadata(&csv).map_or(true, |m| m.len() == 0) {
+    while !csv.exists() {
         assert!(
             std::time::Instant::now() < deadline,
-            "the first run never wrote"
+            "the first run never started"
         );
         std::thread::sleep(Duration::from_millis(20));
     }
+    std::thread::sleep(Duration::from_millis(300));
     let second = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
         .args(["bourg", "--headless", "--frames", "30", "--csv", csv_arg])
         .stdin(Stdio::null())
@@ -154,7 +157,7 @@ fn a_second_run_writing_the_same_csv_is_refused() {
     assert!(written.lines().all(|row| row.split(',').count() == columns));
     assert_eq!(
         written.lines().count(),
-        1 + 121,
-        "4 s at 30 fps and frame 0"
+        1 + 301,
+        "10 s at 30 fps and frame 0"
     );
 }
