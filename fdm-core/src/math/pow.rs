@@ -84,13 +84,20 @@ fn square_error(r: f64, q: f64) -> f64 {
     ((rh * rh - q) + 2.0 * rh * rl) + rl * rl
 }
 
+/// 2^`n` for a normal power of two (−1022 ≤ `n` ≤ 1023), exactly: its bits, so that
+/// `no_std` builds (where `f64::powi` does not exist) compute the same constant.
+#[allow(clippy::cast_sign_loss)] // 1023 + n > 0 for the normal powers it is used for
+const fn pow2(n: i32) -> f64 {
+    f64::from_bits(((1023 + n) as u64) << 52)
+}
+
 /// The scaling when the result may overflow or underflow.
 #[inline(never)]
 fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
     if ki & 0x8000_0000 == 0 {
         // k > 0: the exponent of scale may have overflowed by <= 460.
         let scale = d(sbits.wrapping_sub(1009 << 52));
-        return 2f64.powi(1009) * fma(scale, tmp, scale);
+        return pow2(1009) * fma(scale, tmp, scale);
     }
     // k < 0: care in the subnormal range.
     let scale = d(sbits.wrapping_add(1022 << 52));
@@ -112,8 +119,8 @@ fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
 #[inline(always)]
 fn exp_inline(x: f64, xtail: f64, sign_bias: u64) -> f64 {
     let mut abstop = top12(x) & 0x7ff;
-    if abstop.wrapping_sub(top12(2f64.powi(-54))) >= top12(512.0) - top12(2f64.powi(-54)) {
-        if abstop.wrapping_sub(top12(2f64.powi(-54))) >= 0x8000_0000 {
+    if abstop.wrapping_sub(top12(pow2(-54))) >= top12(512.0) - top12(pow2(-54)) {
+        if abstop.wrapping_sub(top12(pow2(-54))) >= 0x8000_0000 {
             // Tiny x: exp(x) rounds to 1.
             let one = 1.0 + x;
             return if sign_bias != 0 { -one } else { one };
@@ -251,7 +258,7 @@ pub(super) fn pow(x: f64, y: f64) -> f64 {
         }
         if topx == 0 {
             // Subnormal x: normalise so that the exponent becomes negative.
-            ix = (x * 2f64.powi(52)).to_bits();
+            ix = (x * pow2(52)).to_bits();
             ix &= 0x7fff_ffff_ffff_ffff;
             ix = ix.wrapping_sub(52 << 52);
         }
