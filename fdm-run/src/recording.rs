@@ -11,9 +11,18 @@
 //! ```text
 //! magic "SIMCLIRC" (8 bytes) | format version (u16, little-endian)
 //! header  (bincode 2 standard: model name, fps, origin, aircraft, controls, state, action names)
-//! events  (bincode 2 standard): Frames { count, actions } | Reset
-//! end     (bincode 2 standard): End { frames, checksum }  -- FNV-1a 64 of every byte before it
+//! blocks, each: payload length (u32 LE) | events (bincode 2 standard) | FNV-1a 64 of every byte
+//!         of the file before this checksum (u64 LE)
+//!   events: Frames { count, actions } | Reset
+//! end block: one event End { frames, checksum }  -- FNV-1a 64 of every byte before the end block
 //! ```
+//!
+//! Crash safety (version 2): the writer closes a block after every second of
+//! flight (fps frames) and hands it to the OS, so a recording cut anywhere (the
+//! process killed, the machine stopped) still holds every block before the cut.
+//! [`Recording::parse_salvaging`] replays those and says where the file was cut
+//! ([`Cut`]); [`Recording::parse`] takes only complete recordings. Version 1
+//! files (one event stream, no blocks) are still read, complete only.
 //!
 //! Reading is bounded and total: `sim-cli replay` reads at most
 //! [`MAX_RECORDING_BYTES`] (`crate::input::read_bytes`: a regular file or a pipe);
@@ -27,8 +36,10 @@
 //! frame's actions and every reset as the run flies them.
 
 use std::fmt;
-use std::io::Write;
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::marker::PhantomData;
+use std::time::{Duration, Instant};
 
 use bincode::config::{Configuration, Limit, LittleEndian, Varint};
 use bincode::error::DecodeError;
@@ -43,9 +54,13 @@ use crate::scenario::{Start, MAX_FPS, MAX_FRAMES};
 /// The first eight bytes of every recording.
 pub const MAGIC: [u8; 8] = *b"SIMCLIRC";
 
-/// The format version this `sim-cli` writes and reads (the two bytes after
-/// [`MAGIC`], little-endian). Any change to the layout bumps it.
-pub const FORMAT_VERSION: u16 = 1;
+/// The format version this `sim-cli` writes (the two bytes after [`MAGIC`],
+/// little-endian). Any change to the layout bumps it.
+pub const FORMAT_VERSION: u16 = 2;
+
+/// The format versions this `sim-cli` reads: 1 (no blocks, complete files
+/// only) and 2 (blocks: see the module docs).
+pub const READABLE_VERSIONS: [u16; 2] = [1, 2];
 
 /// Largest recording `sim-cli` writes or reads, bytes (64 MiB). Hours of
 /// interactive flying with a key change every frame take a few MB; a longer
@@ -54,9 +69,22 @@ pub const FORMAT_VERSION: u16 = 1;
 pub const MAX_RECORDING_BYTES: u64 = 64 * 1024 * 1024;
 
 /// Most bytes one header or one event may claim for its variable-length
-/// fields (strings, action lists): 1 MiB. A length field beyond it is refused
-/// before anything is allocated.
-pub const DECODE_LIMIT: usize = 1 << 20;
+/// fields (strings, action lists): the whole file's limit,
+/// [`MAX_RECORDING_BYTES`], so that whatever the writer writes the reader
+/// reads (a frame of a million script actions included). A length field
+/// beyond it is refused before anything is allocated, and a claim beyond the
+/// bytes actually left ends in "truncated" without allocating it: vectors
+/// grow only as their elements are read.
+#[allow(clippy::cast_possible_truncation)] // 64 MiB fits every usize of 32 bits and more
+pub const DECODE_LIMIT: usize = MAX_RECORDING_BYTES as usize;
+
+/// A block is closed after this many bytes of events even within a second of
+/// flight (a frame of many actions, many resets), so that a cut loses little.
+const BLOCK_TARGET_BYTES: usize = 64 * 1024;
+
+/// Bytes of a block's frame: the payload length before it and the checksum
+/// after it.
+const BLOCK_FRAME_BYTES: u64 = 4 + 8;
 
 /// The bincode configuration of every header and event: bincode 2's standard
 /// (little-endian, variable-length integers), with [`DECODE_LIMIT`].
@@ -103,11 +131,13 @@ enum Event {
     /// The flight went back to the header's controls and state (frame 0).
     Reset,
     /// The last event: the total number of frames and the checksum of every
-    /// byte before this event.
+    /// byte before this event (version 1) or before the end block it is
+    /// alone in (version 2).
     End {
         /// Frames in all [`Event::Frames`] together.
         frames: u64,
-        /// FNV-1a 64 of the file up to this event.
+        /// FNV-1a 64 of the file up to this event (version 1) or up to its
+        /// block (version 2).
         checksum: u64,
     },
 }
@@ -147,7 +177,7 @@ pub enum RecordingError {
     #[error("not a sim-cli recording (it does not start with the bytes \"SIMCLIRC\")")]
     NotARecording,
     /// Another format version.
-    #[error("recording format version {found}; this sim-cli reads version {FORMAT_VERSION}")]
+    #[error("recording format version {found}; this sim-cli reads versions 1 and 2")]
     WrongVersion {
         /// The version in the file.
         found: u16,
@@ -184,13 +214,46 @@ impl RecordingError {
             DecodeError::LimitExceeded => Self::Corrupt(format!(
                 "{what}: a length field claims more than {DECODE_LIMIT} bytes"
             )),
-            other => Self::Corrupt(format!("{what}: {other}")),
+            other => Self::Corrupt(format!("{what}: {}", plain_decode_error(other))),
         }
     }
 }
 
-/// Reads magic, version and model name.
-fn prefix(bytes: &[u8]) -> Result<(String, &[u8]), RecordingError> {
+/// A bincode decoding error in words. bincode's own `Display` prints its
+/// `Debug` form (`Utf8 { inner: Utf8Error { .. } }`), which says nothing to a
+/// user holding a damaged file.
+fn plain_decode_error(error: &DecodeError) -> String {
+    match error {
+        DecodeError::UnexpectedEnd { .. } => "the bytes end inside it".to_owned(),
+        DecodeError::LimitExceeded => {
+            format!("a length field claims more than {DECODE_LIMIT} bytes")
+        }
+        DecodeError::InvalidIntegerType { .. } => {
+            "a number is not stored in the form this format uses".to_owned()
+        }
+        DecodeError::NonZeroTypeIsZero { .. } => "a value that cannot be 0 is 0".to_owned(),
+        DecodeError::UnexpectedVariant { found, .. } => {
+            format!("kind number {found} is not one this format has")
+        }
+        DecodeError::Utf8 { .. } => "a name is not valid UTF-8 text".to_owned(),
+        DecodeError::InvalidCharEncoding(_) => "a character is not valid UTF-8".to_owned(),
+        DecodeError::InvalidBooleanValue(value) => {
+            format!("a yes/no value is {value}, neither 0 nor 1")
+        }
+        DecodeError::ArrayLengthMismatch { required, found } => {
+            format!("a list has {found} items where {required} belong")
+        }
+        DecodeError::OutsideUsizeRange(value) => format!("a length of {value} is too large"),
+        // serde's own messages ("invalid value: ..., expected ...") are words already.
+        DecodeError::OtherString(message) => Echo::short(message).to_string(),
+        DecodeError::Other(message) => (*message).to_owned(),
+        _ => "a value is not valid for this format".to_owned(),
+    }
+}
+
+/// Reads magic, version and model name; returns the model, the version and
+/// the bytes after the version.
+fn prefix(bytes: &[u8]) -> Result<(String, u16, &[u8]), RecordingError> {
     if bytes.len() as u64 > MAX_RECORDING_BYTES {
         return Err(RecordingError::TooLarge {
             size: bytes.len() as u64,
@@ -210,13 +273,13 @@ fn prefix(bytes: &[u8]) -> Result<(String, &[u8]), RecordingError> {
         return Err(RecordingError::Truncated("inside the format version"));
     };
     let version = u16::from_le_bytes([lo, hi]);
-    if version != FORMAT_VERSION {
+    if !READABLE_VERSIONS.contains(&version) {
         return Err(RecordingError::WrongVersion { found: version });
     }
     let rest = &bytes[PREFIX_LEN..];
     let (model, _) = bincode::serde::decode_from_slice::<String, _>(rest, format())
         .map_err(|e| RecordingError::decode(&e, "model name", "inside the header"))?;
-    Ok((model, rest))
+    Ok((model, version, rest))
 }
 
 /// The model a recording was made with, from its first bytes: its name in
@@ -225,7 +288,7 @@ fn prefix(bytes: &[u8]) -> Result<(String, &[u8]), RecordingError> {
 /// # Errors
 /// As [`parse_recording`], for the prefix only.
 pub fn recorded_model(bytes: &[u8]) -> Result<&'static str, RecordingError> {
-    let (model, _) = prefix(bytes)?;
+    let (model, _, _) = prefix(bytes)?;
     MODELS
         .iter()
         .copied()
@@ -283,6 +346,27 @@ pub enum Replayed<A> {
     Reset,
 }
 
+/// Where a recording without its end marker was cut: what
+/// [`Recording::parse_salvaging`] could still replay.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cut {
+    /// The file's byte offset where the intact blocks end (the first byte of
+    /// the missing, torn or damaged block).
+    pub at_byte: u64,
+    /// Frames in the intact blocks, across resets: all a replay can fly.
+    pub frames: u64,
+}
+
+impl fmt::Display for Cut {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "cut at byte {} before its end marker; the {} frames before the cut are intact",
+            self.at_byte, self.frames
+        )
+    }
+}
+
 /// A validated recording of model `M`, borrowing the file's bytes.
 #[derive(Debug)]
 pub struct Recording<'a, M: RunModel> {
@@ -292,25 +376,45 @@ pub struct Recording<'a, M: RunModel> {
     pub origin: GeodeticOrigin,
     /// Aircraft, controls and state at frame 0.
     pub start: Start<M>,
-    /// Frames in total, across resets.
+    /// Frames in total, across resets (before the cut, for a salvaged one).
     pub frames: u64,
     /// Resets.
     pub resets: u64,
     /// Events (runs and resets).
     pub events: u64,
     table: Vec<M::Action>,
-    body: &'a [u8],
+    /// The validated events, as the byte ranges they are stored in (the one
+    /// event stream of version 1; each block's payload of version 2), with
+    /// the file offset of each range's first byte.
+    payloads: Vec<(usize, &'a [u8])>,
 }
 
 impl<'a, M: RunModel> Recording<'a, M> {
     /// Parses and validates a whole recording: prefix, header (model `M`,
     /// fps, origin, aircraft, action names), every event, the end marker and
-    /// its checksum, and that nothing follows it.
+    /// its checksum, and that nothing follows it. A recording cut before its
+    /// end marker is refused as [`RecordingError::Truncated`].
     ///
     /// # Errors
     /// A [`RecordingError`] naming the first problem.
     pub fn parse(bytes: &'a [u8]) -> Result<Self, RecordingError> {
-        let (model, rest) = prefix(bytes)?;
+        match Self::parse_salvaging(bytes)? {
+            (recording, None) => Ok(recording),
+            (_, Some(_)) => Err(RecordingError::Truncated("before its end marker")),
+        }
+    }
+
+    /// As [`Self::parse`], but a version-2 recording cut before its end
+    /// marker (the recording process killed, the machine stopped, the tail
+    /// torn or zeroed) is accepted up to its last intact block: the
+    /// recording then holds the frames before the cut, and [`Cut`] says
+    /// where it was. Damage before the last block, and any cut of a
+    /// version-1 file (which has no blocks to check), is still an error.
+    ///
+    /// # Errors
+    /// A [`RecordingError`] naming the first problem.
+    pub fn parse_salvaging(bytes: &'a [u8]) -> Result<(Self, Option<Cut>), RecordingError> {
+        let (model, version, rest) = prefix(bytes)?;
         if model != M::NAME {
             return Err(RecordingError::WrongModel {
                 expected: M::NAME,
@@ -347,7 +451,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let body = &rest[used..];
+        let body_start = PREFIX_LEN + used;
         let mut recording = Self {
             fps: header.fps,
             origin,
@@ -360,70 +464,197 @@ impl<'a, M: RunModel> Recording<'a, M> {
             resets: 0,
             events: 0,
             table,
-            body,
+            payloads: Vec::new(),
         };
-        recording.validate(bytes)?;
-        Ok(recording)
+        let cut = if version == 1 {
+            recording.validate_stream(bytes, body_start)?;
+            None
+        } else {
+            recording.validate_blocks(bytes, body_start)?
+        };
+        Ok((recording, cut))
     }
 
-    /// Walks the events once: indices in range, counts >= 1, the end
-    /// marker's frame count and checksum, nothing after it.
-    fn validate(&mut self, whole: &[u8]) -> Result<(), RecordingError> {
-        let mut cursor = self.body;
+    /// Version 1: one stream of events up to the end marker, whose checksum
+    /// covers every byte before it; nothing after it.
+    fn validate_stream(
+        &mut self,
+        whole: &'a [u8],
+        body_start: usize,
+    ) -> Result<(), RecordingError> {
+        let mut offset = body_start;
         let mut frames = 0_u64;
         loop {
-            let offset = whole.len() - cursor.len();
-            let (event, used) = decode_event(cursor, offset)?;
-            match event {
-                Event::Frames { count, actions } => {
-                    self.check_frames(count, &actions, offset)?;
-                    frames = frames.checked_add(count).ok_or_else(|| {
-                        RecordingError::corrupt(format!(
-                            "event at byte {offset}: the frame count overflows"
-                        ))
+            let (event, used) = decode_event(&whole[offset..], offset)?;
+            if let Event::End {
+                frames: total,
+                checksum,
+            } = event
+            {
+                let mut hash = Fnv64::new();
+                hash.update(&whole[..offset]);
+                self.check_end(total, checksum, hash.0, frames)?;
+                let trailing = whole.len() - offset - used;
+                if trailing != 0 {
+                    return Err(RecordingError::corrupt(format!(
+                        "{trailing} bytes after the end marker"
+                    )));
+                }
+                self.frames = frames;
+                self.payloads = vec![(body_start, &whole[body_start..offset])];
+                return Ok(());
+            }
+            frames = self.count(&event, frames, offset)?;
+            offset += used;
+        }
+    }
+
+    /// Version 2: blocks, each checked against its checksum, then the end
+    /// block. Returns where the file was cut when it has no end block and
+    /// everything before the cut is intact.
+    fn validate_blocks(
+        &mut self,
+        whole: &'a [u8],
+        body_start: usize,
+    ) -> Result<Option<Cut>, RecordingError> {
+        let mut hash = Fnv64::new();
+        hash.update(&whole[..body_start]);
+        let mut offset = body_start;
+        let mut frames = 0_u64;
+        loop {
+            let cut = Cut {
+                at_byte: offset as u64,
+                frames,
+            };
+            let rest = &whole[offset..];
+            // The tail of a file whose last writes never reached the disk
+            // reads as zeros on many file systems: a cut, not damage.
+            if rest.iter().all(|&b| b == 0) {
+                self.frames = frames;
+                return Ok(Some(cut));
+            }
+            let Some((len_bytes, after_len)) = rest.split_first_chunk::<4>() else {
+                self.frames = frames;
+                return Ok(Some(cut));
+            };
+            let len = u32::from_le_bytes(*len_bytes) as usize;
+            if after_len.len() < len.saturating_add(8) {
+                // The block runs past the end of the file: torn by the cut.
+                self.frames = frames;
+                return Ok(Some(cut));
+            }
+            let (payload, after_payload) = after_len.split_at(len);
+            let (stored, after_block) = after_payload.split_at(8);
+            let stored = u64::from_le_bytes(stored.try_into().unwrap_or([0; 8]));
+            let checksum_at = offset + 4 + len;
+            let mut block_hash = hash;
+            block_hash.update(&whole[offset..checksum_at]);
+            if block_hash.0 != stored {
+                if after_block.is_empty() || after_block.iter().all(|&b| b == 0) {
+                    // The last block did not reach the disk whole.
+                    self.frames = frames;
+                    return Ok(Some(cut));
+                }
+                return Err(RecordingError::corrupt(format!(
+                    "the block at byte {offset} does not match its checksum (stored {stored:#018x}, computed {:#018x})",
+                    block_hash.0
+                )));
+            }
+            if len == 0 {
+                return Err(RecordingError::corrupt(format!(
+                    "the block at byte {offset} is empty"
+                )));
+            }
+            let payload_start = offset + 4;
+            // An intact block: its events must decode exactly.
+            let mut at = 0;
+            while at < payload.len() {
+                let event_offset = payload_start + at;
+                let (event, used) =
+                    decode_event(&payload[at..], event_offset).map_err(|e| match e {
+                        RecordingError::Truncated(_) => RecordingError::corrupt(format!(
+                            "event at byte {event_offset}: it runs past the end of its block"
+                        )),
+                        other => other,
                     })?;
-                    self.events += 1;
-                }
-                Event::Reset => {
-                    self.resets += 1;
-                    self.events += 1;
-                }
-                Event::End {
+                if let Event::End {
                     frames: total,
                     checksum,
-                } => {
-                    let mut hash = Fnv64::new();
-                    hash.update(&whole[..offset]);
-                    if hash.0 != checksum {
+                } = event
+                {
+                    if at != 0 || used != payload.len() {
                         return Err(RecordingError::corrupt(format!(
-                            "checksum mismatch (stored {checksum:#018x}, computed {:#018x})",
-                            hash.0
+                            "event at byte {event_offset}: the end marker shares its block"
                         )));
                     }
-                    if total != frames {
+                    self.check_end(total, checksum, hash.0, frames)?;
+                    if !after_block.is_empty() {
                         return Err(RecordingError::corrupt(format!(
-                            "the end marker counts {total} frames, the events {frames}"
-                        )));
-                    }
-                    if frames > MAX_FRAMES {
-                        return Err(RecordingError::corrupt(format!(
-                            "{frames} frames, more than the {MAX_FRAMES} a run can have"
-                        )));
-                    }
-                    let trailing = cursor.len() - used;
-                    if trailing != 0 {
-                        return Err(RecordingError::corrupt(format!(
-                            "{trailing} bytes after the end marker"
+                            "{} bytes after the end marker",
+                            after_block.len()
                         )));
                     }
                     self.frames = frames;
-                    // The body the iterator walks stops before the end marker.
-                    self.body = &self.body[..self.body.len() - cursor.len()];
-                    return Ok(());
+                    return Ok(None);
                 }
+                frames = self.count(&event, frames, event_offset)?;
+                at += used;
             }
-            cursor = &cursor[used..];
+            self.payloads.push((payload_start, payload));
+            block_hash.update(&whole[checksum_at..checksum_at + 8]);
+            hash = block_hash;
+            offset = checksum_at + 8;
         }
+    }
+
+    /// Counts one event (not the end marker) into the totals; returns the
+    /// frame total after it.
+    fn count(&mut self, event: &Event, frames: u64, offset: usize) -> Result<u64, RecordingError> {
+        self.events += 1;
+        match event {
+            Event::Frames { count, actions } => {
+                self.check_frames(*count, actions, offset)?;
+                frames.checked_add(*count).ok_or_else(|| {
+                    RecordingError::corrupt(format!(
+                        "event at byte {offset}: the frame count overflows"
+                    ))
+                })
+            }
+            Event::Reset => {
+                self.resets += 1;
+                Ok(frames)
+            }
+            Event::End { .. } => Err(RecordingError::corrupt(format!(
+                "event at byte {offset}: an end marker before the end"
+            ))),
+        }
+    }
+
+    /// The end marker's checksum (against `computed`) and frame total
+    /// (against the events' `frames`, at most a run's).
+    fn check_end(
+        &self,
+        total: u64,
+        stored: u64,
+        computed: u64,
+        frames: u64,
+    ) -> Result<(), RecordingError> {
+        if computed != stored {
+            return Err(RecordingError::corrupt(format!(
+                "checksum mismatch (stored {stored:#018x}, computed {computed:#018x})"
+            )));
+        }
+        if total != frames {
+            return Err(RecordingError::corrupt(format!(
+                "the end marker counts {total} frames, the events {frames}"
+            )));
+        }
+        if frames > MAX_FRAMES {
+            return Err(RecordingError::corrupt(format!(
+                "{frames} frames, more than the {MAX_FRAMES} a run can have"
+            )));
+        }
+        Ok(())
     }
 
     fn check_frames(
@@ -464,11 +695,12 @@ impl<'a, M: RunModel> Recording<'a, M> {
     /// The events in order (already validated by [`Self::parse`]; each item is
     /// still a `Result`, so that nothing here can panic).
     pub fn events(&self) -> impl Iterator<Item = Result<Replayed<M::Action>, RecordingError>> + '_ {
-        let mut cursor = self.body;
-        let mut offset = 0;
+        let mut payloads = self.payloads.iter();
+        let (mut offset, mut cursor): (usize, &[u8]) = (0, &[]);
         std::iter::from_fn(move || {
-            if cursor.is_empty() {
-                return None;
+            while cursor.is_empty() {
+                let &(start, payload) = payloads.next()?;
+                (offset, cursor) = (start, payload);
             }
             let item = decode_event(cursor, offset).and_then(|(event, used)| {
                 cursor = &cursor[used..];
@@ -491,6 +723,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
             });
             if item.is_err() {
                 cursor = &[];
+                payloads = [].iter();
             }
             Some(item)
         })
@@ -542,12 +775,28 @@ pub enum RecordWriteError {
 }
 
 /// Writes a recording as a flight goes: header first, then runs of identical
-/// frames and resets, and the end marker on [`Self::finish`].
+/// frames and resets in blocks, and the end block on [`Self::finish`].
+///
+/// A block is closed, checksummed and handed to `out` (then flushed) after
+/// every second of flight (fps frames), and sooner when it holds 64 KiB, so
+/// that a flight killed at any point leaves a recording whose blocks up to
+/// the last second replay ([`Recording::parse_salvaging`]). A run of
+/// identical frames that spans a block boundary is stored as one event per
+/// block. (For durability against power loss, give it a writer whose
+/// `flush` also syncs the file, such as [`SyncedFile`].)
 #[derive(Debug)]
 pub struct RecordWriter<A, W: Write> {
     out: W,
+    /// FNV-1a 64 of every byte handed to `out`.
     hash: Fnv64,
+    /// Bytes handed to `out`, plus the open block's.
     written: u64,
+    /// The open block's events.
+    block: Vec<u8>,
+    /// Frames recorded in the open block.
+    block_frames: u64,
+    /// Frames per block: one second of flight.
+    frames_per_block: u64,
     /// The current run: its action indices and length (0: no run yet).
     run: Vec<u16>,
     run_count: u64,
@@ -573,6 +822,9 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
             out,
             hash: Fnv64::new(),
             written: 0,
+            block: Vec::new(),
+            block_frames: 0,
+            frames_per_block: u64::from(fps.max(1)),
             run: Vec::new(),
             run_count: 0,
             scratch: Vec::new(),
@@ -597,19 +849,58 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
         Ok(writer)
     }
 
-    fn put(&mut self, bytes: &[u8]) -> Result<(), RecordWriteError> {
-        self.written += bytes.len() as u64;
+    /// Counts `bytes` more towards the file's size limit.
+    fn grow(&mut self, bytes: u64) -> Result<(), RecordWriteError> {
+        self.written += bytes;
         if self.written > MAX_RECORDING_BYTES {
             return Err(RecordWriteError::TooLarge);
         }
+        Ok(())
+    }
+
+    fn put(&mut self, bytes: &[u8]) -> Result<(), RecordWriteError> {
+        self.grow(bytes.len() as u64)?;
         self.hash.update(bytes);
         self.out.write_all(bytes).map_err(RecordWriteError::Io)
     }
 
+    /// Adds an event to the open block (closing the block when it is full).
     fn put_event(&mut self, event: &Event) -> Result<(), RecordWriteError> {
         let bytes =
             bincode::serde::encode_to_vec(event, format()).map_err(RecordWriteError::Event)?;
-        self.put(&bytes)
+        if self.block.is_empty() {
+            self.grow(BLOCK_FRAME_BYTES)?;
+        }
+        self.grow(bytes.len() as u64)?;
+        self.block.extend_from_slice(&bytes);
+        if self.block.len() >= BLOCK_TARGET_BYTES {
+            self.close_block()?;
+        }
+        Ok(())
+    }
+
+    /// Writes the open block (length, events, checksum) and flushes `out`.
+    fn close_block(&mut self) -> Result<(), RecordWriteError> {
+        if self.block.is_empty() {
+            return Ok(());
+        }
+        // The size limit (64 MiB) keeps every block's length within a u32.
+        let len = u32::try_from(self.block.len()).map_err(|_| RecordWriteError::TooLarge)?;
+        let block = std::mem::take(&mut self.block);
+        for bytes in [&len.to_le_bytes()[..], &block] {
+            self.hash.update(bytes);
+            self.out.write_all(bytes).map_err(RecordWriteError::Io)?;
+        }
+        let checksum = self.hash.0.to_le_bytes();
+        self.hash.update(&checksum);
+        self.out
+            .write_all(&checksum)
+            .and_then(|()| self.out.flush())
+            .map_err(RecordWriteError::Io)?;
+        self.block = block;
+        self.block.clear();
+        self.block_frames = 0;
+        Ok(())
     }
 
     fn flush_run(&mut self) -> Result<(), RecordWriteError> {
@@ -649,6 +940,12 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
         }
         self.run_count += 1;
         self.frames += 1;
+        self.block_frames += 1;
+        if self.block_frames >= self.frames_per_block {
+            // A second of flight: on its way to the disk.
+            self.flush_run()?;
+            self.close_block()?;
+        }
         Ok(())
     }
 
@@ -661,8 +958,8 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
         self.put_event(&Event::Reset)
     }
 
-    /// Writes the last run and the end marker and flushes. Later calls do
-    /// nothing.
+    /// Writes the last run, closes its block, writes the end block and
+    /// flushes. Later calls do nothing.
     ///
     /// # Errors
     /// As [`Self::frame`], and flushing.
@@ -671,12 +968,13 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
             return Ok(());
         }
         self.flush_run()?;
+        self.close_block()?;
         let end = Event::End {
             frames: self.frames,
             checksum: self.hash.0,
         };
         self.put_event(&end)?;
-        self.out.flush().map_err(RecordWriteError::Io)?;
+        self.close_block()?;
         self.finished = true;
         Ok(())
     }
@@ -690,6 +988,60 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
     /// The underlying writer (finish first).
     pub fn into_inner(self) -> W {
         self.out
+    }
+}
+
+/// A recording file whose `flush` (once a block, from [`RecordWriter`]) also
+/// asks the OS to put the data on the disk (`sync_data`), at most once per
+/// [`SyncedFile::SYNC_INTERVAL`] of wall-clock time and again when it is
+/// dropped: a machine that loses power keeps the recording up to a few
+/// seconds before, and a fast headless run does not wait on the disk every
+/// block.
+#[derive(Debug)]
+pub struct SyncedFile {
+    out: BufWriter<File>,
+    last_sync: Option<Instant>,
+}
+
+impl SyncedFile {
+    /// The shortest wall-clock time between two syncs.
+    pub const SYNC_INTERVAL: Duration = Duration::from_secs(2);
+
+    /// Wraps `file` with a 64 KiB buffer.
+    #[must_use]
+    pub fn new(file: File) -> Self {
+        Self {
+            out: BufWriter::with_capacity(64 * 1024, file),
+            last_sync: None,
+        }
+    }
+}
+
+impl Write for SyncedFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.out.write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()?;
+        let now = Instant::now();
+        if self
+            .last_sync
+            .is_none_or(|last| now.duration_since(last) >= Self::SYNC_INTERVAL)
+        {
+            self.out.get_ref().sync_data()?;
+            self.last_sync = Some(now);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for SyncedFile {
+    fn drop(&mut self) {
+        // Best effort, as BufWriter's own drop: errors were reported by flush.
+        if self.out.flush().is_ok() {
+            let _ = self.out.get_ref().sync_data();
+        }
     }
 }
 

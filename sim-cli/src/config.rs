@@ -2,8 +2,6 @@
 //! wrong with the input is found here, before anything runs, and reported as a
 //! usage error (exit status 2).
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::net::SocketAddrV4;
 use std::path::{Path, PathBuf};
 
@@ -83,8 +81,9 @@ pub struct ModelConfig<M: Model> {
 pub struct RecordFile {
     /// The path, for messages.
     pub path: PathBuf,
-    /// The file.
-    pub out: BufWriter<File>,
+    /// The file; its flushes (once a second of flight) also sync it to the
+    /// disk, at most every two seconds ([`fdm_run::recording::SyncedFile`]).
+    pub out: fdm_run::recording::SyncedFile,
 }
 
 /// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
@@ -279,7 +278,7 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
         .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
     Ok(Some(RecordFile {
         path: path.clone(),
-        out: BufWriter::with_capacity(64 * 1024, file),
+        out: fdm_run::recording::SyncedFile::new(file),
     }))
 }
 

@@ -292,6 +292,11 @@ pub fn listen(
         if until_entities.is_some_and(|n| listener.entity_count() as u64 >= n) {
             break;
         }
+        // Ctrl-C (or any handled signal) ends the listening: the report of
+        // what was received so far is printed (crate::signals).
+        if crate::signals::stop_requested().is_some() {
+            break;
+        }
         let elapsed = start.elapsed();
         if elapsed >= limit {
             break;

@@ -14,6 +14,11 @@ pub enum CliError {
     /// `{:#}` prints an `anyhow` context chain on one line (`outer: inner`).
     #[error("{0:#}")]
     Runtime(anyhow::Error),
+    /// The input was incomplete but what it held was used to the end: a
+    /// recording cut before its end marker, replayed up to the cut. Exit
+    /// status 3; every output is complete for what was replayed.
+    #[error("{0}")]
+    Incomplete(String),
 }
 
 impl CliError {
@@ -33,6 +38,7 @@ impl CliError {
         match self {
             Self::Usage(_) => 2,
             Self::Runtime(_) => 1,
+            Self::Incomplete(_) => 3,
         }
     }
 
@@ -68,6 +74,7 @@ mod tests {
     fn exit_codes() {
         assert_eq!(CliError::usage("x").exit_code(), 2);
         assert_eq!(CliError::runtime("x").exit_code(), 1);
+        assert_eq!(CliError::Incomplete("x".to_owned()).exit_code(), 3);
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! input, 1 anything else, always with at most one `sim-cli: error: ...` line on
 //! stderr and never a panic message or backtrace for user errors. A run ended by
 //! SIGTERM, SIGHUP, SIGINT or SIGQUIT exits with 128 + the signal number after
-//! restoring the terminal and flushing its outputs (`sim_cli::signals`).
+//! the run has finished its outputs and restored the terminal (`sim_cli::signals`).
 
 use std::panic::{self, AssertUnwindSafe};
 use std::process::ExitCode;
@@ -39,15 +39,26 @@ fn real_main() -> ExitCode {
     // `subprocess.DEVNULL`, Node's `stdio: 'ignore'` and systemd's `StandardOutput=null`
     // hand it over, or put in place by the runtime for a closed descriptor 1) is the
     // caller's decision to discard it: the run goes on normally (docs/cli.md).
-    // SIGTERM/SIGHUP/SIGINT/SIGQUIT: restore the terminal, flush the CSV, exit 128+N.
+    // SIGTERM/SIGHUP/SIGINT/SIGQUIT: the run stops at the next frame, finishes its
+    // outputs and restores the terminal; exit 128+N (below).
     if let Err(e) = sim_cli::signals::install() {
         eprintln!("sim-cli: warning: cannot watch for signals ({e}); a signal will not restore the terminal");
     }
-    match sim_cli::run(cli) {
+    let outcome = sim_cli::run(cli);
+    if let Err(e) = &outcome {
+        eprintln!("sim-cli: error: {}", e.one_line());
+    }
+    // A signal ended the run early; its outputs are finished (the loops stop at
+    // the next frame): the status says how it ended, as a shell would.
+    if let Some(signal) = sim_cli::signals::stop_requested() {
+        eprintln!(
+            "sim-cli: stopped by {}",
+            sim_cli::signals::signal_name(signal)
+        );
+        return ExitCode::from(u8::try_from(sim_cli::signals::exit_status(signal)).unwrap_or(1));
+    }
+    match outcome {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("sim-cli: error: {}", e.one_line());
-            ExitCode::from(e.exit_code())
-        }
+        Err(e) => ExitCode::from(e.exit_code()),
     }
 }

@@ -215,20 +215,67 @@ mod tests {
         assert_eq!(r.start.state, Bourg::initial_state());
     }
 
-    /// Identical frames are stored once: an idle flight is one event, a
-    /// scripted one an event per change of the frame's actions.
+    /// Identical frames are stored once within a block (a second of
+    /// flight): an idle flight is one event per second, a scripted one an
+    /// event per change of the frame's actions plus one per block a run
+    /// spans.
     #[test]
-    fn runs_of_identical_frames_are_one_event() {
+    fn runs_of_identical_frames_are_one_event_per_block() {
         let idle = headless(palmer_start(), 30, "", 100_000);
         let info = parse_recording(&idle.recording).unwrap();
-        assert_eq!((info.events, info.frames), (1, 100_000));
+        assert_eq!(
+            (info.events, info.frames),
+            (100_000_u64.div_ceil(30), 100_000)
+        );
         let short = headless(palmer_start(), 30, "", 1);
-        // Only the run's count and the end marker's total grow, each from 1
-        // byte of varint to 5 (tag 251 + u32).
-        assert_eq!(idle.recording.len(), short.recording.len() + 8);
+        // Per second of idle flight: a block's length and checksum (12 bytes)
+        // and one event of 3 bytes (tag, count 30, no actions).
+        let per_second = (idle.recording.len() - short.recording.len()) as f64 / (100_000.0 / 30.0);
+        assert!(
+            (14.9..=15.1).contains(&per_second),
+            "{per_second} bytes per second"
+        );
         let scripted = headless(palmer_start(), 30, PALMER_SCRIPT, 1800);
-        // 1-5 (2 actions), 6-20, 21-299 idle, 300-310, idle, 400-410, idle, 500-501, idle.
-        assert_eq!(parse_recording(&scripted.recording).unwrap().events, 9);
+        // The script's runs of identical frames: 1-5 (2 actions), 6-20,
+        // 21-299 idle, 300-310, idle, 400-410, idle, 500-501, idle; each is
+        // one event in every block (frames 1-30, 31-60, ...) it touches.
+        let runs = [
+            (1, 5),
+            (6, 20),
+            (21, 299),
+            (300, 310),
+            (311, 399),
+            (400, 410),
+            (411, 499),
+            (500, 501),
+            (502, 1800),
+        ];
+        let block = |frame: u64| (frame - 1) / 30;
+        let expected: u64 = runs.iter().map(|&(a, b)| block(b) - block(a) + 1).sum();
+        assert_eq!(
+            parse_recording(&scripted.recording).unwrap().events,
+            expected
+        );
+    }
+
+    /// The writer and the reader agree on what a recording may hold: a frame
+    /// applying 1.3 million actions (a script of as many rules acting on
+    /// frame 1; more than 1 MiB in one event) records and replays.
+    #[test]
+    fn a_frame_of_a_million_actions_records_and_replays() {
+        let start = palmer_start();
+        let mut writer =
+            RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin(), &start).unwrap();
+        let actions = vec![fdm_core::palmer::PalmerAction::ThrottleUp; 1_300_000];
+        writer.frame(&actions).unwrap();
+        writer.frame(&[]).unwrap();
+        writer.finish().unwrap();
+        let bytes = writer.into_inner();
+        assert!(bytes.len() > 1 << 20, "{} bytes", bytes.len());
+        let recording = Recording::<Palmer>::parse(&bytes).unwrap();
+        assert_eq!(recording.frames, 2);
+        let first = recording.events().next().unwrap().unwrap();
+        assert_eq!(first, Replayed::Frames { count: 1, actions });
     }
 
     /// An interactive-style Palmer recording with resets (made once).
@@ -245,6 +292,75 @@ mod tests {
         for len in 0..bytes.len() {
             let err = parse_recording(&bytes[..len]).unwrap_err();
             assert!(matches!(err, RecordingError::Truncated(_)), "{len}: {err}");
+        }
+    }
+
+    /// A recording cut anywhere (a killed flight, a lost machine) replays
+    /// every frame of its intact blocks, and those frames are exactly the
+    /// flight's: the salvaged replay's CSV is the complete replay's CSV up
+    /// to the cut (tolerance 0: equal text is equal bits). A cut inside the
+    /// header leaves nothing to replay and is refused as truncated; zeros
+    /// where the tail should be (written by a file system after a power
+    /// loss) are a cut too.
+    #[test]
+    fn every_cut_replays_the_frames_before_it() {
+        let bytes = sample();
+        let complete = Recording::<Palmer>::parse(&bytes).unwrap();
+        let (_, full_csv) = replay::<Palmer>(&bytes);
+        let full_csv = String::from_utf8(full_csv).unwrap();
+        let mut seen = std::collections::BTreeMap::new();
+        let mut last_frames = 0;
+        for len in 0..bytes.len() {
+            let cut_bytes = &bytes[..len];
+            let Ok((recording, cut)) = Recording::<Palmer>::parse_salvaging(cut_bytes) else {
+                assert_eq!(last_frames, 0, "{len}: refused after a salvageable cut");
+                continue;
+            };
+            let cut = cut.expect("a cut file has no end marker");
+            assert_eq!(cut.frames, recording.frames);
+            assert!(
+                cut.frames >= last_frames,
+                "{len}: fewer frames than a shorter cut"
+            );
+            assert!(cut.frames <= complete.frames);
+            assert!(cut.at_byte <= len as u64);
+            last_frames = cut.frames;
+            let mut zeroed = cut_bytes.to_vec();
+            zeroed.resize(bytes.len(), 0);
+            let (_, zero_cut) = Recording::<Palmer>::parse_salvaging(&zeroed).unwrap();
+            assert_eq!(zero_cut, Some(cut), "{len}: zeros after the cut");
+            seen.entry(cut.frames).or_insert(len);
+        }
+        assert!(seen.len() > 5, "the sample spans several blocks: {seen:?}");
+        for (&frames, &len) in &seen {
+            let recording = Recording::<Palmer>::parse_salvaging(&bytes[..len])
+                .unwrap()
+                .0;
+            let run = RunConfig {
+                origin: recording.origin,
+                ..run_config(recording.fps)
+            };
+            let mut flight = ModelFlight::new(&run, recording.start.clone()).unwrap();
+            let mut csv = CsvWriter::new(Vec::new(), "csv");
+            replay_flight(
+                &mut flight,
+                recording.events(),
+                recording.fps,
+                recording.frames,
+                false,
+                Some(&mut csv),
+                &mut quiet(recording.frames),
+            )
+            .unwrap();
+            let csv = String::from_utf8(csv.finish().unwrap()).unwrap();
+            assert!(
+                full_csv.starts_with(&csv),
+                "{frames} frames salvaged from {len} bytes: not a prefix of the full replay"
+            );
+            // The header line and frame 0, then a row per frame and one more
+            // per reset (a reset writes a new frame 0).
+            let resets = recording.resets as usize;
+            assert_eq!(csv.lines().count(), 2 + frames as usize + resets);
         }
     }
 
@@ -266,11 +382,11 @@ mod tests {
     #[test]
     fn wrong_version_model_magic_and_trailing_bytes_are_named() {
         let bytes = sample();
-        let mut v2 = bytes.clone();
-        v2[8] = 2;
+        let mut v3 = bytes.clone();
+        v3[8] = 3;
         assert_eq!(
-            parse_recording(&v2).unwrap_err().to_string(),
-            "recording format version 2; this sim-cli reads version 1"
+            parse_recording(&v3).unwrap_err().to_string(),
+            "recording format version 3; this sim-cli reads versions 1 and 2"
         );
         assert_eq!(
             Recording::<Bourg>::parse(&bytes).unwrap_err(),
@@ -334,6 +450,10 @@ mod tests {
             parse_recording(&bytes),
             Err(RecordingError::Truncated("before its end marker"))
         );
+        // Nothing reached a block yet (it closes after a second of flight).
+        let (recording, cut) = Recording::<Palmer>::parse_salvaging(&bytes).unwrap();
+        assert_eq!(recording.frames, 0);
+        assert_eq!(cut.map(|c| c.frames), Some(0));
     }
 
     proptest! {

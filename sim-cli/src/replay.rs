@@ -56,10 +56,15 @@ pub fn replay_flight<F: Flight, W: Write>(
     }
     let mut frame = 0_u64;
     let mut done = 0_u64;
-    for event in events {
+    'replay: for event in events {
         match event.map_err(CliError::usage)? {
             Replayed::Frames { count, actions } => {
                 for _ in 0..count {
+                    // A signal ends the replay here; the caller finishes the
+                    // outputs for the frames replayed (crate::signals).
+                    if crate::signals::stop_requested().is_some() {
+                        break 'replay;
+                    }
                     frame += 1;
                     done += 1;
                     flight
@@ -90,7 +95,9 @@ pub fn replay_flight<F: Flight, W: Write>(
         }
     }
     progress.finish();
-    let mut report = Report::new(fps, total_frames, &flight.snapshot());
+    // `done` is `total_frames` unless a signal stopped the replay early.
+    debug_assert!(done <= total_frames);
+    let mut report = Report::new(fps, done, &flight.snapshot());
     report.realtime = pacer.map(|p| RealtimeReport {
         overruns: p.overruns(),
     });
@@ -108,7 +115,10 @@ impl WithModel for ReplayJob<'_> {
 
     fn call<M: CliModel>(self) -> Self::Output {
         let file = show_path(&self.args.file);
-        let recording = Recording::<M>::parse(self.bytes)
+        // A recording cut before its end marker (the recording run killed, the
+        // machine stopped) is replayed up to its last intact block; the exit
+        // status (3) and the last stderr line say so.
+        let (recording, cut) = Recording::<M>::parse_salvaging(self.bytes)
             .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
         let fg = match &self.args.fg {
             Some(target) => Some(target.resolve().map_err(CliError::usage)?),
@@ -196,7 +206,12 @@ impl WithModel for ReplayJob<'_> {
         writeln!(out, "{text}")
             .and_then(|()| out.flush())
             .context("writing to stdout")?;
-        Ok(())
+        match cut {
+            None => Ok(()),
+            Some(cut) => Err(CliError::Incomplete(format!(
+                "{file}: {cut}; they were replayed"
+            ))),
+        }
     }
 }
 

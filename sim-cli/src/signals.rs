@@ -2,26 +2,33 @@
 //!
 //! [`install`] starts a thread that waits for SIGTERM, SIGHUP, SIGINT or SIGQUIT
 //! (`kill`, `timeout`, a closed terminal window, Ctrl-\ or Ctrl-C outside raw
-//! mode). On the first one it:
+//! mode). On the first one it asks the run to stop ([`stop_requested`]): the run
+//! loops (headless, interactive, replay, fleet, `dis-listen`) look at it once a
+//! frame (or every 200 ms while listening), end the run as if its last frame had
+//! come, and every output is finished as on a normal end: the CSV flushed, the
+//! recording closed with its end marker, the plot and the ACMI file written, the
+//! JSON report printed for the frames flown. `main` then prints
+//! `sim-cli: stopped by SIGTERM` on stderr and exits with status 128 + the signal
+//! number (143, 129, 130, 131), as shells report a process killed by that signal.
+//!
+//! When the run does not stop within [`GRACE`] (blocked somewhere), or a second
+//! signal comes, the signal thread ends the process itself:
 //!
 //! 1. takes the stdout lock and keeps it, so the run loop cannot draw another
 //!    HUD frame after the terminal is restored;
 //! 2. restores the terminal ([`crate::terminal::restore`]: raw mode off, main
 //!    screen, cursor shown) if an interactive run had changed it;
 //! 3. flushes every output file registered through [`SignalSafeWriter`] (the
-//!    `--csv` file; recordings later), up to the last complete line;
-//! 4. prints `sim-cli: stopped by SIGTERM` on stderr and exits with status
-//!    128 + the signal number (143, 129, 130, 131), as shells report a process
-//!    killed by that signal.
+//!    `--csv` file), up to the last complete line;
+//! 4. prints the same line and exits with the same status.
 //!
-//! This needs nothing from the run loops: the signal is handled on its own
-//! thread, and the outputs are shared with it through [`SignalSafeWriter`].
 //! A panic restores the terminal through [`crate::terminal::install_panic_hook`].
-
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError, Weak};
+use std::time::{Duration, Instant};
 
 use signal_hook::consts::signal::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
 use signal_hook::iterator::Signals;
@@ -38,6 +45,33 @@ pub const HANDLED: [(i32, &str); 4] = [
 #[must_use]
 pub fn exit_status(signal: i32) -> i32 {
     128 + signal
+}
+
+/// How long the run has to finish its outputs after a signal before the
+/// signal thread ends the process itself (flushing only the CSV).
+pub const GRACE: Duration = Duration::from_secs(3);
+
+/// The signal that asked the run to stop (0: none yet).
+static STOP: AtomicI32 = AtomicI32::new(0);
+
+/// The signal that asked the run to stop, if one came: the run loops end the
+/// run at the next frame and finish their outputs; `main` then exits with
+/// [`exit_status`].
+#[must_use]
+pub fn stop_requested() -> Option<i32> {
+    match STOP.load(Ordering::Relaxed) {
+        0 => None,
+        signal => Some(signal),
+    }
+}
+
+/// The name of a handled signal (`SIGTERM`), or "a signal".
+#[must_use]
+pub fn signal_name(signal: i32) -> &'static str {
+    HANDLED
+        .iter()
+        .find(|(number, _)| *number == signal)
+        .map_or("a signal", |(_, name)| *name)
 }
 
 type Shared = Arc<Mutex<BufWriter<File>>>;
@@ -60,9 +94,21 @@ pub fn install() -> io::Result<()> {
     std::thread::Builder::new()
         .name("sim-cli-signals".to_owned())
         .spawn(move || {
-            if let Some(signal) = signals.forever().next() {
-                terminate(signal);
+            let Some(signal) = signals.forever().next() else {
+                return;
+            };
+            STOP.store(signal, Ordering::Relaxed);
+            // The run loops see the request within a frame; give them GRACE
+            // to finish every output, and end the process here only if they
+            // do not (or a second signal insists).
+            let deadline = Instant::now() + GRACE;
+            while Instant::now() < deadline {
+                if signals.pending().next().is_some() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(20));
             }
+            terminate(signal);
         })?;
     Ok(())
 }
@@ -75,11 +121,12 @@ fn terminate(signal: i32) -> ! {
     let held = stdout.lock();
     crate::terminal::restore();
     flush_registered();
-    let name = HANDLED
-        .iter()
-        .find(|(number, _)| *number == signal)
-        .map_or("a signal", |(_, name)| *name);
-    let _ = writeln!(io::stderr(), "sim-cli: stopped by {name}");
+    let _ = writeln!(
+        io::stderr(),
+        "sim-cli: stopped by {} (the run did not finish its outputs within {} s)",
+        signal_name(signal),
+        GRACE.as_secs()
+    );
     // Keep the stdout lock alive into exit (std's exit-time flush re-enters it).
     let _ = &held;
     std::process::exit(exit_status(signal))

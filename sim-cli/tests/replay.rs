@@ -126,7 +126,7 @@ fn realtime_replays_take_the_flights_time() {
 }
 
 #[test]
-fn bad_recordings_are_refused_with_status_2() {
+fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
     let dir = scratch("replay-bad");
     let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
     let rec = path("good.rec");
@@ -147,10 +147,26 @@ fn bad_recordings_are_refused_with_status_2() {
         std::fs::write(&p, bytes).unwrap();
         p
     };
-    refused(
-        &["replay", &write("cut.rec", &good[..good.len() - 3])],
-        "truncated",
+    // Cut (its end block lost, as when the recording run is killed): the
+    // intact blocks are replayed, the status is 3 and stderr says where the
+    // cut is (docs/recording.md, "A cut recording"). 100 frames at 30 fps fill
+    // three one-second blocks and leave 10 frames in the last one.
+    let cut = sim(&[
+        "replay",
+        &write("cut.rec", &good[..good.len() - 3]),
+        "--json",
+    ]);
+    let stderr = text(&cut.stderr);
+    assert_eq!(cut.status.code(), Some(3), "cut: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("cut at byte") && stderr.contains("the 100 frames before the cut"),
+        "{stderr}"
     );
+    let report: serde_json::Value = serde_json::from_str(&text(&cut.stdout)).unwrap();
+    assert_eq!(report["frames"], 100, "{report}");
+    // Cut inside the header: nothing to replay.
+    refused(&["replay", &write("header.rec", &good[..40])], "truncated");
     let mut flipped = good.clone();
     let middle = flipped.len() / 2;
     flipped[middle] ^= 0x10;

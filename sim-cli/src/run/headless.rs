@@ -62,7 +62,13 @@ pub fn run_headless<F: Flight, W: Write>(
     }
     let mut buffer = Vec::new();
     let mut cursor = ScriptCursor::new();
+    let mut flown = 0;
     for frame in 1..=frames {
+        // A signal ends the run here, as if this were its last frame: the
+        // caller finishes every output (crate::signals).
+        if crate::signals::stop_requested().is_some() {
+            break;
+        }
         step_frame(
             flight,
             script,
@@ -76,6 +82,7 @@ pub fn run_headless<F: Flight, W: Write>(
             progress.message(&link_warning(&message));
         }
         progress.tick(frame);
+        flown = frame;
         if let Some(pacer) = pacer.as_mut() {
             let sleep = pacer.finish_frame(Instant::now());
             if !sleep.is_zero() {
@@ -84,7 +91,7 @@ pub fn run_headless<F: Flight, W: Write>(
         }
     }
     progress.finish();
-    let mut report = Report::new(fps, frames, &flight.snapshot());
+    let mut report = Report::new(fps, flown, &flight.snapshot());
     report.realtime = pacer.map(|p| RealtimeReport {
         overruns: p.overruns(),
     });

@@ -175,6 +175,11 @@ pub fn run_interactive<F: Flight, W: Write>(
     }
     let mut pacer = FramePacer::new(FramePacer::period_for(fps), Instant::now());
     'run: loop {
+        // A signal (a closed terminal window, `kill`) ends the flight like Q:
+        // the caller finishes every output (crate::signals).
+        if crate::signals::stop_requested().is_some() {
+            break 'run;
+        }
         // Drain every key that arrived during the last frame without blocking.
         while event::poll(Duration::ZERO).context("reading the keyboard")? {
             match event::read().context("reading the keyboard")? {
