@@ -262,12 +262,42 @@ fn may_be_exception(ix: u32) -> bool {
 
 /// [`asinf`] of every lane, bit for bit, in vector registers: both branches
 /// of the polynomial (`|x| < 0.5` and above) are evaluated lane-wise with the
-/// scalar branch's operations in its order and the lane's one kept (a blend);
-/// the exception table is searched only for the lanes that a 7 kB bit filter
-/// cannot rule out (about one lane in seven for small angles of attack), and
-/// the lanes outside `2^-27 <= |x| <= 1` take [`asinf`]'s own answer.
+/// scalar branch's operations in its order and the lane's one kept (a blend,
+/// [`asinf_blend`], in one plain loop that LLVM vectorises); the exception
+/// table is searched only for the lanes that a 7 kB bit filter cannot rule
+/// out (about one lane in seven for small angles of attack), and the lanes
+/// outside `2^-27 <= |x| <= 1` take [`asinf`]'s own answer.
 #[inline(always)]
 pub(crate) fn asinf_lanes<const N: usize>(x: [f32; N]) -> [f32; N] {
+    let mut r = [0.0_f32; N];
+    for l in 0..N {
+        r[l] = asinf_blend(x[l]);
+    }
+    // The lanes the polynomial does not answer: outside 2^-27 <= |x| <= 1, or
+    // possibly in the exception table.
+    let mut other = [false; N];
+    let mut any = false;
+    for l in 0..N {
+        let ix = x[l].to_bits() & 0x7fff_ffff;
+        other[l] = !(0x3200_0000..=0x3f80_0000).contains(&ix) || may_be_exception(ix);
+        any |= other[l];
+    }
+    if any {
+        for l in 0..N {
+            if other[l] {
+                r[l] = asinf(x[l]);
+            }
+        }
+    }
+    r
+}
+
+/// [`asinf`] for `2^-27 <= |x| <= 1` outside the exception table, without a
+/// branch: [`asinf_poly`]'s three branches all computed, with their
+/// operations in their order, and the one the scalar takes kept; the sign as
+/// [`asinf`]'s negation (the sign bit flipped).
+#[inline(always)]
+fn asinf_blend(x: f32) -> f32 {
     const P: [u32; 5] = [
         0x3e2a_aae4,
         0x3d99_80f5,
@@ -276,50 +306,34 @@ pub(crate) fn asinf_lanes<const N: usize>(x: [f32; N]) -> [f32; N] {
         0x3d2c_b352,
     ];
     let p = P.map(f32::from_bits);
+    let poly = |t: f32| p[0] + t * (p[1] + t * (p[2] + t * (p[3] + t * p[4])));
     let pio2_hi = f32::from_bits(0x3fc9_0fdb);
     let pio2_lo = -f32::from_bits(0x333b_bd2e);
     let pio4_hi = f32::from_bits(0x3f49_0fdb);
-    macro_rules! lanes {
-        (|$l:ident| $e:expr) => {
-            core::array::from_fn::<_, N, _>(|$l| $e)
-        };
-    }
-    let ix: [u32; N] = lanes!(|l| x[l].to_bits() & 0x7fff_ffff);
-    let a: [f32; N] = lanes!(|l| f32::from_bits(ix[l]));
-    // |x| < 0.5: a + a w with w = t poly(t), t = a².
-    let t: [f32; N] = lanes!(|l| a[l] * a[l]);
-    let w: [f32; N] =
-        lanes!(|l| t[l] * (p[0] + t[l] * (p[1] + t[l] * (p[2] + t[l] * (p[3] + t[l] * p[4])))));
-    let small: [f32; N] = lanes!(|l| a[l] + a[l] * w[l]);
-    // |x| >= 0.5: through s = sqrt((1 - a) / 2).
-    let t: [f32; N] = lanes!(|l| (1.0 - a[l]) * 0.5);
-    let pt: [f32; N] =
-        lanes!(|l| t[l] * (p[0] + t[l] * (p[1] + t[l] * (p[2] + t[l] * (p[3] + t[l] * p[4])))));
-    let s: [f32; N] = lanes!(|l| sqrtf(t[l]));
-    let near_one: [f32; N] = lanes!(|l| pio2_hi - (2.0 * (s[l] + s[l] * pt[l]) - pio2_lo));
-    let wh: [f32; N] = lanes!(|l| f32::from_bits(s[l].to_bits() & 0xffff_f000));
-    let c: [f32; N] = lanes!(|l| (t[l] - wh[l] * wh[l]) / (s[l] + wh[l]));
-    let pm: [f32; N] = lanes!(|l| 2.0 * s[l] * pt[l] - (pio2_lo - 2.0 * c[l]));
-    let q: [f32; N] = lanes!(|l| pio4_hi - 2.0 * wh[l]);
-    let middle: [f32; N] = lanes!(|l| pio4_hi - (pm[l] - q[l]));
-    let r: [f32; N] = lanes!(|l| if ix[l] < 0x3f00_0000 {
-        small[l]
-    } else if ix[l] >= 0x3f79_999a {
-        near_one[l]
+    let ix = x.to_bits() & 0x7fff_ffff;
+    let a = f32::from_bits(ix);
+    // |x| < 0.5.
+    let t = a * a;
+    let w = t * poly(t);
+    let small = a + a * w;
+    // |x| >= 0.5.
+    let t = (1.0 - a) * 0.5;
+    let pt = t * poly(t);
+    let s = sqrtf(t);
+    let near_one = pio2_hi - (2.0 * (s + s * pt) - pio2_lo);
+    let wh = f32::from_bits(s.to_bits() & 0xffff_f000);
+    let c = (t - wh * wh) / (s + wh);
+    let pm = 2.0 * s * pt - (pio2_lo - 2.0 * c);
+    let q = pio4_hi - 2.0 * wh;
+    let middle = pio4_hi - (pm - q);
+    let r = if ix < 0x3f00_0000 {
+        small
+    } else if ix >= 0x3f79_999a {
+        near_one
     } else {
-        middle[l]
-    });
-    // `-r` for a negative x: the sign bit flipped, as Rust's negation.
-    let signed: [f32; N] =
-        lanes!(|l| f32::from_bits(r[l].to_bits() ^ (x[l].to_bits() & 0x8000_0000)));
-    // The lanes the polynomial does not answer: outside 2^-27 <= |x| <= 1, or
-    // possibly in the exception table.
-    let other: [bool; N] =
-        lanes!(|l| ix[l] > 0x3f80_0000 || ix[l] < 0x3200_0000 || may_be_exception(ix[l]));
-    if !other.iter().any(|&o| o) {
-        return signed;
-    }
-    lanes!(|l| if other[l] { asinf(x[l]) } else { signed[l] })
+        middle
+    };
+    f32::from_bits(r.to_bits() ^ (x.to_bits() & 0x8000_0000))
 }
 
 /// Sine and cosine of `x` (f64, radians): `(sin(x), cos(x))`.

@@ -49,7 +49,7 @@ fn asinf_has_glibcs_bits_on_every_f32() {
 #[ignore = "exhaustive: run with --release --ignored"]
 fn asinf_lanes_have_the_scalar_bits_on_every_f32() {
     for first in (0..=u32::MAX).step_by(16) {
-        let x = F32s(core::array::from_fn(|l| {
+        let x = F32s::<16>(core::array::from_fn(|l| {
             f32::from_bits(first + u32::try_from(l).expect("lane"))
         }));
         let lanes = x.asinf_exact();
@@ -142,7 +142,7 @@ fn pow_lanes_have_the_scalar_bits_on_40_million_samples() {
                     y,
                 )
             }
-            _ => (F64s(core::array::from_fn(|_| f64::from_bits(bits()))), 5.25),
+            _ => (F64s::<8>(core::array::from_fn(|_| f64::from_bits(bits()))), 5.25),
         };
         let lanes = x.pow_exact(y);
         for l in 0..8 {
