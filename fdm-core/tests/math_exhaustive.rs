@@ -142,7 +142,10 @@ fn pow_lanes_have_the_scalar_bits_on_40_million_samples() {
                     y,
                 )
             }
-            _ => (F64s::<8>(core::array::from_fn(|_| f64::from_bits(bits()))), 5.25),
+            _ => (
+                F64s::<8>(core::array::from_fn(|_| f64::from_bits(bits()))),
+                5.25,
+            ),
         };
         let lanes = x.pow_exact(y);
         for l in 0..8 {
