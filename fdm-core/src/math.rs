@@ -77,6 +77,13 @@ pub fn pow(x: f64, y: f64) -> f64 {
     pow::pow(x, y)
 }
 
+/// [`pow`] of every lane of `x` with one exponent `y`, bit for bit, in vector
+/// registers where it can (`crate::real`'s lanes use it).
+#[inline(always)]
+pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
+    pow::pow_lanes(x, y)
+}
+
 /// Sine (f64, radians): the `libm` crate's (fdlibm's), under 1 ulp.
 #[inline]
 #[must_use]
@@ -215,6 +222,118 @@ fn asinf_poly(a: f32) -> f32 {
     let p = 2.0 * s * p - (pio2_lo - 2.0 * c);
     let q = pio4_hi - 2.0 * w;
     pio4_hi - (p - q)
+}
+
+/// The bits of `|x|` from which [`asinf_lanes`]'s exception filter counts,
+/// below the table's first input (`0x3cb1_b351`).
+const EXCEPTION_FILTER_BASE: u32 = 0x3c00_0000;
+/// Inputs per bit of the exception filter (`2^10`).
+const EXCEPTION_FILTER_SHIFT: u32 = 10;
+/// Bytes of the exception filter: one bit per `2^10` inputs from
+/// [`EXCEPTION_FILTER_BASE`] to 1.0.
+const EXCEPTION_FILTER_BYTES: usize =
+    (((0x3f80_0000 - EXCEPTION_FILTER_BASE) >> EXCEPTION_FILTER_SHIFT) as usize + 1).div_ceil(8);
+
+/// Bit `k` is set when some input of [`asinf_table::EXCEPTIONS`] lies in the
+/// `k`-th run of `2^10` inputs from [`EXCEPTION_FILTER_BASE`] (4,487 of the
+/// 57,345 runs; 7 kB, built at compile time from the table itself).
+static EXCEPTION_FILTER: [u8; EXCEPTION_FILTER_BYTES] = {
+    let mut filter = [0u8; EXCEPTION_FILTER_BYTES];
+    let mut i = 0;
+    while i < asinf_table::EXCEPTIONS.len() {
+        let k = ((asinf_table::EXCEPTIONS[i][0] - EXCEPTION_FILTER_BASE) >> EXCEPTION_FILTER_SHIFT)
+            as usize;
+        filter[k / 8] |= 1 << (k % 8);
+        i += 1;
+    }
+    filter
+};
+
+/// Whether the exception table may hold the input bits `ix` (`|x|` between
+/// `2^-27` and 1): false means it certainly does not.
+#[inline(always)]
+fn may_be_exception(ix: u32) -> bool {
+    if ix < EXCEPTION_FILTER_BASE {
+        return false;
+    }
+    let k = ((ix - EXCEPTION_FILTER_BASE) >> EXCEPTION_FILTER_SHIFT) as usize;
+    EXCEPTION_FILTER[(k / 8).min(EXCEPTION_FILTER_BYTES - 1)] & (1 << (k % 8)) != 0
+}
+
+/// [`asinf`] of every lane, bit for bit, in vector registers: both branches
+/// of the polynomial (`|x| < 0.5` and above) are evaluated lane-wise with the
+/// scalar branch's operations in its order and the lane's one kept (a blend,
+/// [`asinf_blend`], in one plain loop that LLVM vectorises); the exception
+/// table is searched only for the lanes that a 7 kB bit filter cannot rule
+/// out (about one lane in seven for small angles of attack), and the lanes
+/// outside `2^-27 <= |x| <= 1` take [`asinf`]'s own answer.
+#[inline(always)]
+pub(crate) fn asinf_lanes<const N: usize>(x: [f32; N]) -> [f32; N] {
+    let mut r = [0.0_f32; N];
+    for l in 0..N {
+        r[l] = asinf_blend(x[l]);
+    }
+    // The lanes the polynomial does not answer: outside 2^-27 <= |x| <= 1, or
+    // possibly in the exception table.
+    let mut other = [false; N];
+    let mut any = false;
+    for l in 0..N {
+        let ix = x[l].to_bits() & 0x7fff_ffff;
+        other[l] = !(0x3200_0000..=0x3f80_0000).contains(&ix) || may_be_exception(ix);
+        any |= other[l];
+    }
+    if any {
+        for l in 0..N {
+            if other[l] {
+                r[l] = asinf(x[l]);
+            }
+        }
+    }
+    r
+}
+
+/// [`asinf`] for `2^-27 <= |x| <= 1` outside the exception table, without a
+/// branch: [`asinf_poly`]'s three branches all computed, with their
+/// operations in their order, and the one the scalar takes kept; the sign as
+/// [`asinf`]'s negation (the sign bit flipped).
+#[inline(always)]
+fn asinf_blend(x: f32) -> f32 {
+    const P: [u32; 5] = [
+        0x3e2a_aae4,
+        0x3d99_80f5,
+        0x3d3a_3ec8,
+        0x3cc6_17e0,
+        0x3d2c_b352,
+    ];
+    let p = P.map(f32::from_bits);
+    let poly = |t: f32| p[0] + t * (p[1] + t * (p[2] + t * (p[3] + t * p[4])));
+    let pio2_hi = f32::from_bits(0x3fc9_0fdb);
+    let pio2_lo = -f32::from_bits(0x333b_bd2e);
+    let pio4_hi = f32::from_bits(0x3f49_0fdb);
+    let ix = x.to_bits() & 0x7fff_ffff;
+    let a = f32::from_bits(ix);
+    // |x| < 0.5.
+    let t = a * a;
+    let w = t * poly(t);
+    let small = a + a * w;
+    // |x| >= 0.5.
+    let t = (1.0 - a) * 0.5;
+    let pt = t * poly(t);
+    let s = sqrtf(t);
+    let near_one = pio2_hi - (2.0 * (s + s * pt) - pio2_lo);
+    let wh = f32::from_bits(s.to_bits() & 0xffff_f000);
+    let c = (t - wh * wh) / (s + wh);
+    let pm = 2.0 * s * pt - (pio2_lo - 2.0 * c);
+    let q = pio4_hi - 2.0 * wh;
+    let middle = pio4_hi - (pm - q);
+    let r = if ix < 0x3f00_0000 {
+        small
+    } else if ix >= 0x3f79_999a {
+        near_one
+    } else {
+        middle
+    };
+    f32::from_bits(r.to_bits() ^ (x.to_bits() & 0x8000_0000))
 }
 
 /// Sine and cosine of `x` (f64, radians): `(sin(x), cos(x))`.

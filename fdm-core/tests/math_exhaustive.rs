@@ -10,6 +10,7 @@
 //! `cargo test --release -p fdm-core --test math_exhaustive -- --ignored`.
 
 use fdm_core::math::{asinf, pow};
+use fdm_core::real::{F32s, F64s, Real};
 
 /// FNV-1a over the little-endian bytes of `asinf(x).to_bits()` for the bits of
 /// `x` from `0` to `0x3f80_0000` (1.0), computed with x86-64 glibc 2.36's
@@ -38,6 +39,30 @@ fn asinf_has_glibcs_bits_on_every_f32() {
         }
     }
     assert_eq!(hash, GLIBC_ASINF_HASH, "{hash:#x}");
+}
+
+/// The lane-wise `asinf` of `fdm_core::real`'s lanes ([`Real::asinf_exact`]
+/// on [`F32s`]) against the scalar `asinf` on every one of the 2^32 bit
+/// patterns, 16 consecutive patterns per block: the fleet's vector `asinf`
+/// has the scalar's bits (and so glibc's) everywhere.
+#[test]
+#[ignore = "exhaustive: run with --release --ignored"]
+fn asinf_lanes_have_the_scalar_bits_on_every_f32() {
+    for first in (0..=u32::MAX).step_by(16) {
+        let x = F32s::<16>(core::array::from_fn(|l| {
+            f32::from_bits(first + u32::try_from(l).expect("lane"))
+        }));
+        let lanes = x.asinf_exact();
+        for l in 0..16 {
+            let scalar = asinf(x.0[l]);
+            assert_eq!(
+                lanes.0[l].to_bits(),
+                scalar.to_bits(),
+                "asinf({:e})",
+                x.0[l]
+            );
+        }
+    }
 }
 
 #[test]
@@ -84,5 +109,53 @@ fn pow_has_glibcs_bits_on_20_million_samples() {
             x.powf(y).to_bits(),
             "pow({x:e}, {y:e})"
         );
+    }
+}
+
+/// The lane-wise `pow` of `fdm_core::real`'s lanes ([`Real::pow_exact`] on
+/// [`F64s`]) against the scalar `pow` on 40,000,000 inputs: `pow(x, 5.25)`
+/// with `x` in `[0.5, 1.05)` (Palmer's density ratio), `x` in `[0.001, 100)`
+/// with `y` in `[-20, 20)` (one `y` per block of 8), and random bit patterns
+/// of `x` with `y` 5.25.
+#[test]
+#[ignore = "40 million samples: run with --release --ignored"]
+fn pow_lanes_have_the_scalar_bits_on_40_million_samples() {
+    let mut s = 7_u64;
+    let mut bits = || {
+        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let unit = |b: u64| (b >> 11) as f64 / (1_u64 << 53) as f64;
+    for block in 0..5_000_000 {
+        let (x, y) = match block % 3 {
+            0 => (
+                F64s::<8>(core::array::from_fn(|_| 0.5 + 0.55 * unit(bits()))),
+                5.25,
+            ),
+            1 => {
+                let y = -20.0 + 40.0 * unit(bits());
+                (
+                    F64s(core::array::from_fn(|_| 1e-3 + 100.0 * unit(bits()))),
+                    y,
+                )
+            }
+            _ => (
+                F64s::<8>(core::array::from_fn(|_| f64::from_bits(bits()))),
+                5.25,
+            ),
+        };
+        let lanes = x.pow_exact(y);
+        for l in 0..8 {
+            let scalar = pow(x.0[l], y);
+            assert_eq!(
+                lanes.0[l].to_bits(),
+                scalar.to_bits(),
+                "pow({:e}, {y:e})",
+                x.0[l]
+            );
+        }
     }
 }

@@ -6,7 +6,8 @@
 //! number type (see `fdm_core`'s `bourg/generic.rs` and `bourg/lanes.rs` for
 //! what a block's lanes read and write): [`LANES`] `f32` aircraft per block,
 //! every aircraft bit-identical to [`fdm_core::bourg::step`] (only `exact`:
-//! its step's one transcendental function, `asinf`, has no vectorised form).
+//! its step's one transcendental function, `asinf`, is evaluated lane-wise
+//! with the scalar bits already, and has no faster inexact form).
 
 use fdm_core::bourg::{Bourg, BourgAircraft};
 use pulp::Arch;

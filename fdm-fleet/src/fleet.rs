@@ -21,8 +21,9 @@
 //! # Precisions
 //!
 //! * [`Precision::Exact`]: the step with [`Exact`] maths: every aircraft
-//!   bit-identical to [`Model::step`] (glibc's functions lane by lane, every
-//!   other operation SIMD).
+//!   bit-identical to [`Model::step`] (`fdm_core::math`'s `pow` and `asinf`
+//!   evaluated lane-wise in vector registers with the scalar functions' bits,
+//!   the scalar function only for special lanes; every other operation SIMD).
 //! * [`Precision::Fast`]: the step with [`Fast`] maths (vectorised forms of
 //!   the functions that have one; for Palmer the pressure's `pow`: every
 //!   aircraft within 1e-9 m and 1e-9 m/s of `Exact` after 1,800 steps). A
@@ -39,9 +40,12 @@
 //! `divsd`. The one thing that could differ is fusion: `a * b + c` as one FMA
 //! rounds once instead of twice. Rust never contracts a multiplication and an
 //! addition into an FMA on its own (it gives LLVM no fast-math or `contract`
-//! flags, with or without the `fma` target feature), and the exact maths never
-//! call `mul_add`, so the FMA copy computes the same roundings. glibc's
-//! functions are the same whichever copy calls them. The fast `pow` calls
+//! flags, with or without the `fma` target feature), so the FMA copy computes
+//! the same roundings. The exact `pow` calls a fused multiply-add explicitly,
+//! where the scalar `fdm_core::math::pow` does, lane for lane: the FMA
+//! instruction in the FMA copies, the correctly rounded software `fma` in the
+//! baseline copy, the same bits either way; the scalar functions the exact
+//! maths fall back to are the same whichever copy calls them. The fast `pow` calls
 //! `mul_add` only where the CPU has FMA, to get the exact rounding error of a
 //! product, which the baseline copy gets exactly too with Dekker's splitting,
 //! so `Fast` is also the same bits on every instruction set. The tests step

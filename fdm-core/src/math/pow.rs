@@ -268,3 +268,97 @@ pub(super) fn pow(x: f64, y: f64) -> f64 {
     let elo = fma(y, lo, fma(y, hi, -ehi));
     exp_inline(ehi, elo, sign_bias)
 }
+
+/// `N` values computed lane by lane: `lanes!(N, |l| expr)` is the array of
+/// `expr` for `l` in `0..N`. One operation per statement over all lanes is
+/// what LLVM turns into one vector instruction (as `crate::real`'s lanes).
+macro_rules! lanes {
+    ($n:expr, |$l:ident| $e:expr) => {
+        core::array::from_fn::<_, $n, _>(|$l| $e)
+    };
+}
+
+/// [`pow`] of every lane of `x` with one exponent `y`, bit for bit: the
+/// regular path (a positive normal `x` and a result that needs no rescaling)
+/// evaluated lane-wise, each operation the scalar path's in the scalar path's
+/// order (`+ − × ÷` and [`fma`] are correctly rounded lane by lane as in a
+/// scalar register); the table reads are one load per lane. A lane off that
+/// path (zero, negative, subnormal, infinite or NaN `x`; a result that may
+/// overflow or underflow, or `|y log x| < 2^-54`) is computed again by the
+/// scalar [`pow`], as is every lane when `y` itself is special.
+#[inline(always)]
+#[allow(clippy::cast_possible_truncation, clippy::cast_possible_wrap)] // bit fields, as `pow`'s
+pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
+    let topy = top12(y);
+    if zeroinfnan(y.to_bits()) || (topy & 0x7ff).wrapping_sub(0x3be) >= 0x43e - 0x3be {
+        return x.map(|x| pow(x, y));
+    }
+    // log_inline, lane-wise.
+    let ix: [u64; N] = lanes!(N, |l| x[l].to_bits());
+    let tmp: [u64; N] = lanes!(N, |l| ix[l].wrapping_sub(OFF));
+    let i: [usize; N] = lanes!(N, |l| ((tmp[l] >> (52 - 7)) % 128) as usize);
+    let kd: [f64; N] = lanes!(N, |l| ((tmp[l] as i64) >> 52) as f64);
+    let iz: [u64; N] = lanes!(N, |l| ix[l].wrapping_sub(tmp[l] & (0xfff << 52)));
+    let z: [f64; N] = lanes!(N, |l| d(iz[l]));
+    let invc: [f64; N] = lanes!(N, |l| d(LOG_TAB[i[l]][0]));
+    let logc: [f64; N] = lanes!(N, |l| d(LOG_TAB[i[l]][1]));
+    let logctail: [f64; N] = lanes!(N, |l| d(LOG_TAB[i[l]][2]));
+    let zhi: [f64; N] = lanes!(N, |l| d(iz[l] & !((1 << 27) - 1)));
+    let zlo: [f64; N] = lanes!(N, |l| z[l] - zhi[l]);
+    let r: [f64; N] = lanes!(N, |l| (zhi[l] * invc[l] - 1.0) + zlo[l] * invc[l]);
+    let t1: [f64; N] = lanes!(N, |l| kd[l] * d(LN2HI) + logc[l]);
+    let t2: [f64; N] = lanes!(N, |l| t1[l] + r[l]);
+    let lo1: [f64; N] = lanes!(N, |l| fma(kd[l], d(LN2LO), logctail[l]));
+    let lo2: [f64; N] = lanes!(N, |l| t1[l] - t2[l] + r[l]);
+    let a = LOG_POLY.map(d);
+    let ar: [f64; N] = lanes!(N, |l| a[0] * r[l]);
+    let ar2: [f64; N] = lanes!(N, |l| r[l] * ar[l]);
+    let ar3: [f64; N] = lanes!(N, |l| r[l] * ar2[l]);
+    let hi: [f64; N] = lanes!(N, |l| t2[l] + ar2[l]);
+    let lo3: [f64; N] = lanes!(N, |l| -0.5 * square_error(r[l], -2.0 * ar2[l]));
+    let lo4: [f64; N] = lanes!(N, |l| t2[l] - hi[l] + ar2[l]);
+    let q: [f64; N] = lanes!(N, |l| fma(
+        ar2[l],
+        fma(r[l], a[6], a[5]),
+        fma(r[l], a[4], a[3])
+    ));
+    let q: [f64; N] = lanes!(N, |l| fma(ar2[l], q[l], fma(r[l], a[2], a[1])));
+    let lo: [f64; N] = lanes!(N, |l| fma(ar3[l], q[l], lo1[l] + lo2[l] + lo3[l] + lo4[l]));
+    let log_hi: [f64; N] = lanes!(N, |l| hi[l] + lo[l]);
+    let log_lo: [f64; N] = lanes!(N, |l| hi[l] - log_hi[l] + lo[l]);
+    // pow's product y * log(x).
+    let ehi: [f64; N] = lanes!(N, |l| y * log_hi[l]);
+    let elo: [f64; N] = lanes!(N, |l| fma(y, log_lo[l], fma(y, log_hi[l], -ehi[l])));
+    // exp_inline's regular path (sign_bias 0: x > 0), lane-wise.
+    let mut kd: [f64; N] = lanes!(N, |l| fma(d(INV_LN2_N), ehi[l], d(SHIFT)));
+    let ki: [u64; N] = lanes!(N, |l| kd[l].to_bits());
+    kd = lanes!(N, |l| kd[l] - d(SHIFT));
+    let r: [f64; N] = lanes!(N, |l| fma(
+        kd[l],
+        d(NEG_LN2_LO_N),
+        fma(kd[l], d(NEG_LN2_HI_N), ehi[l])
+    ));
+    let r: [f64; N] = lanes!(N, |l| r[l] + elo[l]);
+    let idx: [usize; N] = lanes!(N, |l| (2 * (ki[l] % 128)) as usize);
+    let top: [u64; N] = lanes!(N, |l| ki[l] << (52 - 7));
+    let tail: [f64; N] = lanes!(N, |l| d(EXP_TAB[idx[l]]));
+    let sbits: [u64; N] = lanes!(N, |l| EXP_TAB[idx[l] + 1].wrapping_add(top[l]));
+    let c = EXP_POLY.map(d);
+    let r2: [f64; N] = lanes!(N, |l| r[l] * r[l]);
+    let tmp: [f64; N] = lanes!(N, |l| fma(
+        r2[l] * r2[l],
+        fma(r[l], c[3], c[2]),
+        fma(r2[l], fma(r[l], c[1], c[0]), tail[l] + r[l])
+    ));
+    let scale: [f64; N] = lanes!(N, |l| d(sbits[l]));
+    let result: [f64; N] = lanes!(N, |l| fma(scale[l], tmp[l], scale[l]));
+    // The lanes on the regular path: pow's first test (x a positive normal
+    // number) and exp_inline's (2^-54 <= |y log x| < 512).
+    let regular: [bool; N] = lanes!(N, |l| top12(x[l]).wrapping_sub(0x001) < 0x7ff - 0x001
+        && (top12(ehi[l]) & 0x7ff).wrapping_sub(top12(pow2(-54)))
+            < top12(512.0) - top12(pow2(-54)));
+    if regular.iter().all(|&r| r) {
+        return result;
+    }
+    lanes!(N, |l| if regular[l] { result[l] } else { pow(x[l], y) })
+}

@@ -96,7 +96,7 @@ macro_rules! lane_op {
 }
 
 macro_rules! lanes {
-    ($(#[$doc:meta])* $name:ident, $t:ty) => {
+    ($(#[$doc:meta])* $name:ident, $t:ty, { $($maths:tt)* }) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub struct $name<const N: usize>(pub [$t; N]);
@@ -189,6 +189,7 @@ macro_rules! lanes {
                     }
                 }))
             }
+            $($maths)*
         }
 
         impl<const N: usize> Lanes for $name<N> {
@@ -206,12 +207,24 @@ macro_rules! lanes {
 lanes!(
     /// `N` `f64` lanes (one aircraft each).
     F64s,
-    f64
+    f64,
+    {
+        #[inline(always)]
+        fn pow_exact(self, y: f64) -> Self {
+            Self(crate::math::pow_lanes(self.0, y))
+        }
+    }
 );
 lanes!(
     /// `N` `f32` lanes (one aircraft each).
     F32s,
-    f32
+    f32,
+    {
+        #[inline(always)]
+        fn asinf_exact(self) -> Self {
+            Self(crate::math::asinf_lanes(self.0))
+        }
+    }
 );
 
 #[cfg(test)]

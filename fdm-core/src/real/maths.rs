@@ -8,8 +8,10 @@ use super::Real;
 /// takes its `Maths` as a type parameter, so the choice costs nothing at run
 /// time and is the same for every model.
 ///
-/// The defaults are the [`Exact`] ones: [`crate::math`]'s function (glibc's
-/// with `std`) called on every lane, the bits of the scalar step.
+/// The defaults are the [`Exact`] ones: [`crate::math`]'s functions with
+/// their bits in every lane ([`Real::pow_exact`], [`Real::asinf_exact`]: for
+/// lanes, evaluated lane-wise in vector registers), the bits of the scalar
+/// step.
 pub trait Maths: Copy + Default + Send + Sync + 'static {
     /// Whether any function differs from [`Exact`]'s.
     const VECTORISED: bool;
@@ -17,13 +19,13 @@ pub trait Maths: Copy + Default + Send + Sync + 'static {
     /// `x` raised to the power `y` (C's `pow`), lane-wise.
     #[inline(always)]
     fn pow<R: Real<Scalar = f64>>(x: R, y: f64) -> R {
-        x.map(|x| crate::math::pow(x, y))
+        x.pow_exact(y)
     }
 
     /// Arc sine in `f32` (C's `asinf`), lane-wise.
     #[inline(always)]
     fn asinf<R: Real<Scalar = f32>>(x: R) -> R {
-        x.map(crate::math::asinf)
+        x.asinf_exact()
     }
 }
 
@@ -41,9 +43,8 @@ impl Maths for Exact {
 /// * `pow(x, 5.25)` (Palmer's pressure) is [`fast::pow_5_25`]: all lane-wise
 ///   operations, within 1 ulp of glibc's `pow` (the same bits for 99.9 % of
 ///   the arguments). Other exponents call the exact `pow`.
-/// * `asinf` stays glibc's, lane by lane: a lane-wise port of glibc's
-///   `asinf` would take in its LGPL polynomial, which this crate (MIT OR
-///   Apache-2.0) cannot.
+/// * `asinf` is the exact one ([`Real::asinf_exact`], already lane-wise in
+///   vector registers, with the bits of [`crate::math::asinf`]).
 ///
 /// `FMA` says whether the instruction set has fused multiply-adds (used only
 /// for exact product errors, which Dekker's splitting gets without them: the

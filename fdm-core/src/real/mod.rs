@@ -10,8 +10,10 @@
 //!   scalar step would; for lanes every operation is one loop over the lanes
 //!   that LLVM turns into vector instructions.
 //! * [`Maths`]: the transcendental functions a step calls, as a choice:
-//!   [`Exact`] calls [`crate::math`] (glibc's functions with `std`) on every
-//!   lane, the bits of the scalar step; [`Fast`] replaces those that have a
+//!   [`Exact`] gives every lane the bits of [`crate::math`]'s scalar
+//!   function, the bits of the scalar step (for lanes, `pow` and `asinf` are
+//!   evaluated lane-wise in vector registers: [`Real::pow_exact`],
+//!   [`Real::asinf_exact`]); [`Fast`] replaces those that have a
 //!   vectorised form (today `pow(x, 5.25)`, [`fast::pow_5_25`]) and keeps the
 //!   exact function for the others. Any model's step takes one as a type
 //!   parameter.
@@ -156,6 +158,28 @@ pub trait Real:
     fn is_normal(self) -> Self::Mask;
     /// `if_true` in the lanes where `mask` is set, `if_false` elsewhere.
     fn select(mask: Self::Mask, if_true: Self, if_false: Self) -> Self;
+    /// [`crate::math::pow`]`(x, y)` of every lane `x`, bit for bit. A float
+    /// calls it; lanes ([`F64s`]) evaluate its usual path lane-wise in vector
+    /// registers and call it only for the lanes off that path.
+    #[inline(always)]
+    #[must_use]
+    fn pow_exact(self, y: f64) -> Self
+    where
+        Self: Real<Scalar = f64>,
+    {
+        self.map(|x| crate::math::pow(x, y))
+    }
+    /// [`crate::math::asinf`] of every lane, bit for bit. A float calls it;
+    /// lanes ([`F32s`]) evaluate it lane-wise in vector registers and look up
+    /// the exception table only for the lanes that may be in it.
+    #[inline(always)]
+    #[must_use]
+    fn asinf_exact(self) -> Self
+    where
+        Self: Real<Scalar = f32>,
+    {
+        self.map(crate::math::asinf)
+    }
 }
 
 macro_rules! scalar_real {
