@@ -263,7 +263,8 @@ impl Tracker {
         };
         let dt = placed.time_s - prev.time_s;
         let slow = |v: &Vector3<f64>| v.iter().all(|c| c.abs() < LAZY_MAX_SPEED_M_S);
-        !(dt > 0.0)
+        dt.is_nan()
+            || dt <= 0.0
             || (dt >= LAZY_MIN_FRAME_S
                 && slow(&prev.velocity_ecef_m_s)
                 && slow(&placed.velocity_m_s)
