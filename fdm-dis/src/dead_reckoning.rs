@@ -23,7 +23,7 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 use crate::entity::{DrAlgorithm, WireState};
 use crate::error::DisOutputError;
-use crate::frames::{rotation_angle_between, EcefState};
+use crate::frames::{rotation_angle_between, rotation_sin_cos, EcefState};
 
 /// When to send, configurable per entity.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,13 +101,23 @@ pub fn extrapolate(
     sent: &WireState,
     dt_s: f64,
 ) -> (Vector3<f64>, Matrix3<f64>) {
+    extrapolate_from(algorithm, sent, &sent.orientation().body_to_ecef(), dt_s)
+}
+
+/// [`extrapolate`] with `sent`'s orientation matrix `c0` given.
+fn extrapolate_from(
+    algorithm: DrAlgorithm,
+    sent: &WireState,
+    c0: &Matrix3<f64>,
+    dt_s: f64,
+) -> (Vector3<f64>, Matrix3<f64>) {
+    let c0 = *c0;
     let v = Vector3::from(sent.velocity_m_s.map(f64::from));
     let a = Vector3::from(sent.acceleration_m_s2.map(f64::from));
     let mut position = sent.location_m + v * dt_s;
     if algorithm.accelerates() {
         position += a * (0.5 * dt_s * dt_s);
     }
-    let c0 = sent.orientation().body_to_ecef();
     let orientation = if algorithm.rotates() {
         let w = Vector3::from(sent.angular_velocity_rad_s.map(f64::from));
         c0 * Rotation3::from_scaled_axis(w * dt_s).into_inner()
@@ -134,6 +144,48 @@ pub struct DeadReckoner {
     algorithm: DrAlgorithm,
     thresholds: DrThresholds,
     last_sent: Option<WireState>,
+    /// `last_sent`'s orientation as a matrix, made once per PDU rather than
+    /// once per frame (the same `sin_cos` calls, so the same bits).
+    last_sent_body_to_ecef: Matrix3<f64>,
+    /// See [`OrientationScreen`].
+    screen: OrientationScreen,
+}
+
+/// A cheap test that an orientation error is certainly within the threshold,
+/// so that the frames where nothing is due skip `atan2`.
+///
+/// The error angle is `atan2(s, c)` with `s ≥ 0` the sine and `c` the cosine
+/// part of the rotation between the two orientations
+/// ([`rotation_angle_between`]). For `c > 0` that is `atan(s / c)`, which is
+/// increasing; so `s < c · tan(threshold) · (1 - 1e-9)` puts the angle below
+/// the threshold by a relative margin of about 1e-9 / (1 + tan²), far more
+/// than the few ulps of rounding in `atan2`, `to_degrees` and `tan`, and the
+/// comparison [`DeadReckoner::check`] makes with the full angle gives
+/// "not above the threshold" too. Anything else (`c ≤ 0`, NaN, a sine
+/// near the bound) takes the full computation, so the decision is always the
+/// one the full angle gives. Only thresholds up to 80° are screened (beyond,
+/// `tan` grows so fast that the margin would be too thin to argue about).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct OrientationScreen {
+    /// `tan(threshold) · (1 - 1e-9)`, or 0 to screen nothing.
+    sine_per_cosine: f64,
+}
+
+impl OrientationScreen {
+    fn new(orientation_deg: f64) -> Self {
+        let sine_per_cosine = if orientation_deg <= 80.0 {
+            orientation_deg.to_radians().tan() * (1.0 - 1e-9)
+        } else {
+            0.0
+        };
+        Self { sine_per_cosine }
+    }
+
+    /// Whether the rotation taking `a` to `b` is certainly within the threshold.
+    fn certainly_within(self, a: &Matrix3<f64>, b: &Matrix3<f64>) -> bool {
+        let (sin, cos) = rotation_sin_cos(a, b);
+        cos > 0.0 && sin < cos * self.sine_per_cosine
+    }
 }
 
 impl DeadReckoner {
@@ -147,6 +199,8 @@ impl DeadReckoner {
             algorithm,
             thresholds,
             last_sent: None,
+            last_sent_body_to_ecef: Matrix3::identity(),
+            screen: OrientationScreen::new(thresholds.orientation_deg),
         })
     }
 
@@ -174,7 +228,7 @@ impl DeadReckoner {
     pub fn error(&self, truth: &EcefState) -> Option<DrError> {
         let sent = self.last_sent.as_ref()?;
         let elapsed_s = truth.time_s - sent.time_s;
-        let (position, orientation) = extrapolate(self.algorithm, sent, elapsed_s);
+        let (position, orientation) = self.extrapolate_sent(sent, elapsed_s);
         Some(DrError {
             elapsed_s,
             position_m: (position - truth.location_m).norm(),
@@ -182,13 +236,50 @@ impl DeadReckoner {
         })
     }
 
+    /// [`extrapolate`] of `sent` (the last PDU), with its orientation matrix
+    /// made when it was sent.
+    fn extrapolate_sent(&self, sent: &WireState, dt_s: f64) -> (Vector3<f64>, Matrix3<f64>) {
+        extrapolate_from(self.algorithm, sent, &self.last_sent_body_to_ecef, dt_s)
+    }
+
     /// Whether a PDU is due for `truth`, and why (the first reason that holds
     /// in the order of [`SendReason`]). Does not change the model: call
     /// [`DeadReckoner::record_sent`] once the PDU is sent.
     #[must_use]
     pub fn check(&self, truth: &EcefState) -> Option<SendReason> {
-        let Some(err) = self.error(truth) else {
+        self.check_at(truth.time_s, &truth.location_m, &truth.body_to_ecef)
+    }
+
+    /// [`DeadReckoner::check`] for the three things it reads of the true
+    /// state: its time, ECEF location and body-to-ECEF orientation. The same
+    /// decision, bit for bit; a frame where the orientation is certainly
+    /// within its threshold skips the `atan2` of the error angle (see
+    /// `OrientationScreen`), so a caller that has not yet made the DIS
+    /// angles and rates of the state need not make them unless a PDU is due.
+    #[must_use]
+    pub fn check_at(
+        &self,
+        time_s: f64,
+        location_m: &Vector3<f64>,
+        body_to_ecef: &Matrix3<f64>,
+    ) -> Option<SendReason> {
+        let Some(sent) = self.last_sent.as_ref() else {
             return Some(SendReason::First);
+        };
+        let elapsed_s = time_s - sent.time_s;
+        let (position, orientation) = self.extrapolate_sent(sent, elapsed_s);
+        let position_m = (position - location_m).norm();
+        let orientation_deg = if self.screen.certainly_within(&orientation, body_to_ecef) {
+            // Within the threshold for certain: the exact angle only
+            // matters when it is above.
+            0.0
+        } else {
+            rotation_angle_between(&orientation, body_to_ecef).to_degrees()
+        };
+        let err = DrError {
+            elapsed_s,
+            position_m,
+            orientation_deg,
         };
         let t = &self.thresholds;
         if err.elapsed_s < 0.0 {
@@ -206,6 +297,16 @@ impl DeadReckoner {
 
     /// Records that `sent` went out: receivers now extrapolate from it.
     pub fn record_sent(&mut self, sent: WireState) {
+        self.last_sent_body_to_ecef = sent.orientation().body_to_ecef();
         self.last_sent = Some(sent);
     }
+}
+
+/// The orientation screen of a threshold, for the tracker's tests.
+#[cfg(test)]
+pub(crate) fn screen_for_tests(
+    orientation_deg: f64,
+) -> impl Fn(&Matrix3<f64>, &Matrix3<f64>) -> bool {
+    let screen = OrientationScreen::new(orientation_deg);
+    move |a, b| screen.certainly_within(a, b)
 }

@@ -286,9 +286,16 @@ pub fn ecef_vector_to_ned(position: Geodetic, v_ecef: Vector3<f64>) -> Vector3<f
 /// dead-reckoning orientation threshold is compared with.
 #[must_use]
 pub fn rotation_angle_between(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
-    let r = a.transpose() * b;
     // acos of the trace is badly conditioned near 0; atan2 of the rotation
     // vector's sine part and the trace's cosine part is not.
+    let (sin, cos) = rotation_sin_cos(a, b);
+    sin.atan2(cos)
+}
+
+/// The sine (`≥ 0`) and cosine of [`rotation_angle_between`]`(a, b)`, as
+/// that function computes them before its `atan2`.
+pub(crate) fn rotation_sin_cos(a: &Matrix3<f64>, b: &Matrix3<f64>) -> (f64, f64) {
+    let r = a.transpose() * b;
     let cos = (r.trace() - 1.0) / 2.0;
     let sin = 0.5
         * Vector3::new(
@@ -297,5 +304,5 @@ pub fn rotation_angle_between(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
             r[(1, 0)] - r[(0, 1)],
         )
         .norm();
-    sin.atan2(cos)
+    (sin, cos)
 }

@@ -149,6 +149,7 @@ pub mod error;
 pub mod frames;
 pub mod listener;
 pub mod publisher;
+pub mod tracker;
 
 /// The project's WGS-84 geodesy (the one place this crate names its home).
 pub use fdm_core::geodesy;
@@ -165,6 +166,9 @@ pub use frames::{
 };
 pub use listener::{decode_datagram, DecodeError, EntityRecord, Listener, ListenerStats};
 pub use publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
+pub use tracker::{
+    rotation_vector, FleetPublisher, Placed, Placement, ReasonCounts, Tally, Tracker, FLEET_BATCH,
+};
 
 /// The dis-rs crate, for its enumerations (`ForceId`, `Country`, …) and PDU
 /// model.

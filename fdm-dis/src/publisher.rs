@@ -95,6 +95,13 @@ impl EntityPublisher {
         self.update_ecef(&ecef)
     }
 
+    /// Counts a frame that [`DeadReckoner::check_at`](crate::DeadReckoner::check_at)
+    /// found nothing due for (what [`EntityPublisher::update_ecef`] counts
+    /// for such a frame).
+    pub(crate) fn count_quiet_frame(&mut self) {
+        self.counts.frames += 1;
+    }
+
     /// [`EntityPublisher::update`] for a state already in ECEF.
     ///
     /// # Errors

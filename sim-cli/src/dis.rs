@@ -10,16 +10,13 @@
 //! [`CliModel::DIS_KIND`] (the entity type) and [`CliModel::DIS_CALLSIGN`]
 //! (the start of the markings).
 //!
-//! # Rates
+//! # Placement, rates, what is due
 //!
-//! The model interface has no angular velocity or acceleration, and the
-//! dead-reckoning algorithms want them (DRM(R,V,W), the default, uses both).
-//! [`Tracker`] derives them from consecutive frames: the acceleration is the
-//! change of the ECEF velocity over the frame, the body angular velocity the
-//! rotation between the two body-to-ECEF orientations
-//! (`ω = log(C_prev⁻¹ C_now) / Δt`, body axes), as fdm-dis's [`EcefState`]
-//! wants them. They are one frame's averages (half a frame late); on the
-//! first frame and after the clock goes back (a reset) they are zero.
+//! Placing an aircraft in ECEF, deriving its rates from consecutive frames,
+//! deciding what is due and counting the sends are fdm-dis's
+//! ([`fdm_dis::tracker`]); a lanes-kernel fleet is published by its
+//! [`FleetPublisher`] on all threads, making the DIS angles, rates and PDU
+//! only for the aircraft that are due.
 //!
 //! # Entity numbers and callsigns
 //!
@@ -37,15 +34,14 @@ use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use fdm_core::geodesy::{ned_from_model, GeodeticOrigin};
+use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{FlightView, Model};
 use fdm_dis::{
-    ned_to_ecef_rotation, AircraftKind, DisVersion, DrAlgorithm, DrThresholds, Due, EcefState,
-    EntityConfig, EntityIdentity, EntityPublisher, Marking, PublisherCounts, SendReason, UdpSender,
+    AircraftKind, DisVersion, DrAlgorithm, DrThresholds, EntityConfig, EntityIdentity,
+    FleetPublisher, Marking, UdpSender,
 };
 use fdm_ecs::components::Params;
 use fdm_ecs::{Entity, World};
-use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::CliError;
@@ -407,158 +403,16 @@ pub fn callsign(prefix: &str, n: u64) -> String {
     digits[digits.len().saturating_sub(11)..].to_owned()
 }
 
-/// Where a run's model frame sits in ECEF: the flat model frame (x north,
-/// y west, z up) is the tangent plane at the origin, so a model-frame
-/// position is one rotation and translation away from ECEF
-/// ([`GeodeticOrigin::model_to_ecef`]), and model-frame north-east-down
-/// axes are the origin's local NED axes: one constant rotation to ECEF.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Placement {
-    origin: GeodeticOrigin,
-    /// `C_ecef←ned` at the origin = `C_ecef←model-NED`.
-    model_ned_to_ecef: Matrix3<f64>,
-}
+/// The placement, rates and counts of DIS output live in fdm-dis
+/// ([`fdm_dis::tracker`]); re-exported here where the commands use them.
+pub use fdm_dis::{rotation_vector, Placement, Tally, Tracker};
 
-impl Placement {
-    /// The placement of a model frame at `origin`.
-    #[must_use]
-    pub fn new(origin: GeodeticOrigin) -> Self {
-        let g = origin.geodetic();
-        Self {
-            origin,
-            model_ned_to_ecef: ned_to_ecef_rotation(g.lat_deg, g.lon_deg),
-        }
-    }
-
-    /// The origin.
-    #[must_use]
-    pub fn origin(&self) -> &GeodeticOrigin {
-        &self.origin
-    }
-
-    /// The aircraft seen through `view` in ECEF, without rates: location,
-    /// body-to-ECEF rotation, velocity.
-    ///
-    /// This is the FlightGear bridge's placement ([`fgnet::bridge::display`])
-    /// without its detour through latitude and longitude: the bridge converts
-    /// the ECEF position to geodetic coordinates and makes the attitude local
-    /// there (`C_local←model`), and DIS would turn both back into ECEF with
-    /// `C_ecef←local`; the product is `C_ecef←model`, applied here directly.
-    /// The two agree to rounding (tested below), and this costs no
-    /// geodetic conversion, which was most of the per-aircraft cost.
-    #[must_use]
-    pub fn place(&self, view: &FlightView) -> EcefState {
-        let c = &self.model_ned_to_ecef;
-        EcefState::new(
-            view.time_s,
-            self.origin.model_to_ecef(view.position_m),
-            c * view.attitude.body_to_ned(),
-            c * ned_from_model(view.velocity_mps),
-            Vector3::zeros(),
-            Vector3::zeros(),
-        )
-    }
-}
-
-/// The rotation vector (axis × angle, radians) of a rotation matrix `r`:
-/// the log that turns the rotation between two frames into an angular
-/// velocity. Robust for every finite input: `(r - rᵀ)/2` gives axis × sin θ
-/// and `atan2(sin θ, (trace - 1)/2)` the angle, so a rounding error that
-/// puts the trace a hair above 3 (no turn at all) cannot make an `acos`
-/// return NaN; a turn too small to have a direction gives the small vector
-/// itself (sin θ ≈ θ).
-#[must_use]
-pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
-    let v = Vector3::new(
-        r[(2, 1)] - r[(1, 2)],
-        r[(0, 2)] - r[(2, 0)],
-        r[(1, 0)] - r[(0, 1)],
-    ) * 0.5;
-    let sin = v.norm();
-    let cos = (r.trace() - 1.0) * 0.5;
-    let angle = sin.atan2(cos);
-    if sin > 1e-12 {
-        v * (angle / sin)
-    } else {
-        v
-    }
-}
-
-/// What the previous frame left for the rates.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Previous {
-    time_s: f64,
-    velocity_ecef_m_s: Vector3<f64>,
-    body_to_ecef: Matrix3<f64>,
-}
-
-/// One aircraft's DIS output: its [`EntityPublisher`] and the previous frame
-/// for the rates (see the module docs). In a fleet it is a component of the
-/// aircraft's entity.
-#[derive(Debug, Clone)]
-pub struct Tracker {
-    publisher: EntityPublisher,
-    previous: Option<Previous>,
-}
-
-impl Tracker {
-    /// A tracker that has sent nothing yet.
-    ///
-    /// # Errors
-    /// [`CliError::Usage`] for thresholds fdm-dis refuses.
-    pub fn new(config: EntityConfig, thresholds: DrThresholds) -> Result<Self, CliError> {
-        let publisher = EntityPublisher::new(config, thresholds)
-            .map_err(|e| CliError::usage(format!("--dis: {e}")))?;
-        Ok(Self {
-            publisher,
-            previous: None,
-        })
-    }
-
-    /// The publisher's counts.
-    #[must_use]
-    pub fn counts(&self) -> PublisherCounts {
-        self.publisher.counts()
-    }
-
-    /// The entity's configuration.
-    #[must_use]
-    pub fn config(&self) -> &EntityConfig {
-        self.publisher.config()
-    }
-
-    /// This frame's ECEF state with the rates from the previous frame (zero
-    /// on the first frame or after the clock went back), remembering this
-    /// frame for the next.
-    pub fn with_rates(&mut self, mut state: EcefState) -> EcefState {
-        if let Some(prev) = self.previous {
-            let dt = state.time_s - prev.time_s;
-            if dt > 0.0 {
-                state.acceleration_m_s2 = (state.velocity_m_s - prev.velocity_ecef_m_s) / dt;
-                let turn = prev.body_to_ecef.transpose() * state.body_to_ecef;
-                state.angular_velocity_body_rad_s = rotation_vector(&turn) / dt;
-            }
-        }
-        self.previous = Some(Previous {
-            time_s: state.time_s,
-            velocity_ecef_m_s: state.velocity_m_s,
-            body_to_ecef: state.body_to_ecef,
-        });
-        state
-    }
-
-    /// Takes this frame's view; returns the PDU if one is due.
-    ///
-    /// # Errors
-    /// fdm-dis's, for a state it cannot send (a diverged model: NaN).
-    pub fn update(
-        &mut self,
-        view: &FlightView,
-        placement: &Placement,
-    ) -> Result<Option<Due<'_>>, fdm_dis::DisOutputError> {
-        let state = self.with_rates(placement.place(view));
-        self.publisher.update_ecef(&state)
-    }
+/// A [`Tracker`] for `config`, with fdm-dis's refusal as a usage error.
+///
+/// # Errors
+/// [`CliError::Usage`] for thresholds fdm-dis refuses.
+pub fn tracker(config: EntityConfig, thresholds: DrThresholds) -> Result<Tracker, CliError> {
+    Tracker::new(config, thresholds).map_err(|e| CliError::usage(format!("--dis: {e}")))
 }
 
 /// The JSON report's `dis.reasons`: why the PDUs were sent.
@@ -572,6 +426,17 @@ pub struct ReasonCounts {
     pub orientation: u64,
     /// The heartbeat (with `--dis-every-frame`: every frame after the first).
     pub heartbeat: u64,
+}
+
+impl From<fdm_dis::ReasonCounts> for ReasonCounts {
+    fn from(r: fdm_dis::ReasonCounts) -> Self {
+        Self {
+            first: r.first,
+            position: r.position,
+            orientation: r.orientation,
+            heartbeat: r.heartbeat,
+        }
+    }
 }
 
 /// The JSON report's `dis.thresholds`.
@@ -652,84 +517,6 @@ impl DisReport {
     }
 }
 
-/// Counts of sends, mergeable (a fleet's parallel batches each keep one).
-#[derive(Debug, Clone, Default)]
-pub struct Tally {
-    pdus: u64,
-    bytes: u64,
-    failed: u64,
-    invalid: u64,
-    reasons: ReasonCounts,
-    first_failure: Option<String>,
-}
-
-impl Tally {
-    /// Sends one due PDU through `sender` to `target` and counts it (a
-    /// failure is counted, its message kept once).
-    pub fn send(&mut self, sender: &UdpSender, due: &Due<'_>) {
-        match due.reason {
-            SendReason::First | SendReason::ClockReset => self.reasons.first += 1,
-            SendReason::PositionError => self.reasons.position += 1,
-            SendReason::OrientationError => self.reasons.orientation += 1,
-            SendReason::Heartbeat => self.reasons.heartbeat += 1,
-        }
-        match sender.send(due.bytes) {
-            Ok(n) => {
-                self.pdus += 1;
-                self.bytes += n as u64;
-            }
-            Err(e) => {
-                self.failed += 1;
-                if self.first_failure.is_none() {
-                    self.first_failure = Some(format!(
-                        "sending DIS to {} failed: {e}; the run goes on and counts failures",
-                        sender.target()
-                    ));
-                }
-            }
-        }
-    }
-
-    /// Counts a frame of an aircraft that could not be sent (its first
-    /// reason is kept as the failure message).
-    pub fn invalid(&mut self, error: &fdm_dis::DisOutputError) {
-        self.invalid += 1;
-        if self.first_failure.is_none() {
-            self.first_failure = Some(format!(
-                "an aircraft's state cannot be sent over DIS: {error}; it is skipped until it can"
-            ));
-        }
-    }
-
-    /// Adds `other`'s counts (and its failure message if this has none).
-    pub fn merge(&mut self, other: Self) {
-        self.pdus += other.pdus;
-        self.bytes += other.bytes;
-        self.failed += other.failed;
-        self.invalid += other.invalid;
-        self.reasons.first += other.reasons.first;
-        self.reasons.position += other.reasons.position;
-        self.reasons.orientation += other.reasons.orientation;
-        self.reasons.heartbeat += other.reasons.heartbeat;
-        if self.first_failure.is_none() {
-            self.first_failure = other.first_failure;
-        }
-    }
-
-    /// One aircraft's frame: `update`'s result sent or counted.
-    fn publish(
-        &mut self,
-        sender: &UdpSender,
-        result: Result<Option<Due<'_>>, fdm_dis::DisOutputError>,
-    ) {
-        match result {
-            Ok(Some(due)) => self.send(sender, &due),
-            Ok(None) => {}
-            Err(e) => self.invalid(&e),
-        }
-    }
-}
-
 /// The socket and the counts shared by all entities of a run.
 #[derive(Debug)]
 pub struct DisLink {
@@ -800,7 +587,7 @@ impl DisLink {
             bytes: self.tally.bytes,
             failed: self.tally.failed,
             invalid: self.tally.invalid,
-            reasons: self.tally.reasons,
+            reasons: ReasonCounts::from(self.tally.reasons),
             pdus_per_sim_s: per_s(self.tally.pdus),
             bytes_per_sim_s: per_s(self.tally.bytes),
             publish_seconds: None,
@@ -861,7 +648,7 @@ impl DisOutput {
             .callsign
             .clone()
             .unwrap_or_else(|| callsign(M::DIS_CALLSIGN, u64::from(config.entity)));
-        let tracker = Tracker::new(
+        let tracker = tracker(
             s.entity_config::<M>(id, &marking)?,
             s.effective_thresholds(),
         )?;
@@ -907,7 +694,7 @@ pub struct FleetDis {
     frames: u64,
     seconds: f64,
     /// The lanes kernel's trackers, aircraft `i` at index `i` (empty for ECS fleets).
-    lanes: Vec<Tracker>,
+    lanes: FleetPublisher,
 }
 
 impl FleetDis {
@@ -924,7 +711,7 @@ impl FleetDis {
             )?,
             frames: 0,
             seconds: 0.0,
-            lanes: Vec::new(),
+            lanes: FleetPublisher::default(),
         })
     }
 
@@ -936,7 +723,7 @@ impl FleetDis {
     ) -> Result<Tracker, CliError> {
         let id = fleet_identity(settings.site, settings.application, entity_base, i)?;
         let number = u64::from(entity_base) + i;
-        Tracker::new(
+        tracker(
             settings.entity_config::<M>(id, &callsign(M::DIS_CALLSIGN, number))?,
             settings.effective_thresholds(),
         )
@@ -981,48 +768,32 @@ impl FleetDis {
         n: usize,
     ) -> Result<Self, CliError> {
         let mut dis = Self::open(settings, entity_base, n as u64)?;
-        dis.lanes = (0..n as u64)
-            .map(|i| Self::tracker::<M>(settings, entity_base, i))
-            .collect::<Result<_, _>>()?;
+        dis.lanes = FleetPublisher::new(
+            (0..n as u64)
+                .map(|i| Self::tracker::<M>(settings, entity_base, i))
+                .collect::<Result<_, _>>()?,
+        );
         Ok(dis)
     }
 
     /// Publishes one frame of a lanes-kernel fleet: aircraft `i`'s state is
     /// `state(i)`, its controls those of [`Model::fleet_member`]`(i)`. On
-    /// the current rayon pool in batches of
-    /// [`fdm_ecs::systems::PARALLEL_BATCH`], sending as it goes.
+    /// the current rayon pool ([`FleetPublisher::publish`]), sending as it
+    /// goes.
     pub fn publish_lanes<M: Model>(
         &mut self,
         state: impl Fn(usize) -> Option<M::State> + Sync,
         origin: &GeodeticOrigin,
     ) {
-        use rayon::prelude::*;
         let start = Instant::now();
         self.frames += 1;
         let placement = Placement::new(*origin);
         let aircraft = M::default_aircraft();
-        let sender = &self.link.sender;
-        let batch = fdm_ecs::systems::PARALLEL_BATCH as usize;
-        let tally = self
-            .lanes
-            .par_chunks_mut(batch)
-            .enumerate()
-            .map(|(c, trackers)| {
-                let mut tally = Tally::default();
-                for (k, tracker) in trackers.iter_mut().enumerate() {
-                    let i = c * batch + k;
-                    if let Some(s) = state(i) {
-                        let (controls, _) = M::fleet_member(i);
-                        let view = M::view(&aircraft, &controls, &s);
-                        tally.publish(sender, tracker.update(&view, &placement));
-                    }
-                }
-                tally
-            })
-            .reduce(Tally::default, |mut a, b| {
-                a.merge(b);
-                a
-            });
+        let tally = self.lanes.publish(&self.link.sender, &placement, |i| {
+            let s = state(i)?;
+            let (controls, _) = M::fleet_member(i);
+            Some(M::view(&aircraft, &controls, &s))
+        });
         self.link.tally.merge(tally);
         self.seconds += start.elapsed().as_secs_f64();
     }
@@ -1118,7 +889,9 @@ pub fn type_label(t: &fdm_dis::dis_rs::model::EntityType) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fdm_core::geodesy::ned_from_model;
     use fdm_core::palmer::Palmer;
+    use nalgebra::Vector3;
 
     #[test]
     fn fleet_numbering_spills_into_the_next_application() {
@@ -1131,28 +904,6 @@ mod tests {
         assert_eq!(id(65_533, 1), "1:2:1");
         assert!(fleet_identity(1, 0xFFFE, 1, 65_533).is_err());
         assert!(fleet_identity(1, 0xFFFE, 1, 65_532).is_ok());
-    }
-
-    /// The rotation vector against nalgebra's exact construction, 1e-12 rad
-    /// (rounding of a few matrix products); identity and a matrix whose
-    /// trace rounds above 3 give finite zero-ish vectors, never NaN.
-    #[test]
-    fn rotation_vectors() {
-        use nalgebra::Rotation3;
-        for w in [
-            Vector3::new(0.3, -0.2, 0.1),
-            Vector3::new(0.0, 0.0, 1e-9),
-            Vector3::new(2.5, 1.0, -0.5),
-            Vector3::new(-1e-4, 2e-4, 3e-4),
-        ] {
-            let r = Rotation3::from_scaled_axis(w).into_inner();
-            assert!((rotation_vector(&r) - w).norm() < 1e-12, "{w}");
-        }
-        assert_eq!(rotation_vector(&Matrix3::identity()), Vector3::zeros());
-        let mut over = Matrix3::identity();
-        over[(0, 0)] = 1.0 + 1e-15;
-        over[(1, 1)] = 1.0 + 1e-15;
-        assert!(rotation_vector(&over).iter().all(|c| c.is_finite()));
     }
 
     #[test]
@@ -1250,7 +1001,7 @@ mod tests {
             };
             v
         };
-        let mut tracker = Tracker::new(
+        let mut tracker = tracker(
             DisSettings {
                 target: "127.0.0.1:3000".parse().unwrap(),
                 site: 1,
@@ -1274,7 +1025,7 @@ mod tests {
         // Yaw at ω about the vertical, seen in body axes banked 20°: q = ω sin φ, r = ω cos φ.
         let (sin_phi, cos_phi) = 20f64.to_radians().sin_cos();
         assert!((w - Vector3::new(0.0, omega * sin_phi, omega * cos_phi)).norm() < 1e-6 * omega);
-        let a = placement.model_ned_to_ecef.transpose() * s.acceleration_m_s2;
+        let a = placement.model_ned_to_ecef().transpose() * s.acceleration_m_s2;
         assert!((a.norm() - 50.0 * omega).abs() < 1e-3, "{a}");
         assert!(a[2].abs() < 1e-3, "{a}");
     }
