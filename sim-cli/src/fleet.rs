@@ -411,13 +411,26 @@ fn measure_model<M: CliModel>(
         None => Ok(()),
     };
     write_acmi(&mut acmi, &sim, 0)?;
+    // Frames flown: all of them unless a signal stops the run early
+    // (crate::signals; checked between frames, or every second of flight).
+    let mut frames_flown = 0;
     let seconds = if dis.is_none() && pacer.is_none() && acmi.is_none() {
-        fly_frames::<M>(&mut sim, args.frames, execution, &pool)
+        let mut seconds = 0.0;
+        while frames_flown < args.frames && crate::signals::stop_requested().is_none() {
+            let chunk = (args.frames - frames_flown).min(u64::from(FLEET_FPS));
+            seconds += fly_frames::<M>(&mut sim, chunk, execution, &pool);
+            frames_flown += chunk;
+        }
+        seconds
     } else {
         // Frame by frame: step, publish, wait for the frame's deadline; only
         // the steps are timed.
         let mut seconds = 0.0;
         for flown in 1..=args.frames {
+            if crate::signals::stop_requested().is_some() {
+                break;
+            }
+            frames_flown = flown;
             seconds += fly_frames::<M>(&mut sim, 1, execution, &pool);
             write_acmi(&mut acmi, &sim, flown)?;
             if let Some(dis) = dis.as_mut() {
@@ -442,6 +455,7 @@ fn measure_model<M: CliModel>(
     let statuses = StatusCounts::of(sim.world().query::<&FlightStatus>().iter().copied());
     let mut report = report::<M>(
         args,
+        frames_flown,
         threads,
         seconds,
         estimated_bytes_per_aircraft::<M>(),
@@ -534,11 +548,15 @@ fn measure_lanes<M: CliModel>(
         None => Ok(()),
     };
     write_acmi(&mut acmi, &fleet, 0)?;
+    // Frames flown: all of them unless a signal stops the run early
+    // (crate::signals; checked between frames).
+    let mut frames_flown = 0;
     let seconds = if dis.is_none() && pacer.is_none() && acmi.is_none() {
         let start = Instant::now();
         pool.install(|| {
-            for _ in 0..args.frames {
+            while frames_flown < args.frames && crate::signals::stop_requested().is_none() {
                 fleet.par_fly(fps, precision)?;
+                frames_flown += 1;
             }
             Ok::<(), fdm_fleet::FleetError>(())
         })
@@ -548,6 +566,10 @@ fn measure_lanes<M: CliModel>(
         let mut seconds = 0.0;
         let mut states = Vec::with_capacity(if dis.is_some() { n } else { 0 });
         for flown in 1..=args.frames {
+            if crate::signals::stop_requested().is_some() {
+                break;
+            }
+            frames_flown = flown;
             let start = Instant::now();
             pool.install(|| fleet.par_fly(fps, precision))
                 .map_err(|e| CliError::runtime(e.to_string()))?;
@@ -579,6 +601,7 @@ fn measure_lanes<M: CliModel>(
     let statuses = StatusCounts::of((0..fleet.len()).filter_map(|i| fleet.status(i)));
     let mut report = report::<M>(
         args,
+        frames_flown,
         threads,
         seconds,
         per_aircraft,
@@ -596,6 +619,7 @@ fn measure_lanes<M: CliModel>(
 /// The report of a measured fleet.
 fn report<M: Model>(
     args: &FleetArgs,
+    frames: u64,
     threads: usize,
     seconds: f64,
     estimated_bytes_per_aircraft: u64,
@@ -604,7 +628,7 @@ fn report<M: Model>(
     statuses: StatusCounts,
 ) -> FleetReport {
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
-    let steps = args.aircraft as f64 * args.frames as f64;
+    let steps = args.aircraft as f64 * frames as f64;
     let aircraft_steps_per_s = steps / seconds;
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // floor of a positive rate
     let aircraft_at_30hz = (aircraft_steps_per_s / f64::from(FLEET_FPS)).floor() as u64;
@@ -614,7 +638,7 @@ fn report<M: Model>(
         precision: lanes.map_or("exact", |(p, _)| p.name()),
         instruction_set: lanes.map(|(_, set)| set),
         aircraft: args.aircraft,
-        frames: args.frames,
+        frames,
         threads,
         seconds,
         aircraft_steps_per_s,
