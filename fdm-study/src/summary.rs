@@ -225,6 +225,13 @@ impl SummaryBuilder {
         }
     }
 
+    /// Each measure's values kept so far (present ones, in run order): what
+    /// histograms are drawn from.
+    #[must_use]
+    pub fn measure_values(&self) -> &[(String, Vec<f64>)] {
+        &self.measures
+    }
+
     /// The summary (seed 0 until [`Summary::with_seed`]).
     #[must_use]
     pub fn finish(self) -> Summary {

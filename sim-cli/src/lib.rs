@@ -23,7 +23,7 @@
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`acmi`](mod@acmi) | `--acmi FILE`: Tacview ACMI through the run library |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
-//! | [`study`] | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I` |
+//! | [`study`], [`study_plot`] | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I`, `study.svg` |
 //! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
 pub mod acmi;
@@ -55,6 +55,7 @@ pub mod signals;
 pub mod snapshot;
 pub mod start;
 pub mod study;
+pub mod study_plot;
 pub mod terminal;
 
 use std::io::Write;

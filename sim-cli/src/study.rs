@@ -51,7 +51,7 @@ pub struct StudyArgs {
     #[arg(long, value_name = "S")]
     pub seed: Option<u64>,
 
-    /// Directory receiving runs.csv, runs.arrow and summary.json (or, with --run, run-I.csv) [default: the study file's directory]
+    /// Directory receiving runs.csv, runs.arrow, summary.json and study.svg (or, with --run, run-I.csv) [default: the study file's directory]
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
@@ -198,6 +198,12 @@ fn batch(
     )
     .with_context(|| format!("writing {}", arrow_path.display()))?;
     let mut summary = SummaryBuilder::new();
+    // Touchdown points for the scatter (east = −y, north = x), the first
+    // runs' up to the plot's limit.
+    let names = study.measure_names();
+    let column = |name: &str| names.iter().position(|n| n == name);
+    let touchdown_columns = column("touchdown_x_m").zip(column("touchdown_y_m"));
+    let mut touchdowns: Vec<(f64, f64)> = Vec::new();
     let mut progress = StderrProgress::with_enabled(study.runs(), std::io::stderr().is_terminal());
     let mut start = 0;
     while start < study.runs() {
@@ -212,6 +218,17 @@ fn batch(
             .write(&table)
             .with_context(|| format!("writing {}", arrow_path.display()))?;
         summary.add(&table);
+        if let Some((x, y)) = touchdown_columns {
+            let room = crate::study_plot::MAX_SCATTER_POINTS.saturating_sub(touchdowns.len());
+            touchdowns.extend(
+                table.measures[x]
+                    .1
+                    .iter()
+                    .zip(&table.measures[y].1)
+                    .filter_map(|(x, y)| Some((-(*y)?, (*x)?)))
+                    .take(room),
+            );
+        }
         start = end;
         progress.tick(start - start % 64);
     }
@@ -221,6 +238,9 @@ fn batch(
     arrow
         .finish()
         .with_context(|| format!("writing {}", arrow_path.display()))?;
+    let svg = crate::study_plot::render(summary.measure_values(), &touchdowns)?;
+    let plot_path = out_dir.join("study.svg");
+    std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
     let summary = summary.finish().with_seed(study.seed());
     let json = serde_json::to_string_pretty(&summary).context("summary as JSON")?;
     let summary_path = out_dir.join("summary.json");
