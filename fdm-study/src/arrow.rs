@@ -38,7 +38,7 @@ enum Node {
 }
 
 fn pad_to(buf: &mut Vec<u8>, align: usize) {
-    while buf.len() % align != 0 {
+    while !buf.len().is_multiple_of(align) {
         buf.push(0);
     }
 }
@@ -64,7 +64,7 @@ fn emit(buf: &mut Vec<u8>, node: &Node) -> usize {
             at
         }
         Node::Structs { count, bytes } => {
-            while (buf.len() + 4) % 8 != 0 {
+            while !(buf.len() + 4).is_multiple_of(8) {
                 buf.push(0);
             }
             let at = buf.len();
@@ -93,7 +93,7 @@ fn emit(buf: &mut Vec<u8>, node: &Node) -> usize {
             let vtable_len = 4 + 2 * slots;
             // The vtable right before the table; the table 8-aligned.
             pad_to(buf, 2);
-            while (buf.len() + vtable_len) % 8 != 0 {
+            while !(buf.len() + vtable_len).is_multiple_of(8) {
                 buf.extend_from_slice(&[0, 0]);
             }
             let vtable = buf.len();
