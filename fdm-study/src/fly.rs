@@ -1,0 +1,501 @@
+//! Flying a study's runs: blocks of runs on SIMD fleets, on several threads,
+//! into a [`RunTable`]; and [`MeasureOutput`], the same measures for a run
+//! flown alone through `fdm_run`.
+
+use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use fdm_core::model::{FlightStatus, Model};
+use fdm_core::script::Script;
+use fdm_fleet::{Fleet, Precision};
+use fdm_run::{Event, Frame, Output, OutputError};
+use serde::Serialize;
+
+use crate::measure::{needs_view, Measure, Tracker};
+use crate::model::{with_study_model, StudyJob, StudyModel};
+use crate::spec::{RunSetup, Stop, Study};
+use crate::StudyError;
+
+/// Runs per block: each block is one set of fleets flown on one thread, its
+/// rows appended in run order. Small enough to balance threads and keep a
+/// block's states in cache, large enough that the per-block set-up is noise.
+pub const BLOCK_RUNS: u64 = 1024;
+
+/// How a run ended: its flight status at its last frame, or a start the
+/// model refused (e.g. a dispersed speed that cannot be trimmed).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(into = "&'static str")]
+pub enum RunStatus {
+    /// The flight status at the run's last frame.
+    Flown(FlightStatus),
+    /// The run's start was refused; it was not flown and has no measures.
+    StartRefused,
+}
+
+impl RunStatus {
+    /// Every status code, in the order summaries list them.
+    pub const CODES: &'static [&'static str] = &[
+        "on_ground",
+        "airborne",
+        "landed_safe",
+        "landed_rough",
+        "crashed",
+        "diverged",
+        "start_refused",
+    ];
+
+    /// The status as one word: [`FlightStatus::code`] (`on_ground`,
+    /// `airborne`, `landed_safe`, `landed_rough`, `crashed`, `diverged`) or
+    /// `start_refused`.
+    #[must_use]
+    pub const fn code(self) -> &'static str {
+        match self {
+            Self::Flown(status) => status.code(),
+            Self::StartRefused => "start_refused",
+        }
+    }
+}
+
+impl From<RunStatus> for &'static str {
+    fn from(status: RunStatus) -> Self {
+        status.code()
+    }
+}
+
+/// The per-run results of some runs of a study, in run order: one row per
+/// run, one column per measure. A measure that does not apply to a run (no
+/// touchdown, target height never reached, a refused start) is `None`:
+/// never NaN.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RunTable {
+    /// The run indices.
+    pub run: Vec<u64>,
+    /// How each run ended.
+    pub status: Vec<RunStatus>,
+    /// Frames each run flew (the duration, or up to its stop condition).
+    pub frames: Vec<u64>,
+    /// Per measure, in the study's order: its name and one value per run.
+    pub measures: Vec<(String, Vec<Option<f64>>)>,
+}
+
+impl RunTable {
+    /// An empty table with the columns of `measures`.
+    #[must_use]
+    pub fn empty(measures: &[Measure]) -> Self {
+        Self {
+            measures: measures
+                .iter()
+                .map(|m| (m.name().to_owned(), Vec::new()))
+                .collect(),
+            ..Self::default()
+        }
+    }
+
+    /// Number of rows.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.run.len()
+    }
+
+    /// Whether the table has no rows.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.run.is_empty()
+    }
+
+    /// Appends `other`'s rows after this table's.
+    ///
+    /// # Errors
+    /// [`StudyError::Columns`] when the two tables' measure columns differ.
+    pub fn append(&mut self, other: RunTable) -> Result<(), StudyError> {
+        let names = |t: &RunTable| {
+            t.measures
+                .iter()
+                .map(|(n, _)| n.clone())
+                .collect::<Vec<_>>()
+        };
+        if names(self) != names(&other) {
+            return Err(StudyError::Columns {
+                have: names(self),
+                other: names(&other),
+            });
+        }
+        self.run.extend(other.run);
+        self.status.extend(other.status);
+        self.frames.extend(other.frames);
+        for ((_, mine), (_, theirs)) in self.measures.iter_mut().zip(other.measures) {
+            mine.extend(theirs);
+        }
+        Ok(())
+    }
+
+    fn push(
+        &mut self,
+        run: u64,
+        status: RunStatus,
+        frames: u64,
+        tracker: Option<&Tracker>,
+        measures: &[Measure],
+    ) {
+        self.run.push(run);
+        self.status.push(status);
+        self.frames.push(frames);
+        for ((_, column), measure) in self.measures.iter_mut().zip(measures) {
+            column.push(tracker.and_then(|t| t.value(*measure)));
+        }
+    }
+}
+
+/// How [`Study::fly_runs`] flies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FlyOptions {
+    /// Worker threads (at least 1).
+    pub threads: usize,
+    /// The fleets' maths: `Exact` (every run bit-identical to the run flown
+    /// alone) or `Fast` (Palmer only).
+    pub precision: Precision,
+}
+
+impl Default for FlyOptions {
+    /// One thread per available core, exact maths.
+    fn default() -> Self {
+        Self {
+            threads: std::thread::available_parallelism().map_or(1, usize::from),
+            precision: Precision::Exact,
+        }
+    }
+}
+
+/// Whether a run stops now under `stop`.
+fn stops(stop: Stop, tracker: &Tracker) -> bool {
+    match stop {
+        Stop::Duration => false,
+        Stop::Touchdown => tracker.touched_down() || tracker.status().is_final(),
+    }
+}
+
+impl Study {
+    /// Flies runs `runs.start..runs.end` (in run order) on `options.threads`
+    /// threads with `options.precision`, in blocks of [`BLOCK_RUNS`] runs on
+    /// SIMD fleets. The result for run `i` never depends on the range, the
+    /// thread count or the block layout: each run's values come from its own
+    /// random stream, and each fleet lane is flown alone.
+    ///
+    /// Runs whose aircraft is the same share a fleet; with dispersed
+    /// physical parameters every run flies in a fleet of its own (still on
+    /// the fleet's lanes, so with the same bits).
+    ///
+    /// # Errors
+    /// [`StudyError::Range`] for runs past [`Study::runs`], a precision the
+    /// model has not ([`StudyError::Fleet`]), or no thread.
+    pub fn fly_runs(&self, runs: Range<u64>, options: &FlyOptions) -> Result<RunTable, StudyError> {
+        if runs.start > runs.end || runs.end > self.runs() {
+            return Err(StudyError::Range {
+                start: runs.start,
+                end: runs.end,
+                runs: self.runs(),
+            });
+        }
+        if options.threads == 0 {
+            return Err(StudyError::Threads);
+        }
+        with_study_model(
+            self.model(),
+            FlyJob {
+                study: self,
+                runs,
+                options: *options,
+            },
+        )
+        .unwrap_or(Err(StudyError::Model {
+            study: self.model(),
+            asked: "registry",
+        }))
+    }
+
+    /// Flies one block of runs of model `M`.
+    fn fly_block<M: StudyModel>(&self, runs: Range<u64>, precision: Precision) -> RunTable {
+        let measures = self.measures();
+        let count = usize::try_from(runs.end - runs.start).unwrap_or(0);
+        let mut trackers: Vec<Option<Tracker>> = Vec::with_capacity(count);
+        let mut statuses = vec![RunStatus::StartRefused; count];
+        let mut frames = vec![0u64; count];
+        let mut setups: Vec<Option<RunSetup<M>>> = Vec::with_capacity(count);
+        for run in runs.clone() {
+            setups.push(self.setup::<M>(run).ok());
+            trackers.push(None);
+        }
+        // Groups of runs sharing an aircraft, in run order.
+        let mut groups: Vec<(M::Aircraft, Vec<usize>)> = Vec::new();
+        for (i, setup) in setups.iter().enumerate() {
+            let Some(setup) = setup else { continue };
+            let aircraft = &setup.start.aircraft;
+            let found = if self.disperses_aircraft() {
+                groups.iter_mut().rev().take(8).find(|(a, _)| a == aircraft)
+            } else {
+                groups.first_mut()
+            };
+            match found {
+                Some((_, members)) => members.push(i),
+                None => groups.push((aircraft.clone(), vec![i])),
+            }
+        }
+        let needs_bank = needs_view(measures);
+        let dt = M::time_step(f64::from(self.fps()));
+        for (aircraft, members) in groups {
+            let Ok(mut fleet) = Fleet::<M>::try_new(aircraft.clone()) else {
+                continue;
+            };
+            let mut scripts: Vec<&Script<M::Action>> = Vec::with_capacity(members.len());
+            let mut group_trackers = Vec::with_capacity(members.len());
+            for &i in &members {
+                let Some(setup) = &setups[i] else { continue };
+                fleet.push(setup.start.state, setup.start.controls);
+                scripts.push(&setup.script);
+                let mut tracker = Tracker::new(self.fps(), self.target_height_m(), needs_bank);
+                tracker.observe::<M>(
+                    0,
+                    &aircraft,
+                    &setup.start.controls,
+                    &setup.start.state,
+                    FlightStatus::initial(M::height_m(&setup.start.state)),
+                );
+                group_trackers.push(tracker);
+            }
+            let mut stopped: Vec<bool> = group_trackers
+                .iter()
+                .map(|t| stops(self.stop(), t))
+                .collect();
+            let mut flying = stopped.iter().filter(|s| !**s).count();
+            let mut frame = 0;
+            while frame < self.frames() && flying > 0 {
+                frame += 1;
+                for (j, script) in scripts.iter().enumerate() {
+                    if stopped[j] {
+                        continue;
+                    }
+                    let Some(before) = fleet.controls(j) else {
+                        continue;
+                    };
+                    let mut controls = M::begin_frame(before);
+                    for action in script.actions_at(frame) {
+                        controls = M::apply(&aircraft, controls, action);
+                    }
+                    if controls != before {
+                        let _ = fleet.set_controls(j, controls);
+                    }
+                }
+                // `Fleet::fly_with` fails only for a precision the model has
+                // not, checked before any block is flown.
+                let _ = fleet.fly_with(dt, precision);
+                for (j, tracker) in group_trackers.iter_mut().enumerate() {
+                    if stopped[j] {
+                        continue;
+                    }
+                    if let (Some(state), Some(status), Some(controls)) =
+                        (fleet.state(j), fleet.status(j), fleet.controls(j))
+                    {
+                        tracker.observe::<M>(frame, &aircraft, &controls, &state, status);
+                    }
+                    if stops(self.stop(), tracker) {
+                        stopped[j] = true;
+                        flying -= 1;
+                    }
+                }
+            }
+            for (&i, tracker) in members.iter().zip(group_trackers) {
+                statuses[i] = RunStatus::Flown(tracker.status());
+                frames[i] = tracker.frames();
+                trackers[i] = Some(tracker);
+            }
+        }
+        let mut table = RunTable::empty(measures);
+        for (k, run) in runs.enumerate() {
+            table.push(run, statuses[k], frames[k], trackers[k].as_ref(), measures);
+        }
+        table
+    }
+}
+
+struct FlyJob<'a> {
+    study: &'a Study,
+    runs: Range<u64>,
+    options: FlyOptions,
+}
+
+impl StudyJob for FlyJob<'_> {
+    type Output = Result<RunTable, StudyError>;
+
+    fn call<M: StudyModel>(self) -> Result<RunTable, StudyError> {
+        let FlyJob {
+            study,
+            runs,
+            options,
+        } = self;
+        Fleet::<M>::check_precision(options.precision)?;
+        let blocks: Vec<Range<u64>> = (runs.start..runs.end)
+            .step_by(usize::try_from(BLOCK_RUNS).unwrap_or(1024))
+            .map(|start| start..(start + BLOCK_RUNS).min(runs.end))
+            .collect();
+        let results: Vec<Mutex<Option<RunTable>>> =
+            blocks.iter().map(|_| Mutex::new(None)).collect();
+        let next = AtomicUsize::new(0);
+        let threads = options.threads.min(blocks.len()).max(1);
+        std::thread::scope(|scope| {
+            for _ in 0..threads {
+                scope.spawn(|| loop {
+                    let b = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(block) = blocks.get(b) else { break };
+                    let table = study.fly_block::<M>(block.clone(), options.precision);
+                    if let Ok(mut slot) = results[b].lock() {
+                        *slot = Some(table);
+                    }
+                });
+            }
+        });
+        let mut table = RunTable::empty(study.measures());
+        for slot in results {
+            let block = slot.into_inner().ok().flatten().ok_or(StudyError::Worker)?;
+            table.append(block)?;
+        }
+        Ok(table)
+    }
+}
+
+/// The study's measures of a run flown alone through `fdm_run` (an
+/// [`Output`]): attach it to the run's [`fdm_run::Run`] (or `sim-cli study
+/// --run I`'s flight) from frame 0 on; it computes the measures with the
+/// same code as the batch, so an exact run gives the batch's bits. It stops
+/// observing at the study's stop condition; a reset ends its observations.
+#[derive(Debug, Clone)]
+pub struct MeasureOutput<M: Model> {
+    aircraft: M::Aircraft,
+    tracker: Tracker,
+    stop: Stop,
+    stopped: bool,
+    run: u64,
+    measures: Vec<Measure>,
+}
+
+impl<M: StudyModel> MeasureOutput<M> {
+    /// The measures of run `run` of `study`, flown with `aircraft`.
+    #[must_use]
+    pub fn new(study: &Study, run: u64, aircraft: M::Aircraft) -> Self {
+        Self {
+            aircraft,
+            tracker: Tracker::new(
+                study.fps(),
+                study.target_height_m(),
+                needs_view(study.measures()),
+            ),
+            stop: study.stop(),
+            stopped: false,
+            run,
+            measures: study.measures().to_vec(),
+        }
+    }
+
+    /// The run's row: its status, frames and measures.
+    #[must_use]
+    pub fn table(&self) -> RunTable {
+        let mut table = RunTable::empty(&self.measures);
+        table.push(
+            self.run,
+            RunStatus::Flown(self.tracker.status()),
+            self.tracker.frames(),
+            Some(&self.tracker),
+            &self.measures,
+        );
+        table
+    }
+}
+
+impl<M: StudyModel> Output<M> for MeasureOutput<M> {
+    fn frame(&mut self, frame: &Frame<'_, M>) -> Result<(), OutputError> {
+        if self.stopped || frame.event == Event::Reset {
+            self.stopped = true;
+            return Ok(());
+        }
+        self.tracker.observe::<M>(
+            frame.number,
+            &self.aircraft,
+            frame.controls,
+            frame.state,
+            frame.status,
+        );
+        self.stopped = stops(self.stop, &self.tracker);
+        Ok(())
+    }
+}
+
+/// What a streamed study keeps in memory ([`Study::memory`]), bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryEstimate {
+    /// Kept for the whole study per run: one `f64` per measure for the
+    /// summary's percentiles.
+    pub kept_per_run: u64,
+    /// Per run of the chunk being flown: its set-up (start, script), its
+    /// fleet lane, its tracker and its table row.
+    pub flying_per_run: u64,
+    /// Runs flown at once (one chunk).
+    pub chunk_runs: u64,
+    /// The total: `runs × kept_per_run + chunk_runs × flying_per_run`.
+    pub total: u64,
+}
+
+impl Study {
+    /// The memory a study of [`Study::runs`] runs flown in chunks of
+    /// `chunk_runs` takes, by the sizes of its data structures (the
+    /// program's own code and stacks aside).
+    #[must_use]
+    pub fn memory(&self, chunk_runs: u64) -> MemoryEstimate {
+        with_study_model(
+            self.model(),
+            MemoryJob {
+                study: self,
+                chunk_runs,
+            },
+        )
+        .unwrap_or(MemoryEstimate {
+            kept_per_run: 0,
+            flying_per_run: 0,
+            chunk_runs,
+            total: 0,
+        })
+    }
+}
+
+struct MemoryJob<'a> {
+    study: &'a Study,
+    chunk_runs: u64,
+}
+
+impl StudyJob for MemoryJob<'_> {
+    type Output = MemoryEstimate;
+
+    fn call<M: StudyModel>(self) -> MemoryEstimate {
+        use core::mem::size_of;
+        let measures = self.study.measures().len();
+        let script_rules = self.study.script_rules::<M>();
+        let kept = (measures * crate::summary::SummaryBuilder::BYTES_PER_VALUE) as u64;
+        let flying = size_of::<Option<RunSetup<M>>>()
+            + script_rules * size_of::<fdm_core::script::Rule<M::Action>>()
+            + Fleet::<M>::bytes_per_aircraft()
+            + 2 * size_of::<Option<Tracker>>()
+            + size_of::<u64>() * 2
+            + size_of::<RunStatus>()
+            + measures * size_of::<Option<f64>>()
+            + size_of::<bool>();
+        let flying = flying as u64;
+        let runs = self.study.runs();
+        MemoryEstimate {
+            kept_per_run: kept,
+            flying_per_run: flying,
+            chunk_runs: self.chunk_runs,
+            total: runs
+                .saturating_mul(kept)
+                .saturating_add(self.chunk_runs.min(runs).saturating_mul(flying)),
+        }
+    }
+}

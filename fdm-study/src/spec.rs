@@ -1,0 +1,1044 @@
+//! The study file (TOML) and the validated [`Study`].
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::Path;
+
+use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::model::Model;
+use fdm_core::script::{Rule, Script};
+use fdm_core::start::InitialConditions;
+use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+use fdm_run::{Scenario, Start, MAX_FPS, MAX_FRAMES};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::measure::Measure;
+use crate::model::{with_study_model, StudyJob, StudyModel};
+use crate::rng::{normal_cdf, normal_quantile, uniform};
+use crate::StudyError;
+
+/// Most runs one study may have (2^40, about 1.1e12): far beyond one
+/// machine, it only keeps counts exact in `f64` summaries.
+pub const MAX_RUNS: u64 = 1 << 40;
+
+/// When a run ends before its duration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// Fly the whole duration.
+    Duration,
+    /// End at the first touchdown (or a crash, or a divergence).
+    Touchdown,
+}
+
+/// A distribution of one dispersion.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Distribution {
+    /// Normal with mean `mean` and standard deviation `sd`.
+    Normal {
+        /// Mean.
+        mean: f64,
+        /// Standard deviation (> 0).
+        sd: f64,
+    },
+    /// Uniform on [`low`, `high`].
+    Uniform {
+        /// Lowest value.
+        low: f64,
+        /// Highest value.
+        high: f64,
+    },
+    /// Normal(`mean`, `sd`) restricted to [`low`, `high`], by inversion of
+    /// the CDF (one uniform, no rejection loop).
+    TruncatedNormal {
+        /// Mean of the untruncated normal.
+        mean: f64,
+        /// Its standard deviation (> 0).
+        sd: f64,
+        /// Lowest value.
+        low: f64,
+        /// Highest value.
+        high: f64,
+    },
+    /// One of `values`, with the probabilities `weights` (normalised).
+    Choice {
+        /// The values.
+        values: Vec<f64>,
+        /// Their cumulative weights, normalised, the last exactly 1.
+        cumulative: Vec<f64>,
+    },
+}
+
+impl Distribution {
+    /// The value for the uniform `u` in (0, 1).
+    #[must_use]
+    pub fn sample(&self, u: f64) -> f64 {
+        match self {
+            Self::Normal { mean, sd } => mean + sd * normal_quantile(u),
+            Self::Uniform { low, high } => low + (high - low) * u,
+            Self::TruncatedNormal {
+                mean,
+                sd,
+                low,
+                high,
+            } => {
+                let a = normal_cdf((low - mean) / sd);
+                let b = normal_cdf((high - mean) / sd);
+                let x = mean + sd * normal_quantile(a + u * (b - a));
+                // The CDF's rounding can put x a hair outside: clamp.
+                if x.is_finite() {
+                    x.clamp(*low, *high)
+                } else {
+                    (low + high) / 2.0
+                }
+            }
+            Self::Choice { values, cumulative } => {
+                let index = cumulative
+                    .iter()
+                    .position(|&c| u < c)
+                    .unwrap_or(values.len() - 1);
+                values[index]
+            }
+        }
+    }
+}
+
+/// What a dispersion sets.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Target {
+    Initial(&'static str),
+    Control(String),
+    Aircraft(String),
+    ScriptDelay,
+}
+
+/// One dispersion of a study.
+#[derive(Debug, Clone, PartialEq)]
+struct Dispersion {
+    key: String,
+    target: Target,
+    distribution: Distribution,
+}
+
+/// The initial conditions of a study file's `[initial]`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InitialSpec {
+    altitude_ft: Option<f64>,
+    speed_kt: Option<f64>,
+    heading_deg: Option<f64>,
+    #[serde(default)]
+    trim: bool,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OriginSpec {
+    lat_deg: f64,
+    lon_deg: f64,
+    alt_m: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DispersionSpec {
+    key: Spanned<String>,
+    distribution: Spanned<String>,
+    mean: Option<f64>,
+    sd: Option<f64>,
+    low: Option<f64>,
+    high: Option<f64>,
+    values: Option<Vec<f64>>,
+    weights: Option<Vec<f64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    model: Spanned<String>,
+    runs: Spanned<i64>,
+    #[serde(default)]
+    seed: u64,
+    fps: Option<Spanned<i64>>,
+    duration_s: Spanned<f64>,
+    stop: Option<Spanned<String>>,
+    measures: Spanned<Vec<Spanned<String>>>,
+    target_height_m: Option<Spanned<f64>>,
+    origin: Option<Spanned<OriginSpec>>,
+    initial: Option<Spanned<InitialSpec>>,
+    #[serde(default)]
+    controls: BTreeMap<String, Spanned<f64>>,
+    #[serde(default)]
+    aircraft: BTreeMap<String, Spanned<f64>>,
+    script: Option<Spanned<String>>,
+    script_delay_s: Option<Spanned<f64>>,
+    #[serde(default)]
+    dispersion: Vec<Spanned<DispersionSpec>>,
+}
+
+/// A parsed, validated study: the scenario, its dispersions, the number of
+/// runs, the seed and the measures (docs/studies.md).
+///
+/// ```
+/// use fdm_study::Study;
+///
+/// let study = Study::from_toml_str(
+///     r#"
+/// model = "palmer"
+/// runs = 4
+/// seed = 1
+/// duration_s = 2.0
+/// measures = ["max_height_m"]
+/// [[dispersion]]
+/// key = "controls.throttle"
+/// distribution = "uniform"
+/// low = 0.5
+/// high = 1.0
+/// "#,
+/// )?;
+/// assert_eq!(study.runs(), 4);
+/// assert_eq!(study.measure_names(), ["max_height_m"]);
+/// # Ok::<(), fdm_study::StudyError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Study {
+    model: &'static str,
+    runs: u64,
+    seed: u64,
+    fps: u32,
+    frames: u64,
+    stop: Stop,
+    measures: Vec<Measure>,
+    target_height_m: Option<f64>,
+    origin: Option<[f64; 3]>,
+    initial: Option<InitialSpec>,
+    controls: Vec<(String, f64)>,
+    aircraft: Vec<(String, f64)>,
+    script: String,
+    script_delay_s: f64,
+    dispersions: Vec<Dispersion>,
+}
+
+/// The line (from 1) of byte `offset` in `text`.
+fn line_of(text: &str, offset: usize) -> usize {
+    text.get(..offset).map_or(1, |before| {
+        before.bytes().filter(|&b| b == b'\n').count() + 1
+    })
+}
+
+/// One run's values: the study's base values with the run's draws.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct RunValues {
+    initial: InitialSpec,
+    controls: Vec<(String, f64)>,
+    aircraft: Vec<(String, f64)>,
+    script_delay_s: f64,
+}
+
+/// Run `run` of a study ready to fly, or why its start was refused.
+pub(crate) struct RunSetup<M: Model> {
+    pub(crate) start: Start<M>,
+    pub(crate) script: Script<M::Action>,
+}
+
+impl Study {
+    /// Parses and validates a study file's text.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] naming the line, the key and what was
+    /// expected.
+    pub fn from_toml_str(text: &str) -> Result<Self, StudyError> {
+        let file: StudyFile = toml::from_str(text).map_err(|e| {
+            let line = e.span().map_or(1, |s| line_of(text, s.start));
+            StudyError::Syntax {
+                line,
+                message: e.message().trim().replace('\n', "; "),
+            }
+        })?;
+        let invalid = |span: Range<usize>, key: &str, expected: String| StudyError::Invalid {
+            line: line_of(text, span.start),
+            key: key.to_owned(),
+            expected,
+        };
+        let model = fdm_run::model::MODELS
+            .iter()
+            .copied()
+            .find(|m| *m == file.model.get_ref())
+            .ok_or_else(|| {
+                invalid(
+                    file.model.span(),
+                    "model",
+                    format!(
+                        "one of {}, found \"{}\"",
+                        fdm_run::model::MODELS.join(", "),
+                        file.model.get_ref()
+                    ),
+                )
+            })?;
+        let runs = u64::try_from(*file.runs.get_ref())
+            .ok()
+            .filter(|r| (1..=MAX_RUNS).contains(r))
+            .ok_or_else(|| {
+                invalid(
+                    file.runs.span(),
+                    "runs",
+                    format!(
+                        "a whole number from 1 to {MAX_RUNS}, found {}",
+                        file.runs.get_ref()
+                    ),
+                )
+            })?;
+        let fps = match &file.fps {
+            None => 30,
+            Some(fps) => u32::try_from(*fps.get_ref())
+                .ok()
+                .filter(|f| (1..=MAX_FPS).contains(f))
+                .ok_or_else(|| {
+                    invalid(
+                        fps.span(),
+                        "fps",
+                        format!(
+                            "a whole number from 1 to {MAX_FPS}, found {}",
+                            fps.get_ref()
+                        ),
+                    )
+                })?,
+        };
+        let duration = *file.duration_s.get_ref();
+        let frames_f = (duration * f64::from(fps)).round();
+        #[allow(clippy::cast_precision_loss)]
+        if !(duration.is_finite() && frames_f >= 1.0 && frames_f <= MAX_FRAMES as f64) {
+            return Err(invalid(
+                file.duration_s.span(),
+                "duration_s",
+                format!(
+                    "seconds giving 1 to {MAX_FRAMES} frames at {fps} frames per second, found {duration}"
+                ),
+            ));
+        }
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let frames = frames_f as u64;
+        let stop = match &file.stop {
+            None => Stop::Duration,
+            Some(s) => match s.get_ref().as_str() {
+                "duration" => Stop::Duration,
+                "touchdown" => Stop::Touchdown,
+                other => {
+                    return Err(invalid(
+                        s.span(),
+                        "stop",
+                        format!("\"duration\" or \"touchdown\", found \"{other}\""),
+                    ))
+                }
+            },
+        };
+        let mut measures = Vec::new();
+        for name in file.measures.get_ref() {
+            let measure = Measure::from_name(name.get_ref()).ok_or_else(|| {
+                invalid(
+                    name.span(),
+                    "measures",
+                    format!(
+                        "measure names among {}, found \"{}\"",
+                        Measure::ALL
+                            .iter()
+                            .map(|m| m.name())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        name.get_ref()
+                    ),
+                )
+            })?;
+            if measures.contains(&measure) {
+                return Err(invalid(
+                    name.span(),
+                    "measures",
+                    format!("each measure once, found \"{}\" twice", measure.name()),
+                ));
+            }
+            measures.push(measure);
+        }
+        if measures.is_empty() {
+            return Err(invalid(
+                file.measures.span(),
+                "measures",
+                "at least one measure".to_owned(),
+            ));
+        }
+        let target_height_m = match &file.target_height_m {
+            Some(t) if !t.get_ref().is_finite() => {
+                return Err(invalid(
+                    t.span(),
+                    "target_height_m",
+                    "a finite height in metres".to_owned(),
+                ))
+            }
+            Some(t) => Some(*t.get_ref()),
+            None => None,
+        };
+        if let Some(m) = measures.iter().find(|m| m.needs_target_height()) {
+            if target_height_m.is_none() {
+                return Err(invalid(
+                    file.measures.span(),
+                    "target_height_m",
+                    format!("a height in metres for the measure {}", m.name()),
+                ));
+            }
+        }
+        let origin = match &file.origin {
+            None => None,
+            Some(o) => {
+                let spec = o.get_ref();
+                GeodeticOrigin::new(spec.lat_deg, spec.lon_deg, spec.alt_m)
+                    .map_err(|e| invalid(o.span(), "origin", format!("a geodetic origin ({e})")))?;
+                Some([spec.lat_deg, spec.lon_deg, spec.alt_m])
+            }
+        };
+        let initial = file.initial.as_ref().map(|i| *i.get_ref());
+        if let (Some(span), Some(spec)) = (file.initial.as_ref().map(Spanned::span), initial) {
+            check_initial(&spec).map_err(|e| invalid(span, "initial", e))?;
+        }
+        let script_delay_s = file.script_delay_s.as_ref().map_or(Ok(0.0), |d| {
+            let v = *d.get_ref();
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(
+                    d.span(),
+                    "script_delay_s",
+                    format!("seconds >= 0, found {v}"),
+                ))
+            }
+        })?;
+        let mut dispersions = Vec::new();
+        for d in &file.dispersion {
+            let spec = d.get_ref();
+            let key = spec.key.get_ref().clone();
+            let target = parse_target(&key).ok_or_else(|| {
+                invalid(
+                    spec.key.span(),
+                    "dispersion.key",
+                    format!(
+                        "initial.altitude_ft, initial.speed_kt, initial.heading_deg, \
+                         controls.NAME, aircraft.NAME or script_delay_s, found \"{key}\""
+                    ),
+                )
+            })?;
+            if dispersions.iter().any(|o: &Dispersion| o.key == key) {
+                return Err(invalid(
+                    spec.key.span(),
+                    "dispersion.key",
+                    format!("each key dispersed once, found \"{key}\" twice"),
+                ));
+            }
+            let distribution = parse_distribution(spec)
+                .map_err(|(field, e)| invalid(d.span(), &format!("dispersion.{field}"), e))?;
+            dispersions.push(Dispersion {
+                key,
+                target,
+                distribution,
+            });
+        }
+        let study = Self {
+            model,
+            runs,
+            seed: file.seed,
+            fps,
+            frames,
+            stop,
+            measures,
+            target_height_m,
+            origin,
+            initial,
+            controls: file
+                .controls
+                .iter()
+                .map(|(k, v)| (k.clone(), *v.get_ref()))
+                .collect(),
+            aircraft: file
+                .aircraft
+                .iter()
+                .map(|(k, v)| (k.clone(), *v.get_ref()))
+                .collect(),
+            script: file
+                .script
+                .as_ref()
+                .map(|s| s.get_ref().clone())
+                .unwrap_or_default(),
+            script_delay_s,
+            dispersions,
+        };
+        // The model's own checks: the names of controls, parameters, the
+        // script's actions, and the nominal run's start.
+        with_study_model(
+            model,
+            CheckModel {
+                study: &study,
+                file: &file,
+                text,
+            },
+        )
+        .unwrap_or(Ok(()))?;
+        Ok(study)
+    }
+
+    /// Reads and parses a study file.
+    ///
+    /// # Errors
+    /// [`StudyError::Io`] when it cannot be read; as [`Self::from_toml_str`].
+    pub fn from_path(path: &Path) -> Result<Self, StudyError> {
+        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_toml_str(&text)
+    }
+
+    /// The same study with `runs` runs.
+    ///
+    /// # Errors
+    /// [`StudyError::Runs`] outside 1 to [`MAX_RUNS`].
+    pub fn with_runs(mut self, runs: u64) -> Result<Self, StudyError> {
+        if !(1..=MAX_RUNS).contains(&runs) {
+            return Err(StudyError::Runs(runs));
+        }
+        self.runs = runs;
+        Ok(self)
+    }
+
+    /// The same study with the master seed `seed`.
+    #[must_use]
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// Number of runs.
+    #[must_use]
+    pub fn runs(&self) -> u64 {
+        self.runs
+    }
+
+    /// The master seed.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The model's name ([`fdm_core::model::Model::NAME`]).
+    #[must_use]
+    pub fn model(&self) -> &'static str {
+        self.model
+    }
+
+    /// Frames per second.
+    #[must_use]
+    pub fn fps(&self) -> u32 {
+        self.fps
+    }
+
+    /// Frames of a run that flies its whole duration.
+    #[must_use]
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// The stop condition.
+    #[must_use]
+    pub fn stop(&self) -> Stop {
+        self.stop
+    }
+
+    /// The measures, in the file's order.
+    #[must_use]
+    pub fn measures(&self) -> &[Measure] {
+        &self.measures
+    }
+
+    /// The measures' names, in the file's order: the measure columns.
+    #[must_use]
+    pub fn measure_names(&self) -> Vec<String> {
+        self.measures.iter().map(|m| m.name().to_owned()).collect()
+    }
+
+    /// The height of `time_to_height_s` and `distance_to_height_m`, m.
+    #[must_use]
+    pub fn target_height_m(&self) -> Option<f64> {
+        self.target_height_m
+    }
+
+    /// The earth-frame origin (the default, Wright-Patterson, unless given).
+    #[must_use]
+    pub fn origin(&self) -> GeodeticOrigin {
+        self.origin
+            .and_then(|[lat, lon, alt]| GeodeticOrigin::new(lat, lon, alt).ok())
+            .unwrap_or_default()
+    }
+
+    /// Whether any dispersion changes the aircraft's physical parameters
+    /// (then every run flies with an aircraft of its own).
+    #[must_use]
+    pub fn disperses_aircraft(&self) -> bool {
+        self.dispersions
+            .iter()
+            .any(|d| matches!(d.target, Target::Aircraft(_)))
+    }
+
+    /// The dispersed values of run `run`: each dispersion's key and the value
+    /// drawn for the run, in the file's order (to relate measures to inputs,
+    /// e.g. climb against mass).
+    #[must_use]
+    pub fn dispersed_values(&self, run: u64) -> Vec<(String, f64)> {
+        self.dispersions
+            .iter()
+            .enumerate()
+            .map(|(index, d)| {
+                #[allow(clippy::cast_possible_truncation)]
+                let u = uniform(self.seed, run, index as u32);
+                (d.key.clone(), d.distribution.sample(u))
+            })
+            .collect()
+    }
+
+    /// Run `run`'s values: the base values, then each dispersion's draw
+    /// from the run's stream at the dispersion's position.
+    pub(crate) fn run_values(&self, run: u64) -> RunValues {
+        let mut values = RunValues {
+            initial: self.initial.unwrap_or_default(),
+            controls: self.controls.clone(),
+            aircraft: self.aircraft.clone(),
+            script_delay_s: self.script_delay_s,
+        };
+        let set = |list: &mut Vec<(String, f64)>, name: &str, value: f64| match list
+            .iter_mut()
+            .find(|(k, _)| k == name)
+        {
+            Some(entry) => entry.1 = value,
+            None => list.push((name.to_owned(), value)),
+        };
+        for (index, d) in self.dispersions.iter().enumerate() {
+            #[allow(clippy::cast_possible_truncation)]
+            let value = d.distribution.sample(uniform(self.seed, run, index as u32));
+            match &d.target {
+                Target::Initial("altitude_ft") => values.initial.altitude_ft = Some(value),
+                Target::Initial("speed_kt") => values.initial.speed_kt = Some(value),
+                Target::Initial(_) => values.initial.heading_deg = Some(value),
+                Target::Control(name) => set(&mut values.controls, name, value),
+                Target::Aircraft(name) => set(&mut values.aircraft, name, value),
+                Target::ScriptDelay => values.script_delay_s = value,
+            }
+        }
+        values
+    }
+
+    /// Whether the study's `initial` gives anything (else runs start at the
+    /// model's own initial state).
+    fn has_initial(&self) -> bool {
+        self.initial.is_some()
+            || self
+                .dispersions
+                .iter()
+                .any(|d| matches!(d.target, Target::Initial(_)))
+    }
+
+    /// Run `run` ready to fly: its aircraft, controls, state and script, or
+    /// why the start is refused (the run's status `start_refused`).
+    pub(crate) fn setup<M: StudyModel>(&self, run: u64) -> Result<RunSetup<M>, String> {
+        let values = self.run_values(run);
+        let aircraft = if values.aircraft.is_empty() {
+            M::default_aircraft()
+        } else {
+            let pairs: Vec<(&str, f64)> = values
+                .aircraft
+                .iter()
+                .map(|(k, v)| (k.as_str(), *v))
+                .collect();
+            M::aircraft_with(&pairs).map_err(|e| format!("aircraft: {e}"))?
+        };
+        let mut controls = M::initial_controls();
+        for (key, value) in &values.controls {
+            M::set_control(&mut controls, key, *value).map_err(|e| format!("controls: {e}"))?;
+        }
+        let (controls, state) = if self.has_initial() {
+            let spec = values.initial;
+            check_initial(&spec).map_err(|e| format!("initial: {e}"))?;
+            let view = M::view(&aircraft, &M::initial_controls(), &M::initial_state());
+            let conditions = InitialConditions {
+                altitude_m: spec
+                    .altitude_ft
+                    .map_or(view.height_m(), |ft| ft * METRES_PER_FOOT),
+                speed_mps: spec
+                    .speed_kt
+                    .map_or(view.airspeed_mps, |kt| kt / KNOTS_PER_MPS),
+                heading_deg: spec.heading_deg.unwrap_or(0.0),
+            };
+            if spec.trim {
+                let t =
+                    M::trim(&aircraft, &controls, &conditions).map_err(|e| format!("trim: {e}"))?;
+                (t.controls, t.state)
+            } else {
+                let state = M::state_at(&aircraft, &conditions)
+                    .map_err(|e| format!("initial conditions: {e}"))?;
+                (controls, state)
+            }
+        } else {
+            (controls, M::initial_state())
+        };
+        let base = Script::<M::Action>::parse(&self.script).map_err(|e| e.to_string())?;
+        let delay = values.script_delay_s * f64::from(self.fps);
+        if !(delay.is_finite() && delay >= 0.0) {
+            return Err(format!(
+                "script_delay_s = {}: expected seconds >= 0",
+                values.script_delay_s
+            ));
+        }
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let delay_frames = delay.round().min(MAX_FRAMES as f64) as u64;
+        let script = if delay_frames == 0 {
+            base
+        } else {
+            Script::from_rules(
+                base.rules()
+                    .iter()
+                    .map(|r| Rule {
+                        first_frame: r.first_frame.saturating_add(delay_frames),
+                        last_frame: r.last_frame.saturating_add(delay_frames),
+                        action: r.action,
+                    })
+                    .collect(),
+            )
+        };
+        Ok(RunSetup {
+            start: Start {
+                aircraft,
+                controls,
+                state,
+            },
+            script,
+        })
+    }
+
+    /// Rules of the study's script for model `M` (0 when it has none).
+    pub(crate) fn script_rules<M: StudyModel>(&self) -> usize {
+        Script::<M::Action>::parse(&self.script).map_or(0, |s| s.rules().len())
+    }
+
+    /// Run `run` as an `fdm_run` scenario of model `M`, to fly alone (with
+    /// every output of a single flight) for `frames` frames.
+    ///
+    /// # Errors
+    /// [`StudyError::Model`] when `M` is not the study's model;
+    /// [`StudyError::StartRefused`] when the run's start is refused.
+    pub fn scenario<M: StudyModel>(
+        &self,
+        run: u64,
+        frames: u64,
+    ) -> Result<Scenario<M>, StudyError> {
+        if M::NAME != self.model {
+            return Err(StudyError::Model {
+                study: self.model,
+                asked: M::NAME,
+            });
+        }
+        let setup = self
+            .setup::<M>(run)
+            .map_err(|reason| StudyError::StartRefused { run, reason })?;
+        let scenario = Scenario::new(setup.start, self.fps, frames)
+            .map_err(|e| StudyError::StartRefused {
+                run,
+                reason: e.to_string(),
+            })?
+            .with_origin(self.origin())
+            .with_script(setup.script);
+        Ok(scenario)
+    }
+}
+
+fn check_initial(spec: &InitialSpec) -> Result<(), String> {
+    let checks = [
+        ("altitude_ft", spec.altitude_ft, 0.0, 100_000.0),
+        ("speed_kt", spec.speed_kt, 0.0, 1_000.0),
+        ("heading_deg", spec.heading_deg, -360.0, 360.0),
+    ];
+    for (key, value, low, high) in checks {
+        if let Some(v) = value {
+            if !(v.is_finite() && (low..=high).contains(&v)) {
+                return Err(format!(
+                    "{key}: expected a number from {low} to {high}, found {v}"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn parse_target(key: &str) -> Option<Target> {
+    match key.split_once('.') {
+        Some(("initial", f @ ("altitude_ft" | "speed_kt" | "heading_deg"))) => {
+            Some(Target::Initial(match f {
+                "altitude_ft" => "altitude_ft",
+                "speed_kt" => "speed_kt",
+                _ => "heading_deg",
+            }))
+        }
+        Some(("controls", name)) if !name.is_empty() => Some(Target::Control(name.to_owned())),
+        Some(("aircraft", name)) if !name.is_empty() => Some(Target::Aircraft(name.to_owned())),
+        None if key == "script_delay_s" => Some(Target::ScriptDelay),
+        _ => None,
+    }
+}
+
+/// A dispersion's distribution, or the field at fault and what was expected.
+fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static str, String)> {
+    let need = |field: &'static str, v: Option<f64>| {
+        v.filter(|x| x.is_finite())
+            .ok_or((field, format!("a finite number `{field}`")))
+    };
+    let positive = |v: f64| {
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(("sd", format!("a standard deviation > 0, found {v}")))
+        }
+    };
+    let ordered = |low: f64, high: f64| {
+        if low < high {
+            Ok(())
+        } else {
+            Err((
+                "high",
+                format!("low < high, found low {low} and high {high}"),
+            ))
+        }
+    };
+    let allowed: &[&str] = match spec.distribution.get_ref().as_str() {
+        "normal" => &["mean", "sd"],
+        "uniform" => &["low", "high"],
+        "truncated_normal" => &["mean", "sd", "low", "high"],
+        "choice" => &["values", "weights"],
+        other => {
+            return Err((
+                "distribution",
+                format!("normal, uniform, truncated_normal or choice, found \"{other}\""),
+            ))
+        }
+    };
+    let given = [
+        ("mean", spec.mean.is_some()),
+        ("sd", spec.sd.is_some()),
+        ("low", spec.low.is_some()),
+        ("high", spec.high.is_some()),
+        ("values", spec.values.is_some()),
+        ("weights", spec.weights.is_some()),
+    ];
+    for (field, present) in given {
+        if present && !allowed.contains(&field) {
+            return Err((
+                field,
+                format!(
+                    "only {} for a {} distribution",
+                    allowed.join(", "),
+                    spec.distribution.get_ref()
+                ),
+            ));
+        }
+    }
+    Ok(match spec.distribution.get_ref().as_str() {
+        "normal" => Distribution::Normal {
+            mean: need("mean", spec.mean)?,
+            sd: positive(need("sd", spec.sd)?)?,
+        },
+        "uniform" => {
+            let (low, high) = (need("low", spec.low)?, need("high", spec.high)?);
+            ordered(low, high)?;
+            Distribution::Uniform { low, high }
+        }
+        "truncated_normal" => {
+            let (low, high) = (need("low", spec.low)?, need("high", spec.high)?);
+            ordered(low, high)?;
+            Distribution::TruncatedNormal {
+                mean: need("mean", spec.mean)?,
+                sd: positive(need("sd", spec.sd)?)?,
+                low,
+                high,
+            }
+        }
+        _ => {
+            let values = spec
+                .values
+                .clone()
+                .filter(|v| !v.is_empty() && v.iter().all(|x| x.is_finite()))
+                .ok_or(("values", "a non-empty array of finite numbers".to_owned()))?;
+            let weights = spec
+                .weights
+                .clone()
+                .unwrap_or_else(|| vec![1.0; values.len()]);
+            if weights.len() != values.len()
+                || !weights.iter().all(|w| w.is_finite() && *w >= 0.0)
+                || weights.iter().sum::<f64>() <= 0.0
+            {
+                return Err((
+                    "weights",
+                    format!("{} finite weights >= 0 with a positive sum", values.len()),
+                ));
+            }
+            let total: f64 = weights.iter().sum();
+            let mut sum = 0.0;
+            let mut cumulative: Vec<f64> = weights
+                .iter()
+                .map(|w| {
+                    sum += w;
+                    sum / total
+                })
+                .collect();
+            if let Some(last) = cumulative.last_mut() {
+                *last = 1.0;
+            }
+            Distribution::Choice { values, cumulative }
+        }
+    })
+}
+
+/// The model-specific checks of a study file.
+struct CheckModel<'a> {
+    study: &'a Study,
+    file: &'a StudyFile,
+    text: &'a str,
+}
+
+impl StudyJob for CheckModel<'_> {
+    type Output = Result<(), StudyError>;
+
+    fn call<M: StudyModel>(self) -> Result<(), StudyError> {
+        let text = self.text;
+        let invalid = |span: Range<usize>, key: String, expected: String| StudyError::Invalid {
+            line: line_of(text, span.start),
+            key,
+            expected,
+        };
+        let mut control = M::initial_controls();
+        for (key, value) in &self.file.controls {
+            M::set_control(&mut control, key, *value.get_ref())
+                .map_err(|e| invalid(value.span(), format!("controls.{key}"), e))?;
+        }
+        for (key, value) in &self.file.aircraft {
+            M::aircraft_with(&[(key.as_str(), *value.get_ref())])
+                .map_err(|e| invalid(value.span(), format!("aircraft.{key}"), e))?;
+        }
+        for d in &self.file.dispersion {
+            let key = d.get_ref().key.get_ref();
+            let span = d.get_ref().key.span();
+            match parse_target(key) {
+                Some(Target::Control(name)) if !M::CONTROL_KEYS.contains(&name.as_str()) => {
+                    return Err(invalid(
+                        span,
+                        "dispersion.key".to_owned(),
+                        format!(
+                            "controls.NAME with NAME among {} for {}, found \"{key}\"",
+                            M::CONTROL_KEYS.join(", "),
+                            M::NAME
+                        ),
+                    ))
+                }
+                Some(Target::Aircraft(name)) if !M::AIRCRAFT_KEYS.contains(&name.as_str()) => {
+                    return Err(invalid(
+                        span,
+                        "dispersion.key".to_owned(),
+                        format!(
+                            "aircraft.NAME with NAME among {} for {}, found \"{key}\"",
+                            M::AIRCRAFT_KEYS.join(", "),
+                            M::NAME
+                        ),
+                    ))
+                }
+                _ => {}
+            }
+        }
+        if let Some(script) = &self.file.script {
+            Script::<M::Action>::parse(script.get_ref()).map_err(|e| {
+                invalid(
+                    script.span(),
+                    "script".to_owned(),
+                    format!("a script of {} actions: {e}", M::NAME),
+                )
+            })?;
+        }
+        // The nominal run (no dispersion) must be able to start.
+        let nominal = Study {
+            dispersions: Vec::new(),
+            ..self.study.clone()
+        };
+        nominal.setup::<M>(0).map_err(|e| StudyError::Invalid {
+            line: 1,
+            key: "initial".to_owned(),
+            expected: format!("a start the model can fly without dispersions: {e}"),
+        })?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BASE: &str =
+        "model = \"palmer\"\nruns = 10\nduration_s = 1.0\nmeasures = [\"max_height_m\"]\n";
+
+    fn error(text: &str) -> String {
+        Study::from_toml_str(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn errors_name_the_line_the_key_and_what_was_expected() {
+        let e = error(&format!("{BASE}fps = 0\n"));
+        assert!(
+            e.contains("line 5") && e.contains("fps") && e.contains("1 to"),
+            "{e}"
+        );
+        let e = error(&BASE.replace("palmer", "cessna"));
+        assert!(
+            e.contains("line 1") && e.contains("model") && e.contains("palmer, bourg"),
+            "{e}"
+        );
+        let e = error(&format!("{BASE}colour = 3\n"));
+        assert!(e.contains("line 5") && e.contains("colour"), "{e}");
+        let e = error(&format!(
+            "{BASE}[[dispersion]]\nkey = \"controls.throttle\"\ndistribution = \"normal\"\nmean = 0.5\nsd = -1.0\n"
+        ));
+        assert!(
+            e.contains("line 5") && e.contains("dispersion.sd") && e.contains("> 0"),
+            "{e}"
+        );
+        let e = error(&format!(
+            "{BASE}[[dispersion]]\nkey = \"controls.thrust_lb\"\ndistribution = \"uniform\"\nlow = 0.0\nhigh = 1.0\n"
+        ));
+        assert!(e.contains("line 6") && e.contains("throttle"), "{e}");
+        let e = error(&BASE.replace("max_height_m", "max_height"));
+        assert!(e.contains("line 4") && e.contains("measures"), "{e}");
+        let e = error(&BASE.replace("runs = 10", "runs = -1"));
+        assert!(e.contains("line 2") && e.contains("runs"), "{e}");
+        let e = error(&format!("{BASE}script = \"1-2 fly-away\"\n"));
+        assert!(e.contains("line 5") && e.contains("script"), "{e}");
+    }
+
+    #[test]
+    fn choice_and_truncated_normal_stay_in_their_support() {
+        let choice = Distribution::Choice {
+            values: vec![1.0, 2.0, 3.0],
+            cumulative: vec![0.25, 0.5, 1.0],
+        };
+        assert_eq!(choice.sample(0.1), 1.0);
+        assert_eq!(choice.sample(0.3), 2.0);
+        assert_eq!(choice.sample(0.999), 3.0);
+        let t = Distribution::TruncatedNormal {
+            mean: 0.0,
+            sd: 1.0,
+            low: 2.0,
+            high: 3.0,
+        };
+        for i in 1..100 {
+            let x = t.sample(f64::from(i) / 100.0);
+            assert!((2.0..=3.0).contains(&x), "{x}");
+        }
+    }
+}

@@ -1,0 +1,318 @@
+//! The summary of a study's runs: counts by status and, per measure, the
+//! mean with a 95 % confidence interval and percentiles (`summary.json`).
+
+use std::fmt::Write as _;
+
+use serde::ser::{SerializeMap, Serializer};
+use serde::Serialize;
+
+use crate::fly::{RunStatus, RunTable};
+
+/// The summary of one measure over the runs where it applies.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasureSummary {
+    /// Runs with a value (the measure applies and is finite).
+    pub count: u64,
+    /// Mean; `None` (JSON `null`) without values.
+    pub mean: Option<f64>,
+    /// Sample standard deviation; `None` with fewer than 2 values.
+    pub sd: Option<f64>,
+    /// 95 % confidence interval of the mean, `[low, high]`: mean ± 1.96 ×
+    /// sd / sqrt(count) (normal approximation); `None` with fewer than 2
+    /// values.
+    pub ci95: Option<[f64; 2]>,
+    /// Smallest value.
+    pub min: Option<f64>,
+    /// 1st percentile (linear interpolation between order statistics, as
+    /// NumPy's default).
+    pub p1: Option<f64>,
+    /// 5th percentile.
+    pub p5: Option<f64>,
+    /// Median.
+    pub p50: Option<f64>,
+    /// 95th percentile.
+    pub p95: Option<f64>,
+    /// 99th percentile.
+    pub p99: Option<f64>,
+    /// Largest value.
+    pub max: Option<f64>,
+}
+
+/// A study's summary, `summary.json`'s shape: `runs`, `seed`, `statuses`
+/// (every status code with its count) and `measures` (per measure, in the
+/// study's order, a [`MeasureSummary`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// Runs summarised.
+    pub runs: u64,
+    /// The study's master seed (0 until [`Summary::with_seed`]).
+    pub seed: u64,
+    /// Every status code ([`RunStatus::CODES`]) with its count.
+    pub statuses: Vec<(&'static str, u64)>,
+    /// Per measure, in the table's order.
+    pub measures: Vec<(String, MeasureSummary)>,
+}
+
+impl Serialize for Summary {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        struct Ordered<'a, K, V>(&'a [(K, V)]);
+        impl<K: Serialize, V: Serialize> Serialize for Ordered<'_, K, V> {
+            fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+            }
+        }
+        let mut map = serializer.serialize_map(Some(4))?;
+        map.serialize_entry("runs", &self.runs)?;
+        map.serialize_entry("seed", &self.seed)?;
+        map.serialize_entry("statuses", &Ordered(&self.statuses))?;
+        map.serialize_entry("measures", &Ordered(&self.measures))?;
+        map.end()
+    }
+}
+
+impl Summary {
+    /// The same summary with the study's seed.
+    #[must_use]
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// The summary as text for a terminal: status counts, then one line per
+    /// measure.
+    #[must_use]
+    pub fn to_text(&self) -> String {
+        let mut out = format!("{} runs, seed {}\n", self.runs, self.seed);
+        let statuses: Vec<String> = self
+            .statuses
+            .iter()
+            .filter(|(_, n)| *n > 0)
+            .map(|(code, n)| format!("{code} {n}"))
+            .collect();
+        let _ = writeln!(out, "status: {}", statuses.join(", "));
+        let width = self
+            .measures
+            .iter()
+            .map(|(n, _)| n.len())
+            .max()
+            .unwrap_or(0);
+        let _ = writeln!(
+            out,
+            "{:width$}  {:>8} {:>12} {:>25} {:>12} {:>12} {:>12}",
+            "measure", "n", "mean", "95% CI", "p5", "p50", "p95"
+        );
+        let f = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.4}"));
+        for (name, m) in &self.measures {
+            let ci = m
+                .ci95
+                .map_or_else(|| "-".to_owned(), |[l, h]| format!("[{l:.4}, {h:.4}]"));
+            let _ = writeln!(
+                out,
+                "{name:width$}  {:>8} {:>12} {ci:>25} {:>12} {:>12} {:>12}",
+                m.count,
+                f(m.mean),
+                f(m.p5),
+                f(m.p50),
+                f(m.p95)
+            );
+        }
+        out
+    }
+}
+
+/// Percentile `p` (0..=100) of the sorted `values` by linear interpolation
+/// between the closest ranks (NumPy's default, "type 7").
+fn percentile(sorted: &[f64], p: f64) -> Option<f64> {
+    let last = sorted.len().checked_sub(1)?;
+    #[allow(clippy::cast_precision_loss)]
+    let h = last as f64 * p / 100.0;
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let low = (h.floor() as usize).min(last);
+    let high = (low + 1).min(last);
+    #[allow(clippy::cast_precision_loss)]
+    let frac = h - low as f64;
+    Some(sorted[low] + frac * (sorted[high] - sorted[low]))
+}
+
+/// The summary of one measure's values (the `None`s are left out).
+#[must_use]
+pub fn summarize_values(values: &[Option<f64>]) -> MeasureSummary {
+    summarize_present(
+        values
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|v| v.is_finite())
+            .collect(),
+    )
+}
+
+/// The summary of the finite `values`, in run order.
+fn summarize_present(values: Vec<f64>) -> MeasureSummary {
+    let count = values.len();
+    #[allow(clippy::cast_precision_loss)]
+    let n = count as f64;
+    // Summed in run order, before the sort.
+    let mean = (count > 0).then(|| values.iter().sum::<f64>() / n);
+    let sd = mean.filter(|_| count > 1).map(|m| {
+        let ss: f64 = values.iter().map(|v| (v - m) * (v - m)).sum();
+        fdm_core::math::sqrt(ss / (n - 1.0))
+    });
+    let ci95 = mean.zip(sd).map(|(m, s)| {
+        let half = 1.96 * s / fdm_core::math::sqrt(n);
+        [m - half, m + half]
+    });
+    let mut sorted = values;
+    sorted.sort_by(f64::total_cmp);
+    let finite = |v: Option<f64>| v.filter(|v| v.is_finite());
+    MeasureSummary {
+        count: count as u64,
+        mean: finite(mean),
+        sd: finite(sd),
+        ci95: ci95.filter(|[l, h]| l.is_finite() && h.is_finite()),
+        min: sorted.first().copied(),
+        p1: percentile(&sorted, 1.0),
+        p5: percentile(&sorted, 5.0),
+        p50: percentile(&sorted, 50.0),
+        p95: percentile(&sorted, 95.0),
+        p99: percentile(&sorted, 99.0),
+        max: sorted.last().copied(),
+    }
+}
+
+/// A summary built block by block, keeping only what the summary needs:
+/// the count of each status and, per measure, the values present, in run
+/// order (8 bytes per value: [`SummaryBuilder::BYTES_PER_VALUE`]). Adding the
+/// blocks of a study in run order gives exactly [`summarize`] of the whole
+/// table.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SummaryBuilder {
+    runs: u64,
+    statuses: Vec<u64>,
+    measures: Vec<(String, Vec<f64>)>,
+}
+
+impl SummaryBuilder {
+    /// Bytes the builder keeps per measure value.
+    pub const BYTES_PER_VALUE: usize = core::mem::size_of::<f64>();
+
+    /// An empty builder.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Takes `table`'s rows (after those added before).
+    pub fn add(&mut self, table: &RunTable) {
+        if self.statuses.is_empty() {
+            self.statuses = vec![0; RunStatus::CODES.len()];
+        }
+        if self.measures.is_empty() {
+            self.measures = table
+                .measures
+                .iter()
+                .map(|(n, _)| (n.clone(), Vec::new()))
+                .collect();
+        }
+        self.runs += table.len() as u64;
+        for status in &table.status {
+            if let Some(i) = RunStatus::CODES.iter().position(|c| *c == status.code()) {
+                self.statuses[i] += 1;
+            }
+        }
+        for ((_, kept), (_, column)) in self.measures.iter_mut().zip(&table.measures) {
+            kept.extend(column.iter().flatten().copied().filter(|v| v.is_finite()));
+        }
+    }
+
+    /// Each measure's values kept so far (present ones, in run order): what
+    /// histograms are drawn from.
+    #[must_use]
+    pub fn measure_values(&self) -> &[(String, Vec<f64>)] {
+        &self.measures
+    }
+
+    /// The summary (seed 0 until [`Summary::with_seed`]).
+    #[must_use]
+    pub fn finish(self) -> Summary {
+        let mut statuses = self.statuses;
+        statuses.resize(RunStatus::CODES.len(), 0);
+        Summary {
+            runs: self.runs,
+            seed: 0,
+            statuses: RunStatus::CODES.iter().copied().zip(statuses).collect(),
+            measures: self
+                .measures
+                .into_iter()
+                .map(|(name, values)| (name, summarize_present(values)))
+                .collect(),
+        }
+    }
+}
+
+/// The summary of `table`: counts by status and each measure's statistics
+/// over the runs where it applies (its `None`s are left out, never turned
+/// into NaN). The seed is 0 until [`Summary::with_seed`].
+///
+/// ```
+/// use fdm_study::{summarize, RunStatus, RunTable};
+/// use fdm_core::model::FlightStatus;
+///
+/// let table = RunTable {
+///     run: vec![0, 1, 2],
+///     status: vec![RunStatus::Flown(FlightStatus::Airborne); 3],
+///     frames: vec![10; 3],
+///     measures: vec![("max_height_m".into(), vec![Some(1.0), None, Some(3.0)])],
+/// };
+/// let summary = summarize(&table);
+/// assert_eq!(summary.measures[0].1.count, 2);
+/// assert_eq!(summary.measures[0].1.mean, Some(2.0));
+/// assert_eq!(summary.measures[0].1.p50, Some(2.0));
+/// ```
+#[must_use]
+pub fn summarize(table: &RunTable) -> Summary {
+    let mut builder = SummaryBuilder::new();
+    builder.add(table);
+    if table.is_empty() && builder.measures.is_empty() {
+        builder.measures = table
+            .measures
+            .iter()
+            .map(|(n, _)| (n.clone(), Vec::new()))
+            .collect();
+    }
+    builder.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Percentiles as NumPy's `percentile(..., method="linear")` gives them
+    /// for 1..=10 (hand-computed: h = 9p/100): exact to 1e-12.
+    #[test]
+    fn percentiles_interpolate_linearly() {
+        let values: Vec<Option<f64>> = (1..=10).map(|v| Some(f64::from(v))).collect();
+        let s = summarize_values(&values);
+        let close = |a: Option<f64>, b: f64| (a.unwrap() - b).abs() < 1e-12;
+        assert!(close(s.p1, 1.09));
+        assert!(close(s.p5, 1.45));
+        assert!(close(s.p50, 5.5));
+        assert!(close(s.p95, 9.55));
+        assert!(close(s.p99, 9.91));
+        assert!(close(s.mean, 5.5));
+        // sd of 1..=10 is sqrt(55/6).
+        assert!(close(s.sd, (55.0f64 / 6.0).sqrt()));
+    }
+
+    #[test]
+    fn no_values_give_nulls_not_nan() {
+        let s = summarize_values(&[None, None]);
+        assert_eq!(s.count, 0);
+        assert_eq!(s.mean, None);
+        let json = serde_json::to_string(&s).unwrap();
+        assert!(
+            !json.contains("NaN") && json.contains("\"mean\":null"),
+            "{json}"
+        );
+    }
+}
