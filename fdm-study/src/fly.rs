@@ -428,3 +428,74 @@ impl<M: StudyModel> Output<M> for MeasureOutput<M> {
         Ok(())
     }
 }
+
+/// What a streamed study keeps in memory ([`Study::memory`]), bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryEstimate {
+    /// Kept for the whole study per run: one `f64` per measure for the
+    /// summary's percentiles.
+    pub kept_per_run: u64,
+    /// Per run of the chunk being flown: its set-up (start, script), its
+    /// fleet lane, its tracker and its table row.
+    pub flying_per_run: u64,
+    /// Runs flown at once (one chunk).
+    pub chunk_runs: u64,
+    /// The total: `runs × kept_per_run + chunk_runs × flying_per_run`.
+    pub total: u64,
+}
+
+impl Study {
+    /// The memory a study of [`Study::runs`] runs flown in chunks of
+    /// `chunk_runs` takes, by the sizes of its data structures (the
+    /// program's own code and stacks aside).
+    #[must_use]
+    pub fn memory(&self, chunk_runs: u64) -> MemoryEstimate {
+        with_study_model(
+            self.model(),
+            MemoryJob {
+                study: self,
+                chunk_runs,
+            },
+        )
+        .unwrap_or(MemoryEstimate {
+            kept_per_run: 0,
+            flying_per_run: 0,
+            chunk_runs,
+            total: 0,
+        })
+    }
+}
+
+struct MemoryJob<'a> {
+    study: &'a Study,
+    chunk_runs: u64,
+}
+
+impl StudyJob for MemoryJob<'_> {
+    type Output = MemoryEstimate;
+
+    fn call<M: StudyModel>(self) -> MemoryEstimate {
+        use core::mem::size_of;
+        let measures = self.study.measures().len();
+        let script_rules = self.study.script_rules::<M>();
+        let kept = (measures * crate::summary::SummaryBuilder::BYTES_PER_VALUE) as u64;
+        let flying = size_of::<Option<RunSetup<M>>>()
+            + script_rules * size_of::<fdm_core::script::Rule<M::Action>>()
+            + Fleet::<M>::bytes_per_aircraft()
+            + 2 * size_of::<Option<Tracker>>()
+            + size_of::<u64>() * 2
+            + size_of::<RunStatus>()
+            + measures * size_of::<Option<f64>>()
+            + size_of::<bool>();
+        let flying = flying as u64;
+        let runs = self.study.runs();
+        MemoryEstimate {
+            kept_per_run: kept,
+            flying_per_run: flying,
+            chunk_runs: self.chunk_runs,
+            total: runs
+                .saturating_mul(kept)
+                .saturating_add(self.chunk_runs.min(runs).saturating_mul(flying)),
+        }
+    }
+}

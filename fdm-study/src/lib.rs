@@ -58,10 +58,12 @@
 //! | [`fly`] | [`Study::fly_runs`], [`RunTable`], [`MeasureOutput`] |
 //! | [`summary`] | [`summarize`], [`Summary`] |
 //! | [`table`] | `runs.csv` |
+//! | [`arrow`] | `runs.arrow`: the table as an Arrow IPC file |
 //!
 //! The file format, the measures and the guarantees are in the project's
 //! `docs/studies.md`.
 
+pub mod arrow;
 pub mod fly;
 pub mod measure;
 pub mod model;
@@ -70,24 +72,34 @@ pub mod spec;
 pub mod summary;
 pub mod table;
 
-pub use fly::{FlyOptions, MeasureOutput, RunStatus, RunTable, BLOCK_RUNS};
+pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, RunStatus, RunTable, BLOCK_RUNS};
 pub use measure::Measure;
 pub use model::StudyModel;
 pub use spec::{Distribution, Stop, Study, MAX_RUNS};
-pub use summary::{summarize, MeasureSummary, Summary};
+pub use summary::{summarize, MeasureSummary, Summary, SummaryBuilder};
 
 /// Why a study could not be read or flown.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
     /// The study file is not valid: where, which key, what was expected.
-    #[error("line {line}{}: expected {expected}", if key.is_empty() { String::new() } else { format!(", key `{key}`") })]
+    #[error("line {line}, key `{key}`: expected {expected}")]
     Invalid {
         /// The line (from 1).
         line: usize,
-        /// The key at fault (empty when the TOML itself is malformed).
+        /// The key at fault.
         key: String,
         /// What was expected (and what was found).
         expected: String,
+    },
+    /// The study file is not the TOML of a study (malformed TOML, an
+    /// unknown or missing key, a value of the wrong type): TOML's own
+    /// message, which names the key and what was expected.
+    #[error("line {line}: {message}")]
+    Syntax {
+        /// The line (from 1).
+        line: usize,
+        /// The parser's message.
+        message: String,
     },
     /// The study file cannot be read.
     #[error("cannot read {path}: {source}")]

@@ -250,10 +250,9 @@ impl Study {
     pub fn from_toml_str(text: &str) -> Result<Self, StudyError> {
         let file: StudyFile = toml::from_str(text).map_err(|e| {
             let line = e.span().map_or(1, |s| line_of(text, s.start));
-            StudyError::Invalid {
+            StudyError::Syntax {
                 line,
-                key: String::new(),
-                expected: e.message().trim().replace('\n', "; "),
+                message: e.message().trim().replace('\n', "; "),
             }
         })?;
         let invalid = |span: Range<usize>, key: &str, expected: String| StudyError::Invalid {
@@ -585,6 +584,22 @@ impl Study {
             .any(|d| matches!(d.target, Target::Aircraft(_)))
     }
 
+    /// The dispersed values of run `run`: each dispersion's key and the value
+    /// drawn for the run, in the file's order (to relate measures to inputs,
+    /// e.g. climb against mass).
+    #[must_use]
+    pub fn dispersed_values(&self, run: u64) -> Vec<(String, f64)> {
+        self.dispersions
+            .iter()
+            .enumerate()
+            .map(|(index, d)| {
+                #[allow(clippy::cast_possible_truncation)]
+                let u = uniform(self.seed, run, index as u32);
+                (d.key.clone(), d.distribution.sample(u))
+            })
+            .collect()
+    }
+
     /// Run `run`'s values: the base values, then each dispersion's draw
     /// from the run's stream at the dispersion's position.
     pub(crate) fn run_values(&self, run: u64) -> RunValues {
@@ -701,6 +716,11 @@ impl Study {
             },
             script,
         })
+    }
+
+    /// Rules of the study's script for model `M` (0 when it has none).
+    pub(crate) fn script_rules<M: StudyModel>(&self) -> usize {
+        Script::<M::Action>::parse(&self.script).map_or(0, |s| s.rules().len())
     }
 
     /// Run `run` as an `fdm_run` scenario of model `M`, to fly alone (with
@@ -878,7 +898,6 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
         }
     })
 }
-
 
 /// The model-specific checks of a study file.
 struct CheckModel<'a> {

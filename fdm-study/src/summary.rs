@@ -137,37 +137,32 @@ fn percentile(sorted: &[f64], p: f64) -> Option<f64> {
 /// The summary of one measure's values (the `None`s are left out).
 #[must_use]
 pub fn summarize_values(values: &[Option<f64>]) -> MeasureSummary {
-    let mut sorted: Vec<f64> = values
-        .iter()
-        .flatten()
-        .copied()
-        .filter(|v| v.is_finite())
-        .collect();
-    let count = sorted.len();
-    #[allow(clippy::cast_precision_loss)]
-    let n = count as f64;
-    // Summed in run order, so the result does not depend on the sort.
-    let mean = (count > 0).then(|| {
+    summarize_present(
         values
             .iter()
             .flatten()
+            .copied()
             .filter(|v| v.is_finite())
-            .sum::<f64>()
-            / n
-    });
+            .collect(),
+    )
+}
+
+/// The summary of the finite `values`, in run order.
+fn summarize_present(values: Vec<f64>) -> MeasureSummary {
+    let count = values.len();
+    #[allow(clippy::cast_precision_loss)]
+    let n = count as f64;
+    // Summed in run order, before the sort.
+    let mean = (count > 0).then(|| values.iter().sum::<f64>() / n);
     let sd = mean.filter(|_| count > 1).map(|m| {
-        let ss: f64 = values
-            .iter()
-            .flatten()
-            .filter(|v| v.is_finite())
-            .map(|v| (v - m) * (v - m))
-            .sum();
+        let ss: f64 = values.iter().map(|v| (v - m) * (v - m)).sum();
         fdm_core::math::sqrt(ss / (n - 1.0))
     });
     let ci95 = mean.zip(sd).map(|(m, s)| {
         let half = 1.96 * s / fdm_core::math::sqrt(n);
         [m - half, m + half]
     });
+    let mut sorted = values;
     sorted.sort_by(f64::total_cmp);
     let finite = |v: Option<f64>| v.filter(|v| v.is_finite());
     MeasureSummary {
@@ -182,6 +177,69 @@ pub fn summarize_values(values: &[Option<f64>]) -> MeasureSummary {
         p95: percentile(&sorted, 95.0),
         p99: percentile(&sorted, 99.0),
         max: sorted.last().copied(),
+    }
+}
+
+/// A summary built block by block, keeping only what the summary needs:
+/// the count of each status and, per measure, the values present, in run
+/// order (8 bytes per value: [`SummaryBuilder::BYTES_PER_VALUE`]). Adding the
+/// blocks of a study in run order gives exactly [`summarize`] of the whole
+/// table.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SummaryBuilder {
+    runs: u64,
+    statuses: Vec<u64>,
+    measures: Vec<(String, Vec<f64>)>,
+}
+
+impl SummaryBuilder {
+    /// Bytes the builder keeps per measure value.
+    pub const BYTES_PER_VALUE: usize = core::mem::size_of::<f64>();
+
+    /// An empty builder.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Takes `table`'s rows (after those added before).
+    pub fn add(&mut self, table: &RunTable) {
+        if self.statuses.is_empty() {
+            self.statuses = vec![0; RunStatus::CODES.len()];
+        }
+        if self.measures.is_empty() {
+            self.measures = table
+                .measures
+                .iter()
+                .map(|(n, _)| (n.clone(), Vec::new()))
+                .collect();
+        }
+        self.runs += table.len() as u64;
+        for status in &table.status {
+            if let Some(i) = RunStatus::CODES.iter().position(|c| *c == status.code()) {
+                self.statuses[i] += 1;
+            }
+        }
+        for ((_, kept), (_, column)) in self.measures.iter_mut().zip(&table.measures) {
+            kept.extend(column.iter().flatten().copied().filter(|v| v.is_finite()));
+        }
+    }
+
+    /// The summary (seed 0 until [`Summary::with_seed`]).
+    #[must_use]
+    pub fn finish(self) -> Summary {
+        let mut statuses = self.statuses;
+        statuses.resize(RunStatus::CODES.len(), 0);
+        Summary {
+            runs: self.runs,
+            seed: 0,
+            statuses: RunStatus::CODES.iter().copied().zip(statuses).collect(),
+            measures: self
+                .measures
+                .into_iter()
+                .map(|(name, values)| (name, summarize_present(values)))
+                .collect(),
+        }
     }
 }
 
@@ -206,23 +264,16 @@ pub fn summarize_values(values: &[Option<f64>]) -> MeasureSummary {
 /// ```
 #[must_use]
 pub fn summarize(table: &RunTable) -> Summary {
-    let statuses = RunStatus::CODES
-        .iter()
-        .map(|&code| {
-            let n = table.status.iter().filter(|s| s.code() == code).count();
-            (code, n as u64)
-        })
-        .collect();
-    Summary {
-        runs: table.len() as u64,
-        seed: 0,
-        statuses,
-        measures: table
+    let mut builder = SummaryBuilder::new();
+    builder.add(table);
+    if table.is_empty() && builder.measures.is_empty() {
+        builder.measures = table
             .measures
             .iter()
-            .map(|(name, values)| (name.clone(), summarize_values(values)))
-            .collect(),
+            .map(|(n, _)| (n.clone(), Vec::new()))
+            .collect();
     }
+    builder.finish()
 }
 
 #[cfg(test)]

@@ -59,6 +59,8 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Draw a CSV written earlier with --csv as an SVG plot (as --plot does for a run)
     Plot(PlotArgs),
+    /// Fly a Monte Carlo study (a TOML study file) on the SIMD fleets: runs.csv, summary.json; or one run alone with --run I
+    Study(crate::study::StudyArgs),
 }
 
 /// `sim-cli plot`.

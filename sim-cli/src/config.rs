@@ -118,6 +118,27 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
     })
 }
 
+/// One run of a study flown alone (`sim-cli study FILE --run I`): the
+/// flight outputs of `args` (`--csv`, `--plot`, `--record`, `--acmi`,
+/// `--fg`, `--json`; headless) with the run's own start and script.
+///
+/// # Errors
+/// [`CliError::Usage`] for an output that cannot be created.
+pub fn prepare_study_run<M: Model>(
+    args: CommonArgs,
+    start: Start<M>,
+    script: Script<M::Action>,
+) -> Result<ModelConfig<M>, CliError> {
+    let (run, _, record, acmi) = prepare::<M::Action>(args, M::NAME)?;
+    Ok(ModelConfig {
+        run,
+        script,
+        start,
+        record,
+        acmi,
+    })
+}
+
 /// Model `M`'s start from the initial-condition options
 /// ([`crate::start::start_for`]), printing a trim's result on stderr.
 fn start_model<M: Model>(

@@ -213,7 +213,20 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 ///
 /// # Errors
 /// As [`ModelFlight::new`] and [`fly`].
-pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError> {
+pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
+    run_model_with(config, |_| Ok(()))
+}
+
+/// [`run_model`] with `attach` attaching outputs of its own to the flight
+/// before frame 0 (after `--record` and `--acmi`): `sim-cli study --run I`'s
+/// measures.
+///
+/// # Errors
+/// As [`run_model`], or `attach`'s.
+pub fn run_model_with<M: CliModel>(
+    mut config: ModelConfig<M>,
+    attach: impl FnOnce(&mut ModelFlight<M>) -> anyhow::Result<()>,
+) -> Result<(), CliError> {
     let plot = config.run.plot.take();
     let ModelConfig {
         run,
@@ -238,6 +251,7 @@ pub fn run_model<M: CliModel>(mut config: ModelConfig<M>) -> Result<(), CliError
     if let Some(acmi) = acmi {
         flight.attach(AcmiOutput::<M>::new(acmi))?;
     }
+    attach(&mut flight)?;
     fly_maybe_plotted(flight, &script, run, plot)
 }
 

@@ -23,6 +23,7 @@
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`acmi`](mod@acmi) | `--acmi FILE`: Tacview ACMI through the run library |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
+//! | [`study`] | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I` |
 //! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
 pub mod acmi;
@@ -53,6 +54,7 @@ pub mod run;
 pub mod signals;
 pub mod snapshot;
 pub mod start;
+pub mod study;
 pub mod terminal;
 
 use std::io::Write;
@@ -73,6 +75,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
+        Command::Study(args) => study::run(&args),
         Command::DisListen(args) => dis_listen::run(&args),
         Command::FgfsCommand(args) => {
             let line = fgfs::fgfs_command_line(&args)?;
@@ -91,7 +94,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet, plot, replay or dis-listen (see --help)"
+        return "missing subcommand: palmer, bourg, fgfs-command, fleet, study, plot, replay or dis-listen (see --help)"
             .to_owned();
     }
     let text = error.render().to_string();
@@ -133,7 +136,7 @@ mod tests {
         let err = Cli::try_parse_from(["sim-cli"]).unwrap_err();
         assert_eq!(
             clap_error_line(&err),
-            "missing subcommand: palmer, bourg, fgfs-command, fleet, plot, replay or dis-listen (see --help)"
+            "missing subcommand: palmer, bourg, fgfs-command, fleet, study, plot, replay or dis-listen (see --help)"
         );
     }
 }

@@ -1,0 +1,308 @@
+//! `sim-cli study FILE.toml`: a Monte Carlo study (fdm-study) flown on the
+//! SIMD fleets, streamed to `runs.csv` and `runs.arrow` block by block, summarised in
+//! `summary.json` and on the terminal; and `--run I`, run I flown alone with
+//! every output of a single flight, bit-identical to the batch's row.
+//!
+//! The file format, the measures and the guarantees: docs/studies.md.
+
+use std::fs::File;
+use std::io::{BufWriter, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+use clap::Args;
+use fdm_core::bourg::Bourg;
+use fdm_core::model::Model;
+use fdm_core::palmer::Palmer;
+use fdm_fleet::Precision;
+use fdm_run::SharedOutput;
+use fdm_study::arrow::ArrowWriter;
+use fdm_study::table::{write_csv_header, write_csv_rows};
+use fdm_study::{
+    FlyOptions, MeasureOutput, RunStatus, RunTable, Study, StudyModel, SummaryBuilder,
+};
+
+use crate::args::{parse_threads, AcmiArgs, CommonArgs, FleetPrecision};
+use crate::error::CliError;
+use crate::fgaddr::{parse_fg_target, FgTarget};
+use crate::models::CliModel;
+use crate::progress::StderrProgress;
+
+/// Default `--memory-limit-mib`: 1 GiB, the study target's budget.
+pub const DEFAULT_MEMORY_LIMIT_MIB: u64 = 1024;
+
+/// Blocks of runs per chunk and thread: a chunk is flown, written and
+/// dropped before the next, so memory stays bounded whatever the number of
+/// runs.
+const BLOCKS_PER_THREAD_PER_CHUNK: u64 = 8;
+
+/// `sim-cli study`.
+#[derive(Debug, Clone, Args)]
+pub struct StudyArgs {
+    /// The study file (TOML; docs/studies.md)
+    #[arg(value_name = "FILE.toml")]
+    pub file: PathBuf,
+
+    /// Number of runs, instead of the file's `runs`
+    #[arg(long, value_name = "N", value_parser = parse_runs, allow_hyphen_values = true)]
+    pub runs: Option<u64>,
+
+    /// Master seed, instead of the file's `seed`
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+
+    /// Directory receiving runs.csv, runs.arrow and summary.json (or, with --run, run-I.csv) [default: the study file's directory]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+
+    /// Worker threads [default: available cores]
+    #[arg(long, value_name = "T", value_parser = parse_threads, allow_hyphen_values = true)]
+    pub threads: Option<usize>,
+
+    /// `exact` (every run bit-identical to the run flown alone) or `fast` (Palmer only: vectorised pow, within 1e-9 m of exact after 1800 steps; not with --run)
+    #[arg(long, value_enum, default_value_t = FleetPrecision::Exact)]
+    pub precision: FleetPrecision,
+
+    /// Print the summary as JSON on stdout (with --run: the flight's JSON report)
+    #[arg(long)]
+    pub json: bool,
+
+    /// Refuse to start (exit 2) when the study's estimated memory exceeds this many MiB
+    #[arg(long, value_name = "MIB", default_value_t = DEFAULT_MEMORY_LIMIT_MIB)]
+    pub memory_limit_mib: u64,
+
+    /// Fly run I alone (0-based) with the outputs of a single flight, bit-identical to run I of the batch
+    #[arg(long, value_name = "I")]
+    pub run: Option<u64>,
+
+    /// With --run: write the flight as CSV to FILE (as `sim-cli palmer --csv`)
+    #[arg(long, value_name = "FILE", requires = "run")]
+    pub csv: Option<PathBuf>,
+
+    /// With --run: draw the flight as an SVG plot in FILE
+    #[arg(long, value_name = "FILE", requires = "run")]
+    pub plot: Option<PathBuf>,
+
+    /// With --run: record the flight to FILE for `sim-cli replay`
+    #[arg(long, value_name = "FILE", requires = "run")]
+    pub record: Option<PathBuf>,
+
+    /// With --run: send FlightGear native-FDM datagrams to HOST:PORT every frame
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target, requires = "run")]
+    pub fg: Option<FgTarget>,
+
+    /// With --run: Tacview ACMI output of the flight.
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
+}
+
+fn parse_runs(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(v) if (1..=fdm_study::MAX_RUNS).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{}` is not a number of runs in 1..={}",
+            crate::input::Echo::short(text),
+            fdm_study::MAX_RUNS
+        )),
+    }
+}
+
+fn usage(e: impl std::fmt::Display, file: &Path) -> CliError {
+    CliError::usage(format!("{}: {e}", file.display()))
+}
+
+/// Runs `sim-cli study`.
+///
+/// # Errors
+/// [`CliError::Usage`] (exit 2) for a bad study file or options, or a study
+/// that will not fit in `--memory-limit-mib`; [`CliError::Runtime`] for a
+/// failure while flying or writing.
+pub fn run(args: &StudyArgs) -> Result<(), CliError> {
+    let mut study = Study::from_path(&args.file).map_err(|e| usage(e, &args.file))?;
+    if let Some(runs) = args.runs {
+        study = study.with_runs(runs).map_err(|e| usage(e, &args.file))?;
+    }
+    if let Some(seed) = args.seed {
+        study = study.with_seed(seed);
+    }
+    let precision = match args.precision {
+        FleetPrecision::Exact => Precision::Exact,
+        FleetPrecision::Fast => Precision::Fast,
+    };
+    let out_dir = match &args.out {
+        Some(dir) => dir.clone(),
+        None => args
+            .file
+            .parent()
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+    };
+    std::fs::create_dir_all(&out_dir)
+        .map_err(|e| CliError::usage(format!("cannot create --out {}: {e}", out_dir.display())))?;
+    match args.run {
+        Some(run) => {
+            if precision == Precision::Fast {
+                return Err(CliError::usage(
+                    "--run flies the run alone with exact maths; --precision fast is for batches \
+                     (fly the batch with --precision exact to compare run by run)",
+                ));
+            }
+            match study.model() {
+                n if n == Palmer::NAME => run_alone::<Palmer>(&study, run, args, &out_dir),
+                n if n == Bourg::NAME => run_alone::<Bourg>(&study, run, args, &out_dir),
+                other => Err(CliError::usage(format!("no model {other}"))),
+            }
+        }
+        None => batch(&study, precision, args, &out_dir),
+    }
+}
+
+/// Flies the whole study in chunks, streaming `runs.csv`.
+fn batch(
+    study: &Study,
+    precision: Precision,
+    args: &StudyArgs,
+    out_dir: &Path,
+) -> Result<(), CliError> {
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
+    let options = FlyOptions { threads, precision };
+    let chunk_runs =
+        fdm_study::BLOCK_RUNS * BLOCKS_PER_THREAD_PER_CHUNK * u64::try_from(threads).unwrap_or(1);
+    let memory = study.memory(chunk_runs);
+    let limit = args.memory_limit_mib.saturating_mul(1024 * 1024);
+    if memory.total > limit {
+        return Err(CliError::usage(format!(
+            "the study needs about {} MiB ({} runs × {} bytes kept + {} runs in flight × {} bytes), \
+             more than --memory-limit-mib {}",
+            memory.total.div_ceil(1024 * 1024),
+            study.runs(),
+            memory.kept_per_run,
+            memory.chunk_runs.min(study.runs()),
+            memory.flying_per_run,
+            args.memory_limit_mib
+        )));
+    }
+    let csv_path = out_dir.join("runs.csv");
+    let file = File::create(&csv_path)
+        .map_err(|e| CliError::usage(format!("cannot create {}: {e}", csv_path.display())))?;
+    let mut csv = BufWriter::with_capacity(1 << 16, file);
+    write_csv_header(&mut csv, &study.measure_names())
+        .with_context(|| format!("writing {}", csv_path.display()))?;
+    let arrow_path = out_dir.join("runs.arrow");
+    let arrow_file = File::create(&arrow_path)
+        .map_err(|e| CliError::usage(format!("cannot create {}: {e}", arrow_path.display())))?;
+    let mut arrow = ArrowWriter::new(
+        BufWriter::with_capacity(1 << 16, arrow_file),
+        &study.measure_names(),
+    )
+    .with_context(|| format!("writing {}", arrow_path.display()))?;
+    let mut summary = SummaryBuilder::new();
+    let mut progress = StderrProgress::with_enabled(study.runs(), std::io::stderr().is_terminal());
+    let mut start = 0;
+    while start < study.runs() {
+        let end = (start + chunk_runs).min(study.runs());
+        let table = study.fly_runs(start..end, &options).map_err(|e| match e {
+            fdm_study::StudyError::Fleet(_) => CliError::usage(e.to_string()),
+            e => CliError::runtime(e),
+        })?;
+        write_csv_rows(&mut csv, &table)
+            .with_context(|| format!("writing {}", csv_path.display()))?;
+        arrow
+            .write(&table)
+            .with_context(|| format!("writing {}", arrow_path.display()))?;
+        summary.add(&table);
+        start = end;
+        progress.tick(start - start % 64);
+    }
+    progress.finish();
+    csv.flush()
+        .with_context(|| format!("writing {}", csv_path.display()))?;
+    arrow
+        .finish()
+        .with_context(|| format!("writing {}", arrow_path.display()))?;
+    let summary = summary.finish().with_seed(study.seed());
+    let json = serde_json::to_string_pretty(&summary).context("summary as JSON")?;
+    let summary_path = out_dir.join("summary.json");
+    std::fs::write(&summary_path, format!("{json}\n"))
+        .with_context(|| format!("writing {}", summary_path.display()))?;
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        writeln!(stdout, "{json}")
+    } else {
+        write!(stdout, "{}", summary.to_text())
+    }
+    .and_then(|()| stdout.flush())
+    .context("writing to stdout")?;
+    Ok(())
+}
+
+/// Flies run `run` alone through the run library with the single-flight
+/// outputs, and writes its row (`run-I.csv`, the batch's format).
+fn run_alone<M: CliModel + StudyModel>(
+    study: &Study,
+    run: u64,
+    args: &StudyArgs,
+    out_dir: &Path,
+) -> Result<(), CliError> {
+    if run >= study.runs() {
+        return Err(CliError::usage(format!(
+            "--run {run}: the study has runs 0 to {}",
+            study.runs() - 1
+        )));
+    }
+    // The batch's row of this run: how many frames it flew (its stop).
+    let options = FlyOptions {
+        threads: 1,
+        precision: Precision::Exact,
+    };
+    let batch = study
+        .fly_runs(run..run + 1, &options)
+        .map_err(CliError::runtime)?;
+    if batch.status.first() == Some(&RunStatus::StartRefused) {
+        let reason = study
+            .scenario::<M>(run, 0)
+            .err()
+            .map_or_else(|| "refused".to_owned(), |e| e.to_string());
+        return Err(CliError::usage(reason));
+    }
+    let frames = batch.frames.first().copied().unwrap_or(0);
+    let scenario = study
+        .scenario::<M>(run, frames)
+        .map_err(|e| CliError::usage(e.to_string()))?;
+    let common = CommonArgs {
+        fps: study.fps(),
+        headless: true,
+        frames: Some(frames),
+        duration: None,
+        script: None,
+        json: args.json,
+        realtime: false,
+        csv: args.csv.clone(),
+        plot: args.plot.clone(),
+        fg: args.fg.clone(),
+        origin: scenario.origin,
+        start: crate::start::StartArgs::default(),
+        dis: crate::dis::FlightDisArgs::default(),
+        record: args.record.clone(),
+        acmi: args.acmi.clone(),
+    };
+    let measures = SharedOutput::new(MeasureOutput::<M>::new(
+        study,
+        run,
+        scenario.start.aircraft.clone(),
+    ));
+    let config = crate::config::prepare_study_run(common, scenario.start, scenario.script)?;
+    let attached = measures.clone();
+    crate::flight::run_model_with(config, move |flight| flight.attach(attached))?;
+    let table = measures
+        .take()
+        .map(|m| m.table())
+        .unwrap_or_else(|| RunTable::empty(study.measures()));
+    let path = out_dir.join(format!("run-{run}.csv"));
+    let mut text = Vec::new();
+    write_csv_header(&mut text, &study.measure_names()).context("run row")?;
+    write_csv_rows(&mut text, &table).context("run row")?;
+    std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
