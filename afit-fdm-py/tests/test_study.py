@@ -213,6 +213,12 @@ def test_bad_input_is_a_clear_error(tmp_path: pathlib.Path) -> None:
         afit_fdm.Study.from_toml(STUDY.replace('model = "palmer"', 'model = "glider"'))
     with pytest.raises(ValueError, match="runs"):
         afit_fdm.Study.from_toml(STUDY, runs=0)
+    with pytest.raises(ValueError, match="runs"):
+        afit_fdm.Study.from_toml(STUDY, runs=-1)
+    with pytest.raises(ValueError, match="seed"):
+        afit_fdm.Study.from_toml(STUDY, seed=2**64)
+    with pytest.raises(ValueError, match="shards"):
+        afit_fdm.ray_study(STUDY, shards=25)  # checked before Ray is imported
     with pytest.raises(OSError, match="cannot read"):
         afit_fdm.Study(tmp_path / "missing.toml")
     s = afit_fdm.Study.from_toml(STUDY)

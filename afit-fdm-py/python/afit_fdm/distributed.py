@@ -75,14 +75,18 @@ def ray_study(
       ``"SPREAD"``: shards spread over the nodes).
     * ``on_shard``: called in the caller's thread as each shard finishes.
     """
-    import ray
-
     study = load(source, runs=runs, seed=seed)
     ranges = shard_ranges(study.runs, shards)
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
         raise ValueError(f"threads: {threads!r} is not a whole number of at least 1")
     if isinstance(max_retries, bool) or not isinstance(max_retries, int) or max_retries < 0:
         raise ValueError(f"max_retries: {max_retries!r} is not a whole number of at least 0")
+    if precision not in ("exact", "fast"):
+        raise ValueError(f"precision: {precision!r} is not 'exact' or 'fast'")
+    try:
+        import ray
+    except ImportError as e:
+        raise ImportError(f"afit_fdm.ray_study needs Ray: pip install 'afit-fdm[ray]' ({e})") from e
     started = not ray.is_initialized()
     if started:
         ray.init(address=address)

@@ -249,6 +249,7 @@ class Study:
         runs: Optional[int] = None,
         seed: Optional[int] = None,
     ) -> None:
+        _check_overrides(runs, seed)
         self._inner = _Study.from_path(os.fspath(path), runs=runs, seed=seed)
 
     @classmethod
@@ -256,6 +257,7 @@ class Study:
         """A study from the text of a study file."""
         if not isinstance(text, str):
             raise TypeError(f"text: expected str, got {type(text).__name__}")
+        _check_overrides(runs, seed)
         study = cls.__new__(cls)
         study._inner = _Study.from_toml(text, runs=runs, seed=seed)
         return study
@@ -313,6 +315,14 @@ class Study:
             raise ValueError(f"runs {first}..{end} are not within the study's {self.runs} runs")
         columns = self._inner.fly_columns(int(first), int(end), threads=threads, precision=precision)
         return RunTable(columns, seed=self.seed)
+
+
+def _check_overrides(runs: Optional[int], seed: Optional[int]) -> None:
+    for name, value in (("runs", runs), ("seed", seed)):
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value < 2**64:
+            raise ValueError(f"{name}: {value!r} is not a whole number from 0 to 2**64 - 1")
 
 
 def _from_state(text: str, runs: int, seed: int) -> Study:
