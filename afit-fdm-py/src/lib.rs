@@ -9,6 +9,7 @@ pub mod fleet;
 pub mod flight;
 pub mod models;
 pub mod start;
+pub mod study;
 
 use fdm_core::bourg::Bourg;
 use fdm_core::model::{Model, ScriptAction};
@@ -498,6 +499,9 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<PyFlight>()?;
     m.add_class::<PyFleet>()?;
+    m.add_class::<study::PyStudy>()?;
+    m.add_function(wrap_pyfunction!(study::summarize_columns, m)?)?;
+    m.add("STATUS_CODES", study::status_codes().to_vec())?;
     let models = PyDict::new(py);
     models.set_item(Palmer::NAME, describe::<Palmer>(py)?)?;
     models.set_item(Bourg::NAME, describe::<Bourg>(py)?)?;

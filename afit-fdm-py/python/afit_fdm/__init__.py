@@ -5,6 +5,9 @@
   frame exactly as ``sim-cli`` flies it (the same bits).
 * :class:`Fleet`: many aircraft of one model stepped by the SIMD fleet
   kernels, with the state as read-only NumPy columns.
+* :class:`Study`, :func:`study`: Monte Carlo studies (the study files of
+  ``sim-cli study``), their per-run table as NumPy columns and their summary;
+  :func:`ray_study` spreads one over a Ray cluster (Ray imported only then).
 * :mod:`afit_fdm.gym`: Gymnasium environments (single and vector), registered
   as ``afit_fdm/...`` ids when Gymnasium is installed.
 
@@ -17,8 +20,22 @@ from __future__ import annotations
 import enum
 
 from ._afit_fdm import MODELS, Fleet, Flight, __version__
+from .distributed import ShardDone, ray_study
+from .study import STATUS_CODES, RunTable, Study, study
 
-__all__ = ["MODELS", "Fleet", "Flight", "Status", "__version__"]
+__all__ = [
+    "MODELS",
+    "STATUS_CODES",
+    "Fleet",
+    "Flight",
+    "RunTable",
+    "ShardDone",
+    "Status",
+    "Study",
+    "__version__",
+    "ray_study",
+    "study",
+]
 
 
 class Status(enum.IntEnum):

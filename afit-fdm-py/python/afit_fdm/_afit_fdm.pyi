@@ -189,3 +189,45 @@ class Fleet:
         """``(start, end)`` of the last :meth:`step`'s work, seconds on a
         process-wide monotonic clock, measured in Rust with the GIL released."""
     def __len__(self) -> int: ...
+
+# --- Monte Carlo studies (the Python API is afit_fdm.study: Study, RunTable) ---
+
+STATUS_CODES: List[str]
+"""How a study's run ended, by ``status_code``: ``on_ground``, ``airborne``,
+``landed_safe``, ``landed_rough``, ``crashed``, ``diverged``, ``start_refused``."""
+
+class _Study:
+    """A parsed, validated study file (use :class:`afit_fdm.Study`)."""
+
+    @staticmethod
+    def from_toml(text: str, *, runs: Optional[int] = None, seed: Optional[int] = None) -> "_Study":
+        """Parses a study file's text; ``ValueError`` names the line and key at fault."""
+    @staticmethod
+    def from_path(path: str, *, runs: Optional[int] = None, seed: Optional[int] = None) -> "_Study":
+        """Reads and parses a study file (``OSError`` when it cannot be read)."""
+    @property
+    def text(self) -> str: ...
+    @property
+    def runs(self) -> int: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def model(self) -> str: ...
+    @property
+    def measure_names(self) -> List[str]: ...
+    def fly_columns(
+        self, first: int, end: int, *, threads: Optional[int] = None, precision: str = "exact"
+    ) -> Dict[str, Any]:
+        """Flies runs ``first..end`` with the GIL released: ``run`` (uint64),
+        ``status_code`` (uint8), ``frames`` (uint64), ``measures``: a list of
+        ``(name, values float64, applies bool)`` (values 0.0 where not applicable)."""
+
+def summarize_columns(
+    run: npt.NDArray[np.uint64],
+    status_code: npt.NDArray[np.uint8],
+    frames: npt.NDArray[np.uint64],
+    measures: Sequence[Tuple[str, npt.NDArray[np.float64], npt.NDArray[np.bool_]]],
+    *,
+    seed: int,
+) -> str:
+    """The summary of these columns as ``summary.json``'s text."""

@@ -1,0 +1,92 @@
+//! What the Python suites share: installing this directory into a pinned
+//! virtualenv and building the `sim-cli` the comparisons run.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// This crate's directory (the Python package's project).
+pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
+
+/// A `sim-cli` built from this checkout, in `build_dir` (not the one next to
+/// this test's executable: a shared target directory may hold another
+/// checkout's).
+pub fn sim_cli(build_dir: &Path) -> PathBuf {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
+    let status = Command::new(cargo)
+        // Release, in the directory maturin built the extension in: the two
+        // builds share their dependencies. (The package is `afit-fdm-cli`.)
+        .args([
+            "build",
+            "-q",
+            "--release",
+            "-p",
+            "afit-fdm-cli",
+            "--bin",
+            "sim-cli",
+        ])
+        .current_dir(CRATE_DIR)
+        .env("CARGO_TARGET_DIR", build_dir)
+        .status()
+        .expect("cannot run cargo to build sim-cli");
+    assert!(status.success(), "cargo build -p afit-fdm-cli failed");
+    build_dir.join("release").join("sim-cli")
+}
+
+/// `PATH` with the virtualenv's `bin` first.
+pub fn with_path(venv_bin: &Path) -> std::ffi::OsString {
+    let mut paths = vec![venv_bin.to_path_buf()];
+    if let Some(p) = std::env::var_os("PATH") {
+        paths.extend(std::env::split_paths(&p));
+    }
+    std::env::join_paths(paths).expect("PATH")
+}
+
+/// `pip install` of this directory into `python`'s virtualenv: the one
+/// command a user runs from a clone, building the extension in release with
+/// maturin in `build_dir`.
+pub fn install(python: &Path, path: &std::ffi::OsStr, build_dir: &Path) {
+    let out = Command::new(python)
+        .args([
+            "-m",
+            "pip",
+            "install",
+            "--disable-pip-version-check",
+            "--no-input",
+            "--quiet",
+            "--no-build-isolation",
+            "--no-deps",
+            "--force-reinstall",
+            CRATE_DIR,
+        ])
+        .env("PATH", path)
+        .env("CARGO_TARGET_DIR", build_dir)
+        .output()
+        .expect("cannot run pip");
+    assert!(
+        out.status.success(),
+        "pip install {CRATE_DIR} failed:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// `pytest -q ARGS` in this directory with `AFIT_FDM_SIM_CLI` set; fails
+/// the test when pytest does.
+pub fn pytest(python: &Path, path: &std::ffi::OsStr, sim_cli: &Path, args: &[&str]) {
+    let out = Command::new(python)
+        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
+        .args(args)
+        .current_dir(CRATE_DIR)
+        .env("PATH", path)
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .env("AFIT_FDM_SIM_CLI", sim_cli)
+        .output()
+        .expect("cannot run pytest");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(
+        out.status.success(),
+        "pytest failed:\n{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

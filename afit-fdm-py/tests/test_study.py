@@ -1,0 +1,242 @@
+"""Studies from Python: the same bits as ``sim-cli study`` (``runs.csv``,
+``summary.json``, ``--run I``), shards merged in run order the same as the
+whole, pickling, and clear errors for bad input."""
+
+from __future__ import annotations
+
+import csv
+import json
+import pathlib
+import pickle
+import subprocess
+from typing import Dict, List
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import afit_fdm
+from afit_fdm.study import shard_ranges
+
+# A small landing study: some runs touch down within the 40 s, some do not
+# (their touchdown measures do not apply), dispersed speed, mass and height.
+STUDY = """
+model = "palmer"
+runs = 24
+seed = 7
+fps = 30
+duration_s = 40.0
+stop = "touchdown"
+measures = ["touchdown_x_m", "touchdown_sink_rate_mps", "max_height_m", "final_x_m", "time_to_height_s"]
+target_height_m = 200.0
+script = \"\"\"
+1-5 throttle-down
+\"\"\"
+
+[initial]
+altitude_ft = 300.0
+speed_kt = 65.0
+heading_deg = 0.0
+trim = true
+
+[[dispersion]]
+key = "initial.speed_kt"
+distribution = "normal"
+mean = 65.0
+sd = 2.5
+
+[[dispersion]]
+key = "aircraft.mass_kg"
+distribution = "truncated_normal"
+mean = 1050.0
+sd = 40.0
+low = 950.0
+high = 1114.0
+
+[[dispersion]]
+key = "initial.altitude_ft"
+distribution = "choice"
+values = [150.0, 300.0, 900.0]
+"""
+
+
+@pytest.fixture(scope="module")
+def study_file(tmp_path_factory: pytest.TempPathFactory) -> pathlib.Path:
+    path = tmp_path_factory.mktemp("study") / "landing.toml"
+    path.write_text(STUDY, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def whole() -> afit_fdm.RunTable:
+    return afit_fdm.study(STUDY, threads=2)
+
+
+def read_runs_csv(path: pathlib.Path) -> List[Dict[str, str]]:
+    with open(path, encoding="utf-8", newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def assert_rows_match(table: afit_fdm.RunTable, rows: List[Dict[str, str]]) -> None:
+    """Every cell of ``rows`` (``runs.csv``) is the table's, bit for bit
+    (the CSV holds the shortest decimal that reads back to the same f64; an
+    empty cell is a measure that does not apply)."""
+    assert len(rows) == len(table)
+    status = table.status
+    for i, row in enumerate(rows):
+        assert int(row["run"]) == int(table.run[i])
+        assert row["status"] == status[i]
+        for name in table.measure_names:
+            cell = row[name]
+            if cell == "":
+                assert not table.applies(name)[i], (i, name)
+            else:
+                assert table.applies(name)[i], (i, name)
+                want = np.float64(float(cell))
+                assert want.view(np.uint64) == table.values(name)[i].view(np.uint64), (i, name, cell)
+
+
+def test_the_table_is_sim_cli_studys_runs_csv_and_summary(
+    sim_cli: pathlib.Path, study_file: pathlib.Path, whole: afit_fdm.RunTable, tmp_path: pathlib.Path
+) -> None:
+    out = tmp_path / "out"
+    proc = subprocess.run(
+        [str(sim_cli), "study", str(study_file), "--out", str(out), "--threads", "1"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    rows = read_runs_csv(out / "runs.csv")
+    assert list(rows[0]) == ["run", "status", *whole.measure_names]
+    assert_rows_match(whole, rows)
+    with open(out / "summary.json", encoding="utf-8") as f:
+        assert whole.summarize() == json.load(f)
+    # The study exercises both sides of "applies".
+    applies = whole.applies("touchdown_x_m")
+    assert applies.any() and not applies.all()
+
+
+def test_a_path_a_study_and_the_text_give_the_same_table(
+    study_file: pathlib.Path, whole: afit_fdm.RunTable
+) -> None:
+    assert afit_fdm.study(study_file, threads=1).identical(whole)
+    assert afit_fdm.study(str(study_file)).identical(whole)
+    s = afit_fdm.Study(study_file)
+    assert (s.runs, s.seed, s.model) == (24, 7, "palmer")
+    assert s.measure_names == whole.measure_names
+    assert afit_fdm.study(s).identical(whole)
+
+
+@pytest.mark.parametrize("run", [0, 5, 23])
+def test_a_row_is_sim_cli_study_run_i(
+    sim_cli: pathlib.Path, study_file: pathlib.Path, whole: afit_fdm.RunTable, tmp_path: pathlib.Path, run: int
+) -> None:
+    proc = subprocess.run(
+        [str(sim_cli), "study", str(study_file), "--run", str(run), "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    row = _rows(whole, run, run + 1)
+    assert_rows_match(row, read_runs_csv(tmp_path / f"run-{run}.csv"))
+    # The same row flown alone from Python.
+    assert afit_fdm.Study.from_toml(STUDY).fly(run, run + 1).identical(row)
+
+
+def _rows(table: afit_fdm.RunTable, first: int, end: int) -> afit_fdm.RunTable:
+    cols = table.to_columns()
+    return afit_fdm.RunTable(
+        {
+            "run": cols["run"][first:end],
+            "status_code": cols["status_code"][first:end],
+            "frames": cols["frames"][first:end],
+            "measures": [(n, v[first:end], a[first:end]) for n, v, a in cols["measures"]],
+        },
+        seed=table.seed,
+    )
+
+
+@settings(max_examples=12, deadline=None)
+@given(data=st.data())
+def test_any_shards_of_any_subrange_merge_to_the_whole(data: st.DataObject, whole: afit_fdm.RunTable) -> None:
+    study = afit_fdm.Study.from_toml(STUDY)
+    first = data.draw(st.integers(0, study.runs - 1), label="first")
+    end = data.draw(st.integers(first + 1, study.runs), label="end")
+    shards = data.draw(st.integers(1, end - first), label="shards")
+    threads = data.draw(st.integers(1, 3), label="threads")
+    parts = [
+        study.fly(first + a, first + b, threads=threads) for a, b in shard_ranges(end - first, shards)
+    ]
+    merged = afit_fdm.RunTable.concat(parts)
+    assert merged.identical(_rows(whole, first, end))
+
+
+def test_shard_ranges_cover_the_runs_in_order() -> None:
+    assert shard_ranges(10, 3) == [(0, 4), (4, 7), (7, 10)]
+    assert shard_ranges(5, 5) == [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5)]
+    for bad in (0, 6, -1, True, 2.0):
+        with pytest.raises(ValueError, match="shards"):
+            shard_ranges(5, bad)  # type: ignore[arg-type]
+
+
+def test_overrides_and_pickling(whole: afit_fdm.RunTable) -> None:
+    s = afit_fdm.Study.from_toml(STUDY, runs=30, seed=8)
+    assert (s.runs, s.seed) == (30, 8)
+    back = pickle.loads(pickle.dumps(s))
+    assert (back.runs, back.seed, back.text) == (30, 8, STUDY)
+    # Another seed, other values; the first 24 runs of a 30-run study with the
+    # same seed are the 24-run study's.
+    assert not afit_fdm.study(STUDY, seed=8).identical(whole)
+    longer = afit_fdm.study(STUDY, runs=30)
+    assert _rows(longer, 0, 24).identical(whole)
+
+
+def test_the_table_is_numpy_and_pandas_ready(whole: afit_fdm.RunTable) -> None:
+    assert whole.run.dtype == np.uint64 and whole.status_code.dtype == np.uint8
+    assert list(whole.run) == list(range(24))
+    assert set(whole.status) <= set(afit_fdm.STATUS_CODES)
+    d = whole.to_dict()
+    assert list(d) == ["run", "status", "frames", *whole.measure_names]
+    m = d["touchdown_x_m"]
+    assert isinstance(m, np.ma.MaskedArray)
+    assert np.array_equal(m.mask, ~whole.applies("touchdown_x_m"))
+    for name in whole.measure_names:
+        assert np.isfinite(whole.values(name)).all()
+        assert (whole.values(name)[~whole.applies(name)] == 0.0).all()
+    with pytest.raises(ValueError):
+        whole.run[0] = 1
+
+
+def test_bad_input_is_a_clear_error(tmp_path: pathlib.Path) -> None:
+    with pytest.raises(ValueError, match="line"):
+        afit_fdm.Study.from_toml(STUDY.replace('model = "palmer"', 'model = "glider"'))
+    with pytest.raises(ValueError, match="runs"):
+        afit_fdm.Study.from_toml(STUDY, runs=0)
+    with pytest.raises(ValueError, match="runs"):
+        afit_fdm.Study.from_toml(STUDY, runs=-1)
+    with pytest.raises(ValueError, match="seed"):
+        afit_fdm.Study.from_toml(STUDY, seed=2**64)
+    with pytest.raises(ValueError, match="shards"):
+        afit_fdm.ray_study(STUDY, shards=25)  # checked before Ray is imported
+    with pytest.raises(OSError, match="cannot read"):
+        afit_fdm.Study(tmp_path / "missing.toml")
+    s = afit_fdm.Study.from_toml(STUDY)
+    with pytest.raises(ValueError, match="not within"):
+        s.fly(0, 25)
+    with pytest.raises(ValueError, match="not within"):
+        s.fly(5, 4)
+    with pytest.raises(ValueError, match="not a run index"):
+        s.fly(-1, 3)
+    with pytest.raises(ValueError, match="threads"):
+        s.fly(0, 2, threads=0)
+    with pytest.raises(ValueError, match="precision"):
+        s.fly(0, 2, precision="sloppy")
+    with pytest.raises(TypeError):
+        afit_fdm.study(42)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="measures differ"):
+        afit_fdm.RunTable.concat([s.fly(0, 1), afit_fdm.study(STUDY.replace('"final_x_m", ', ""), runs=1)])
+    with pytest.raises(ValueError, match="status code"):
+        cols = s.fly(0, 1).to_columns()
+        cols["status_code"] = np.array([9], dtype=np.uint8)
+        afit_fdm.RunTable(cols, seed=7)

@@ -1,0 +1,156 @@
+"""A study on a real Ray cluster of two nodes, started by the test on this
+machine with Ray's own cluster utility (``ray.cluster_utils.Cluster``: a
+head and a worker node, each with its own raylet and object store, on the
+loopback address): shards spread over both nodes merge to the bits of the
+one-machine run for several shard counts, and a study whose worker node is
+killed while it flies one of its shards still completes, with the same bits.
+
+Run by ``afit-fdm-py/tests/ray_suite.rs`` in its own pinned virtualenv (Ray
+is large; the main suite does not need it).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from typing import Any, Dict, Iterator, List, Tuple
+
+import pytest
+
+# Ray on one machine: every node, the driver included, on 127.0.0.1 (this
+# Ray switch makes its address look-up return the loopback address, as on a
+# laptop), so no traffic leaves the loopback interface. Set before Ray is
+# imported; the nodes, started as subprocesses, inherit it.
+os.environ["RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"] = "0"
+
+import ray  # noqa: E402
+from ray._private import ray_constants  # noqa: E402
+from ray.cluster_utils import Cluster  # noqa: E402
+
+import afit_fdm  # noqa: E402
+
+# Long enough that a shard flies for a few seconds on one core (so the test
+# can kill a node in the middle of one), short enough for CI.
+STUDY = """
+model = "palmer"
+runs = 96
+seed = 2021
+fps = 30
+duration_s = 1200.0
+measures = ["max_height_m", "final_x_m", "final_height_m", "touchdown_x_m"]
+script = \"\"\"
+1-3 throttle-down
+\"\"\"
+
+[initial]
+altitude_ft = 1500.0
+speed_kt = 90.0
+heading_deg = 0.0
+trim = true
+
+[[dispersion]]
+key = "initial.speed_kt"
+distribution = "normal"
+mean = 90.0
+sd = 4.0
+
+[[dispersion]]
+key = "aircraft.mass_kg"
+distribution = "uniform"
+low = 950.0
+high = 1114.0
+"""
+
+# One CPU per node (a 2-core machine), a small object store, no dashboard.
+NODE: Dict[str, Any] = {
+    "num_cpus": 1,
+    "object_store_memory": 100 * 1024 * 1024,
+    "include_dashboard": False,
+    "node_ip_address": "127.0.0.1",
+}
+
+
+@pytest.fixture(scope="module")
+def cluster() -> Iterator[Tuple[Cluster, Any]]:
+    start = time.monotonic()
+    c = Cluster(initialize_head=True, connect=False, head_node_args=dict(NODE))
+    worker = c.add_node(**NODE)
+    c.wait_for_nodes()
+    ray.init(address=c.address)
+    print(f"2-node Ray cluster up in {time.monotonic() - start:.1f} s")
+    try:
+        yield c, worker
+    finally:
+        ray.shutdown()
+        c.shutdown()
+
+
+@pytest.fixture(scope="module")
+def whole() -> afit_fdm.RunTable:
+    return afit_fdm.study(STUDY, threads=1)
+
+
+def shard_processes(raylet_pid: int) -> List[str]:
+    """The titles of the Ray worker processes of one node (the children of
+    its raylet) that are flying a shard now: Ray titles a worker process
+    ``ray::FUNCTION`` while it runs a task of FUNCTION."""
+    titles = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat", encoding="utf-8") as f:
+                parent = int(f.read().rsplit(")", 1)[1].split()[1])
+            if parent != raylet_pid:
+                continue
+            with open(f"/proc/{entry}/cmdline", "rb") as f:
+                title = f.read().split(b"\0")[0].decode(errors="replace").strip()
+        except (OSError, ValueError, IndexError):
+            continue
+        if title.startswith("ray::_fly_shard"):
+            titles.append(title)
+    return titles
+
+
+@pytest.mark.parametrize("shards", [2, 3, 7])
+def test_shards_on_both_nodes_merge_to_the_one_machine_bits(
+    cluster: Tuple[Cluster, Any], whole: afit_fdm.RunTable, shards: int
+) -> None:
+    c, worker = cluster
+    done: List[afit_fdm.ShardDone] = []
+    table = afit_fdm.ray_study(STUDY, shards=shards, on_shard=done.append)
+    assert table.identical(whole)
+    assert sorted(d.index for d in done) == list(range(shards))
+    assert {d.node_id for d in done} == {c.head_node.node_id, worker.node_id}
+    assert table.summarize() == whole.summarize()
+
+
+def test_a_node_killed_mid_study_its_shards_rerun_with_the_same_bits(
+    cluster: Tuple[Cluster, Any], whole: afit_fdm.RunTable
+) -> None:
+    c, worker = cluster
+    raylet = worker.all_processes[ray_constants.PROCESS_TYPE_RAYLET][0].process.pid
+    shards = 6
+    done: List[afit_fdm.ShardDone] = []
+    kill: Dict[str, Any] = {}
+
+    def on_shard(d: afit_fdm.ShardDone) -> None:
+        done.append(d)
+        if kill or len(done) == shards:
+            return
+        flying = shard_processes(raylet)
+        if flying:
+            # Some shards are done, some are not, and the worker node is
+            # flying one: kill the node (its raylet, object store and
+            # workers) now, without a graceful stop.
+            kill.update(done=len(done), flying=flying)
+            c.remove_node(worker, allow_graceful=False)
+
+    table = afit_fdm.ray_study(STUDY, shards=shards, on_shard=on_shard, max_retries=3)
+    print(f"killed the worker node after {kill.get('done')} of {shards} shards, while it flew {kill.get('flying')}")
+    assert kill, "the worker node was never seen flying a shard after the first shard finished"
+    assert 1 <= kill["done"] < shards
+    assert table.identical(whole)
+    assert sorted(d.index for d in done) == list(range(shards))
+    # Every shard finished after the kill was flown on the head.
+    assert {d.node_id for d in done[kill["done"] :]} == {c.head_node.node_id}
