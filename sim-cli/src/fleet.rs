@@ -454,8 +454,10 @@ fn measure_model<M: CliModel>(
     }
     let statuses = StatusCounts::of(sim.world().query::<&FlightStatus>().iter().copied());
     let mut report = report::<M>(
-        args,
-        frames_flown,
+        &FleetArgs {
+            frames: frames_flown,
+            ..args.clone()
+        },
         threads,
         seconds,
         estimated_bytes_per_aircraft::<M>(),
@@ -600,8 +602,10 @@ fn measure_lanes<M: CliModel>(
     }
     let statuses = StatusCounts::of((0..fleet.len()).filter_map(|i| fleet.status(i)));
     let mut report = report::<M>(
-        args,
-        frames_flown,
+        &FleetArgs {
+            frames: frames_flown,
+            ..args.clone()
+        },
         threads,
         seconds,
         per_aircraft,
@@ -616,10 +620,9 @@ fn measure_lanes<M: CliModel>(
     Ok(report)
 }
 
-/// The report of a measured fleet.
+/// The report of a measured fleet (`args.frames`: the frames flown).
 fn report<M: Model>(
     args: &FleetArgs,
-    frames: u64,
     threads: usize,
     seconds: f64,
     estimated_bytes_per_aircraft: u64,
@@ -628,7 +631,7 @@ fn report<M: Model>(
     statuses: StatusCounts,
 ) -> FleetReport {
     #[allow(clippy::cast_precision_loss)] // a rate: 53 bits are plenty
-    let steps = args.aircraft as f64 * frames as f64;
+    let steps = args.aircraft as f64 * args.frames as f64;
     let aircraft_steps_per_s = steps / seconds;
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // floor of a positive rate
     let aircraft_at_30hz = (aircraft_steps_per_s / f64::from(FLEET_FPS)).floor() as u64;
@@ -638,7 +641,7 @@ fn report<M: Model>(
         precision: lanes.map_or("exact", |(p, _)| p.name()),
         instruction_set: lanes.map(|(_, set)| set),
         aircraft: args.aircraft,
-        frames,
+        frames: args.frames,
         threads,
         seconds,
         aircraft_steps_per_s,
