@@ -189,28 +189,40 @@ pub fn asinf(x: f32) -> f32 {
     }
 }
 
+/// The coefficients of `asinf`'s series in `t` (IEEE bits), shared by the
+/// scalar [`asinf_poly`] and the lane-wise [`asinf_blend`] so that the two
+/// cannot drift apart.
+const ASINF_P: [u32; 5] = [
+    0x3e2a_aae4,
+    0x3d99_80f5,
+    0x3d3a_3ec8,
+    0x3cc6_17e0,
+    0x3d2c_b352,
+];
+
+/// π/2 split into a head and a negated tail, and the head of π/4 (`f32`).
+const ASINF_PIO2_HI: f32 = f32::from_bits(0x3fc9_0fdb);
+const ASINF_PIO2_LO: f32 = -f32::from_bits(0x333b_bd2e);
+const ASINF_PIO4_HI: f32 = f32::from_bits(0x3f49_0fdb);
+
+/// `asinf`'s series `p0 + t(p1 + t(p2 + t(p3 + t p4)))`, in this order.
+#[inline(always)]
+fn asinf_series(t: f32) -> f32 {
+    let p = ASINF_P.map(f32::from_bits);
+    p[0] + t * (p[1] + t * (p[2] + t * (p[3] + t * p[4])))
+}
+
 /// `asinf` for `2⁻²⁷ <= a <= 1` before the exceptions.
 #[inline(always)]
 fn asinf_poly(a: f32) -> f32 {
-    const P: [u32; 5] = [
-        0x3e2a_aae4,
-        0x3d99_80f5,
-        0x3d3a_3ec8,
-        0x3cc6_17e0,
-        0x3d2c_b352,
-    ];
-    let p = P.map(f32::from_bits);
-    let poly = |t: f32| p[0] + t * (p[1] + t * (p[2] + t * (p[3] + t * p[4])));
     if a < 0.5 {
         let t = a * a;
-        let w = t * poly(t);
+        let w = t * asinf_series(t);
         return a + a * w;
     }
-    let pio2_hi = f32::from_bits(0x3fc9_0fdb);
-    let pio2_lo = -f32::from_bits(0x333b_bd2e);
-    let pio4_hi = f32::from_bits(0x3f49_0fdb);
+    let (pio2_hi, pio2_lo, pio4_hi) = (ASINF_PIO2_HI, ASINF_PIO2_LO, ASINF_PIO4_HI);
     let t = (1.0 - a) * 0.5;
-    let p = t * poly(t);
+    let p = t * asinf_series(t);
     let s = sqrtf(t);
     if a.to_bits() >= 0x3f79_999a {
         // |x| > 0.975.
@@ -298,27 +310,16 @@ pub(crate) fn asinf_lanes<const N: usize>(x: [f32; N]) -> [f32; N] {
 /// [`asinf`]'s negation (the sign bit flipped).
 #[inline(always)]
 fn asinf_blend(x: f32) -> f32 {
-    const P: [u32; 5] = [
-        0x3e2a_aae4,
-        0x3d99_80f5,
-        0x3d3a_3ec8,
-        0x3cc6_17e0,
-        0x3d2c_b352,
-    ];
-    let p = P.map(f32::from_bits);
-    let poly = |t: f32| p[0] + t * (p[1] + t * (p[2] + t * (p[3] + t * p[4])));
-    let pio2_hi = f32::from_bits(0x3fc9_0fdb);
-    let pio2_lo = -f32::from_bits(0x333b_bd2e);
-    let pio4_hi = f32::from_bits(0x3f49_0fdb);
+    let (pio2_hi, pio2_lo, pio4_hi) = (ASINF_PIO2_HI, ASINF_PIO2_LO, ASINF_PIO4_HI);
     let ix = x.to_bits() & 0x7fff_ffff;
     let a = f32::from_bits(ix);
     // |x| < 0.5.
     let t = a * a;
-    let w = t * poly(t);
+    let w = t * asinf_series(t);
     let small = a + a * w;
     // |x| >= 0.5.
     let t = (1.0 - a) * 0.5;
-    let pt = t * poly(t);
+    let pt = t * asinf_series(t);
     let s = sqrtf(t);
     let near_one = pio2_hi - (2.0 * (s + s * pt) - pio2_lo);
     let wh = f32::from_bits(s.to_bits() & 0xffff_f000);
