@@ -348,6 +348,12 @@ fn measure_model<M: CliModel>(
     args: &FleetArgs,
     warn: &mut dyn FnMut(&str),
 ) -> Result<FleetReport, CliError> {
+    if args.precision == FleetPrecision::Fast {
+        return Err(CliError::usage(
+            "--precision fast needs --kernel lanes \
+             (--kernel ecs flies every aircraft with the model's own exact step)",
+        ));
+    }
     let dis_settings = dis_settings(args)?;
     let n = usize::try_from(args.aircraft)
         .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;

@@ -246,6 +246,36 @@ fn kernels_and_precisions_are_reported_and_checked() {
     assert!(err.contains("no `fast` precision"), "{err}");
 }
 
+/// `--precision fast` is the lanes kernels' option: with `--kernel ecs` it is
+/// refused (exit 2, one line naming both flags), never silently ignored.
+#[test]
+fn ecs_kernel_refuses_fast_precision() {
+    for model in ["palmer", "bourg"] {
+        let out = sim(&[
+            "fleet",
+            "--model",
+            model,
+            "--aircraft",
+            "5",
+            "--frames",
+            "1",
+            "--kernel",
+            "ecs",
+            "--precision",
+            "fast",
+        ]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{model}: {err}");
+        assert!(out.stdout.is_empty(), "{model}: {}", text(&out.stdout));
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with("sim-cli: error: "), "{err}");
+        assert!(
+            err.contains("--precision fast") && err.contains("--kernel"),
+            "{err}"
+        );
+    }
+}
+
 /// The memory check's estimate against the binary's own measurement (the
 /// growth of the resident set while 200 000 aircraft are spawned), two-sided:
 /// the estimate (components plus hecs's per-entity bookkeeping, docs/cli.md)
