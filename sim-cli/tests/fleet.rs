@@ -317,3 +317,40 @@ fn the_memory_estimate_matches_the_measured_memory() {
         );
     }
 }
+
+/// Under an address-space limit (`ulimit -v`, about 977 MiB here) a fleet
+/// far bigger than that is refused, exit 2 with one line naming what it needs
+/// and what is available, with either kernel: never an allocation failure's
+/// abort (exit 134), which is what reading only the machine's available
+/// memory gave.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_address_space_limit_refuses_the_fleet_with_the_numbers() {
+    for kernel in ["lanes", "ecs"] {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v 1000000 && exec \"$0\" fleet --model palmer --aircraft 10000000 \
+                 --frames 1 --threads 2 --kernel {kernel}"
+            ))
+            .arg(env!("CARGO_BIN_EXE_sim-cli"))
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("run sh");
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{kernel}: {err}");
+        assert!(out.stdout.is_empty(), "{kernel}: {}", text(&out.stdout));
+        assert_eq!(err.lines().count(), 1, "{kernel}: {err}");
+        assert!(
+            err.starts_with("sim-cli: error: a fleet of 10000000 palmer aircraft needs about "),
+            "{kernel}: {err}"
+        );
+        let available: u64 = err
+            .split("this process has ")
+            .nth(1)
+            .and_then(|rest| rest.split(" MiB available").next())
+            .and_then(|mib| mib.parse().ok())
+            .unwrap_or_else(|| panic!("{kernel}: no available MiB in {err}"));
+        assert!(available < 977, "{kernel}: {err}");
+    }
+}
