@@ -172,7 +172,9 @@ impl fmt::Display for ScriptError {
         write!(f, "line {}: ", self.line)?;
         match &self.kind {
             ScriptErrorKind::Malformed => {
-                f.write_str("expected `START-END ACTION` (e.g. `1-5 thrust-up`)")
+                // The example names one of this model's own actions.
+                let example = self.valid_actions.first().copied().unwrap_or("ACTION");
+                write!(f, "expected `START-END ACTION` (e.g. `1-5 {example}`)")
             }
             ScriptErrorKind::BadFrame(text) => {
                 write!(f, "`{}` is not a frame number", Echo::short(text))

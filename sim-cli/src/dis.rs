@@ -321,6 +321,16 @@ pub fn resolve_target(text: &str) -> Result<SocketAddr, CliError> {
     if addr.port() == 0 {
         return Err(CliError::usage(format!("--dis {shown}: port 0")));
     }
+    // As for --fg: the unspecified address names no receiver. Unlike --fg,
+    // broadcast (DIS exercises are often broadcast on a LAN) and IPv6 (DIS
+    // receivers need not be IPv4, unlike FlightGear's native-FDM socket) are
+    // allowed.
+    if addr.ip().is_unspecified() {
+        return Err(CliError::usage(format!(
+            "--dis {shown}: the unspecified address (no host); give a receiver's address, \
+             or a broadcast address such as 255.255.255.255"
+        )));
+    }
     Ok(addr)
 }
 
@@ -892,6 +902,25 @@ mod tests {
     use fdm_core::geodesy::ned_from_model;
     use fdm_core::palmer::Palmer;
     use nalgebra::Vector3;
+
+    /// `--dis` refuses the unspecified address (IPv4 and IPv6) like `--fg`,
+    /// and keeps broadcast and IPv6 receivers, which `--fg` refuses.
+    #[test]
+    fn dis_targets_refuse_the_unspecified_address_only() {
+        for text in ["0.0.0.0:3000", "[::]:3000"] {
+            let err = resolve_target(text).unwrap_err();
+            assert_eq!(err.exit_code(), 2);
+            assert!(err.to_string().contains("unspecified address"), "{err}");
+        }
+        for text in [
+            "255.255.255.255:3000",
+            "192.168.1.255:3000",
+            "[::1]:3000",
+            "127.0.0.1:3000",
+        ] {
+            assert!(resolve_target(text).is_ok(), "{text}");
+        }
+    }
 
     #[test]
     fn fleet_numbering_spills_into_the_next_application() {

@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::dis::type_label;
 use crate::error::CliError;
-use crate::input::Echo;
+use crate::input::{show_fixed, Echo};
 
 /// Entities kept by default.
 pub const DEFAULT_MAX_ENTITIES: u64 = 100_000;
@@ -237,16 +237,16 @@ impl ListenReport {
         }
         for e in &self.entities {
             s.push_str(&format!(
-                "\n{:<17} {:<11} {:<19} {:>12.7} {:>13.7} {:>9.1} {:>7.2} {:>6.2} {:>7.2} {:>7}",
+                "\n{:<17} {:<11} {:<19} {:>12} {:>13} {:>9} {:>7} {:>6} {:>7} {:>7}",
                 e.id,
                 Echo::new(&e.marking, 11).to_string(),
                 e.entity_type,
-                e.lat_deg,
-                e.lon_deg,
-                e.alt_m,
-                e.heading_deg,
-                e.pitch_deg,
-                e.roll_deg,
+                show_fixed(e.lat_deg, 7),
+                show_fixed(e.lon_deg, 7),
+                show_fixed(e.alt_m, 1),
+                show_fixed(e.heading_deg, 2),
+                show_fixed(e.pitch_deg, 2),
+                show_fixed(e.roll_deg, 2),
                 e.updates
             ));
         }
@@ -379,6 +379,51 @@ mod tests {
         let back: ListenReport = serde_json::from_str(&json).unwrap();
         assert_eq!(back.datagrams, 4);
         assert!(r.human().starts_with("dis-listen 127.0.0.1:"));
+    }
+
+    /// An entity sent from absurd places (1e308 m up, a latitude of
+    /// -1e300 degrees) prints in the short number form, never as 300-digit
+    /// numbers; ordinary values keep the table's fixed decimals.
+    #[test]
+    fn the_table_prints_huge_numbers_short() {
+        let entity = EntityReport {
+            id: "1:2:3".into(),
+            site: 1,
+            application: 2,
+            entity: 3,
+            marking: "X".into(),
+            entity_type: "1.2.225.1.0.0.0".into(),
+            protocol_version: 7,
+            exercise: 1,
+            updates: 1,
+            lat_deg: -1e300,
+            lon_deg: 7.25,
+            alt_m: 1e308,
+            heading_deg: 90.0,
+            pitch_deg: 0.0,
+            roll_deg: f64::MAX,
+            velocity_ned_m_s: [0.0; 3],
+        };
+        let report = ListenReport {
+            address: "127.0.0.1:3000".into(),
+            seconds: 1.0,
+            datagrams: 1,
+            bytes: 144,
+            pdus: 1,
+            entity_state_pdus: 1,
+            malformed_datagrams: 0,
+            decoder_panics: 0,
+            untracked_entity_pdus: 0,
+            entity_count: 1,
+            max_entities: 10,
+            entities: vec![entity],
+        };
+        let human = report.human();
+        let row = human.lines().last().unwrap();
+        assert!(row.len() < 200, "{row}");
+        for cell in ["-1e300", "7.2500000", "1e308", "90.00", "0.00"] {
+            assert!(row.split_whitespace().any(|c| c == cell), "{cell}: {row}");
+        }
     }
 
     #[test]

@@ -120,14 +120,13 @@ pub fn estimated_bytes_per_aircraft<M: Model>() -> u64 {
     (components + 16) as u64
 }
 
-/// Bytes of memory the system says can still be allocated without swapping
-/// (`MemAvailable` of `/proc/meminfo`); `None` where that is not known.
+/// Bytes of memory this process can still allocate: the least of the
+/// machine's available memory, the address-space limit (`ulimit -v`) less
+/// the address space in use and the cgroup's memory limit less its use
+/// ([`crate::memory::available_bytes`]); `None` where none is known.
 #[must_use]
 pub fn available_memory_bytes() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    kib.checked_mul(1024)
+    crate::memory::available_bytes()
 }
 
 /// This process's resident memory in bytes (`/proc/self/statm`); `None` where
@@ -159,13 +158,22 @@ fn check_fleet_memory(
     available: Option<u64>,
 ) -> Result<(), CliError> {
     let needed = n.saturating_mul(per_aircraft).saturating_mul(2);
-    match available {
-        Some(have) if needed > have => Err(CliError::usage(format!(
+    let refuse = |have: u64, why: &str| {
+        CliError::usage(format!(
             "a fleet of {n} {model} aircraft needs about {} MiB ({per_aircraft} bytes each, twice \
-             that while the fleet grows); this machine has {} MiB available",
+             that while the fleet grows); this process has {} MiB available{why}",
             needed / (1024 * 1024),
             have / (1024 * 1024)
-        ))),
+        ))
+    };
+    match available {
+        Some(have) if needed > have => Err(refuse(have, "")),
+        // The estimate fits: the allocator must also grant that much address
+        // space (tried, never touched), or the fleet's own allocations would
+        // abort the process instead of this refusal.
+        Some(have) if !crate::memory::can_reserve(needed) => {
+            Err(refuse(have, ", but the allocator refuses that much"))
+        }
         _ => Ok(()),
     }
 }
@@ -348,6 +356,12 @@ fn measure_model<M: CliModel>(
     args: &FleetArgs,
     warn: &mut dyn FnMut(&str),
 ) -> Result<FleetReport, CliError> {
+    if args.precision == FleetPrecision::Fast {
+        return Err(CliError::usage(
+            "--precision fast needs --kernel lanes \
+             (--kernel ecs flies every aircraft with the model's own exact step)",
+        ));
+    }
     let dis_settings = dis_settings(args)?;
     let n = usize::try_from(args.aircraft)
         .map_err(|_| CliError::usage(format!("{} aircraft do not fit in memory", args.aircraft)))?;

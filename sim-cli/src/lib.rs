@@ -41,6 +41,7 @@ pub mod flight;
 pub mod hud;
 pub mod input;
 pub mod keys;
+pub mod memory;
 pub mod models;
 pub mod origin;
 pub mod outfile;

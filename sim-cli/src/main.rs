@@ -52,7 +52,8 @@ fn real_main() -> ExitCode {
     // the next frame): the status says how it ended, as a shell would.
     if let Some(signal) = sim_cli::signals::stop_requested() {
         eprintln!(
-            "sim-cli: stopped by {}",
+            "{}sim-cli: stopped by {}",
+            sim_cli::progress::line_start(),
             sim_cli::signals::signal_name(signal)
         );
         return ExitCode::from(u8::try_from(sim_cli::signals::exit_status(signal)).unwrap_or(1));

@@ -102,15 +102,39 @@ pub fn origin_names() -> String {
 pub fn parse_origin(text: &str) -> Result<GeodeticOrigin, String> {
     if let Some(named) = named_origin(text) {
         return GeodeticOrigin::new(named.lat_deg, named.lon_deg, named.alt_m)
-            .map_err(|e| e.to_string());
+            .map_err(|e| message(&e));
     }
     text.parse::<GeodeticOrigin>().map_err(|e| {
         if text.contains(',') {
-            e.to_string()
+            message(&e)
         } else {
-            format!("{e}; or a named origin: {}", origin_names())
+            format!("{}; or a named origin: {}", message(&e), origin_names())
         }
     })
+}
+
+/// The geodesy module's message, with the value given in the short number
+/// form ([`crate::input::show_number`]: `1e300`, not 301 digits).
+fn message(e: &fdm_ecs::geodesy::GeodesyError) -> String {
+    use crate::input::show_number;
+    use fdm_ecs::geodesy::GeodesyError;
+    match e {
+        GeodesyError::LatitudeOutOfRange { lat_deg } => format!(
+            "latitude must be within [-90, 90] degrees, got {}",
+            show_number(*lat_deg)
+        ),
+        GeodesyError::LongitudeOutOfRange { lon_deg } => format!(
+            "longitude must be within [-180, 180] degrees, got {}",
+            show_number(*lon_deg)
+        ),
+        GeodesyError::AltitudeOutOfRange { alt_m } => format!(
+            "altitude must be within [{}, {}] metres, got {}",
+            GeodeticOrigin::ALT_RANGE_M.start(),
+            GeodeticOrigin::ALT_RANGE_M.end(),
+            show_number(*alt_m)
+        ),
+        other => other.to_string(),
+    }
 }
 
 #[cfg(test)]
@@ -180,6 +204,20 @@ mod tests {
             let err = parse_origin(bad).expect_err(bad);
             assert!(!err.contains('\n'), "{err}");
             assert!(err.contains(needle), "{bad:?}: {err}");
+        }
+    }
+
+    /// Huge values are echoed in the short number form, not hundreds of digits.
+    #[test]
+    fn out_of_range_values_are_shown_short() {
+        for (bad, got) in [
+            ("1e300,0,0", "got 1e300"),
+            ("0,-1e300,0", "got -1e300"),
+            ("0,0,1e308", "got 1e308"),
+            ("90.5,0,0", "got 90.5"),
+        ] {
+            let err = parse_origin(bad).expect_err(bad);
+            assert!(err.ends_with(got) && err.len() < 80, "{bad:?}: {err}");
         }
     }
 }

@@ -6,7 +6,23 @@
 //! touched (it may carry the JSON report).
 
 use std::io::{IsTerminal, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+
+/// Whether a bar is on stderr's current line now (drawn and not yet erased).
+static BAR_ON_SCREEN: AtomicBool = AtomicBool::new(false);
+
+/// What a message written on stderr outside the bar's own methods (the
+/// signal thread's last line) must start with: a newline when a bar is on
+/// the current line, so the message does not run into it; else nothing.
+#[must_use]
+pub fn line_start() -> &'static str {
+    if BAR_ON_SCREEN.load(Ordering::Relaxed) {
+        "\n"
+    } else {
+        ""
+    }
+}
 
 /// The pure part: decides when to draw and what. Times are injected for testing.
 #[derive(Debug, Clone)]
@@ -125,6 +141,7 @@ impl StderrProgress {
             let mut err = std::io::stderr().lock();
             let _ = write!(err, "\r{line}\x1b[K");
             let _ = err.flush();
+            BAR_ON_SCREEN.store(true, Ordering::Relaxed);
         }
     }
 
@@ -134,6 +151,7 @@ impl StderrProgress {
         let mut err = std::io::stderr().lock();
         if self.inner.as_ref().is_some_and(Progress::drawn) {
             let _ = write!(err, "\r\x1b[2K");
+            BAR_ON_SCREEN.store(false, Ordering::Relaxed);
         }
         let _ = writeln!(err, "{line}");
         let _ = err.flush();
@@ -146,6 +164,7 @@ impl StderrProgress {
                 let mut err = std::io::stderr().lock();
                 let _ = write!(err, "\r\x1b[2K");
                 let _ = err.flush();
+                BAR_ON_SCREEN.store(false, Ordering::Relaxed);
             }
         }
     }
@@ -184,6 +203,21 @@ mod tests {
         assert!(render_bar(0, 10, Duration::from_secs(2)).ends_with("eta ?"));
         assert!(render_bar(10, 10, Duration::from_secs(2)).contains("100%"));
         assert!(render_bar(0, 0, Duration::ZERO).contains("100%"));
+    }
+
+    /// A message from outside the bar (the signal thread's) starts on a new
+    /// line while a bar is on the screen, and on the current one after the
+    /// bar is erased.
+    #[test]
+    fn messages_start_below_a_drawn_bar() {
+        let mut p = StderrProgress {
+            inner: Some(Progress::new(100, Instant::now() - Duration::from_secs(2))),
+        };
+        assert_eq!(line_start(), "");
+        p.tick(64);
+        assert_eq!(line_start(), "\n");
+        p.finish();
+        assert_eq!(line_start(), "");
     }
 
     #[test]

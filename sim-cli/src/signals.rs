@@ -123,7 +123,8 @@ fn terminate(signal: i32) -> ! {
     flush_registered();
     let _ = writeln!(
         io::stderr(),
-        "sim-cli: stopped by {} (the run did not finish its outputs within {} s)",
+        "{}sim-cli: stopped by {} (the run did not finish its outputs within {} s)",
+        crate::progress::line_start(),
         signal_name(signal),
         GRACE.as_secs()
     );

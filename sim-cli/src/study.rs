@@ -183,6 +183,14 @@ fn batch(
             args.memory_limit_mib
         )));
     }
+    if let Some(have) = crate::memory::available_bytes().filter(|&have| memory.total > have) {
+        return Err(CliError::usage(format!(
+            "the study needs about {} MiB; this process has {} MiB available (the machine's \
+             available memory, the address-space limit and the cgroup's memory limit)",
+            memory.total.div_ceil(1024 * 1024),
+            have / (1024 * 1024)
+        )));
+    }
     let csv_path = out_dir.join("runs.csv");
     let file = File::create(&csv_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", csv_path.display())))?;

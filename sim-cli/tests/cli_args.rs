@@ -191,6 +191,24 @@ fn bad_script_lines_name_file_and_line() {
     }
 }
 
+/// The malformed-line hint's example is one of the model's own actions:
+/// Palmer's names `throttle-up`, never Bourg's `thrust-up`, and Bourg's the other way round.
+#[test]
+fn the_malformed_line_hint_names_the_models_own_action() {
+    let dir = scratch();
+    let path = script(&dir, "malformed.txt", "throttle-up\n");
+    for (model, own, other) in [
+        ("palmer", "`1-5 throttle-up`", "thrust-up"),
+        ("bourg", "`1-5 thrust-up`", "throttle-up`)"),
+    ] {
+        let out = sim(&[model, "--headless", "--frames", "10", "--script", &path]);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{model}: {stderr}");
+        assert!(stderr.contains(own), "{model}: {stderr}");
+        assert!(!stderr.contains(other), "{model}: {stderr}");
+    }
+}
+
 #[test]
 fn script_actions_belong_to_the_model() {
     let dir = scratch();

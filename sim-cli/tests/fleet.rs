@@ -246,6 +246,36 @@ fn kernels_and_precisions_are_reported_and_checked() {
     assert!(err.contains("no `fast` precision"), "{err}");
 }
 
+/// `--precision fast` is the lanes kernels' option: with `--kernel ecs` it is
+/// refused (exit 2, one line naming both flags), never silently ignored.
+#[test]
+fn ecs_kernel_refuses_fast_precision() {
+    for model in ["palmer", "bourg"] {
+        let out = sim(&[
+            "fleet",
+            "--model",
+            model,
+            "--aircraft",
+            "5",
+            "--frames",
+            "1",
+            "--kernel",
+            "ecs",
+            "--precision",
+            "fast",
+        ]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{model}: {err}");
+        assert!(out.stdout.is_empty(), "{model}: {}", text(&out.stdout));
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with("sim-cli: error: "), "{err}");
+        assert!(
+            err.contains("--precision fast") && err.contains("--kernel"),
+            "{err}"
+        );
+    }
+}
+
 /// The memory check's estimate against the binary's own measurement (the
 /// growth of the resident set while 200 000 aircraft are spawned), two-sided:
 /// the estimate (components plus hecs's per-entity bookkeeping, docs/cli.md)
@@ -285,5 +315,42 @@ fn the_memory_estimate_matches_the_measured_memory() {
             "{model} {kernel}: measured {measured} bytes per aircraft, estimated {estimate} \
              (ratio {ratio:.3})"
         );
+    }
+}
+
+/// Under an address-space limit (`ulimit -v`, about 977 MiB here) a fleet
+/// far bigger than that is refused, exit 2 with one line naming what it needs
+/// and what is available, with either kernel: never an allocation failure's
+/// abort (exit 134), which is what reading only the machine's available
+/// memory gave.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_address_space_limit_refuses_the_fleet_with_the_numbers() {
+    for kernel in ["lanes", "ecs"] {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v 1000000 && exec \"$0\" fleet --model palmer --aircraft 10000000 \
+                 --frames 1 --threads 2 --kernel {kernel}"
+            ))
+            .arg(env!("CARGO_BIN_EXE_sim-cli"))
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("run sh");
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{kernel}: {err}");
+        assert!(out.stdout.is_empty(), "{kernel}: {}", text(&out.stdout));
+        assert_eq!(err.lines().count(), 1, "{kernel}: {err}");
+        assert!(
+            err.starts_with("sim-cli: error: a fleet of 10000000 palmer aircraft needs about "),
+            "{kernel}: {err}"
+        );
+        let available: u64 = err
+            .split("this process has ")
+            .nth(1)
+            .and_then(|rest| rest.split(" MiB available").next())
+            .and_then(|mib| mib.parse().ok())
+            .unwrap_or_else(|| panic!("{kernel}: no available MiB in {err}"));
+        assert!(available < 977, "{kernel}: {err}");
     }
 }
