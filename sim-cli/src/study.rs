@@ -5,7 +5,6 @@
 //!
 //! The file format, the measures and the guarantees: docs/studies.md.
 
-use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
@@ -192,13 +191,15 @@ fn batch(
         )));
     }
     let csv_path = out_dir.join("runs.csv");
-    let file = File::create(&csv_path)
+    // Locked as every output file of a run (docs/cli.md, "One writer per output
+    // file"): two studies writing into one directory are refused, not spliced.
+    let file = crate::outfile::create_locked(&csv_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", csv_path.display())))?;
     let mut csv = BufWriter::with_capacity(1 << 16, file);
     write_csv_header(&mut csv, &study.measure_names())
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let arrow_path = out_dir.join("runs.arrow");
-    let arrow_file = File::create(&arrow_path)
+    let arrow_file = crate::outfile::create_locked(&arrow_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", arrow_path.display())))?;
     let mut arrow = ArrowWriter::new(
         BufWriter::with_capacity(1 << 16, arrow_file),
