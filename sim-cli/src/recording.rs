@@ -149,7 +149,12 @@ mod tests {
 
     /// Replays `bytes` as `sim-cli replay --json --csv` does.
     fn replay<M: CliModel>(bytes: &[u8]) -> (String, Vec<u8>) {
-        let recording = Recording::<M>::parse(bytes).unwrap();
+        replay_parsed(&Recording::<M>::parse(bytes).unwrap())
+    }
+
+    /// Replays a parsed (or salvaged) recording as `sim-cli replay --json
+    /// --csv` does.
+    fn replay_parsed<M: CliModel>(recording: &Recording<'_, M>) -> (String, Vec<u8>) {
         let run = RunConfig {
             origin: recording.origin,
             ..run_config(recording.fps)
@@ -336,23 +341,7 @@ mod tests {
             let recording = Recording::<Palmer>::parse_salvaging(&bytes[..len])
                 .unwrap()
                 .0;
-            let run = RunConfig {
-                origin: recording.origin,
-                ..run_config(recording.fps)
-            };
-            let mut flight = ModelFlight::new(&run, recording.start.clone()).unwrap();
-            let mut csv = CsvWriter::new(Vec::new(), "csv");
-            replay_flight(
-                &mut flight,
-                recording.events(),
-                recording.fps,
-                recording.frames,
-                false,
-                Some(&mut csv),
-                &mut quiet(recording.frames),
-            )
-            .unwrap();
-            let csv = String::from_utf8(csv.finish().unwrap()).unwrap();
+            let csv = String::from_utf8(replay_parsed(&recording).1).unwrap();
             assert!(
                 full_csv.starts_with(&csv),
                 "{frames} frames salvaged from {len} bytes: not a prefix of the full replay"
