@@ -535,6 +535,35 @@ fn draw_error(e: impl std::fmt::Display) -> CliError {
     CliError::runtime(format!("drawing the plot: {e}"))
 }
 
+/// A chart of the ground, metres east and north of the origin, with its axes
+/// drawn: the flight's ground track and a study's touchdown points share it.
+/// `caption` is the title and its font size in pixels.
+pub(crate) fn east_north_chart<'area, 'svg>(
+    area: &'area DrawingArea<SVGBackend<'svg>, Shift>,
+    (caption, caption_px): (&str, u32),
+    east_m: std::ops::Range<f64>,
+    north_m: std::ops::Range<f64>,
+) -> Result<
+    ChartContext<'area, SVGBackend<'svg>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    String,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", caption_px))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(70)
+        .build_cartesian_2d(east_m, north_m)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("east of origin (m)")
+        .y_desc("north of origin (m)")
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
+}
+
 /// A thin grey vertical line at each reset, from `y.start` to `y.end`.
 fn draw_resets<DB: DrawingBackend>(
     chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
@@ -714,20 +743,8 @@ fn track_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Resu
     north.end += room;
     east.start -= room / 2.0;
     east.end += room / 2.0;
-    let mut chart = ChartBuilder::on(area)
-        .caption("Ground track", ("sans-serif", 18))
-        .margin(8)
-        .x_label_area_size(36)
-        .y_label_area_size(70)
-        .build_cartesian_2d(east, north)
-        .map_err(draw_error)?;
-    chart
-        .configure_mesh()
-        .x_desc("east of origin (m)")
-        .y_desc("north of origin (m)")
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(draw_error)?;
+    let mut chart =
+        east_north_chart(area, ("Ground track", 18), east, north).map_err(draw_error)?;
     let time = padded_range(samples.iter().map(|s| s.time_s));
     for (i, segment) in segments(samples).into_iter().enumerate() {
         // Thinned in time, keeping each column's extremes north and east.
