@@ -8,7 +8,7 @@
 //! `plotters`' SVG backend only, so no font or bitmap system library is needed
 //! (text is left to the SVG viewer's fonts).
 //!
-//! A run's samples are collected by [`Plotted`], a [`Flight`] wrapper that
+//! A run's samples are collected by `run::plotted::Plotted`, a `Flight` wrapper that
 //! records one [`PlotSample`] for the initial state, after every step and
 //! after every reset; the run loops do not know about it. A CSV gives the same
 //! samples ([`trace_from_csv`]); the status, which the CSV does not hold, is
@@ -38,18 +38,15 @@ use anyhow::Context as _;
 use fdm_core::bourg::Bourg;
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
-use fdm_core::script::Script;
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::config::RunConfig;
 use crate::error::CliError;
-use crate::hud::{status_label, LinkStats};
+use crate::hud::status_label;
 use crate::input::Echo;
 use crate::models::Details;
-use crate::run::{fly, Flight};
 use crate::snapshot::Snapshot;
 
 /// The plotted quantities at one instant, in SI units (converted for display
@@ -288,109 +285,6 @@ fn thin_curve(points: &[(f64, f64)], x: &std::ops::Range<f64>, columns: usize) -
     out
 }
 
-/// A [`Flight`] that records a [`PlotSample`] of the wrapped flight at
-/// creation, after every step and after every reset.
-#[derive(Debug)]
-pub struct Plotted<F> {
-    inner: F,
-    trace: TraceBuilder,
-}
-
-impl<F: Flight> Plotted<F> {
-    /// Wraps `inner` and records its initial state.
-    pub fn new(inner: F) -> Self {
-        let mut trace = TraceBuilder::new(F::TITLE.to_owned());
-        trace.push(PlotSample::from_snapshot(&inner.snapshot()));
-        Self { inner, trace }
-    }
-
-    /// The samples so far.
-    #[must_use]
-    pub fn trace(&self) -> &Trace {
-        self.trace.trace()
-    }
-
-    fn record(&mut self) {
-        let sample = PlotSample::from_snapshot(&self.inner.snapshot());
-        self.trace.push(sample);
-    }
-}
-
-impl<F: Flight> Flight for Plotted<F> {
-    type Action = F::Action;
-    type Details = F::Details;
-
-    const TITLE: &'static str = F::TITLE;
-
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
-        self.inner.step(actions)?;
-        self.record();
-        Ok(())
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        self.inner.reset()?;
-        self.record();
-        Ok(())
-    }
-
-    fn snapshot(&self) -> Snapshot<Self::Details> {
-        self.inner.snapshot()
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.inner.link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.inner.take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
-        self.inner.dis_report()
-    }
-
-    fn finish(&mut self) -> anyhow::Result<()> {
-        self.inner.finish()
-    }
-}
-
-/// Lets the loops fly a borrowed flight, so the caller keeps it afterwards.
-impl<F: Flight> Flight for &mut F {
-    type Action = F::Action;
-    type Details = F::Details;
-
-    const TITLE: &'static str = F::TITLE;
-
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
-        (**self).step(actions)
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        (**self).reset()
-    }
-
-    fn snapshot(&self) -> Snapshot<Self::Details> {
-        (**self).snapshot()
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        (**self).link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        (**self).take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
-        (**self).dis_report()
-    }
-
-    fn finish(&mut self) -> anyhow::Result<()> {
-        (**self).finish()
-    }
-}
-
 /// The `--plot` output file, created before the run so that an unwritable path
 /// is a usage error (exit status 2) and nothing has been simulated.
 #[derive(Debug)]
@@ -426,24 +320,6 @@ impl PlotFile {
             .with_context(|| format!("writing plot file {}", self.path.display()))?;
         Ok(())
     }
-}
-
-/// Flies `flight` as [`fly`] does while recording it, then writes the plot,
-/// also when the run stopped on an error (the plot shows the flight up to the
-/// failing frame; the run's error is returned).
-///
-/// # Errors
-/// The run's error, else a failure to write the plot.
-pub fn fly_plotted<F: Flight>(
-    flight: F,
-    script: &Script<F::Action>,
-    run: RunConfig,
-    plot: PlotFile,
-) -> Result<(), CliError> {
-    let mut plotted = Plotted::new(flight);
-    let result = fly(&mut plotted, script, run);
-    let written = plot.write(plotted.trace());
-    result.and(written)
 }
 
 /// The status levels of the status panel, bottom to top.
