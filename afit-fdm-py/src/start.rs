@@ -1,6 +1,6 @@
 //! Where an aircraft starts, as `sim-cli`'s `--altitude-ft`, `--speed-kt`,
 //! `--heading-deg` and `--trim` define it (docs/cli.md, "Initial conditions
-//! and trim"): the run library's [`StartOptions`], worded for Python (the
+//! and trim"): the run library's [`fdm_run::StartOptions`], worded for Python (the
 //! keyword arguments' names).
 
 use fdm_core::model::Model;

@@ -1,5 +1,5 @@
 //! Flying a study's runs: blocks of runs on SIMD fleets, on several threads,
-//! into a [`RunTable`](crate::table::RunTable); and [`MeasureOutput`], the same measures for a run
+//! into a [`RunTable`]; and [`MeasureOutput`], the same measures for a run
 //! flown alone through `fdm_run`.
 
 use std::ops::Range;
