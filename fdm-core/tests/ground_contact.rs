@@ -64,6 +64,7 @@ fn palmer_reference_cases_through_fly_are_the_bare_step_bit_for_bit() {
             alpha_deg: c["alpha"].as_f64().unwrap(),
             bank_deg: c["bank"].as_f64().unwrap(),
             flaps: Flaps::try_from(u8::try_from(c["flaps"].as_u64().unwrap()).unwrap()).unwrap(),
+            brakes: false,
         };
         let (mut bare, mut flown) = (Palmer::initial_state(), Palmer::initial_state());
         let mut status = FlightStatus::initial(0.0);
@@ -164,6 +165,7 @@ fn palmer_lands_rolls_out_and_takes_off_again() {
         alpha_deg: 4.0,
         bank_deg: 0.0,
         flaps: Flaps::Up,
+        brakes: false,
     };
     let mut state = palmer_at(30.0, 45.0, 0.0);
     let mut status = FlightStatus::initial(30.0);

@@ -105,6 +105,7 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
         alpha_deg: args.alpha,
         bank_deg: args.bank,
         flaps,
+        brakes: false,
     };
     let start = start_model::<Palmer>(controls, &start_args)?;
     let (run, script, record, acmi) = prepare(args.common, Palmer::NAME)?;

@@ -1,5 +1,6 @@
-//! Pilot controls of the Palmer model: throttle, angle of attack, bank, flaps,
-//! and the key-press / script steps that change them (thesis appendix B).
+//! Pilot controls of the Palmer model: throttle, angle of attack, bank, flaps
+//! (thesis appendix B), the wheel brakes (our extension, docs/palmer-model.md
+//! "Wheel brakes"), and the key-press / script steps that change them.
 
 use core::fmt;
 
@@ -110,7 +111,7 @@ impl TryFrom<u8> for Flaps {
 /// The pilot's controls. They hold their values between key presses (the Palmer
 /// simulator does not reset them every frame).
 ///
-/// [`Default`] is throttle 0, alpha 0°, bank 0°, flaps up.
+/// [`Default`] is throttle 0, alpha 0°, bank 0°, flaps up, brakes off.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct PalmerControls {
     /// Throttle, fraction of full power, 0..=1.
@@ -122,6 +123,21 @@ pub struct PalmerControls {
     pub bank_deg: f64,
     /// Flap setting.
     pub flaps: Flaps,
+    /// Wheel brakes set (our extension; the original model has no wheel
+    /// friction). While the aircraft is on the ground they brake it with
+    /// the friction coefficient
+    /// [`BRAKING_FRICTION_COEFFICIENT`](super::BRAKING_FRICTION_COEFFICIENT);
+    /// in the air they do nothing. Off, the step is the original model's, bit
+    /// for bit. Absent from the serialized form while off, so controls written
+    /// before the brakes existed read back unchanged and write the same text.
+    #[serde(default, skip_serializing_if = "is_off")]
+    pub brakes: bool,
+}
+
+/// Serde's test for leaving `brakes` out: brakes off.
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde passes a reference
+fn is_off(brakes: &bool) -> bool {
+    !*brakes
 }
 
 impl PalmerControls {
@@ -130,7 +146,8 @@ impl PalmerControls {
     /// * throttle ±5 % within 0..=1 (see below for the exact values),
     /// * angle of attack ±1° within -16..=20°,
     /// * bank ±1° within -20..=20°,
-    /// * flaps one notch down (0 → 20 → 40, 40 stays) or back up to 0.
+    /// * flaps one notch down (0 → 20 → 40, 40 stays) or back up to 0,
+    /// * brakes set or released.
     ///
     /// The result is clamped into the range after the step, so a value set
     /// outside the range by other means (e.g. `--alpha 25`) comes back to the
@@ -180,6 +197,8 @@ impl PalmerControls {
             }
             PalmerAction::FlapsDown => c.flaps = c.flaps.lower(),
             PalmerAction::FlapsUp => c.flaps = Flaps::Up,
+            PalmerAction::BrakesOn => c.brakes = true,
+            PalmerAction::BrakesOff => c.brakes = false,
         }
         c
     }
@@ -224,7 +243,8 @@ mod tests {
                 throttle: 0.0,
                 alpha_deg: 0.0,
                 bank_deg: 0.0,
-                flaps: Flaps::Up
+                flaps: Flaps::Up,
+                brakes: false,
             }
         );
     }
@@ -283,6 +303,7 @@ mod tests {
             alpha_deg: 4.0,
             bank_deg: -3.0,
             flaps: Flaps::Deg20,
+            brakes: false,
         };
         let after = busy.apply(PalmerAction::AlphaUp);
         assert_eq!(
@@ -334,6 +355,7 @@ mod tests {
             alpha_deg: 4.0,
             bank_deg: 5.0,
             flaps: Flaps::Deg20,
+            brakes: false,
         };
         let json = serde_json::to_string(&c).unwrap();
         assert_eq!(
@@ -353,6 +375,7 @@ mod tests {
             alpha_deg: f64::INFINITY,
             bank_deg: f64::NEG_INFINITY,
             flaps: Flaps::Up,
+            brakes: false,
         };
         assert!(!c.is_finite());
         assert!(c.apply(PalmerAction::ThrottleUp).throttle.is_nan());
@@ -405,7 +428,8 @@ mod tests {
                 throttle: 1.0,
                 alpha_deg: -2.0,
                 bank_deg: 3.0,
-                flaps: Flaps::Up
+                flaps: Flaps::Up,
+                brakes: false,
             }
         );
         assert_eq!(at(40).alpha_deg, -16.0);
