@@ -218,6 +218,11 @@ pub struct PalmerArgs {
     /// Flap setting at frame 0, degrees (0, 20 or 40)
     #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
     pub flaps: u8,
+
+    /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
+    /// brakes-on/brakes-off)
+    #[arg(long)]
+    pub brakes: bool,
 }
 
 /// `sim-cli bourg`.

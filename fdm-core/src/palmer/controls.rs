@@ -4,7 +4,7 @@
 
 use core::fmt;
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::PalmerAction;
 
@@ -112,7 +112,14 @@ impl TryFrom<u8> for Flaps {
 /// simulator does not reset them every frame).
 ///
 /// [`Default`] is throttle 0, alpha 0°, bank 0°, flaps up, brakes off.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+///
+/// Serialized as the original's four fields while the brakes are off, so
+/// files and recordings written before the brakes existed read back
+/// unchanged and the same controls write the same bytes: readable formats
+/// (JSON) add `"brakes": true` only while they are set; compact binary
+/// formats (a recording's bincode header) carry them in the flaps byte's top
+/// bit (`0x80`), which an older reader refuses as a flap setting.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PalmerControls {
     /// Throttle, fraction of full power, 0..=1.
     pub throttle: f64,
@@ -130,8 +137,83 @@ pub struct PalmerControls {
     /// in the air they do nothing. Off, the step is the original model's, bit
     /// for bit. Absent from the serialized form while off, so controls written
     /// before the brakes existed read back unchanged and write the same text.
-    #[serde(default, skip_serializing_if = "is_off")]
     pub brakes: bool,
+}
+
+/// [`PalmerControls`] as readable formats (JSON) write it.
+#[derive(Serialize, Deserialize)]
+#[serde(rename = "PalmerControls")]
+struct ReadableControls {
+    throttle: f64,
+    alpha_deg: f64,
+    bank_deg: f64,
+    flaps: Flaps,
+    #[serde(default, skip_serializing_if = "is_off")]
+    brakes: bool,
+}
+
+/// [`PalmerControls`] as compact binary formats write it: the brakes in the
+/// flaps byte's [`BRAKES_BIT`], the other fields as before the brakes existed.
+#[derive(Serialize, Deserialize)]
+#[serde(rename = "PalmerControls")]
+struct CompactControls {
+    throttle: f64,
+    alpha_deg: f64,
+    bank_deg: f64,
+    flaps: u8,
+}
+
+/// The bit of [`CompactControls::flaps`] that holds the brakes (no flap
+/// setting, 0, 20 or 40, has it).
+const BRAKES_BIT: u8 = 0x80;
+
+impl Serialize for PalmerControls {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        if serializer.is_human_readable() {
+            ReadableControls {
+                throttle: self.throttle,
+                alpha_deg: self.alpha_deg,
+                bank_deg: self.bank_deg,
+                flaps: self.flaps,
+                brakes: self.brakes,
+            }
+            .serialize(serializer)
+        } else {
+            let brakes = if self.brakes { BRAKES_BIT } else { 0 };
+            CompactControls {
+                throttle: self.throttle,
+                alpha_deg: self.alpha_deg,
+                bank_deg: self.bank_deg,
+                flaps: u8::from(self.flaps) | brakes,
+            }
+            .serialize(serializer)
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for PalmerControls {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        if deserializer.is_human_readable() {
+            let c = ReadableControls::deserialize(deserializer)?;
+            Ok(Self {
+                throttle: c.throttle,
+                alpha_deg: c.alpha_deg,
+                bank_deg: c.bank_deg,
+                flaps: c.flaps,
+                brakes: c.brakes,
+            })
+        } else {
+            let c = CompactControls::deserialize(deserializer)?;
+            let flaps = Flaps::try_from(c.flaps & !BRAKES_BIT).map_err(serde::de::Error::custom)?;
+            Ok(Self {
+                throttle: c.throttle,
+                alpha_deg: c.alpha_deg,
+                bank_deg: c.bank_deg,
+                flaps,
+                brakes: c.flaps & BRAKES_BIT != 0,
+            })
+        }
+    }
 }
 
 /// Serde's test for leaving `brakes` out: brakes off.
