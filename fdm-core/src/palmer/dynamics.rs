@@ -436,7 +436,7 @@ pub fn derivatives(
 /// use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 ///
 /// let cessna = PalmerAircraft::cessna_172();
-/// let controls = PalmerControls { throttle: 1.0, alpha_deg: 4.0, bank_deg: 0.0, flaps: Flaps::Up };
+/// let controls = PalmerControls { throttle: 1.0, alpha_deg: 4.0, bank_deg: 0.0, flaps: Flaps::Up, brakes: false };
 /// let mut state = PalmerState::at_rest();
 /// for _ in 0..600 {
 ///     state = step(&cessna, &controls, &state, 0.1); // 60 s at 10 frames per second
