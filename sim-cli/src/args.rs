@@ -182,6 +182,10 @@ pub struct ReplayArgs {
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
 
+    /// Draw the replayed flight as an SVG plot in FILE, the same drawing as the recorded run's --plot
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
     /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame (with
     /// --realtime at the recorded pace; without, as fast as the replay runs)
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
