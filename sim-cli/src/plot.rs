@@ -1124,11 +1124,13 @@ mod tests {
         let mut reader = quick_xml::Reader::from_str(&svg);
         loop {
             match reader.read_event().unwrap() {
-                Event::Empty(e) if e.name().as_ref() == b"rect" => {
-                    if attr(&e, "opacity").as_deref() == Some("0.8") {
-                        let n = |name| attr(&e, name).unwrap().parse::<f64>().unwrap();
-                        legend = Some((n("x"), n("y"), n("width"), n("height")));
-                    }
+                // The legend's box: the one rectangle drawn at 80 % opacity.
+                Event::Empty(e)
+                    if e.name().as_ref() == b"rect"
+                        && attr(&e, "opacity").as_deref() == Some("0.8") =>
+                {
+                    let n = |name| attr(&e, name).unwrap().parse::<f64>().unwrap();
+                    legend = Some((n("x"), n("y"), n("width"), n("height")));
                 }
                 Event::Empty(e) if e.name().as_ref() == b"polyline" => {
                     let points: Vec<(f64, f64)> = attr(&e, "points")
