@@ -27,10 +27,11 @@ use crate::flight::ModelFlight;
 use crate::input::{read_bytes, show_path};
 use crate::models::{CliModel, WithModel};
 use crate::pacer::FramePacer;
-use crate::plot::{PlotFile, Plotted};
+use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
 use crate::report::{LinkReport, RealtimeReport, Report};
+use crate::run::plotted::Plotted;
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
 use fdm_run::acmi::AcmiOutput;
@@ -189,7 +190,7 @@ impl WithModel for ReplayJob<'_> {
         }
         let mut progress = StderrProgress::new(recording.frames);
         // With --plot the flight is sampled as a run's --plot samples it
-        // (crate::plot::fly_plotted), so the two SVGs are the same bytes; the
+        // (crate::run::plotted::fly_plotted), so the two SVGs are the same bytes; the
         // plot is written also when the replay stopped early.
         let (report, plotted) = match plot {
             Some(plot) => {
