@@ -15,6 +15,7 @@ fn flying_state() -> (PalmerAircraft, PalmerControls, PalmerState) {
         alpha_deg: 4.0,
         bank_deg: 5.0,
         flaps: Flaps::Deg20,
+        brakes: false,
     };
     // Fly 30 s of the "everything" reference scenario to get a real in-flight state.
     let mut state = PalmerState::at_rest();

@@ -64,6 +64,7 @@ fn bench(c: &mut Criterion) {
         alpha_deg: 4.0,
         bank_deg: 0.0,
         flaps: Flaps::Deg20,
+        brakes: false,
     };
     let bourg_aircraft = BourgAircraft::bourg_default();
     let bourg_controls = BourgControls::initial();

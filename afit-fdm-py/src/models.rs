@@ -111,6 +111,7 @@ impl BindModel for Palmer {
         ("alpha_deg", -16.0, 20.0),
         ("bank_deg", -20.0, 20.0),
         ("flaps_deg", 0.0, 40.0),
+        ("brakes", 0.0, 1.0),
     ];
 
     fn state_values(s: &PalmerState, out: &mut [f64]) {
@@ -126,7 +127,13 @@ impl BindModel for Palmer {
     }
 
     fn control_values(c: &PalmerControls, out: &mut [f64]) {
-        out.copy_from_slice(&[c.throttle, c.alpha_deg, c.bank_deg, c.flaps.degrees()]);
+        out.copy_from_slice(&[
+            c.throttle,
+            c.alpha_deg,
+            c.bank_deg,
+            c.flaps.degrees(),
+            if c.brakes { 1.0 } else { 0.0 },
+        ]);
     }
 
     fn set_control(
@@ -138,11 +145,18 @@ impl BindModel for Palmer {
             0 => c.throttle = value,
             1 => c.alpha_deg = value,
             2 => c.bank_deg = value,
-            _ => {
+            3 => {
                 c.flaps = [Flaps::Up, Flaps::Deg20, Flaps::Deg40]
                     .into_iter()
                     .find(|f| f.degrees() == value)
                     .ok_or_else(|| format!("{value} is not 0, 20 or 40"))?;
+            }
+            _ => {
+                c.brakes = match value {
+                    1.0 => true,
+                    0.0 => false,
+                    v => return Err(format!("{v} is not 0 or 1")),
+                }
             }
         }
         Ok(c)

@@ -241,3 +241,22 @@ def test_view_and_fields_have_units_in_their_names() -> None:
     assert {"airspeed_mps", "alpha_deg", "heading_deg", "engine_rpm"} <= set(v)
     assert f.actions == afit_fdm.MODELS["bourg"]["actions"]
     assert afit_fdm.Status(f.status_code).name == "AIRBORNE"
+
+
+def test_palmer_wheel_brakes_hold_and_are_checked() -> None:
+    # The wheel brakes (docs/palmer-model.md): at rest on the runway they hold
+    # the aircraft against full power, exactly (tolerance 0: the friction
+    # cancels the thrust); released, the take-off roll starts.
+    held = afit_fdm.Flight("palmer", throttle=1.0, brakes=1.0)
+    assert held.controls["brakes"] == 1.0
+    for _ in range(30):
+        held.step()
+    assert held.state["x_m"] == 0.0 and held.state["vx_mps"] == 0.0
+    free = afit_fdm.Flight("palmer", throttle=1.0)
+    assert free.controls["brakes"] == 0.0
+    for _ in range(30):
+        free.step()
+    assert free.state["x_m"] > 1.0
+    assert "brakes-on" in free.actions and "brakes-off" in free.actions
+    with pytest.raises(ValueError, match="brakes"):
+        afit_fdm.Flight("palmer", brakes=0.5)

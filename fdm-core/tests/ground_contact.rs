@@ -64,6 +64,7 @@ fn palmer_reference_cases_through_fly_are_the_bare_step_bit_for_bit() {
             alpha_deg: c["alpha"].as_f64().unwrap(),
             bank_deg: c["bank"].as_f64().unwrap(),
             flaps: Flaps::try_from(u8::try_from(c["flaps"].as_u64().unwrap()).unwrap()).unwrap(),
+            brakes: false,
         };
         let (mut bare, mut flown) = (Palmer::initial_state(), Palmer::initial_state());
         let mut status = FlightStatus::initial(0.0);
@@ -164,6 +165,7 @@ fn palmer_lands_rolls_out_and_takes_off_again() {
         alpha_deg: 4.0,
         bank_deg: 0.0,
         flaps: Flaps::Up,
+        brakes: false,
     };
     let mut state = palmer_at(30.0, 45.0, 0.0);
     let mut status = FlightStatus::initial(30.0);
@@ -274,4 +276,40 @@ fn touchdown_classes_follow_the_documented_thresholds() {
         assert!(next.velocity_mps.z >= 0.0);
         assert_eq!(next.velocity_mps.x == 0.0, want == LandingState::Crash);
     }
+}
+
+#[test]
+fn palmer_bare_step_flies_through_the_ground_and_comes_back_up_where_fly_crashes() {
+    // The crash above (idle, nose level, 30 m up at 45 m/s) through the bare
+    // step: the original model has no ground, so it sinks through z = 0 and,
+    // as it gains speed below, its lift brings it back above the plane, where
+    // `fly` has it crash and stay put (docs/palmer-model.md).
+    let aircraft = Palmer::default_aircraft();
+    let controls = PalmerControls::default();
+    let mut bare = palmer_at(30.0, 45.0, 0.0);
+    let (mut below_at, mut lowest_m, mut back_at) = (None, 0.0_f64, None);
+    for _ in 0..600 {
+        bare = Palmer::step(&aircraft, &controls, &bare, 0.1);
+        let z = bare.position_m.z;
+        if z < 0.0 {
+            below_at.get_or_insert(bare.time_s);
+            lowest_m = lowest_m.min(z);
+        } else if below_at.is_some() && back_at.is_none() {
+            back_at = Some(bare.time_s);
+        }
+    }
+    let (below_at, back_at) = (below_at.expect("through z = 0"), back_at.expect("back up"));
+    println!(
+        "bare step: below z = 0 at {below_at} s, {lowest_m} m deep, back above at {back_at} s"
+    );
+    assert!(lowest_m < -1.0, "{lowest_m}");
+    assert!(back_at > below_at);
+    let mut flown = palmer_at(30.0, 45.0, 0.0);
+    let mut status = FlightStatus::initial(30.0);
+    for _ in 0..600 {
+        (flown, status) = fly::<Palmer>(&aircraft, &controls, status, &flown, 0.1);
+        assert!(flown.position_m.z >= 0.0);
+    }
+    assert_eq!(status, FlightStatus::Landed(LandingState::Crash));
+    assert_eq!(flown.position_m.z, 0.0);
 }

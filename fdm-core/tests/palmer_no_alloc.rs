@@ -30,6 +30,7 @@ fn thousand_frames_allocate_nothing() {
         alpha_deg: 0.0,
         bank_deg: 0.0,
         flaps: Flaps::Up,
+        brakes: false,
     };
     let mut state = PalmerState::at_rest();
     let mut phase = FlightPhase::default();

@@ -30,6 +30,7 @@ fn controls() -> impl Strategy<Value = PalmerControls> {
             alpha_deg,
             bank_deg,
             flaps,
+            brakes: false,
         })
 }
 
@@ -116,7 +117,7 @@ proptest! {
         flaps in flaps(),
         dt in dt(),
     ) {
-        let controls = PalmerControls { throttle: 0.0, alpha_deg, bank_deg, flaps };
+        let controls = PalmerControls { throttle: 0.0, alpha_deg, bank_deg, flaps, brakes: false  };
         let mut s = PalmerState::at_rest();
         for _ in 0..300 {
             s = step(&CESSNA, &controls, &s, dt);

@@ -101,6 +101,7 @@ fn cases() -> Vec<Case> {
                     alpha_deg: f(&controls["alpha"]),
                     bank_deg: f(&controls["bank"]),
                     flaps: Flaps::try_from(flaps).expect("flaps 0, 20 or 40"),
+                    brakes: false,
                 },
                 frames,
                 dt,

@@ -136,6 +136,7 @@ fn controls() -> impl Strategy<Value = PalmerControls> {
             alpha_deg,
             bank_deg,
             flaps,
+            brakes: false,
         })
 }
 
@@ -219,6 +220,7 @@ fn long_flights_match() {
         alpha_deg: 4.0,
         bank_deg: 3.0,
         flaps: Flaps::Deg20,
+        brakes: false,
     };
     let (mut a, mut b) = (PalmerState::at_rest(), PalmerState::at_rest());
     for _ in 0..20_000 {
@@ -243,6 +245,7 @@ fn ground_effect_starts_strictly_below_five_metres() {
         alpha_deg: 4.0,
         bank_deg: 0.0,
         flaps: Flaps::Up,
+        brakes: false,
     };
     let at = |z: f64| PalmerState {
         time_s: 0.0,

@@ -47,6 +47,7 @@ fn build(execution: Execution) -> (Simulation, Vec<Plane>) {
                     alpha_deg: (i % 37) as f64 - 16.0,
                     bank_deg: (i % 41) as f64 - 20.0,
                     flaps: [Flaps::Up, Flaps::Deg20, Flaps::Deg40][i % 3],
+                    brakes: false,
                 };
                 let state = PalmerState {
                     time_s: 0.0,

@@ -45,6 +45,7 @@ fn members(n: usize) -> Vec<(PalmerState, PalmerControls)> {
                 alpha_deg: 2.0 + 6.0 * unit(),
                 bank_deg: -10.0 + 20.0 * unit(),
                 flaps: [Flaps::Up, Flaps::Deg20][i % 2],
+                brakes: false,
             };
             let mut state = PalmerState::at_rest();
             if i % 4 != 0 {

@@ -97,6 +97,7 @@ fn palmer_members(seed: u64, n: usize) -> Vec<(PalmerControls, PalmerState, Flig
                 alpha_deg: rng.range(-2.0, 10.0),
                 bank_deg: rng.range(-20.0, 20.0),
                 flaps: [Flaps::Up, Flaps::Deg20][i % 2],
+                brakes: false,
             };
             let mut state = PalmerState::at_rest();
             state.time_s = rng.range(0.0, 10.0);

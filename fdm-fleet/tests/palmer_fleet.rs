@@ -76,6 +76,7 @@ fn scenarios() -> (Vec<Scenario>, usize, f64) {
                     alpha_deg: num(&k["alpha"]),
                     bank_deg: num(&k["bank"]),
                     flaps: Flaps::try_from(flaps).expect("flaps"),
+                    brakes: false,
                 },
                 position: [num(&p[0]), num(&p[1]), num(&p[2])],
             }
@@ -118,6 +119,7 @@ fn random_controls(rng: &mut Rng) -> PalmerControls {
         alpha_deg: rng.range(-16.0, 20.0),
         bank_deg: rng.range(-20.0, 20.0),
         flaps: [Flaps::Up, Flaps::Deg20, Flaps::Deg40][usize::try_from(rng.below(3)).unwrap()],
+        brakes: false,
     }
 }
 
@@ -274,6 +276,63 @@ fn exact_is_bit_identical_on_random_fleets_of_any_size() {
             dt,
             |f| f.step(dt, Precision::Exact),
             &format!("dt {dt}"),
+        );
+    }
+}
+
+/// Random aircraft with the wheel brakes set on every other one (so braked
+/// and free lanes share blocks), half of them rolling on the runway (z = 0,
+/// where the brakes act) and a few at rest there under power (held).
+fn braked_members(seed: u64, n: usize) -> Vec<(PalmerState, PalmerControls)> {
+    let mut members = random_members(seed, n);
+    for (i, (state, controls)) in members.iter_mut().enumerate() {
+        controls.brakes = i % 2 == 0;
+        match i % 4 {
+            0 | 1 => {
+                state.position_m.z = 0.0;
+                state.velocity_mps.z = 0.0;
+            }
+            2 if i % 8 == 2 => *state = PalmerState::at_rest(),
+            _ => {}
+        }
+    }
+    members
+}
+
+#[test]
+fn braked_lanes_are_bit_identical_to_the_scalar_step() {
+    // The brakes live in the right-hand side both share: exact lanes, on the
+    // dispatched kernel and on the baseline, have the scalar step's bits.
+    for (seed, n, dt) in [(41, 29, 0.1), (42, LANES + 3, 1.0 / 30.0), (43, 67, 0.5)] {
+        let members = braked_members(seed, n);
+        assert!(members.iter().any(|m| m.1.brakes) && members.iter().any(|m| !m.1.brakes));
+        // The brakes do act on some of them (10 steps: braked != free).
+        let braked_differs = members.iter().filter(|m| m.1.brakes).any(|(s, c)| {
+            let free = PalmerControls {
+                brakes: false,
+                ..*c
+            };
+            let (mut a, mut b) = (*s, *s);
+            for _ in 0..10 {
+                a = step(&CESSNA, c, &a, dt);
+                b = step(&CESSNA, &free, &b, dt);
+            }
+            a.position_m != b.position_m
+        });
+        assert!(braked_differs, "seed {seed}");
+        exact_matches_scalar(
+            &members,
+            200,
+            dt,
+            |f| f.step(dt, Precision::Exact),
+            &format!("braked, seed {seed}"),
+        );
+        exact_matches_scalar(
+            &members,
+            50,
+            dt,
+            |f| f.step_baseline(dt, Precision::Exact),
+            &format!("braked baseline, seed {seed}"),
         );
     }
 }
@@ -483,6 +542,7 @@ fn the_bound_needs_a_well_conditioned_flight() {
         alpha_deg: -5.314_309_483_461_539,
         bank_deg: -4.834_494_617_568_579,
         flaps: Flaps::Up,
+        brakes: false,
     };
     let mut nudged = s;
     nudged.position_m.z = f64::from_bits(1); // the smallest step above 0

@@ -182,6 +182,10 @@ pub struct ReplayArgs {
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
 
+    /// Draw the replayed flight as an SVG plot in FILE, the same drawing as the recorded run's --plot
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
     /// Send FlightGear native-FDM datagrams (UDP, IPv4) to HOST:PORT every frame (with
     /// --realtime at the recorded pace; without, as fast as the replay runs)
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
@@ -218,6 +222,11 @@ pub struct PalmerArgs {
     /// Flap setting at frame 0, degrees (0, 20 or 40)
     #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
     pub flaps: u8,
+
+    /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
+    /// brakes-on/brakes-off)
+    #[arg(long)]
+    pub brakes: bool,
 }
 
 /// `sim-cli bourg`.

@@ -88,7 +88,7 @@ pub struct RecordFile {
 
 /// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
 /// file; the controls at frame 0 come from `--throttle`, `--alpha`, `--bank`
-/// and `--flaps`.
+/// `--flaps` and `--brakes`.
 ///
 /// # Errors
 /// [`CliError::Usage`] for anything wrong with the input.
@@ -105,6 +105,7 @@ pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError>
         alpha_deg: args.alpha,
         bank_deg: args.bank,
         flaps,
+        brakes: args.brakes,
     };
     let start = start_model::<Palmer>(controls, &start_args)?;
     let (run, script, record, acmi) = prepare(args.common, Palmer::NAME)?;

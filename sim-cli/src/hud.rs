@@ -600,6 +600,7 @@ mod tests {
                 alpha_deg: 5.0,
                 bank_deg: 15.0,
                 flaps_deg: 0.0,
+                brakes: false,
             },
             climb_angle_deg: 0.0,
             climb_rate: 0.0,

@@ -104,6 +104,9 @@ mod tests {
             (KeyCode::Right, BankRight),
             (KeyCode::Char('k'), FlapsDown),
             (KeyCode::Char('l'), FlapsUp),
+            (KeyCode::Char('b'), BrakesOn),
+            (KeyCode::Char('B'), BrakesOn),
+            (KeyCode::Char('v'), BrakesOff),
         ];
         for (code, action) in table {
             assert_eq!(palmer(code), Some(Input::Action(action)), "{code:?}");

@@ -976,6 +976,87 @@ mod tests {
         }
     }
 
+    /// The ground track's legend (upper left) never covers the track, even
+    /// a track that runs through the upper left corner of its extent: the
+    /// panel keeps room above the track for it (issue 23.9). Checked by
+    /// planting the bug: without that room (`room = 0`) the legend box covers 13 of this
+    /// track's points.
+    #[test]
+    fn the_track_legend_does_not_cover_the_track() {
+        use quick_xml::events::Event;
+        // North 1000 m, then west 1000 m: the track's top left corner is the
+        // corner of its bounding box, where the legend goes.
+        let mut trace = TraceBuilder::new("t".to_owned());
+        for i in 0..=200_u32 {
+            let t = f64::from(i);
+            let (north_m, east_m) = if i <= 100 {
+                (t * 10.0, 0.0)
+            } else {
+                (1000.0, -(t - 100.0) * 10.0)
+            };
+            trace.push(PlotSample {
+                north_m,
+                east_m,
+                ..sample(t, 100.0, FlightStatus::Airborne)
+            });
+        }
+        let trace = trace.finish();
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (600, 420)).into_drawing_area();
+            root.fill(&WHITE).unwrap();
+            track_panel(&root, &trace).unwrap();
+            root.present().unwrap();
+        }
+        let attr = |e: &quick_xml::events::BytesStart<'_>, name: &str| {
+            e.try_get_attribute(name)
+                .unwrap()
+                .map(|a| a.unescape_value().unwrap().into_owned())
+        };
+        let (mut legend, mut track) = (None, Vec::new());
+        let mut reader = quick_xml::Reader::from_str(&svg);
+        loop {
+            match reader.read_event().unwrap() {
+                // The legend's box: the one rectangle drawn at 80 % opacity.
+                Event::Empty(e)
+                    if e.name().as_ref() == b"rect"
+                        && attr(&e, "opacity").as_deref() == Some("0.8") =>
+                {
+                    let n = |name| attr(&e, name).unwrap().parse::<f64>().unwrap();
+                    legend = Some((n("x"), n("y"), n("width"), n("height")));
+                }
+                Event::Empty(e) if e.name().as_ref() == b"polyline" => {
+                    let points: Vec<(f64, f64)> = attr(&e, "points")
+                        .unwrap()
+                        .split_whitespace()
+                        .map(|p| {
+                            let (x, y) = p.split_once(',').unwrap();
+                            (x.parse().unwrap(), y.parse().unwrap())
+                        })
+                        .collect();
+                    // The track, not the legend's 2-point sample line.
+                    if attr(&e, "stroke").as_deref() == Some("#0000FF") && points.len() > 2 {
+                        track.extend(points);
+                    }
+                }
+                Event::Eof => break,
+                _ => {}
+            }
+        }
+        let (x, y, w, h) = legend.expect("a legend box");
+        assert!(track.len() > 10, "{track:?}");
+        let covered: Vec<_> = track
+            .iter()
+            .filter(|&&(px, py)| px > x && px < x + w && py > y && py < y + h)
+            .collect();
+        assert!(
+            covered.is_empty(),
+            "legend {:?} covers {} track points: {covered:?}",
+            (x, y, w, h),
+            covered.len()
+        );
+    }
+
     #[test]
     fn snapshot_samples_are_in_metres() {
         let p = PlotSample::from_snapshot(&samples::palmer());

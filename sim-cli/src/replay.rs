@@ -1,12 +1,13 @@
 //! `sim-cli replay FILE`: flies a recording (docs/recording.md) again,
-//! headless, and reports like a headless flight (`--json`, `--csv`, `--fg`).
+//! headless, and reports like a headless flight (`--json`, `--csv`,
+//! `--plot`, `--fg`).
 //!
 //! The replay builds the same [`ModelFlight`] the recorded run had (model,
 //! aircraft, fps, origin, controls and state from the header) and feeds it
 //! the recorded frames and resets, so every state is bit-identical to the
 //! original's: the JSON report equals the headless original's, and the CSV
 //! equals the original's CSV (a reset writes a new frame 0, as in an
-//! interactive flight).
+//! interactive flight), and the `--plot` SVG equals the original run's.
 //!
 //! `--realtime` paces the replay at 1/fps of wall-clock time per frame, as it
 //! does headless flights, so that FlightGear (`--fg`) shows every frame.
@@ -26,9 +27,11 @@ use crate::flight::ModelFlight;
 use crate::input::{read_bytes, show_path};
 use crate::models::{CliModel, WithModel};
 use crate::pacer::FramePacer;
+use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
 use crate::report::{LinkReport, RealtimeReport, Report};
+use crate::run::plotted::Plotted;
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
 use fdm_run::acmi::AcmiOutput;
@@ -139,6 +142,23 @@ impl WithModel for ReplayJob<'_> {
             }
             None => None,
         };
+        let plot = match &self.args.plot {
+            Some(path) => {
+                for (other, name) in [
+                    (Some(&self.args.file), "recording"),
+                    (self.args.csv.as_ref(), "--csv"),
+                ] {
+                    if other.is_some_and(|o| path == o || crate::input::same_file(path, o)) {
+                        return Err(CliError::usage(format!(
+                            "--plot {} would overwrite the {name} file",
+                            show_path(path)
+                        )));
+                    }
+                }
+                Some(PlotFile::create(path)?)
+            }
+            None => None,
+        };
         let run = RunConfig {
             fps: recording.fps,
             mode: Mode::Headless {
@@ -161,6 +181,7 @@ impl WithModel for ReplayJob<'_> {
             &[
                 (Some(self.args.file.as_path()), "recording"),
                 (self.args.csv.as_deref(), "--csv"),
+                (self.args.plot.as_deref(), "--plot"),
             ],
         )?;
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
@@ -168,19 +189,42 @@ impl WithModel for ReplayJob<'_> {
             flight.attach(AcmiOutput::<M>::new(acmi))?;
         }
         let mut progress = StderrProgress::new(recording.frames);
-        let report = replay_flight(
-            &mut flight,
-            recording.events(),
-            recording.fps,
-            recording.frames,
-            self.args.realtime,
-            csv.as_mut(),
-            &mut progress,
-        );
+        // With --plot the flight is sampled as a run's --plot samples it
+        // (crate::run::plotted::fly_plotted), so the two SVGs are the same bytes; the
+        // plot is written also when the replay stopped early.
+        let (report, plotted) = match plot {
+            Some(plot) => {
+                let mut plotted = Plotted::new(&mut flight);
+                let report = replay_flight(
+                    &mut plotted,
+                    recording.events(),
+                    recording.fps,
+                    recording.frames,
+                    self.args.realtime,
+                    csv.as_mut(),
+                    &mut progress,
+                );
+                let written = plot.write(plotted.trace());
+                (report, written)
+            }
+            None => (
+                replay_flight(
+                    &mut flight,
+                    recording.events(),
+                    recording.fps,
+                    recording.frames,
+                    self.args.realtime,
+                    csv.as_mut(),
+                    &mut progress,
+                ),
+                Ok(()),
+            ),
+        };
         // The outputs (--acmi) are completed even when the replay stopped early.
         let finished = flight.finish();
         let mut report = report?;
         finished?;
+        plotted?;
         if run.fg.is_some() {
             report.fg = flight.link_stats().map(|l| LinkReport {
                 sent: l.sent,

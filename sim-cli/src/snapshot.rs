@@ -220,6 +220,7 @@ pub(crate) mod samples {
                     alpha_deg: 4.0,
                     bank_deg: 5.0,
                     flaps_deg: 20.0,
+                    brakes: false,
                 },
                 climb_angle_deg: 3.1,
                 climb_rate: 2.9,

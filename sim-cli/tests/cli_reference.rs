@@ -105,6 +105,7 @@ fn palmer_reference_scenarios() {
             alpha_deg: num(&c["alpha"]),
             bank_deg: num(&c["bank"]),
             flaps: Flaps::from_degrees(c["flaps"].as_u64().unwrap() as u8).unwrap(),
+            brakes: false,
         };
         let mut state = PalmerState::at_rest();
         for _ in 0..600 {

@@ -2,10 +2,19 @@
 //! of README.md and docs/*.md is run, and the JSON report's and the CSV's
 //! fields documented in docs/cli.md are exactly the ones the binary writes.
 //!
-//! A console block holds commands (`$ sim-cli ARGS`, run from the workspace
-//! root with the built binary) each followed by its expected stdout. In the
-//! expected text, `[..]` matches any run of characters within a line and a
-//! line `...` any number of lines. Every command must exit with status 0.
+//! A console block holds commands (`$ sim-cli ARGS`, run with the built
+//! binary, or `$ head -N FILE`, the first N lines of a file an earlier command
+//! wrote) each followed by what it shows: its stderr, then its stdout. The
+//! commands of a document run in order in one scratch directory in which
+//! `examples/` and `reference/` are the workspace's, so relative paths read
+//! the repository and the files they write stay out of it. Redaction: in the
+//! expected text, `[..]` matches any run of characters within a line (for
+//! times, thread counts, rates) and a line `...` any number of lines. Every
+//! command must exit with status 0.
+//!
+//! And no document shows a command's output anywhere else: a code block of
+//! another kind in which a `$ ` command line is followed by output fails
+//! `shown_output_is_always_checked` (make it a console block).
 
 mod support;
 
@@ -85,15 +94,17 @@ fn examples(path: &Path) -> Vec<Example> {
                 let body = line.get(fence..).unwrap_or(trimmed);
                 if let Some(command) = body.strip_prefix("$ ") {
                     let args = words(command);
-                    assert_eq!(
-                        args.first().map(String::as_str),
-                        Some("sim-cli"),
-                        "{name}:{}: console examples run sim-cli",
-                        n + 1
-                    );
+                    let args = match args.first().map(String::as_str) {
+                        Some("sim-cli") => args[1..].to_vec(),
+                        Some("head") => args,
+                        _ => panic!(
+                            "{name}:{}: console examples run sim-cli or head -N FILE",
+                            n + 1
+                        ),
+                    };
                     out.push(Example {
                         at: format!("{name}:{}", n + 1),
-                        args: args[1..].to_vec(),
+                        args,
                         expected: Vec::new(),
                     });
                 } else {
@@ -142,36 +153,114 @@ fn lines_match(patterns: &[String], lines: &[&str]) -> bool {
     }
 }
 
+/// A scratch directory to run a document's examples in: `examples/` and
+/// `reference/` link to the workspace's.
+fn run_directory() -> support::Scratch {
+    let dir = scratch("docs");
+    for name in ["examples", "reference"] {
+        std::os::unix::fs::symlink(workspace().join(name), dir.join(name)).unwrap();
+    }
+    dir
+}
+
+/// What `example` shows when run in `dir`: stderr then stdout.
+fn run_example(example: &Example, dir: &Path) -> String {
+    if example.args.first().map(String::as_str) == Some("head") {
+        let [_, lines, file] = &example.args[..] else {
+            panic!("{}: `head -N FILE`", example.at);
+        };
+        let n: usize = lines
+            .strip_prefix('-')
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{}: `head -N FILE`", example.at));
+        let content = std::fs::read_to_string(dir.join(file))
+            .unwrap_or_else(|e| panic!("{}: {file}: {e}", example.at));
+        return content.lines().take(n).map(|l| format!("{l}\n")).collect();
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+        .args(&example.args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run sim-cli");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}: stderr {}",
+        example.at,
+        text(&out.stderr)
+    );
+    text(&out.stderr) + &text(&out.stdout)
+}
+
 #[test]
 fn console_examples_in_the_documents_print_what_they_show() {
     let mut count = 0;
     for path in documents() {
+        let dir = run_directory();
         for example in examples(&path) {
-            let out = Command::new(env!("CARGO_BIN_EXE_sim-cli"))
-                .args(&example.args)
-                .current_dir(workspace())
-                .stdin(Stdio::null())
-                .output()
-                .expect("run sim-cli");
-            let stdout = text(&out.stdout);
-            assert_eq!(
-                out.status.code(),
-                Some(0),
-                "{}: stderr {}",
-                example.at,
-                text(&out.stderr)
-            );
-            let lines: Vec<&str> = stdout.lines().collect();
+            let shown = run_example(&example, &dir);
+            let lines: Vec<&str> = shown.lines().collect();
             assert!(
                 lines_match(&example.expected, &lines),
-                "{}: the document shows\n{}\nbut sim-cli printed\n{stdout}",
+                "{}: the document shows\n{}\nbut the command printed\n{shown}",
                 example.at,
                 example.expected.join("\n")
             );
             count += 1;
         }
     }
-    assert!(count >= 2, "README's console examples were found ({count})");
+    assert!(count >= 6, "README's console examples were found ({count})");
+}
+
+/// Where a document shows a command's output outside a console block, as
+/// `(file:line, command)`.
+fn unchecked_outputs(name: &str, doc: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut fence = None::<String>; // the open block's info string
+    let mut command = None::<(usize, String)>;
+    for (n, line) in doc.lines().enumerate() {
+        let trimmed = line.trim();
+        match &fence {
+            None => {
+                if let Some(info) = trimmed.strip_prefix("```") {
+                    fence = Some(info.to_owned());
+                    command = None;
+                }
+            }
+            Some(_) if trimmed == "```" => fence = None,
+            Some(info) if info != "console" => {
+                if trimmed.starts_with("$ ") {
+                    command = Some((n + 1, trimmed.to_owned()));
+                } else if !trimmed.is_empty() {
+                    if let Some((at, shown)) = command.take() {
+                        out.push((format!("{name}:{at}"), shown));
+                    }
+                }
+            }
+            Some(_) => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn shown_output_is_always_checked() {
+    // The rule itself: an `sh` block with output is caught, a console block
+    // or a command without output is not.
+    let caught = unchecked_outputs("t", "```sh\n$ sim-cli x\nout\n```\n");
+    assert_eq!(caught, [("t:2".to_owned(), "$ sim-cli x".to_owned())]);
+    assert!(unchecked_outputs("t", "```console\n$ sim-cli x\nout\n```\n").is_empty());
+    assert!(unchecked_outputs("t", "```sh\n$ sim-cli x   # comment\n```\n").is_empty());
+    for path in documents() {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let doc = std::fs::read_to_string(&path).unwrap();
+        let found = unchecked_outputs(&name, &doc);
+        assert!(
+            found.is_empty(),
+            "output shown outside a console block, so never checked: {found:?}"
+        );
+    }
 }
 
 #[test]

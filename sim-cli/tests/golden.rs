@@ -13,7 +13,9 @@
 //!   a little-endian `u16`, the model name, the fps and the origin's latitude
 //!   as IEEE bits in little-endian order;
 //! * the same recording with any other version number (older, newer, or the
-//!   version's bytes swapped) is refused naming the version.
+//!   version's bytes swapped) is refused naming the version;
+//! * a Palmer recording from before the wheel brakes (8 actions in its
+//!   header) replays as today's.
 //!
 //! Tolerance 0 everywhere (bytes). To change the format on purpose, bump
 //! `FORMAT_VERSION`, keep the old files as the older version's goldens if it
@@ -260,4 +262,21 @@ fn other_format_versions_of_the_goldens_are_refused() {
             );
         }
     }
+}
+
+/// A Palmer recording written before the wheel brakes existed (its header
+/// lists 8 actions, today's 10) replays exactly as the current golden does:
+/// adding actions to a model keeps its older recordings readable. The two
+/// files differ only in the action table and the checksums after it.
+#[test]
+fn a_palmer_recording_from_before_the_brakes_replays_as_before() {
+    let dir = scratch("golden-before-brakes");
+    let before = read("palmer_v2_before_brakes.rec");
+    let today = read("palmer_v2.rec");
+    assert_eq!(today.len(), before.len() + 21);
+    let names = |bytes: &[u8], name: &[u8]| bytes.windows(name.len()).any(|w| w == name);
+    assert!(!names(&before, b"brakes-on") && names(&today, b"brakes-on"));
+    let (json, csv) = replay(&golden("palmer_v2_before_brakes.rec"), &dir);
+    assert_eq!(json.as_bytes(), read("palmer_v2.replay.json"));
+    assert!(csv == read("palmer_v2.replay.csv"), "the CSV differs");
 }

@@ -243,3 +243,52 @@ fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
         "1-2 throttle-up\n"
     );
 }
+
+/// `replay --plot` draws what the recorded run's `--plot` drew, byte for byte
+/// (tolerance 0: the same samples through the same drawing), and refuses to
+/// overwrite the recording or its own `--csv` (exit status 2, the recording
+/// left as it was).
+#[test]
+fn replay_plots_equal_the_recorded_runs_plots() {
+    let dir = scratch("replay-plot");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    for (model, script) in [
+        ("palmer", "palmer_climb_turn.txt"),
+        ("bourg", "bourg_roll.txt"),
+    ] {
+        let script = format!("{EXAMPLES}{script}");
+        let (rec, plot1, plot2) = (path("p.rec"), path("1.svg"), path("2.svg"));
+        ok(&[
+            model,
+            "--headless",
+            "--fps",
+            "30",
+            "--frames",
+            "600",
+            "--script",
+            &script,
+            "--plot",
+            &plot1,
+            "--record",
+            &rec,
+        ]);
+        ok(&["replay", &rec, "--plot", &plot2]);
+        let (original, replayed) = (
+            std::fs::read(&plot1).unwrap(),
+            std::fs::read(&plot2).unwrap(),
+        );
+        assert!(original.starts_with(b"<svg"), "{model}");
+        assert!(original == replayed, "{model}: the replay's plot differs");
+        let recorded = std::fs::read(&rec).unwrap();
+        refused(
+            &["replay", &rec, "--plot", &rec],
+            "would overwrite the recording",
+        );
+        let csv = path("r.csv");
+        refused(
+            &["replay", &rec, "--csv", &csv, "--plot", &csv],
+            "would overwrite the --csv file",
+        );
+        assert_eq!(std::fs::read(&rec).unwrap(), recorded, "{model}");
+    }
+}

@@ -112,6 +112,7 @@ pub fn palmer_reference() -> (u32, u64, Vec<PalmerCase>) {
                     alpha_deg: c["alpha"].as_f64().expect("alpha"),
                     bank_deg: c["bank"].as_f64().expect("bank"),
                     flaps: Flaps::from_degrees(flaps).expect("0, 20 or 40"),
+                    brakes: false,
                 },
                 final_state: PalmerState {
                     time_s: fin["time_s"].as_f64().expect("time_s"),

@@ -26,7 +26,8 @@ class Flight:
     model's own start), trimmed when ``trim=True`` (Palmer's throttle and
     angle of attack; Bourg's thrust, pitch and pitch trim). Keyword controls
     set the controls at frame 0: Palmer ``throttle`` (0..1), ``alpha_deg``
-    (-16..20), ``bank_deg`` (-20..20), ``flaps_deg`` (0, 20 or 40); Bourg
+    (-16..20), ``bank_deg`` (-20..20), ``flaps_deg`` (0, 20 or 40),
+    ``brakes`` (0 or 1: the wheel brakes, docs/palmer-model.md); Bourg
     ``thrust_lb`` (0..3000), ``landing_flaps`` (0 or 1), ``pitch_trim``
     (-1..1). ``script`` is a control script's text (``START-END action`` lines,
     docs/cli.md). Bad values raise ``ValueError``/``TypeError`` naming the
@@ -108,7 +109,7 @@ class Fleet:
 
     Start and control arguments are numbers (the same for every aircraft) or
     one-dimensional float64 arrays of shape ``(n,)`` (one each); the controls
-    are Palmer's ``throttle, alpha_deg, bank_deg, flaps_deg`` or Bourg's
+    are Palmer's ``throttle, alpha_deg, bank_deg, flaps_deg, brakes`` or Bourg's
     ``thrust_lb, elevator, aileron, rudder, landing_flaps, pitch_trim``
     (the surfaces -1, 0 or +1 and held until changed: a fleet has no start-of-
     frame reset). Wrong types and dtypes raise ``TypeError``, wrong shapes,

@@ -1,9 +1,10 @@
-//! Pilot controls of the Palmer model: throttle, angle of attack, bank, flaps,
-//! and the key-press / script steps that change them (thesis appendix B).
+//! Pilot controls of the Palmer model: throttle, angle of attack, bank, flaps
+//! (thesis appendix B), the wheel brakes (our extension, docs/palmer-model.md
+//! "Wheel brakes"), and the key-press / script steps that change them.
 
 use core::fmt;
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::PalmerAction;
 
@@ -110,8 +111,15 @@ impl TryFrom<u8> for Flaps {
 /// The pilot's controls. They hold their values between key presses (the Palmer
 /// simulator does not reset them every frame).
 ///
-/// [`Default`] is throttle 0, alpha 0°, bank 0°, flaps up.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+/// [`Default`] is throttle 0, alpha 0°, bank 0°, flaps up, brakes off.
+///
+/// Serialized as the original's four fields while the brakes are off, so
+/// files and recordings written before the brakes existed read back
+/// unchanged and the same controls write the same bytes: readable formats
+/// (JSON) add `"brakes": true` only while they are set; compact binary
+/// formats (a recording's bincode header) carry them in the flaps byte's top
+/// bit (`0x80`), which an older reader refuses as a flap setting.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PalmerControls {
     /// Throttle, fraction of full power, 0..=1.
     pub throttle: f64,
@@ -122,6 +130,96 @@ pub struct PalmerControls {
     pub bank_deg: f64,
     /// Flap setting.
     pub flaps: Flaps,
+    /// Wheel brakes set (our extension; the original model has no wheel
+    /// friction). While the aircraft is on the ground they brake it with
+    /// the friction coefficient
+    /// [`BRAKING_FRICTION_COEFFICIENT`](super::BRAKING_FRICTION_COEFFICIENT);
+    /// in the air they do nothing. Off, the step is the original model's, bit
+    /// for bit. Absent from the serialized form while off, so controls written
+    /// before the brakes existed read back unchanged and write the same text.
+    pub brakes: bool,
+}
+
+/// [`PalmerControls`] as readable formats (JSON) write it.
+#[derive(Serialize, Deserialize)]
+#[serde(rename = "PalmerControls")]
+struct ReadableControls {
+    throttle: f64,
+    alpha_deg: f64,
+    bank_deg: f64,
+    flaps: Flaps,
+    #[serde(default, skip_serializing_if = "is_off")]
+    brakes: bool,
+}
+
+/// [`PalmerControls`] as compact binary formats write it: the brakes in the
+/// flaps byte's [`BRAKES_BIT`], the other fields as before the brakes existed.
+#[derive(Serialize, Deserialize)]
+#[serde(rename = "PalmerControls")]
+struct CompactControls {
+    throttle: f64,
+    alpha_deg: f64,
+    bank_deg: f64,
+    flaps: u8,
+}
+
+/// The bit of [`CompactControls::flaps`] that holds the brakes (no flap
+/// setting, 0, 20 or 40, has it).
+const BRAKES_BIT: u8 = 0x80;
+
+impl Serialize for PalmerControls {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        if serializer.is_human_readable() {
+            ReadableControls {
+                throttle: self.throttle,
+                alpha_deg: self.alpha_deg,
+                bank_deg: self.bank_deg,
+                flaps: self.flaps,
+                brakes: self.brakes,
+            }
+            .serialize(serializer)
+        } else {
+            let brakes = if self.brakes { BRAKES_BIT } else { 0 };
+            CompactControls {
+                throttle: self.throttle,
+                alpha_deg: self.alpha_deg,
+                bank_deg: self.bank_deg,
+                flaps: u8::from(self.flaps) | brakes,
+            }
+            .serialize(serializer)
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for PalmerControls {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        if deserializer.is_human_readable() {
+            let c = ReadableControls::deserialize(deserializer)?;
+            Ok(Self {
+                throttle: c.throttle,
+                alpha_deg: c.alpha_deg,
+                bank_deg: c.bank_deg,
+                flaps: c.flaps,
+                brakes: c.brakes,
+            })
+        } else {
+            let c = CompactControls::deserialize(deserializer)?;
+            let flaps = Flaps::try_from(c.flaps & !BRAKES_BIT).map_err(serde::de::Error::custom)?;
+            Ok(Self {
+                throttle: c.throttle,
+                alpha_deg: c.alpha_deg,
+                bank_deg: c.bank_deg,
+                flaps,
+                brakes: c.flaps & BRAKES_BIT != 0,
+            })
+        }
+    }
+}
+
+/// Serde's test for leaving `brakes` out: brakes off.
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde passes a reference
+fn is_off(brakes: &bool) -> bool {
+    !*brakes
 }
 
 impl PalmerControls {
@@ -130,7 +228,8 @@ impl PalmerControls {
     /// * throttle ±5 % within 0..=1 (see below for the exact values),
     /// * angle of attack ±1° within -16..=20°,
     /// * bank ±1° within -20..=20°,
-    /// * flaps one notch down (0 → 20 → 40, 40 stays) or back up to 0.
+    /// * flaps one notch down (0 → 20 → 40, 40 stays) or back up to 0,
+    /// * brakes set or released.
     ///
     /// The result is clamped into the range after the step, so a value set
     /// outside the range by other means (e.g. `--alpha 25`) comes back to the
@@ -180,6 +279,8 @@ impl PalmerControls {
             }
             PalmerAction::FlapsDown => c.flaps = c.flaps.lower(),
             PalmerAction::FlapsUp => c.flaps = Flaps::Up,
+            PalmerAction::BrakesOn => c.brakes = true,
+            PalmerAction::BrakesOff => c.brakes = false,
         }
         c
     }
@@ -224,7 +325,8 @@ mod tests {
                 throttle: 0.0,
                 alpha_deg: 0.0,
                 bank_deg: 0.0,
-                flaps: Flaps::Up
+                flaps: Flaps::Up,
+                brakes: false,
             }
         );
     }
@@ -283,6 +385,7 @@ mod tests {
             alpha_deg: 4.0,
             bank_deg: -3.0,
             flaps: Flaps::Deg20,
+            brakes: false,
         };
         let after = busy.apply(PalmerAction::AlphaUp);
         assert_eq!(
@@ -334,6 +437,7 @@ mod tests {
             alpha_deg: 4.0,
             bank_deg: 5.0,
             flaps: Flaps::Deg20,
+            brakes: false,
         };
         let json = serde_json::to_string(&c).unwrap();
         assert_eq!(
@@ -353,6 +457,7 @@ mod tests {
             alpha_deg: f64::INFINITY,
             bank_deg: f64::NEG_INFINITY,
             flaps: Flaps::Up,
+            brakes: false,
         };
         assert!(!c.is_finite());
         assert!(c.apply(PalmerAction::ThrottleUp).throttle.is_nan());
@@ -405,7 +510,8 @@ mod tests {
                 throttle: 1.0,
                 alpha_deg: -2.0,
                 bank_deg: 3.0,
-                flaps: Flaps::Up
+                flaps: Flaps::Up,
+                brakes: false,
             }
         );
         assert_eq!(at(40).alpha_deg, -16.0);

@@ -71,6 +71,22 @@ use crate::real::{Exact, Mask, Maths, Real};
 /// Gravitational acceleration along z, m/s² (`G` of docs/palmer-model.md).
 pub const GRAVITY_MPS2: f64 = -9.81;
 
+/// Friction coefficient of braked tyres on dry pavement (our extension, not
+/// in the thesis; docs/palmer-model.md "Wheel brakes"). Raymer (Aircraft
+/// Design, table 17.1) gives 0.3–0.5 for dry concrete with the brakes on,
+/// rolling resistance included; this is the middle of that range.
+///
+/// While [`PalmerControls::brakes`] is set and the ground holds the
+/// aircraft up (step 12), a friction force of at most this coefficient
+/// times the normal force (weight less lift) opposes the horizontal
+/// velocity. It never does more than stop the roll within one RK stage, so
+/// a braked aircraft comes to rest instead of rolling backwards, and at rest
+/// it holds the aircraft against up to that much thrust. With the brakes off
+/// there is no wheel friction, as in the original model (whose reference
+/// cases start with a ground roll, so an always-on rolling resistance would
+/// change them).
+pub const BRAKING_FRICTION_COEFFICIENT: f64 = 0.4;
+
 /// The model's state vector `[vx, x, vy, y, vz, z]` (the original's order),
 /// of one aircraft (`R = f64`) or of lanes.
 type Q<R> = [R; 6];
@@ -120,6 +136,9 @@ pub struct ControlTerms<R> {
     pub half_cd_without_ground_effect: R,
     /// The throttle (step 6).
     pub throttle: R,
+    /// The wheels' friction coefficient: [`BRAKING_FRICTION_COEFFICIENT`]
+    /// with the brakes set, 0 without (no wheel friction, the original model).
+    pub wheel_friction: R,
 }
 
 impl ControlTerms<f64> {
@@ -150,6 +169,11 @@ impl ControlTerms<f64> {
             half_cl_without_ground_effect: 0.5 * cl,
             half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / at.induced_drag_divisor),
             throttle: controls.throttle,
+            wheel_friction: if controls.brakes {
+                BRAKING_FRICTION_COEFFICIENT
+            } else {
+                0.0
+            },
         }
     }
 }
@@ -166,6 +190,7 @@ impl<R: Real<Scalar = f64>> ControlTerms<R> {
             half_cl_without_ground_effect: R::splat(t.half_cl_without_ground_effect),
             half_cd_without_ground_effect: R::splat(t.half_cd_without_ground_effect),
             throttle: R::splat(t.throttle),
+            wheel_friction: R::splat(t.wheel_friction),
         }
     }
 
@@ -181,6 +206,7 @@ impl<R: Real<Scalar = f64>> ControlTerms<R> {
         self.half_cd_without_ground_effect
             .set_lane(i, t.half_cd_without_ground_effect);
         self.throttle.set_lane(i, t.throttle);
+        self.wheel_friction.set_lane(i, t.wheel_friction);
     }
 }
 
@@ -281,10 +307,35 @@ fn rhs<R: Real<Scalar = f64>>(
     let fz = fz + at.weight; // `Fz = Fz + mass * G`
 
     // Step 12: the ground holds the aircraft up.
-    let fz = R::select(z.le(0.0).and(fz.le(0.0)), c(0.0), fz);
+    let on_ground = z.le(0.0).and(fz.le(0.0));
+    let mass = aircraft.mass_kg;
+    // Our extension: the wheel brakes, computed only when an aircraft (a
+    // lane) has them set and is on the ground, so with the brakes off the
+    // step is the original's, bit for bit.
+    let braking = on_ground.and(k.wheel_friction.gt(0.0));
+    let (fx, fy) = if braking.any() {
+        // The ground pushes back with the normal force `-fz`; the friction
+        // opposes the horizontal velocity (along +x when at rest, where the
+        // thrust points). It is at most `mu * normal`, and never more than
+        // what stops the roll within this stage (`mass * vh / ds`) plus the
+        // horizontal force along the travel: no roll backwards, and a hold at
+        // rest against thrust below `mu * normal`.
+        let full = k.wheel_friction * -fz;
+        let along = fx * cos_t + fy * sin_t;
+        let stop = R::select(vh.eq(0.0), c(0.0), c(mass) * vh / ds);
+        let room = along + stop;
+        let room = R::select(room.lt(0.0), c(0.0), room);
+        let friction = R::select((full - room).lt(0.0), full, room);
+        (
+            R::select(braking, fx - friction * cos_t, fx),
+            R::select(braking, fy - friction * sin_t, fy),
+        )
+    } else {
+        (fx, fy)
+    };
+    let fz = R::select(on_ground, c(0.0), fz);
 
     // Step 13 (force divided by the mass first, see the module docs).
-    let mass = aircraft.mass_kg;
     [
         c(ds) * (fx / mass),
         c(ds) * vx,
@@ -385,7 +436,7 @@ pub fn derivatives(
 /// use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 ///
 /// let cessna = PalmerAircraft::cessna_172();
-/// let controls = PalmerControls { throttle: 1.0, alpha_deg: 4.0, bank_deg: 0.0, flaps: Flaps::Up };
+/// let controls = PalmerControls { throttle: 1.0, alpha_deg: 4.0, bank_deg: 0.0, flaps: Flaps::Up, brakes: false };
 /// let mut state = PalmerState::at_rest();
 /// for _ in 0..600 {
 ///     state = step(&cessna, &controls, &state, 0.1); // 60 s at 10 frames per second
@@ -521,6 +572,7 @@ mod tests {
             alpha_deg: 4.0,
             bank_deg: 5.0,
             flaps: Flaps::Deg20,
+            brakes: false,
         }
     }
 

@@ -50,7 +50,7 @@ pub use controls::{
 };
 pub use dynamics::{
     derivatives, step, try_step, AircraftTerms, ControlTerms, PalmerDerivative, StepError,
-    GRAVITY_MPS2,
+    BRAKING_FRICTION_COEFFICIENT, GRAVITY_MPS2,
 };
 pub use landing::{
     landing_state, FlightPhase, LandingState, ROUGH_LANDING_VZ_MPS, SAFE_LANDING_VZ_MPS,
@@ -79,6 +79,10 @@ pub enum PalmerAction {
     FlapsDown,
     /// Flaps up to 0 (key L).
     FlapsUp,
+    /// Wheel brakes set (key B; our extension, not in the thesis).
+    BrakesOn,
+    /// Wheel brakes released (key V; our extension, not in the thesis).
+    BrakesOff,
 }
 
 impl crate::model::ScriptAction for PalmerAction {
@@ -91,6 +95,8 @@ impl crate::model::ScriptAction for PalmerAction {
         Self::BankLeft,
         Self::FlapsDown,
         Self::FlapsUp,
+        Self::BrakesOn,
+        Self::BrakesOff,
     ];
     const NAMES: &'static [&'static str] = &[
         "throttle-up",
@@ -101,6 +107,8 @@ impl crate::model::ScriptAction for PalmerAction {
         "bank-left",
         "flaps-down",
         "flaps-up",
+        "brakes-on",
+        "brakes-off",
     ];
 
     fn name(self) -> &'static str {
@@ -148,6 +156,7 @@ impl crate::model::Model for Palmer {
             alpha_deg: 2.0 + small(index % 5),
             bank_deg: small(index % 21) - 10.0,
             flaps: [Flaps::Up, Flaps::Deg20][index % 2],
+            brakes: false,
         };
         #[allow(clippy::cast_precision_loss)] // exact below 2^53 aircraft
         let x_m = index as f64 * 10.0;
@@ -254,7 +263,8 @@ impl crate::model::Model for Palmer {
 
     /// The contact point is the point mass itself: `z` below 0 becomes 0
     /// and a downward `vz` becomes 0; `vx`, `vy` are kept (the aircraft rolls
-    /// on, slowed by drag only: the model has no wheel friction). A crash
+    /// on, slowed by drag only, unless the wheel brakes are set: the original
+    /// model has no wheel friction, see [`BRAKING_FRICTION_COEFFICIENT`]). A crash
     /// stops it: every velocity 0.
     fn ground_contact(
         _aircraft: &PalmerAircraft,

@@ -18,6 +18,25 @@ pub struct PalmerControlsReport {
     pub bank_deg: f64,
     /// Flap setting, degrees (0, 20 or 40).
     pub flaps_deg: f64,
+    /// Wheel brakes set (our extension); absent from the JSON while off, so
+    /// reports without the brakes read as before.
+    #[serde(default, skip_serializing_if = "is_off")]
+    pub brakes: bool,
+}
+
+/// Serde's test for leaving `brakes` out of a report: brakes off.
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde passes a reference
+fn is_off(brakes: &bool) -> bool {
+    !*brakes
+}
+
+/// What the summary and the HUD add while the brakes are set.
+fn brakes_note(brakes: bool) -> &'static str {
+    if brakes {
+        "  BRAKES"
+    } else {
+        ""
+    }
 }
 
 /// Palmer-only report fields (all `f64` in the model).
@@ -66,7 +85,7 @@ impl Details for PalmerDetails {
     fn summary(&self) -> String {
         format!(
             "airspeed  {:.3} m/s  climb {:.2} deg, {:.3} m/s\n\
-             controls  throttle {:.0} %  alpha {} deg  bank {} deg  flaps {} deg",
+             controls  throttle {:.0} %  alpha {} deg  bank {} deg  flaps {} deg{}",
             self.airspeed,
             self.climb_angle_deg,
             self.climb_rate,
@@ -74,17 +93,19 @@ impl Details for PalmerDetails {
             self.controls.alpha_deg,
             self.controls.bank_deg,
             self.controls.flaps_deg,
+            brakes_note(self.controls.brakes),
         )
     }
 
     fn hud_controls(&self) -> String {
         let c = &self.controls;
         format!(
-            "THROTTLE {:3.0} %   ALPHA {:+5.1} deg   BANK {:+5.1} deg   FLAPS {:.0} deg",
+            "THROTTLE {:3.0} %   ALPHA {:+5.1} deg   BANK {:+5.1} deg   FLAPS {:.0} deg{}",
             c.throttle * 100.0,
             tenths(c.alpha_deg),
             tenths(c.bank_deg),
             c.flaps_deg,
+            brakes_note(c.brakes),
         )
     }
 }
@@ -144,6 +165,7 @@ impl CliModel for Palmer {
                 alpha_deg: controls.alpha_deg,
                 bank_deg: controls.bank_deg,
                 flaps_deg: controls.flaps.degrees(),
+                brakes: controls.brakes,
             },
             climb_angle_deg: state.climb_angle_deg(),
             climb_rate: state.climb_rate_mps(),
@@ -154,7 +176,7 @@ impl CliModel for Palmer {
 
 impl KeyAction for PalmerAction {
     const KEY_HELP: &'static str =
-        "E/D throttle  Down/Up alpha +/-  Left/Right bank  K flaps down  L flaps up";
+        "E/D throttle  Down/Up alpha +/-  Left/Right bank  K flaps down  L flaps up  B/V brakes on/off";
 
     fn from_key(code: KeyCode) -> Option<Self> {
         Some(match (code, letter(code)) {
@@ -166,6 +188,8 @@ impl KeyAction for PalmerAction {
             (KeyCode::Right, _) => Self::BankRight,
             (_, Some('k')) => Self::FlapsDown,
             (_, Some('l')) => Self::FlapsUp,
+            (_, Some('b')) => Self::BrakesOn,
+            (_, Some('v')) => Self::BrakesOff,
             _ => return None,
         })
     }
