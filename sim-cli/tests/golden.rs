@@ -1,6 +1,6 @@
 //! Golden recordings (docs/recording.md, "Golden recordings"): one committed
 //! recording per model for every format version this `sim-cli` reads
-//! (versions 1 and 2), with the output of its replay, so that any change of the
+//! (versions 1, 2 and 3), with the output of its replay, so that any change of the
 //! format, of its byte order or of what a replay prints is a deliberate,
 //! visible change of the files in `tests/golden/`:
 //!
@@ -41,7 +41,7 @@ struct Flight {
     args: &'static [&'static str],
 }
 
-const VERSIONS: [u16; 2] = [1, 2];
+const VERSIONS: [u16; 3] = [1, 2, 3];
 
 const FLIGHTS: [Flight; 2] = [
     Flight {
@@ -254,7 +254,7 @@ fn other_format_versions_of_the_goldens_are_refused() {
                 stderr.trim_end(),
                 format!(
                     "sim-cli: error: {}: recording format version {version}; this sim-cli reads \
-                     versions 1 and 2",
+                     versions 1, 2 and 3",
                     path.display()
                 ),
             );
