@@ -210,10 +210,8 @@ fn start_of<M: BindModel>(
             PyValueError::new_err(format!("{}[{i}]: {e}", M::CONTROL_FIELDS[*index].0))
         })?;
     }
-    start
-        .spec(i)
-        .start::<M>(&M::default_aircraft(), c)
-        .map_err(|e| PyValueError::new_err(format!("aircraft {i}: {}", e.0)))
+    crate::start::start::<M>(&start.spec(i), M::default_aircraft(), c)
+        .map_err(|e| PyValueError::new_err(format!("aircraft {i}: {e}")))
 }
 
 impl<M: BindModel> Lanes<M> {
@@ -359,7 +357,10 @@ pub fn read_arguments(
     let limits = [
         (0.0, crate::start::MAX_ALTITUDE_FT),
         (0.0, crate::start::MAX_SPEED_KT),
-        (-360.0, 360.0),
+        (
+            -crate::start::MAX_HEADING_DEG,
+            crate::start::MAX_HEADING_DEG,
+        ),
     ];
     let mut cols: [Option<Column>; 3] = [None, None, None];
     for (k, (name, obj)) in start.into_iter().enumerate() {

@@ -209,9 +209,8 @@ pub fn new_single<M: BindModel>(
     script: Option<&str>,
 ) -> PyResult<Box<dyn AnyFlight>> {
     let given = apply_named::<M>(M::initial_controls(), controls).map_err(to_py)?;
-    let (controls, state) = spec
-        .start::<M>(&M::default_aircraft(), given)
-        .map_err(|e| PyValueError::new_err(e.0))?;
+    let (controls, state) = crate::start::start::<M>(spec, M::default_aircraft(), given)
+        .map_err(PyValueError::new_err)?;
     let script = match script {
         Some(text) => Script::<M::Action>::parse(text)
             .map_err(|e| PyValueError::new_err(format!("script: {e}")))?,

@@ -43,7 +43,7 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`scenario`] | [`Scenario`], [`Start`], the run limits ([`MAX_FPS`], [`MAX_FRAMES`]) |
+//! | [`scenario`] | [`Scenario`], [`Start`] and where it is ([`StartOptions`]: altitude, speed, heading, trim), the run limits ([`MAX_FPS`], [`MAX_FRAMES`]) |
 //! | [`mod@run`] | [`Run`]: the run loop over one `fdm_ecs::Simulation` |
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`]: outputs as plugins |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
@@ -63,5 +63,7 @@ mod shared;
 pub use model::RunModel;
 pub use output::{Event, Frame, Output, OutputError, Placement};
 pub use run::{End, Run, RunError};
-pub use scenario::{Scenario, ScenarioError, Start, MAX_FPS, MAX_FRAMES};
+pub use scenario::{
+    Scenario, ScenarioError, Start, StartOptions, StartRefused, MAX_FPS, MAX_FRAMES,
+};
 pub use shared::SharedOutput;

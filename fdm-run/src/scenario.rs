@@ -3,6 +3,8 @@
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::Model;
 use fdm_core::script::Script;
+use fdm_core::start::{InitialConditions, StartError, TrimReport};
+use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 
 /// Highest frame rate a run accepts, frames per second. Far above any useful
 /// real-time rate; it only keeps dt = 1/N away from values where `f32`
@@ -34,6 +36,178 @@ impl<M: Model> Start<M> {
             controls: M::initial_controls(),
             state: M::initial_state(),
         }
+    }
+}
+
+/// Highest accepted start altitude, ft: far above both models' ceilings (the
+/// atmosphere of Palmer's model ends near 145 000 ft). `sim-cli
+/// --altitude-ft`, the Python bindings and study files read it from here.
+pub const MAX_ALTITUDE_FT: f64 = 100_000.0;
+/// Highest accepted start airspeed, kt.
+pub const MAX_SPEED_KT: f64 = 1000.0;
+/// Largest accepted start heading either way, degrees (−360 to 360).
+pub const MAX_HEADING_DEG: f64 = 360.0;
+
+/// Where and how an aircraft starts when not at the thesis's start, in the
+/// units of the command line, the Python bindings and study files: each of
+/// the three may be missing (then it comes from the model's own start:
+/// Palmer 0 ft, 0 kt; Bourg 2000 ft, 60 ft/s; heading north), and trim for
+/// steady level flight may be asked.
+///
+/// ```
+/// use fdm_core::model::Model;
+/// use fdm_core::palmer::Palmer;
+/// use fdm_run::scenario::StartOptions;
+///
+/// let cruise = StartOptions { altitude_ft: Some(3000.0), speed_kt: Some(100.0), trim: true, ..StartOptions::default() };
+/// let (start, report) = cruise.start::<Palmer>(Palmer::default_aircraft(), Palmer::initial_controls())?;
+/// assert!((start.state.position_m.z - 914.4).abs() < 1e-9);
+/// assert!(report.is_some());
+/// # Ok::<(), fdm_run::scenario::StartRefused>(())
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StartOptions {
+    /// Height above the origin, ft (0 to [`MAX_ALTITUDE_FT`]).
+    pub altitude_ft: Option<f64>,
+    /// True airspeed, kt (0 to [`MAX_SPEED_KT`]).
+    pub speed_kt: Option<f64>,
+    /// True heading, degrees clockwise from north (±[`MAX_HEADING_DEG`]).
+    pub heading_deg: Option<f64>,
+    /// Trim for steady, wings-level, unaccelerated flight.
+    pub trim: bool,
+}
+
+/// Why a start was refused. Each front end words it in its own terms (a
+/// flag, a key); the variants say what went wrong.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum StartRefused {
+    /// A value outside its range (or not finite).
+    #[error("{name}: {value} is not in {low}..{high}")]
+    OutOfRange {
+        /// The option's name (`altitude_ft`, `speed_kt`, `heading_deg`).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// Lowest accepted.
+        low: f64,
+        /// Highest accepted.
+        high: f64,
+    },
+    /// Trim asked at or below the ground: there is no steady flight there.
+    #[error("cannot trim on the ground; give an altitude above 0")]
+    TrimOnGround,
+    /// The model's trim found no steady flight ([`Model::trim`]).
+    #[error("trim: {0}")]
+    Trim(StartError),
+    /// The model cannot start at these conditions ([`Model::state_at`]).
+    #[error("initial conditions: {0}")]
+    Conditions(StartError),
+}
+
+impl StartOptions {
+    /// Whether nothing is given: the thesis's start.
+    #[must_use]
+    pub fn is_thesis(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Checks each given value against its range.
+    ///
+    /// # Errors
+    /// [`StartRefused::OutOfRange`] for the first value out of range.
+    pub fn validate(&self) -> Result<(), StartRefused> {
+        let checks = [
+            ("altitude_ft", self.altitude_ft, 0.0, MAX_ALTITUDE_FT),
+            ("speed_kt", self.speed_kt, 0.0, MAX_SPEED_KT),
+            (
+                "heading_deg",
+                self.heading_deg,
+                -MAX_HEADING_DEG,
+                MAX_HEADING_DEG,
+            ),
+        ];
+        for (name, value, low, high) in checks {
+            match value {
+                Some(value) if !(value.is_finite() && (low..=high).contains(&value)) => {
+                    return Err(StartRefused::OutOfRange {
+                        name,
+                        value,
+                        low,
+                        high,
+                    })
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The initial conditions: the values given, the rest from model `M`'s
+    /// own start (its height, its airspeed, north).
+    #[must_use]
+    pub fn conditions<M: Model>(&self, aircraft: &M::Aircraft) -> InitialConditions {
+        let own = M::view(aircraft, &M::initial_controls(), &M::initial_state());
+        InitialConditions {
+            altitude_m: self
+                .altitude_ft
+                .map_or(own.height_m(), |ft| ft * METRES_PER_FOOT),
+            speed_mps: self
+                .speed_kt
+                .map_or(own.airspeed_mps, |kt| kt / KNOTS_PER_MPS),
+            heading_deg: self.heading_deg.unwrap_or(0.0),
+        }
+    }
+
+    /// Model `M`'s start with `aircraft`: the thesis's state when nothing is
+    /// given; else [`Model::state_at`] the [`conditions`](Self::conditions)
+    /// with `controls`, or with `trim` [`Model::trim`]'s controls and state
+    /// and its report (for the caller to show).
+    ///
+    /// # Errors
+    /// A value out of range, or why the model cannot start or trim there.
+    pub fn start<M: Model>(
+        &self,
+        aircraft: M::Aircraft,
+        controls: M::Controls,
+    ) -> Result<(Start<M>, Option<TrimReport>), StartRefused> {
+        self.validate()?;
+        if self.is_thesis() {
+            let state = M::initial_state();
+            return Ok((
+                Start {
+                    aircraft,
+                    controls,
+                    state,
+                },
+                None,
+            ));
+        }
+        let conditions = self.conditions::<M>(&aircraft);
+        if self.trim {
+            let trimmed = M::trim(&aircraft, &controls, &conditions).map_err(|e| match e {
+                StartError::InvalidConditions if conditions.altitude_m <= 0.0 => {
+                    StartRefused::TrimOnGround
+                }
+                e => StartRefused::Trim(e),
+            })?;
+            return Ok((
+                Start {
+                    aircraft,
+                    controls: trimmed.controls,
+                    state: trimmed.state,
+                },
+                Some(trimmed.report),
+            ));
+        }
+        let state = M::state_at(&aircraft, &conditions).map_err(StartRefused::Conditions)?;
+        Ok((
+            Start {
+                aircraft,
+                controls,
+                state,
+            },
+            None,
+        ))
     }
 }
 
@@ -112,5 +286,87 @@ impl<M: Model> Scenario<M> {
     pub fn with_script(mut self, script: Script<M::Action>) -> Self {
         self.script = script;
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use fdm_core::bourg::Bourg;
+    use fdm_core::palmer::Palmer;
+
+    use super::*;
+
+    #[test]
+    fn no_option_is_the_thesis_start_bit_for_bit() {
+        let (start, report) = StartOptions::default()
+            .start::<Bourg>(Bourg::default_aircraft(), Bourg::initial_controls())
+            .unwrap();
+        assert_eq!(start, Start::<Bourg>::thesis());
+        assert!(report.is_none());
+    }
+
+    #[test]
+    fn out_of_range_values_are_refused_by_name() {
+        for (options, name) in [
+            (
+                StartOptions {
+                    altitude_ft: Some(-1.0),
+                    ..StartOptions::default()
+                },
+                "altitude_ft",
+            ),
+            (
+                StartOptions {
+                    speed_kt: Some(f64::NAN),
+                    ..StartOptions::default()
+                },
+                "speed_kt",
+            ),
+            (
+                StartOptions {
+                    heading_deg: Some(360.5),
+                    ..StartOptions::default()
+                },
+                "heading_deg",
+            ),
+        ] {
+            match options.start::<Palmer>(Palmer::default_aircraft(), Palmer::initial_controls()) {
+                Err(StartRefused::OutOfRange { name: n, .. }) => assert_eq!(n, name),
+                other => panic!("{name}: expected OutOfRange, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn trim_on_the_ground_is_refused_as_such() {
+        let on_ground = StartOptions {
+            trim: true,
+            speed_kt: Some(100.0),
+            ..StartOptions::default()
+        };
+        // Palmer's own start is on the ground (0 ft).
+        assert_eq!(
+            on_ground
+                .start::<Palmer>(Palmer::default_aircraft(), Palmer::initial_controls())
+                .unwrap_err(),
+            StartRefused::TrimOnGround
+        );
+    }
+
+    #[test]
+    fn missing_values_come_from_the_model_start() {
+        let east = StartOptions {
+            heading_deg: Some(90.0),
+            ..StartOptions::default()
+        };
+        let own = Bourg::view(
+            &Bourg::default_aircraft(),
+            &Bourg::initial_controls(),
+            &Bourg::initial_state(),
+        );
+        let conditions = east.conditions::<Bourg>(&Bourg::default_aircraft());
+        assert_eq!(conditions.altitude_m.to_bits(), own.height_m().to_bits());
+        assert_eq!(conditions.speed_mps.to_bits(), own.airspeed_mps.to_bits());
+        assert_eq!(conditions.heading_deg, 90.0);
     }
 }

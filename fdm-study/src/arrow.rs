@@ -11,7 +11,7 @@
 
 use std::io::{self, Write};
 
-use crate::fly::RunTable;
+use crate::table::RunTable;
 
 /// One value of a flatbuffer table field.
 enum Slot {

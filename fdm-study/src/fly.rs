@@ -1,5 +1,5 @@
 //! Flying a study's runs: blocks of runs on SIMD fleets, on several threads,
-//! into a [`RunTable`]; and [`MeasureOutput`], the same measures for a run
+//! into a [`RunTable`](crate::table::RunTable); and [`MeasureOutput`], the same measures for a run
 //! flown alone through `fdm_run`.
 
 use std::ops::Range;
@@ -10,142 +10,17 @@ use fdm_core::model::{FlightStatus, Model};
 use fdm_core::script::Script;
 use fdm_fleet::{Fleet, Precision};
 use fdm_run::{Event, Frame, Output, OutputError};
-use serde::Serialize;
 
 use crate::measure::{needs_view, Measure, Tracker};
 use crate::model::{with_study_model, StudyJob, StudyModel};
 use crate::spec::{RunSetup, Stop, Study};
+use crate::table::{RunStatus, RunTable};
 use crate::StudyError;
 
 /// Runs per block: each block is one set of fleets flown on one thread, its
 /// rows appended in run order. Small enough to balance threads and keep a
 /// block's states in cache, large enough that the per-block set-up is noise.
 pub const BLOCK_RUNS: u64 = 1024;
-
-/// How a run ended: its flight status at its last frame, or a start the
-/// model refused (e.g. a dispersed speed that cannot be trimmed).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(into = "&'static str")]
-pub enum RunStatus {
-    /// The flight status at the run's last frame.
-    Flown(FlightStatus),
-    /// The run's start was refused; it was not flown and has no measures.
-    StartRefused,
-}
-
-impl RunStatus {
-    /// Every status code, in the order summaries list them.
-    pub const CODES: &'static [&'static str] = &[
-        "on_ground",
-        "airborne",
-        "landed_safe",
-        "landed_rough",
-        "crashed",
-        "diverged",
-        "start_refused",
-    ];
-
-    /// The status as one word: [`FlightStatus::code`] (`on_ground`,
-    /// `airborne`, `landed_safe`, `landed_rough`, `crashed`, `diverged`) or
-    /// `start_refused`.
-    #[must_use]
-    pub const fn code(self) -> &'static str {
-        match self {
-            Self::Flown(status) => status.code(),
-            Self::StartRefused => "start_refused",
-        }
-    }
-}
-
-impl From<RunStatus> for &'static str {
-    fn from(status: RunStatus) -> Self {
-        status.code()
-    }
-}
-
-/// The per-run results of some runs of a study, in run order: one row per
-/// run, one column per measure. A measure that does not apply to a run (no
-/// touchdown, target height never reached, a refused start) is `None`:
-/// never NaN.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct RunTable {
-    /// The run indices.
-    pub run: Vec<u64>,
-    /// How each run ended.
-    pub status: Vec<RunStatus>,
-    /// Frames each run flew (the duration, or up to its stop condition).
-    pub frames: Vec<u64>,
-    /// Per measure, in the study's order: its name and one value per run.
-    pub measures: Vec<(String, Vec<Option<f64>>)>,
-}
-
-impl RunTable {
-    /// An empty table with the columns of `measures`.
-    #[must_use]
-    pub fn empty(measures: &[Measure]) -> Self {
-        Self {
-            measures: measures
-                .iter()
-                .map(|m| (m.name().to_owned(), Vec::new()))
-                .collect(),
-            ..Self::default()
-        }
-    }
-
-    /// Number of rows.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.run.len()
-    }
-
-    /// Whether the table has no rows.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.run.is_empty()
-    }
-
-    /// Appends `other`'s rows after this table's.
-    ///
-    /// # Errors
-    /// [`StudyError::Columns`] when the two tables' measure columns differ.
-    pub fn append(&mut self, other: RunTable) -> Result<(), StudyError> {
-        let names = |t: &RunTable| {
-            t.measures
-                .iter()
-                .map(|(n, _)| n.clone())
-                .collect::<Vec<_>>()
-        };
-        if names(self) != names(&other) {
-            return Err(StudyError::Columns {
-                have: names(self),
-                other: names(&other),
-            });
-        }
-        self.run.extend(other.run);
-        self.status.extend(other.status);
-        self.frames.extend(other.frames);
-        for ((_, mine), (_, theirs)) in self.measures.iter_mut().zip(other.measures) {
-            mine.extend(theirs);
-        }
-        Ok(())
-    }
-
-    fn push(
-        &mut self,
-        run: u64,
-        status: RunStatus,
-        frames: u64,
-        tracker: Option<&Tracker>,
-        measures: &[Measure],
-    ) {
-        self.run.push(run);
-        self.status.push(status);
-        self.frames.push(frames);
-        for ((_, column), measure) in self.measures.iter_mut().zip(measures) {
-            column.push(tracker.and_then(|t| t.value(*measure)));
-        }
-    }
-}
 
 /// How [`Study::fly_runs`] flies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

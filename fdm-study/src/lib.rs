@@ -72,11 +72,12 @@ pub mod spec;
 pub mod summary;
 pub mod table;
 
-pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, RunStatus, RunTable, BLOCK_RUNS};
+pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, BLOCK_RUNS};
 pub use measure::Measure;
 pub use model::StudyModel;
 pub use spec::{Distribution, Stop, Study, MAX_RUNS};
 pub use summary::{summarize, MeasureSummary, Summary, SummaryBuilder};
+pub use table::{RunStatus, RunTable};
 
 /// Why a study could not be read or flown.
 #[derive(Debug, thiserror::Error)]

@@ -7,9 +7,7 @@ use std::path::Path;
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::Model;
 use fdm_core::script::{Rule, Script};
-use fdm_core::start::InitialConditions;
-use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
-use fdm_run::{Scenario, Start, MAX_FPS, MAX_FRAMES};
+use fdm_run::{Scenario, Start, StartOptions, StartRefused, MAX_FPS, MAX_FRAMES};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -129,6 +127,17 @@ struct InitialSpec {
     heading_deg: Option<f64>,
     #[serde(default)]
     trim: bool,
+}
+
+impl InitialSpec {
+    fn options(self) -> StartOptions {
+        StartOptions {
+            altitude_ft: self.altitude_ft,
+            speed_kt: self.speed_kt,
+            heading_deg: self.heading_deg,
+            trim: self.trim,
+        }
+    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -659,30 +668,27 @@ impl Study {
         for (key, value) in &values.controls {
             M::set_control(&mut controls, key, *value).map_err(|e| format!("controls: {e}"))?;
         }
-        let (controls, state) = if self.has_initial() {
+        let (start, _trim_report) = if self.has_initial() {
             let spec = values.initial;
             check_initial(&spec).map_err(|e| format!("initial: {e}"))?;
-            let view = M::view(&aircraft, &M::initial_controls(), &M::initial_state());
-            let conditions = InitialConditions {
-                altitude_m: spec
-                    .altitude_ft
-                    .map_or(view.height_m(), |ft| ft * METRES_PER_FOOT),
-                speed_mps: spec
-                    .speed_kt
-                    .map_or(view.airspeed_mps, |kt| kt / KNOTS_PER_MPS),
-                heading_deg: spec.heading_deg.unwrap_or(0.0),
-            };
-            if spec.trim {
-                let t =
-                    M::trim(&aircraft, &controls, &conditions).map_err(|e| format!("trim: {e}"))?;
-                (t.controls, t.state)
-            } else {
-                let state = M::state_at(&aircraft, &conditions)
-                    .map_err(|e| format!("initial conditions: {e}"))?;
-                (controls, state)
-            }
+            spec.options()
+                .start::<M>(aircraft, controls)
+                .map_err(|refused| match refused {
+                    StartRefused::TrimOnGround => {
+                        "trim: cannot trim on the ground; give altitude_ft above 0".to_owned()
+                    }
+                    refused => refused.to_string(),
+                })?
         } else {
-            (controls, M::initial_state())
+            let state = M::initial_state();
+            (
+                Start {
+                    aircraft,
+                    controls,
+                    state,
+                },
+                None,
+            )
         };
         let base = Script::<M::Action>::parse(&self.script).map_err(|e| e.to_string())?;
         let delay = values.script_delay_s * f64::from(self.fps);
@@ -708,14 +714,7 @@ impl Study {
                     .collect(),
             )
         };
-        Ok(RunSetup {
-            start: Start {
-                aircraft,
-                controls,
-                state,
-            },
-            script,
-        })
+        Ok(RunSetup { start, script })
     }
 
     /// Rules of the study's script for model `M` (0 when it has none).
@@ -755,21 +754,15 @@ impl Study {
 }
 
 fn check_initial(spec: &InitialSpec) -> Result<(), String> {
-    let checks = [
-        ("altitude_ft", spec.altitude_ft, 0.0, 100_000.0),
-        ("speed_kt", spec.speed_kt, 0.0, 1_000.0),
-        ("heading_deg", spec.heading_deg, -360.0, 360.0),
-    ];
-    for (key, value, low, high) in checks {
-        if let Some(v) = value {
-            if !(v.is_finite() && (low..=high).contains(&v)) {
-                return Err(format!(
-                    "{key}: expected a number from {low} to {high}, found {v}"
-                ));
-            }
-        }
-    }
-    Ok(())
+    spec.options().validate().map_err(|refused| match refused {
+        StartRefused::OutOfRange {
+            name,
+            value,
+            low,
+            high,
+        } => format!("{name}: expected a number from {low} to {high}, found {value}"),
+        refused => refused.to_string(),
+    })
 }
 
 fn parse_target(key: &str) -> Option<Target> {

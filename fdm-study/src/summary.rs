@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
-use crate::fly::{RunStatus, RunTable};
+use crate::table::{RunStatus, RunTable};
 
 /// The summary of one measure over the runs where it applies.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -60,7 +60,7 @@ pub enum Command {
     /// Draw a CSV written earlier with --csv as an SVG plot (as --plot does for a run)
     Plot(PlotArgs),
     /// Fly a Monte Carlo study (a TOML study file) on the SIMD fleets: runs.csv, summary.json; or one run alone with --run I
-    Study(crate::study::StudyArgs),
+    Study(StudyArgs),
 }
 
 /// `sim-cli plot`.
@@ -672,5 +672,79 @@ mod tests {
         ])
         .unwrap_err();
         assert_eq!(err.kind(), clap::error::ErrorKind::ArgumentConflict);
+    }
+}
+
+/// Default `--memory-limit-mib`: 1 GiB, the study target's budget.
+pub const DEFAULT_MEMORY_LIMIT_MIB: u64 = 1024;
+
+/// `sim-cli study`.
+#[derive(Debug, Clone, Args)]
+pub struct StudyArgs {
+    /// The study file (TOML; docs/studies.md)
+    #[arg(value_name = "FILE.toml")]
+    pub file: PathBuf,
+
+    /// Number of runs, instead of the file's `runs`
+    #[arg(long, value_name = "N", value_parser = parse_runs, allow_hyphen_values = true)]
+    pub runs: Option<u64>,
+
+    /// Master seed, instead of the file's `seed`
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+
+    /// Directory receiving runs.csv, runs.arrow, summary.json and study.svg (or, with --run, run-I.csv) [default: the study file's directory]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+
+    /// Worker threads [default: available cores]
+    #[arg(long, value_name = "T", value_parser = parse_threads, allow_hyphen_values = true)]
+    pub threads: Option<usize>,
+
+    /// `exact` (every run bit-identical to the run flown alone) or `fast` (Palmer only: vectorised pow, within 1e-9 m of exact after 1800 steps; not with --run)
+    #[arg(long, value_enum, default_value_t = FleetPrecision::Exact)]
+    pub precision: FleetPrecision,
+
+    /// Print the summary as JSON on stdout (with --run: the flight's JSON report)
+    #[arg(long)]
+    pub json: bool,
+
+    /// Refuse to start (exit 2) when the study's estimated memory exceeds this many MiB
+    #[arg(long, value_name = "MIB", default_value_t = DEFAULT_MEMORY_LIMIT_MIB)]
+    pub memory_limit_mib: u64,
+
+    /// Fly run I alone (0-based) with the outputs of a single flight, bit-identical to run I of the batch
+    #[arg(long, value_name = "I")]
+    pub run: Option<u64>,
+
+    /// With --run: write the flight as CSV to FILE (as `sim-cli palmer --csv`)
+    #[arg(long, value_name = "FILE", requires = "run")]
+    pub csv: Option<PathBuf>,
+
+    /// With --run: draw the flight as an SVG plot in FILE
+    #[arg(long, value_name = "FILE", requires = "run")]
+    pub plot: Option<PathBuf>,
+
+    /// With --run: record the flight to FILE for `sim-cli replay`
+    #[arg(long, value_name = "FILE", requires = "run")]
+    pub record: Option<PathBuf>,
+
+    /// With --run: send FlightGear native-FDM datagrams to HOST:PORT every frame
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target, requires = "run")]
+    pub fg: Option<FgTarget>,
+
+    /// With --run: Tacview ACMI output of the flight.
+    #[command(flatten)]
+    pub acmi: AcmiArgs,
+}
+
+fn parse_runs(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(v) if (1..=fdm_study::MAX_RUNS).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{}` is not a number of runs in 1..={}",
+            Echo::short(text),
+            fdm_study::MAX_RUNS
+        )),
     }
 }

@@ -261,7 +261,7 @@ pub fn run_model_with<M: CliModel>(
     fly_maybe_plotted(flight, &script, run, plot)
 }
 
-/// [`fly`], or with `--plot` [`crate::plot::fly_plotted`].
+/// [`fly`], or with `--plot` [`crate::run::plotted::fly_plotted`].
 fn fly_maybe_plotted<F: Flight>(
     flight: F,
     script: &fdm_core::script::Script<F::Action>,
@@ -270,7 +270,7 @@ fn fly_maybe_plotted<F: Flight>(
 ) -> Result<(), CliError> {
     match plot {
         None => fly(flight, script, run),
-        Some(plot) => crate::plot::fly_plotted(flight, script, run, plot),
+        Some(plot) => crate::run::plotted::fly_plotted(flight, script, run, plot),
     }
 }
 

@@ -8,7 +8,7 @@
 //! `plotters`' SVG backend only, so no font or bitmap system library is needed
 //! (text is left to the SVG viewer's fonts).
 //!
-//! A run's samples are collected by [`Plotted`], a [`Flight`] wrapper that
+//! A run's samples are collected by `run::plotted::Plotted`, a `Flight` wrapper that
 //! records one [`PlotSample`] for the initial state, after every step and
 //! after every reset; the run loops do not know about it. A CSV gives the same
 //! samples ([`trace_from_csv`]); the status, which the CSV does not hold, is
@@ -38,18 +38,15 @@ use anyhow::Context as _;
 use fdm_core::bourg::Bourg;
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
-use fdm_core::script::Script;
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::config::RunConfig;
 use crate::error::CliError;
-use crate::hud::{status_label, LinkStats};
+use crate::hud::status_label;
 use crate::input::Echo;
 use crate::models::Details;
-use crate::run::{fly, Flight};
 use crate::snapshot::Snapshot;
 
 /// The plotted quantities at one instant, in SI units (converted for display
@@ -288,109 +285,6 @@ fn thin_curve(points: &[(f64, f64)], x: &std::ops::Range<f64>, columns: usize) -
     out
 }
 
-/// A [`Flight`] that records a [`PlotSample`] of the wrapped flight at
-/// creation, after every step and after every reset.
-#[derive(Debug)]
-pub struct Plotted<F> {
-    inner: F,
-    trace: TraceBuilder,
-}
-
-impl<F: Flight> Plotted<F> {
-    /// Wraps `inner` and records its initial state.
-    pub fn new(inner: F) -> Self {
-        let mut trace = TraceBuilder::new(F::TITLE.to_owned());
-        trace.push(PlotSample::from_snapshot(&inner.snapshot()));
-        Self { inner, trace }
-    }
-
-    /// The samples so far.
-    #[must_use]
-    pub fn trace(&self) -> &Trace {
-        self.trace.trace()
-    }
-
-    fn record(&mut self) {
-        let sample = PlotSample::from_snapshot(&self.inner.snapshot());
-        self.trace.push(sample);
-    }
-}
-
-impl<F: Flight> Flight for Plotted<F> {
-    type Action = F::Action;
-    type Details = F::Details;
-
-    const TITLE: &'static str = F::TITLE;
-
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
-        self.inner.step(actions)?;
-        self.record();
-        Ok(())
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        self.inner.reset()?;
-        self.record();
-        Ok(())
-    }
-
-    fn snapshot(&self) -> Snapshot<Self::Details> {
-        self.inner.snapshot()
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.inner.link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.inner.take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
-        self.inner.dis_report()
-    }
-
-    fn finish(&mut self) -> anyhow::Result<()> {
-        self.inner.finish()
-    }
-}
-
-/// Lets the loops fly a borrowed flight, so the caller keeps it afterwards.
-impl<F: Flight> Flight for &mut F {
-    type Action = F::Action;
-    type Details = F::Details;
-
-    const TITLE: &'static str = F::TITLE;
-
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
-        (**self).step(actions)
-    }
-
-    fn reset(&mut self) -> anyhow::Result<()> {
-        (**self).reset()
-    }
-
-    fn snapshot(&self) -> Snapshot<Self::Details> {
-        (**self).snapshot()
-    }
-
-    fn link_stats(&self) -> Option<LinkStats> {
-        (**self).link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        (**self).take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
-        (**self).dis_report()
-    }
-
-    fn finish(&mut self) -> anyhow::Result<()> {
-        (**self).finish()
-    }
-}
-
 /// The `--plot` output file, created before the run so that an unwritable path
 /// is a usage error (exit status 2) and nothing has been simulated.
 #[derive(Debug)]
@@ -426,24 +320,6 @@ impl PlotFile {
             .with_context(|| format!("writing plot file {}", self.path.display()))?;
         Ok(())
     }
-}
-
-/// Flies `flight` as [`fly`] does while recording it, then writes the plot,
-/// also when the run stopped on an error (the plot shows the flight up to the
-/// failing frame; the run's error is returned).
-///
-/// # Errors
-/// The run's error, else a failure to write the plot.
-pub fn fly_plotted<F: Flight>(
-    flight: F,
-    script: &Script<F::Action>,
-    run: RunConfig,
-    plot: PlotFile,
-) -> Result<(), CliError> {
-    let mut plotted = Plotted::new(flight);
-    let result = fly(&mut plotted, script, run);
-    let written = plot.write(plotted.trace());
-    result.and(written)
 }
 
 /// The status levels of the status panel, bottom to top.
@@ -533,6 +409,35 @@ fn padded_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
 
 fn draw_error(e: impl std::fmt::Display) -> CliError {
     CliError::runtime(format!("drawing the plot: {e}"))
+}
+
+/// A chart of the ground, metres east and north of the origin, with its axes
+/// drawn: the flight's ground track and a study's touchdown points share it.
+/// `caption` is the title and its font size in pixels.
+pub(crate) fn east_north_chart<'area, 'svg>(
+    area: &'area DrawingArea<SVGBackend<'svg>, Shift>,
+    (caption, caption_px): (&str, u32),
+    east_m: std::ops::Range<f64>,
+    north_m: std::ops::Range<f64>,
+) -> Result<
+    ChartContext<'area, SVGBackend<'svg>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    String,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", caption_px))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(70)
+        .build_cartesian_2d(east_m, north_m)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("east of origin (m)")
+        .y_desc("north of origin (m)")
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
 }
 
 /// A thin grey vertical line at each reset, from `y.start` to `y.end`.
@@ -714,20 +619,8 @@ fn track_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, trace: &Trace) -> Resu
     north.end += room;
     east.start -= room / 2.0;
     east.end += room / 2.0;
-    let mut chart = ChartBuilder::on(area)
-        .caption("Ground track", ("sans-serif", 18))
-        .margin(8)
-        .x_label_area_size(36)
-        .y_label_area_size(70)
-        .build_cartesian_2d(east, north)
-        .map_err(draw_error)?;
-    chart
-        .configure_mesh()
-        .x_desc("east of origin (m)")
-        .y_desc("north of origin (m)")
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(draw_error)?;
+    let mut chart =
+        east_north_chart(area, ("Ground track", 18), east, north).map_err(draw_error)?;
     let time = padded_range(samples.iter().map(|s| s.time_s));
     for (i, segment) in segments(samples).into_iter().enumerate() {
         // Thinned in time, keeping each column's extremes north and east.

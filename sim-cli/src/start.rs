@@ -10,18 +10,13 @@
 
 use clap::Args;
 use fdm_core::model::Model;
-use fdm_core::start::{InitialConditions, StartError, TrimReport};
-use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+use fdm_core::start::TrimReport;
 
 use crate::error::CliError;
 use crate::input::Echo;
-use fdm_run::Start;
+use fdm_run::{Start, StartOptions, StartRefused};
 
-/// Highest accepted `--altitude-ft`: far above both models' ceilings (the
-/// atmosphere of Palmer's model ends near 145 000 ft).
-pub const MAX_ALTITUDE_FT: f64 = 100_000.0;
-/// Highest accepted `--speed-kt`.
-pub const MAX_SPEED_KT: f64 = 1000.0;
+pub use fdm_run::scenario::{MAX_ALTITUDE_FT, MAX_HEADING_DEG, MAX_SPEED_KT};
 
 /// Initial-condition options.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Args)]
@@ -74,7 +69,12 @@ pub fn parse_speed_kt(text: &str) -> Result<f64, String> {
 /// # Errors
 /// A one-line message.
 pub fn parse_heading_deg(text: &str) -> Result<f64, String> {
-    parse_number(text, -360.0, 360.0, "a heading in degrees")
+    parse_number(
+        text,
+        -MAX_HEADING_DEG,
+        MAX_HEADING_DEG,
+        "a heading in degrees",
+    )
 }
 
 impl StartArgs {
@@ -84,25 +84,20 @@ impl StartArgs {
         *self == Self::default()
     }
 
-    /// The initial conditions: the options given, the rest from model `M`'s
-    /// own start (its height, its airspeed, north).
+    /// The options as the run library takes them.
     #[must_use]
-    pub fn conditions<M: Model>(&self, aircraft: &M::Aircraft) -> InitialConditions {
-        let view = M::view(aircraft, &M::initial_controls(), &M::initial_state());
-        InitialConditions {
-            altitude_m: self
-                .altitude_ft
-                .map_or(view.height_m(), |ft| ft * METRES_PER_FOOT),
-            speed_mps: self
-                .speed_kt
-                .map_or(view.airspeed_mps, |kt| kt / KNOTS_PER_MPS),
-            heading_deg: self.heading_deg.unwrap_or(0.0),
+    pub fn options(&self) -> StartOptions {
+        StartOptions {
+            altitude_ft: self.altitude_ft,
+            speed_kt: self.speed_kt,
+            heading_deg: self.heading_deg,
+            trim: self.trim,
         }
     }
 }
 
-/// Model `M`'s start: the thesis's state without options; else
-/// [`Model::state_at`] the [`StartArgs::conditions`] with `controls`, or with
+/// Model `M`'s start ([`StartOptions::start`]): the thesis's state without
+/// options; else [`Model::state_at`] the conditions with `controls`, or with
 /// `--trim` [`Model::trim`]'s controls and state (and its report, for the
 /// caller to print).
 ///
@@ -114,46 +109,22 @@ pub fn start_for<M: Model>(
     controls: M::Controls,
     args: &StartArgs,
 ) -> Result<(Start<M>, Option<TrimReport>), CliError> {
-    if args.is_thesis() {
-        let state = M::initial_state();
-        return Ok((
-            Start {
-                aircraft,
-                controls,
-                state,
-            },
-            None,
-        ));
-    }
-    let conditions = args.conditions::<M>(&aircraft);
-    if args.trim {
-        let trimmed = M::trim(&aircraft, &controls, &conditions).map_err(|e| {
-            CliError::usage(match e {
-                StartError::InvalidConditions if conditions.altitude_m <= 0.0 => {
+    args.options()
+        .start::<M>(aircraft, controls)
+        .map_err(|refused| {
+            CliError::usage(match refused {
+                StartRefused::TrimOnGround => {
                     "--trim: cannot trim on the ground; give --altitude-ft above 0".to_owned()
                 }
-                e => format!("--trim: {e}"),
+                StartRefused::Trim(e) => format!("--trim: {e}"),
+                StartRefused::Conditions(e) => format!("initial conditions: {e}"),
+                StartRefused::OutOfRange { name, value, .. } => format!(
+                    "--{}: `{}` is out of range",
+                    name.replace('_', "-"),
+                    Echo::short(&value.to_string())
+                ),
             })
-        })?;
-        return Ok((
-            Start {
-                aircraft,
-                controls: trimmed.controls,
-                state: trimmed.state,
-            },
-            Some(trimmed.report),
-        ));
-    }
-    let state = M::state_at(&aircraft, &conditions)
-        .map_err(|e| CliError::usage(format!("initial conditions: {e}")))?;
-    Ok((
-        Start {
-            aircraft,
-            controls,
-            state,
-        },
-        None,
-    ))
+        })
 }
 
 /// The stderr line for a trim report.

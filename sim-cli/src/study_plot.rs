@@ -106,26 +106,12 @@ fn scatter(
         let mid = (north.start + north.end) / 2.0;
         north = (mid - 0.5)..(mid + 0.5);
     }
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            format!(
-                "Touchdown points ({} runs; axes not to the same scale)",
-                points_east_north_m.len()
-            ),
-            ("sans-serif", 16),
-        )
-        .margin(8)
-        .x_label_area_size(36)
-        .y_label_area_size(70)
-        .build_cartesian_2d(east, north)
-        .map_err(draw_error)?;
-    chart
-        .configure_mesh()
-        .x_desc("east of origin (m)")
-        .y_desc("north of origin (m)")
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(draw_error)?;
+    let caption = format!(
+        "Touchdown points ({} runs; axes not to the same scale)",
+        points_east_north_m.len()
+    );
+    let mut chart =
+        crate::plot::east_north_chart(area, (&caption, 16), east, north).map_err(draw_error)?;
     chart
         .draw_series(
             points_east_north_m

@@ -23,6 +23,7 @@ use crate::snapshot::Snapshot;
 
 pub mod headless;
 pub mod interactive;
+pub mod plotted;
 
 pub use headless::run_headless;
 pub use interactive::{run_interactive, Flow, InteractiveSummary, Session};
@@ -113,7 +114,7 @@ pub fn fly<F: Flight>(
         fg,
         origin: _,
         dis: _,
-        // Taken by `run_model`, which wraps the flight (crate::plot::fly_plotted).
+        // Taken by `run_model`, which wraps the flight (crate::run::plotted::fly_plotted).
         plot: _,
     } = run;
     match mode {
@@ -176,6 +177,42 @@ pub fn fly<F: Flight>(
             );
             Ok(())
         }
+    }
+}
+
+/// Lets the loops fly a borrowed flight, so the caller keeps it afterwards.
+impl<F: Flight> Flight for &mut F {
+    type Action = F::Action;
+    type Details = F::Details;
+
+    const TITLE: &'static str = F::TITLE;
+
+    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
+        (**self).step(actions)
+    }
+
+    fn reset(&mut self) -> anyhow::Result<()> {
+        (**self).reset()
+    }
+
+    fn snapshot(&self) -> Snapshot<Self::Details> {
+        (**self).snapshot()
+    }
+
+    fn link_stats(&self) -> Option<LinkStats> {
+        (**self).link_stats()
+    }
+
+    fn take_link_failure(&mut self) -> Option<String> {
+        (**self).take_link_failure()
+    }
+
+    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+        (**self).dis_report()
+    }
+
+    fn finish(&mut self) -> anyhow::Result<()> {
+        (**self).finish()
     }
 }
 
