@@ -110,6 +110,8 @@ pub fn maths() -> u64 {
             .f64(math::atan(x * 9.0))
             .f64(math::atan2(x, 0.75))
             .f64(math::asin(x / 4.0))
+            .f64(math::acos(x / 4.0))
+            .f64(math::tan(x))
             .f64(math::hypot(x, 1.5))
             .f64(math::cbrt(x * 11.0))
             .f64(math::fma(x, 3.0, 0.1));
@@ -135,7 +137,7 @@ pub fn maths() -> u64 {
 }
 
 /// [`maths()`] of this version of fdm-core's maths, the same on every target.
-pub const MATHS_FINGERPRINT: u64 = 0x3e85_c4a8_329e_a390;
+pub const MATHS_FINGERPRINT: u64 = 0x4bad_06c3_cb1a_9349;
 
 /// The fingerprint of a flight at one instant: its state's bits and the
 /// maths that flew it.
@@ -151,12 +153,8 @@ impl Fingerprint {
     /// The fingerprint of a Palmer state: time, position, velocity.
     #[must_use]
     pub fn of_palmer(state: &PalmerState) -> Self {
-        let mut h = Hasher::new().bytes(b"palmer").f64(state.time_s);
-        for v in state.position_m.iter().chain(state.velocity_mps.iter()) {
-            h = h.f64(*v);
-        }
         Self {
-            state: h.finish(),
+            state: palmer_state(state),
             maths: maths(),
         }
     }
@@ -165,22 +163,40 @@ impl Fingerprint {
     /// angular velocity, orientation and the stall flag.
     #[must_use]
     pub fn of_bourg(state: &BourgState) -> Self {
-        let mut h = Hasher::new().bytes(b"bourg").f64(state.time_s);
-        for v in state
-            .position_ft
-            .iter()
-            .chain(state.velocity_ftps.iter())
-            .chain(state.velocity_body_ftps.iter())
-            .chain(state.angular_velocity_radps.iter())
-            .chain(state.orientation.coords.iter())
-        {
-            h = h.f32(*v);
-        }
         Self {
-            state: h.bool(state.stalling).finish(),
+            state: bourg_state(state),
             maths: maths(),
         }
     }
+}
+
+/// [`Fingerprint::of_palmer`]'s state hash alone (a few dozen multiplications,
+/// cheap enough to take every frame; [`maths()`] evaluates every maths
+/// function and is meant to be taken once).
+#[must_use]
+pub fn palmer_state(state: &PalmerState) -> u64 {
+    let mut h = Hasher::new().bytes(b"palmer").f64(state.time_s);
+    for v in state.position_m.iter().chain(state.velocity_mps.iter()) {
+        h = h.f64(*v);
+    }
+    h.finish()
+}
+
+/// [`Fingerprint::of_bourg`]'s state hash alone (see [`palmer_state`]).
+#[must_use]
+pub fn bourg_state(state: &BourgState) -> u64 {
+    let mut h = Hasher::new().bytes(b"bourg").f64(state.time_s);
+    for v in state
+        .position_ft
+        .iter()
+        .chain(state.velocity_ftps.iter())
+        .chain(state.velocity_body_ftps.iter())
+        .chain(state.angular_velocity_radps.iter())
+        .chain(state.orientation.coords.iter())
+    {
+        h = h.f32(*v);
+    }
+    h.bool(state.stalling).finish()
 }
 
 #[cfg(test)]

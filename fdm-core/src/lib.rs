@@ -6,8 +6,10 @@
 //!
 //! Every step is a pure function of (parameters, controls, state, dt): no I/O, no
 //! allocation, no global state, no panics. The crate is `#![no_std]` without the
-//! default `std` feature; with `std`, transcendental functions come from the
-//! platform libm so results match the original programs bit for bit.
+//! default `std` feature. Every transcendental function comes from [`math`],
+//! pure Rust in every build, so the results match the original programs bit
+//! for bit with and without `std` and on every target (docs/determinism.md);
+//! [`fingerprint`] hashes a state and the maths in use.
 //!
 //! [`script`] parses the `START-END action` control scripts shared by the tests
 //! and the `sim-cli` binary (needs the `alloc` feature).

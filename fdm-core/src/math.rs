@@ -17,6 +17,7 @@
 //! | [`cbrt`] | the `libm` crate's port of CORE-MATH | correctly rounded; glibc is not (half the inputs differ by 1 ulp) |
 //! | [`sinf`], [`cosf`] | f64 `sin`/`cos` rounded to f32 | on the default airframe's angles; elsewhere ours is correctly rounded, glibc is not on 0.08 % / 0.03 % of `[-π, π]` |
 //! | [`sin`], [`cos`], [`atan`], [`atan2`], [`asin`], [`hypot`], [`atan2f`] | the `libm` crate (fdlibm) | on the reference cases' inputs; not everywhere (fdlibm and glibc both miss correct rounding at times) |
+//! | [`acos`], [`tan`] (outputs only: FlightGear multiplayer, DIS) | the `libm` crate (fdlibm) | not needed: no reference case calls them |
 //!
 //! docs/determinism.md has the study behind this table (exhaustive over `f32`,
 //! dense samples for `f64`) and the targets on which it is proven.
@@ -118,6 +119,23 @@ pub fn atan2(y: f64, x: f64) -> f64 {
 #[must_use]
 pub fn asin(x: f64) -> f64 {
     libm::asin(x)
+}
+
+/// Arc cosine (f64, radians, in `[0, π]`; NaN for `|x| > 1`): the `libm`
+/// crate's (fdlibm's), under 1 ulp. The models do not call it; the
+/// FlightGear multiplayer orientation does.
+#[inline]
+#[must_use]
+pub fn acos(x: f64) -> f64 {
+    libm::acos(x)
+}
+
+/// Tangent (f64, radians): the `libm` crate's (fdlibm's), under 1 ulp. The
+/// models do not call it; the DIS dead-reckoning threshold does.
+#[inline]
+#[must_use]
+pub fn tan(x: f64) -> f64 {
+    libm::tan(x)
 }
 
 /// `sqrt(x² + y²)` without undue overflow (f64), C's `hypot`: the `libm`

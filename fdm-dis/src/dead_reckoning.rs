@@ -19,11 +19,13 @@
 //! Otherwise receivers' pictures are within the thresholds, and nothing is
 //! sent.
 
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 use crate::entity::{DrAlgorithm, WireState};
 use crate::error::DisOutputError;
-use crate::frames::{rotation_angle_between, rotation_sin_cos, EcefState};
+use crate::frames::{
+    rotation_angle_between, rotation_from_scaled_axis, rotation_sin_cos, EcefState,
+};
 
 /// When to send, configurable per entity.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,7 +122,7 @@ fn extrapolate_from(
     }
     let orientation = if algorithm.rotates() {
         let w = Vector3::from(sent.angular_velocity_rad_s.map(f64::from));
-        c0 * Rotation3::from_scaled_axis(w * dt_s).into_inner()
+        c0 * rotation_from_scaled_axis(w * dt_s)
     } else {
         c0
     };
@@ -174,7 +176,7 @@ struct OrientationScreen {
 impl OrientationScreen {
     fn new(orientation_deg: f64) -> Self {
         let sine_per_cosine = if orientation_deg <= 80.0 {
-            orientation_deg.to_radians().tan() * (1.0 - 1e-9)
+            fdm_core::math::tan(orientation_deg.to_radians()) * (1.0 - 1e-9)
         } else {
             0.0
         };

@@ -156,7 +156,7 @@ pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
     ) * 0.5;
     let sin = v.norm();
     let cos = (r.trace() - 1.0) * 0.5;
-    let angle = sin.atan2(cos);
+    let angle = fdm_core::math::atan2(sin, cos);
     if sin > 1e-12 {
         v * (angle / sin)
     } else {

@@ -8,9 +8,10 @@
 
 use std::fmt::Debug;
 
-use fdm_core::bourg::{Airframe, Bourg, BourgAircraft};
+use fdm_core::bourg::{Airframe, Bourg, BourgAircraft, BourgState};
+use fdm_core::fingerprint;
 use fdm_core::model::Model;
-use fdm_core::palmer::{Palmer, PalmerAircraft};
+use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerState};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -40,6 +41,12 @@ pub trait RunModel:
     /// # Errors
     /// A one-line message naming what is wrong with the parameters.
     fn aircraft_from_record(record: Self::AircraftRecord) -> Result<Self::Aircraft, String>;
+
+    /// A 64-bit hash of every bit of `state` (the `state` half of an
+    /// [`fdm_core::fingerprint::Fingerprint`]): what a recording stores of
+    /// its final state, so that a replay can tell whether it flew the same
+    /// flight. Cheap enough to take every frame.
+    fn state_fingerprint(state: &Self::State) -> u64;
 }
 
 impl RunModel for Palmer {
@@ -55,6 +62,10 @@ impl RunModel for Palmer {
     fn aircraft_from_record(record: PalmerAircraft) -> Result<PalmerAircraft, String> {
         record.validate().map_err(|e| e.to_string())?;
         Ok(record)
+    }
+
+    fn state_fingerprint(state: &PalmerState) -> u64 {
+        fingerprint::palmer_state(state)
     }
 }
 
@@ -97,6 +108,10 @@ impl RunModel for Bourg {
         aircraft.max_thrust_lb = record.max_thrust_lb;
         aircraft.delta_thrust_lb = record.delta_thrust_lb;
         Ok(aircraft)
+    }
+
+    fn state_fingerprint(state: &BourgState) -> u64 {
+        fingerprint::bourg_state(state)
     }
 }
 

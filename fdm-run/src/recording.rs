@@ -15,6 +15,8 @@
 //!         of the file before this checksum (u64 LE)
 //!   events: Frames { count, actions } | Reset
 //! end block: one event End { frames, checksum }  -- FNV-1a 64 of every byte before the end block
+//!         (version 3: Sealed { frames, checksum, state, maths }, the same plus the flight's
+//!         fingerprint: a hash of the final state's bits and fdm_core::fingerprint::maths())
 //! ```
 //!
 //! Crash safety (version 2): the writer closes a block after every second of
@@ -23,6 +25,13 @@
 //! [`Recording::parse_salvaging`] replays those and says where the file was cut
 //! ([`Cut`]); [`Recording::parse`] takes only complete recordings. Version 1
 //! files (one event stream, no blocks) are still read, complete only.
+//!
+//! The fingerprint (version 3): the end marker also carries the hash of the
+//! flight's final state ([`RunModel::state_fingerprint`]) and of the maths
+//! that flew it ([`fdm_core::fingerprint::maths`]), so that `sim-cli replay`
+//! can tell a replay that flew another flight (other maths, another build,
+//! another machine whose bits differ) from one that flew the recorded one
+//! ([`Recording::fingerprint`]). Versions 1 and 2 have none.
 //!
 //! Reading is bounded and total: `sim-cli replay` reads at most
 //! [`MAX_RECORDING_BYTES`] (`crate::input::read_bytes`: a regular file or a pipe);
@@ -43,6 +52,7 @@ use std::time::{Duration, Instant};
 
 use bincode::config::{Configuration, Limit, LittleEndian, Varint};
 use bincode::error::DecodeError;
+use fdm_core::fingerprint::{self, Fingerprint};
 use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
 use fdm_core::script::{Echo, ScriptAction};
 use serde::{Deserialize, Serialize};
@@ -56,11 +66,12 @@ pub const MAGIC: [u8; 8] = *b"SIMCLIRC";
 
 /// The format version this `sim-cli` writes (the two bytes after [`MAGIC`],
 /// little-endian). Any change to the layout bumps it.
-pub const FORMAT_VERSION: u16 = 2;
+pub const FORMAT_VERSION: u16 = 3;
 
 /// The format versions this `sim-cli` reads: 1 (no blocks, complete files
-/// only) and 2 (blocks: see the module docs).
-pub const READABLE_VERSIONS: [u16; 2] = [1, 2];
+/// only), 2 (blocks: see the module docs) and 3 (version 2 with the flight's
+/// fingerprint in the end marker).
+pub const READABLE_VERSIONS: [u16; 3] = [1, 2, 3];
 
 /// Largest recording `sim-cli` writes or reads, bytes (64 MiB). Hours of
 /// interactive flying with a key change every frame take a few MB; a longer
@@ -140,6 +151,36 @@ enum Event {
         /// block (version 2).
         checksum: u64,
     },
+    /// Version 3's end marker: [`Event::End`] and the flight's fingerprint.
+    /// (Last, so that the other events keep their variant numbers.)
+    Sealed {
+        /// Frames in all [`Event::Frames`] together.
+        frames: u64,
+        /// FNV-1a 64 of the file up to the end block.
+        checksum: u64,
+        /// [`RunModel::state_fingerprint`] of the state after the last
+        /// frame (or reset).
+        state: u64,
+        /// [`fdm_core::fingerprint::maths`] of the build that flew it.
+        maths: u64,
+    },
+}
+
+impl Event {
+    /// The end marker's frame total, checksum and fingerprint (`None` for
+    /// other events; the fingerprint is `None` in a plain [`Event::End`]).
+    fn end(&self) -> Option<(u64, u64, Option<Fingerprint>)> {
+        match *self {
+            Self::End { frames, checksum } => Some((frames, checksum, None)),
+            Self::Sealed {
+                frames,
+                checksum,
+                state,
+                maths,
+            } => Some((frames, checksum, Some(Fingerprint { state, maths }))),
+            Self::Frames { .. } | Self::Reset => None,
+        }
+    }
 }
 
 /// FNV-1a, 64 bits: any change of a single byte changes the result (each
@@ -177,7 +218,7 @@ pub enum RecordingError {
     #[error("not a sim-cli recording (it does not start with the bytes \"SIMCLIRC\")")]
     NotARecording,
     /// Another format version.
-    #[error("recording format version {found}; this sim-cli reads versions 1 and 2")]
+    #[error("recording format version {found}; this sim-cli reads versions 1, 2 and 3")]
     WrongVersion {
         /// The version in the file.
         found: u16,
@@ -382,6 +423,11 @@ pub struct Recording<'a, M: RunModel> {
     pub resets: u64,
     /// Events (runs and resets).
     pub events: u64,
+    /// The flight's fingerprint from the end marker (version 3): the hash of
+    /// the state after the last frame and of the maths that flew it. `None`
+    /// for versions 1 and 2, a cut recording, or a writer that saw no state
+    /// (see [`RecordWriter::finish`]).
+    pub fingerprint: Option<Fingerprint>,
     table: Vec<M::Action>,
     /// The validated events, as the byte ranges they are stored in (the one
     /// event stream of version 1; each block's payload of version 2), with
@@ -463,6 +509,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
             frames: 0,
             resets: 0,
             events: 0,
+            fingerprint: None,
             table,
             payloads: Vec::new(),
         };
@@ -470,7 +517,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
             recording.validate_stream(bytes, body_start)?;
             None
         } else {
-            recording.validate_blocks(bytes, body_start)?
+            recording.validate_blocks(bytes, body_start, version)?
         };
         Ok((recording, cut))
     }
@@ -486,11 +533,12 @@ impl<'a, M: RunModel> Recording<'a, M> {
         let mut frames = 0_u64;
         loop {
             let (event, used) = decode_event(&whole[offset..], offset)?;
-            if let Event::End {
-                frames: total,
-                checksum,
-            } = event
-            {
+            if let Some((total, checksum, fingerprint)) = event.end() {
+                if fingerprint.is_some() {
+                    return Err(RecordingError::corrupt(format!(
+                        "event at byte {offset}: a version 3 end marker in a version 1 recording"
+                    )));
+                }
                 let mut hash = Fnv64::new();
                 hash.update(&whole[..offset]);
                 self.check_end(total, checksum, hash.0, frames)?;
@@ -516,6 +564,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
         &mut self,
         whole: &'a [u8],
         body_start: usize,
+        version: u16,
     ) -> Result<Option<Cut>, RecordingError> {
         let mut hash = Fnv64::new();
         hash.update(&whole[..body_start]);
@@ -577,11 +626,13 @@ impl<'a, M: RunModel> Recording<'a, M> {
                         )),
                         other => other,
                     })?;
-                if let Event::End {
-                    frames: total,
-                    checksum,
-                } = event
-                {
+                if let Some((total, checksum, fingerprint)) = event.end() {
+                    if fingerprint.is_some() && version < 3 {
+                        return Err(RecordingError::corrupt(format!(
+                            "event at byte {event_offset}: a version 3 end marker in a version \
+                             {version} recording"
+                        )));
+                    }
                     if at != 0 || used != payload.len() {
                         return Err(RecordingError::corrupt(format!(
                             "event at byte {event_offset}: the end marker shares its block"
@@ -595,6 +646,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
                         )));
                     }
                     self.frames = frames;
+                    self.fingerprint = fingerprint;
                     return Ok(None);
                 }
                 frames = self.count(&event, frames, event_offset)?;
@@ -624,7 +676,7 @@ impl<'a, M: RunModel> Recording<'a, M> {
                 self.resets += 1;
                 Ok(frames)
             }
-            Event::End { .. } => Err(RecordingError::corrupt(format!(
+            Event::End { .. } | Event::Sealed { .. } => Err(RecordingError::corrupt(format!(
                 "event at byte {offset}: an end marker before the end"
             ))),
         }
@@ -718,7 +770,9 @@ impl<'a, M: RunModel> Recording<'a, M> {
                             .collect::<Result<_, _>>()?,
                     }),
                     Event::Reset => Ok(Replayed::Reset),
-                    Event::End { .. } => Err(RecordingError::corrupt("end marker inside the body")),
+                    Event::End { .. } | Event::Sealed { .. } => {
+                        Err(RecordingError::corrupt("end marker inside the body"))
+                    }
                 }
             });
             if item.is_err() {
@@ -802,6 +856,9 @@ pub struct RecordWriter<A, W: Write> {
     run_count: u64,
     scratch: Vec<u16>,
     frames: u64,
+    /// [`RunModel::state_fingerprint`] of the latest state seen (as an
+    /// [`Output`]): the final state's at [`Self::finish`].
+    final_state: Option<u64>,
     finished: bool,
     _actions: PhantomData<A>,
 }
@@ -829,6 +886,7 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
             run_count: 0,
             scratch: Vec::new(),
             frames: 0,
+            final_state: None,
             finished: false,
             _actions: PhantomData,
         };
@@ -958,8 +1016,19 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
         self.put_event(&Event::Reset)
     }
 
+    /// The state the recorded flight is in after its latest frame (or
+    /// reset), as [`RunModel::state_fingerprint`] hashes it: [`Self::finish`]
+    /// seals the recording with it. The [`Output`] implementation calls this
+    /// every frame; a writer driven by hand calls it before `finish`.
+    pub fn set_final_state(&mut self, state_fingerprint: u64) {
+        self.final_state = Some(state_fingerprint);
+    }
+
     /// Writes the last run, closes its block, writes the end block and
-    /// flushes. Later calls do nothing.
+    /// flushes. Later calls do nothing. The end marker carries the flight's
+    /// fingerprint (the last [`Self::set_final_state`] and
+    /// [`fdm_core::fingerprint::maths`]) when a state was set; without one it
+    /// is version 2's plain end marker, and a replay says it cannot check.
     ///
     /// # Errors
     /// As [`Self::frame`], and flushing.
@@ -969,9 +1038,17 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
         }
         self.flush_run()?;
         self.close_block()?;
-        let end = Event::End {
-            frames: self.frames,
-            checksum: self.hash.0,
+        let end = match self.final_state {
+            Some(state) => Event::Sealed {
+                frames: self.frames,
+                checksum: self.hash.0,
+                state,
+                maths: fingerprint::maths(),
+            },
+            None => Event::End {
+                frames: self.frames,
+                checksum: self.hash.0,
+            },
         };
         self.put_event(&end)?;
         self.close_block()?;
@@ -1049,6 +1126,7 @@ impl<M: RunModel, W: Write> Output<M> for RecordWriter<M::Action, W> {
     /// Logs every flown frame's actions and every reset; the start is the
     /// header, written by [`RecordWriter::new`].
     fn frame(&mut self, frame: &Frame<'_, M>) -> Result<(), OutputError> {
+        self.set_final_state(M::state_fingerprint(frame.state));
         match frame.event {
             output::Event::Start => Ok(()),
             output::Event::Step => Ok(RecordWriter::frame(self, frame.actions)?),

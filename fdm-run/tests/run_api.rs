@@ -6,11 +6,12 @@
 use std::time::{Duration, Instant};
 
 use fdm_core::bourg::{self, Bourg, BourgAction};
+use fdm_core::fingerprint::Fingerprint;
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
 use fdm_core::script::Script;
 use fdm_run::recording::{parse_recording, RecordWriter, Recording, Replayed};
-use fdm_run::{Event, Frame, Output, OutputError, Run, Scenario, SharedOutput, Start};
+use fdm_run::{Event, Frame, Output, OutputError, Run, RunModel, Scenario, SharedOutput, Start};
 
 const PALMER_SCRIPT: &str =
     "1-20 throttle-up\n1-5 alpha-up\n300-310 bank-right\n500-501 flaps-down\n";
@@ -155,6 +156,47 @@ fn a_recording_made_through_the_output_interface_replays_bit_for_bit() {
     }
     assert_eq!(replay.state().unwrap(), run.state().unwrap());
     assert_eq!(replay.flown(), run.flown());
+    // The end marker carries the flight's fingerprint: the final state's
+    // (after the 50 frames since the reset) and the maths'.
+    assert_eq!(
+        recording.fingerprint,
+        Some(Fingerprint::of_palmer(&run.state().unwrap()))
+    );
+    assert_eq!(
+        recording.fingerprint.unwrap().state,
+        Palmer::state_fingerprint(&replay.state().unwrap())
+    );
+}
+
+#[test]
+fn a_bourg_recording_carries_its_final_states_fingerprint() {
+    let scenario = Scenario::<Bourg>::new(Start::thesis(), 30, 95).unwrap();
+    let mut run = Run::new(scenario.clone()).unwrap();
+    let writer = RecordWriter::new(Vec::new(), 30, &scenario.origin, &scenario.start).unwrap();
+    let recorder = SharedOutput::new(writer);
+    run.attach(recorder.clone()).unwrap();
+    run.run_to_end().unwrap();
+    run.finish().unwrap();
+    let bytes = recorder.take().unwrap().into_inner();
+    let recording = Recording::<Bourg>::parse(&bytes).unwrap();
+    let end = run.state().unwrap();
+    assert_eq!(recording.fingerprint, Some(Fingerprint::of_bourg(&end)));
+    assert_ne!(
+        recording.fingerprint.unwrap().state,
+        fdm_core::fingerprint::bourg_state(&scenario.start.state),
+        "the fingerprint is the final state's, not the start's"
+    );
+}
+
+#[test]
+fn a_writer_driven_by_hand_without_a_state_writes_no_fingerprint() {
+    let scenario = palmer_scenario(3);
+    let mut writer = RecordWriter::new(Vec::new(), 30, &scenario.origin, &scenario.start).unwrap();
+    writer.frame(&[PalmerAction::AlphaUp]).unwrap();
+    writer.finish().unwrap();
+    let bytes = writer.into_inner();
+    let recording = Recording::<Palmer>::parse(&bytes).unwrap();
+    assert_eq!((recording.frames, recording.fingerprint), (1, None));
 }
 
 #[test]

@@ -38,15 +38,20 @@ pub struct MeasureSummary {
     pub max: Option<f64>,
 }
 
-/// A study's summary, `summary.json`'s shape: `runs`, `seed`, `statuses`
-/// (every status code with its count) and `measures` (per measure, in the
-/// study's order, a [`MeasureSummary`]).
+/// A study's summary, `summary.json`'s shape: `runs`, `seed`, `maths` (the
+/// fingerprint of the maths that flew the runs, as text `0x` and 16 hex
+/// digits), `statuses` (every status code with its count) and `measures`
+/// (per measure, in the study's order, a [`MeasureSummary`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
     /// Runs summarised.
     pub runs: u64,
     /// The study's master seed (0 until [`Summary::with_seed`]).
     pub seed: u64,
+    /// [`fdm_core::fingerprint::maths`] of the build that summarised the
+    /// runs: the same study with the same seed gives the same table only
+    /// with the same maths (docs/determinism.md).
+    pub maths: u64,
     /// Every status code ([`RunStatus::CODES`]) with its count.
     pub statuses: Vec<(&'static str, u64)>,
     /// Per measure, in the table's order.
@@ -61,9 +66,11 @@ impl Serialize for Summary {
                 serializer.collect_map(self.0.iter().map(|(k, v)| (k, v)))
             }
         }
-        let mut map = serializer.serialize_map(Some(4))?;
+        let mut map = serializer.serialize_map(Some(5))?;
         map.serialize_entry("runs", &self.runs)?;
         map.serialize_entry("seed", &self.seed)?;
+        // Text: a JSON number above 2^53 loses bits in many readers.
+        map.serialize_entry("maths", &format!("{:#018x}", self.maths))?;
         map.serialize_entry("statuses", &Ordered(&self.statuses))?;
         map.serialize_entry("measures", &Ordered(&self.measures))?;
         map.end()
@@ -240,6 +247,7 @@ impl SummaryBuilder {
         Summary {
             runs: self.runs,
             seed: 0,
+            maths: fdm_core::fingerprint::maths(),
             statuses: RunStatus::CODES.iter().copied().zip(statuses).collect(),
             measures: self
                 .measures

@@ -19,6 +19,12 @@ pub enum CliError {
     /// status 3; every output is complete for what was replayed.
     #[error("{0}")]
     Incomplete(String),
+    /// A replay flew another flight than the recorded one: its final state's
+    /// fingerprint differs from the one the recording carries (other maths,
+    /// another build, a machine whose bits differ). Exit status 4; every
+    /// output of the replay is complete, but it is not the recorded flight.
+    #[error("{0}")]
+    DifferentFlight(String),
 }
 
 impl CliError {
@@ -39,6 +45,7 @@ impl CliError {
             Self::Usage(_) => 2,
             Self::Runtime(_) => 1,
             Self::Incomplete(_) => 3,
+            Self::DifferentFlight(_) => 4,
         }
     }
 
@@ -75,6 +82,7 @@ mod tests {
         assert_eq!(CliError::usage("x").exit_code(), 2);
         assert_eq!(CliError::runtime("x").exit_code(), 1);
         assert_eq!(CliError::Incomplete("x".to_owned()).exit_code(), 3);
+        assert_eq!(CliError::DifferentFlight("x".to_owned()).exit_code(), 4);
     }
 
     #[test]

@@ -50,6 +50,12 @@ pub struct ModelFlight<M: Model> {
 }
 
 impl<M: CliModel> ModelFlight<M> {
+    /// The model's state now (the start's before the first frame).
+    #[must_use]
+    pub fn state(&self) -> M::State {
+        self.run.state().unwrap_or(self.run.scenario().start.state)
+    }
+
     /// A run at the configured frame rate and origin with one aircraft
     /// starting at `start`, with a FlightGear link when the run has a target.
     ///

@@ -371,11 +371,11 @@ mod tests {
     #[test]
     fn wrong_version_model_magic_and_trailing_bytes_are_named() {
         let bytes = sample();
-        let mut v3 = bytes.clone();
-        v3[8] = 3;
+        let mut v4 = bytes.clone();
+        v4[8] = 4;
         assert_eq!(
-            parse_recording(&v3).unwrap_err().to_string(),
-            "recording format version 3; this sim-cli reads versions 1 and 2"
+            parse_recording(&v4).unwrap_err().to_string(),
+            "recording format version 4; this sim-cli reads versions 1, 2 and 3"
         );
         assert_eq!(
             Recording::<Bourg>::parse(&bytes).unwrap_err(),

@@ -13,6 +13,14 @@
 //! does headless flights, so that FlightGear (`--fg`) shows every frame.
 //! `--dis` publishes the replayed aircraft as a DIS entity, as the flight
 //! itself would ([`crate::dis`]).
+//!
+//! A recording of format version 3 carries the flight's fingerprint
+//! ([`Recording::fingerprint`]): after the last frame the replay compares its
+//! own final state with it ([`check_fingerprint`]). Another final state is a
+//! [`CliError::DifferentFlight`] (exit status 4); other maths alone only a
+//! warning (the flight may still be the same); a recording without a
+//! fingerprint (versions 1 and 2, a cut recording) a note that nothing was
+//! checked.
 
 use std::io::{self, Write};
 use std::time::Instant;
@@ -34,6 +42,7 @@ use crate::report::{LinkReport, RealtimeReport, Report};
 use crate::run::plotted::Plotted;
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
+use fdm_core::fingerprint::{self, Fingerprint};
 use fdm_run::acmi::AcmiOutput;
 
 /// Flies the recorded events on `flight` (which starts where the recording
@@ -250,12 +259,105 @@ impl WithModel for ReplayJob<'_> {
         writeln!(out, "{text}")
             .and_then(|()| out.flush())
             .context("writing to stdout")?;
-        match cut {
-            None => Ok(()),
-            Some(cut) => Err(CliError::Incomplete(format!(
-                "{file}: {cut}; they were replayed"
-            ))),
+        if let Some(cut) = cut {
+            return Err(CliError::Incomplete(format!(
+                "{file}: {cut}; they were replayed (a cut recording has no fingerprint to check \
+                 them against)"
+            )));
         }
+        if crate::signals::stop_requested().is_some() {
+            // Stopped early: not the whole flight, nothing to compare.
+            return Ok(());
+        }
+        let verdict = check_fingerprint(
+            recording.fingerprint,
+            M::state_fingerprint(&flight.state()),
+            fingerprint::maths(),
+        );
+        match verdict {
+            Verdict::Same => Ok(()),
+            Verdict::Unchecked => {
+                progress.message(&format!(
+                    "sim-cli: note: {file}: this recording (format version 1 or 2) has no \
+                     fingerprint; the replay was not checked against the recorded flight"
+                ));
+                Ok(())
+            }
+            Verdict::OtherMaths { recorded, ours } => {
+                progress.message(&format!(
+                    "sim-cli: warning: {file}: the recording was made with different maths \
+                     (maths fingerprint {recorded:#018x}, this sim-cli's {ours:#018x}); the \
+                     replay still ended in the recorded final state"
+                ));
+                Ok(())
+            }
+            Verdict::DifferentFlight {
+                recorded,
+                replayed,
+                maths,
+            } => {
+                let why = match maths {
+                    Some((recorded_maths, ours)) => format!(
+                        "; the recording was made with different maths (maths fingerprint \
+                         {recorded_maths:#018x}, this sim-cli's {ours:#018x})"
+                    ),
+                    None => {
+                        "; the maths are the same, so the build or the machine differs".to_owned()
+                    }
+                };
+                Err(CliError::DifferentFlight(format!(
+                    "{file}: the replay flew a different flight: its final state's fingerprint is \
+                     {replayed:#018x}, the recording's {recorded:#018x}{why}"
+                )))
+            }
+        }
+    }
+}
+
+/// What comparing a replay's end with the recording's fingerprint found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// The final state and the maths are the recording's.
+    Same,
+    /// The recording carries no fingerprint.
+    Unchecked,
+    /// The final state is the recording's, the maths are not.
+    OtherMaths {
+        /// The recording's maths fingerprint.
+        recorded: u64,
+        /// This build's.
+        ours: u64,
+    },
+    /// The final state is not the recording's.
+    DifferentFlight {
+        /// The recording's state fingerprint.
+        recorded: u64,
+        /// The replay's.
+        replayed: u64,
+        /// The recording's and this build's maths fingerprints, when they differ.
+        maths: Option<(u64, u64)>,
+    },
+}
+
+/// Compares a replay's final state (`replayed`, [`fdm_run::RunModel::state_fingerprint`])
+/// and this build's maths (`maths`, [`fingerprint::maths`]) with the
+/// recording's fingerprint.
+#[must_use]
+pub fn check_fingerprint(recorded: Option<Fingerprint>, replayed: u64, maths: u64) -> Verdict {
+    let Some(recorded) = recorded else {
+        return Verdict::Unchecked;
+    };
+    let other_maths = (recorded.maths != maths).then_some((recorded.maths, maths));
+    if recorded.state != replayed {
+        return Verdict::DifferentFlight {
+            recorded: recorded.state,
+            replayed,
+            maths: other_maths,
+        };
+    }
+    match other_maths {
+        None => Verdict::Same,
+        Some((recorded, ours)) => Verdict::OtherMaths { recorded, ours },
     }
 }
 

@@ -1,6 +1,6 @@
 //! Golden recordings (docs/recording.md, "Golden recordings"): one committed
 //! recording per model for every format version this `sim-cli` reads
-//! (versions 1 and 2), with the output of its replay, so that any change of the
+//! (versions 1, 2 and 3), with the output of its replay, so that any change of the
 //! format, of its byte order or of what a replay prints is a deliberate,
 //! visible change of the files in `tests/golden/`:
 //!
@@ -43,7 +43,7 @@ struct Flight {
     args: &'static [&'static str],
 }
 
-const VERSIONS: [u16; 2] = [1, 2];
+const VERSIONS: [u16; 3] = [1, 2, 3];
 
 const FLIGHTS: [Flight; 2] = [
     Flight {
@@ -256,7 +256,7 @@ fn other_format_versions_of_the_goldens_are_refused() {
                 stderr.trim_end(),
                 format!(
                     "sim-cli: error: {}: recording format version {version}; this sim-cli reads \
-                     versions 1 and 2",
+                     versions 1, 2 and 3",
                     path.display()
                 ),
             );
@@ -264,19 +264,18 @@ fn other_format_versions_of_the_goldens_are_refused() {
     }
 }
 
-/// A Palmer recording written before the wheel brakes existed (its header
-/// lists 8 actions, today's 10) replays exactly as the current golden does:
-/// adding actions to a model keeps its older recordings readable. The two
-/// files differ only in the action table and the checksums after it.
+/// A Palmer recording written before the wheel brakes existed (the version 2
+/// golden: its header lists 8 actions; today's, version 3, 10) replays to
+/// exactly the flight today's does: adding actions to a model keeps its older
+/// recordings readable.
 #[test]
-fn a_palmer_recording_from_before_the_brakes_replays_as_before() {
+fn a_palmer_recording_from_before_the_brakes_replays_as_today() {
     let dir = scratch("golden-before-brakes");
-    let before = read("palmer_v2_before_brakes.rec");
-    let today = read("palmer_v2.rec");
-    assert_eq!(today.len(), before.len() + 21);
+    let before = read("palmer_v2.rec");
+    let today = read("palmer_v3.rec");
     let names = |bytes: &[u8], name: &[u8]| bytes.windows(name.len()).any(|w| w == name);
     assert!(!names(&before, b"brakes-on") && names(&today, b"brakes-on"));
-    let (json, csv) = replay(&golden("palmer_v2_before_brakes.rec"), &dir);
-    assert_eq!(json.as_bytes(), read("palmer_v2.replay.json"));
-    assert!(csv == read("palmer_v2.replay.csv"), "the CSV differs");
+    let (json, csv) = replay(&golden("palmer_v2.rec"), &dir);
+    assert_eq!(json.as_bytes(), read("palmer_v3.replay.json"));
+    assert!(csv == read("palmer_v3.replay.csv"), "the CSV differs");
 }

@@ -45,6 +45,11 @@ fn batch_writes_runs_csv_and_summary_json() {
     let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(summary["runs"], 6);
     assert_eq!(summary["seed"], 3);
+    // The fingerprint of the maths that flew the runs (docs/studies.md).
+    assert_eq!(
+        summary["maths"],
+        format!("{:#018x}", fdm_core::fingerprint::maths())
+    );
     let statuses = summary["statuses"].as_object().unwrap();
     let counted: u64 = statuses.values().map(|v| v.as_u64().unwrap()).sum();
     assert_eq!(counted, 6);

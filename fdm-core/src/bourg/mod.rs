@@ -23,15 +23,12 @@
 //! # Float type
 //!
 //! Everything is `f32`, the original's `float` (bit-identical to the C++
-//! built with g++ and glibc when the `std` feature is on), except where the
-//! original widens to `double` ([`ops::quat_from_euler_deg`],
-//! [`ops::euler_deg_from_quat`]).
+//! built with g++ and glibc), except where the original widens to `double`
+//! ([`ops::quat_from_euler_deg`], [`ops::euler_deg_from_quat`]).
 //!
-//! Bit-exactness needs the platform libm (`std` feature, glibc). Without
-//! `std`, the `libm` crate's `sinf`, `asinf`, `atan2`, ... differ from glibc's
-//! in the last bit for some inputs; measured on the reference cases, the final
-//! states then differ from the C++ by up to 1.2e-3 on four cases and by
-//! 0.094 ft (y) on the sensitive pitch case.
+//! Bit-exact with and without `std` and on every target: `sinf`, `asinf`,
+//! `atan2`, ... are [`crate::math`]'s pure-Rust functions, which reproduce
+//! glibc's results on the reference cases (docs/determinism.md).
 //!
 //! ```
 //! use fdm_core::bourg::{step, BourgAircraft, BourgControls, BourgState};

@@ -4,8 +4,9 @@
 //! Earth frame: x forward ("north"), y left ("west"), z up; metres, seconds.
 //!
 //! The model is stated operation by operation in the project's
-//! `docs/palmer-model.md`; [`step`] reproduces the original C program's results (with
-//! the `std` feature, bit for bit on glibc).
+//! `docs/palmer-model.md`; [`step`] reproduces the original C program's results bit
+//! for bit, with or without `std` and on every target (its maths are
+//! [`crate::math`]'s: docs/determinism.md).
 //!
 //! * [`PalmerAircraft`]: parameters (Cessna 172 by default), [`PalmerAircraft::validate`].
 //! * [`PalmerControls`], [`Flaps`]: throttle, angle of attack, bank, flaps;

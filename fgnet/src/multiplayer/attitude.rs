@@ -4,9 +4,13 @@
 //! Quaternions are `[w, x, y, z]`, multiplied with the Hamilton product, and
 //! follow SimGear's formulas term for term (see the docs of
 //! [`crate::multiplayer`] for the conventions). Everything is `f64`; degrees become
-//! radians as `deg * π / 180` and back as `rad * 180 / π`.
+//! radians as `deg * π / 180` and back as `rad * 180 / π`. The sines, cosines
+//! and arc functions are [`fdm_core::math`]'s (pure Rust), not the platform's
+//! libm, so the bytes on the wire are the same on every machine.
 
 use core::f64::consts::PI;
+
+use fdm_core::math;
 
 /// Attitude relative to the local horizontal frame (x north, y east,
 /// z down), degrees: yaw about z, then pitch about the new y, then roll
@@ -55,17 +59,17 @@ fn conj(q: Quat) -> Quat {
 fn from_lon_lat_rad(lon: f64, lat: f64) -> Quat {
     let zd2 = 0.5 * lon;
     let yd2 = -0.25 * PI - 0.5 * lat;
-    let (szd2, czd2) = zd2.sin_cos();
-    let (syd2, cyd2) = yd2.sin_cos();
+    let (szd2, czd2) = math::sin_cos(zd2);
+    let (syd2, cyd2) = math::sin_cos(yd2);
     [czd2 * cyd2, -szd2 * syd2, czd2 * syd2, szd2 * cyd2]
 }
 
 /// Local horizontal → body: SimGear's `SGQuatd::fromYawPitchRoll(z, y, x)`,
 /// i.e. `qz(yaw) * qy(pitch) * qx(roll)`.
 fn from_yaw_pitch_roll(z: f64, y: f64, x: f64) -> Quat {
-    let (szd2, czd2) = (0.5 * z).sin_cos();
-    let (syd2, cyd2) = (0.5 * y).sin_cos();
-    let (sxd2, cxd2) = (0.5 * x).sin_cos();
+    let (szd2, czd2) = math::sin_cos(0.5 * z);
+    let (syd2, cyd2) = math::sin_cos(0.5 * y);
+    let (sxd2, cxd2) = math::sin_cos(0.5 * x);
     let cxcy = cxd2 * cyd2;
     let cxsy = cxd2 * syd2;
     let sxcy = sxd2 * cyd2;
@@ -91,8 +95,8 @@ fn angle_axis(q: Quat) -> [f64; 3] {
         return [0.0; 3];
     }
     let r_nrm = 1.0 / nrm;
-    let half = (r_nrm * q[0]).clamp(-1.0, 1.0).acos();
-    let s_ang = half.sin();
+    let half = math::acos((r_nrm * q[0]).clamp(-1.0, 1.0));
+    let s_ang = math::sin(half);
     let axis = if s_ang.abs() <= f64::MIN_POSITIVE {
         [1.0, 0.0, 0.0]
     } else {
@@ -109,7 +113,7 @@ fn from_angle_axis(v: [f64; 3]) -> Quat {
     if n <= f64::MIN_POSITIVE {
         return [1.0, 0.0, 0.0, 0.0];
     }
-    let (s, c) = (0.5 * n).sin_cos();
+    let (s, c) = math::sin_cos(0.5 * n);
     let k = s / n;
     [c, k * v[0], k * v[1], k * v[2]]
 }
@@ -122,7 +126,11 @@ fn euler_rad(q: Quat) -> (f64, f64, f64) {
 
     let num = 2.0 * (y * z + w * x);
     let den = sqw - sqx - sqy + sqz;
-    let roll = if tiny(num, den) { 0.0 } else { num.atan2(den) };
+    let roll = if tiny(num, den) {
+        0.0
+    } else {
+        math::atan2(num, den)
+    };
 
     let tmp = 2.0 * (x * z - w * y);
     let pitch = if tmp <= -1.0 {
@@ -130,7 +138,7 @@ fn euler_rad(q: Quat) -> (f64, f64, f64) {
     } else if 1.0 <= tmp {
         -0.5 * PI
     } else {
-        -tmp.asin()
+        -math::asin(tmp)
     };
 
     let num = 2.0 * (x * y + w * z);
@@ -138,7 +146,7 @@ fn euler_rad(q: Quat) -> (f64, f64, f64) {
     let yaw = if tiny(num, den) {
         0.0
     } else {
-        let psi = num.atan2(den);
+        let psi = math::atan2(num, den);
         if psi < 0.0 {
             psi + 2.0 * PI
         } else {
