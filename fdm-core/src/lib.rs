@@ -22,6 +22,7 @@ pub mod bourg;
 pub mod fingerprint;
 pub mod geodesy;
 pub mod math;
+pub mod message;
 pub mod model;
 pub mod palmer;
 pub mod real;

@@ -491,3 +491,17 @@ proptest! {
         let _ = origin.geodetic_to_model(Geodetic { lat_deg: x, lon_deg: y, alt_m: z });
     }
 }
+
+/// Messages show huge numbers in scientific notation: `1e308` printed plainly
+/// is 309 digits (issue 23, item 9).
+#[test]
+fn huge_numbers_in_origin_errors_are_short() {
+    for (origin, shown) in [
+        (GeodeticOrigin::new(1e308, 0.0, 0.0), "got 1e308"),
+        (GeodeticOrigin::new(0.0, -1e300, 0.0), "got -1e300"),
+        (GeodeticOrigin::new(0.0, 0.0, 1e200), "got 1e200"),
+    ] {
+        let message = origin.unwrap_err().to_string();
+        assert!(message.ends_with(shown), "{message}");
+    }
+}

@@ -1,6 +1,7 @@
 //! A scenario: what a run starts from and how long it lasts.
 
 use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::message::ShortNumber;
 use fdm_core::model::Model;
 use fdm_core::script::Script;
 use fdm_core::start::{InitialConditions, StartError, TrimReport};
@@ -82,7 +83,7 @@ pub struct StartOptions {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum StartRefused {
     /// A value outside its range (or not finite).
-    #[error("{name}: {value} is not in {low}..{high}")]
+    #[error("{name}: {} is not in {low}..{high}", ShortNumber(*.value))]
     OutOfRange {
         /// The option's name (`altitude_ft`, `speed_kt`, `heading_deg`).
         name: &'static str,
@@ -335,6 +336,20 @@ mod tests {
                 other => panic!("{name}: expected OutOfRange, got {other:?}"),
             }
         }
+    }
+
+    #[test]
+    fn a_huge_value_is_shown_short() {
+        let refused = StartOptions {
+            altitude_ft: Some(1e308),
+            ..StartOptions::default()
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!(
+            refused.to_string(),
+            "altitude_ft: 1e308 is not in 0..100000"
+        );
     }
 
     #[test]

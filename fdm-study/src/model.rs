@@ -2,6 +2,7 @@
 //! and physical parameters a study file can set, and cheap reads of a state.
 
 use fdm_core::bourg::{Bourg, BourgAircraft, BourgControls, BourgState};
+use fdm_core::message::ShortNumber;
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_core::units::METRES_PER_FOOT;
 use fdm_fleet::LaneModel;
@@ -49,7 +50,8 @@ fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64, String> {
         Ok(value)
     } else {
         Err(format!(
-            "{key} = {value}: expected a number from {low} to {high}"
+            "{key} = {}: expected a number from {low} to {high}",
+            ShortNumber(value)
         ))
     }
 }

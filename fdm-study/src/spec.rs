@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::message::ShortNumber;
 use fdm_core::model::Model;
 use fdm_core::script::{Rule, Script};
 use fdm_run::{Scenario, Start, StartOptions, StartRefused, MAX_FPS, MAX_FRAMES};
@@ -321,7 +322,8 @@ impl Study {
                 file.duration_s.span(),
                 "duration_s",
                 format!(
-                    "seconds giving 1 to {MAX_FRAMES} frames at {fps} frames per second, found {duration}"
+                    "seconds giving 1 to {MAX_FRAMES} frames at {fps} frames per second, found {}",
+                    ShortNumber(duration)
                 ),
             ));
         }
@@ -415,7 +417,7 @@ impl Study {
                 Err(invalid(
                     d.span(),
                     "script_delay_s",
-                    format!("seconds >= 0, found {v}"),
+                    format!("seconds >= 0, found {}", ShortNumber(v)),
                 ))
             }
         })?;
@@ -695,7 +697,7 @@ impl Study {
         if !(delay.is_finite() && delay >= 0.0) {
             return Err(format!(
                 "script_delay_s = {}: expected seconds >= 0",
-                values.script_delay_s
+                ShortNumber(values.script_delay_s)
             ));
         }
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
@@ -760,7 +762,10 @@ fn check_initial(spec: &InitialSpec) -> Result<(), String> {
             value,
             low,
             high,
-        } => format!("{name}: expected a number from {low} to {high}, found {value}"),
+        } => format!(
+            "{name}: expected a number from {low} to {high}, found {}",
+            ShortNumber(value)
+        ),
         refused => refused.to_string(),
     })
 }
@@ -791,7 +796,10 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
         if v > 0.0 {
             Ok(v)
         } else {
-            Err(("sd", format!("a standard deviation > 0, found {v}")))
+            Err((
+                "sd",
+                format!("a standard deviation > 0, found {}", ShortNumber(v)),
+            ))
         }
     };
     let ordered = |low: f64, high: f64| {
@@ -800,7 +808,11 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
         } else {
             Err((
                 "high",
-                format!("low < high, found low {low} and high {high}"),
+                format!(
+                    "low < high, found low {} and high {}",
+                    ShortNumber(low),
+                    ShortNumber(high)
+                ),
             ))
         }
     };
@@ -1012,6 +1024,17 @@ mod tests {
         assert!(e.contains("line 2") && e.contains("runs"), "{e}");
         let e = error(&format!("{BASE}script = \"1-2 fly-away\"\n"));
         assert!(e.contains("line 5") && e.contains("script"), "{e}");
+    }
+
+    #[test]
+    fn huge_numbers_in_errors_are_short() {
+        // 1e308 printed plainly is 309 digits (issue 23, item 9).
+        let e = error(&format!(
+            "{BASE}[[dispersion]]\nkey = \"controls.throttle\"\ndistribution = \"normal\"\nmean = 0.5\nsd = -1e308\n"
+        ));
+        assert!(e.contains("found -1e308") && e.len() < 200, "{e}");
+        let e = error(&format!("{BASE}[initial]\naltitude_ft = 1e300\n"));
+        assert!(e.contains("found 1e300") && e.len() < 200, "{e}");
     }
 
     #[test]

@@ -43,12 +43,7 @@ pub fn show_path(path: &Path) -> String {
 /// scientific notation (`1e308`, not 309 digits).
 #[must_use]
 pub fn show_number(value: f64) -> String {
-    let plain = value.to_string();
-    if plain.len() <= 24 {
-        plain
-    } else {
-        format!("{value:e}")
-    }
+    fdm_core::message::ShortNumber(value).to_string()
 }
 
 /// A number with `decimals` decimals, as in a table column, unless that

@@ -4,6 +4,8 @@
 
 use core::fmt;
 
+use crate::message::ShortNumber;
+
 #[cfg(feature = "alloc")]
 use alloc::{borrow::ToOwned, string::String};
 
@@ -96,18 +98,21 @@ impl fmt::Display for GeodesyError {
             ),
             #[cfg(feature = "alloc")]
             Self::NotANumber { field, text } => write!(f, "{field} is not a number: {text:?}"),
-            Self::NonFinite { field, value } => write!(f, "{field} must be finite, got {value}"),
+            Self::NonFinite { field, value } => {
+                write!(f, "{field} must be finite, got {}", ShortNumber(*value))
+            }
             Self::LatitudeOutOfRange { lat_deg } => {
-                write!(f, "latitude must be within [-90, 90] degrees, got {lat_deg}")
+                write!(f, "latitude must be within [-90, 90] degrees, got {}", ShortNumber(*lat_deg))
             }
             Self::LongitudeOutOfRange { lon_deg } => {
-                write!(f, "longitude must be within [-180, 180] degrees, got {lon_deg}")
+                write!(f, "longitude must be within [-180, 180] degrees, got {}", ShortNumber(*lon_deg))
             }
             Self::AltitudeOutOfRange { alt_m } => write!(
                 f,
-                "altitude must be within [{}, {}] metres, got {alt_m}",
+                "altitude must be within [{}, {}] metres, got {}",
                 GeodeticOrigin::ALT_RANGE_M.start(),
-                GeodeticOrigin::ALT_RANGE_M.end()
+                GeodeticOrigin::ALT_RANGE_M.end(),
+                ShortNumber(*alt_m)
             ),
         }
     }

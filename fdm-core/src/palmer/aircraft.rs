@@ -2,6 +2,8 @@
 
 use core::fmt;
 
+use crate::message::ShortNumber;
+
 use serde::{Deserialize, Serialize};
 
 /// Mass properties, airfoil and propeller data of a Palmer aircraft (docs/palmer-model.md
@@ -190,10 +192,18 @@ impl fmt::Display for AircraftError {
                 )
             }
             Self::NotPositive { field, value } => {
-                write!(f, "aircraft parameter `{field}` must be > 0, got {value}")
+                write!(
+                    f,
+                    "aircraft parameter `{field}` must be > 0, got {}",
+                    ShortNumber(*value)
+                )
             }
             Self::Negative { field, value } => {
-                write!(f, "aircraft parameter `{field}` must be >= 0, got {value}")
+                write!(
+                    f,
+                    "aircraft parameter `{field}` must be >= 0, got {}",
+                    ShortNumber(*value)
+                )
             }
         }
     }

@@ -62,6 +62,8 @@
 use core::f64::consts::PI;
 use core::fmt;
 
+use crate::message::ShortNumber;
+
 use nalgebra::Vector3;
 
 use super::{AircraftError, Flaps, PalmerAircraft, PalmerControls, PalmerState};
@@ -533,7 +535,11 @@ impl fmt::Display for StepError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::InvalidTimeStep { dt_s } => {
-                write!(f, "time step must be finite and > 0 s, got {dt_s}")
+                write!(
+                    f,
+                    "time step must be finite and > 0 s, got {}",
+                    ShortNumber(*dt_s)
+                )
             }
             Self::NonFiniteState => f.write_str("state has a NaN or infinite component"),
             Self::NonFiniteControls => f.write_str("controls have a NaN or infinite value"),
