@@ -135,6 +135,8 @@ fn palmer_reference_cases_are_bit_exact_without_std() {
             alpha_deg: num(&c["alpha"]),
             bank_deg: num(&c["bank"]),
             flaps: Flaps::try_from(c["flaps"].as_u64().unwrap() as u8).unwrap(),
+            // Our extension; off, the step is the original's.
+            brakes: false,
         };
         let mut state = PalmerState::at_rest();
         for _ in 0..frames {
