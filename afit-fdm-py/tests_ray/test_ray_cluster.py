@@ -152,5 +152,11 @@ def test_a_node_killed_mid_study_its_shards_rerun_with_the_same_bits(
     assert 1 <= kill["done"] < shards
     assert table.identical(whole)
     assert sorted(d.index for d in done) == list(range(shards))
-    # Every shard finished after the kill was flown on the head.
-    assert {d.node_id for d in done[kill["done"] :]} == {c.head_node.node_id}
+    # The shard the worker was flying when it died is flown again on the head.
+    # Not every shard reported after the kill comes from the head: a shard the
+    # worker finished just before it died can be reported after the kill with
+    # the worker's id (Ray hands a small result to the driver as soon as its
+    # task ends, so it outlives the node; seen in a CI run at load 1.4).
+    after_kill = {d.node_id for d in done[kill["done"] :]}
+    assert c.head_node.node_id in after_kill
+    assert after_kill <= {c.head_node.node_id, worker.node_id}
