@@ -11,21 +11,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use fdm_tests::python::{PyScript, PYACMI, PYACMI_SCRIPT};
-use support::{scratch, sim, text};
+use support::{scratch, sim, sim_ok, text};
 
 const EXAMPLES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/scripts/");
-
-#[track_caller]
-fn ok(args: &[&str]) -> String {
-    let out = sim(args);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{args:?}: stderr {}",
-        text(&out.stderr)
-    );
-    text(&out.stdout)
-}
 
 #[track_caller]
 fn refused(args: &[&str], needle: &str) {
@@ -119,7 +107,7 @@ fn the_acmi_track_is_the_csvs_within_1e_7_degrees_and_a_centimetre() {
         let acmi = dir.join(file);
         let csv = dir.join(format!("{model}.csv"));
         let script = format!("{EXAMPLES}{script}");
-        ok(&[
+        sim_ok(&[
             model,
             "--headless",
             "--frames",
@@ -167,7 +155,7 @@ fn a_replay_writes_the_flights_acmi_bytes() {
     let dir = scratch("acmi_replay");
     let p = |name: &str| dir.join(name).to_str().unwrap().to_owned();
     let script = format!("{EXAMPLES}bourg_roll.txt");
-    ok(&[
+    sim_ok(&[
         "bourg",
         "--headless",
         "--frames",
@@ -179,7 +167,7 @@ fn a_replay_writes_the_flights_acmi_bytes() {
         "--acmi",
         &p("flight.acmi"),
     ]);
-    ok(&["replay", &p("b.rec"), "--acmi", &p("replay.acmi")]);
+    sim_ok(&["replay", &p("b.rec"), "--acmi", &p("replay.acmi")]);
     let flight = std::fs::read(p("flight.acmi")).unwrap();
     assert!(flight.starts_with(
         b"FileType=text/acmi/tacview\nFileVersion=2.2\n0,ReferenceTime=2000-01-01T00:00:00Z\n"
@@ -194,7 +182,7 @@ fn a_fleets_acmi_has_every_aircraft_the_same_from_both_kernels() {
     for kernel in ["lanes", "ecs"] {
         // One file name in two folders: the zip entry is named after the file.
         std::fs::create_dir_all(dir.join(kernel)).unwrap();
-        ok(&[
+        sim_ok(&[
             "fleet",
             "--model",
             "palmer",

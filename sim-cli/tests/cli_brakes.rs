@@ -6,7 +6,7 @@
 
 mod support;
 
-use support::{report, scratch, sim, text, triple, write_file};
+use support::{report, scratch, sim, sim_ok, text, triple, write_file};
 
 #[test]
 fn brakes_hold_at_full_power_and_show_in_the_report() {
@@ -46,17 +46,7 @@ fn braked_flights_replay_byte_for_byte() {
     // Held at full power, released for the take-off roll, braked again.
     let script = write_file(&dir, "brakes.txt", "31-31 brakes-off\n90-90 brakes-on\n");
     let (rec, csv1, csv2) = (path("b.rec"), path("1.csv"), path("2.csv"));
-    let run = |args: &[&str]| {
-        let out = sim(args);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{args:?}: {}",
-            text(&out.stderr)
-        );
-        text(&out.stdout)
-    };
-    let original = run(&[
+    let original = sim_ok(&[
         "palmer",
         "--headless",
         "--json",
@@ -74,7 +64,7 @@ fn braked_flights_replay_byte_for_byte() {
         "--record",
         &rec,
     ]);
-    let replayed = run(&["replay", &rec, "--json", "--csv", &csv2]);
+    let replayed = sim_ok(&["replay", &rec, "--json", "--csv", &csv2]);
     assert_eq!(original, replayed);
     assert_eq!(std::fs::read(&csv1).unwrap(), std::fs::read(&csv2).unwrap());
     let r: serde_json::Value = serde_json::from_str(&original).unwrap();

@@ -6,7 +6,7 @@ mod support;
 
 use quick_xml::events::Event;
 use quick_xml::Reader;
-use support::{scratch, sim, text};
+use support::{scratch, sim, sim_ok, text};
 
 /// What an SVG holds: its text labels and the number of points of each polyline.
 struct Svg {
@@ -58,17 +58,6 @@ fn parse(svg: &str) -> Svg {
     Svg { texts, polylines }
 }
 
-#[track_caller]
-fn run_ok(args: &[&str]) {
-    let out = sim(args);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        text(&out.stderr)
-    );
-}
-
 /// Removes the first text element (the title, which names the source).
 fn without_title(svg: &str) -> String {
     let start = svg.find("<text").expect("a title");
@@ -88,7 +77,7 @@ fn palmer_plot_has_every_panel_and_series_and_matches_the_csv_replot() {
         svg.to_str().unwrap(),
         replot.to_str().unwrap(),
     );
-    run_ok(&[
+    sim_ok(&[
         "palmer",
         "--headless",
         "--fps",
@@ -106,7 +95,7 @@ fn palmer_plot_has_every_panel_and_series_and_matches_the_csv_replot() {
         "--plot",
         svg,
     ]);
-    run_ok(&["plot", csv, "-o", replot]);
+    sim_ok(&["plot", csv, "-o", replot]);
     let run = std::fs::read_to_string(svg).unwrap();
     let again = std::fs::read_to_string(replot).unwrap();
     let parsed = parse(&run);
@@ -167,7 +156,7 @@ fn bourg_script_run_plots_and_replots_identically() {
         env!("CARGO_MANIFEST_DIR"),
         "/../examples/scripts/bourg_roll.txt"
     );
-    run_ok(&[
+    sim_ok(&[
         "bourg",
         "--headless",
         "--frames",
@@ -179,7 +168,7 @@ fn bourg_script_run_plots_and_replots_identically() {
         "--plot",
         svg,
     ]);
-    run_ok(&["plot", csv, "--output", replot]);
+    sim_ok(&["plot", csv, "--output", replot]);
     let run = std::fs::read_to_string(svg).unwrap();
     let parsed = parse(&run);
     assert!(parsed.texts[0].starts_with("Bourg 6-DoF: 451 samples"));
@@ -267,7 +256,7 @@ fn a_two_hour_csv_at_100_fps_plots_small_enough_for_viewers() {
         .unwrap();
     }
     std::fs::write(&csv, rows).unwrap();
-    run_ok(&["plot", csv.to_str().unwrap(), "-o", svg.to_str().unwrap()]);
+    sim_ok(&["plot", csv.to_str().unwrap(), "-o", svg.to_str().unwrap()]);
     let drawn = std::fs::read_to_string(&svg).unwrap();
     assert!(drawn.len() < 2_000_000, "{} bytes", drawn.len());
     let parsed = parse(&drawn);

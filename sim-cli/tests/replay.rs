@@ -5,22 +5,9 @@
 
 mod support;
 
-use support::{scratch, sim, text};
+use support::{scratch, sim, sim_ok, text};
 
 const EXAMPLES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/scripts/");
-
-/// Runs `args`, expects success, returns stdout.
-#[track_caller]
-fn ok(args: &[&str]) -> String {
-    let out = sim(args);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{args:?}: stderr {}",
-        text(&out.stderr)
-    );
-    text(&out.stdout)
-}
 
 /// Runs `args`, expects exit status 2 and one stderr line containing `needle`.
 #[track_caller]
@@ -75,8 +62,8 @@ fn replays_equal_the_recorded_flights() {
             &rec,
         ];
         args.extend_from_slice(extra);
-        let original = ok(&args);
-        let replayed = ok(&["replay", &rec, "--json", "--csv", &csv2]);
+        let original = sim_ok(&args);
+        let replayed = sim_ok(&["replay", &rec, "--json", "--csv", &csv2]);
         assert_eq!(original, replayed, "{model}");
         assert_eq!(
             std::fs::read(&csv1).unwrap(),
@@ -84,7 +71,7 @@ fn replays_equal_the_recorded_flights() {
             "{model}"
         );
         // Without --json: the human summary and what was replayed.
-        let summary = ok(&["replay", &rec]);
+        let summary = sim_ok(&["replay", &rec]);
         assert!(
             summary.starts_with(&format!("{model}: {frames} frames at {fps} fps")),
             "{summary}"
@@ -100,7 +87,7 @@ fn realtime_replays_take_the_flights_time() {
     let dir = scratch("replay-rt");
     let rec = dir.join("rt.rec").to_str().unwrap().to_owned();
     let script = format!("{EXAMPLES}bourg_roll.txt");
-    let original = ok(&[
+    let original = sim_ok(&[
         "bourg",
         "--headless",
         "--json",
@@ -112,7 +99,7 @@ fn realtime_replays_take_the_flights_time() {
         &rec,
     ]);
     let start = std::time::Instant::now();
-    let paced = ok(&["replay", &rec, "--json", "--realtime"]);
+    let paced = sim_ok(&["replay", &rec, "--json", "--realtime"]);
     // 60 frames at 30 fps: 2 s of wall clock, less at most one frame period.
     let took = start.elapsed().as_secs_f64();
     assert!(took > 1.9, "{took} s");
@@ -130,7 +117,7 @@ fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
     let dir = scratch("replay-bad");
     let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
     let rec = path("good.rec");
-    ok(&[
+    sim_ok(&[
         "palmer",
         "--headless",
         "--frames",
@@ -197,7 +184,7 @@ fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
     refused(&["replay", "/dev/zero"], "give a regular file or a pipe");
     // With --plot too, the recording is finished (the plot wrapper passes the end on).
     let (plotted, svg) = (path("plotted.rec"), path("p.svg"));
-    let original = ok(&[
+    let original = sim_ok(&[
         "bourg",
         "--headless",
         "--json",
@@ -208,7 +195,7 @@ fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
         "--record",
         &plotted,
     ]);
-    assert_eq!(ok(&["replay", &plotted, "--json"]), original);
+    assert_eq!(sim_ok(&["replay", &plotted, "--json"]), original);
     refused(
         &[
             "palmer",
@@ -258,7 +245,7 @@ fn replay_plots_equal_the_recorded_runs_plots() {
     ] {
         let script = format!("{EXAMPLES}{script}");
         let (rec, plot1, plot2) = (path("p.rec"), path("1.svg"), path("2.svg"));
-        ok(&[
+        sim_ok(&[
             model,
             "--headless",
             "--fps",
@@ -272,7 +259,7 @@ fn replay_plots_equal_the_recorded_runs_plots() {
             "--record",
             &rec,
         ]);
-        ok(&["replay", &rec, "--plot", &plot2]);
+        sim_ok(&["replay", &rec, "--plot", &plot2]);
         let (original, replayed) = (
             std::fs::read(&plot1).unwrap(),
             std::fs::read(&plot2).unwrap(),

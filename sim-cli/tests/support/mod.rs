@@ -18,6 +18,20 @@ pub fn sim(args: &[&str]) -> Output {
         .expect("run sim-cli")
 }
 
+/// Runs sim-cli with `args`, checks it exited 0 (else fails naming the
+/// arguments and showing stderr), and returns its stdout.
+#[track_caller]
+pub fn sim_ok(args: &[&str]) -> String {
+    let out = sim(args);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{args:?}: stderr {}",
+        text(&out.stderr)
+    );
+    text(&out.stdout)
+}
+
 /// Lossy UTF-8 text of an output stream.
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
