@@ -124,13 +124,14 @@ impl Summary {
     pub fn to_text(&self) -> String {
         let mut out = String::new();
         if let Some(stopped) = &self.stopped {
+            let of = match self.runs {
+                0 => "no run was completed".to_owned(),
+                runs => format!("the summary is of runs 0 to {} only", runs - 1),
+            };
             let _ = writeln!(
                 out,
-                "stopped by {} after {} of {} runs: the summary is of runs 0 to {} only",
-                stopped.by,
-                self.runs,
-                stopped.runs_planned,
-                self.runs.saturating_sub(1)
+                "stopped by {} after {} of {} runs: {of}",
+                stopped.by, self.runs, stopped.runs_planned
             );
         }
         let _ = writeln!(out, "{} runs, seed {}", self.runs, self.seed);
@@ -355,6 +356,36 @@ mod tests {
         assert!(close(s.mean, 5.5));
         // sd of 1..=10 is sqrt(55/6).
         assert!(close(s.sd, (55.0f64 / 6.0).sqrt()));
+    }
+
+    /// A stopped study's summary says so, in JSON right after `runs` and
+    /// first in the text; an unstopped one has none of those fields.
+    #[test]
+    fn a_stopped_summary_says_so() {
+        let table = RunTable {
+            run: vec![0, 1],
+            status: vec![RunStatus::StartRefused; 2],
+            frames: vec![0; 2],
+            measures: vec![("max_height_m".into(), vec![None, None])],
+        };
+        let whole = summarize(&table);
+        let json = serde_json::to_string(&whole).unwrap();
+        assert!(!json.contains("stopped"), "{json}");
+        let stopped = summarize(&table).stopped("SIGINT", 7);
+        let json = serde_json::to_string(&stopped).unwrap();
+        assert!(
+            json.starts_with(
+                r#"{"runs":2,"stopped_by":"SIGINT","runs_completed":2,"runs_planned":7,"seed":0,"#
+            ),
+            "{json}"
+        );
+        assert!(stopped.to_text().starts_with(
+            "stopped by SIGINT after 2 of 7 runs: the summary is of runs 0 to 1 only\n2 runs, seed 0\n"
+        ));
+        let none = summarize(&RunTable::empty(&[])).stopped("SIGTERM", 7);
+        assert!(none
+            .to_text()
+            .starts_with("stopped by SIGTERM after 0 of 7 runs: no run was completed\n"));
     }
 
     #[test]
