@@ -3,6 +3,11 @@
 //! `summary.json` and on the terminal; and `--run I`, run I flown alone with
 //! every output of a single flight, bit-identical to the batch's row.
 //!
+//! A signal (crate::signals) stops the batch inside the chunk in flight: the
+//! runs completed, 0 to K - 1, are written and summarised, and the summary
+//! says the study was stopped; `--run I` stops at the next frame and writes no
+//! `run-I.csv` for a flight cut short.
+//!
 //! The file format, the measures and the guarantees: docs/studies.md.
 
 use std::io::{BufWriter, IsTerminal, Write};
