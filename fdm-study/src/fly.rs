@@ -3,7 +3,7 @@
 //! flown alone through `fdm_run`.
 
 use std::ops::Range;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use fdm_core::model::{FlightStatus, Model};
@@ -21,6 +21,12 @@ use crate::StudyError;
 /// rows appended in run order. Small enough to balance threads and keep a
 /// block's states in cache, large enough that the per-block set-up is noise.
 pub const BLOCK_RUNS: u64 = 1024;
+
+/// Frames between two looks at the stop request of
+/// [`Study::fly_runs_until`] inside a block: often enough that a block of
+/// [`BLOCK_RUNS`] runs gives up within milliseconds, rarely enough that the
+/// caller's check costs nothing next to the frames.
+const STOP_CHECK_FRAMES: u64 = 16;
 
 /// How [`Study::fly_runs`] flies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,6 +71,54 @@ impl Study {
     /// [`StudyError::Range`] for runs past [`Study::runs`], a precision the
     /// model has not ([`StudyError::Fleet`]), or no thread.
     pub fn fly_runs(&self, runs: Range<u64>, options: &FlyOptions) -> Result<RunTable, StudyError> {
+        self.fly_runs_until(runs, options, || false)
+    }
+
+    /// [`Study::fly_runs`] that can be stopped: `stop` is asked before each
+    /// block and every few frames while one flies (from every worker
+    /// thread, so it should be cheap, e.g. an atomic load); once it has
+    /// answered `true`, the blocks in flight are given up, no new block is
+    /// started, and the result is the rows of the runs completed before
+    /// the stop that follow each other from `runs.start` on: runs
+    /// `runs.start..runs.start + K` for some `K` from 0 to the range's
+    /// length, in run order, without gaps (a block finished after one
+    /// that was given up is dropped too). Each row is the same bits as
+    /// [`Study::fly_runs`] gives for that run; the runs `K..` can be flown
+    /// later (`fly_runs_until(runs.start + K..runs.end, ..)`) and the
+    /// tables joined with [`RunTable::append`].
+    ///
+    /// The table is shorter than the range only when `stop` answered
+    /// `true`; a stop that comes after the last block has finished changes
+    /// nothing. A block is [`BLOCK_RUNS`] runs, so a stop loses at most
+    /// that many runs' work per thread.
+    ///
+    /// ```
+    /// use std::sync::atomic::{AtomicBool, Ordering};
+    /// use fdm_study::{FlyOptions, Study};
+    ///
+    /// let study = Study::from_toml_str(
+    ///     "model = \"palmer\"\nruns = 3000\nduration_s = 1.0\nmeasures = [\"max_height_m\"]\n",
+    /// )?;
+    /// // Already asked to stop (e.g. by a signal handler): nothing is flown.
+    /// let stop = AtomicBool::new(true);
+    /// let table = study.fly_runs_until(0..3000, &FlyOptions::default(), || {
+    ///     stop.load(Ordering::Relaxed)
+    /// })?;
+    /// assert!(table.is_empty());
+    /// // Never asked: the whole range, as `fly_runs` gives it.
+    /// let all = study.fly_runs_until(0..3000, &FlyOptions::default(), || false)?;
+    /// assert_eq!(all.len(), 3000);
+    /// # Ok::<(), fdm_study::StudyError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Study::fly_runs`].
+    pub fn fly_runs_until(
+        &self,
+        runs: Range<u64>,
+        options: &FlyOptions,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Result<RunTable, StudyError> {
         if runs.start > runs.end || runs.end > self.runs() {
             return Err(StudyError::Range {
                 start: runs.start,
@@ -81,6 +135,7 @@ impl Study {
                 study: self,
                 runs,
                 options: *options,
+                stop: &stop,
             },
         )
         .unwrap_or(Err(StudyError::Model {
@@ -89,8 +144,17 @@ impl Study {
         }))
     }
 
-    /// Flies one block of runs of model `M`.
-    fn fly_block<M: StudyModel>(&self, runs: Range<u64>, precision: Precision) -> RunTable {
+    /// Flies one block of runs of model `M`; `None` when `halt` answered
+    /// `true` before the block was finished (the block is given up).
+    fn fly_block<M: StudyModel>(
+        &self,
+        runs: Range<u64>,
+        precision: Precision,
+        halt: &dyn Fn() -> bool,
+    ) -> Option<RunTable> {
+        if halt() {
+            return None;
+        }
         let measures = self.measures();
         let count = usize::try_from(runs.end - runs.start).unwrap_or(0);
         let mut trackers: Vec<Option<Tracker>> = Vec::with_capacity(count);
@@ -145,6 +209,9 @@ impl Study {
             let mut flying = stopped.iter().filter(|s| !**s).count();
             let mut frame = 0;
             while frame < self.frames() && flying > 0 {
+                if frame % STOP_CHECK_FRAMES == 0 && halt() {
+                    return None;
+                }
                 frame += 1;
                 for (j, script) in scripts.iter().enumerate() {
                     if stopped[j] {
@@ -189,7 +256,7 @@ impl Study {
         for (k, run) in runs.enumerate() {
             table.push(run, statuses[k], frames[k], trackers[k].as_ref(), measures);
         }
-        table
+        Some(table)
     }
 }
 
@@ -197,6 +264,7 @@ struct FlyJob<'a> {
     study: &'a Study,
     runs: Range<u64>,
     options: FlyOptions,
+    stop: &'a (dyn Fn() -> bool + Sync),
 }
 
 impl StudyJob for FlyJob<'_> {
@@ -207,8 +275,21 @@ impl StudyJob for FlyJob<'_> {
             study,
             runs,
             options,
+            stop,
         } = self;
         Fleet::<M>::check_precision(options.precision)?;
+        // Latched: once the caller has asked to stop, every worker gives up
+        // (even if the caller's answer would change back).
+        let stopped = AtomicBool::new(false);
+        let halt = || {
+            stopped.load(Ordering::Relaxed) || {
+                let now = stop();
+                if now {
+                    stopped.store(true, Ordering::Relaxed);
+                }
+                now
+            }
+        };
         let blocks: Vec<Range<u64>> = (runs.start..runs.end)
             .step_by(usize::try_from(BLOCK_RUNS).unwrap_or(1024))
             .map(|start| start..(start + BLOCK_RUNS).min(runs.end))
@@ -222,7 +303,10 @@ impl StudyJob for FlyJob<'_> {
                 scope.spawn(|| loop {
                     let b = next.fetch_add(1, Ordering::Relaxed);
                     let Some(block) = blocks.get(b) else { break };
-                    let table = study.fly_block::<M>(block.clone(), options.precision);
+                    let Some(table) = study.fly_block::<M>(block.clone(), options.precision, &halt)
+                    else {
+                        break;
+                    };
                     if let Ok(mut slot) = results[b].lock() {
                         *slot = Some(table);
                     }
@@ -230,9 +314,15 @@ impl StudyJob for FlyJob<'_> {
             }
         });
         let mut table = RunTable::empty(study.measures());
+        let stopped = stopped.into_inner();
         for slot in results {
-            let block = slot.into_inner().ok().flatten().ok_or(StudyError::Worker)?;
-            table.append(block)?;
+            match slot.into_inner().ok().flatten() {
+                Some(block) => table.append(block)?,
+                // The first block not flown ends the completed runs; the
+                // blocks after it are dropped, so the rows have no gap.
+                None if stopped => break,
+                None => return Err(StudyError::Worker),
+            }
         }
         Ok(table)
     }

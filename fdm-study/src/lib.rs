@@ -13,6 +13,11 @@
 //!   come from a counter-based stream keyed by the seed and the run index,
 //!   [`rng`]);
 //! * tables of consecutive ranges join with [`RunTable::append`];
+//! * a study can be stopped: [`Study::fly_runs_until`] asks a closure
+//!   between blocks and every few frames, and on a stop gives the rows of
+//!   the runs completed from the range's start on, without gaps (runs
+//!   `first..first + K`), each the same bits as an unstopped flight's;
+//!   [`Summary::stopped`] marks the summary of such a table;
 //! * a measure that does not apply to a run (no touchdown, target height
 //!   never reached, a refused start) is `None`, never NaN; the summary
 //!   leaves it out;
@@ -55,7 +60,7 @@
 //! | [`spec`] | the study file and [`Study`] |
 //! | [`rng`] | Philox4x32-10 and the samplers' inversions |
 //! | [`measure`] | the built-in [`Measure`]s and their [`measure::Tracker`] |
-//! | [`fly`] | [`Study::fly_runs`], [`RunTable`], [`MeasureOutput`] |
+//! | [`fly`] | [`Study::fly_runs`] (and [`Study::fly_runs_until`], which can be stopped), [`RunTable`], [`MeasureOutput`] |
 //! | [`summary`] | [`summarize`], [`Summary`] |
 //! | [`table`] | `runs.csv` |
 //! | [`arrow`] | `runs.arrow`: the table as an Arrow IPC file |
@@ -76,7 +81,7 @@ pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, BLOCK_RUNS};
 pub use measure::Measure;
 pub use model::StudyModel;
 pub use spec::{Distribution, Stop, Study, MAX_RUNS};
-pub use summary::{summarize, MeasureSummary, Summary, SummaryBuilder};
+pub use summary::{summarize, MeasureSummary, StoppedEarly, Summary, SummaryBuilder};
 pub use table::{RunStatus, RunTable};
 
 /// Why a study could not be read or flown.

@@ -38,14 +38,31 @@ pub struct MeasureSummary {
     pub max: Option<f64>,
 }
 
-/// A study's summary, `summary.json`'s shape: `runs`, `seed`, `maths` (the
-/// fingerprint of the maths that flew the runs, as text `0x` and 16 hex
-/// digits), `statuses` (every status code with its count) and `measures`
-/// (per measure, in the study's order, a [`MeasureSummary`]).
+/// Why a summary covers only the first runs of its study: the study was
+/// stopped before its end ([`Summary::stopped`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StoppedEarly {
+    /// What stopped it, as the caller names it (`sim-cli` writes the
+    /// signal's name, `SIGTERM`).
+    pub by: String,
+    /// The study's runs (the summary's [`Summary::runs`] are the first of
+    /// them, runs 0 to `runs - 1`).
+    pub runs_planned: u64,
+}
+
+/// A study's summary, `summary.json`'s shape: `runs`, then for a study
+/// stopped early `stopped_by`, `runs_completed` (the same number as
+/// `runs`) and `runs_planned`, then `seed`, `maths` (the fingerprint of the
+/// maths that flew the runs, as text `0x` and 16 hex digits), `statuses`
+/// (every status code with its count) and `measures` (per measure, in the
+/// study's order, a [`MeasureSummary`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
     /// Runs summarised.
     pub runs: u64,
+    /// `Some` when the study was stopped before its end and the summary is
+    /// of its first [`Summary::runs`] runs only.
+    pub stopped: Option<StoppedEarly>,
     /// The study's master seed (0 until [`Summary::with_seed`]).
     pub seed: u64,
     /// [`fdm_core::fingerprint::maths`] of the build that summarised the
@@ -66,8 +83,13 @@ impl Serialize for Summary {
                 serializer.collect_map(self.0.iter().map(|(k, v)| (k, v)))
             }
         }
-        let mut map = serializer.serialize_map(Some(5))?;
+        let mut map = serializer.serialize_map(Some(if self.stopped.is_some() { 8 } else { 5 }))?;
         map.serialize_entry("runs", &self.runs)?;
+        if let Some(stopped) = &self.stopped {
+            map.serialize_entry("stopped_by", &stopped.by)?;
+            map.serialize_entry("runs_completed", &self.runs)?;
+            map.serialize_entry("runs_planned", &stopped.runs_planned)?;
+        }
         map.serialize_entry("seed", &self.seed)?;
         // Text: a JSON number above 2^53 loses bits in many readers.
         map.serialize_entry("maths", &format!("{:#018x}", self.maths))?;
@@ -85,11 +107,34 @@ impl Summary {
         self
     }
 
-    /// The summary as text for a terminal: status counts, then one line per
-    /// measure.
+    /// The same summary marked as that of a study stopped by `by` (e.g.
+    /// `SIGTERM`) after its first [`Summary::runs`] of `runs_planned` runs.
+    #[must_use]
+    pub fn stopped(mut self, by: impl Into<String>, runs_planned: u64) -> Self {
+        self.stopped = Some(StoppedEarly {
+            by: by.into(),
+            runs_planned,
+        });
+        self
+    }
+
+    /// The summary as text for a terminal: for a study stopped early, a
+    /// line saying so; then status counts, then one line per measure.
     #[must_use]
     pub fn to_text(&self) -> String {
-        let mut out = format!("{} runs, seed {}\n", self.runs, self.seed);
+        let mut out = String::new();
+        if let Some(stopped) = &self.stopped {
+            let of = match self.runs {
+                0 => "no run was completed".to_owned(),
+                runs => format!("the summary is of runs 0 to {} only", runs - 1),
+            };
+            let _ = writeln!(
+                out,
+                "stopped by {} after {} of {} runs: {of}",
+                stopped.by, self.runs, stopped.runs_planned
+            );
+        }
+        let _ = writeln!(out, "{} runs, seed {}", self.runs, self.seed);
         let statuses: Vec<String> = self
             .statuses
             .iter()
@@ -246,6 +291,7 @@ impl SummaryBuilder {
         statuses.resize(RunStatus::CODES.len(), 0);
         Summary {
             runs: self.runs,
+            stopped: None,
             seed: 0,
             maths: fdm_core::fingerprint::maths(),
             statuses: RunStatus::CODES.iter().copied().zip(statuses).collect(),
@@ -310,6 +356,36 @@ mod tests {
         assert!(close(s.mean, 5.5));
         // sd of 1..=10 is sqrt(55/6).
         assert!(close(s.sd, (55.0f64 / 6.0).sqrt()));
+    }
+
+    /// A stopped study's summary says so, in JSON right after `runs` and
+    /// first in the text; an unstopped one has none of those fields.
+    #[test]
+    fn a_stopped_summary_says_so() {
+        let table = RunTable {
+            run: vec![0, 1],
+            status: vec![RunStatus::StartRefused; 2],
+            frames: vec![0; 2],
+            measures: vec![("max_height_m".into(), vec![None, None])],
+        };
+        let whole = summarize(&table);
+        let json = serde_json::to_string(&whole).unwrap();
+        assert!(!json.contains("stopped"), "{json}");
+        let stopped = summarize(&table).stopped("SIGINT", 7);
+        let json = serde_json::to_string(&stopped).unwrap();
+        assert!(
+            json.starts_with(
+                r#"{"runs":2,"stopped_by":"SIGINT","runs_completed":2,"runs_planned":7,"seed":0,"#
+            ),
+            "{json}"
+        );
+        assert!(stopped.to_text().starts_with(
+            "stopped by SIGINT after 2 of 7 runs: the summary is of runs 0 to 1 only\n2 runs, seed 0\n"
+        ));
+        let none = summarize(&RunTable::empty(&[])).stopped("SIGTERM", 7);
+        assert!(none
+            .to_text()
+            .starts_with("stopped by SIGTERM after 0 of 7 runs: no run was completed\n"));
     }
 
     #[test]

@@ -4,7 +4,8 @@
 //! (`kill`, `timeout`, a closed terminal window, Ctrl-\ or Ctrl-C outside raw
 //! mode). On the first one it asks the run to stop ([`stop_requested`]): the run
 //! loops (headless, interactive, replay, fleet, `dis-listen`) look at it once a
-//! frame (or every 200 ms while listening), end the run as if its last frame had
+//! frame (or every 200 ms while listening; `study` every 16 frames of the blocks
+//! in flight, keeping the runs completed), end the run as if its last frame had
 //! come, and every output is finished as on a normal end: the CSV flushed, the
 //! recording closed with its end marker, the plot and the ACMI file written, the
 //! JSON report printed for the frames flown. `main` then prints

@@ -3,6 +3,11 @@
 //! `summary.json` and on the terminal; and `--run I`, run I flown alone with
 //! every output of a single flight, bit-identical to the batch's row.
 //!
+//! A signal (crate::signals) stops the batch inside the chunk in flight: the
+//! runs completed, 0 to K - 1, are written and summarised, and the summary
+//! says the study was stopped; `--run I` stops at the next frame and writes no
+//! `run-I.csv` for a flight cut short.
+//!
 //! The file format, the measures and the guarantees: docs/studies.md.
 
 use std::io::{BufWriter, IsTerminal, Write};
@@ -24,6 +29,7 @@ use crate::args::{CommonArgs, FleetPrecision, StudyArgs};
 use crate::error::CliError;
 use crate::models::CliModel;
 use crate::progress::StderrProgress;
+use crate::signals::SignalSafeWriter;
 
 /// Blocks of runs per chunk and thread: a chunk is flown, written and
 /// dropped before the next, so memory stays bounded whatever the number of
@@ -119,7 +125,9 @@ fn batch(
     // file"): two studies writing into one directory are refused, not spliced.
     let file = crate::outfile::create_locked(&csv_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", csv_path.display())))?;
-    let mut csv = BufWriter::with_capacity(1 << 16, file);
+    // Registered with the signal thread: if the process must end at once (a
+    // second signal), the file still ends with a whole row.
+    let mut csv = SignalSafeWriter::register(file);
     write_csv_header(&mut csv, &study.measure_names())
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let arrow_path = out_dir.join("runs.arrow");
@@ -131,6 +139,8 @@ fn batch(
     )
     .with_context(|| format!("writing {}", arrow_path.display()))?;
     let mut summary = SummaryBuilder::new();
+    // Every measure's entry, even if a stop comes before the first run.
+    summary.add(&RunTable::empty(study.measures()));
     // Touchdown points for the scatter (east = −y, north = x), the first
     // runs' up to the plot's limit.
     let names = study.measure_names();
@@ -138,14 +148,27 @@ fn batch(
     let touchdown_columns = column("touchdown_x_m").zip(column("touchdown_y_m"));
     let mut touchdowns: Vec<(f64, f64)> = Vec::new();
     let mut progress = StderrProgress::with_enabled(study.runs(), std::io::stderr().is_terminal());
+    // A signal (crate::signals) stops the flying within milliseconds, inside
+    // the chunk; the runs completed before it, runs 0 to start - 1, are
+    // written and summarised as at a normal end.
+    let stop = || crate::signals::stop_requested().is_some();
     let mut start = 0;
-    while start < study.runs() {
+    while start < study.runs() && !stop() {
         let end = (start + chunk_runs).min(study.runs());
-        let table = study.fly_runs(start..end, &options).map_err(|e| match e {
-            fdm_study::StudyError::Fleet(_) => CliError::usage(e.to_string()),
-            e => CliError::runtime(e),
-        })?;
+        let table = study
+            .fly_runs_until(start..end, &options, stop)
+            .map_err(|e| match e {
+                fdm_study::StudyError::Fleet(_) => CliError::usage(e.to_string()),
+                e => CliError::runtime(e),
+            })?;
+        if table.is_empty() {
+            break;
+        }
         write_csv_rows(&mut csv, &table)
+            .with_context(|| format!("writing {}", csv_path.display()))?;
+        // Each finished chunk on disk (whole rows): what a reader or a
+        // killed process sees grows chunk by chunk.
+        csv.flush()
             .with_context(|| format!("writing {}", csv_path.display()))?;
         arrow
             .write(&table)
@@ -162,7 +185,7 @@ fn batch(
                     .take(room),
             );
         }
-        start = end;
+        start += table.len() as u64;
         progress.tick(start - start % 64);
     }
     progress.finish();
@@ -174,7 +197,12 @@ fn batch(
     let svg = crate::study_plot::render(summary.measure_values(), &touchdowns)?;
     let plot_path = out_dir.join("study.svg");
     std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
-    let summary = summary.finish().with_seed(study.seed());
+    let mut summary = summary.finish().with_seed(study.seed());
+    if start < study.runs() {
+        // Only a stop ends the loop early (errors return above).
+        let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
+        summary = summary.stopped(by, study.runs());
+    }
     let json = serde_json::to_string_pretty(&summary).context("summary as JSON")?;
     let summary_path = out_dir.join("summary.json");
     std::fs::write(&summary_path, format!("{json}\n"))
@@ -209,9 +237,16 @@ fn run_alone<M: CliModel + StudyModel>(
         threads: 1,
         precision: Precision::Exact,
     };
+    // A signal during this flight ends the command before the flight alone
+    // (nothing written; exit 128 + N, crate::signals).
     let batch = study
-        .fly_runs(run..run + 1, &options)
+        .fly_runs_until(run..run + 1, &options, || {
+            crate::signals::stop_requested().is_some()
+        })
         .map_err(CliError::runtime)?;
+    if batch.is_empty() {
+        return Ok(());
+    }
     if batch.status.first() == Some(&RunStatus::StartRefused) {
         let reason = study
             .scenario::<M>(run, 0)
@@ -252,6 +287,12 @@ fn run_alone<M: CliModel + StudyModel>(
         .take()
         .map(|m| m.table())
         .unwrap_or_else(|| RunTable::empty(study.measures()));
+    // A signal ended the flight early (its own outputs are finished for the
+    // frames flown, as `sim-cli palmer`'s): its measures are not the batch's
+    // row, so run-I.csv is not written.
+    if crate::signals::stop_requested().is_some() && table.frames.first() != Some(&frames) {
+        return Ok(());
+    }
     let path = out_dir.join(format!("run-{run}.csv"));
     let mut text = Vec::new();
     write_csv_header(&mut text, &study.measure_names()).context("run row")?;
