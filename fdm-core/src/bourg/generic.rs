@@ -392,8 +392,9 @@ pub(crate) fn loads<R: BourgReal, F: Maths>(
         sin_attack[i] = R::select(s.lt(-1.0), c(-1.0), s);
     }
 
-    // `RadiansToDegrees(asinf(s))`.
-    let attack_deg = sin_attack.map(|s| F::asinf(s) * 180.0 / PI);
+    // `RadiansToDegrees(asinf(s))`, the eight `asinf`s together (for one
+    // aircraft, as eight lanes: the same bits, `Real::asinf_exact_8`).
+    let attack_deg = F::asinf_8(sin_attack).map(|a| a * 180.0 / PI);
 
     let mut stalling = R::Mask::splat(false);
     let mut resultant = [zero; 8];

@@ -27,6 +27,14 @@ pub trait Maths: Copy + Default + Send + Sync + 'static {
     fn asinf<R: Real<Scalar = f32>>(x: R) -> R {
         x.asinf_exact()
     }
+
+    /// [`Maths::asinf`] of eight values (one per lifting element), each
+    /// with the bits [`Maths::asinf`] gives it. [`Exact`] and [`Fast`]
+    /// evaluate the eight together ([`Real::asinf_exact_8`]).
+    #[inline(always)]
+    fn asinf_8<R: Real<Scalar = f32>>(values: [R; 8]) -> [R; 8] {
+        values.map(Self::asinf)
+    }
 }
 
 /// Every function exactly as the scalar step calls it: a lane has the bits of
@@ -36,6 +44,11 @@ pub struct Exact;
 
 impl Maths for Exact {
     const VECTORISED: bool = false;
+
+    #[inline(always)]
+    fn asinf_8<R: Real<Scalar = f32>>(values: [R; 8]) -> [R; 8] {
+        R::asinf_exact_8(values)
+    }
 }
 
 /// Vectorised forms where there are some, [`Exact`]'s functions elsewhere:
@@ -54,6 +67,11 @@ pub struct Fast<const FMA: bool>;
 
 impl<const FMA: bool> Maths for Fast<FMA> {
     const VECTORISED: bool = true;
+
+    #[inline(always)]
+    fn asinf_8<R: Real<Scalar = f32>>(values: [R; 8]) -> [R; 8] {
+        R::asinf_exact_8(values)
+    }
 
     #[inline(always)]
     #[allow(clippy::float_cmp)] // a constant exponent, folded after inlining

@@ -180,11 +180,25 @@ pub trait Real:
     {
         self.map(crate::math::asinf)
     }
+    /// [`Real::asinf_exact`] of eight values (Bourg's eight elements), each
+    /// with its own bits. A lane type maps [`Real::asinf_exact`]; a float
+    /// evaluates the eight together as eight lanes (`crate::math`'s
+    /// lane-wise `asinf`, bit-identical to the scalar one), so the scalar
+    /// step gets vector instructions and no branch per element.
+    #[inline(always)]
+    #[must_use]
+    fn asinf_exact_8(values: [Self; 8]) -> [Self; 8]
+    where
+        Self: Real<Scalar = f32>,
+    {
+        values.map(Self::asinf_exact)
+    }
 }
 
 macro_rules! scalar_real {
-    ($t:ty, $sqrt:path, $bits:ty, $fma:ident) => {
+    ($t:ty, $sqrt:path, $bits:ty, $fma:ident $(, $extra:item)*) => {
         impl Real for $t {
+            $($extra)*
             type Scalar = $t;
             type Mask = bool;
             const LANES: usize = 1;
@@ -261,7 +275,16 @@ macro_rules! scalar_real {
 }
 
 scalar_real!(f64, crate::math::sqrt, u64, fma);
-scalar_real!(f32, crate::math::sqrtf, u32, fmaf);
+scalar_real!(
+    f32,
+    crate::math::sqrtf,
+    u32,
+    fmaf,
+    #[inline(always)]
+    fn asinf_exact_8(values: [f32; 8]) -> [f32; 8] {
+        crate::math::asinf_lanes(values)
+    }
+);
 
 /// A 3-vector of [`Real`]s (`x`, `y`, `z`). Its sums run left to right, as the
 /// original programs' (`a + b + c` is `(a + b) + c`).
