@@ -58,7 +58,7 @@ fn fly_scalar<M: Model>(
     dt: M::TimeStep,
     steps: usize,
 ) -> Vec<Vec<M::State>> {
-    let mut states: Vec<M::State> = members.iter().map(|(_, s)| s.clone()).collect();
+    let mut states: Vec<M::State> = members.iter().map(|(_, s)| *s).collect();
     (0..steps)
         .map(|_| {
             for (state, (controls, _)) in states.iter_mut().zip(members) {
