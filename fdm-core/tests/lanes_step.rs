@@ -300,3 +300,69 @@ fn bourgs_idle_lanes_fly_with_the_initial_controls() {
     let scalar = fly_scalar::<Bourg>(&aircraft, &members, dt, 10);
     assert_bourg_lanes_match(&lanes, &scalar, "bourg idle");
 }
+
+#[test]
+fn a_palmer_fleet_refuses_the_aircraft_the_scalar_checks_refuse() {
+    // `LaneModel::check_aircraft`: why the aircraft cannot be flown, the
+    // same answer as `PalmerAircraft::validate` (what `try_step` checks).
+    let good = Palmer::default_aircraft();
+    assert_eq!(<Palmer as LaneModel>::check_aircraft(&good), Ok(()));
+    let mut heavy = good;
+    heavy.mass_kg = -1.0;
+    let err = <Palmer as LaneModel>::check_aircraft(&heavy).unwrap_err();
+    assert_eq!(Err(err), heavy.validate());
+    let mut no_wing = good;
+    no_wing.wing_area_m2 = f64::NAN;
+    assert!(<Palmer as LaneModel>::check_aircraft(&no_wing).is_err());
+}
+
+#[test]
+fn every_component_of_a_block_reaches_the_finiteness_check() {
+    // `LaneModel::for_each_component` hands every lane vector of the state
+    // to the fleet's finiteness check: a NaN in any one of Palmer's six
+    // numbers, in any lane, must reach it.
+    let aircraft = Palmer::default_aircraft();
+    let (vars, _) = <Palmer as LaneModel>::idle(&aircraft);
+    let mut count = 0;
+    <Palmer as LaneModel>::for_each_component(&vars, |_| count += 1);
+    assert_eq!(count, 6);
+    for component in 0..6 {
+        // `[vx, x, vy, y, vz, z]`, the model's order.
+        let mut q = [40.0, 10.0, 1.0, 20.0, 2.0, 30.0];
+        q[component] = f64::NAN;
+        let state = palmer_state([q[1], q[3], q[5]], [q[0], q[2], q[4]]);
+        let mut vars = vars;
+        <Palmer as LaneModel>::set_state(&mut vars, 5, &state);
+        let mut nan_lanes = Vec::new();
+        <Palmer as LaneModel>::for_each_component(&vars, |v| {
+            nan_lanes.extend((0..fdm_core::palmer::LANES).filter(|&l| v.0[l].is_nan()));
+        });
+        assert_eq!(nan_lanes, [5], "component {component}");
+    }
+}
+
+#[test]
+fn one_aircrafts_terms_splat_into_one_lane_are_themselves() {
+    // `splat` ("every lane `t`") and `set_lane` with the scalar number type,
+    // one lane: the terms themselves. Bourg's with every surface and the trim
+    // set (the tables are a hook of the number type: `Flap` for `f32`).
+    use fdm_core::bourg::BourgTerms;
+    use fdm_core::palmer::{AircraftTerms, ControlTerms};
+    let aircraft = Bourg::default_aircraft();
+    for (controls, _) in bourg_members() {
+        let t = BourgTerms::new(&aircraft, &controls);
+        assert_eq!(BourgTerms::<f32>::splat(&t), t, "{controls:?}");
+        let mut other = BourgTerms::new(&aircraft, &Bourg::initial_controls());
+        other.set_lane(0, &t);
+        assert_eq!(other, t, "{controls:?}");
+    }
+    let palmer = Palmer::default_aircraft();
+    let at = AircraftTerms::new(&palmer);
+    for (controls, _) in palmer_members() {
+        let t = ControlTerms::new(&palmer, &at, &controls);
+        assert_eq!(ControlTerms::<f64>::splat(&t), t, "{controls:?}");
+        let mut other = ControlTerms::new(&palmer, &at, &PalmerControls::default());
+        other.set_lane(0, &t);
+        assert_eq!(other, t, "{controls:?}");
+    }
+}
