@@ -598,3 +598,42 @@ fn airfoil_tables_at_their_edges() {
     same(rudder_drag_coefficient(-4.0f32), 0.0072, "rudder CD(-4)");
     same(rudder_drag_coefficient(25.0f32), 0.75, "rudder CD outside");
 }
+
+#[test]
+fn the_generic_quaternion_operations_give_the_same_rows() {
+    // The step's own quaternion type (`Q4`, `bourg/generic.rs`, written once
+    // for one aircraft and for lanes) on the rows above: the same bits. The
+    // step reads only the vector part of `(q·v)·~q`, so the scalar part of
+    // `product` is checked here, from the reference rows.
+    use fdm_core::bourg::Q4;
+    let g = |a: Quaternion<f32>| Q4::<f32>::from(a);
+    let back = |a: Q4<f32>| Quaternion::<f32>::from(a);
+    same_q(
+        &back(g(q("2", "1", "2", "3")).product(g(q("3", "1", "2", "3")))),
+        &q("-8", "5", "10", "15"),
+        "Q4 q·q",
+    );
+    same_q(
+        &back(g(q_a()).product(g(q_b()))),
+        &quat_mul(&q_a(), &q_b()),
+        "Q4 qA·qB",
+    );
+    same_q(
+        &back(g(q_b()).product(g(q_a()))),
+        &quat_mul(&q_b(), &q_a()),
+        "Q4 qB·qA",
+    );
+    let force = v("127.105736", "-13.1427", "-10.31398");
+    same_q(
+        &back(g(q_a()).mul_vec(force.into())),
+        &quat_mul_vec(&q_a(), &force),
+        "Q4 qA·v",
+    );
+    same_q(&back(g(q_a()).conjugate()), &conjugate(&q_a()), "Q4 ~qA");
+    same_v(
+        &g(q_a()).rotate(force.into()).into(),
+        &qv_rotate(&q_a(), &force),
+        "Q4 QVRotate qA",
+    );
+    same(g(q_a()).magnitude(), quat_magnitude(&q_a()), "Q4 |qA|");
+}

@@ -195,3 +195,61 @@ fn brakes_are_a_script_action_and_absent_from_the_json_while_off() {
     );
     assert_eq!(serde_json::from_str::<PalmerControls>(&json).unwrap(), on);
 }
+
+#[test]
+fn a_braked_roll_is_the_same_in_every_direction() {
+    // With the wings level, every force of steps 10 to 12 turns with the
+    // horizontal velocity (thrust and drag along it, the friction against
+    // it, through `cosT` and `sinT`), so a braked roll along any heading is
+    // the roll along x turned: the same speed at every step, the same
+    // distance, no sideways drift, and it stops as that one does (never
+    // backwards). Some thrust is kept (30 %: less than the brakes hold) so
+    // that the horizontal force the friction is limited by near the stop is
+    // large. Tolerance 1e-9 m/s and 1e-9 m: turning the velocity rounds its
+    // components (about 1e-15 relative, 20 m/s over 150 steps), far below
+    // that; the friction limit seeing another force along the travel is
+    // off by its size over a stage (0.1 s / 1114 kg per newton, over 1e-6).
+    let aircraft = Palmer::default_aircraft();
+    let controls = PalmerControls {
+        throttle: 0.3,
+        brakes: true,
+        ..PalmerControls::default()
+    };
+    let roll = |heading_deg: f64| {
+        let (sin, cos) = heading_deg.to_radians().sin_cos();
+        let mut state = PalmerState {
+            velocity_mps: Vector3::new(20.0 * cos, 20.0 * sin, 0.0),
+            ..PalmerState::at_rest()
+        };
+        (0..150)
+            .map(|_| {
+                state = step(&aircraft, &controls, &state, DT_S);
+                assert_eq!(state.position_m.z, 0.0, "{heading_deg}: {state:?}");
+                let along = state.velocity_mps.x * cos + state.velocity_mps.y * sin;
+                let across = state.velocity_mps.y * cos - state.velocity_mps.x * sin;
+                let distance = state.position_m.x * cos + state.position_m.y * sin;
+                (along, across, distance)
+            })
+            .collect::<Vec<_>>()
+    };
+    let straight = roll(0.0);
+    // The roll along x stops (below 0.01 m/s) within the 15 s.
+    assert!(
+        straight.last().unwrap().0.abs() < 0.01,
+        "{:?}",
+        straight.last()
+    );
+    assert!(straight.iter().all(|&(along, _, _)| along >= 0.0));
+    for heading_deg in [30.0, 90.0, 135.0, 200.0, 300.0] {
+        for (n, (turned, along_x)) in roll(heading_deg).iter().zip(&straight).enumerate() {
+            let (speed, across, distance) = *turned;
+            assert!(
+                (speed - along_x.0).abs() < 1e-9
+                    && across.abs() < 1e-9
+                    && (distance - along_x.2).abs() < 1e-9,
+                "heading {heading_deg}°, step {}: {turned:?} against {along_x:?} along x",
+                n + 1
+            );
+        }
+    }
+}
