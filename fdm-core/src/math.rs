@@ -93,6 +93,33 @@ pub fn pow(x: f64, y: f64) -> f64 {
     pow::pow(x, y)
 }
 
+/// [`pow`] always inlined into its caller, with no dispatch of its own: the
+/// scalar steps call it under [`with_fma`], where its fused multiply-adds are
+/// instructions; anywhere else it is still correct (the `fma` calls of the
+/// baseline give the same bits).
+#[inline(always)]
+pub(crate) fn pow_inlined(x: f64, y: f64) -> f64 {
+    pow::pow(x, y)
+}
+
+/// Runs `f` in a function compiled for AVX2 and FMA (x86-64-v3) when the CPU
+/// has them (with `std` on x86-64), else as it is. A whole scalar step runs
+/// through it (one run-time check per step, none per `pow`), so that
+/// [`pow_inlined`]'s fused multiply-adds become instructions. The numbers
+/// are those of `f()` however it runs: Rust never contracts `a * b + c` into
+/// a fused multiply-add, and every operation the wider instruction set may
+/// use instead (the AVX forms of `+ − × ÷ √`) is correctly rounded as the
+/// baseline's. Only a NaN's sign or payload may differ, which Rust leaves
+/// unspecified and docs/determinism.md does not cover.
+#[inline(always)]
+pub(crate) fn with_fma<T>(f: impl FnOnce() -> T) -> T {
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    if let Some(v3) = pulp::x86::V3::try_new() {
+        return v3.vectorize(f);
+    }
+    f()
+}
+
 /// [`pow`] compiled for x86-64's baseline (SSE2, `fma` by call), whatever
 /// the CPU: the other instance, for the test that the two agree.
 #[cfg(all(test, feature = "std", target_arch = "x86_64"))]

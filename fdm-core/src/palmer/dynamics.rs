@@ -416,8 +416,13 @@ pub fn derivatives(
     let at = AircraftTerms::new(aircraft);
     let k = ControlTerms::new(aircraft, &at, controls);
     let q = to_q(state);
-    let pressure = pressure_at::<f64, Exact>(q[5] + 0.0 * q[5]);
-    let dq = rhs(aircraft, &at, &k, &q, &q, 1.0, 0.0, pressure);
+    let dq = crate::math::with_fma(
+        #[inline(always)]
+        move || {
+            let pressure = pressure_at::<f64, Exact>(q[5] + 0.0 * q[5]);
+            rhs(aircraft, &at, &k, &q, &q, 1.0, 0.0, pressure)
+        },
+    );
     PalmerDerivative {
         velocity_mps: Vector3::new(dq[1], dq[3], dq[5]),
         acceleration_mps2: Vector3::new(dq[0], dq[2], dq[4]),
@@ -459,7 +464,13 @@ pub fn step(
     let at = AircraftTerms::new(aircraft);
     let k = ControlTerms::new(aircraft, &at, controls);
     let ds = dt_s;
-    let next = rk4::<f64, Exact>(aircraft, &at, &k, &to_q(state), ds);
+    let q = to_q(state);
+    // In the CPU's FMA instance when it has one: `pow`'s fused multiply-adds
+    // as instructions, the same numbers (`crate::math::with_fma`).
+    let next = crate::math::with_fma(
+        #[inline(always)]
+        move || rk4::<f64, Exact>(aircraft, &at, &k, &q, ds),
+    );
     PalmerState {
         time_s: state.time_s + ds,
         position_m: Vector3::new(next[1], next[3], next[5]),

@@ -167,7 +167,12 @@ pub trait Real:
     where
         Self: Real<Scalar = f64>,
     {
-        self.map(|x| crate::math::pow(x, y))
+        // Inlined, without a dispatch of its own: the scalar steps run under
+        // `crate::math::with_fma` (one run-time check per step).
+        self.map(
+            #[inline(always)]
+            |x| crate::math::pow_inlined(x, y),
+        )
     }
     /// [`crate::math::asinf`] of every lane, bit for bit. A float calls it;
     /// lanes ([`F32s`]) evaluate it lane-wise in vector registers and look up
