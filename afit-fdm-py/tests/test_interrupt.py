@@ -37,10 +37,15 @@ trim = true
 
 # The child prints a line just before it starts the study, then flies it;
 # an uncaught KeyboardInterrupt prints its traceback and (Python 3.8 and
-# later) ends the process by SIGINT, a return code of -SIGINT.
+# later) ends the process by SIGINT, a return code of -SIGINT. It installs
+# Python's own SIGINT handler first: a Python started with SIGINT ignored
+# (as a background job of a shell, or under some test runners, inherits it)
+# keeps it ignored, and Ctrl-C would then do nothing anywhere.
 CHILD = """
+import signal
 import sys
 import afit_fdm
+signal.signal(signal.SIGINT, signal.default_int_handler)
 study = afit_fdm.Study.from_toml(sys.argv[1])
 print("flying", flush=True)
 afit_fdm.study(study, threads=2)
@@ -85,8 +90,8 @@ def test_study_is_interrupted_by_sigint_and_raises_keyboard_interrupt() -> None:
     assert "finished" not in stdout
     assert child.returncode == -signal.SIGINT, stderr
     assert "KeyboardInterrupt" in stderr
-    # Raised from the study call (line 6 of CHILD), out of the fly itself.
-    assert 'File "<string>", line 6, in <module>' in stderr
+    # Raised from the study call (line 8 of CHILD), out of the fly itself.
+    assert 'File "<string>", line 8, in <module>' in stderr
     assert "fly_columns" in stderr
 
 
