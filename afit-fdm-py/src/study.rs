@@ -6,6 +6,9 @@
 //! data so that a table can cross a process boundary (Ray) and be merged.
 
 use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
 
 use fdm_core::model::{FlightStatus, LandingState};
 use fdm_fleet::Precision;
@@ -148,12 +151,73 @@ impl PyStudy {
             )));
         }
         let range: Range<u64> = first..end;
-        let study = &self.study;
-        let table = py
-            .detach(|| study.fly_runs(range, &options))
-            .map_err(py_err)?;
+        let table = fly_interruptibly(py, &self.study, range, &options)?;
         columns(py, table)
     }
+}
+
+/// How long the calling thread waits, without the GIL, between two looks
+/// at Python's pending signals: short enough that Ctrl-C stops a study
+/// within a fraction of a second, long enough that the checks cost nothing
+/// next to the flying.
+const SIGNAL_POLL: Duration = Duration::from_millis(20);
+
+/// The runs `range` of `study`, flown on a scoped thread while the calling
+/// thread (the GIL released between checks) asks Python every
+/// [`SIGNAL_POLL`] whether a signal is pending. A signal whose handler
+/// raises (Ctrl-C's `KeyboardInterrupt`) sets the stop flag of
+/// [`Study::fly_runs_until`], waits for the fly to return (at most a block
+/// per thread, see there) and is raised; the partial table is dropped.
+/// Without a signal the table is [`Study::fly_runs`]'s, bit for bit: the
+/// flag is never set. Off the main thread `check_signals` does nothing, so
+/// the study then runs to its end as before.
+fn fly_interruptibly(
+    py: Python<'_>,
+    study: &Study,
+    range: Range<u64>,
+    options: &FlyOptions,
+) -> PyResult<RunTable> {
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let (done, mut finished) = mpsc::channel();
+        let stop = &stop;
+        let flier = scope.spawn(move || {
+            let table = study.fly_runs_until(range, options, || stop.load(Ordering::Relaxed));
+            // The receiver only goes away when the caller has its answer.
+            let _ = done.send(());
+            table
+        });
+        let mut interrupt: Option<PyErr> = None;
+        loop {
+            // The receiver moves into and out of `detach`: it is `Send`,
+            // not `Sync`, so it cannot be borrowed across.
+            let (waited, receiver) = py.detach(move || {
+                let waited = finished.recv_timeout(SIGNAL_POLL);
+                (waited, finished)
+            });
+            finished = receiver;
+            match waited {
+                // Done, or the flier panicked (its sender dropped): join
+                // below says which.
+                Ok(()) | Err(RecvTimeoutError::Disconnected) => break,
+                Err(RecvTimeoutError::Timeout) => {
+                    if interrupt.is_none() {
+                        if let Err(e) = py.check_signals() {
+                            stop.store(true, Ordering::Relaxed);
+                            interrupt = Some(e);
+                        }
+                    }
+                }
+            }
+        }
+        let table = flier
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        match interrupt {
+            Some(e) => Err(e),
+            None => table.map_err(py_err),
+        }
+    })
 }
 
 /// A table as a dict of NumPy columns: `run` (uint64), `status_code` (uint8,

@@ -221,7 +221,10 @@ class _Study:
     ) -> Dict[str, Any]:
         """Flies runs ``first..end`` with the GIL released: ``run`` (uint64),
         ``status_code`` (uint8), ``frames`` (uint64), ``measures``: a list of
-        ``(name, values float64, applies bool)`` (values 0.0 where not applicable)."""
+        ``(name, values float64, applies bool)`` (values 0.0 where not applicable).
+        Every 20 ms the calling thread looks at Python's pending signals; a
+        signal whose handler raises (Ctrl-C's ``KeyboardInterrupt``) stops the
+        fly and is raised from here (the runs flown so far are dropped)."""
 
 def summarize_columns(
     run: npt.NDArray[np.uint64],

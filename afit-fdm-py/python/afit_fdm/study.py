@@ -305,7 +305,14 @@ class Study:
         fleets, on ``threads`` threads (default: one per core), with the
         GIL released. Run *i*'s row is the same bits whatever the range and
         the threads. ``precision`` is ``"exact"`` (the bits of ``sim-cli
-        study``) or ``"fast"`` (Palmer only)."""
+        study``) or ``"fast"`` (Palmer only).
+
+        Ctrl-C (SIGINT) stops it: called from the main thread, the fly
+        looks at Python's pending signals every 20 ms, and a signal whose
+        handler raises (``KeyboardInterrupt`` by default) stops the threads
+        within a block of runs and is raised from here; the runs flown so
+        far are dropped. Off the main thread Python delivers no signals, and
+        the fly runs to its end."""
         if end is None:
             end = self.runs
         for name, value in (("first", first), ("end", end)):
@@ -357,7 +364,9 @@ def study(
 ) -> RunTable:
     """Flies every run of a study (a :class:`Study`, a path, or a study
     file's text) on this machine: the table of ``sim-cli study``'s
-    ``runs.csv``, with ``table.summarize()`` its ``summary.json``."""
+    ``runs.csv``, with ``table.summarize()`` its ``summary.json``. Ctrl-C
+    raises ``KeyboardInterrupt`` within a fraction of a second (see
+    :meth:`Study.fly`)."""
     return load(source, runs=runs, seed=seed).fly(threads=threads, precision=precision)
 
 
