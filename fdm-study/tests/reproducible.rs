@@ -8,6 +8,9 @@ use fdm_core::palmer::Palmer;
 use fdm_run::{Run, SharedOutput};
 use fdm_study::{FlyOptions, MeasureOutput, RunTable, Study, StudyModel};
 
+mod support;
+use support::{bits, options};
+
 /// A short landing: trimmed at 120 ft, power off after a dispersed delay,
 /// every kind of dispersion, stop at touchdown; measures of every kind.
 const PALMER_LANDING: &str = r#"
@@ -75,31 +78,6 @@ distribution = "normal"
 mean = 2500.0
 sd = 100.0
 "#;
-
-/// The table's values as bits, to compare exactly.
-fn bits(table: &RunTable) -> Vec<(u64, &'static str, u64, Vec<Option<u64>>)> {
-    (0..table.len())
-        .map(|row| {
-            (
-                table.run[row],
-                table.status[row].code(),
-                table.frames[row],
-                table
-                    .measures
-                    .iter()
-                    .map(|(_, c)| c[row].map(f64::to_bits))
-                    .collect(),
-            )
-        })
-        .collect()
-}
-
-fn options(threads: usize) -> FlyOptions {
-    FlyOptions {
-        threads,
-        ..FlyOptions::default()
-    }
-}
 
 fn check_layouts(study: &Study) -> RunTable {
     let n = study.runs();

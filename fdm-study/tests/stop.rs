@@ -8,7 +8,10 @@
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use fdm_study::{summarize, FlyOptions, RunTable, Study, BLOCK_RUNS};
+use fdm_study::{summarize, RunTable, Study, BLOCK_RUNS};
+
+mod support;
+use support::{bits, options};
 
 /// 2,100 runs (three blocks, the last of 52) of 1 s; a dispersed mass, so
 /// every run flies in a fleet of its own (the stop is asked inside each).
@@ -44,30 +47,6 @@ distribution = "normal"
 mean = 70.0
 sd = 2.0
 "#;
-
-fn bits(table: &RunTable) -> Vec<(u64, &'static str, u64, Vec<Option<u64>>)> {
-    (0..table.len())
-        .map(|row| {
-            (
-                table.run[row],
-                table.status[row].code(),
-                table.frames[row],
-                table
-                    .measures
-                    .iter()
-                    .map(|(_, c)| c[row].map(f64::to_bits))
-                    .collect(),
-            )
-        })
-        .collect()
-}
-
-fn options(threads: usize) -> FlyOptions {
-    FlyOptions {
-        threads,
-        ..FlyOptions::default()
-    }
-}
 
 /// Stops after the closure has been asked `calls` times; checks the prefix
 /// property and the bits; returns K.

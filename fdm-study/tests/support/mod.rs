@@ -1,0 +1,30 @@
+//! Helpers shared by fdm-study's integration tests.
+
+use fdm_study::{FlyOptions, RunTable};
+
+/// The table's values as bits (run, status code, frames, every measure), to
+/// compare two tables exactly.
+pub fn bits(table: &RunTable) -> Vec<(u64, &'static str, u64, Vec<Option<u64>>)> {
+    (0..table.len())
+        .map(|row| {
+            (
+                table.run[row],
+                table.status[row].code(),
+                table.frames[row],
+                table
+                    .measures
+                    .iter()
+                    .map(|(_, c)| c[row].map(f64::to_bits))
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// The default fly options on `threads` threads.
+pub fn options(threads: usize) -> FlyOptions {
+    FlyOptions {
+        threads,
+        ..FlyOptions::default()
+    }
+}
