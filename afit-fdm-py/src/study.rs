@@ -298,6 +298,8 @@ pub fn summarize_columns(
         status,
         frames: frames.as_array().to_vec(),
         measures: columns,
+        // The summary is of the status and the measures only.
+        ..RunTable::default()
     };
     let summary = summarize(&table).with_seed(seed);
     serde_json::to_string(&summary).map_err(|e| PyValueError::new_err(format!("summary: {e}")))

@@ -2,7 +2,10 @@
 //! format version 5, the "file" form that `pyarrow.ipc.open_file`,
 //! `pandas.read_feather` and `polars.read_ipc` read directly): `run` as
 //! UInt64, `status` as Utf8, each measure as a nullable Float64 (null where
-//! the measure does not apply). One record batch per [`ArrowWriter::write`].
+//! the measure does not apply), each drawn input (`input.KEY`) as a Float64,
+//! and `fingerprint` as a nullable Utf8 (`0x` and 16 hex digits, as in
+//! `runs.csv`; null for a refused start). One record batch per
+//! [`ArrowWriter::write`].
 //!
 //! Written by hand, without the arrow crates: the format needs only a few
 //! flatbuffer tables (Schema, Field, RecordBatch, Footer), built here front
@@ -186,7 +189,7 @@ fn field(name: &str, nullable: bool, type_id: u8, ty: Node) -> Node {
     ])
 }
 
-fn schema(measures: &[String]) -> Node {
+fn schema(measures: &[String], inputs: &[String]) -> Node {
     let mut fields = vec![
         field(
             "run",
@@ -204,6 +207,20 @@ fn schema(measures: &[String]) -> Node {
             Node::Table(vec![(0, Slot::I16(DOUBLE))]),
         ));
     }
+    for name in inputs {
+        fields.push(field(
+            name,
+            false,
+            TYPE_FLOAT,
+            Node::Table(vec![(0, Slot::I16(DOUBLE))]),
+        ));
+    }
+    fields.push(field(
+        "fingerprint",
+        true,
+        TYPE_UTF8,
+        Node::Table(Vec::new()),
+    ));
     // Endianness Little (0, the default) and the fields.
     Node::Table(vec![(1, Slot::Child(Node::Tables(fields)))])
 }
@@ -226,26 +243,29 @@ fn le_i64(out: &mut Vec<u8>, v: usize) {
 pub struct ArrowWriter<W: Write> {
     out: W,
     measures: Vec<String>,
+    inputs: Vec<String>,
     position: u64,
     /// (offset, metadata length, body length) of each record batch.
     blocks: Vec<(u64, u32, u64)>,
 }
 
 impl<W: Write> ArrowWriter<W> {
-    /// Starts the file: the magic and the schema (`run`, `status`, then
-    /// the measures).
+    /// Starts the file for tables with `columns`' columns (an empty table
+    /// will do, e.g. [`crate::Study::empty_table`]): the magic and the
+    /// schema (`run`, `status`, the measures, the inputs, `fingerprint`).
     ///
     /// # Errors
     /// The writer's.
-    pub fn new(out: W, measure_names: &[String]) -> io::Result<Self> {
+    pub fn new(out: W, columns: &RunTable) -> io::Result<Self> {
         let mut writer = Self {
             out,
-            measures: measure_names.to_vec(),
+            measures: columns.measures.iter().map(|(n, _)| n.clone()).collect(),
+            inputs: columns.inputs.iter().map(|(n, _)| n.clone()).collect(),
             position: 0,
             blocks: Vec::new(),
         };
         writer.put(b"ARROW1\0\0")?;
-        let meta = message(HEADER_SCHEMA, schema(measure_names), 0);
+        let meta = message(HEADER_SCHEMA, schema(&writer.measures, &writer.inputs), 0);
         writer.put_message(&meta)?;
         Ok(writer)
     }
@@ -269,17 +289,29 @@ impl<W: Write> ArrowWriter<W> {
     /// Appends `table`'s rows as one record batch.
     ///
     /// # Errors
-    /// The writer's; `InvalidInput` when the table's measures are not the
-    /// file's.
+    /// The writer's; `InvalidInput` when the table's measures or inputs
+    /// are not the file's, or a column's length is not the table's.
     pub fn write(&mut self, table: &RunTable) -> io::Result<()> {
         let names: Vec<&String> = table.measures.iter().map(|(n, _)| n).collect();
-        if names != self.measures.iter().collect::<Vec<_>>() {
+        let inputs: Vec<&String> = table.inputs.iter().map(|(n, _)| n).collect();
+        if names != self.measures.iter().collect::<Vec<_>>()
+            || inputs != self.inputs.iter().collect::<Vec<_>>()
+        {
             return Err(io::Error::new(
                 io::ErrorKind::InvalidInput,
-                "the table's measures are not the file's",
+                "the table's measures or inputs are not the file's",
             ));
         }
         let rows = table.len();
+        if table.fingerprint.len() != rows
+            || table.measures.iter().any(|(_, c)| c.len() != rows)
+            || table.inputs.iter().any(|(_, c)| c.len() != rows)
+        {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "the table's columns differ in length",
+            ));
+        }
         let mut body = Vec::new();
         let mut buffers = Vec::new();
         let mut nodes = Vec::new();
@@ -331,6 +363,40 @@ impl<W: Write> ArrowWriter<W> {
                 .collect();
             add(&mut body, &values);
         }
+        // inputs: no validity buffer, f64 values.
+        for (_, column) in &table.inputs {
+            le_i64(&mut nodes, rows);
+            le_i64(&mut nodes, 0);
+            add(&mut body, &[]);
+            let values: Vec<u8> = column.iter().flat_map(|v| v.to_le_bytes()).collect();
+            add(&mut body, &values);
+        }
+        // fingerprint: validity bitmap, offsets and UTF-8 bytes.
+        let nulls = table.fingerprint.iter().filter(|f| f.is_none()).count();
+        le_i64(&mut nodes, rows);
+        le_i64(&mut nodes, nulls);
+        if nulls == 0 {
+            add(&mut body, &[]);
+        } else {
+            let mut bits = vec![0u8; rows.div_ceil(8)];
+            for (i, f) in table.fingerprint.iter().enumerate() {
+                if f.is_some() {
+                    bits[i / 8] |= 1 << (i % 8);
+                }
+            }
+            add(&mut body, &bits);
+        }
+        let mut offsets = Vec::with_capacity(4 * (rows + 1));
+        let mut text = Vec::new();
+        offsets.extend_from_slice(&0i32.to_le_bytes());
+        for f in &table.fingerprint {
+            if let Some(f) = f {
+                text.extend_from_slice(crate::table::fingerprint_text(*f).as_bytes());
+            }
+            offsets.extend_from_slice(&i32::try_from(text.len()).unwrap_or(i32::MAX).to_le_bytes());
+        }
+        add(&mut body, &offsets);
+        add(&mut body, &text);
         let node_count = u32::try_from(nodes.len() / 16).unwrap_or(0);
         let buffer_count = u32::try_from(buffers.len() / 16).unwrap_or(0);
         let batch = Node::Table(vec![
@@ -375,7 +441,7 @@ impl<W: Write> ArrowWriter<W> {
         }
         let footer = flatbuffer(&Node::Table(vec![
             (0, Slot::I16(V5)),
-            (1, Slot::Child(schema(&self.measures))),
+            (1, Slot::Child(schema(&self.measures, &self.inputs))),
             (
                 3,
                 Slot::Child(Node::Structs {

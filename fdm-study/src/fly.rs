@@ -14,7 +14,8 @@ use fdm_run::{Event, Frame, Output, OutputError};
 use crate::measure::{needs_view, Measure, Tracker};
 use crate::model::{with_study_model, StudyJob, StudyModel};
 use crate::spec::{RunSetup, Stop, Study};
-use crate::table::{RunStatus, RunTable};
+use crate::table::{Row, RunStatus, RunTable};
+use crate::track::{GroundTrack, TrackPlan};
 use crate::StudyError;
 
 /// Runs per block: each block is one set of fleets flown on one thread, its
@@ -119,6 +120,44 @@ impl Study {
         options: &FlyOptions,
         stop: impl Fn() -> bool + Sync,
     ) -> Result<RunTable, StudyError> {
+        self.fly_runs_tracked(runs, options, stop, &TrackPlan::none())
+            .map(|(table, _)| table)
+    }
+
+    /// [`Study::fly_runs_until`] that also keeps the thinned ground tracks
+    /// of the runs of `plan` within `runs` (those of the rows returned,
+    /// in run order): each the positions at the frames the plan keeps,
+    /// the same bits as the run flown alone gives at those frames. The
+    /// table is [`Study::fly_runs_until`]'s, bit for bit.
+    ///
+    /// ```
+    /// use fdm_study::track::TrackPlan;
+    /// use fdm_study::{FlyOptions, Study};
+    ///
+    /// let study = Study::from_toml_str(
+    ///     "model = \"palmer\"\nruns = 100\nduration_s = 2.0\nmeasures = [\"final_x_m\"]\n",
+    /// )?;
+    /// let plan = TrackPlan::spread(study.runs(), study.frames(), 4, 10);
+    /// assert_eq!(plan.runs(), [0, 25, 50, 75]);
+    /// let (table, tracks) =
+    ///     study.fly_runs_tracked(20..80, &FlyOptions::default(), || false, &plan)?;
+    /// assert_eq!(table.len(), 60);
+    /// let tracked: Vec<u64> = tracks.iter().map(|t| t.run).collect();
+    /// assert_eq!(tracked, [25, 50, 75]);
+    /// // 60 frames in steps of 6: frames 0, 6, ..., 60.
+    /// assert_eq!(tracks[0].frames.len(), 11);
+    /// # Ok::<(), fdm_study::StudyError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Study::fly_runs`].
+    pub fn fly_runs_tracked(
+        &self,
+        runs: Range<u64>,
+        options: &FlyOptions,
+        stop: impl Fn() -> bool + Sync,
+        plan: &TrackPlan,
+    ) -> Result<(RunTable, Vec<GroundTrack>), StudyError> {
         if runs.start > runs.end || runs.end > self.runs() {
             return Err(StudyError::Range {
                 start: runs.start,
@@ -136,6 +175,7 @@ impl Study {
                 runs,
                 options: *options,
                 stop: &stop,
+                plan,
             },
         )
         .unwrap_or(Err(StudyError::Model {
@@ -144,14 +184,17 @@ impl Study {
         }))
     }
 
-    /// Flies one block of runs of model `M`; `None` when `halt` answered
-    /// `true` before the block was finished (the block is given up).
+    /// Flies one block of runs of model `M` (keeping the tracks of
+    /// `plan`'s runs); `None` when `halt` answered `true` before the block
+    /// was finished (the block is given up).
+    #[allow(clippy::too_many_lines)]
     fn fly_block<M: StudyModel>(
         &self,
         runs: Range<u64>,
         precision: Precision,
         halt: &dyn Fn() -> bool,
-    ) -> Option<RunTable> {
+        plan: &TrackPlan,
+    ) -> Option<(RunTable, Vec<GroundTrack>)> {
         if halt() {
             return None;
         }
@@ -160,9 +203,16 @@ impl Study {
         let mut trackers: Vec<Option<Tracker>> = Vec::with_capacity(count);
         let mut statuses = vec![RunStatus::StartRefused; count];
         let mut frames = vec![0u64; count];
+        let mut fingerprints: Vec<Option<u64>> = vec![None; count];
+        let mut tracks: Vec<Option<GroundTrack>> = vec![None; count];
         let mut setups: Vec<Option<RunSetup<M>>> = Vec::with_capacity(count);
+        // The draws of each run, from the same values its set-up is built
+        // from: the `input.*` columns are the values flown.
+        let mut drawn: Vec<Vec<f64>> = Vec::with_capacity(count);
         for run in runs.clone() {
-            setups.push(self.setup::<M>(run).ok());
+            let values = self.run_values(run);
+            setups.push(self.setup_from::<M>(&values).ok());
+            drawn.push(values.drawn);
             trackers.push(None);
         }
         // Groups of runs sharing an aircraft, in run order.
@@ -188,10 +238,21 @@ impl Study {
             };
             let mut scripts: Vec<&Script<M::Action>> = Vec::with_capacity(members.len());
             let mut group_trackers = Vec::with_capacity(members.len());
+            let mut group_fingerprints: Vec<Option<u64>> = vec![None; members.len()];
+            let mut group_tracks: Vec<Option<GroundTrack>> = Vec::with_capacity(members.len());
             for &i in &members {
                 let Some(setup) = &setups[i] else { continue };
                 fleet.push(setup.start.state, setup.start.controls);
                 scripts.push(&setup.script);
+                let run = runs.start + i as u64;
+                group_tracks.push(plan.tracks(run).then(|| {
+                    let mut track = GroundTrack::new(run);
+                    track.keep(
+                        0,
+                        <M as fdm_fleet::LaneModel>::position_m(&setup.start.state).into(),
+                    );
+                    track
+                }));
                 let mut tracker = Tracker::new(self.fps(), self.target_height_m(), needs_bank);
                 tracker.observe::<M>(
                     0,
@@ -206,6 +267,12 @@ impl Study {
                 .iter()
                 .map(|t| stops(self.stop(), t))
                 .collect();
+            // A run stopped at its start: its final state is its start.
+            for (j, &i) in members.iter().enumerate() {
+                if let (true, Some(setup)) = (stopped[j], &setups[i]) {
+                    group_fingerprints[j] = Some(M::state_fingerprint(&setup.start.state));
+                }
+            }
             let mut flying = stopped.iter().filter(|s| !**s).count();
             let mut frame = 0;
             while frame < self.frames() && flying > 0 {
@@ -235,47 +302,85 @@ impl Study {
                     if stopped[j] {
                         continue;
                     }
-                    if let (Some(state), Some(status), Some(controls)) =
-                        (fleet.state(j), fleet.status(j), fleet.controls(j))
-                    {
+                    let Some(state) = fleet.state(j) else {
+                        continue;
+                    };
+                    if let (Some(status), Some(controls)) = (fleet.status(j), fleet.controls(j)) {
                         tracker.observe::<M>(frame, &aircraft, &controls, &state, status);
                     }
-                    if stops(self.stop(), tracker) {
+                    let stops_now = stops(self.stop(), tracker);
+                    let last = stops_now || frame == self.frames();
+                    if let Some(track) = &mut group_tracks[j] {
+                        if plan.keeps(frame, last) {
+                            track.keep(
+                                frame,
+                                <M as fdm_fleet::LaneModel>::position_m(&state).into(),
+                            );
+                        }
+                    }
+                    if last {
+                        // The run's final state: at its stop, or the
+                        // study's last frame.
+                        group_fingerprints[j] = Some(M::state_fingerprint(&state));
+                    }
+                    if stops_now {
                         stopped[j] = true;
                         flying -= 1;
                     }
                 }
             }
-            for (&i, tracker) in members.iter().zip(group_trackers) {
+            for (((&i, tracker), fingerprint), track) in members
+                .iter()
+                .zip(group_trackers)
+                .zip(group_fingerprints)
+                .zip(group_tracks)
+            {
                 statuses[i] = RunStatus::Flown(tracker.status());
                 frames[i] = tracker.frames();
                 trackers[i] = Some(tracker);
+                fingerprints[i] = fingerprint;
+                tracks[i] = track;
             }
         }
-        let mut table = RunTable::empty(measures);
+        let mut table = self.empty_table();
         for (k, run) in runs.enumerate() {
-            table.push(run, statuses[k], frames[k], trackers[k].as_ref(), measures);
+            table.push(
+                Row {
+                    run,
+                    status: statuses[k],
+                    frames: frames[k],
+                    tracker: trackers[k].as_ref(),
+                    inputs: &drawn[k],
+                    fingerprint: fingerprints[k],
+                },
+                measures,
+            );
         }
-        Some(table)
+        Some((table, tracks.into_iter().flatten().collect()))
     }
 }
+
+/// A block's (or a range's) rows and the ground tracks kept.
+type Flown = (RunTable, Vec<GroundTrack>);
 
 struct FlyJob<'a> {
     study: &'a Study,
     runs: Range<u64>,
     options: FlyOptions,
     stop: &'a (dyn Fn() -> bool + Sync),
+    plan: &'a TrackPlan,
 }
 
 impl StudyJob for FlyJob<'_> {
-    type Output = Result<RunTable, StudyError>;
+    type Output = Result<(RunTable, Vec<GroundTrack>), StudyError>;
 
-    fn call<M: StudyModel>(self) -> Result<RunTable, StudyError> {
+    fn call<M: StudyModel>(self) -> Result<(RunTable, Vec<GroundTrack>), StudyError> {
         let FlyJob {
             study,
             runs,
             options,
             stop,
+            plan,
         } = self;
         Fleet::<M>::check_precision(options.precision)?;
         // Latched: once the caller has asked to stop, every worker gives up
@@ -294,8 +399,7 @@ impl StudyJob for FlyJob<'_> {
             .step_by(usize::try_from(BLOCK_RUNS).unwrap_or(1024))
             .map(|start| start..(start + BLOCK_RUNS).min(runs.end))
             .collect();
-        let results: Vec<Mutex<Option<RunTable>>> =
-            blocks.iter().map(|_| Mutex::new(None)).collect();
+        let results: Vec<Mutex<Option<Flown>>> = blocks.iter().map(|_| Mutex::new(None)).collect();
         let next = AtomicUsize::new(0);
         let threads = options.threads.min(blocks.len()).max(1);
         std::thread::scope(|scope| {
@@ -303,7 +407,8 @@ impl StudyJob for FlyJob<'_> {
                 scope.spawn(|| loop {
                     let b = next.fetch_add(1, Ordering::Relaxed);
                     let Some(block) = blocks.get(b) else { break };
-                    let Some(table) = study.fly_block::<M>(block.clone(), options.precision, &halt)
+                    let Some(table) =
+                        study.fly_block::<M>(block.clone(), options.precision, &halt, plan)
                     else {
                         break;
                     };
@@ -313,18 +418,22 @@ impl StudyJob for FlyJob<'_> {
                 });
             }
         });
-        let mut table = RunTable::empty(study.measures());
+        let mut table = study.empty_table();
+        let mut tracks = Vec::new();
         let stopped = stopped.into_inner();
         for slot in results {
             match slot.into_inner().ok().flatten() {
-                Some(block) => table.append(block)?,
+                Some((block, block_tracks)) => {
+                    table.append(block)?;
+                    tracks.extend(block_tracks);
+                }
                 // The first block not flown ends the completed runs; the
                 // blocks after it are dropped, so the rows have no gap.
                 None if stopped => break,
                 None => return Err(StudyError::Worker),
             }
         }
-        Ok(table)
+        Ok((table, tracks))
     }
 }
 
@@ -341,6 +450,9 @@ pub struct MeasureOutput<M: Model> {
     stopped: bool,
     run: u64,
     measures: Vec<Measure>,
+    input_names: Vec<String>,
+    inputs: Vec<f64>,
+    fingerprint: Option<u64>,
 }
 
 impl<M: StudyModel> MeasureOutput<M> {
@@ -358,18 +470,30 @@ impl<M: StudyModel> MeasureOutput<M> {
             stopped: false,
             run,
             measures: study.measures().to_vec(),
+            input_names: study.input_names(),
+            inputs: study
+                .dispersed_values(run)
+                .into_iter()
+                .map(|(_, v)| v)
+                .collect(),
+            fingerprint: None,
         }
     }
 
-    /// The run's row: its status, frames and measures.
+    /// The run's row: its status, frames, measures, drawn inputs and the
+    /// fingerprint of the last state observed (`None` before any frame).
     #[must_use]
     pub fn table(&self) -> RunTable {
-        let mut table = RunTable::empty(&self.measures);
+        let mut table = RunTable::empty_with_inputs(&self.measures, &self.input_names);
         table.push(
-            self.run,
-            RunStatus::Flown(self.tracker.status()),
-            self.tracker.frames(),
-            Some(&self.tracker),
+            Row {
+                run: self.run,
+                status: RunStatus::Flown(self.tracker.status()),
+                frames: self.tracker.frames(),
+                tracker: Some(&self.tracker),
+                inputs: &self.inputs,
+                fingerprint: self.fingerprint,
+            },
             &self.measures,
         );
         table
@@ -389,6 +513,7 @@ impl<M: StudyModel> Output<M> for MeasureOutput<M> {
             frame.state,
             frame.status,
         );
+        self.fingerprint = Some(M::state_fingerprint(frame.state));
         self.stopped = stops(self.stop, &self.tracker);
         Ok(())
     }
@@ -451,6 +576,11 @@ impl StudyJob for MemoryJob<'_> {
             + size_of::<u64>() * 2
             + size_of::<RunStatus>()
             + measures * size_of::<Option<f64>>()
+            // The drawn inputs (the run's values and the table's column)
+            // and the fingerprint (the block's and the table's).
+            + 2 * self.study.input_names().len() * size_of::<f64>()
+            + 4 * size_of::<Option<u64>>()
+            + size_of::<Option<GroundTrack>>()
             + size_of::<bool>();
         let flying = flying as u64;
         let runs = self.study.runs();

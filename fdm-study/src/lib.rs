@@ -13,6 +13,10 @@
 //!   come from a counter-based stream keyed by the seed and the run index,
 //!   [`rng`]);
 //! * tables of consecutive ranges join with [`RunTable::append`];
+//! * each row carries the values the run drew (one `input.KEY` column per
+//!   dispersion, [`Study::dispersed_values`]) and the fingerprint of its
+//!   final state ([`RunTable::fingerprint`], as a recording of the run
+//!   carries it);
 //! * a study can be stopped: [`Study::fly_runs_until`] asks a closure
 //!   between blocks and every few frames, and on a stop gives the rows of
 //!   the runs completed from the range's start on, without gaps (runs
@@ -62,7 +66,8 @@
 //! | [`measure`] | the built-in [`Measure`]s and their [`measure::Tracker`] |
 //! | [`fly`] | [`Study::fly_runs`] (and [`Study::fly_runs_until`], which can be stopped), [`RunTable`], [`MeasureOutput`] |
 //! | [`summary`] | [`summarize`], [`Summary`] |
-//! | [`table`] | `runs.csv` |
+//! | [`table`] | `runs.csv` (measures, drawn inputs `input.KEY`, `fingerprint`) |
+//! | [`track`] | the thinned sample of ground tracks ([`TrackPlan`], [`Study::fly_runs_tracked`]) |
 //! | [`arrow`] | `runs.arrow`: the table as an Arrow IPC file |
 //!
 //! The file format, the measures and the guarantees are in the project's
@@ -76,6 +81,7 @@ pub mod rng;
 pub mod spec;
 pub mod summary;
 pub mod table;
+pub mod track;
 
 pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, BLOCK_RUNS};
 pub use measure::Measure;
@@ -83,6 +89,7 @@ pub use model::StudyModel;
 pub use spec::{Distribution, Stop, Study, MAX_RUNS};
 pub use summary::{summarize, MeasureSummary, StoppedEarly, Summary, SummaryBuilder};
 pub use table::{RunStatus, RunTable};
+pub use track::{GroundTrack, TrackPlan};
 
 /// Why a study could not be read or flown.
 #[derive(Debug, thiserror::Error)]

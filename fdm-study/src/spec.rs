@@ -243,6 +243,9 @@ pub(crate) struct RunValues {
     controls: Vec<(String, f64)>,
     aircraft: Vec<(String, f64)>,
     script_delay_s: f64,
+    /// The values drawn, one per dispersion in the file's order: the same
+    /// `f64`s as set above (the `input.*` columns).
+    pub(crate) drawn: Vec<f64>,
 }
 
 /// Run `run` of a study ready to fly, or why its start was refused.
@@ -597,18 +600,33 @@ impl Study {
 
     /// The dispersed values of run `run`: each dispersion's key and the value
     /// drawn for the run, in the file's order (to relate measures to inputs,
-    /// e.g. climb against mass).
+    /// e.g. climb against mass). They are the values the run flies with
+    /// (the same draws, by the same code, as the run's set-up) and its
+    /// `input.*` columns ([`Study::input_names`]).
     #[must_use]
     pub fn dispersed_values(&self, run: u64) -> Vec<(String, f64)> {
         self.dispersions
             .iter()
-            .enumerate()
-            .map(|(index, d)| {
-                #[allow(clippy::cast_possible_truncation)]
-                let u = uniform(self.seed, run, index as u32);
-                (d.key.clone(), d.distribution.sample(u))
-            })
+            .zip(self.run_values(run).drawn)
+            .map(|(d, value)| (d.key.clone(), value))
             .collect()
+    }
+
+    /// The input columns' names, one per dispersion in the file's order:
+    /// `input.` and the dispersion's key
+    /// ([`crate::table::input_column_name`]).
+    #[must_use]
+    pub fn input_names(&self) -> Vec<String> {
+        self.dispersions
+            .iter()
+            .map(|d| crate::table::input_column_name(&d.key))
+            .collect()
+    }
+
+    /// An empty table with this study's columns (measures and inputs).
+    #[must_use]
+    pub fn empty_table(&self) -> crate::RunTable {
+        crate::RunTable::empty_with_inputs(&self.measures, &self.input_names())
     }
 
     /// Run `run`'s values: the base values, then each dispersion's draw
@@ -619,6 +637,7 @@ impl Study {
             controls: self.controls.clone(),
             aircraft: self.aircraft.clone(),
             script_delay_s: self.script_delay_s,
+            drawn: Vec::with_capacity(self.dispersions.len()),
         };
         let set = |list: &mut Vec<(String, f64)>, name: &str, value: f64| match list
             .iter_mut()
@@ -630,6 +649,7 @@ impl Study {
         for (index, d) in self.dispersions.iter().enumerate() {
             #[allow(clippy::cast_possible_truncation)]
             let value = d.distribution.sample(uniform(self.seed, run, index as u32));
+            values.drawn.push(value);
             match &d.target {
                 Target::Initial("altitude_ft") => values.initial.altitude_ft = Some(value),
                 Target::Initial("speed_kt") => values.initial.speed_kt = Some(value),
@@ -655,7 +675,14 @@ impl Study {
     /// Run `run` ready to fly: its aircraft, controls, state and script, or
     /// why the start is refused (the run's status `start_refused`).
     pub(crate) fn setup<M: StudyModel>(&self, run: u64) -> Result<RunSetup<M>, String> {
-        let values = self.run_values(run);
+        self.setup_from::<M>(&self.run_values(run))
+    }
+
+    /// [`Study::setup`] from the run's values ([`Study::run_values`]).
+    pub(crate) fn setup_from<M: StudyModel>(
+        &self,
+        values: &RunValues,
+    ) -> Result<RunSetup<M>, String> {
         let aircraft = if values.aircraft.is_empty() {
             M::default_aircraft()
         } else {

@@ -317,6 +317,7 @@ impl SummaryBuilder {
 ///     status: vec![RunStatus::Flown(FlightStatus::Airborne); 3],
 ///     frames: vec![10; 3],
 ///     measures: vec![("max_height_m".into(), vec![Some(1.0), None, Some(3.0)])],
+///     ..RunTable::default()
 /// };
 /// let summary = summarize(&table);
 /// assert_eq!(summary.measures[0].1.count, 2);
@@ -367,6 +368,7 @@ mod tests {
             status: vec![RunStatus::StartRefused; 2],
             frames: vec![0; 2],
             measures: vec![("max_height_m".into(), vec![None, None])],
+            ..RunTable::default()
         };
         let whole = summarize(&table);
         let json = serde_json::to_string(&whole).unwrap();

@@ -1,5 +1,6 @@
 //! The per-run table: one row per run ([`RunTable`]: its status
-//! ([`RunStatus`]), frames and measures), and on disk as `runs.csv`.
+//! ([`RunStatus`]), frames, measures, drawn inputs and the fingerprint of
+//! its final state), and on disk as `runs.csv`.
 
 use std::io::{self, Write};
 
@@ -51,9 +52,10 @@ impl From<RunStatus> for &'static str {
 }
 
 /// The per-run results of some runs of a study, in run order: one row per
-/// run, one column per measure. A measure that does not apply to a run (no
-/// touchdown, target height never reached, a refused start) is `None`:
-/// never NaN.
+/// run, one column per measure, then one column per dispersion (the value
+/// the run drew) and the fingerprint of the run's final state. A measure
+/// that does not apply to a run (no touchdown, target height never reached,
+/// a refused start) is `None`: never NaN.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RunTable {
     /// The run indices.
@@ -64,19 +66,68 @@ pub struct RunTable {
     pub frames: Vec<u64>,
     /// Per measure, in the study's order: its name and one value per run.
     pub measures: Vec<(String, Vec<Option<f64>>)>,
+    /// Per dispersion, in the study file's order: the column's name
+    /// ([`input_column_name`]: `input.` and the dispersion's key) and the
+    /// value drawn for each run, the very `f64` the study handed to the
+    /// model (also for a refused start, whose draws are often the reason).
+    pub inputs: Vec<(String, Vec<f64>)>,
+    /// Per run: the fingerprint of its final state (the state at its last
+    /// frame, [`fdm_run::RunModel::state_fingerprint`], what a recording of
+    /// the run carries); `None` for a refused start.
+    pub fingerprint: Vec<Option<u64>>,
+}
+
+/// The column name of the input drawn by the dispersion of study-file key
+/// `key`: `input.` then the key as written in the file, e.g.
+/// `input.initial.speed_kt`, `input.aircraft.mass_kg`,
+/// `input.script_delay_s`. The keys carry their units (`_kt`, `_kg`, `_s`,
+/// ...); a key without one is dimensionless (`controls.throttle`, a
+/// fraction; `aircraft.mass_scale`, a factor).
+#[must_use]
+pub fn input_column_name(key: &str) -> String {
+    format!("input.{key}")
+}
+
+/// The fingerprint as `runs.csv` and `runs.arrow` write it: `0x` and 16
+/// lowercase hex digits, as `summary.json`'s `maths` and `sim-cli replay`'s
+/// messages.
+#[must_use]
+pub fn fingerprint_text(fingerprint: u64) -> String {
+    format!("{fingerprint:#018x}")
 }
 
 impl RunTable {
-    /// An empty table with the columns of `measures`.
+    /// An empty table with the columns of `measures` and no input column.
     #[must_use]
     pub fn empty(measures: &[Measure]) -> Self {
+        Self::empty_with_inputs(measures, &[])
+    }
+
+    /// An empty table with the columns of `measures` and the input columns
+    /// `input_names` (e.g. [`crate::Study::input_names`]).
+    #[must_use]
+    pub fn empty_with_inputs(measures: &[Measure], input_names: &[String]) -> Self {
         Self {
             measures: measures
                 .iter()
                 .map(|m| (m.name().to_owned(), Vec::new()))
                 .collect(),
+            inputs: input_names
+                .iter()
+                .map(|n| (n.clone(), Vec::new()))
+                .collect(),
             ..Self::default()
         }
+    }
+
+    /// The names of the value columns: the measures', then the inputs'.
+    #[must_use]
+    pub fn column_names(&self) -> Vec<String> {
+        self.measures
+            .iter()
+            .map(|(n, _)| n.clone())
+            .chain(self.inputs.iter().map(|(n, _)| n.clone()))
+            .collect()
     }
 
     /// Number of rows.
@@ -94,18 +145,13 @@ impl RunTable {
     /// Appends `other`'s rows after this table's.
     ///
     /// # Errors
-    /// [`StudyError::Columns`] when the two tables' measure columns differ.
+    /// [`StudyError::Columns`] when the two tables' measure or input
+    /// columns differ.
     pub fn append(&mut self, other: RunTable) -> Result<(), StudyError> {
-        let names = |t: &RunTable| {
-            t.measures
-                .iter()
-                .map(|(n, _)| n.clone())
-                .collect::<Vec<_>>()
-        };
-        if names(self) != names(&other) {
+        if self.column_names() != other.column_names() {
             return Err(StudyError::Columns {
-                have: names(self),
-                other: names(&other),
+                have: self.column_names(),
+                other: other.column_names(),
             });
         }
         self.run.extend(other.run);
@@ -114,42 +160,59 @@ impl RunTable {
         for ((_, mine), (_, theirs)) in self.measures.iter_mut().zip(other.measures) {
             mine.extend(theirs);
         }
+        for ((_, mine), (_, theirs)) in self.inputs.iter_mut().zip(other.inputs) {
+            mine.extend(theirs);
+        }
+        self.fingerprint.extend(other.fingerprint);
         Ok(())
     }
 
-    pub(crate) fn push(
-        &mut self,
-        run: u64,
-        status: RunStatus,
-        frames: u64,
-        tracker: Option<&Tracker>,
-        measures: &[Measure],
-    ) {
-        self.run.push(run);
-        self.status.push(status);
-        self.frames.push(frames);
+    /// Appends one row: the measures (in `measures`' order) from its
+    /// tracker (none without one), its drawn inputs in the table's input
+    /// order, its final state's fingerprint.
+    pub(crate) fn push(&mut self, row: Row<'_>, measures: &[Measure]) {
+        self.run.push(row.run);
+        self.status.push(row.status);
+        self.frames.push(row.frames);
         for ((_, column), measure) in self.measures.iter_mut().zip(measures) {
-            column.push(tracker.and_then(|t| t.value(*measure)));
+            column.push(row.tracker.and_then(|t| t.value(*measure)));
         }
+        for ((_, column), value) in self.inputs.iter_mut().zip(row.inputs) {
+            column.push(*value);
+        }
+        self.fingerprint.push(row.fingerprint);
     }
 }
 
-/// Writes the header of `runs.csv`: `run,status,` then the measures' names.
+/// One row of a [`RunTable`] as it is pushed.
+pub(crate) struct Row<'a> {
+    pub(crate) run: u64,
+    pub(crate) status: RunStatus,
+    pub(crate) frames: u64,
+    pub(crate) tracker: Option<&'a Tracker>,
+    pub(crate) inputs: &'a [f64],
+    pub(crate) fingerprint: Option<u64>,
+}
+
+/// Writes the header of `runs.csv` for tables with `columns`' columns (an
+/// empty table will do, e.g. [`crate::Study::empty_table`]): `run,status`,
+/// the measures' names, the inputs' names, then `fingerprint`.
 ///
 /// # Errors
 /// The writer's.
-pub fn write_csv_header(out: &mut impl Write, measure_names: &[String]) -> io::Result<()> {
+pub fn write_csv_header(out: &mut impl Write, columns: &RunTable) -> io::Result<()> {
     write!(out, "run,status")?;
-    for name in measure_names {
+    for name in columns.column_names() {
         write!(out, ",{name}")?;
     }
-    writeln!(out)
+    writeln!(out, ",fingerprint")
 }
 
-/// Writes `table`'s rows as `runs.csv` rows: the run, the status code, then
-/// each measure as the shortest decimal that reads back to the same `f64`
-/// (so the text is the bits), or an empty cell where the measure does not
-/// apply.
+/// Writes `table`'s rows as `runs.csv` rows: the run, the status code, each
+/// measure as the shortest decimal that reads back to the same `f64` (so
+/// the text is the bits) or an empty cell where the measure does not apply,
+/// each input the same way, then the fingerprint ([`fingerprint_text`]; an
+/// empty cell for a refused start).
 ///
 /// # Errors
 /// The writer's.
@@ -162,7 +225,13 @@ pub fn write_csv_rows(out: &mut impl Write, table: &RunTable) -> io::Result<()> 
                 None => write!(out, ",")?,
             }
         }
-        writeln!(out)?;
+        for (_, column) in &table.inputs {
+            write!(out, ",{:?}", column[row])?;
+        }
+        match table.fingerprint.get(row).copied().flatten() {
+            Some(f) => writeln!(out, ",{}", fingerprint_text(f))?,
+            None => writeln!(out, ",")?,
+        }
     }
     Ok(())
 }
@@ -182,16 +251,22 @@ mod tests {
             ],
             frames: vec![9, 0],
             measures: vec![("a".into(), vec![Some(0.1 + 0.2), None])],
+            inputs: vec![(input_column_name("controls.throttle"), vec![1e-7, 0.75])],
+            fingerprint: vec![Some(0x0123_4567_89ab_cdef), None],
         };
         let mut out = Vec::new();
-        write_csv_header(&mut out, &["a".to_owned()]).unwrap();
+        write_csv_header(&mut out, &table).unwrap();
         write_csv_rows(&mut out, &table).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(
             text,
-            "run,status,a\n3,airborne,0.30000000000000004\n4,start_refused,\n"
+            "run,status,a,input.controls.throttle,fingerprint\n\
+             3,airborne,0.30000000000000004,1e-7,0x0123456789abcdef\n\
+             4,start_refused,,0.75,\n"
         );
         let back: f64 = "0.30000000000000004".parse().unwrap();
         assert_eq!(back.to_bits(), (0.1f64 + 0.2).to_bits());
+        let back: f64 = "1e-7".parse().unwrap();
+        assert_eq!(back.to_bits(), 1e-7f64.to_bits());
     }
 }

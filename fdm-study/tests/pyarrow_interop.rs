@@ -2,13 +2,14 @@
 //! 21.0.0, pinned, in a venv under the test's target tmp dir, as the other
 //! interop tests make theirs; `$ARROW_PYTHON` can name a ready Python). The
 //! comparison is exact: every float as its bits (`float.hex()`), every null
-//! where the table has `None`.
+//! where the table has `None`, the drawn inputs and the fingerprints as text.
 
 use std::path::Path;
 use std::process::Command;
 
 use fdm_core::model::{FlightStatus, LandingState};
 use fdm_study::arrow::ArrowWriter;
+use fdm_study::table::fingerprint_text;
 use fdm_study::{FlyOptions, RunStatus, RunTable, Study};
 use fdm_tests::python::PythonEnv;
 
@@ -61,14 +62,16 @@ fn read_back(path: &Path) -> serde_json::Value {
 
 fn check(tables: &[RunTable], path: &Path) {
     let names: Vec<String> = tables[0].measures.iter().map(|(n, _)| n.clone()).collect();
+    let inputs: Vec<String> = tables[0].inputs.iter().map(|(n, _)| n.clone()).collect();
+    let mut all = RunTable::empty(&[]);
+    all.measures = names.iter().map(|n| (n.clone(), Vec::new())).collect();
+    all.inputs = inputs.iter().map(|n| (n.clone(), Vec::new())).collect();
     let file = std::fs::File::create(path).unwrap();
-    let mut writer = ArrowWriter::new(std::io::BufWriter::new(file), &names).unwrap();
+    let mut writer = ArrowWriter::new(std::io::BufWriter::new(file), &all).unwrap();
     for t in tables {
         writer.write(t).unwrap();
     }
     writer.finish().unwrap();
-    let mut all = RunTable::empty(&[]);
-    all.measures = names.iter().map(|n| (n.clone(), Vec::new())).collect();
     for t in tables {
         all.append(t.clone()).unwrap();
     }
@@ -81,6 +84,10 @@ fn check(tables: &[RunTable], path: &Path) {
     for n in &names {
         schema.push(serde_json::json!([n, "double", true]));
     }
+    for n in &inputs {
+        schema.push(serde_json::json!([n, "double", false]));
+    }
+    schema.push(serde_json::json!(["fingerprint", "string", true]));
     assert_eq!(back["schema"], serde_json::Value::Array(schema));
     let cols = &back["columns"];
     assert_eq!(cols["run"], serde_json::json!(all.run));
@@ -90,6 +97,16 @@ fn check(tables: &[RunTable], path: &Path) {
         let expected: Vec<Option<String>> = values.iter().map(|v| v.map(hex)).collect();
         assert_eq!(cols[name.as_str()], serde_json::json!(expected), "{name}");
     }
+    for (name, values) in &all.inputs {
+        let expected: Vec<String> = values.iter().map(|v| hex(*v)).collect();
+        assert_eq!(cols[name.as_str()], serde_json::json!(expected), "{name}");
+    }
+    let expected: Vec<Option<String>> = all
+        .fingerprint
+        .iter()
+        .map(|f| f.map(fingerprint_text))
+        .collect();
+    assert_eq!(cols["fingerprint"], serde_json::json!(expected));
 }
 
 #[test]
@@ -138,6 +155,22 @@ fn pyarrow_reads_a_handmade_table_exactly() {
                 "full".into(),
                 (0..9).map(|i| Some(f64::from(i) / 3.0)).collect(),
             ),
+        ],
+        inputs: vec![(
+            "input.aircraft.mass_kg".into(),
+            vec![1114.0, 0.1, -0.0, 1e-300, 5e-324, 7.0, 1e300, 2.5, 3.0],
+        )],
+        // A refused start has none; the rest as flown (0 and u64::MAX too).
+        fingerprint: vec![
+            Some(0),
+            None,
+            Some(u64::MAX),
+            Some(0x0123_4567_89ab_cdef),
+            Some(1),
+            Some(2),
+            Some(3),
+            Some(4),
+            Some(5),
         ],
     };
     let mut b = a.clone();

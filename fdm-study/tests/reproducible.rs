@@ -1,7 +1,8 @@
 //! Run i is the same bits whatever the range, the thread count, the block
 //! layout or the number of runs, and the same bits again flown alone through
-//! `fdm_run::Run` (exact precision). Every comparison is exact (f64 bits):
-//! the guarantee is bit-identity, not closeness.
+//! `fdm_run::Run` (exact precision), drawn inputs and final-state
+//! fingerprints included. Every comparison is exact (f64 bits, u64
+//! fingerprints): the guarantee is bit-identity, not closeness.
 
 use fdm_core::bourg::Bourg;
 use fdm_core::palmer::Palmer;
@@ -105,8 +106,15 @@ fn check_layouts(study: &Study) -> RunTable {
 }
 
 /// Run i flown alone through `fdm_run::Run` for the batch's frames, with
-/// the measures as an output: the batch's row, bit for bit.
+/// the measures as an output: the batch's row, bit for bit (measures,
+/// inputs, fingerprint); and the fingerprint of the state the lone flight
+/// ends in (`Run::state`, the model's scalar step) is the row's. Different
+/// runs end in different states here (each draws other values), so their
+/// fingerprints all differ.
 fn check_alone<M: StudyModel>(study: &Study, all: &RunTable) {
+    let distinct: std::collections::BTreeSet<u64> =
+        all.fingerprint.iter().map(|f| f.unwrap()).collect();
+    assert_eq!(distinct.len(), all.len(), "{:x?}", all.fingerprint);
     for i in 0..study.runs() {
         let row = usize::try_from(i).unwrap();
         let scenario = study.scenario::<M>(i, all.frames[row]).unwrap();
@@ -120,6 +128,62 @@ fn check_alone<M: StudyModel>(study: &Study, all: &RunTable) {
         run.run_to_end().unwrap();
         let alone = output.take().unwrap().table();
         assert_eq!(bits(&alone)[0], bits(all)[row], "run {i}");
+        assert_eq!(
+            Some(M::state_fingerprint(&run.state().unwrap())),
+            all.fingerprint[row],
+            "run {i}"
+        );
+    }
+}
+
+/// Each row's `input.*` columns are the run's drawn values
+/// (`Study::dispersed_values`, same bits, in the file's order, named
+/// `input.` and the key), and the very values the run flies with: the
+/// scenario `sim-cli study --run I` flies has that mass, and its script
+/// starts later by the drawn delay (rounded to frames).
+#[test]
+fn the_input_columns_are_the_values_each_run_flies_with() {
+    let study = Study::from_toml_str(PALMER_LANDING).unwrap();
+    let all = study.fly_runs(0..12, &options(2)).unwrap();
+    let names: Vec<&str> = all.inputs.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "input.initial.speed_kt",
+            "input.aircraft.mass_kg",
+            "input.script_delay_s",
+            "input.initial.heading_deg"
+        ]
+    );
+    assert_eq!(study.input_names(), names);
+    for i in [0u64, 5, 11] {
+        let row = usize::try_from(i).unwrap();
+        let drawn = study.dispersed_values(i);
+        for ((key, value), (name, column)) in drawn.iter().zip(&all.inputs) {
+            assert_eq!(name, &format!("input.{key}"));
+            assert_eq!(value.to_bits(), column[row].to_bits(), "run {i} {key}");
+        }
+        let scenario = study.scenario::<Palmer>(i, all.frames[row]).unwrap();
+        assert_eq!(
+            scenario.start.aircraft.mass_kg.to_bits(),
+            all.inputs[1].1[row].to_bits()
+        );
+        let delay = all.inputs[2].1[row];
+        let first = scenario.script.rules()[0].first_frame;
+        assert_eq!(first, 1 + (delay * 30.0).round() as u64, "run {i}");
+    }
+    // Bourg's thrust is an f32 control: the model flies the f64 drawn,
+    // rounded to f32 once.
+    let study = Study::from_toml_str(BOURG_CLIMB).unwrap();
+    let all = study.fly_runs(0..10, &options(1)).unwrap();
+    for i in [0u64, 9] {
+        let row = usize::try_from(i).unwrap();
+        let scenario = study.scenario::<Bourg>(i, 1).unwrap();
+        assert_eq!(
+            scenario.start.controls.thrust_lb,
+            all.inputs[1].1[row] as f32
+        );
+        assert_eq!(study.dispersed_values(i)[1].1, all.inputs[1].1[row]);
     }
 }
 

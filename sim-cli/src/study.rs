@@ -22,7 +22,8 @@ use fdm_run::SharedOutput;
 use fdm_study::arrow::ArrowWriter;
 use fdm_study::table::{write_csv_header, write_csv_rows};
 use fdm_study::{
-    FlyOptions, MeasureOutput, RunStatus, RunTable, Study, StudyModel, SummaryBuilder,
+    FlyOptions, GroundTrack, MeasureOutput, RunStatus, RunTable, Study, StudyModel, SummaryBuilder,
+    TrackPlan,
 };
 
 use crate::args::{CommonArgs, FleetPrecision, StudyArgs};
@@ -128,14 +129,14 @@ fn batch(
     // Registered with the signal thread: if the process must end at once (a
     // second signal), the file still ends with a whole row.
     let mut csv = SignalSafeWriter::register(file);
-    write_csv_header(&mut csv, &study.measure_names())
+    write_csv_header(&mut csv, &study.empty_table())
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let arrow_path = out_dir.join("runs.arrow");
     let arrow_file = crate::outfile::create_locked(&arrow_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", arrow_path.display())))?;
     let mut arrow = ArrowWriter::new(
         BufWriter::with_capacity(1 << 16, arrow_file),
-        &study.measure_names(),
+        &study.empty_table(),
     )
     .with_context(|| format!("writing {}", arrow_path.display()))?;
     let mut summary = SummaryBuilder::new();
@@ -147,6 +148,15 @@ fn batch(
     let column = |name: &str| names.iter().position(|n| n == name);
     let touchdown_columns = column("touchdown_x_m").zip(column("touchdown_y_m"));
     let mut touchdowns: Vec<(f64, f64)> = Vec::new();
+    // The ground tracks of study.svg: a bounded sample (at most 50 runs of
+    // at most about 300 points, under 0.5 MB whatever the number of runs).
+    let plan = TrackPlan::spread(
+        study.runs(),
+        study.frames(),
+        TrackPlan::DEFAULT_TRACKS,
+        TrackPlan::DEFAULT_POINTS,
+    );
+    let mut tracks: Vec<GroundTrack> = Vec::with_capacity(plan.runs().len());
     let mut progress = StderrProgress::with_enabled(study.runs(), std::io::stderr().is_terminal());
     // A signal (crate::signals) stops the flying within milliseconds, inside
     // the chunk; the runs completed before it, runs 0 to start - 1, are
@@ -155,12 +165,13 @@ fn batch(
     let mut start = 0;
     while start < study.runs() && !stop() {
         let end = (start + chunk_runs).min(study.runs());
-        let table = study
-            .fly_runs_until(start..end, &options, stop)
+        let (table, chunk_tracks) = study
+            .fly_runs_tracked(start..end, &options, stop, &plan)
             .map_err(|e| match e {
                 fdm_study::StudyError::Fleet(_) => CliError::usage(e.to_string()),
                 e => CliError::runtime(e),
             })?;
+        tracks.extend(chunk_tracks);
         if table.is_empty() {
             break;
         }
@@ -194,7 +205,12 @@ fn batch(
     arrow
         .finish()
         .with_context(|| format!("writing {}", arrow_path.display()))?;
-    let svg = crate::study_plot::render(summary.measure_values(), &touchdowns)?;
+    let svg = crate::study_plot::render(
+        summary.measure_values(),
+        &touchdowns,
+        &tracks,
+        plan.frame_step(),
+    )?;
     let plot_path = out_dir.join("study.svg");
     std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
     let mut summary = summary.finish().with_seed(study.seed());
@@ -286,7 +302,7 @@ fn run_alone<M: CliModel + StudyModel>(
     let table = measures
         .take()
         .map(|m| m.table())
-        .unwrap_or_else(|| RunTable::empty(study.measures()));
+        .unwrap_or_else(|| study.empty_table());
     // A signal ended the flight early (its own outputs are finished for the
     // frames flown, as `sim-cli palmer`'s): its measures are not the batch's
     // row, so run-I.csv is not written.
@@ -295,7 +311,7 @@ fn run_alone<M: CliModel + StudyModel>(
     }
     let path = out_dir.join(format!("run-{run}.csv"));
     let mut text = Vec::new();
-    write_csv_header(&mut text, &study.measure_names()).context("run row")?;
+    write_csv_header(&mut text, &table).context("run row")?;
     write_csv_rows(&mut text, &table).context("run row")?;
     std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
     Ok(())

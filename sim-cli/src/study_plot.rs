@@ -1,9 +1,17 @@
 //! `sim-cli study`'s plots: one SVG (`study.svg`) with a histogram per
-//! measure and, when the study measures `touchdown_x_m` and
-//! `touchdown_y_m`, the touchdown points as a scatter (east/north, as the
-//! flight plots' ground track). Drawn with `plotters`' SVG backend, in the
-//! style of [`crate::plot`].
+//! measure, when the study measures `touchdown_x_m` and `touchdown_y_m` the
+//! touchdown points as a scatter (east/north, as the flight plots' ground
+//! track), and a thinned sample of ground tracks ([`fdm_study::TrackPlan`]:
+//! at most 50 runs spread evenly over the run indices, each at most about
+//! 300 points). Drawn with `plotters`' SVG backend, in the style of
+//! [`crate::plot`]; each track is one `<polyline class="ground-track"
+//! data-run="I" data-frame-step="S">` whose points are the track's
+//! positions (east = −y, north = x) in the panel's axes, in pixels to
+//! 0.01 px.
 
+use std::fmt::Write as _;
+
+use fdm_study::GroundTrack;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -122,14 +130,82 @@ fn scatter(
     Ok(())
 }
 
+/// The panel of ground tracks: axes drawn by plotters, and the tracks as
+/// SVG polylines (returned, to be added to the document) in the axes'
+/// pixels.
+fn ground_tracks(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    tracks: &[GroundTrack],
+    frame_step: u64,
+) -> Result<String, CliError> {
+    // East = −y, north = x, as the scatter and the flight plots.
+    let points = || {
+        tracks
+            .iter()
+            .flat_map(|t| t.position_m.iter().map(|p| (-p[1], p[0])))
+    };
+    let (Some(mut east), Some(mut north)) = (
+        range_of(points().map(|p| p.0)),
+        range_of(points().map(|p| p.1)),
+    ) else {
+        return Ok(String::new());
+    };
+    if east.end - east.start < 1.0 {
+        let mid = (east.start + east.end) / 2.0;
+        east = (mid - 0.5)..(mid + 0.5);
+    }
+    if north.end - north.start < 1.0 {
+        let mid = (north.start + north.end) / 2.0;
+        north = (mid - 0.5)..(mid + 0.5);
+    }
+    let caption = format!(
+        "Ground tracks ({} runs spread over the study, every {frame_step} frames; axes not to the same scale)",
+        tracks.len()
+    );
+    let chart = crate::plot::east_north_chart(area, (&caption, 16), east.clone(), north.clone())
+        .map_err(draw_error)?;
+    // The plotting area's pixels: east grows rightwards, north upwards.
+    let (x_px, y_px) = chart.plotting_area().get_pixel_range();
+    let (x0, x1) = (f64::from(x_px.start), f64::from(x_px.end));
+    let (y0, y1) = (f64::from(y_px.start), f64::from(y_px.end));
+    let to_px = |(e, n): (f64, f64)| {
+        (
+            x0 + (e - east.start) / (east.end - east.start) * (x1 - x0),
+            y1 - (n - north.start) / (north.end - north.start) * (y1 - y0),
+        )
+    };
+    let mut out = String::from("<g class=\"ground-tracks\">\n");
+    for (k, track) in tracks.iter().enumerate() {
+        let (r, g, b) = Palette99::pick(k).to_rgba().rgb();
+        let _ = write!(
+            out,
+            "<polyline class=\"ground-track\" data-run=\"{}\" data-frame-step=\"{frame_step}\" \
+             fill=\"none\" stroke=\"#{r:02x}{g:02x}{b:02x}\" stroke-opacity=\"0.8\" \
+             stroke-width=\"1\" points=\"",
+            track.run
+        );
+        for (i, p) in track.position_m.iter().enumerate() {
+            let (x, y) = to_px((-p[1], p[0]));
+            let sep = if i == 0 { "" } else { " " };
+            let _ = write!(out, "{sep}{x:.2},{y:.2}");
+        }
+        let _ = writeln!(out, "\"><title>run {}</title></polyline>", track.run);
+    }
+    out.push_str("</g>\n");
+    Ok(out)
+}
+
 /// The study's plots as one SVG document: a histogram per measure (two per
-/// row), then the touchdown scatter if `touchdown_points` has any.
+/// row), then the touchdown scatter if `touchdown_points` has any, then the
+/// ground tracks if `tracks` has any (kept every `frame_step` frames).
 ///
 /// # Errors
 /// [`CliError::Runtime`] if drawing fails.
 pub fn render(
     measures: &[(String, Vec<f64>)],
     touchdown_points_east_north_m: &[(f64, f64)],
+    tracks: &[GroundTrack],
+    frame_step: u64,
 ) -> Result<String, CliError> {
     let histogram_rows = measures.len().div_ceil(2);
     let scatter_rows = if touchdown_points_east_north_m.is_empty() {
@@ -137,10 +213,12 @@ pub fn render(
     } else {
         2
     };
-    let rows = u32::try_from(histogram_rows + scatter_rows)
+    let track_rows = if tracks.is_empty() { 0 } else { 2 };
+    let rows = u32::try_from(histogram_rows + scatter_rows + track_rows)
         .unwrap_or(1)
         .max(1);
     let mut svg = String::new();
+    let polylines;
     {
         let root =
             SVGBackend::with_string(&mut svg, (WIDTH, ROW_HEIGHT * rows)).into_drawing_area();
@@ -151,10 +229,22 @@ pub fn render(
         for ((name, values), cell) in measures.iter().zip(&cells) {
             histogram(cell, name, values)?;
         }
+        let (middle, tracks_area) =
+            bottom.split_vertically(ROW_HEIGHT * u32::try_from(scatter_rows).unwrap_or(0));
         if scatter_rows > 0 {
-            scatter(&bottom, touchdown_points_east_north_m)?;
+            scatter(&middle, touchdown_points_east_north_m)?;
         }
+        polylines = if track_rows > 0 {
+            ground_tracks(&tracks_area, tracks, frame_step)?
+        } else {
+            String::new()
+        };
         root.present().map_err(draw_error)?;
+    }
+    // The tracks go last, over their panel's axes.
+    match svg.rfind("</svg>") {
+        Some(end) => svg.insert_str(end, &polylines),
+        None => return Err(draw_error("the SVG backend wrote no </svg>")),
     }
     Ok(svg)
 }

@@ -2,9 +2,20 @@
 
 use fdm_study::{FlyOptions, RunTable};
 
-/// The table's values as bits (run, status code, frames, every measure), to
-/// compare two tables exactly.
-pub fn bits(table: &RunTable) -> Vec<(u64, &'static str, u64, Vec<Option<u64>>)> {
+/// One row as bits: run, status code, frames, every measure, every drawn
+/// input, the fingerprint.
+pub type RowBits = (
+    u64,
+    &'static str,
+    u64,
+    Vec<Option<u64>>,
+    Vec<u64>,
+    Option<u64>,
+);
+
+/// The table's values as bits (run, status code, frames, every measure,
+/// every drawn input, the fingerprint), to compare two tables exactly.
+pub fn bits(table: &RunTable) -> Vec<RowBits> {
     (0..table.len())
         .map(|row| {
             (
@@ -16,6 +27,8 @@ pub fn bits(table: &RunTable) -> Vec<(u64, &'static str, u64, Vec<Option<u64>>)>
                     .iter()
                     .map(|(_, c)| c[row].map(f64::to_bits))
                     .collect(),
+                table.inputs.iter().map(|(_, c)| c[row].to_bits()).collect(),
+                table.fingerprint[row],
             )
         })
         .collect()
