@@ -120,6 +120,13 @@ impl PyStudy {
         self.study.measure_names()
     }
 
+    /// The drawn inputs' column names (`input.` and each dispersion's key),
+    /// in the file's order.
+    #[getter]
+    fn input_names(&self) -> Vec<String> {
+        self.study.input_names()
+    }
+
     /// See `_afit_fdm.pyi`.
     #[pyo3(signature = (first, end, *, threads=None, precision="exact"))]
     fn fly_columns<'py>(
@@ -221,9 +228,11 @@ fn fly_interruptibly(
 }
 
 /// A table as a dict of NumPy columns: `run` (uint64), `status_code` (uint8,
-/// an index into `STATUS_CODES`), `frames` (uint64), and `measures`: a list
+/// an index into `STATUS_CODES`), `frames` (uint64), `measures`: a list
 /// of `(name, values float64, applies bool)`, `values` 0.0 where the measure
-/// does not apply.
+/// does not apply; `inputs`: a list of `(name, values float64)`, the values
+/// each run drew; `fingerprint` (uint64, 0 where there is none) and
+/// `has_fingerprint` (bool, false for a refused start).
 fn columns(py: Python<'_>, table: RunTable) -> PyResult<Bound<'_, PyDict>> {
     let out = PyDict::new(py);
     let codes: Vec<u8> = table.status.iter().map(|s| status_index(*s)).collect();
@@ -241,6 +250,15 @@ fn columns(py: Python<'_>, table: RunTable) -> PyResult<Bound<'_, PyDict>> {
         ))?;
     }
     out.set_item("measures", measures)?;
+    let inputs = PyList::empty(py);
+    for (name, column) in table.inputs {
+        inputs.append((name, PyArray1::from_vec(py, column)))?;
+    }
+    out.set_item("inputs", inputs)?;
+    let has: Vec<bool> = table.fingerprint.iter().map(Option::is_some).collect();
+    let fingerprint: Vec<u64> = table.fingerprint.iter().map(|f| f.unwrap_or(0)).collect();
+    out.set_item("fingerprint", PyArray1::from_vec(py, fingerprint))?;
+    out.set_item("has_fingerprint", PyArray1::from_vec(py, has))?;
     Ok(out)
 }
 

@@ -95,6 +95,15 @@ def assert_rows_match(table: afit_fdm.RunTable, rows: List[Dict[str, str]]) -> N
                 assert table.applies(name)[i], (i, name)
                 want = np.float64(float(cell))
                 assert want.view(np.uint64) == table.values(name)[i].view(np.uint64), (i, name, cell)
+        for name in table.input_names:
+            want = np.float64(float(row[name]))
+            assert want.view(np.uint64) == table.input(name)[i].view(np.uint64), (i, name, row[name])
+        if row["fingerprint"] == "":
+            assert not table.has_fingerprint[i], i
+        else:
+            assert table.has_fingerprint[i], i
+            assert int(row["fingerprint"], 16) == int(table.fingerprint[i]), (i, row["fingerprint"])
+            assert table.fingerprint_text[i] == row["fingerprint"]
 
 
 def test_the_table_is_sim_cli_studys_runs_csv_and_summary(
@@ -108,7 +117,10 @@ def test_the_table_is_sim_cli_studys_runs_csv_and_summary(
     )
     assert proc.returncode == 0, proc.stderr
     rows = read_runs_csv(out / "runs.csv")
-    assert list(rows[0]) == ["run", "status", *whole.measure_names]
+    assert list(rows[0]) == ["run", "status", *whole.measure_names, *whole.input_names, "fingerprint"]
+    assert whole.input_names == ("input.initial.speed_kt", "input.aircraft.mass_kg", "input.initial.altitude_ft")
+    # Different runs end in different states: different fingerprints.
+    assert whole.has_fingerprint.all() and len(set(whole.fingerprint.tolist())) == len(whole)
     assert_rows_match(whole, rows)
     with open(out / "summary.json", encoding="utf-8") as f:
         assert whole.summarize() == json.load(f)
@@ -152,6 +164,9 @@ def _rows(table: afit_fdm.RunTable, first: int, end: int) -> afit_fdm.RunTable:
             "status_code": cols["status_code"][first:end],
             "frames": cols["frames"][first:end],
             "measures": [(n, v[first:end], a[first:end]) for n, v, a in cols["measures"]],
+            "inputs": [(n, v[first:end]) for n, v in cols["inputs"]],
+            "fingerprint": cols["fingerprint"][first:end],
+            "has_fingerprint": cols["has_fingerprint"][first:end],
         },
         seed=table.seed,
     )
@@ -197,7 +212,11 @@ def test_the_table_is_numpy_and_pandas_ready(whole: afit_fdm.RunTable) -> None:
     assert list(whole.run) == list(range(24))
     assert set(whole.status) <= set(afit_fdm.STATUS_CODES)
     d = whole.to_dict()
-    assert list(d) == ["run", "status", "frames", *whole.measure_names]
+    assert list(d) == ["run", "status", "frames", *whole.measure_names, *whole.input_names, "fingerprint"]
+    assert afit_fdm.Study.from_toml(STUDY).input_names == whole.input_names
+    assert whole.input("input.aircraft.mass_kg").dtype == np.float64
+    assert set(whole.input("input.initial.altitude_ft").tolist()) <= {150.0, 300.0, 900.0}
+    assert all(isinstance(f, str) and len(f) == 18 for f in d["fingerprint"])
     m = d["touchdown_x_m"]
     assert isinstance(m, np.ma.MaskedArray)
     assert np.array_equal(m.mask, ~whole.applies("touchdown_x_m"))

@@ -216,12 +216,18 @@ class _Study:
     def model(self) -> str: ...
     @property
     def measure_names(self) -> List[str]: ...
+    @property
+    def input_names(self) -> List[str]:
+        """The drawn inputs' columns: ``input.`` and each dispersion's key, in the file's order."""
     def fly_columns(
         self, first: int, end: int, *, threads: Optional[int] = None, precision: str = "exact"
     ) -> Dict[str, Any]:
         """Flies runs ``first..end`` with the GIL released: ``run`` (uint64),
         ``status_code`` (uint8), ``frames`` (uint64), ``measures``: a list of
-        ``(name, values float64, applies bool)`` (values 0.0 where not applicable).
+        ``(name, values float64, applies bool)`` (values 0.0 where not applicable),
+        ``inputs``: a list of ``(name, values float64)`` (the values each run
+        drew), ``fingerprint`` (uint64, the final state's; 0 where there is
+        none) and ``has_fingerprint`` (bool; false for a refused start).
         Every 20 ms the calling thread looks at Python's pending signals; a
         signal whose handler raises (Ctrl-C's ``KeyboardInterrupt``) stops the
         fly and is raised from here (the runs flown so far are dropped)."""

@@ -13,6 +13,12 @@ reached, a refused start) has no value: :meth:`RunTable.applies` is ``False``
 there, :meth:`RunTable.measure` masks it, and :meth:`RunTable.values` holds
 ``0.0`` there. No cell is ever NaN unless a caller asks pandas for it
 (:meth:`RunTable.to_dict` gives masked arrays, which pandas reads as missing).
+
+Each row also carries the values the run drew, one ``input.KEY`` column per
+dispersion (:meth:`RunTable.input`, ``runs.csv``'s columns after the
+measures), and the fingerprint of the run's final state
+(:attr:`RunTable.fingerprint`, the 64-bit hash a recording of the run
+carries; ``runs.csv`` writes it as ``0x`` and 16 hex digits).
 """
 
 from __future__ import annotations
@@ -37,25 +43,33 @@ class RunTable:
 
     Columns: :attr:`run` (uint64), :attr:`status_code` (uint8, an index into
     :data:`STATUS_CODES`; :attr:`status` gives the words), :attr:`frames`
-    (uint64, frames each run flew) and one float64 column per measure
-    (:attr:`measure_names`), each with its ``applies`` flags. The arrays are
-    read-only.
+    (uint64, frames each run flew), one float64 column per measure
+    (:attr:`measure_names`), each with its ``applies`` flags, one float64
+    column per drawn input (:attr:`input_names`, ``input.`` and the
+    dispersion's key: the value the run flew with), and :attr:`fingerprint`
+    (uint64, the hash of the run's final state) with :attr:`has_fingerprint`
+    (``False`` for a refused start). The arrays are read-only.
     """
 
-    __slots__ = ("run", "status_code", "frames", "seed", "_measures")
+    __slots__ = ("run", "status_code", "frames", "seed", "_measures", "_inputs", "fingerprint", "has_fingerprint")
 
     run: npt.NDArray[np.uint64]
     status_code: npt.NDArray[np.uint8]
     frames: npt.NDArray[np.uint64]
     seed: int
     _measures: Dict[str, Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]]
+    _inputs: Dict[str, npt.NDArray[np.float64]]
+    fingerprint: npt.NDArray[np.uint64]
+    has_fingerprint: npt.NDArray[np.bool_]
 
     def __init__(self, columns: Columns, *, seed: int) -> None:
         """A table from plain columns: a dict with ``run``, ``status_code``,
         ``frames`` and ``measures`` (a list of ``(name, values, applies)``),
-        as :meth:`Study.fly` and :meth:`to_columns` give. The arrays are
-        checked (dtype, one dimension, equal lengths, known status codes) and
-        copied."""
+        and optionally ``inputs`` (a list of ``(name, values)``; none if
+        left out) and ``fingerprint`` with ``has_fingerprint`` (no
+        fingerprint if left out), as :meth:`Study.fly` and :meth:`to_columns`
+        give. The arrays are checked (dtype, one dimension, equal lengths,
+        known status codes) and copied."""
         n = _column(columns, "run", np.uint64, None).shape[0]
         self.run = _column(columns, "run", np.uint64, n)
         self.status_code = _column(columns, "status_code", np.uint8, n)
@@ -78,17 +92,60 @@ class RunTable:
                 _array(values, np.float64, n, name),
                 _array(applies, np.bool_, n, name + " applies"),
             )
+        inputs = columns.get("inputs", [])
+        if not isinstance(inputs, (list, tuple)):
+            raise TypeError("inputs: expected a list of (name, values)")
+        self._inputs = {}
+        for item in inputs:
+            name, values = item
+            if not isinstance(name, str) or name in self._inputs or name in self._measures:
+                raise ValueError(f"inputs: {name!r} is not a new column name")
+            self._inputs[name] = _array(values, np.float64, n, name)
+        if "fingerprint" in columns:
+            self.fingerprint = _column(columns, "fingerprint", np.uint64, n)
+            self.has_fingerprint = _column(columns, "has_fingerprint", np.bool_, n)
+        else:
+            self.fingerprint = _array(np.zeros(n, dtype=np.uint64), np.uint64, n, "fingerprint")
+            self.has_fingerprint = _array(np.zeros(n, dtype=np.bool_), np.bool_, n, "has_fingerprint")
 
     def __len__(self) -> int:
         return int(self.run.shape[0])
 
     def __repr__(self) -> str:
-        return f"RunTable({len(self)} runs, measures {list(self.measure_names)})"
+        return (
+            f"RunTable({len(self)} runs, measures {list(self.measure_names)}, "
+            f"inputs {list(self.input_names)})"
+        )
 
     @property
     def measure_names(self) -> Tuple[str, ...]:
         """The measures, in the study's order."""
         return tuple(self._measures)
+
+    @property
+    def input_names(self) -> Tuple[str, ...]:
+        """The drawn inputs' columns (``input.`` and each dispersion's key),
+        in the study file's order."""
+        return tuple(self._inputs)
+
+    def input(self, name: str) -> npt.NDArray[np.float64]:
+        """The values input ``name`` (e.g. ``"input.aircraft.mass_kg"``)
+        drew, one per run: the very values the runs flew with."""
+        try:
+            return self._inputs[name]
+        except KeyError:
+            raise KeyError(
+                f"{name!r} is not an input of this table (inputs: {', '.join(self._inputs)})"
+            ) from None
+
+    @property
+    def fingerprint_text(self) -> npt.NDArray[np.object_]:
+        """The fingerprints as ``runs.csv`` writes them (``0x`` and 16 hex
+        digits), ``None`` where there is none."""
+        return np.array(
+            [f"{int(f):#018x}" if h else None for f, h in zip(self.fingerprint, self.has_fingerprint)],
+            dtype=object,
+        )
 
     @property
     def status(self) -> npt.NDArray[np.str_]:
@@ -121,10 +178,15 @@ class RunTable:
         """The table for ``pandas.DataFrame(table.to_dict())``: ``run``,
         ``status`` (words), ``frames``, then one masked array per measure
         (pandas turns the masked cells, where the measure does not apply,
-        into its missing value)."""
+        into its missing value), one array per drawn input, and
+        ``fingerprint`` as text (:attr:`fingerprint_text`): the columns of
+        ``runs.csv`` with ``frames`` after ``status``."""
         out: Dict[str, Any] = {"run": self.run, "status": self.status, "frames": self.frames}
         for name in self._measures:
             out[name] = self.measure(name)
+        for name, values in self._inputs.items():
+            out[name] = values
+        out["fingerprint"] = self.fingerprint_text
         return out
 
     def to_columns(self) -> Columns:
@@ -135,6 +197,9 @@ class RunTable:
             "status_code": self.status_code,
             "frames": self.frames,
             "measures": [(name, v, a) for name, (v, a) in self._measures.items()],
+            "inputs": list(self._inputs.items()),
+            "fingerprint": self.fingerprint,
+            "has_fingerprint": self.has_fingerprint,
         }
 
     def summarize(self) -> Dict[str, Any]:
@@ -155,14 +220,23 @@ class RunTable:
 
     def identical(self, other: "RunTable") -> bool:
         """Whether ``other`` has the same columns with the same bits."""
-        if self.measure_names != other.measure_names or self.seed != other.seed:
+        if (
+            self.measure_names != other.measure_names
+            or self.input_names != other.input_names
+            or self.seed != other.seed
+        ):
             return False
         if not (
             np.array_equal(self.run, other.run)
             and np.array_equal(self.status_code, other.status_code)
             and np.array_equal(self.frames, other.frames)
+            and np.array_equal(self.fingerprint, other.fingerprint)
+            and np.array_equal(self.has_fingerprint, other.has_fingerprint)
         ):
             return False
+        for name, values in self._inputs.items():
+            if not np.array_equal(values.view(np.uint64), other._inputs[name].view(np.uint64)):
+                return False
         for name in self._measures:
             v, a = self._measures[name]
             ov, oa = other._measures[name]
@@ -183,6 +257,11 @@ class RunTable:
                     f"concat: the tables' measures differ: {list(first.measure_names)} "
                     f"and {list(t.measure_names)}"
                 )
+            if t.input_names != first.input_names:
+                raise ValueError(
+                    f"concat: the tables' inputs differ: {list(first.input_names)} "
+                    f"and {list(t.input_names)}"
+                )
             if t.seed != first.seed:
                 raise ValueError(f"concat: the tables' seeds differ: {first.seed} and {t.seed}")
         return RunTable(
@@ -198,6 +277,11 @@ class RunTable:
                     )
                     for name in first.measure_names
                 ],
+                "inputs": [
+                    (name, np.concatenate([t.input(name) for t in tables])) for name in first.input_names
+                ],
+                "fingerprint": np.concatenate([t.fingerprint for t in tables]),
+                "has_fingerprint": np.concatenate([t.has_fingerprint for t in tables]),
             },
             seed=first.seed,
         )
@@ -292,6 +376,12 @@ class Study:
     def measure_names(self) -> Tuple[str, ...]:
         """The measures, in the file's order."""
         return tuple(self._inner.measure_names)
+
+    @property
+    def input_names(self) -> Tuple[str, ...]:
+        """The drawn inputs' columns of the study's tables: ``input.`` and
+        each dispersion's key, in the file's order."""
+        return tuple(self._inner.input_names)
 
     def fly(
         self,
