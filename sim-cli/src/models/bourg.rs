@@ -82,10 +82,6 @@ impl CliModel for Bourg {
 
     const FG_AIRCRAFT: &'static str = "ufo";
 
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
-
-    const DIS_CALLSIGN: &'static str = "BRG";
-
     /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
     /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
     /// is false, so set the second.

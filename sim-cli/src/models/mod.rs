@@ -84,12 +84,6 @@ pub trait CliModel: RunModel<Action: KeyAction> {
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;
 
-    /// The model's DIS entity type (`--dis`, [`crate::dis`]).
-    const DIS_KIND: fdm_dis::AircraftKind;
-
-    /// The start of its DIS callsigns (markings): `C172-1`, `C172-2`, ...
-    const DIS_CALLSIGN: &'static str;
-
     /// Further fgfs options that aircraft needs with `--fdm=null` (printed by
     /// `sim-cli fgfs-command`, already shell-quoted where needed).
     const FG_OPTIONS: &'static [&'static str] = &[];

@@ -117,10 +117,6 @@ impl CliModel for Palmer {
 
     const FG_AIRCRAFT: &'static str = "c172p";
 
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
-
-    const DIS_CALLSIGN: &'static str = "C172";
-
     /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
     /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
     /// they do with `--fdm=null`: give them fuel (nothing consumes it). FlightGear
