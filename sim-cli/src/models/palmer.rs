@@ -58,6 +58,8 @@ pub struct PalmerDetails {
 impl Details for PalmerDetails {
     const MODEL: &'static str = "palmer";
     const POSITION_UNIT: &'static str = "m";
+    const CSV_SPEED_COLUMN: &'static str = "airspeed";
+    const METRES_PER_UNIT: f64 = 1.0;
     const CSV_COLUMNS: &'static [&'static str] = &[
         "airspeed",
         "throttle",
