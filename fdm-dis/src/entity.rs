@@ -102,6 +102,23 @@ impl AircraftKind {
     }
 }
 
+/// `kind.domain.country.category.subcategory.specific.extra` of a DIS entity
+/// type, as `sim-cli`'s reports and `dis-listen` print it (e.g.
+/// `1.2.225.85.11.1.0` for [`AircraftKind::Cessna172`]).
+#[must_use]
+pub fn type_label(t: &EntityType) -> String {
+    format!(
+        "{}.{}.{}.{}.{}.{}.{}",
+        u8::from(t.kind),
+        u8::from(t.domain),
+        u16::from(t.country),
+        t.category,
+        t.subcategory,
+        t.specific,
+        t.extra
+    )
+}
+
 /// A DIS entity identifier: site, application and entity numbers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct EntityIdentity {
@@ -230,6 +247,17 @@ impl DrAlgorithm {
         [Self::Fpw, Self::Rpw, Self::Rvw, Self::Fvw]
             .into_iter()
             .find(|a| a.to_dis() == algorithm)
+    }
+
+    /// The standard's name, e.g. `"DRM(R,V,W)"`.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Fpw => "DRM(F,P,W)",
+            Self::Rpw => "DRM(R,P,W)",
+            Self::Rvw => "DRM(R,V,W)",
+            Self::Fvw => "DRM(F,V,W)",
+        }
     }
 
     /// Whether the orientation is extrapolated with the angular velocity

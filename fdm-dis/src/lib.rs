@@ -156,8 +156,8 @@ pub use fdm_core::geodesy;
 
 pub use dead_reckoning::{extrapolate, DeadReckoner, DrError, DrThresholds, SendReason};
 pub use entity::{
-    dis_timestamp, encode_entity_state, entity_state_pdu, AircraftKind, DisVersion, DrAlgorithm,
-    EntityConfig, EntityIdentity, Marking, WireState, ENTITY_STATE_PDU_LEN,
+    dis_timestamp, encode_entity_state, entity_state_pdu, type_label, AircraftKind, DisVersion,
+    DrAlgorithm, EntityConfig, EntityIdentity, Marking, WireState, ENTITY_STATE_PDU_LEN,
 };
 pub use error::DisOutputError;
 pub use frames::{

@@ -48,10 +48,15 @@
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`]: outputs as plugins |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
+//! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
+//! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]) and [`csv::CsvOutput`] |
 //! | [`model`] | [`RunModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
 
 pub mod acmi;
+pub mod csv;
+#[cfg(feature = "dis")]
+pub mod dis;
 pub mod model;
 pub mod output;
 pub mod pacer;

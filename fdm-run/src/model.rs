@@ -30,8 +30,15 @@ pub trait RunModel:
     /// The object `Name` Tacview shows (the aircraft type), e.g. `C172`.
     const ACMI_NAME: &'static str;
 
-    /// The start of callsigns of this model's aircraft: `C172-1`, `C172-2`, ...
+    /// The start of callsigns of this model's aircraft (ACMI and DIS
+    /// markings): `C172-1`, `C172-2`, ...
     const CALLSIGN: &'static str;
+
+    /// The model's DIS entity type (`fdm_run::dis`), a value of the
+    /// registry: SISO-REF-010's seven numbers. The default is a small civil
+    /// fixed-wing aircraft of no stated country or type (1.2.0.85.0.0.0).
+    #[cfg(feature = "dis")]
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
 
     /// The record of `aircraft`.
     fn aircraft_record(aircraft: &Self::Aircraft) -> Self::AircraftRecord;
@@ -54,6 +61,8 @@ impl RunModel for Palmer {
 
     const ACMI_NAME: &'static str = "C172";
     const CALLSIGN: &'static str = "C172";
+    #[cfg(feature = "dis")]
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
 
     fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
         *aircraft
@@ -86,6 +95,8 @@ impl RunModel for Bourg {
 
     const ACMI_NAME: &'static str = "Bourg 6-DoF";
     const CALLSIGN: &'static str = "BRG";
+    #[cfg(feature = "dis")]
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
 
     fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
         BourgAircraftRecord {

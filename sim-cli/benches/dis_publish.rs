@@ -1,5 +1,5 @@
 //! What DIS output costs per aircraft and frame in `sim-cli fleet --dis`
-//! (`sim_cli::dis`), next to one Palmer step:
+//! (`fdm_run::dis`), next to one Palmer step:
 //!
 //! * `palmer_step`: one RK4 step of a fleet member (the work a frame does anyway);
 //! * `place`: the model's view placed in ECEF (`Placement::place`: location,
@@ -21,7 +21,8 @@ use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fdm_dis::{DisVersion, DrThresholds, EntityIdentity, UdpSender};
-use sim_cli::dis::{DisSettings, DrChoice, Placement, Tracker};
+use fdm_dis::{DrAlgorithm, Placement, Tracker};
+use fdm_run::dis::DisSettings;
 
 fn settings(every_frame: bool) -> DisSettings {
     DisSettings {
@@ -30,7 +31,7 @@ fn settings(every_frame: bool) -> DisSettings {
         application: 1,
         exercise: 1,
         version: DisVersion::V7,
-        dr: DrChoice::Rvw,
+        dr: DrAlgorithm::Rvw,
         thresholds: DrThresholds::default(),
         every_frame,
     }
@@ -38,10 +39,8 @@ fn settings(every_frame: bool) -> DisSettings {
 
 fn tracker(every_frame: bool) -> Tracker {
     let s = settings(every_frame);
-    let config = s
-        .entity_config::<Palmer>(EntityIdentity::new(1, 1, 1).expect("valid"), "C172-1")
-        .expect("valid");
-    Tracker::new(config, s.effective_thresholds()).expect("valid")
+    s.tracker::<Palmer>(EntityIdentity::new(1, 1, 1).expect("valid"), "C172-1")
+        .expect("valid")
 }
 
 fn bench(c: &mut Criterion) {

@@ -2,7 +2,7 @@
 //! cruising, in steady turns, and manoeuvring, with dead reckoning (DRM(R,V,W)
 //! and DRM(F,P,W), the default thresholds 1 m / 3° / 5 s) and without (a PDU
 //! every frame). It counts what `sim-cli fleet --dis` would send, through the
-//! same code (`sim_cli::dis::Tracker`: placement on WGS-84, rates from
+//! same code (`fdm_run::dis` and `fdm_dis::Tracker`: placement on WGS-84, rates from
 //! consecutive frames, fdm-dis's publisher), without a socket: the count is
 //! the traffic, the sending is measured separately (`benches/dis_publish.rs`).
 //!
@@ -33,10 +33,9 @@ use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::Model;
 use fdm_core::palmer::{Palmer, PalmerControls};
 use fdm_dis::{DisVersion, DrThresholds, EntityIdentity, SendReason};
+use fdm_dis::{DrAlgorithm as DrChoice, Placement, Tracker};
+use fdm_run::dis::{callsign, fleet_identity, DisSettings, ReasonCounts};
 use rayon::prelude::*;
-use sim_cli::dis::{
-    callsign, fleet_identity, DisSettings, DrChoice, Placement, ReasonCounts, Tracker,
-};
 
 const FPS: u32 = 30;
 
@@ -124,10 +123,9 @@ fn fly(i: usize, scenario: Scenario, s: &DisSettings, frames: u64, warmup: u64) 
     let aircraft = Palmer::default_aircraft();
     let (base, mut state) = Palmer::fleet_member(i);
     let id: EntityIdentity = fleet_identity(1, 1, 1, i as u64).expect("in range");
-    let config = s
-        .entity_config::<Palmer>(id, &callsign("C172", i as u64 + 1))
+    let mut tracker: Tracker = s
+        .tracker::<Palmer>(id, &callsign("C172", i as u64 + 1))
         .expect("valid");
-    let mut tracker = Tracker::new(config, s.effective_thresholds()).expect("valid");
     let dt = Palmer::time_step(f64::from(FPS));
     let mut count = Count::default();
     for frame in 1..=frames {

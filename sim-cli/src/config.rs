@@ -12,13 +12,13 @@ use fdm_core::script::{Script, ScriptAction};
 
 use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
-use crate::dis::FlightDis;
 use crate::error::CliError;
 use crate::fgaddr::FgTarget;
 use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
+use fdm_run::dis::FlightDis;
 
 /// How the run is driven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -16,10 +16,9 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use clap::Args;
-use fdm_dis::{EntityRecord, Listener, ListenerStats};
+use fdm_dis::{type_label, EntityRecord, Listener, ListenerStats};
 use serde::{Deserialize, Serialize};
 
-use crate::dis::type_label;
 use crate::error::CliError;
 use crate::input::{show_fixed, Echo};
 

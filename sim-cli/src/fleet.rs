@@ -23,7 +23,7 @@
 //! in each flight status ([`StatusCounts`]).
 //!
 //! With `--dis` every aircraft is also published as a DIS entity after every
-//! frame ([`crate::dis::FleetDis`]; the time that takes is reported apart, in
+//! frame ([`fdm_run::dis::FleetDis`]; the time that takes is reported apart, in
 //! `dis.publish_seconds`), and `--realtime` paces the frames at 1/30 s of
 //! wall-clock time.
 
@@ -41,7 +41,6 @@ use fdm_ecs::{Execution, FleetOutputs, Resources, Simulation};
 use serde::Serialize;
 
 use crate::args::{FleetArgs, FleetKernel, FleetPrecision};
-use crate::dis::{DisReport, FleetDis};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
 use crate::pacer::FramePacer;
@@ -49,6 +48,7 @@ use crate::progress::StderrProgress;
 use crate::report::RealtimeReport;
 use fdm_fleet::{LaneFleet, Precision};
 use fdm_run::acmi::AcmiWriter;
+use fdm_run::dis::{DisReport, FleetDis};
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
 pub use crate::args::FLEET_FPS;
@@ -323,10 +323,10 @@ pub fn measure(args: &FleetArgs) -> Result<FleetReport, CliError> {
 
 /// `--dis` settings, checked before anything is spawned: entity numbers for
 /// the whole fleet must exist.
-fn dis_settings(args: &FleetArgs) -> Result<Option<crate::dis::DisSettings>, CliError> {
+fn dis_settings(args: &FleetArgs) -> Result<Option<fdm_run::dis::DisSettings>, CliError> {
     let settings = args.dis.common.settings()?;
     if let Some(s) = &settings {
-        crate::dis::fleet_identity(
+        fdm_run::dis::fleet_identity(
             s.site,
             s.application,
             args.dis.entity_base,

@@ -22,10 +22,11 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Context as _;
-use fdm_core::geodesy::{geodetic_to_ecef, GeodeticOrigin};
+use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::script::{Script, ScriptCursor};
 use fdm_ecs::{Entity, Resources, Simulation};
-use fgnet::{HorizontalAttitudeDeg, MultiplayerPosition, MP_POSITION_LEN};
+use fgnet::bridge::{multiplayer_position, MultiplayerIdentity};
+use fgnet::{MultiplayerPosition, MP_POSITION_LEN};
 use serde::Serialize;
 
 use crate::args::{FleetArgs, FleetPattern, FLEET_FPS};
@@ -92,7 +93,8 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
 }
 
 /// The multiplayer message of one aircraft: position and attitude as MakePacket
-/// computed them for the last frame, body velocity from the model's view.
+/// computed them for the last frame, body velocity from the model's view
+/// ([`fgnet::bridge::multiplayer_position`] builds it).
 ///
 /// # Errors
 /// The callsign or model path does not fit the message (not for this crate's
@@ -103,7 +105,6 @@ pub fn message<M: CliModel>(
     callsign: &str,
     time_s: f64,
 ) -> anyhow::Result<MultiplayerPosition> {
-    let mut msg = MultiplayerPosition::new(callsign, M::FG_MP_MODEL)?;
     let geodetic = sim
         .geodetic(entity)
         .context("a fleet aircraft has no geodetic position")?;
@@ -113,22 +114,14 @@ pub fn message<M: CliModel>(
     let view = sim
         .view::<M>(entity)
         .context("a fleet aircraft is not of its model")?;
-    msg.time_s = time_s;
-    msg.lag_s = 1.0 / f64::from(FLEET_FPS);
-    msg.position_ecef_m = geodetic_to_ecef(geodetic).into();
-    msg.set_orientation_from_attitude(
-        geodetic.lat_deg,
-        geodetic.lon_deg,
-        HorizontalAttitudeDeg {
-            heading_deg: attitude.heading_deg,
-            pitch_deg: attitude.pitch_deg,
-            roll_deg: attitude.roll_deg,
-        },
-    );
-    #[allow(clippy::cast_possible_truncation)] // the wire field is f32
-    let body = view.velocity_body_mps.map(|v| v as f32);
-    msg.linear_velocity_body_mps = body.into();
-    Ok(msg)
+    let who = MultiplayerIdentity {
+        callsign,
+        model_path: M::FG_MP_MODEL,
+    };
+    let timing = (time_s, 1.0 / f64::from(FLEET_FPS));
+    Ok(multiplayer_position(
+        who, timing, geodetic, attitude, &view,
+    )?)
 }
 
 /// What a watched fleet did (`--json`).

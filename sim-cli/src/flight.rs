@@ -25,10 +25,10 @@ use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
 use fdm_ecs::{Entity, FlightGearLink, Simulation};
 use fdm_run::acmi::AcmiOutput;
-use fdm_run::{Output, Run, RunError, Scenario};
+use fdm_run::dis::{DisOutput, DisReport};
+use fdm_run::{Output, Run, RunError, Scenario, SharedOutput};
 
 use crate::config::{ModelConfig, RunConfig, Start};
-use crate::dis::{DisOutput, DisReport};
 use crate::error::CliError;
 use crate::hud::LinkStats;
 use crate::models::CliModel;
@@ -45,8 +45,9 @@ pub struct ModelFlight<M: Model> {
     fg: Option<SocketAddrV4>,
     /// The first send failure, as a message, until [`Flight::take_link_failure`].
     link_failure: Option<String>,
-    /// DIS output (`--dis`): published after every frame.
-    dis: Option<DisOutput>,
+    /// DIS output (`--dis`), attached to the run (which publishes every
+    /// flown frame); this handle reads its report and failures.
+    dis: Option<SharedOutput<DisOutput>>,
 }
 
 impl<M: CliModel> ModelFlight<M> {
@@ -71,7 +72,9 @@ impl<M: CliModel> ModelFlight<M> {
             None => None,
         };
         let dis = match &run.dis {
-            Some(config) => Some(DisOutput::open::<M>(config, run.origin, run.fps)?),
+            Some(config) => Some(SharedOutput::new(DisOutput::open::<M>(
+                config, run.origin, run.fps,
+            )?)),
             None => None,
         };
         let scenario = Scenario {
@@ -81,8 +84,11 @@ impl<M: CliModel> ModelFlight<M> {
             frames: 0,
             script: fdm_core::script::Script::default(),
         };
-        let flight = Run::with_link(scenario, link)
+        let mut flight = Run::with_link(scenario, link)
             .map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
+        if let Some(dis) = &dis {
+            flight.attach(dis.clone()).map_err(anyhow::Error::from)?;
+        }
         Ok(Self {
             run: flight,
             fg: run.fg,
@@ -144,11 +150,6 @@ impl<M: CliModel> Flight for ModelFlight<M> {
                 self.run.simulation().frame()
             ));
         }
-        if let Some(dis) = &mut self.dis {
-            if let Some(view) = self.run.simulation().view::<M>(self.run.entity()) {
-                dis.publish(&view);
-            }
-        }
         Ok(())
     }
 
@@ -200,13 +201,17 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     }
 
     fn take_link_failure(&mut self) -> Option<String> {
-        self.link_failure
-            .take()
-            .or_else(|| self.dis.as_mut().and_then(DisOutput::take_failure))
+        self.link_failure.take().or_else(|| {
+            self.dis
+                .as_ref()
+                .and_then(|d| d.with(|o| o.and_then(DisOutput::take_failure)))
+        })
     }
 
     fn dis_report(&self) -> Option<DisReport> {
-        self.dis.as_ref().map(DisOutput::report)
+        self.dis
+            .as_ref()
+            .and_then(|d| d.with(|o| o.map(|o| o.report())))
     }
 
     /// Completes the run's outputs (`--acmi`).

@@ -35,9 +35,7 @@ use std::io::{BufRead, Read as _, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use fdm_core::bourg::Bourg;
-use fdm_core::model::{FlightStatus, Model};
-use fdm_core::palmer::Palmer;
+use fdm_core::model::FlightStatus;
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -46,7 +44,7 @@ use plotters::prelude::*;
 use crate::error::CliError;
 use crate::hud::status_label;
 use crate::input::Echo;
-use crate::models::Details;
+use crate::models::{CliModel, Details, ModelKind, WithModel};
 use crate::snapshot::Snapshot;
 
 /// The plotted quantities at one instant, in SI units (converted for display
@@ -797,12 +795,77 @@ fn read_csv_line(
     Ok(n > 0)
 }
 
+/// What [`trace_from_csv`] knows of a model's CSV, from the model registry.
+struct CsvModel {
+    /// The model's title ([`fdm_core::model::Model::TITLE`]).
+    title: &'static str,
+    /// Its name as the error message shows it: `Palmer`, `Bourg`.
+    shown: String,
+    /// The columns its `--csv` files have after `frame,time_s`.
+    columns: Vec<&'static str>,
+    /// [`Details::CSV_SPEED_COLUMN`].
+    speed_column: &'static str,
+    /// [`Details::METRES_PER_UNIT`].
+    metres_per_unit: f64,
+}
+
+struct DescribeCsv;
+
+impl WithModel for DescribeCsv {
+    type Output = CsvModel;
+    fn call<M: CliModel>(self) -> CsvModel {
+        let name = <M::Details as Details>::MODEL;
+        let mut shown = name[..1].to_ascii_uppercase();
+        shown.push_str(&name[1..]);
+        CsvModel {
+            title: M::TITLE,
+            shown,
+            columns: crate::snapshot::csv_columns::<M::Details>(),
+            speed_column: <M::Details as Details>::CSV_SPEED_COLUMN,
+            metres_per_unit: <M::Details as Details>::METRES_PER_UNIT,
+        }
+    }
+}
+
+/// The model that wrote a CSV with this `header`, and its speed column's
+/// index: the registered model whose `--csv` header it is, or for older and
+/// hand-made files the first (in registry order) whose speed column it has.
+fn csv_model(header: &[String]) -> Result<(CsvModel, usize), String> {
+    let models: Vec<CsvModel> = <ModelKind as clap::ValueEnum>::value_variants()
+        .iter()
+        .map(|kind| kind.with(DescribeCsv))
+        .collect();
+    let column = |wanted: &str| header.iter().position(|c| c == wanted);
+    let written_by = |m: &CsvModel| header.len() == m.columns.len() + 2 && header[2..] == m.columns;
+    let message = models
+        .iter()
+        .map(|m| format!("`{}` ({})", m.speed_column, m.shown))
+        .collect::<Vec<_>>()
+        .join(" or ");
+    let found = match models.iter().position(written_by) {
+        Some(i) => Some(i),
+        None => models.iter().position(|m| column(m.speed_column).is_some()),
+    };
+    let model = found
+        .and_then(|i| models.into_iter().nth(i))
+        .ok_or_else(|| format!("no {message} column: not a CSV written by sim-cli --csv"))?;
+    let speed = column(model.speed_column).ok_or_else(|| {
+        format!(
+            "no `{}` column: not a CSV written by sim-cli --csv",
+            model.speed_column
+        )
+    })?;
+    Ok((model, speed))
+}
+
 /// Reads a CSV written by `--csv` back into a [`Trace`] titled `<model> from <name>`,
 /// line by line in bounded memory ([`TraceBuilder`], [`MAX_CSV_LINE_BYTES`],
 /// [`MAX_CSV_BYTES`]).
 ///
-/// The model is recognised by its speed column: Palmer's `airspeed` (m/s,
-/// positions in metres) or Bourg's `speed` (ft/s, positions in feet). The status
+/// The model is the registry's whose `--csv` header the file has; in older
+/// or hand-made files, the first whose speed column it has
+/// ([`Details::CSV_SPEED_COLUMN`]: Palmer's `airspeed` in m/s with positions
+/// in metres, Bourg's `speed` in ft/s with positions in feet). The status
 /// is the `status` column when there is one
 /// ([`crate::snapshot::status_from_number`]); in older files without it, it is
 /// recomputed from the rows: [`FlightStatus::initial`] at every frame 0 and
@@ -846,15 +909,8 @@ pub fn trace_from_csv(mut reader: impl BufRead, name: &str) -> Result<CsvTrace, 
     }
     let [frame_i, time_i, x_i, y_i, z_i, vz_i, roll_i, pitch_i] = index;
     let heading_i = column("fg_heading_deg");
-    let (speed_i, scale, model) = match (column("airspeed"), column("speed")) {
-        (Some(i), _) => (i, 1.0, Palmer::TITLE),
-        (None, Some(i)) => (i, METRES_PER_FOOT, Bourg::TITLE),
-        (None, None) => return Err(bad(
-            1,
-            "no `airspeed` (Palmer) or `speed` (Bourg) column: not a CSV written by sim-cli --csv"
-                .to_owned(),
-        )),
-    };
+    let (model, speed_i) = csv_model(&header).map_err(|what| bad(1, what))?;
+    let (scale, model) = (model.metres_per_unit, model.title);
     let stall_i = column("stalling");
     let status_i = column("status");
     let mut builder = TraceBuilder::new(format!("{model} from {name}"));
@@ -1145,6 +1201,29 @@ mod tests {
         assert_eq!(t.samples[2].east_m, 1.0);
         assert_eq!(segments(&t.samples).len(), 2);
         assert_eq!(t.title, "Palmer Cessna 172 from t.csv");
+    }
+
+    /// Every registered model's `--csv` header is recognised as that model,
+    /// with its speed column; a header naming no model's speed column is
+    /// refused with every model's column in the message.
+    #[test]
+    fn the_registry_names_the_model_of_a_csv() {
+        for kind in <ModelKind as clap::ValueEnum>::value_variants() {
+            let described = kind.with(DescribeCsv);
+            let mut header = vec!["frame".to_owned(), "time_s".to_owned()];
+            header.extend(described.columns.iter().map(|c| (*c).to_owned()));
+            let (model, speed) = csv_model(&header).unwrap();
+            assert_eq!(model.title, described.title);
+            assert_eq!(header[speed], described.speed_column);
+        }
+        let header: Vec<String> = ["frame", "time_s", "x"].map(str::to_owned).to_vec();
+        let Err(message) = csv_model(&header) else {
+            panic!("a header without a speed column was accepted")
+        };
+        assert_eq!(
+            message,
+            "no `airspeed` (Palmer) or `speed` (Bourg) column: not a CSV written by sim-cli --csv"
+        );
     }
 
     #[test]

@@ -46,9 +46,9 @@ pub struct Report<D> {
     /// Real-time pacing, when the run had `--realtime`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub realtime: Option<RealtimeReport>,
-    /// DIS output counters, when the run had `--dis` ([`crate::dis::DisReport`]).
+    /// DIS output counters, when the run had `--dis` ([`fdm_run::dis::DisReport`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dis: Option<crate::dis::DisReport>,
+    pub dis: Option<fdm_run::dis::DisReport>,
 }
 
 /// The JSON report's `fg` object: datagrams handed to the OS and sends that

@@ -156,12 +156,19 @@ pub const COMMON_CSV_COLUMNS: &[&str] = &[
     "fg_heading_deg",
 ];
 
+/// The columns of a `--csv` file of a model with details `D`, after
+/// `frame,time_s`: the common ones, the model's, the display status.
+#[must_use]
+pub fn csv_columns<D: Details>() -> Vec<&'static str> {
+    let mut columns = COMMON_CSV_COLUMNS.to_vec();
+    columns.extend_from_slice(D::CSV_COLUMNS);
+    columns.push("status");
+    columns
+}
+
 impl<D: Details> CsvRecord for Snapshot<D> {
     fn csv_columns(&self) -> Vec<&'static str> {
-        let mut columns = COMMON_CSV_COLUMNS.to_vec();
-        columns.extend_from_slice(D::CSV_COLUMNS);
-        columns.push("status");
-        columns
+        csv_columns::<D>()
     }
 
     fn time_s(&self) -> f64 {

@@ -31,6 +31,8 @@ pub struct BourgDetails {
 impl Details for BourgDetails {
     const MODEL: &'static str = "bourg";
     const POSITION_UNIT: &'static str = "ft";
+    const CSV_SPEED_COLUMN: &'static str = "speed";
+    const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
     /// `flaps` and `stalling` are written as 0 or 1.
     const CSV_COLUMNS: &'static [&'static str] = &[
         "speed",
@@ -81,10 +83,6 @@ impl CliModel for Bourg {
     type Lanes = fdm_fleet::Fleet<Self>;
 
     const FG_AIRCRAFT: &'static str = "ufo";
-
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
-
-    const DIS_CALLSIGN: &'static str = "BRG";
 
     /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
     /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first

@@ -84,12 +84,6 @@ pub trait CliModel: RunModel<Action: KeyAction> {
     /// FlightGear's aircraft for this model (`--aircraft=...`).
     const FG_AIRCRAFT: &'static str;
 
-    /// The model's DIS entity type (`--dis`, [`crate::dis`]).
-    const DIS_KIND: fdm_dis::AircraftKind;
-
-    /// The start of its DIS callsigns (markings): `C172-1`, `C172-2`, ...
-    const DIS_CALLSIGN: &'static str;
-
     /// Further fgfs options that aircraft needs with `--fdm=null` (printed by
     /// `sim-cli fgfs-command`, already shell-quoted where needed).
     const FG_OPTIONS: &'static [&'static str] = &[];
@@ -132,6 +126,11 @@ pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
     const POSITION_UNIT: &'static str;
     /// CSV column names of these fields, after the common ones.
     const CSV_COLUMNS: &'static [&'static str];
+    /// The column `sim-cli plot` draws as the airspeed (one of
+    /// [`Self::CSV_COLUMNS`]), in the native unit per second.
+    const CSV_SPEED_COLUMN: &'static str;
+    /// Metres per unit of [`Self::POSITION_UNIT`] (1 for metres).
+    const METRES_PER_UNIT: f64;
 
     /// Appends one value per [`Self::CSV_COLUMNS`] entry, in order.
     fn csv_values(&self, out: &mut Vec<f64>);

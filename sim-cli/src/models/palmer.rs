@@ -58,6 +58,8 @@ pub struct PalmerDetails {
 impl Details for PalmerDetails {
     const MODEL: &'static str = "palmer";
     const POSITION_UNIT: &'static str = "m";
+    const CSV_SPEED_COLUMN: &'static str = "airspeed";
+    const METRES_PER_UNIT: f64 = 1.0;
     const CSV_COLUMNS: &'static [&'static str] = &[
         "airspeed",
         "throttle",
@@ -116,10 +118,6 @@ impl CliModel for Palmer {
     type Lanes = fdm_fleet::Fleet<Self>;
 
     const FG_AIRCRAFT: &'static str = "c172p";
-
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
-
-    const DIS_CALLSIGN: &'static str = "C172";
 
     /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
     /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which

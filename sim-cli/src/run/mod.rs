@@ -60,7 +60,7 @@ pub trait Flight {
     fn link_stats(&self) -> Option<LinkStats>;
 
     /// The DIS output's counts (`--dis`), or `None` when nothing is published.
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
         None
     }
 
@@ -207,7 +207,7 @@ impl<F: Flight> Flight for &mut F {
         (**self).take_link_failure()
     }
 
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
         (**self).dis_report()
     }
 

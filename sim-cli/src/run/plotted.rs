@@ -71,7 +71,7 @@ impl<F: Flight> Flight for Plotted<F> {
         self.inner.take_link_failure()
     }
 
-    fn dis_report(&self) -> Option<crate::dis::DisReport> {
+    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
         self.inner.dis_report()
     }
 

@@ -1,0 +1,401 @@
+//! Per-frame CSV: one row per frame, buffered ([`CsvWriter`]), and the same
+//! as an [`Output`] of a run ([`CsvOutput`]).
+//!
+//! Layout: a header `frame,time_s,<columns>`, a row for the initial state as
+//! frame 0, then one row after every step (and frame 0 again after a reset).
+//! Numbers use Rust's shortest round-trip form (exponent notation for very
+//! large or small magnitudes); NaN and infinities are written as `NaN`,
+//! `inf`, `-inf`, which Python and pandas read back.
+//!
+//! What a row holds is the caller's: a [`CsvRecord`] names its columns and
+//! gives their values (`sim-cli --csv` writes its report's snapshot: the
+//! common columns, the model's own, the display status; docs/cli.md).
+
+use std::fmt::Write as _;
+use std::io::Write;
+
+use fdm_core::model::{FlightStatus, Model};
+
+use crate::output::{Event, Frame, Output, OutputError};
+
+/// A value that can be written as one CSV row.
+pub trait CsvRecord {
+    /// Column names after `frame,time_s`. Must not change during a run.
+    fn csv_columns(&self) -> Vec<&'static str>;
+    /// Simulated time, seconds (the `time_s` column).
+    fn time_s(&self) -> f64;
+    /// Appends one value per column, in [`Self::csv_columns`] order.
+    fn csv_values(&self, out: &mut Vec<f64>);
+}
+
+/// Why a CSV row or header was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum CsvError {
+    /// The header was written twice (a bug of the caller).
+    #[error("internal error: CSV header for {0} written twice")]
+    HeaderTwice(String),
+    /// A row before the header (a bug of the caller).
+    #[error("internal error: CSV row for {0} before its header")]
+    NoHeader(String),
+    /// A row whose width is not the header's (a bug in a [`CsvRecord`]).
+    #[error("internal error: CSV row for {name} has {values} values, header has {header}")]
+    Width {
+        /// The writer's name.
+        name: String,
+        /// Values in the row.
+        values: usize,
+        /// Columns in the header (after `frame,time_s`).
+        header: usize,
+    },
+    /// Writing or flushing failed (e.g. disk full); the cause is the source.
+    #[error("writing CSV file {name}")]
+    Io {
+        /// The writer's name (its path, shown in messages).
+        name: String,
+        /// What the OS said.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl CsvError {
+    /// Whether this is a bug of the caller rather than of the file.
+    #[must_use]
+    pub fn is_internal(&self) -> bool {
+        !matches!(self, Self::Io { .. })
+    }
+}
+
+/// A buffered CSV writer for per-frame rows.
+#[derive(Debug)]
+pub struct CsvWriter<W: Write> {
+    out: W,
+    /// Shown in error messages.
+    name: String,
+    columns: Option<usize>,
+    values: Vec<f64>,
+    line: String,
+}
+
+impl<W: Write> CsvWriter<W> {
+    /// Wraps any writer; `name` identifies it in error messages.
+    pub fn new(out: W, name: impl Into<String>) -> Self {
+        Self {
+            out,
+            name: name.into(),
+            columns: None,
+            values: Vec::new(),
+            line: String::new(),
+        }
+    }
+
+    /// Whether the header has been written.
+    #[must_use]
+    pub fn has_header(&self) -> bool {
+        self.columns.is_some()
+    }
+
+    /// Writes the header line `frame,time_s,<columns>`.
+    ///
+    /// # Errors
+    /// [`CsvError::HeaderTwice`] if the header was already written,
+    /// [`CsvError::Io`] if writing fails.
+    pub fn write_header(&mut self, columns: &[&str]) -> Result<(), CsvError> {
+        if self.columns.is_some() {
+            return Err(CsvError::HeaderTwice(self.name.clone()));
+        }
+        self.columns = Some(columns.len());
+        self.line.clear();
+        self.line.push_str("frame,time_s");
+        for c in columns {
+            self.line.push(',');
+            self.line.push_str(c);
+        }
+        self.line.push('\n');
+        self.flush_line()
+    }
+
+    /// Writes one row: `frame`, `time_s`, then `values`.
+    ///
+    /// # Errors
+    /// [`CsvError::NoHeader`] if the header is missing, [`CsvError::Width`]
+    /// if the number of values does not match it, [`CsvError::Io`] if
+    /// writing fails.
+    pub fn write_row(&mut self, frame: u64, time_s: f64, values: &[f64]) -> Result<(), CsvError> {
+        match self.columns {
+            Some(n) if n == values.len() => {}
+            Some(n) => {
+                return Err(CsvError::Width {
+                    name: self.name.clone(),
+                    values: values.len(),
+                    header: n,
+                })
+            }
+            None => return Err(CsvError::NoHeader(self.name.clone())),
+        }
+        self.line.clear();
+        // Writing into a String cannot fail.
+        let _ = write!(self.line, "{frame},");
+        push_number(&mut self.line, time_s);
+        for &v in values {
+            self.line.push(',');
+            push_number(&mut self.line, v);
+        }
+        self.line.push('\n');
+        self.flush_line()
+    }
+
+    /// Writes `record` as frame `frame`, writing the header first if needed.
+    ///
+    /// # Errors
+    /// As [`Self::write_header`] and [`Self::write_row`].
+    pub fn write_record(&mut self, frame: u64, record: &impl CsvRecord) -> Result<(), CsvError> {
+        if self.columns.is_none() {
+            self.write_header(&record.csv_columns())?;
+        }
+        let mut values = std::mem::take(&mut self.values);
+        values.clear();
+        record.csv_values(&mut values);
+        let result = self.write_row(frame, record.time_s(), &values);
+        self.values = values;
+        result
+    }
+
+    /// Flushes the inner writer.
+    ///
+    /// # Errors
+    /// [`CsvError::Io`] if flushing fails (e.g. disk full).
+    pub fn flush(&mut self) -> Result<(), CsvError> {
+        self.out.flush().map_err(|source| CsvError::Io {
+            name: self.name.clone(),
+            source,
+        })
+    }
+
+    /// Flushes and returns the inner writer.
+    ///
+    /// # Errors
+    /// [`CsvError::Io`] if flushing fails (e.g. disk full).
+    pub fn finish(mut self) -> Result<W, CsvError> {
+        self.flush()?;
+        Ok(self.out)
+    }
+
+    fn flush_line(&mut self) -> Result<(), CsvError> {
+        self.out
+            .write_all(self.line.as_bytes())
+            .map_err(|source| CsvError::Io {
+                name: self.name.clone(),
+                source,
+            })
+    }
+}
+
+/// Appends `v` in the shortest form that reads back to the same bits. Rust's
+/// `Display` never uses an exponent, which would print 1e-300 with 300 zeros, so
+/// magnitudes outside [1e-5, 1e16) use `LowerExp` (also shortest round-trip).
+fn push_number(line: &mut String, v: f64) {
+    let a = v.abs();
+    let _ = if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&a) {
+        write!(line, "{v}")
+    } else {
+        write!(line, "{v:e}")
+    };
+}
+
+/// A run's CSV as an [`Output`]: frame 0 when attached and after every reset,
+/// then a row after every flown frame; a diverged step writes no row (the run
+/// stops there). `row` makes each frame's [`CsvRecord`] from the [`Frame`]
+/// (the columns are the caller's). [`Output::finish`] flushes; take the
+/// writer back with [`CsvOutput::into_inner`].
+#[derive(Debug)]
+pub struct CsvOutput<W: Write, F> {
+    writer: CsvWriter<W>,
+    row: F,
+}
+
+impl<W: Write, F> CsvOutput<W, F> {
+    /// Rows made by `row`, written to `writer`.
+    pub fn new(writer: CsvWriter<W>, row: F) -> Self {
+        Self { writer, row }
+    }
+
+    /// The writer (flushed by [`Output::finish`], not here).
+    pub fn into_inner(self) -> CsvWriter<W> {
+        self.writer
+    }
+}
+
+impl<M, W, F, R> Output<M> for CsvOutput<W, F>
+where
+    M: Model,
+    W: Write,
+    F: FnMut(&Frame<'_, M>) -> R,
+    R: CsvRecord,
+{
+    fn frame(&mut self, frame: &Frame<'_, M>) -> Result<(), OutputError> {
+        if frame.event == Event::Step && frame.status == FlightStatus::Diverged {
+            return Ok(());
+        }
+        let record = (self.row)(frame);
+        Ok(self.writer.write_record(frame.number, &record)?)
+    }
+
+    fn finish(&mut self) -> Result<(), OutputError> {
+        Ok(self.writer.flush()?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Run, Scenario, SharedOutput, Start};
+    use fdm_core::palmer::{Palmer, PalmerAction};
+
+    #[test]
+    fn header_and_rows() {
+        let mut w = CsvWriter::new(Vec::new(), "mem");
+        w.write_header(&["a", "b"]).unwrap();
+        w.write_row(0, 0.0, &[1.5, -2.0]).unwrap();
+        w.write_row(1, 0.1, &[1e-300, f64::NAN]).unwrap();
+        let text = String::from_utf8(w.finish().unwrap()).unwrap();
+        assert_eq!(text, "frame,time_s,a,b\n0,0,1.5,-2\n1,0.1,1e-300,NaN\n");
+    }
+
+    #[test]
+    fn numbers_round_trip() {
+        for v in [
+            0.1,
+            1.0 / 3.0,
+            123_456_789.123_456_79,
+            1e16,
+            9.99e-6,
+            -1e-5,
+            5e-324,
+        ] {
+            let mut s = String::new();
+            push_number(&mut s, v);
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{s}");
+            assert!(s.len() < 30, "{s}");
+        }
+    }
+
+    #[test]
+    fn rejects_wrong_width_and_missing_header() {
+        let mut w = CsvWriter::new(Vec::new(), "mem");
+        assert!(matches!(
+            w.write_row(0, 0.0, &[]),
+            Err(CsvError::NoHeader(_))
+        ));
+        w.write_header(&["a"]).unwrap();
+        assert!(matches!(
+            w.write_header(&["a"]),
+            Err(CsvError::HeaderTwice(_))
+        ));
+        let err = w.write_row(0, 0.0, &[1.0, 2.0]).unwrap_err();
+        assert!(err.is_internal());
+        assert_eq!(
+            err.to_string(),
+            "internal error: CSV row for mem has 2 values, header has 1"
+        );
+    }
+
+    struct Failing;
+    impl Write for Failing {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::other("disk full"))
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn write_failure_names_the_file_and_keeps_the_cause() {
+        let mut w = CsvWriter::new(Failing, "out.csv");
+        let err = w.write_header(&["a"]).unwrap_err();
+        assert!(!err.is_internal());
+        assert_eq!(err.to_string(), "writing CSV file out.csv");
+        let source = std::error::Error::source(&err).map(ToString::to_string);
+        assert_eq!(source.as_deref(), Some("disk full"));
+    }
+
+    /// A row of the model's clock, altitude and throttle.
+    struct Row {
+        time_s: f64,
+        alt_m: f64,
+        throttle: f64,
+    }
+
+    impl CsvRecord for Row {
+        fn csv_columns(&self) -> Vec<&'static str> {
+            vec!["alt_m", "throttle"]
+        }
+        fn time_s(&self) -> f64 {
+            self.time_s
+        }
+        fn csv_values(&self, out: &mut Vec<f64>) {
+            out.extend_from_slice(&[self.alt_m, self.throttle]);
+        }
+    }
+
+    /// A run with a [`CsvOutput`] attached: frame 0 at the start, one row
+    /// per flown frame, frame 0 again after a reset; read back, every row
+    /// has the frame's numbers to the bit (the shortest round-trip form
+    /// parses back exactly: no tolerance).
+    #[test]
+    fn the_output_writes_a_row_per_frame_that_reads_back() {
+        let scenario = Scenario::<Palmer>::new(Start::thesis(), 30, 0).unwrap();
+        let mut run = Run::new(scenario).unwrap();
+        let csv = SharedOutput::new(CsvOutput::new(
+            CsvWriter::new(Vec::new(), "mem"),
+            |f: &Frame<'_, Palmer>| Row {
+                time_s: f.view.time_s,
+                alt_m: f.placement.geodetic.alt_m,
+                throttle: f.controls.throttle,
+            },
+        ));
+        run.attach(csv.clone()).unwrap();
+        let now = |run: &Run<Palmer>, k: u64| {
+            (
+                k,
+                run.view().time_s,
+                run.placement().geodetic.alt_m,
+                run.controls().unwrap().throttle,
+            )
+        };
+        let mut expected = vec![now(&run, 0)];
+        for k in 1..=45_u64 {
+            run.step_actions(&[PalmerAction::ThrottleUp]).unwrap();
+            expected.push(now(&run, k));
+        }
+        run.reset().unwrap();
+        expected.push(now(&run, 0));
+        run.finish().unwrap();
+        let bytes = csv.take().unwrap().into_inner().finish().unwrap();
+        let text = String::from_utf8(bytes).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next(), Some("frame,time_s,alt_m,throttle"));
+        let rows: Vec<(u64, f64, f64, f64)> = lines
+            .map(|l| {
+                let v: Vec<&str> = l.split(',').collect();
+                assert_eq!(v.len(), 4, "{l}");
+                (
+                    v[0].parse().unwrap(),
+                    v[1].parse().unwrap(),
+                    v[2].parse().unwrap(),
+                    v[3].parse().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(rows.len(), 47);
+        for (got, want) in rows.iter().zip(&expected) {
+            assert_eq!(got.0, want.0);
+            assert_eq!(got.1.to_bits(), want.1.to_bits(), "frame {}", want.0);
+            assert_eq!(got.2.to_bits(), want.2.to_bits(), "frame {}", want.0);
+            assert_eq!(got.3.to_bits(), want.3.to_bits(), "frame {}", want.0);
+        }
+        // The throttle went up: the rows are not all the start's.
+        assert!(rows[45].3 > rows[0].3);
+    }
+}
