@@ -264,7 +264,13 @@ const ASINF_PIO4_HI: f32 = f32::from_bits(0x3f49_0fdb);
 /// `asinf`'s series `p0 + t(p1 + t(p2 + t(p3 + t p4)))`, in this order.
 #[inline(always)]
 fn asinf_series(t: f32) -> f32 {
-    let p = ASINF_P.map(f32::from_bits);
+    let p = [
+        f32::from_bits(ASINF_P[0]),
+        f32::from_bits(ASINF_P[1]),
+        f32::from_bits(ASINF_P[2]),
+        f32::from_bits(ASINF_P[3]),
+        f32::from_bits(ASINF_P[4]),
+    ];
     p[0] + t * (p[1] + t * (p[2] + t * (p[3] + t * p[4])))
 }
 

@@ -394,7 +394,20 @@ pub(crate) fn loads<R: BourgReal, F: Maths>(
 
     // `RadiansToDegrees(asinf(s))`, the eight `asinf`s together (for one
     // aircraft, as eight lanes: the same bits, `Real::asinf_exact_8`).
-    let attack_deg = F::asinf_8(sin_attack).map(|a| a * 180.0 / PI);
+    // Element by element, not with `.map(..)`, which the compiler could keep
+    // out of line in the fleet kernels (see `real::lanes`).
+    let [a0, a1, a2, a3, a4, a5, a6, a7] = F::asinf_8(sin_attack);
+    let deg = |a: R| a * 180.0 / PI;
+    let attack_deg = [
+        deg(a0),
+        deg(a1),
+        deg(a2),
+        deg(a3),
+        deg(a4),
+        deg(a5),
+        deg(a6),
+        deg(a7),
+    ];
 
     let mut stalling = R::Mask::splat(false);
     let mut resultant = [zero; 8];

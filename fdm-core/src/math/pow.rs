@@ -17,6 +17,24 @@ use super::pow_data::{
     SHIFT,
 };
 
+/// `N` values computed lane by lane: `lanes!(N, |l| expr)` is the array of
+/// `expr` for `l` in `0..N`. One operation per statement over all lanes is
+/// what LLVM turns into one vector instruction (as `crate::real`'s lanes).
+/// Written as one `while` loop with the lane's expression inside it, not with
+/// `core::array::from_fn`: no closure the compiler could leave out of line
+/// (see `real::lanes`).
+macro_rules! lanes {
+    ($n:expr, |$l:ident| $e:expr) => {{
+        let mut out = [Default::default(); $n];
+        let mut $l = 0;
+        while $l < $n {
+            out[$l] = $e;
+            $l += 1;
+        }
+        out
+    }};
+}
+
 const OFF: u64 = 0x3fe6_9555_0000_0000;
 const SIGN_BIAS: u64 = 0x800 << 7;
 
@@ -55,7 +73,7 @@ fn log_inline(ix: u64) -> (f64, f64) {
     let t2 = t1 + r;
     let lo1 = fma(kd, d(LN2LO), logctail);
     let lo2 = t1 - t2 + r;
-    let a = LOG_POLY.map(d);
+    let a = lanes!(LOG_POLY.len(), |i| d(LOG_POLY[i]));
     let ar = a[0] * r;
     let ar2 = r * ar;
     let ar3 = r * ar2;
@@ -145,7 +163,7 @@ fn exp_inline(x: f64, xtail: f64, sign_bias: u64) -> f64 {
     let top = ki.wrapping_add(sign_bias) << (52 - 7);
     let tail = d(EXP_TAB[idx]);
     let sbits = EXP_TAB[idx + 1].wrapping_add(top);
-    let c = EXP_POLY.map(d);
+    let c = lanes!(EXP_POLY.len(), |i| d(EXP_POLY[i]));
     let r2 = r * r;
     let tmp = fma(
         r2 * r2,
@@ -272,15 +290,6 @@ pub(super) fn pow(x: f64, y: f64) -> f64 {
     exp_inline(ehi, elo, sign_bias)
 }
 
-/// `N` values computed lane by lane: `lanes!(N, |l| expr)` is the array of
-/// `expr` for `l` in `0..N`. One operation per statement over all lanes is
-/// what LLVM turns into one vector instruction (as `crate::real`'s lanes).
-macro_rules! lanes {
-    ($n:expr, |$l:ident| $e:expr) => {
-        core::array::from_fn::<_, $n, _>(|$l| $e)
-    };
-}
-
 /// [`pow`] of every lane of `x` with one exponent `y`, bit for bit: the
 /// regular path (a positive normal `x` and a result that needs no rescaling)
 /// evaluated lane-wise, each operation the scalar path's in the scalar path's
@@ -313,7 +322,7 @@ pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
     let t2: [f64; N] = lanes!(N, |l| t1[l] + r[l]);
     let lo1: [f64; N] = lanes!(N, |l| fma(kd[l], d(LN2LO), logctail[l]));
     let lo2: [f64; N] = lanes!(N, |l| t1[l] - t2[l] + r[l]);
-    let a = LOG_POLY.map(d);
+    let a = lanes!(LOG_POLY.len(), |i| d(LOG_POLY[i]));
     let ar: [f64; N] = lanes!(N, |l| a[0] * r[l]);
     let ar2: [f64; N] = lanes!(N, |l| r[l] * ar[l]);
     let ar3: [f64; N] = lanes!(N, |l| r[l] * ar2[l]);
@@ -346,7 +355,7 @@ pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
     let top: [u64; N] = lanes!(N, |l| ki[l] << (52 - 7));
     let tail: [f64; N] = lanes!(N, |l| d(EXP_TAB[idx[l]]));
     let sbits: [u64; N] = lanes!(N, |l| EXP_TAB[idx[l] + 1].wrapping_add(top[l]));
-    let c = EXP_POLY.map(d);
+    let c = lanes!(EXP_POLY.len(), |i| d(EXP_POLY[i]));
     let r2: [f64; N] = lanes!(N, |l| r[l] * r[l]);
     let tmp: [f64; N] = lanes!(N, |l| fma(
         r2[l] * r2[l],

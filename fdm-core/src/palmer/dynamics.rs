@@ -374,7 +374,12 @@ pub(crate) fn rk4<R: Real<Scalar = f64>, F: Maths>(
     let p4 = pressure_at::<R, F>(q[5] + c(1.0) * (c(ds) * (q[4] + c(0.5) * dq2[4])));
     let dq3 = rhs(aircraft, at, k, q, &dq2, ds, 0.5, p3);
     let dq4 = rhs(aircraft, at, k, q, &dq3, ds, 1.0, p4);
-    core::array::from_fn(|j| q[j] + (dq1[j] + c(2.0) * dq2[j] + c(2.0) * dq3[j] + dq4[j]) / 6.0)
+    // Written out component by component, not with `core::array::from_fn`:
+    // the compiler kept that closure out of line, compiled for the baseline
+    // instruction set (two lanes per division) and called through the
+    // instruction-set boundary six times a step, in every fleet kernel.
+    let sum = |j: usize| q[j] + (dq1[j] + c(2.0) * dq2[j] + c(2.0) * dq3[j] + dq4[j]) / 6.0;
+    [sum(0), sum(1), sum(2), sum(3), sum(4), sum(5)]
 }
 
 #[inline(always)]

@@ -10,6 +10,24 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::{Mask, Real};
 
+/// `[e(0), e(1), ..., e(N - 1)]` as one `while` loop over the lanes, with
+/// the lane's expression written inside it: no closure and no iterator,
+/// hence nothing the compiler can leave out of line. (With
+/// `core::array::from_fn`, some of the closures stayed out of line in the
+/// large fleet kernels, compiled for the baseline instruction set and called
+/// through the instruction-set boundary: 39 % of Bourg's kernel time.)
+macro_rules! each_lane {
+    ($n:expr, |$i:ident| $e:expr) => {{
+        let mut out = [Default::default(); $n];
+        let mut $i = 0;
+        while $i < $n {
+            out[$i] = $e;
+            $i += 1;
+        }
+        out
+    }};
+}
+
 /// A lane vector of a fleet block: a [`Real`] with per-lane arrays of any
 /// type (the block's clocks, controls and statuses).
 pub trait Lanes: Real {
@@ -35,15 +53,15 @@ impl<const N: usize> Mask for LaneMask<N> {
     }
     #[inline(always)]
     fn and(self, rhs: Self) -> Self {
-        Self(core::array::from_fn(|i| self.0[i] & rhs.0[i]))
+        Self(each_lane!(N, |i| self.0[i] & rhs.0[i]))
     }
     #[inline(always)]
     fn or(self, rhs: Self) -> Self {
-        Self(core::array::from_fn(|i| self.0[i] | rhs.0[i]))
+        Self(each_lane!(N, |i| self.0[i] | rhs.0[i]))
     }
     #[inline(always)]
     fn not(self) -> Self {
-        Self(self.0.map(|b| !b))
+        Self(each_lane!(N, |i| !self.0[i]))
     }
     #[inline(always)]
     fn any(self) -> bool {
@@ -75,21 +93,21 @@ macro_rules! lane_op {
             type Output = Self;
             #[inline(always)]
             fn $method(self, rhs: Self) -> Self {
-                Self(core::array::from_fn(|i| self.0[i] $op rhs.0[i]))
+                Self(each_lane!(N, |i| self.0[i] $op rhs.0[i]))
             }
         }
         impl<const N: usize> $trait<$t> for $name<N> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, rhs: $t) -> Self {
-                Self(core::array::from_fn(|i| self.0[i] $op rhs))
+                Self(each_lane!(N, |i| self.0[i] $op rhs))
             }
         }
         impl<const N: usize> $trait<$name<N>> for $t {
             type Output = $name<N>;
             #[inline(always)]
             fn $method(self, rhs: $name<N>) -> $name<N> {
-                $name(core::array::from_fn(|i| self $op rhs.0[i]))
+                $name(each_lane!(N, |i| self $op rhs.0[i]))
             }
         }
     };
@@ -118,7 +136,7 @@ macro_rules! lanes {
             type Output = Self;
             #[inline(always)]
             fn neg(self) -> Self {
-                self.map(|x| -x)
+                Self(each_lane!(N, |i| -self.0[i]))
             }
         }
 
@@ -141,52 +159,50 @@ macro_rules! lanes {
             }
             #[inline(always)]
             fn map(self, f: impl Fn($t) -> $t) -> Self {
-                Self(core::array::from_fn(|i| f(self.0[i])))
+                Self(each_lane!(N, |i| f(self.0[i])))
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
-                self.map(Real::sqrt)
+                Self(each_lane!(N, |i| Real::sqrt(self.0[i])))
             }
             #[inline(always)]
             fn abs(self) -> Self {
-                self.map(Real::abs)
+                Self(each_lane!(N, |i| Real::abs(self.0[i])))
             }
             #[inline(always)]
             fn mul_add(self, a: Self, b: Self) -> Self {
-                Self(core::array::from_fn(|i| Real::mul_add(self.0[i], a.0[i], b.0[i])))
+                Self(each_lane!(N, |i| Real::mul_add(self.0[i], a.0[i], b.0[i])))
             }
             #[inline(always)]
             fn lt(self, rhs: $t) -> LaneMask<N> {
-                LaneMask(core::array::from_fn(|i| self.0[i] < rhs))
+                LaneMask(each_lane!(N, |i| self.0[i] < rhs))
             }
             #[inline(always)]
             fn le(self, rhs: $t) -> LaneMask<N> {
-                LaneMask(core::array::from_fn(|i| self.0[i] <= rhs))
+                LaneMask(each_lane!(N, |i| self.0[i] <= rhs))
             }
             #[inline(always)]
             fn gt(self, rhs: $t) -> LaneMask<N> {
-                LaneMask(core::array::from_fn(|i| self.0[i] > rhs))
+                LaneMask(each_lane!(N, |i| self.0[i] > rhs))
             }
             #[inline(always)]
             fn eq(self, rhs: $t) -> LaneMask<N> {
-                LaneMask(core::array::from_fn(|i| self.0[i] == rhs))
+                LaneMask(each_lane!(N, |i| self.0[i] == rhs))
             }
             #[inline(always)]
             fn is_finite(self) -> LaneMask<N> {
-                LaneMask(core::array::from_fn(|i| self.0[i].is_finite()))
+                LaneMask(each_lane!(N, |i| self.0[i].is_finite()))
             }
             #[inline(always)]
             fn is_normal(self) -> LaneMask<N> {
-                LaneMask(core::array::from_fn(|i| self.0[i].is_normal()))
+                LaneMask(each_lane!(N, |i| self.0[i].is_normal()))
             }
             #[inline(always)]
             fn select(mask: LaneMask<N>, if_true: Self, if_false: Self) -> Self {
-                Self(core::array::from_fn(|i| {
-                    if mask.0[i] {
-                        if_true.0[i]
-                    } else {
-                        if_false.0[i]
-                    }
+                Self(each_lane!(N, |i| if mask.0[i] {
+                    if_true.0[i]
+                } else {
+                    if_false.0[i]
                 }))
             }
             $($maths)*
