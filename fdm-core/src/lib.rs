@@ -18,6 +18,41 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+/// `each_lane!(N, |l| expr)`: the array of `expr` for `l` in `0..N`, one
+/// lane-wise operation over all lanes (what LLVM turns into one vector
+/// instruction), for `real`'s lane types and `math`'s lane-wise functions.
+///
+/// In optimised builds it is one `while` loop with the lane's expression
+/// written inside it: no closure and no iterator, hence nothing the compiler
+/// can leave out of line. With `core::array::from_fn`, some of those closures
+/// stayed out of line in the large fleet kernels, compiled for the baseline
+/// instruction set and called across pulp's instruction-set boundary (36 % of
+/// Bourg's kernel time on an AVX-512 machine). In builds with debug
+/// assertions it is `core::array::from_fn`: there nothing is optimised, and
+/// the loop, inlined into the kernels' `#[inline(always)]` functions, would
+/// give them one stack slot per operation (more than a thread's 2 MiB stack
+/// for Bourg's step). Both forms evaluate `expr` once per lane: the same bits.
+#[cfg(not(debug_assertions))]
+macro_rules! each_lane {
+    ($n:expr, |$l:ident| $e:expr) => {{
+        let mut out = [Default::default(); $n];
+        let mut $l = 0;
+        while $l < $n {
+            out[$l] = $e;
+            $l += 1;
+        }
+        out
+    }};
+}
+
+/// See the optimised form above.
+#[cfg(debug_assertions)]
+macro_rules! each_lane {
+    ($n:expr, |$l:ident| $e:expr) => {
+        core::array::from_fn::<_, { $n }, _>(|$l| $e)
+    };
+}
+
 pub mod bourg;
 pub mod fingerprint;
 pub mod geodesy;

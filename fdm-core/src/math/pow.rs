@@ -17,24 +17,6 @@ use super::pow_data::{
     SHIFT,
 };
 
-/// `N` values computed lane by lane: `lanes!(N, |l| expr)` is the array of
-/// `expr` for `l` in `0..N`. One operation per statement over all lanes is
-/// what LLVM turns into one vector instruction (as `crate::real`'s lanes).
-/// Written as one `while` loop with the lane's expression inside it, not with
-/// `core::array::from_fn`: no closure the compiler could leave out of line
-/// (see `real::lanes`).
-macro_rules! lanes {
-    ($n:expr, |$l:ident| $e:expr) => {{
-        let mut out = [Default::default(); $n];
-        let mut $l = 0;
-        while $l < $n {
-            out[$l] = $e;
-            $l += 1;
-        }
-        out
-    }};
-}
-
 const OFF: u64 = 0x3fe6_9555_0000_0000;
 const SIGN_BIAS: u64 = 0x800 << 7;
 
@@ -73,7 +55,7 @@ fn log_inline(ix: u64) -> (f64, f64) {
     let t2 = t1 + r;
     let lo1 = fma(kd, d(LN2LO), logctail);
     let lo2 = t1 - t2 + r;
-    let a = lanes!(LOG_POLY.len(), |i| d(LOG_POLY[i]));
+    let a = each_lane!(LOG_POLY.len(), |i| d(LOG_POLY[i]));
     let ar = a[0] * r;
     let ar2 = r * ar;
     let ar3 = r * ar2;
@@ -163,7 +145,7 @@ fn exp_inline(x: f64, xtail: f64, sign_bias: u64) -> f64 {
     let top = ki.wrapping_add(sign_bias) << (52 - 7);
     let tail = d(EXP_TAB[idx]);
     let sbits = EXP_TAB[idx + 1].wrapping_add(top);
-    let c = lanes!(EXP_POLY.len(), |i| d(EXP_POLY[i]));
+    let c = each_lane!(EXP_POLY.len(), |i| d(EXP_POLY[i]));
     let r2 = r * r;
     let tmp = fma(
         r2 * r2,
@@ -306,71 +288,71 @@ pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
         return x.map(|x| pow(x, y));
     }
     // log_inline, lane-wise.
-    let ix: [u64; N] = lanes!(N, |l| x[l].to_bits());
-    let tmp: [u64; N] = lanes!(N, |l| ix[l].wrapping_sub(OFF));
-    let i: [usize; N] = lanes!(N, |l| ((tmp[l] >> (52 - 7)) % 128) as usize);
-    let kd: [f64; N] = lanes!(N, |l| ((tmp[l] as i64) >> 52) as f64);
-    let iz: [u64; N] = lanes!(N, |l| ix[l].wrapping_sub(tmp[l] & (0xfff << 52)));
-    let z: [f64; N] = lanes!(N, |l| d(iz[l]));
-    let invc: [f64; N] = lanes!(N, |l| d(LOG_TAB[i[l]][0]));
-    let logc: [f64; N] = lanes!(N, |l| d(LOG_TAB[i[l]][1]));
-    let logctail: [f64; N] = lanes!(N, |l| d(LOG_TAB[i[l]][2]));
-    let zhi: [f64; N] = lanes!(N, |l| d(iz[l] & !((1 << 27) - 1)));
-    let zlo: [f64; N] = lanes!(N, |l| z[l] - zhi[l]);
-    let r: [f64; N] = lanes!(N, |l| (zhi[l] * invc[l] - 1.0) + zlo[l] * invc[l]);
-    let t1: [f64; N] = lanes!(N, |l| kd[l] * d(LN2HI) + logc[l]);
-    let t2: [f64; N] = lanes!(N, |l| t1[l] + r[l]);
-    let lo1: [f64; N] = lanes!(N, |l| fma(kd[l], d(LN2LO), logctail[l]));
-    let lo2: [f64; N] = lanes!(N, |l| t1[l] - t2[l] + r[l]);
-    let a = lanes!(LOG_POLY.len(), |i| d(LOG_POLY[i]));
-    let ar: [f64; N] = lanes!(N, |l| a[0] * r[l]);
-    let ar2: [f64; N] = lanes!(N, |l| r[l] * ar[l]);
-    let ar3: [f64; N] = lanes!(N, |l| r[l] * ar2[l]);
-    let hi: [f64; N] = lanes!(N, |l| t2[l] + ar2[l]);
-    let lo3: [f64; N] = lanes!(N, |l| -0.5 * square_error(r[l], -2.0 * ar2[l]));
-    let lo4: [f64; N] = lanes!(N, |l| t2[l] - hi[l] + ar2[l]);
-    let q: [f64; N] = lanes!(N, |l| fma(
+    let ix: [u64; N] = each_lane!(N, |l| x[l].to_bits());
+    let tmp: [u64; N] = each_lane!(N, |l| ix[l].wrapping_sub(OFF));
+    let i: [usize; N] = each_lane!(N, |l| ((tmp[l] >> (52 - 7)) % 128) as usize);
+    let kd: [f64; N] = each_lane!(N, |l| ((tmp[l] as i64) >> 52) as f64);
+    let iz: [u64; N] = each_lane!(N, |l| ix[l].wrapping_sub(tmp[l] & (0xfff << 52)));
+    let z: [f64; N] = each_lane!(N, |l| d(iz[l]));
+    let invc: [f64; N] = each_lane!(N, |l| d(LOG_TAB[i[l]][0]));
+    let logc: [f64; N] = each_lane!(N, |l| d(LOG_TAB[i[l]][1]));
+    let logctail: [f64; N] = each_lane!(N, |l| d(LOG_TAB[i[l]][2]));
+    let zhi: [f64; N] = each_lane!(N, |l| d(iz[l] & !((1 << 27) - 1)));
+    let zlo: [f64; N] = each_lane!(N, |l| z[l] - zhi[l]);
+    let r: [f64; N] = each_lane!(N, |l| (zhi[l] * invc[l] - 1.0) + zlo[l] * invc[l]);
+    let t1: [f64; N] = each_lane!(N, |l| kd[l] * d(LN2HI) + logc[l]);
+    let t2: [f64; N] = each_lane!(N, |l| t1[l] + r[l]);
+    let lo1: [f64; N] = each_lane!(N, |l| fma(kd[l], d(LN2LO), logctail[l]));
+    let lo2: [f64; N] = each_lane!(N, |l| t1[l] - t2[l] + r[l]);
+    let a = each_lane!(LOG_POLY.len(), |i| d(LOG_POLY[i]));
+    let ar: [f64; N] = each_lane!(N, |l| a[0] * r[l]);
+    let ar2: [f64; N] = each_lane!(N, |l| r[l] * ar[l]);
+    let ar3: [f64; N] = each_lane!(N, |l| r[l] * ar2[l]);
+    let hi: [f64; N] = each_lane!(N, |l| t2[l] + ar2[l]);
+    let lo3: [f64; N] = each_lane!(N, |l| -0.5 * square_error(r[l], -2.0 * ar2[l]));
+    let lo4: [f64; N] = each_lane!(N, |l| t2[l] - hi[l] + ar2[l]);
+    let q: [f64; N] = each_lane!(N, |l| fma(
         ar2[l],
         fma(r[l], a[6], a[5]),
         fma(r[l], a[4], a[3])
     ));
-    let q: [f64; N] = lanes!(N, |l| fma(ar2[l], q[l], fma(r[l], a[2], a[1])));
-    let lo: [f64; N] = lanes!(N, |l| fma(ar3[l], q[l], lo1[l] + lo2[l] + lo3[l] + lo4[l]));
-    let log_hi: [f64; N] = lanes!(N, |l| hi[l] + lo[l]);
-    let log_lo: [f64; N] = lanes!(N, |l| hi[l] - log_hi[l] + lo[l]);
+    let q: [f64; N] = each_lane!(N, |l| fma(ar2[l], q[l], fma(r[l], a[2], a[1])));
+    let lo: [f64; N] = each_lane!(N, |l| fma(ar3[l], q[l], lo1[l] + lo2[l] + lo3[l] + lo4[l]));
+    let log_hi: [f64; N] = each_lane!(N, |l| hi[l] + lo[l]);
+    let log_lo: [f64; N] = each_lane!(N, |l| hi[l] - log_hi[l] + lo[l]);
     // pow's product y * log(x).
-    let ehi: [f64; N] = lanes!(N, |l| y * log_hi[l]);
-    let elo: [f64; N] = lanes!(N, |l| fma(y, log_lo[l], fma(y, log_hi[l], -ehi[l])));
+    let ehi: [f64; N] = each_lane!(N, |l| y * log_hi[l]);
+    let elo: [f64; N] = each_lane!(N, |l| fma(y, log_lo[l], fma(y, log_hi[l], -ehi[l])));
     // exp_inline's regular path (sign_bias 0: x > 0), lane-wise.
-    let mut kd: [f64; N] = lanes!(N, |l| fma(d(INV_LN2_N), ehi[l], d(SHIFT)));
-    let ki: [u64; N] = lanes!(N, |l| kd[l].to_bits());
-    kd = lanes!(N, |l| kd[l] - d(SHIFT));
-    let r: [f64; N] = lanes!(N, |l| fma(
+    let mut kd: [f64; N] = each_lane!(N, |l| fma(d(INV_LN2_N), ehi[l], d(SHIFT)));
+    let ki: [u64; N] = each_lane!(N, |l| kd[l].to_bits());
+    kd = each_lane!(N, |l| kd[l] - d(SHIFT));
+    let r: [f64; N] = each_lane!(N, |l| fma(
         kd[l],
         d(NEG_LN2_LO_N),
         fma(kd[l], d(NEG_LN2_HI_N), ehi[l])
     ));
-    let r: [f64; N] = lanes!(N, |l| r[l] + elo[l]);
-    let idx: [usize; N] = lanes!(N, |l| (2 * (ki[l] % 128)) as usize);
-    let top: [u64; N] = lanes!(N, |l| ki[l] << (52 - 7));
-    let tail: [f64; N] = lanes!(N, |l| d(EXP_TAB[idx[l]]));
-    let sbits: [u64; N] = lanes!(N, |l| EXP_TAB[idx[l] + 1].wrapping_add(top[l]));
-    let c = lanes!(EXP_POLY.len(), |i| d(EXP_POLY[i]));
-    let r2: [f64; N] = lanes!(N, |l| r[l] * r[l]);
-    let tmp: [f64; N] = lanes!(N, |l| fma(
+    let r: [f64; N] = each_lane!(N, |l| r[l] + elo[l]);
+    let idx: [usize; N] = each_lane!(N, |l| (2 * (ki[l] % 128)) as usize);
+    let top: [u64; N] = each_lane!(N, |l| ki[l] << (52 - 7));
+    let tail: [f64; N] = each_lane!(N, |l| d(EXP_TAB[idx[l]]));
+    let sbits: [u64; N] = each_lane!(N, |l| EXP_TAB[idx[l] + 1].wrapping_add(top[l]));
+    let c = each_lane!(EXP_POLY.len(), |i| d(EXP_POLY[i]));
+    let r2: [f64; N] = each_lane!(N, |l| r[l] * r[l]);
+    let tmp: [f64; N] = each_lane!(N, |l| fma(
         r2[l] * r2[l],
         fma(r[l], c[3], c[2]),
         fma(r2[l], fma(r[l], c[1], c[0]), tail[l] + r[l])
     ));
-    let scale: [f64; N] = lanes!(N, |l| d(sbits[l]));
-    let result: [f64; N] = lanes!(N, |l| fma(scale[l], tmp[l], scale[l]));
+    let scale: [f64; N] = each_lane!(N, |l| d(sbits[l]));
+    let result: [f64; N] = each_lane!(N, |l| fma(scale[l], tmp[l], scale[l]));
     // The lanes on the regular path: pow's first test (x a positive normal
     // number) and exp_inline's (2^-54 <= |y log x| < 512).
-    let regular: [bool; N] = lanes!(N, |l| top12(x[l]).wrapping_sub(0x001) < 0x7ff - 0x001
+    let regular: [bool; N] = each_lane!(N, |l| top12(x[l]).wrapping_sub(0x001) < 0x7ff - 0x001
         && (top12(ehi[l]) & 0x7ff).wrapping_sub(top12(pow2(-54)))
             < top12(512.0) - top12(pow2(-54)));
     if regular.iter().all(|&r| r) {
         return result;
     }
-    lanes!(N, |l| if regular[l] { result[l] } else { pow(x[l], y) })
+    each_lane!(N, |l| if regular[l] { result[l] } else { pow(x[l], y) })
 }

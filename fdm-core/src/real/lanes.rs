@@ -10,24 +10,6 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::{Mask, Real};
 
-/// `[e(0), e(1), ..., e(N - 1)]` as one `while` loop over the lanes, with
-/// the lane's expression written inside it: no closure and no iterator,
-/// hence nothing the compiler can leave out of line. (With
-/// `core::array::from_fn`, some of the closures stayed out of line in the
-/// large fleet kernels, compiled for the baseline instruction set and called
-/// through the instruction-set boundary: 39 % of Bourg's kernel time.)
-macro_rules! each_lane {
-    ($n:expr, |$i:ident| $e:expr) => {{
-        let mut out = [Default::default(); $n];
-        let mut $i = 0;
-        while $i < $n {
-            out[$i] = $e;
-            $i += 1;
-        }
-        out
-    }};
-}
-
 /// A lane vector of a fleet block: a [`Real`] with per-lane arrays of any
 /// type (the block's clocks, controls and statuses).
 pub trait Lanes: Real {
