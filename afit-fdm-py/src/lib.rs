@@ -8,6 +8,7 @@
 pub mod fleet;
 pub mod flight;
 pub mod models;
+pub mod replay;
 pub mod start;
 pub mod study;
 
@@ -68,7 +69,7 @@ fn named_controls(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f
 /// One aircraft of a model, flown frame by frame as `sim-cli` flies it.
 #[pyclass(module = "afit_fdm._afit_fdm", name = "Flight")]
 pub struct PyFlight {
-    inner: Box<dyn AnyFlight>,
+    pub(crate) inner: Box<dyn AnyFlight>,
 }
 
 #[pymethods]
@@ -87,7 +88,7 @@ impl PyFlight {
         script: Option<&str>,
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let fps = check_fps(fps)?;
+        check_fps(fps)?;
         let spec = StartSpec {
             altitude_ft,
             speed_kt,
@@ -120,6 +121,49 @@ impl PyFlight {
             inner.step(n, &actions)
         };
         result.map_err(PyValueError::new_err)
+    }
+
+    /// Starts recording this flight to `path` (see `_afit_fdm.pyi`).
+    #[pyo3(signature = (path, *, origin=None))]
+    fn record_to(
+        &mut self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        origin: Option<(f64, f64, f64)>,
+    ) -> PyResult<()> {
+        let path: String = py
+            .import("os")?
+            .call_method1("fspath", (path,))?
+            .extract()
+            .map_err(|_| pyo3::exceptions::PyTypeError::new_err("path: expected a str path"))?;
+        let origin = match origin {
+            Some((lat, lon, alt)) => fdm_core::geodesy::GeodeticOrigin::new(lat, lon, alt)
+                .map_err(|e| PyValueError::new_err(format!("origin: {e}")))?,
+            None => fdm_core::geodesy::GeodeticOrigin::default(),
+        };
+        self.inner
+            .record_to(&path, &origin)
+            .map_err(|(os, message)| {
+                if os {
+                    pyo3::exceptions::PyOSError::new_err(message)
+                } else {
+                    PyValueError::new_err(message)
+                }
+            })
+    }
+
+    /// Seals and closes the recording; returns the frames it holds.
+    fn stop_recording(&mut self) -> PyResult<u64> {
+        self.inner
+            .stop_recording()
+            .map(|(_, frames)| frames)
+            .map_err(PyValueError::new_err)
+    }
+
+    /// The path being recorded to, or `None`.
+    #[getter]
+    fn recording(&self) -> Option<String> {
+        self.inner.recording_path().map(str::to_owned)
     }
 
     /// Back to the start: state, controls, status, frame 0, script from frame 1.
@@ -500,6 +544,9 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyFlight>()?;
     m.add_class::<PyFleet>()?;
     m.add_class::<study::PyStudy>()?;
+    m.add_class::<replay::PyReplay>()?;
+    m.add_function(wrap_pyfunction!(replay::replay, m)?)?;
+    m.add("RecordingError", py.get_type::<replay::RecordingError>())?;
     m.add_function(wrap_pyfunction!(study::summarize_columns, m)?)?;
     m.add("STATUS_CODES", study::status_codes().to_vec())?;
     let models = PyDict::new(py);

@@ -13,7 +13,7 @@ use fdm_fleet::{BourgFleet, FleetError, PalmerFleet, Precision};
 pub type ControlRange = (&'static str, f64, f64);
 
 /// A model as the Python binding exposes it.
-pub trait BindModel: Model {
+pub trait BindModel: fdm_run::RunModel {
     /// The model's fleet kernel behind the one adapter the binding uses.
     type Fleet: FleetOps<Self>;
 
