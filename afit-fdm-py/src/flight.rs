@@ -2,7 +2,7 @@
 //!
 //! [`Single`] is the engine: the one place that runs a frame (the adapter to
 //! switch to the run library when it exists). A frame is the ECS's, as
-//! `sim-cli` flies it (docs/cli.md): [`Model::begin_frame`], the script's
+//! `sim-cli` flies it (docs/cli.md): [`Model::begin_frame`](fdm_core::model::Model::begin_frame), the script's
 //! actions for the frame (frames counted from 1, file order), the actions
 //! given to `step`, then [`fdm_core::model::fly`] (the model's step, the
 //! ground contact and the flight status). `fdm-ecs/tests/ecs_parity.rs` and

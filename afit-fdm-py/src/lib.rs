@@ -11,6 +11,8 @@ pub mod models;
 pub mod replay;
 pub mod start;
 pub mod study;
+pub mod task;
+pub mod task_io;
 
 use fdm_core::bourg::Bourg;
 use fdm_core::model::{Model, ScriptAction};
@@ -430,6 +432,123 @@ impl PyFleet {
             controls,
         )?;
         self.inner.set_controls(&c, mask.as_deref())
+    }
+
+    /// One step of a Gymnasium task for every aircraft (`afit_fdm.gym`'s
+    /// engine; see `_afit_fdm.pyi`).
+    #[pyo3(signature = (actions, frames, task, target_alt_ft, target_heading_deg, steps, max_steps, obs, reward, terminated, truncated, *, observe=true))]
+    #[allow(clippy::too_many_arguments)]
+    fn task_step(
+        &mut self,
+        py: Python<'_>,
+        actions: &Bound<'_, PyAny>,
+        frames: u64,
+        task: &str,
+        target_alt_ft: &Bound<'_, PyAny>,
+        target_heading_deg: &Bound<'_, PyAny>,
+        steps: &Bound<'_, PyAny>,
+        max_steps: i64,
+        obs: &Bound<'_, PyAny>,
+        reward: &Bound<'_, PyAny>,
+        terminated: &Bound<'_, PyAny>,
+        truncated: &Bound<'_, PyAny>,
+        observe: bool,
+    ) -> PyResult<()> {
+        let task = task::Task::named(task).map_err(PyValueError::new_err)?;
+        let n = self.inner.len();
+        let k = self.inner.task_actions();
+        let actions = task_io::actions(py, actions, n, k)?;
+        let targets = task_io::Targets::read(target_alt_ft, target_heading_deg, n)?;
+        let mut steps = task_io::steps(steps, n)?;
+        let mut outs = task_io::Outs::read(
+            obs,
+            reward,
+            terminated,
+            truncated,
+            n,
+            self.inner.task_observations(),
+        )?;
+        let inner = &mut self.inner;
+        let buffers = &self.buffers;
+        let (mut columns, mut status) = buffers.borrow_mut(py)?;
+        let (columns, status) = fleet::buffer_slices(&mut columns, &mut status)?;
+        let steps = steps
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let targets = targets.slices()?;
+        let outs = outs.slices()?;
+        let values = actions.values()?;
+        let start = fleet::now_s();
+        py.detach(|| -> Result<(), String> {
+            inner.task_act(values)?;
+            inner.fly_frames(frames);
+            for s in steps.iter_mut() {
+                *s = s.saturating_add(1);
+            }
+            if observe {
+                let args = fleet::TaskArgs {
+                    task,
+                    target_alt_ft: targets.0,
+                    target_heading_deg: targets.1,
+                    steps,
+                    max_steps,
+                };
+                inner.task_observe(&args, outs.into_task_out(columns, status));
+            }
+            Ok(())
+        })
+        .map_err(PyValueError::new_err)?;
+        self.last_step = (start, fleet::now_s());
+        Ok(())
+    }
+
+    /// Fills the task's outputs for the fleet as it is (after resets), as
+    /// `task_step(..., observe=True)` does after stepping.
+    #[allow(clippy::too_many_arguments)]
+    fn task_observe(
+        &mut self,
+        py: Python<'_>,
+        task: &str,
+        target_alt_ft: &Bound<'_, PyAny>,
+        target_heading_deg: &Bound<'_, PyAny>,
+        steps: &Bound<'_, PyAny>,
+        max_steps: i64,
+        obs: &Bound<'_, PyAny>,
+        reward: &Bound<'_, PyAny>,
+        terminated: &Bound<'_, PyAny>,
+        truncated: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let task = task::Task::named(task).map_err(PyValueError::new_err)?;
+        let n = self.inner.len();
+        let targets = task_io::Targets::read(target_alt_ft, target_heading_deg, n)?;
+        let steps = task_io::steps(steps, n)?;
+        let mut outs = task_io::Outs::read(
+            obs,
+            reward,
+            terminated,
+            truncated,
+            n,
+            self.inner.task_observations(),
+        )?;
+        let inner = &self.inner;
+        let (mut columns, mut status) = self.buffers.borrow_mut(py)?;
+        let (columns, status) = fleet::buffer_slices(&mut columns, &mut status)?;
+        let targets = targets.slices()?;
+        let steps = steps
+            .as_slice()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let outs = outs.slices()?;
+        py.detach(|| {
+            let args = fleet::TaskArgs {
+                task,
+                target_alt_ft: targets.0,
+                target_heading_deg: targets.1,
+                steps,
+                max_steps,
+            };
+            inner.task_observe(&args, outs.into_task_out(columns, status));
+        });
+        Ok(())
     }
 
     /// The state columns by name: read-only views, refreshed in place.

@@ -283,6 +283,50 @@ class Fleet:
         """``(start, end)`` of the last :meth:`step`'s work, seconds on a
         process-wide monotonic clock, measured in Rust with the GIL released."""
     def __len__(self) -> int: ...
+    def task_step(
+        self,
+        actions: npt.ArrayLike,
+        frames: int,
+        task: str,
+        target_alt_ft: npt.NDArray[np.float64],
+        target_heading_deg: npt.NDArray[np.float64],
+        steps: npt.NDArray[np.int64],
+        max_steps: int,
+        obs: npt.NDArray[np.float32],
+        reward: npt.NDArray[np.float64],
+        terminated: npt.NDArray[np.bool_],
+        truncated: npt.NDArray[np.bool_],
+        *,
+        observe: bool = True,
+    ) -> None:
+        """One step of a Gymnasium task (``task``: ``"heading-altitude"`` or
+        ``"climb"``) for every aircraft, the engine of :mod:`afit_fdm.gym`
+        (whose docstring defines the numbers), in one call with the GIL
+        released: ``actions`` (``n`` times 4 for Palmer, 5 for Bourg; float32
+        or float64 used in place, anything else converted to float64) clipped
+        to -1..1 and set as the controls (in parallel over the fleet with
+        ``parallel=True``; a NaN reaching a control raises ``ValueError``
+        before anything changes), ``frames`` frames flown, ``steps`` (int64,
+        ``(n,)``) counted up by one, and with ``observe`` the state views
+        refreshed and ``obs`` (float32, ``(n, 10)`` Palmer or ``(n, 11)``
+        Bourg), ``reward`` (float64), ``terminated`` (not airborne) and
+        ``truncated`` (``steps >= max_steps`` and not terminated) filled
+        (bool, ``(n,)``). Arrays of another dtype or shape raise
+        ``TypeError``/``ValueError`` naming them."""
+    def task_observe(
+        self,
+        task: str,
+        target_alt_ft: npt.NDArray[np.float64],
+        target_heading_deg: npt.NDArray[np.float64],
+        steps: npt.NDArray[np.int64],
+        max_steps: int,
+        obs: npt.NDArray[np.float32],
+        reward: npt.NDArray[np.float64],
+        terminated: npt.NDArray[np.bool_],
+        truncated: npt.NDArray[np.bool_],
+    ) -> None:
+        """The outputs of :meth:`task_step` for the fleet as it is (after a
+        reset), without acting or flying."""
 
 # --- Monte Carlo studies (the Python API is afit_fdm.study: Study, RunTable) ---
 
