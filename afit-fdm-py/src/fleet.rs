@@ -239,10 +239,11 @@ impl ActionValues<'_> {
         crate::task::np_clip(v, -1.0, 1.0)
     }
 
+    /// Whether any value is NaN (a branch-free scan the compiler vectorises).
     fn any_nan(&self) -> bool {
         match self {
-            Self::F32(v) => v.iter().any(|x| x.is_nan()),
-            Self::F64(v) => v.iter().any(|x| x.is_nan()),
+            Self::F32(v) => v.iter().fold(false, |nan, x| nan | x.is_nan()),
+            Self::F64(v) => v.iter().fold(false, |nan, x| nan | x.is_nan()),
         }
     }
 }
@@ -279,8 +280,11 @@ pub struct TaskOut<'a> {
     pub truncated: &'a mut [bool],
 }
 
-/// Aircraft per piece of work of a task pass.
+/// Most aircraft per piece of work of a task pass.
 const TASK_CHUNK: usize = 4096;
+/// Fewest aircraft per piece (below this a piece costs less than handing it
+/// to another thread).
+const TASK_CHUNK_MIN: usize = 256;
 
 /// A fleet of model `M` and how it steps.
 pub struct Lanes<M: BindModel> {
@@ -485,25 +489,33 @@ where
             return;
         }
         let (fields, n_obs) = (M::STATE_FIELDS.len(), self.task_observations());
-        let chunks = n.div_ceil(TASK_CHUNK);
+        // About four pieces per thread, within TASK_CHUNK_MIN..=TASK_CHUNK
+        // aircraft (the results do not depend on the split).
+        let chunk = if self.parallel {
+            n.div_ceil(4 * rayon::current_num_threads())
+                .clamp(TASK_CHUNK_MIN, TASK_CHUNK)
+        } else {
+            n
+        };
+        let chunks = n.div_ceil(chunk);
         let mut column_parts: Vec<Vec<&mut [f64]>> =
             (0..chunks).map(|_| Vec::with_capacity(fields)).collect();
         for row in out.columns.chunks_mut(n) {
-            for (c, part) in row.chunks_mut(TASK_CHUNK).enumerate() {
+            for (c, part) in row.chunks_mut(chunk).enumerate() {
                 column_parts[c].push(part);
             }
         }
         let mut pieces: Vec<Piece<'_>> = column_parts
             .into_iter()
-            .zip(out.status.chunks_mut(TASK_CHUNK))
-            .zip(out.obs.chunks_mut(TASK_CHUNK * n_obs))
-            .zip(out.reward.chunks_mut(TASK_CHUNK))
-            .zip(out.terminated.chunks_mut(TASK_CHUNK))
-            .zip(out.truncated.chunks_mut(TASK_CHUNK))
+            .zip(out.status.chunks_mut(chunk))
+            .zip(out.obs.chunks_mut(chunk * n_obs))
+            .zip(out.reward.chunks_mut(chunk))
+            .zip(out.terminated.chunks_mut(chunk))
+            .zip(out.truncated.chunks_mut(chunk))
             .enumerate()
             .map(
                 |(first, (((((columns, status), obs), reward), terminated), truncated))| Piece {
-                    first: first * TASK_CHUNK,
+                    first: first * chunk,
                     columns,
                     status,
                     obs,
