@@ -52,13 +52,40 @@ impl Task {
 /// moved into the divisor's sign; a zero result takes the divisor's sign.
 #[must_use]
 pub fn np_remainder(a: f64, b: f64) -> f64 {
-    let m = a % b;
+    let m = fmod(a, b);
     if m == 0.0 {
         0.0_f64.copysign(b)
     } else if (b < 0.0) != (m < 0.0) {
         m + b
     } else {
         m
+    }
+}
+
+/// C's `fmod(a, b)` for `b > 0` (Rust's `%`), without the library call
+/// where the result is a plain difference: `a` itself for `|a| < b`, and
+/// `a ∓ b` for `b <= |a| < 2b`, which is exact (Sterbenz's lemma: `a` and
+/// `b` within a factor of 2), as `fmod`'s result always is. The tasks'
+/// angles are all in that range.
+#[must_use]
+fn fmod(a: f64, b: f64) -> f64 {
+    let size = a.abs();
+    if b > 0.0 && size < b {
+        a
+    } else if b > 0.0 && size < 2.0 * b {
+        if a > 0.0 {
+            a - b
+        } else {
+            // fmod keeps the sign of `a`, also for a zero result.
+            let m = a + b;
+            if m == 0.0 {
+                -0.0
+            } else {
+                m
+            }
+        }
+    } else {
+        a % b
     }
 }
 
