@@ -144,7 +144,7 @@ pub type ControlColumns = Vec<(usize, Column)>;
 
 /// Seconds since the first fleet step of the process (a monotonic clock the
 /// tests compare between threads).
-fn now_s() -> f64 {
+pub fn now_s() -> f64 {
     static EPOCH: OnceLock<Instant> = OnceLock::new();
     EPOCH.get_or_init(Instant::now).elapsed().as_secs_f64()
 }
@@ -188,7 +188,103 @@ pub trait AnyFleet: Send + Sync {
     ) -> PyResult<()>;
     /// The kernel's instruction set.
     fn instruction_set(&self) -> &'static str;
+    /// Actions per aircraft of the Gymnasium tasks.
+    fn task_actions(&self) -> usize;
+    /// Observations per aircraft of the Gymnasium tasks.
+    fn task_observations(&self) -> usize;
+    /// Validates `actions` (`n × task_actions` values, row by row) and sets
+    /// every aircraft's controls from them, as `afit_fdm.gym` did in NumPy.
+    ///
+    /// # Errors
+    /// A NaN where it reaches a control, as `Fleet.set_controls` words it
+    /// (nothing changed).
+    fn task_act(&mut self, actions: ActionValues<'_>) -> Result<(), String>;
+    /// Flies `frames` frames without refreshing the buffers.
+    fn fly_frames(&mut self, frames: u64);
+    /// Refreshes the buffers and fills the task's outputs
+    /// ([`crate::task::observe`]) in one pass over the aircraft.
+    fn task_observe(&self, args: &TaskArgs<'_>, out: TaskOut<'_>);
 }
+
+/// An action array's values, row by row, float32 or float64.
+#[derive(Debug, Clone, Copy)]
+pub enum ActionValues<'a> {
+    /// float32 (the action space's dtype).
+    F32(&'a [f32]),
+    /// float64.
+    F64(&'a [f64]),
+}
+
+impl ActionValues<'_> {
+    /// Number of values.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::F32(v) => v.len(),
+            Self::F64(v) => v.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Value `i`, widened exactly to float64 and clipped to -1..1 as
+    /// `np.clip` clips (NaN stays NaN).
+    pub fn clipped(&self, i: usize) -> f64 {
+        let v = match self {
+            Self::F32(v) => f64::from(v[i]),
+            Self::F64(v) => v[i],
+        };
+        crate::task::np_clip(v, -1.0, 1.0)
+    }
+
+    /// Whether any value is NaN (a branch-free scan the compiler vectorises).
+    fn any_nan(&self) -> bool {
+        match self {
+            Self::F32(v) => v.iter().fold(false, |nan, x| nan | x.is_nan()),
+            Self::F64(v) => v.iter().fold(false, |nan, x| nan | x.is_nan()),
+        }
+    }
+}
+
+/// The task's per-aircraft inputs.
+#[derive(Debug)]
+pub struct TaskArgs<'a> {
+    /// Which task.
+    pub task: crate::task::Task,
+    /// Target altitudes, ft.
+    pub target_alt_ft: &'a [f64],
+    /// Target headings, degrees.
+    pub target_heading_deg: &'a [f64],
+    /// Steps since each aircraft's episode began.
+    pub steps: &'a [i64],
+    /// Steps after which an episode is truncated.
+    pub max_steps: i64,
+}
+
+/// The buffers a task step fills.
+#[derive(Debug)]
+pub struct TaskOut<'a> {
+    /// The state columns, `(fields, n)`.
+    pub columns: &'a mut [f64],
+    /// The status codes.
+    pub status: &'a mut [u8],
+    /// Observations, `(n, task_observations)`.
+    pub obs: &'a mut [f32],
+    /// Rewards.
+    pub reward: &'a mut [f64],
+    /// Ended by status (landed, crashed, diverged).
+    pub terminated: &'a mut [bool],
+    /// Ended by the step limit.
+    pub truncated: &'a mut [bool],
+}
+
+/// Most aircraft per piece of work of a task pass.
+const TASK_CHUNK: usize = 4096;
+/// Fewest aircraft per piece (below this a piece costs less than handing it
+/// to another thread).
+const TASK_CHUNK_MIN: usize = 256;
 
 /// A fleet of model `M` and how it steps.
 pub struct Lanes<M: BindModel> {
@@ -339,6 +435,158 @@ where
     fn instruction_set(&self) -> &'static str {
         self.fleet.instruction_set()
     }
+    fn task_actions(&self) -> usize {
+        M::TASK_ACTIONS
+    }
+    fn task_observations(&self) -> usize {
+        crate::task::KINEMATIC_OBS + M::TASK_CONTROL_OBS
+    }
+    fn task_act(&mut self, actions: ActionValues<'_>) -> Result<(), String> {
+        let k = M::TASK_ACTIONS;
+        let mut clipped = [0.0; 8];
+        let row = |i: usize, clipped: &mut [f64; 8]| {
+            for (j, a) in clipped.iter_mut().take(k).enumerate() {
+                *a = actions.clipped(i * k + j);
+            }
+            M::task_controls(&clipped[..k])
+        };
+        if actions.any_nan() {
+            // As `Fleet.set_controls` checked the control arrays: control by
+            // control in the tasks' order, the first bad aircraft.
+            let (_, count) = row(0, &mut clipped);
+            for p in 0..count {
+                for i in 0..self.len {
+                    let (index, value) = row(i, &mut clipped).0[p];
+                    let (name, lo, hi) = M::CONTROL_FIELDS[index];
+                    if !value.is_finite() || !(lo..=hi).contains(&value) {
+                        return Err(format!(
+                            "{name}[{i}]: {value} is not a finite number in {lo}..{hi}"
+                        ));
+                    }
+                }
+            }
+        }
+        // Every value is now finite and in range (the scalings keep -1..1
+        // inside each control's range), so set_control cannot refuse it.
+        self.fleet.update_controls(self.parallel, |i, mut c| {
+            let mut clipped = [0.0; 8];
+            let (pairs, count) = row(i, &mut clipped);
+            for &(index, value) in &pairs[..count] {
+                c = M::set_control(c, index, value).unwrap_or(c);
+            }
+            c
+        });
+        Ok(())
+    }
+    fn fly_frames(&mut self, frames: u64) {
+        for _ in 0..frames {
+            self.fleet.fly(self.fps, self.precision, self.parallel);
+        }
+    }
+    fn task_observe(&self, args: &TaskArgs<'_>, out: TaskOut<'_>) {
+        let n = self.len;
+        if n == 0 {
+            return;
+        }
+        let (fields, n_obs) = (M::STATE_FIELDS.len(), self.task_observations());
+        // About four pieces per thread, within TASK_CHUNK_MIN..=TASK_CHUNK
+        // aircraft (the results do not depend on the split).
+        let chunk = if self.parallel {
+            n.div_ceil(4 * rayon::current_num_threads())
+                .clamp(TASK_CHUNK_MIN, TASK_CHUNK)
+        } else {
+            n
+        };
+        let chunks = n.div_ceil(chunk);
+        let mut column_parts: Vec<Vec<&mut [f64]>> =
+            (0..chunks).map(|_| Vec::with_capacity(fields)).collect();
+        for row in out.columns.chunks_mut(n) {
+            for (c, part) in row.chunks_mut(chunk).enumerate() {
+                column_parts[c].push(part);
+            }
+        }
+        let mut pieces: Vec<Piece<'_>> = column_parts
+            .into_iter()
+            .zip(out.status.chunks_mut(chunk))
+            .zip(out.obs.chunks_mut(chunk * n_obs))
+            .zip(out.reward.chunks_mut(chunk))
+            .zip(out.terminated.chunks_mut(chunk))
+            .zip(out.truncated.chunks_mut(chunk))
+            .enumerate()
+            .map(
+                |(first, (((((columns, status), obs), reward), terminated), truncated))| Piece {
+                    first: first * chunk,
+                    columns,
+                    status,
+                    obs,
+                    reward,
+                    terminated,
+                    truncated,
+                },
+            )
+            .collect();
+        if self.parallel && chunks > 1 {
+            use rayon::prelude::*;
+            pieces
+                .par_iter_mut()
+                .for_each(|piece| self.observe_piece(args, piece));
+        } else {
+            for piece in &mut pieces {
+                self.observe_piece(args, piece);
+            }
+        }
+    }
+}
+
+/// A run of aircraft of a task pass and their parts of the buffers.
+struct Piece<'a> {
+    /// The first aircraft's index.
+    first: usize,
+    columns: Vec<&'a mut [f64]>,
+    status: &'a mut [u8],
+    obs: &'a mut [f32],
+    reward: &'a mut [f64],
+    terminated: &'a mut [bool],
+    truncated: &'a mut [bool],
+}
+
+impl<M: BindModel> Lanes<M> {
+    /// [`AnyFleet::task_observe`] for one piece.
+    fn observe_piece(&self, args: &TaskArgs<'_>, piece: &mut Piece<'_>) {
+        let n_obs = crate::task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
+        let mut values = vec![0.0; M::STATE_FIELDS.len()];
+        let mut controls = vec![0.0; M::CONTROL_FIELDS.len()];
+        let mut observed = vec![0.0; M::TASK_CONTROL_OBS];
+        for j in 0..piece.status.len() {
+            let i = piece.first + j;
+            let (Some(state), Some(flight_status), Some(c)) = (
+                self.fleet.state_at(i),
+                self.fleet.status_at(i),
+                self.fleet.controls(i),
+            ) else {
+                continue;
+            };
+            M::state_values(&state, &mut values);
+            for (column, v) in piece.columns.iter_mut().zip(&values) {
+                column[j] = *v;
+            }
+            piece.status[j] = status_code(flight_status);
+            M::control_values(&c, &mut controls);
+            M::task_control_obs(&controls, &mut observed);
+            let (reward, ended) = crate::task::observe(
+                args.task,
+                &M::task_kinematics(&values),
+                args.target_alt_ft[i],
+                args.target_heading_deg[i],
+                &observed,
+                flight_status == FlightStatus::Airborne,
+                &mut piece.obs[j * n_obs..(j + 1) * n_obs],
+            );
+            piece.reward[j] = reward;
+            piece.terminated[j] = ended;
+            piece.truncated[j] = args.steps[i] >= args.max_steps && !ended;
+        }
+    }
 }
 
 /// The start and control keyword arguments of `Fleet(...)` and
@@ -436,6 +684,23 @@ impl Buffers {
         })
     }
 
+    /// The buffers, borrowed for writing (see [`buffer_slices`]).
+    ///
+    /// # Errors
+    /// If the buffers are borrowed elsewhere in Rust.
+    pub fn borrow_mut<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        numpy::PyReadwriteArray2<'py, f64>,
+        numpy::PyReadwriteArray1<'py, u8>,
+    )> {
+        Ok((
+            self.columns.bind(py).try_readwrite()?,
+            self.status.bind(py).try_readwrite()?,
+        ))
+    }
+
     /// Runs `f` on the buffers' memory (while the GIL is held or released
     /// by `f`'s caller).
     ///
@@ -458,6 +723,24 @@ impl Buffers {
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(f(c, s))
     }
+}
+
+/// The buffers' memory, borrowed by [`Buffers::borrow_mut`].
+///
+/// # Errors
+/// Not contiguous (the buffers always are).
+pub fn buffer_slices<'a>(
+    columns: &'a mut numpy::PyReadwriteArray2<'_, f64>,
+    status: &'a mut numpy::PyReadwriteArray1<'_, u8>,
+) -> PyResult<(&'a mut [f64], &'a mut [u8])> {
+    Ok((
+        columns
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?,
+        status
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?,
+    ))
 }
 
 /// Shorthand: a fleet of model `M` boxed.

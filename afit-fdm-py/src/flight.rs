@@ -2,15 +2,20 @@
 //!
 //! [`Single`] is the engine: the one place that runs a frame (the adapter to
 //! switch to the run library when it exists). A frame is the ECS's, as
-//! `sim-cli` flies it (docs/cli.md): [`Model::begin_frame`], the script's
+//! `sim-cli` flies it (docs/cli.md): [`Model::begin_frame`](fdm_core::model::Model::begin_frame), the script's
 //! actions for the frame (frames counted from 1, file order), the actions
 //! given to `step`, then [`fdm_core::model::fly`] (the model's step, the
 //! ground contact and the flight status). `fdm-ecs/tests/ecs_parity.rs` and
 //! `fdm-core/tests/ground_contact.rs` prove that the ECS frame is exactly this;
 //! the Python suite compares every frame with `sim-cli --csv`.
 
-use fdm_core::model::{fly, FlightStatus, FlightView, Model, ScriptAction};
+use std::fs::File;
+
+use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::model::{fly, FlightStatus, FlightView, ScriptAction};
 use fdm_core::script::{Script, ScriptCursor};
+use fdm_run::recording::{RecordWriteError, RecordWriter, SyncedFile};
+use fdm_run::{RunModel, Start};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -18,9 +23,37 @@ use pyo3::types::PyDict;
 use crate::models::BindModel;
 use crate::start::StartSpec;
 
+/// A recording in progress: the run library's writer (`fdm_run::recording`,
+/// the format `sim-cli --record` writes) on a file, and where it is.
+struct Recorder<M: RunModel> {
+    writer: RecordWriter<M::Action, SyncedFile>,
+    path: String,
+    /// The frame's actions in order (script's, then the caller's): the
+    /// writer's input, reused.
+    frame_actions: Vec<M::Action>,
+    /// Frames recorded, across resets.
+    frames: u64,
+}
+
+impl<M: RunModel> std::fmt::Debug for Recorder<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Recorder")
+            .field("path", &self.path)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<M: RunModel> Drop for Recorder<M> {
+    /// A flight dropped while recording still seals its recording (best
+    /// effort: an error here has no one to go to; `stop_recording` reports it).
+    fn drop(&mut self) {
+        let _ = self.writer.finish();
+    }
+}
+
 /// One aircraft of model `M` with its controls, status, script and clock.
 #[derive(Debug)]
-pub struct Single<M: Model> {
+pub struct Single<M: BindModel> {
     aircraft: M::Aircraft,
     start: (M::Controls, M::State),
     controls: M::Controls,
@@ -29,14 +62,25 @@ pub struct Single<M: Model> {
     script: Script<M::Action>,
     cursor: ScriptCursor,
     frame: u64,
-    fps: f64,
+    fps: u32,
     dt: M::TimeStep,
+    /// Controls were set by name since the start or the last reset: the
+    /// flight is no longer where a recording's header would say it starts.
+    controls_set: bool,
+    recorder: Option<Recorder<M>>,
 }
 
 impl<M: BindModel> Single<M> {
-    fn new(controls: M::Controls, state: M::State, script: Script<M::Action>, fps: f64) -> Self {
+    /// An aircraft starting from `controls` and `state`.
+    pub fn new(
+        aircraft: M::Aircraft,
+        controls: M::Controls,
+        state: M::State,
+        script: Script<M::Action>,
+        fps: u32,
+    ) -> Self {
         Self {
-            aircraft: M::default_aircraft(),
+            aircraft,
             start: (controls, state),
             controls,
             state,
@@ -45,12 +89,25 @@ impl<M: BindModel> Single<M> {
             cursor: ScriptCursor::new(),
             frame: 0,
             fps,
-            dt: M::time_step(fps),
+            dt: M::time_step(f64::from(fps)),
+            controls_set: false,
+            recorder: None,
         }
     }
 
-    /// `n` frames, each with `actions` after the script's.
-    fn step(&mut self, n: u64, actions: &[M::Action]) {
+    /// `n` frames, each with `actions` after the script's; each frame is
+    /// recorded when a recording is on.
+    ///
+    /// # Errors
+    /// Writing the recording failed (the frame was flown; the recording is
+    /// closed, with what it had, and off).
+    pub fn step(&mut self, n: u64, actions: &[M::Action]) -> Result<(), String> {
+        if self.recorder.is_some() {
+            for _ in 0..n {
+                self.step_recorded(actions)?;
+            }
+            return Ok(());
+        }
         for _ in 0..n {
             self.frame += 1;
             let mut controls = M::begin_frame(self.controls);
@@ -69,10 +126,80 @@ impl<M: BindModel> Single<M> {
                 self.dt,
             );
         }
+        Ok(())
+    }
+
+    /// One frame as [`Self::step`] flies it, its actions (the script's, then
+    /// `actions`: what the model applied, in order) handed to the recording.
+    fn step_recorded(&mut self, actions: &[M::Action]) -> Result<(), String> {
+        let Some(recorder) = self.recorder.as_mut() else {
+            return Ok(());
+        };
+        self.frame += 1;
+        recorder.frame_actions.clear();
+        recorder
+            .frame_actions
+            .extend(self.cursor.actions(&self.script, self.frame));
+        recorder.frame_actions.extend_from_slice(actions);
+        let mut controls = M::begin_frame(self.controls);
+        for &action in &recorder.frame_actions {
+            controls = M::apply(&self.aircraft, controls, action);
+        }
+        self.controls = controls;
+        (self.state, self.status) = fly::<M>(
+            &self.aircraft,
+            &self.controls,
+            self.status,
+            &self.state,
+            self.dt,
+        );
+        let written = recorder.writer.frame(&recorder.frame_actions);
+        recorder.frames += 1;
+        recorder
+            .writer
+            .set_final_state(M::state_fingerprint(&self.state));
+        self.check_written(written)
+    }
+
+    /// A writer's error closes the recording and becomes the caller's.
+    fn check_written(&mut self, written: Result<(), RecordWriteError>) -> Result<(), String> {
+        match written {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                let path = self
+                    .recorder
+                    .take()
+                    .map(|r| r.path.clone())
+                    .unwrap_or_default();
+                Err(format!(
+                    "recording to {path}: {e} (the recording is stopped)"
+                ))
+            }
+        }
     }
 
     fn view(&self) -> FlightView {
         M::view(&self.aircraft, &self.controls, &self.state)
+    }
+
+    /// Frames since the start or the last reset.
+    pub fn frame_number(&self) -> u64 {
+        self.frame
+    }
+
+    /// The model's state now.
+    pub fn current_state(&self) -> &M::State {
+        &self.state
+    }
+
+    /// The controls now.
+    pub fn current_controls(&self) -> &M::Controls {
+        &self.controls
+    }
+
+    /// The flight status now.
+    pub fn current_status(&self) -> FlightStatus {
+        self.status
     }
 }
 
@@ -108,6 +235,20 @@ pub trait AnyFlight: Send + Sync {
     fn status(&self) -> FlightStatus;
     /// The model's action names.
     fn action_names(&self) -> &'static [&'static str];
+    /// Starts recording to `path` (created or truncated) with `origin` in
+    /// the header.
+    ///
+    /// # Errors
+    /// `(is_os_error, message)`: already recording, not at the start, or the
+    /// file cannot be created or written.
+    fn record_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), (bool, String)>;
+    /// Seals and closes the recording; returns its path and frames.
+    ///
+    /// # Errors
+    /// Not recording, or writing the end failed.
+    fn stop_recording(&mut self) -> Result<(String, u64), String>;
+    /// Where the recording in progress goes.
+    fn recording_path(&self) -> Option<&str>;
 }
 
 /// `controls` with the named values set, each checked against the model's
@@ -146,7 +287,7 @@ impl<M: BindModel> AnyFlight for Single<M> {
         self.frame
     }
     fn fps(&self) -> f64 {
-        self.fps
+        f64::from(self.fps)
     }
     fn dt_s(&self) -> f64 {
         self.dt.into()
@@ -164,14 +305,22 @@ impl<M: BindModel> AnyFlight for Single<M> {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Single::step(self, n, &parsed);
-        Ok(())
+        Single::step(self, n, &parsed)
     }
     fn reset(&mut self) {
         (self.controls, self.state) = self.start;
         self.status = FlightStatus::initial(M::height_m(&self.state));
         self.cursor.reset();
         self.frame = 0;
+        self.controls_set = false;
+        if let Some(recorder) = self.recorder.as_mut() {
+            let written = recorder.writer.reset();
+            recorder
+                .writer
+                .set_final_state(M::state_fingerprint(&self.state));
+            // A failed write stops the recording; the reset itself happened.
+            let _ = self.check_written(written);
+        }
     }
     fn state(&self) -> Vec<(&'static str, f64)> {
         let mut values = vec![0.0; M::STATE_FIELDS.len()];
@@ -184,7 +333,20 @@ impl<M: BindModel> AnyFlight for Single<M> {
         M::CONTROL_FIELDS.iter().map(|c| c.0).zip(values).collect()
     }
     fn set_controls(&mut self, values: &[(String, f64)]) -> Result<(), (bool, String)> {
+        if let Some(recorder) = &self.recorder {
+            return Err((
+                false,
+                format!(
+                    "set_controls: controls set by value cannot be recorded (a recording holds \
+                     the start and each frame's script actions, as sim-cli's does); recording \
+                     to {} goes on unchanged. Use step(actions=[...]) or a script, or \
+                     stop_recording() first",
+                    recorder.path
+                ),
+            ));
+        }
         self.controls = apply_named::<M>(self.controls, values)?;
+        self.controls_set = true;
         Ok(())
     }
     fn view(&self) -> FlightView {
@@ -196,6 +358,60 @@ impl<M: BindModel> AnyFlight for Single<M> {
     fn action_names(&self) -> &'static [&'static str] {
         M::Action::NAMES
     }
+    fn record_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), (bool, String)> {
+        if let Some(recorder) = &self.recorder {
+            return Err((
+                false,
+                format!("record_to: already recording to {}", recorder.path),
+            ));
+        }
+        if self.frame != 0 || self.controls_set {
+            return Err((
+                false,
+                format!(
+                    "record_to: a recording starts where the flight starts (its header holds \
+                     the start, and a reset goes back to it), but this flight is at frame {}{}; \
+                     call reset() first",
+                    self.frame,
+                    if self.controls_set {
+                        " with controls set by value"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
+        }
+        let file = File::create(path).map_err(|e| (true, format!("{path}: {e}")))?;
+        let start = Start::<M> {
+            aircraft: self.aircraft.clone(),
+            controls: self.start.0,
+            state: self.start.1,
+        };
+        let mut writer = RecordWriter::new(SyncedFile::new(file), self.fps, origin, &start)
+            .map_err(|e| (true, format!("{path}: {e}")))?;
+        writer.set_final_state(M::state_fingerprint(&self.state));
+        self.recorder = Some(Recorder {
+            writer,
+            path: path.to_owned(),
+            frame_actions: Vec::new(),
+            frames: 0,
+        });
+        Ok(())
+    }
+    fn stop_recording(&mut self) -> Result<(String, u64), String> {
+        let Some(mut recorder) = self.recorder.take() else {
+            return Err("stop_recording: not recording".to_owned());
+        };
+        recorder
+            .writer
+            .finish()
+            .map_err(|e| format!("{}: {e}", recorder.path))?;
+        let path = std::mem::take(&mut recorder.path);
+        Ok((path, recorder.frames))
+    }
+    fn recording_path(&self) -> Option<&str> {
+        self.recorder.as_ref().map(|r| r.path.as_str())
+    }
 }
 
 /// Builds a flight of model `M`.
@@ -203,7 +419,7 @@ impl<M: BindModel> AnyFlight for Single<M> {
 /// # Errors
 /// Bad controls, start or script, as Python exceptions.
 pub fn new_single<M: BindModel>(
-    fps: f64,
+    fps: u32,
     spec: &StartSpec,
     controls: &[(String, f64)],
     script: Option<&str>,
@@ -216,7 +432,13 @@ pub fn new_single<M: BindModel>(
             .map_err(|e| PyValueError::new_err(format!("script: {e}")))?,
         None => Script::default(),
     };
-    Ok(Box::new(Single::<M>::new(controls, state, script, fps)))
+    Ok(Box::new(Single::<M>::new(
+        M::default_aircraft(),
+        controls,
+        state,
+        script,
+        fps,
+    )))
 }
 
 /// A `(is_type_error, message)` as a Python exception.

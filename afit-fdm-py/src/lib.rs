@@ -8,8 +8,11 @@
 pub mod fleet;
 pub mod flight;
 pub mod models;
+pub mod replay;
 pub mod start;
 pub mod study;
+pub mod task;
+pub mod task_io;
 
 use fdm_core::bourg::Bourg;
 use fdm_core::model::{Model, ScriptAction};
@@ -68,7 +71,7 @@ fn named_controls(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f
 /// One aircraft of a model, flown frame by frame as `sim-cli` flies it.
 #[pyclass(module = "afit_fdm._afit_fdm", name = "Flight")]
 pub struct PyFlight {
-    inner: Box<dyn AnyFlight>,
+    pub(crate) inner: Box<dyn AnyFlight>,
 }
 
 #[pymethods]
@@ -87,7 +90,7 @@ impl PyFlight {
         script: Option<&str>,
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let fps = check_fps(fps)?;
+        check_fps(fps)?;
         let spec = StartSpec {
             altitude_ft,
             speed_kt,
@@ -120,6 +123,49 @@ impl PyFlight {
             inner.step(n, &actions)
         };
         result.map_err(PyValueError::new_err)
+    }
+
+    /// Starts recording this flight to `path` (see `_afit_fdm.pyi`).
+    #[pyo3(signature = (path, *, origin=None))]
+    fn record_to(
+        &mut self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        origin: Option<(f64, f64, f64)>,
+    ) -> PyResult<()> {
+        let path: String = py
+            .import("os")?
+            .call_method1("fspath", (path,))?
+            .extract()
+            .map_err(|_| pyo3::exceptions::PyTypeError::new_err("path: expected a str path"))?;
+        let origin = match origin {
+            Some((lat, lon, alt)) => fdm_core::geodesy::GeodeticOrigin::new(lat, lon, alt)
+                .map_err(|e| PyValueError::new_err(format!("origin: {e}")))?,
+            None => fdm_core::geodesy::GeodeticOrigin::default(),
+        };
+        self.inner
+            .record_to(&path, &origin)
+            .map_err(|(os, message)| {
+                if os {
+                    pyo3::exceptions::PyOSError::new_err(message)
+                } else {
+                    PyValueError::new_err(message)
+                }
+            })
+    }
+
+    /// Seals and closes the recording; returns the frames it holds.
+    fn stop_recording(&mut self) -> PyResult<u64> {
+        self.inner
+            .stop_recording()
+            .map(|(_, frames)| frames)
+            .map_err(PyValueError::new_err)
+    }
+
+    /// The path being recorded to, or `None`.
+    #[getter]
+    fn recording(&self) -> Option<String> {
+        self.inner.recording_path().map(str::to_owned)
     }
 
     /// Back to the start: state, controls, status, frame 0, script from frame 1.
@@ -388,6 +434,123 @@ impl PyFleet {
         self.inner.set_controls(&c, mask.as_deref())
     }
 
+    /// One step of a Gymnasium task for every aircraft (`afit_fdm.gym`'s
+    /// engine; see `_afit_fdm.pyi`).
+    #[pyo3(signature = (actions, frames, task, target_alt_ft, target_heading_deg, steps, max_steps, obs, reward, terminated, truncated, *, observe=true))]
+    #[allow(clippy::too_many_arguments)]
+    fn task_step(
+        &mut self,
+        py: Python<'_>,
+        actions: &Bound<'_, PyAny>,
+        frames: u64,
+        task: &str,
+        target_alt_ft: &Bound<'_, PyAny>,
+        target_heading_deg: &Bound<'_, PyAny>,
+        steps: &Bound<'_, PyAny>,
+        max_steps: i64,
+        obs: &Bound<'_, PyAny>,
+        reward: &Bound<'_, PyAny>,
+        terminated: &Bound<'_, PyAny>,
+        truncated: &Bound<'_, PyAny>,
+        observe: bool,
+    ) -> PyResult<()> {
+        let task = task::Task::named(task).map_err(PyValueError::new_err)?;
+        let n = self.inner.len();
+        let k = self.inner.task_actions();
+        let actions = task_io::actions(py, actions, n, k)?;
+        let targets = task_io::Targets::read(target_alt_ft, target_heading_deg, n)?;
+        let mut steps = task_io::steps(steps, n)?;
+        let mut outs = task_io::Outs::read(
+            obs,
+            reward,
+            terminated,
+            truncated,
+            n,
+            self.inner.task_observations(),
+        )?;
+        let inner = &mut self.inner;
+        let buffers = &self.buffers;
+        let (mut columns, mut status) = buffers.borrow_mut(py)?;
+        let (columns, status) = fleet::buffer_slices(&mut columns, &mut status)?;
+        let steps = steps
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let targets = targets.slices()?;
+        let outs = outs.slices()?;
+        let values = actions.values()?;
+        let start = fleet::now_s();
+        py.detach(|| -> Result<(), String> {
+            inner.task_act(values)?;
+            inner.fly_frames(frames);
+            for s in steps.iter_mut() {
+                *s = s.saturating_add(1);
+            }
+            if observe {
+                let args = fleet::TaskArgs {
+                    task,
+                    target_alt_ft: targets.0,
+                    target_heading_deg: targets.1,
+                    steps,
+                    max_steps,
+                };
+                inner.task_observe(&args, outs.into_task_out(columns, status));
+            }
+            Ok(())
+        })
+        .map_err(PyValueError::new_err)?;
+        self.last_step = (start, fleet::now_s());
+        Ok(())
+    }
+
+    /// Fills the task's outputs for the fleet as it is (after resets), as
+    /// `task_step(..., observe=True)` does after stepping.
+    #[allow(clippy::too_many_arguments)]
+    fn task_observe(
+        &mut self,
+        py: Python<'_>,
+        task: &str,
+        target_alt_ft: &Bound<'_, PyAny>,
+        target_heading_deg: &Bound<'_, PyAny>,
+        steps: &Bound<'_, PyAny>,
+        max_steps: i64,
+        obs: &Bound<'_, PyAny>,
+        reward: &Bound<'_, PyAny>,
+        terminated: &Bound<'_, PyAny>,
+        truncated: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let task = task::Task::named(task).map_err(PyValueError::new_err)?;
+        let n = self.inner.len();
+        let targets = task_io::Targets::read(target_alt_ft, target_heading_deg, n)?;
+        let steps = task_io::steps(steps, n)?;
+        let mut outs = task_io::Outs::read(
+            obs,
+            reward,
+            terminated,
+            truncated,
+            n,
+            self.inner.task_observations(),
+        )?;
+        let inner = &self.inner;
+        let (mut columns, mut status) = self.buffers.borrow_mut(py)?;
+        let (columns, status) = fleet::buffer_slices(&mut columns, &mut status)?;
+        let targets = targets.slices()?;
+        let steps = steps
+            .as_slice()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let outs = outs.slices()?;
+        py.detach(|| {
+            let args = fleet::TaskArgs {
+                task,
+                target_alt_ft: targets.0,
+                target_heading_deg: targets.1,
+                steps,
+                max_steps,
+            };
+            inner.task_observe(&args, outs.into_task_out(columns, status));
+        });
+        Ok(())
+    }
+
     /// The state columns by name: read-only views, refreshed in place.
     #[getter]
     fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -500,6 +663,9 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyFlight>()?;
     m.add_class::<PyFleet>()?;
     m.add_class::<study::PyStudy>()?;
+    m.add_class::<replay::PyReplay>()?;
+    m.add_function(wrap_pyfunction!(replay::replay, m)?)?;
+    m.add("RecordingError", py.get_type::<replay::RecordingError>())?;
     m.add_function(wrap_pyfunction!(study::summarize_columns, m)?)?;
     m.add("STATUS_CODES", study::status_codes().to_vec())?;
     let models = PyDict::new(py);

@@ -8,12 +8,14 @@ use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
 use fdm_fleet::{BourgFleet, FleetError, PalmerFleet, Precision};
 
+use crate::task::{self, Kinematics, FT_PER_M};
+
 /// A control's name and its accepted range (inclusive; `None` for a set of
 /// allowed values checked by [`BindModel::set_control`]).
 pub type ControlRange = (&'static str, f64, f64);
 
 /// A model as the Python binding exposes it.
-pub trait BindModel: Model {
+pub trait BindModel: fdm_run::RunModel {
     /// The model's fleet kernel behind the one adapter the binding uses.
     type Fleet: FleetOps<Self>;
 
@@ -41,6 +43,24 @@ pub trait BindModel: Model {
         index: usize,
         value: f64,
     ) -> Result<Self::Controls, String>;
+
+    /// Actions per aircraft of the Gymnasium tasks (`afit_fdm.gym`).
+    const TASK_ACTIONS: usize;
+    /// Observed controls per aircraft of the tasks.
+    const TASK_CONTROL_OBS: usize;
+
+    /// What the tasks read of the state, from
+    /// [`state_values`](Self::state_values).
+    fn task_kinematics(values: &[f64]) -> Kinematics;
+
+    /// `out` becomes the observed controls, from
+    /// [`control_values`](Self::control_values).
+    fn task_control_obs(values: &[f64], out: &mut [f64]);
+
+    /// The controls one aircraft's actions (clipped to -1..1) set, as
+    /// `(control index, value)`, in the order the tasks set them; the first
+    /// `.1` entries are used.
+    fn task_controls(actions: &[f64]) -> ([(usize, f64); 5], usize);
 }
 
 /// The few fleet operations the binding uses (today's `fdm-fleet` API; one
@@ -71,6 +91,17 @@ pub trait FleetOps<M: Model>: Send + Sized {
     fn set_controls(&mut self, index: usize, controls: M::Controls) -> Result<(), FleetError>;
     /// Aircraft `index`'s controls.
     fn controls(&self, index: usize) -> Option<M::Controls>;
+    /// Aircraft `index`'s state.
+    fn state_at(&self, index: usize) -> Option<M::State>;
+    /// Aircraft `index`'s status.
+    fn status_at(&self, index: usize) -> Option<FlightStatus>;
+    /// Every aircraft's controls become `f(index, controls)`, on rayon's
+    /// pool when `parallel`.
+    fn update_controls(
+        &mut self,
+        parallel: bool,
+        f: impl Fn(usize, M::Controls) -> M::Controls + Sync,
+    );
     /// One frame of every aircraft with its status ([`fdm_core::model::fly`]),
     /// on this thread or on rayon's pool.
     fn fly(&mut self, fps: f64, precision: Precision, parallel: bool);
@@ -160,6 +191,28 @@ impl BindModel for Palmer {
             }
         }
         Ok(c)
+    }
+
+    const TASK_ACTIONS: usize = 4;
+    const TASK_CONTROL_OBS: usize = 4;
+
+    fn task_kinematics(v: &[f64]) -> Kinematics {
+        Kinematics {
+            alt_ft: v[3] * FT_PER_M,
+            vz_fps: v[6] * FT_PER_M,
+            vx: v[4],
+            vy: v[5],
+            ground_mps: v[4].hypot(v[5]),
+        }
+    }
+
+    fn task_control_obs(c: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&[c[0], c[1] / 20.0, c[2] / 20.0, c[3] / 40.0]);
+    }
+
+    fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
+        let [p0, p1, p2, p3] = task::palmer_controls(a);
+        ([p0, p1, p2, p3, (0, 0.0)], 4)
     }
 }
 
@@ -300,6 +353,27 @@ impl BindModel for Bourg {
         }
         Ok(c)
     }
+
+    const TASK_ACTIONS: usize = 5;
+    const TASK_CONTROL_OBS: usize = 5;
+
+    fn task_kinematics(v: &[f64]) -> Kinematics {
+        Kinematics {
+            alt_ft: v[3],
+            vz_fps: v[6],
+            vx: v[4],
+            vy: v[5],
+            ground_mps: v[4].hypot(v[5]) * 0.3048,
+        }
+    }
+
+    fn task_control_obs(c: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&[c[0] / 3000.0, c[1], c[2], c[3], c[5]]);
+    }
+
+    fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
+        (task::bourg_controls(a), 5)
+    }
 }
 
 impl FleetOps<Palmer> for PalmerFleet {
@@ -325,6 +399,27 @@ impl FleetOps<Palmer> for PalmerFleet {
     }
     fn controls(&self, index: usize) -> Option<PalmerControls> {
         Self::controls(self, index)
+    }
+    fn state_at(&self, index: usize) -> Option<PalmerState> {
+        self.state(index)
+    }
+    fn status_at(&self, index: usize) -> Option<FlightStatus> {
+        self.status(index)
+    }
+    fn update_controls(
+        &mut self,
+        parallel: bool,
+        f: impl Fn(usize, PalmerControls) -> PalmerControls + Sync,
+    ) {
+        if parallel {
+            self.par_update_controls(f);
+        } else {
+            for i in 0..self.len() {
+                if let Some(c) = Self::controls(self, i) {
+                    let _ = Self::set_controls(self, i, f(i, c));
+                }
+            }
+        }
     }
     fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) {
         let dt = Palmer::time_step(fps);
@@ -375,6 +470,27 @@ impl FleetOps<Bourg> for BourgFleet {
     }
     fn controls(&self, index: usize) -> Option<BourgControls> {
         Self::controls(self, index)
+    }
+    fn state_at(&self, index: usize) -> Option<BourgState> {
+        self.state(index)
+    }
+    fn status_at(&self, index: usize) -> Option<FlightStatus> {
+        self.status(index)
+    }
+    fn update_controls(
+        &mut self,
+        parallel: bool,
+        f: impl Fn(usize, BourgControls) -> BourgControls + Sync,
+    ) {
+        if parallel {
+            self.par_update_controls(f);
+        } else {
+            for i in 0..self.len() {
+                if let Some(c) = Self::controls(self, i) {
+                    let _ = Self::set_controls(self, i, f(i, c));
+                }
+            }
+        }
     }
     fn fly(&mut self, fps: f64, _precision: Precision, parallel: bool) {
         let dt = Bourg::time_step(fps);

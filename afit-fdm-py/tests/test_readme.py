@@ -20,3 +20,20 @@ def test_the_extension_is_built_for_the_stable_abi() -> None:
     import afit_fdm._afit_fdm as ext
 
     assert ext.__file__.endswith(".abi3.so"), ext.__file__
+
+
+def test_readme_recording_example_runs(capsys, tmp_path, monkeypatch) -> None:
+    """The second example (record, then replay) runs as written, in a
+    scratch directory, and its replay ends where the flight ended."""
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    section = text[text.index("## From Python"):text.index("## Versions and stability")]
+    code = re.findall(r"```python\n(.*?)```", section, re.S)[1]
+    monkeypatch.chdir(tmp_path)
+    import afit_fdm
+
+    scope: dict = {"afit_fdm": afit_fdm}  # a continuation of the first example
+    exec(compile(code, "README.md", "exec"), scope)  # noqa: S102
+    frames, same_final_state, z_trajectory, z_flight = capsys.readouterr().out.split()
+    assert (frames, same_final_state) == ("70", "True")
+    assert z_trajectory == z_flight
+    assert (tmp_path / "climb.rec").exists()

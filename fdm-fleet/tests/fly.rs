@@ -325,3 +325,84 @@ fn airborne_frames_are_the_bare_steps() {
     }
     assert!(flown.statuses().all(|s| s == FlightStatus::Airborne));
 }
+
+/// `par_update_controls` is `set_controls` for each index: after changing
+/// every aircraft's controls both ways (1,003 aircraft: whole blocks and a
+/// partial one, more than one rayon task), the fleets step to the same bits
+/// and read back the same controls.
+#[test]
+fn par_update_controls_is_set_controls_for_each_index() {
+    let n = 1003;
+    let mut palmer: fdm_fleet::Fleet<Palmer> = fdm_fleet::Fleet::from_states(
+        Palmer::default_aircraft(),
+        (0..n).map(|i| {
+            let (c, s) = Palmer::fleet_member(i);
+            (s, c)
+        }),
+    )
+    .unwrap();
+    let mut one_by_one = palmer.clone();
+    let change = |i: usize, mut c: PalmerControls| {
+        c.bank_deg = (i % 41) as f64 - 20.0;
+        c.throttle = (i % 7) as f64 / 7.0;
+        c.flaps = if i.is_multiple_of(3) {
+            Flaps::Deg40
+        } else {
+            c.flaps
+        };
+        c
+    };
+    palmer.par_update_controls(change);
+    for i in 0..n {
+        let c = one_by_one.controls(i).unwrap();
+        one_by_one.set_controls(i, change(i, c)).unwrap();
+    }
+    for _ in 0..30 {
+        palmer
+            .par_fly_with(1.0 / 30.0, fdm_fleet::Precision::Exact)
+            .unwrap();
+        one_by_one
+            .fly_with(1.0 / 30.0, fdm_fleet::Precision::Exact)
+            .unwrap();
+    }
+    for i in 0..n {
+        assert_eq!(palmer.controls(i), one_by_one.controls(i), "{i}");
+        assert_eq!(palmer.state(i), one_by_one.state(i), "{i}");
+    }
+
+    let mut bourg: fdm_fleet::Fleet<Bourg> = fdm_fleet::Fleet::from_states(
+        Bourg::default_aircraft(),
+        (0..n).map(|i| {
+            let (c, s) = Bourg::fleet_member(i);
+            (s, c)
+        }),
+    )
+    .unwrap();
+    let mut one_by_one = bourg.clone();
+    let change = |i: usize, mut c: BourgControls| {
+        c.thrust_lb = (i % 30) as f32 * 100.0;
+        c.elevators = if i.is_multiple_of(2) {
+            Flap::TrailingEdgeUp
+        } else {
+            Flap::Neutral
+        };
+        c
+    };
+    bourg.par_update_controls(change);
+    for i in 0..n {
+        let c = one_by_one.controls(i).unwrap();
+        one_by_one.set_controls(i, change(i, c)).unwrap();
+    }
+    for _ in 0..30 {
+        bourg
+            .par_fly_with(1.0 / 30.0, fdm_fleet::Precision::Exact)
+            .unwrap();
+        one_by_one
+            .fly_with(1.0 / 30.0, fdm_fleet::Precision::Exact)
+            .unwrap();
+    }
+    for i in 0..n {
+        assert_eq!(bourg.controls(i), one_by_one.controls(i), "{i}");
+        assert_eq!(bourg.state(i), one_by_one.state(i), "{i}");
+    }
+}

@@ -3,6 +3,8 @@
 * :class:`Flight`: one aircraft of either model (Palmer's Cessna 172, point
   mass, RK4, float64; Bourg's 6-DoF aircraft, Euler, float32), flown frame by
   frame exactly as ``sim-cli`` flies it (the same bits).
+* :meth:`Flight.record_to`, :func:`replay`: recordings in ``sim-cli``'s
+  format (``--record``, ``sim-cli replay``), flown again to the same bits.
 * :class:`Fleet`: many aircraft of one model stepped by the SIMD fleet
   kernels, with the state as read-only NumPy columns.
 * :class:`Study`, :func:`study`: Monte Carlo studies (the study files of
@@ -19,7 +21,7 @@ from __future__ import annotations
 
 import enum
 
-from ._afit_fdm import MODELS, Fleet, Flight, __version__
+from ._afit_fdm import MODELS, Fleet, Flight, RecordingError, Replay, __version__, replay
 from .distributed import ShardDone, ray_study
 from .study import STATUS_CODES, RunTable, Study, study
 
@@ -28,12 +30,15 @@ __all__ = [
     "STATUS_CODES",
     "Fleet",
     "Flight",
+    "RecordingError",
+    "Replay",
     "RunTable",
     "ShardDone",
     "Status",
     "Study",
     "__version__",
     "ray_study",
+    "replay",
     "study",
 ]
 

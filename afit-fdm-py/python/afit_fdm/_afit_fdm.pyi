@@ -1,5 +1,6 @@
 """Type stubs and API reference of the ``afit_fdm._afit_fdm`` extension module."""
 
+import os
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -101,6 +102,98 @@ class Flight:
     @property
     def actions(self) -> List[str]:
         """The model's action names."""
+    def record_to(
+        self,
+        path: Union[str, "os.PathLike[str]"],
+        *,
+        origin: Optional[Tuple[float, float, float]] = None,
+    ) -> None:
+        """Starts recording this flight to ``path`` (created or truncated)
+        in the recording format of ``sim-cli --record`` (docs/recording.md):
+        the header holds the model, its aircraft, ``fps``, ``origin`` and the
+        flight's start (controls and state at frame 0); every later
+        :meth:`step` records each frame's actions (the script's, then
+        ``actions``, in order) and every :meth:`reset` a reset.
+        :meth:`stop_recording` seals it (a flight dropped while recording is
+        sealed too). ``sim-cli replay FILE`` and :func:`replay` fly it again
+        to the same bits.
+
+        ``origin`` is ``(lat_deg, lon_deg, alt_m)`` of the model's
+        ``x, y, z = 0`` on WGS-84 (only outputs such as the CSV's
+        ``lat_deg``/``lon_deg`` and ACMI use it; the model's state does not),
+        by default ``sim-cli``'s: 39.8264, -84.0483, 251 m.
+
+        What a recording cannot hold is refused, not approximated: a
+        recording starts where the flight starts, so ``record_to`` raises
+        ``ValueError`` after a step or :meth:`set_controls` (call
+        :meth:`reset` first), and :meth:`set_controls` raises ``ValueError``
+        while recording (a controls value is not an action; set the starting
+        controls in the constructor, or fly ``actions``). ``OSError`` when
+        the file cannot be created."""
+    def stop_recording(self) -> int:
+        """Seals and closes the recording (its end marker carries the final
+        state's fingerprint); returns the frames recorded, across resets.
+        ``ValueError`` when not recording."""
+    @property
+    def recording(self) -> Optional[str]:
+        """The path being recorded to, or ``None``."""
+
+class RecordingError(ValueError):
+    """A recording that cannot be replayed: not a recording, another format
+    version, a model this build does not have, truncated or corrupt (every
+    block is checksummed). The message names the problem."""
+
+class Replay:
+    """What :func:`replay` read and flew."""
+
+    @property
+    def model(self) -> str: ...
+    @property
+    def fps(self) -> int:
+        """Frames per second (a recording stores a whole number)."""
+    @property
+    def frames(self) -> int:
+        """Frames flown, across resets."""
+    @property
+    def resets(self) -> int: ...
+    @property
+    def events(self) -> int:
+        """Events stored: runs of identical frames (one per block they span) and resets."""
+    @property
+    def origin(self) -> Tuple[float, float, float]:
+        """``(lat_deg, lon_deg, alt_m)`` from the header."""
+    @property
+    def same_final_state(self) -> Optional[bool]:
+        """Whether the replay ended in the recorded flight's final state (the
+        fingerprint of a format-3 recording: a hash of every bit of the
+        state); ``None`` for versions 1 and 2, which have none."""
+    @property
+    def same_maths(self) -> Optional[bool]:
+        """Whether the recording was made with this build's maths; ``None``
+        without a fingerprint."""
+    @property
+    def flight(self) -> Flight:
+        """The flight at the end of the replay: the recording's aircraft,
+        ``fps`` and start (``reset()`` goes back to it), no script. It can
+        fly on from there."""
+    @property
+    def trajectory(self) -> Optional[Dict[str, npt.NDArray[Any]]]:
+        """With ``trajectory=True``: the rows ``sim-cli replay --csv`` writes
+        (frame 0, one per frame, a new frame 0 after each reset) as columns:
+        ``frame`` (int64, frames since the start or the last reset), the
+        :attr:`Flight.state` fields, the :attr:`Flight.controls` fields
+        (float64) and ``status`` (int64, :class:`afit_fdm.Status`)."""
+
+def replay(source: Union[str, "os.PathLike[str]", bytes], *, trajectory: bool = False) -> Replay:
+    """Reads a recording (a file of at most 64 MiB, or its bytes) written by
+    :meth:`Flight.record_to` or ``sim-cli --record`` (format versions 1, 2
+    and 3), validates it whole and flies it again, with the GIL released:
+    the same frames as ``sim-cli replay``, so the same bits. A recording cut
+    before its end marker is refused (``sim-cli replay`` salvages it).
+    Raises :class:`RecordingError` (a ``ValueError``) for anything that is not
+    a complete, intact recording of a model this build has; ``OSError`` when
+    the file cannot be read; ``ValueError`` when ``trajectory=True`` would
+    hold more than 10 million rows."""
 
 class Fleet:
     """``n`` aircraft of one model, stepped together by the SIMD kernels
@@ -190,6 +283,50 @@ class Fleet:
         """``(start, end)`` of the last :meth:`step`'s work, seconds on a
         process-wide monotonic clock, measured in Rust with the GIL released."""
     def __len__(self) -> int: ...
+    def task_step(
+        self,
+        actions: npt.ArrayLike,
+        frames: int,
+        task: str,
+        target_alt_ft: npt.NDArray[np.float64],
+        target_heading_deg: npt.NDArray[np.float64],
+        steps: npt.NDArray[np.int64],
+        max_steps: int,
+        obs: npt.NDArray[np.float32],
+        reward: npt.NDArray[np.float64],
+        terminated: npt.NDArray[np.bool_],
+        truncated: npt.NDArray[np.bool_],
+        *,
+        observe: bool = True,
+    ) -> None:
+        """One step of a Gymnasium task (``task``: ``"heading-altitude"`` or
+        ``"climb"``) for every aircraft, the engine of :mod:`afit_fdm.gym`
+        (whose docstring defines the numbers), in one call with the GIL
+        released: ``actions`` (``n`` times 4 for Palmer, 5 for Bourg; float32
+        or float64 used in place, anything else converted to float64) clipped
+        to -1..1 and set as the controls (in parallel over the fleet with
+        ``parallel=True``; a NaN reaching a control raises ``ValueError``
+        before anything changes), ``frames`` frames flown, ``steps`` (int64,
+        ``(n,)``) counted up by one, and with ``observe`` the state views
+        refreshed and ``obs`` (float32, ``(n, 10)`` Palmer or ``(n, 11)``
+        Bourg), ``reward`` (float64), ``terminated`` (not airborne) and
+        ``truncated`` (``steps >= max_steps`` and not terminated) filled
+        (bool, ``(n,)``). Arrays of another dtype or shape raise
+        ``TypeError``/``ValueError`` naming them."""
+    def task_observe(
+        self,
+        task: str,
+        target_alt_ft: npt.NDArray[np.float64],
+        target_heading_deg: npt.NDArray[np.float64],
+        steps: npt.NDArray[np.int64],
+        max_steps: int,
+        obs: npt.NDArray[np.float32],
+        reward: npt.NDArray[np.float64],
+        terminated: npt.NDArray[np.bool_],
+        truncated: npt.NDArray[np.bool_],
+    ) -> None:
+        """The outputs of :meth:`task_step` for the fleet as it is (after a
+        reset), without acting or flying."""
 
 # --- Monte Carlo studies (the Python API is afit_fdm.study: Study, RunTable) ---
 

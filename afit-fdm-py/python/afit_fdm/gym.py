@@ -3,9 +3,17 @@
 :class:`AircraftEnv` is one aircraft (a ``gymnasium.Env``);
 :class:`AircraftVectorEnv` is ``num_envs`` aircraft stepped together by the
 fleet kernels (a native ``gymnasium.vector.VectorEnv``, not a loop of single
-environments). Both run the same task code on NumPy columns, so a vector env
-and ``SyncVectorEnv`` over the single env give the same numbers, bit for bit,
-from the same seeds (tested).
+environments). Both run the same task code, so a vector env and
+``SyncVectorEnv`` over the single env give the same numbers, bit for bit, from
+the same seeds (tested). An env step is one call into Rust
+(``Fleet.task_step``, the GIL released, parallel over pieces of the fleet):
+the action array validated and applied, the frames flown, and the
+observations, rewards and flags below computed; the starts and targets are
+drawn here in Python. Those numbers are the ones the NumPy code that computed
+them before gave (``tests/test_task_kernel.py`` keeps it as the oracle), with
+one difference by machine: the track uses the C library's ``atan2``, which
+NumPy's ``arctan2`` calls too except on CPUs with AVX-512, where NumPy's own
+kernel differs in the last bit on some inputs.
 
 Registered ids (``gymnasium.make`` / ``gymnasium.make_vec``)::
 
@@ -15,7 +23,11 @@ Registered ids (``gymnasium.make`` / ``gymnasium.make_vec``)::
 **Agent rate.** Each ``step`` flies ``frame_skip`` model frames at ``fps``
 frames per second (defaults 30 and 1: a 30 Hz agent).
 
-**Actions** (``Box(-1, 1)``, float32, scaled to the thesis's controls):
+**Actions** (``Box(-1, 1)``, float32, scaled to the thesis's controls; any
+array of ``num_envs`` times this many numbers is taken, float32 or float64 as
+given, other dtypes converted to float64; values are clipped to -1..1, and a
+NaN that reaches a continuous control raises ``ValueError`` naming it and the
+first aircraft, with nothing changed):
 
 * Palmer, 4 values: throttle ``(a0 + 1) / 2`` (0..1); angle of attack
   ``2 + 18 a1`` degrees (-16..20); bank ``20 a2`` degrees (-20..20, positive
@@ -80,10 +92,6 @@ OBS_LIMIT = 10.0
 AIRBORNE = int(Status.AIRBORNE)
 
 
-def _surface(a: np.ndarray) -> np.ndarray:
-    return np.where(a > 1.0 / 3.0, 1.0, np.where(a < -1.0 / 3.0, -1.0, 0.0))
-
-
 class _Task:
     """The task's numbers for ``n`` aircraft of ``model``: starts, actions,
     observations, rewards. Everything is vectorised over aircraft."""
@@ -97,6 +105,7 @@ class _Task:
             raise ValueError(f"frame_skip: {frame_skip} is not a whole number >= 1")
         self.model, self.task, self.n, self.frame_skip = model, task, n, frame_skip
         self.fleet = Fleet(model, n, fps=fps, parallel=parallel, altitude_ft=2000.0, speed_kt=100.0, trim=True)
+        self.fps = fps
         self.target_alt_ft = np.zeros(n)
         self.target_heading_deg = np.zeros(n)
         n_act = 4 if model == "palmer" else 5
@@ -129,70 +138,44 @@ class _Task:
         self.target_alt_ft[mask] = d["t_alt"][mask]
         self.target_heading_deg[mask] = d["t_hdg"][mask]
 
-    def act(self, actions: np.ndarray) -> None:
-        a = np.clip(np.asarray(actions, dtype=np.float64).reshape(self.n, -1), -1.0, 1.0)
-        if self.model == "palmer":
-            flaps = np.where(a[:, 3] < -1.0 / 3.0, 0.0, np.where(a[:, 3] <= 1.0 / 3.0, 20.0, 40.0))
-            self.fleet.set_controls(
-                throttle=(a[:, 0] + 1.0) * 0.5,
-                alpha_deg=2.0 + 18.0 * a[:, 1],
-                bank_deg=20.0 * a[:, 2],
-                flaps_deg=flaps,
-            )
-        else:
-            self.fleet.set_controls(
-                thrust_lb=1500.0 * (a[:, 0] + 1.0),
-                elevator=_surface(a[:, 1]),
-                aileron=_surface(a[:, 2]),
-                rudder=_surface(a[:, 3]),
-                pitch_trim=np.ascontiguousarray(a[:, 4]),
-            )
+    def _outputs(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """New observation, reward, terminated and truncated arrays (new each
+        step, as a Gymnasium caller may keep the previous step's)."""
+        n_obs = self.observation_space.shape[0]
+        return (
+            np.empty((self.n, n_obs), dtype=np.float32),
+            np.empty(self.n),
+            np.empty(self.n, dtype=bool),
+            np.empty(self.n, dtype=bool),
+        )
 
-    def _kinematics(self) -> Tuple[np.ndarray, ...]:
-        f = self.fleet
-        if self.model == "palmer":
-            alt_ft = f["z_m"] * FT_PER_M
-            vx, vy, vz_fps = f["vx_mps"], f["vy_mps"], f["vz_mps"] * FT_PER_M
-            ground_mps = np.hypot(vx, vy)
-        else:
-            alt_ft = np.array(f["z_ft"])
-            vx, vy, vz_fps = f["vx_ftps"], f["vy_ftps"], np.array(f["vz_ftps"])
-            ground_mps = np.hypot(vx, vy) * 0.3048
-        # y points west: the track is clockwise from north toward east (-y).
-        track_deg = np.degrees(np.arctan2(-vy, vx)) % 360.0
-        return alt_ft, vz_fps, ground_mps * KT_PER_MPS, track_deg, vx, vy, ground_mps
+    def step(
+        self, actions: Any, steps: np.ndarray, max_steps: int, observe: bool = True
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """One agent step in one call into Rust (``Fleet.task_step``, the
+        GIL released): the action array validated (a NaN reaching a control
+        raises ``ValueError`` as ``Fleet.set_controls`` does; nothing
+        changes then), clipped to -1..1 and scaled to the controls (see the
+        module docstring), ``frame_skip`` frames flown, ``steps`` counted
+        up, and with ``observe`` the observations, rewards (0 for an ended
+        episode), terminated (not airborne) and truncated (``steps >=
+        max_steps`` and not terminated) filled."""
+        out = self._outputs()
+        self.fleet.task_step(
+            actions, self.frame_skip, self.task, self.target_alt_ft, self.target_heading_deg,
+            steps, max_steps, *out, observe=observe,
+        )
+        return out
 
-    def observe(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Observations, rewards and the ended-by-status mask. (The fleet's
-        state is always finite: a diverged aircraft keeps its last finite state.)"""
-        alt_ft, vz_fps, ground_kt, track_deg, vx, vy, ground = self._kinematics()
-        alt_err = self.target_alt_ft - alt_ft
-        hdg_err = (self.target_heading_deg - track_deg + 180.0) % 360.0 - 180.0
-        c = self.fleet.controls
-        if self.model == "palmer":
-            ctl = [c["throttle"], c["alpha_deg"] / 20.0, c["bank_deg"] / 20.0, c["flaps_deg"] / 40.0]
-        else:
-            ctl = [c["thrust_lb"] / 3000.0, c["elevator"], c["aileron"], c["rudder"], c["pitch_trim"]]
-        moving = ground > 0.0
-        safe = np.where(moving, ground, 1.0)
-        obs = np.empty((self.n, self.observation_space.shape[0]), dtype=np.float32)
-        columns = [alt_err / 1000.0, hdg_err / 180.0, vz_fps / 20.0, ground_kt / 200.0,
-                   np.where(moving, -vy / safe, 0.0), np.where(moving, vx / safe, 1.0), *ctl]
-        for k, column in enumerate(columns):
-            obs[:, k] = column
-        np.clip(obs, -OBS_LIMIT, OBS_LIMIT, out=obs)
-        a_err, h_err = np.abs(alt_err), np.abs(hdg_err)
-        if self.task == "heading-altitude":
-            reward = 1.0 - 0.5 * np.minimum(a_err / 500.0, 1.0) - 0.5 * np.minimum(h_err / 45.0, 1.0)
-        else:
-            reward = np.where(
-                a_err <= 200.0,
-                1.0 - 0.7 * np.minimum(a_err / 1000.0, 1.0) - 0.3 * np.minimum(np.abs(vz_fps) / 10.0, 1.0),
-                0.3 * (1.0 - np.minimum(a_err / 2000.0, 1.0)),
-            )
-        ended = self.fleet.status != AIRBORNE
-        reward[ended] = 0.0
-        return obs, reward, ended
+    def observe(self, steps: np.ndarray, max_steps: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Observations, rewards, terminated and truncated of the fleet as it
+        is (after a reset): ``Fleet.task_observe``. (The fleet's state is
+        always finite: a diverged aircraft keeps its last finite state.)"""
+        out = self._outputs()
+        self.fleet.task_observe(
+            self.task, self.target_alt_ft, self.target_heading_deg, steps, max_steps, *out
+        )
+        return out
 
 
 def _statuses(fleet: Fleet) -> np.ndarray:
@@ -221,22 +204,18 @@ class AircraftEnv(gymnasium.Env):
         self.observation_space = self._task.observation_space
         self.max_episode_steps = max_episode_steps
         self.metadata = {"render_modes": [], "render_fps": fps / frame_skip}
-        self._steps = 0
+        self._steps = np.zeros(1, dtype=np.int64)
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None):
         super().reset(seed=seed)
         self._task.reset([self.np_random], np.ones(1, dtype=bool))
-        self._steps = 0
-        obs, _, _ = self._task.observe()
+        self._steps[0] = 0
+        obs = self._task.observe(self._steps, self.max_episode_steps)[0]
         return obs[0], {"status": int(_statuses(self._task.fleet)[0])}
 
     def step(self, action):
-        self._task.act(np.asarray(action).reshape(1, -1))
-        self._task.fleet.step(self._task.frame_skip)
-        self._steps += 1
-        obs, reward, ended = self._task.observe()
-        truncated = self._steps >= self.max_episode_steps and not ended[0]
-        return obs[0], float(reward[0]), bool(ended[0]), bool(truncated), {"status": int(_statuses(self._task.fleet)[0])}
+        obs, reward, ended, truncated = self._task.step(action, self._steps, self.max_episode_steps)
+        return obs[0], float(reward[0]), bool(ended[0]), bool(truncated[0]), {"status": int(_statuses(self._task.fleet)[0])}
 
 
 class AircraftVectorEnv(VectorEnv):
@@ -299,25 +278,26 @@ class AircraftVectorEnv(VectorEnv):
         self._task.reset(self._rngs, mask)
         self._steps[mask] = 0
         self._autoreset[mask] = False
-        obs, _, _ = self._task.observe()
+        obs = self._task.observe(self._steps, self.max_episode_steps)[0]
         return obs, {"status": np.where(mask, _statuses(self._task.fleet), 0), "_status": mask.copy()}
 
     def step(self, actions):
         task = self._task
-        task.act(actions)
-        task.fleet.step(task.frame_skip)
-        self._steps += 1
         infos: Dict[str, Any] = {}
         if self.autoreset_mode == AutoresetMode.NEXT_STEP and self._autoreset.any():
-            task.reset(self._rngs, self._autoreset)
-            self._steps[self._autoreset] = 0
-        obs, reward, ended = task.observe()
-        truncated = (self._steps >= self.max_episode_steps) & ~ended
-        if self.autoreset_mode == AutoresetMode.NEXT_STEP:
+            # The aircraft whose episode ended last step fly this step's
+            # frames too (as every aircraft does), then restart: reward 0,
+            # neither terminated nor truncated.
             was = self._autoreset
+            task.step(actions, self._steps, self.max_episode_steps, observe=False)
+            task.reset(self._rngs, was)
+            self._steps[was] = 0
+            obs, reward, ended, truncated = task.observe(self._steps, self.max_episode_steps)
             reward[was] = 0.0
             ended[was] = False
             truncated[was] = False
+        else:
+            obs, reward, ended, truncated = task.step(actions, self._steps, self.max_episode_steps)
         done = ended | truncated
         status = _statuses(task.fleet)
         if self.autoreset_mode == AutoresetMode.SAME_STEP and done.any():
@@ -335,7 +315,7 @@ class AircraftVectorEnv(VectorEnv):
             )
             task.reset(self._rngs, done)
             self._steps[done] = 0
-            obs, _, _ = task.observe()
+            obs = task.observe(self._steps, self.max_episode_steps)[0]
             status = _statuses(task.fleet)
         self._autoreset = done if self.autoreset_mode == AutoresetMode.NEXT_STEP else np.zeros(self.num_envs, dtype=bool)
         infos["status"] = status
