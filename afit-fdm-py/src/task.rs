@@ -148,7 +148,10 @@ pub fn observe(
     let alt_err = target_alt_ft - k.alt_ft;
     let hdg_err = np_remainder(target_heading_deg - track_deg + 180.0, 360.0) - 180.0;
     let moving = k.ground_mps > 0.0;
-    let safe = if moving { k.ground_mps } else { 1.0 };
+    // The track's sine and cosine divide the velocity by the horizontal
+    // speed in the velocity's own units (Bourg's ft/s, not the m/s of
+    // `ground_mps`): a unit vector for both models.
+    let safe = if moving { k.vx.hypot(k.vy) } else { 1.0 };
     #[allow(clippy::cast_possible_truncation)] // float32 observations, as NumPy casts
     {
         let kinematic = [

@@ -105,6 +105,20 @@ def test_seeding_repeats_rollouts_bit_for_bit() -> None:
     assert rollout(3) != rollout(4)
 
 
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+def test_track_sine_and_cosine_are_a_unit_vector(model: str) -> None:
+    # Documented: observations 4 and 5 are the sine and cosine of the track.
+    # (Bourg's once divided its ft/s velocity by the speed in m/s: a vector
+    # of length 1/0.3048.) float32 observations: within 1e-6 of length 1.
+    env = AircraftVectorEnv(model, "heading-altitude", num_envs=64)
+    obs, _ = env.reset(seed=5)
+    env.action_space.seed(5)
+    for _ in range(20):
+        sin_t, cos_t = obs[:, 4].astype(np.float64), obs[:, 5].astype(np.float64)
+        assert np.all(np.abs(np.hypot(sin_t, cos_t) - 1.0) < 1e-6), (sin_t, cos_t)
+        obs, *_ = env.step(env.action_space.sample())
+
+
 def test_crashed_aircraft_terminate_cleanly() -> None:
     env = AircraftEnv("palmer", "heading-altitude", frame_skip=30)
     env.reset(seed=1)

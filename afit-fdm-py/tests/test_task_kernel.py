@@ -96,7 +96,7 @@ class OldTask:
         else:
             ctl = [c["thrust_lb"] / 3000.0, c["elevator"], c["aileron"], c["rudder"], c["pitch_trim"]]
         moving = ground > 0.0
-        safe = np.where(moving, ground, 1.0)
+        safe = np.where(moving, np.hypot(vx, vy), 1.0)  # the velocity's own units
         obs = np.empty((self.n, self.n_obs), dtype=np.float32)
         columns = [alt_err / 1000.0, hdg_err / 180.0, vz_fps / 20.0, ground_kt / 200.0,
                    np.where(moving, -vy / safe, 0.0), np.where(moving, vx / safe, 1.0), *ctl]
