@@ -22,7 +22,7 @@
 //! variant flies the same 10 s of flight whatever its iteration count.
 //!
 //! `benches/ecs_fleet.rs` compares the ECS with a plain `Vec` loop and times
-//! whole frames (MakePacket included) at 1 000 and 100 000 aircraft.
+//! whole frames (Place included) at 1 000 and 100 000 aircraft.
 //!
 //! ```text
 //! cargo bench --bench fleet                    # everything, 5 to 7 minutes
@@ -85,7 +85,7 @@ fn bench_model<M: Model>(c: &mut Criterion) {
                     sim.spawn_fleet::<M>(
                         &Arc::new(M::default_aircraft()),
                         0..n,
-                        FleetOutputs::Packets,
+                        FleetOutputs::Placement,
                     );
                     let initial = world_states::<M>(sim.world());
                     (sim, initial)

@@ -83,9 +83,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut sim = Simulation::new(resources);
     let cessna = Arc::new(Palmer::default_aircraft());
     // The demonstration fleets: full aircraft (with their FlightGear datagram).
-    sim.spawn_fleet::<Palmer>(&cessna, 0..PER_MODEL, FleetOutputs::Packets);
+    sim.spawn_fleet::<Palmer>(&cessna, 0..PER_MODEL, FleetOutputs::Placement);
     let bourg = Arc::new(Bourg::default_aircraft());
-    sim.spawn_fleet::<Bourg>(&bourg, 0..PER_MODEL, FleetOutputs::Packets);
+    sim.spawn_fleet::<Bourg>(&bourg, 0..PER_MODEL, FleetOutputs::Placement);
     let mut palmers = entities_of::<Palmer>(sim.world_mut());
     let bourgs = entities_of::<Bourg>(sim.world_mut());
     // Plus a few Cessnas on final approach: engine idle, 30 to 70 m up.
@@ -93,7 +93,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         let (mut controls, mut state) = Palmer::fleet_member(PER_MODEL + i as usize);
         controls.throttle = 0.0;
         state.position_m.z = 30.0 + 10.0 * f64::from(i);
-        palmers.push(sim.spawn::<Palmer>(Arc::clone(&cessna), controls, state, None));
+        palmers.push(sim.spawn::<Palmer>(Arc::clone(&cessna), controls, state));
     }
     for &entity in palmers.iter().chain(&bourgs) {
         sim.world_mut().insert_one(entity, MaxHeight(0.0))?;

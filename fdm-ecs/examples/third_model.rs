@@ -466,19 +466,16 @@ pub fn fly_mixed_fleet(frames: u64) -> Result<MixedFleet, Box<dyn std::error::Er
         Arc::new(Glider::default_aircraft()),
         Glider::initial_controls(),
         Glider::initial_state(),
-        None,
     );
     let palmer = sim.spawn::<Palmer>(
         Arc::new(Palmer::default_aircraft()),
         Palmer::fleet_member(0).0,
         Palmer::fleet_member(0).1,
-        None,
     );
     let bourg = sim.spawn::<Bourg>(
         Arc::new(Bourg::default_aircraft()),
         Bourg::initial_controls(),
         Bourg::initial_state(),
-        None,
     );
     let script = fdm_core::script::Script::<GliderAction>::parse("1-6 bank-right\n")?;
     sim.set_script(glider, Arc::new(script))?;
@@ -503,13 +500,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if fleet.sim.state::<Glider>(fleet.glider) != Some(lanes[0]) {
         return Err("the ECS glider differs from the fleet's first glider".into());
     }
-    for (name, entity) in [
-        ("glider", fleet.glider),
-        ("palmer", fleet.palmer),
-        ("bourg", fleet.bourg),
+    for (name, entity, view) in [
+        (
+            "glider",
+            fleet.glider,
+            fleet.sim.view::<Glider>(fleet.glider),
+        ),
+        (
+            "palmer",
+            fleet.palmer,
+            fleet.sim.view::<Palmer>(fleet.palmer),
+        ),
+        ("bourg", fleet.bourg, fleet.sim.view::<Bourg>(fleet.bourg)),
     ] {
         let here = fleet.sim.geodetic(entity).ok_or("no position")?;
-        let packet = fleet.sim.packet(entity).ok_or("no packet")?;
+        let packet = datagram(&fleet.sim, entity, &view.ok_or("no view")?).ok_or("no placement")?;
         println!(
             "{name:7} lat {:.6} lon {:.6} alt {:7.1} m  heading {:5.1}  datagram {} bytes",
             here.lat_deg,
@@ -520,4 +525,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// The FlightGear datagram of an aircraft seen through `view`, from the
+/// placement the ECS computed this frame (what `fdm_run`'s FlightGear output
+/// sends): the glider needs nothing FlightGear-specific.
+pub fn datagram(sim: &Simulation, entity: Entity, view: &FlightView) -> Option<fgnet::FgNetFdm> {
+    let origin = sim.resources().origin;
+    Some(fgnet::bridge::packet_at(
+        view,
+        &origin,
+        sim.geodetic(entity)?,
+        sim.attitude(entity)?,
+    ))
 }

@@ -13,13 +13,14 @@
 //! | this frame's input | [`FrameInput<M::Action>`](FrameInput) | the caller (keyboard), emptied by FlightControl |
 //! | scripted input (optional) | [`ScriptInput<M::Action>`](ScriptInput), [`ScriptReplay`] | spawn / the caller; FlightControl moves the cursor |
 //! | flight status | [`FlightStatus`] | FlightStatus |
-//! | geodetic position | [`Geodetic`] | MakePacket |
-//! | attitude as sent to FlightGear | [`Attitude`] | MakePacket |
-//! | the datagram | [`FgNetFdm`] | MakePacket |
-//! | where it goes (optional) | [`FlightGearLink`] | SendPacket (its counters) |
+//! | geodetic position (WGS-84) | [`Geodetic`] | Place |
+//! | attitude relative to the local north-east-down frame | [`Attitude`] | Place |
 //!
-//! State, controls, position, attitude and packet are the plain types of
-//! `fdm-core` and `fgnet`, used as components directly. Every system's query
+//! State, controls, position and attitude are the plain types of `fdm-core`,
+//! used as components directly. The position and attitude are the aircraft's
+//! placement, computed once per frame and read by every output (the
+//! FlightGear link, DIS, ACMI: `fdm_run::Placement`); no wire format lives in
+//! the ECS. Every system's query
 //! includes [`Params<M>`], so two models never see each other's aircraft.
 //!
 //! # Shared parameters: `Arc`, not a copy and not a table index
@@ -33,26 +34,15 @@
 //! it, and the index could dangle; the `Arc` keeps each entity
 //! self-contained and allows any number of aircraft types in one world. The
 //! reference count is touched only at spawn and despawn, never per frame.
-//!
-//! # Why a link owns its socket
-//!
-//! [`FlightGearLink`] owns a *connected* UDP socket. That is deliberate: a
-//! connected socket reports "connection refused" (FlightGear not listening)
-//! for its own target, which a socket shared by many targets could not
-//! attribute to an aircraft; and the socket closes when the entity is
-//! despawned. Only linked entities pay for one.
 
-use std::io;
 use std::ops::Deref;
 use std::sync::Arc;
 
 use fdm_core::model::Model;
 use fdm_core::script::{Script, ScriptCursor};
-use fgnet::{SendOutcome, Sender, SenderError, SenderStats};
 
 pub use fdm_core::geodesy::{Attitude, Geodetic};
 pub use fdm_core::model::FlightStatus;
-pub use fgnet::FgNetFdm;
 
 /// The parameters of an entity's aircraft type, shared by every aircraft of
 /// that type. Its presence makes an entity an aircraft of model `M`.
@@ -162,63 +152,3 @@ pub struct ScriptInput<A>(pub Arc<Script<A>>);
 /// shared (`Arc`) and the cursor is per entity.
 #[derive(Debug, Clone, Default)]
 pub struct ScriptReplay(pub ScriptCursor);
-
-/// Where an entity's FlightGear datagrams go: a connected [`fgnet::Sender`],
-/// with the error of its first failed send kept for the caller to report.
-///
-/// Entities without a link are simulated and get their [`FgNetFdm`] built,
-/// but SendPacket sends nothing for them.
-#[derive(Debug)]
-pub struct FlightGearLink {
-    sender: Sender,
-    first_failure: Option<io::Error>,
-}
-
-impl FlightGearLink {
-    /// Opens a UDP socket sending to `addr` (`"HOST:PORT"`, e.g.
-    /// `"127.0.0.1:5500"`); see [`Sender::connect`]. Nothing is sent yet, so
-    /// this succeeds whether or not FlightGear listens.
-    ///
-    /// # Errors
-    /// [`SenderError`] when the address does not resolve or the socket cannot
-    /// be set up.
-    pub fn connect(addr: &str) -> Result<Self, SenderError> {
-        Sender::connect(addr).map(Self::new)
-    }
-
-    /// A link using an existing sender.
-    #[must_use]
-    pub const fn new(sender: Sender) -> Self {
-        Self {
-            sender,
-            first_failure: None,
-        }
-    }
-
-    /// Sends one datagram (called by SendPacket). A failure is counted in
-    /// [`stats`](Self::stats); the first one's error is kept for
-    /// [`take_first_failure`](Self::take_first_failure).
-    pub fn send(&mut self, packet: &FgNetFdm) {
-        if let SendOutcome::FirstFailure(error) = self.sender.send(packet) {
-            self.first_failure = Some(error);
-        }
-    }
-
-    /// Datagrams sent and failed so far.
-    #[must_use]
-    pub fn stats(&self) -> SenderStats {
-        self.sender.stats()
-    }
-
-    /// The error of the first failed send, once (later calls return `None`;
-    /// later failures are only counted).
-    pub fn take_first_failure(&mut self) -> Option<io::Error> {
-        self.first_failure.take()
-    }
-
-    /// The sender.
-    #[must_use]
-    pub fn sender(&self) -> &Sender {
-        &self.sender
-    }
-}

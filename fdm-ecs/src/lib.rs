@@ -1,9 +1,11 @@
 //! The thin Entity-Component-System shell around `fdm-core` (thesis chapter
 //! III): hecs components for any [`Model`](fdm_core::model::Model)'s
-//! parameters, state, controls and FlightGear packets; the FlightControl →
-//! EquationsOfMotion → FlightStatus → MakePacket → SendPacket systems, generic
-//! over the model, run in a fixed order; aircraft of any number of models per
-//! world, stepped in parallel.
+//! parameters, state, controls and placement on WGS-84; the FlightControl →
+//! EquationsOfMotion → FlightStatus → Place systems, generic over the model,
+//! run in a fixed order; aircraft of any number of models per world, stepped
+//! in parallel. No wire format lives here: the FlightGear link, DIS and the
+//! other outputs are the run library's (`fdm_run`), fed by the placement
+//! Place computes once per frame.
 //!
 //! * [`components`]: what an aircraft entity is made of.
 //! * [`Resources`]: frame rate, geodetic origin, frame counter, sequential or
@@ -14,8 +16,8 @@
 //!   `set_script`, `run_frame` and accessors.
 //!
 //! Geodesy is pure maths and lives in `fdm_core::geodesy` (re-exported as
-//! [`geodesy`]); the mapping of a model's view to FlightGear's fields is
-//! `fgnet::bridge`. Stepping through the ECS gives the same bits as calling
+//! [`geodesy`]); [`systems::placement`] places a model's view with it; the
+//! mapping of a view to FlightGear's fields is `fgnet::bridge`. Stepping through the ECS gives the same bits as calling
 //! `fdm-core` directly (`tests/ecs_parity.rs`), in either execution mode.
 //!
 //! # The thesis's names
@@ -24,11 +26,11 @@
 //! |---|---|
 //! | `DataFDM` (one component per aircraft) | split: [`components::Params<M>`] (shared), `M::Controls`, `M::State` |
 //! | `KeyboardState` | [`components::FrameInput`] (+ [`components::ScriptInput`]) |
-//! | `FGNetFDM` | `fgnet::FgNetFdm`, plus [`components::Geodetic`] and [`components::Attitude`] |
-//! | (socket opened in SendPacket) | [`FlightGearLink`], optional per entity |
+//! | `FGNetFDM` | [`components::Geodetic`] and [`components::Attitude`] here; the datagram is `fdm_run::flightgear`'s |
+//! | (socket opened in SendPacket) | `fdm_run::flightgear::FlightGearOutput`, an output of the run |
 //! | `DeltaTime` | [`Resources::time_step`] |
 //! | `MaxThrust`, `DeltaThrust` | Bourg's aircraft parameters (`max_thrust_lb`, `delta_thrust_lb`) |
-//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::flight_status`], [`systems::make_packet`], [`systems::send_packet`] in [`Schedule::thesis`] |
+//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::flight_status`], [`systems::place`] in [`Schedule::thesis`]; the packet is made and sent by `fdm_run::flightgear::FlightGearOutput` |
 //!
 //! # Example: two aircraft, one per model
 //!
@@ -45,13 +47,11 @@
 //!     Arc::new(Palmer::default_aircraft()),
 //!     Palmer::initial_controls(),
 //!     Palmer::initial_state(),
-//!     None, // or Some(FlightGearLink::connect("127.0.0.1:5500")?)
 //! );
 //! let bourg = sim.spawn::<Bourg>(
 //!     Arc::new(Bourg::default_aircraft()),
 //!     Bourg::initial_controls(),
 //!     Bourg::initial_state(),
-//!     None,
 //! );
 //! // Bourg flies a script; Palmer gets key presses.
 //! sim.set_script(bourg, Arc::new(Script::<BourgAction>::parse("1-5 thrust-up\n")?))?;
@@ -67,7 +67,6 @@
 //! // Where FlightGear would draw it: due north of the runway origin.
 //! let here = sim.geodetic(palmer).unwrap();
 //! assert!(here.lat_deg > 39.8264);
-//! assert!(sim.send_stats(palmer).is_none()); // no link, nothing sent
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -79,7 +78,6 @@ mod schedule;
 mod simulation;
 pub mod systems;
 
-pub use components::FlightGearLink;
 /// The ECS crate this shell is built on (for `Entity`, `World` and queries).
 pub use hecs;
 pub use hecs::{Entity, World};

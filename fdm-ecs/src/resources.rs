@@ -8,7 +8,7 @@ use fdm_core::model::Model;
 
 use crate::EcsError;
 
-/// How the per-aircraft systems (EquationsOfMotion, MakePacket) visit the
+/// How the per-aircraft systems (EquationsOfMotion, Place) visit the
 /// entities. Both give bit-identical results; see
 /// [`equations_of_motion_parallel`](crate::systems::equations_of_motion_parallel).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -30,7 +30,7 @@ pub enum Execution {
 pub struct Resources {
     fps: f64,
     /// Where the models' earth-frame origin (x north, y west, z up) sits on
-    /// WGS-84; MakePacket converts positions with it.
+    /// WGS-84; Place converts positions with it.
     pub origin: GeodeticOrigin,
     /// Frames run so far. [`Schedule::run`](crate::Schedule::run) increments it
     /// before the systems run, so during a frame it is that frame's 1-based

@@ -15,9 +15,7 @@ use fdm_core::palmer::Palmer;
 use hecs::World;
 
 use crate::resources::Resources;
-use crate::systems::{
-    equations_of_motion, flight_control, flight_status, make_packet, send_packet,
-};
+use crate::systems::{equations_of_motion, flight_control, flight_status, place};
 
 /// A system: a named function over the world and the resources.
 #[derive(Debug, Clone, Copy)]
@@ -43,21 +41,20 @@ impl Schedule {
     pub const EQUATIONS_OF_MOTION: &'static str = "EquationsOfMotion";
     /// The name of [`flight_status`].
     pub const FLIGHT_STATUS: &'static str = "FlightStatus";
-    /// The name of [`make_packet`].
-    pub const MAKE_PACKET: &'static str = "MakePacket";
-    /// The name of [`send_packet`].
-    pub const SEND_PACKET: &'static str = "SendPacket";
+    /// The name of [`place`].
+    pub const PLACE: &'static str = "Place";
 
     /// The phases every model takes part in, in order.
     const MODEL_PHASES: [&'static str; 4] = [
         Self::FLIGHT_CONTROL,
         Self::EQUATIONS_OF_MOTION,
         Self::FLIGHT_STATUS,
-        Self::MAKE_PACKET,
+        Self::PLACE,
     ];
 
     /// The thesis's order, FlightControl → EquationsOfMotion → FlightStatus →
-    /// MakePacket → SendPacket, for the two models of this workspace
+    /// Place (the thesis's MakePacket and SendPacket are outputs of the run
+    /// library now: `fdm_run::flightgear`), for the two models of this workspace
     /// ([`Palmer`], then [`Bourg`]). Other models join with
     /// [`with_model`](Self::with_model) (which
     /// [`Simulation::spawn`](crate::Simulation::spawn) calls for you).
@@ -68,23 +65,20 @@ impl Schedule {
             .with_model::<Bourg>()
     }
 
-    /// The thesis's phases with no model yet: only SendPacket, which serves
-    /// every model.
+    /// The thesis's phases with no model yet: no system (every phase is
+    /// per model).
     #[must_use]
     pub fn for_no_model() -> Self {
         Self {
-            systems: vec![System {
-                name: Self::SEND_PACKET,
-                run: send_packet,
-            }],
+            systems: Vec::new(),
             models: Vec::new(),
         }
     }
 
     /// Adds model `M`'s FlightControl, EquationsOfMotion, FlightStatus and
-    /// MakePacket, each after the last system of its phase (or, for a phase
-    /// not present yet, before SendPacket). Adding a model twice changes
-    /// nothing.
+    /// Place, each after the last system of its phase (or, for a phase not
+    /// present yet, before the first system of a later phase, else at the
+    /// end). Adding a model twice changes nothing.
     #[must_use]
     pub fn with_model<M: Model>(mut self) -> Self {
         self.add_model::<M>();
@@ -102,7 +96,7 @@ impl Schedule {
             flight_control::<M>,
             equations_of_motion::<M>,
             flight_status::<M>,
-            make_packet::<M>,
+            place::<M>,
         ];
         for (phase, (name, run)) in Self::MODEL_PHASES.iter().zip(runs).enumerate() {
             let at = self.end_of_phase(phase);
@@ -119,7 +113,7 @@ impl Schedule {
 
     /// Where a new system of model phase `phase` goes: after the last system
     /// of that phase or of an earlier one, else before the first system of a
-    /// later phase or SendPacket.
+    /// later phase, else at the end.
     fn end_of_phase(&self, phase: usize) -> usize {
         let rank = |name: &str| Self::MODEL_PHASES.iter().position(|p| *p == name);
         let mut at = None;
@@ -132,7 +126,7 @@ impl Schedule {
         at.unwrap_or_else(|| {
             self.systems
                 .iter()
-                .position(|s| rank(s.name).is_some() || s.name == Self::SEND_PACKET)
+                .position(|s| rank(s.name).is_some())
                 .unwrap_or(self.systems.len())
         })
     }

@@ -2,30 +2,26 @@
 //! small builder API (what `fdm_run::Run` flies one aircraft in, and what
 //! `sim-cli`'s fleets use).
 
-use std::io;
 use std::sync::Arc;
 
 use fdm_core::model::{FlightStatus, FlightView, Model};
 use fdm_core::script::Script;
-use fgnet::bridge::{display, Display};
-use fgnet::{FgNetFdm, SenderStats};
 use hecs::{Component, Entity, EntityBuilder, QueryOneError, World};
 
-use crate::components::{
-    Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput, ScriptReplay,
-};
+use crate::components::{Attitude, FrameInput, Geodetic, Params, ScriptInput, ScriptReplay};
 use crate::resources::Resources;
 use crate::schedule::Schedule;
+use crate::systems::placement;
 use crate::EcsError;
 
 /// What the aircraft of a fleet spawned by [`Simulation::spawn_fleet`] carry
 /// besides the model's own components.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FleetOutputs {
-    /// Geodetic position, attitude and FlightGear datagram, rebuilt by
-    /// MakePacket every frame.
-    Packets,
-    /// Nothing more: a fleet that only flies (MakePacket skips it).
+    /// Geodetic position and attitude (the placement every output reads),
+    /// rebuilt by Place every frame.
+    Placement,
+    /// Nothing more: a fleet that only flies (Place skips it).
     None,
 }
 
@@ -44,13 +40,11 @@ pub enum FleetOutputs {
 ///     Arc::new(Palmer::default_aircraft()),
 ///     PalmerControls { throttle: 1.0, alpha_deg: 4.0, ..PalmerControls::default() },
 ///     PalmerState::initial(),
-///     None, // no FlightGear link: nothing is sent
 /// );
 /// let bourg = sim.spawn::<Bourg>(
 ///     Arc::new(Bourg::default_aircraft()),
 ///     BourgControls::initial(),
 ///     BourgState::initial(),
-///     None,
 /// );
 /// for _ in 0..30 {
 ///     sim.push_input(bourg, BourgAction::PitchUp)?; // as if the key were held
@@ -61,7 +55,6 @@ pub enum FleetOutputs {
 /// assert!((palmer.time_s - 1.0).abs() < 1e-9 && palmer.velocity_mps.x > 0.0);
 /// let here = sim.geodetic(bourg).unwrap();
 /// assert!(here.lat_deg < 39.8264); // Bourg starts 5000 ft south of the origin
-/// assert_eq!(sim.packet(bourg).unwrap().version, 24);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct Simulation {
@@ -111,19 +104,17 @@ impl Simulation {
     }
 
     /// Spawns an aircraft of model `M` with its shared parameters, initial
-    /// controls and state, and optionally a FlightGear link; adds `M`'s
-    /// systems to the schedule if they are not there yet. Its flight status,
-    /// geodetic position, attitude and packet are computed right away, so
-    /// they are valid before the first frame.
+    /// controls and state; adds `M`'s systems to the schedule if they are
+    /// not there yet. Its flight status, geodetic position and attitude are
+    /// computed right away, so they are valid before the first frame.
     pub fn spawn<M: Model>(
         &mut self,
         aircraft: Arc<M::Aircraft>,
         controls: M::Controls,
         state: M::State,
-        link: Option<FlightGearLink>,
     ) -> Entity {
         self.schedule.add_model::<M>();
-        let display = display(
+        let (geodetic, attitude) = placement(
             &M::view(&aircraft, &controls, &state),
             &self.resources.origin,
         );
@@ -135,24 +126,19 @@ impl Simulation {
             state,
             FrameInput::<M::Action>::new(),
             status,
-            display.geodetic,
-            display.attitude,
-            display.packet,
+            geodetic,
+            attitude,
         ));
-        if let Some(link) = link {
-            builder.add(link);
-        }
         self.world.spawn(builder.build())
     }
 
     /// Spawns members `members` (e.g. `0..n`) of model `M`'s demonstration
-    /// fleet ([`Model::fleet_member`]), all sharing `aircraft`, without
-    /// FlightGear links, in order (which is also the order of the world's
-    /// queries over them). With [`FleetOutputs::None`] they carry only the
-    /// model's components and their flight status (about a fifth of the
-    /// memory: no geodetic position, attitude or 408-byte datagram, which
-    /// MakePacket then skips); with [`FleetOutputs::Packets`] they are full
-    /// aircraft as [`spawn`](Self::spawn) makes them.
+    /// fleet ([`Model::fleet_member`]), all sharing `aircraft`, in order
+    /// (which is also the order of the world's queries over them). With
+    /// [`FleetOutputs::None`] they carry only the model's components and
+    /// their flight status (no geodetic position or attitude, which Place
+    /// then skips); with [`FleetOutputs::Placement`] they are full aircraft
+    /// as [`spawn`](Self::spawn) makes them.
     pub fn spawn_fleet<M: Model>(
         &mut self,
         aircraft: &Arc<M::Aircraft>,
@@ -166,7 +152,7 @@ impl Simulation {
     }
 
     /// Spawns one fleet aircraft of model `M` at `controls` and `state`,
-    /// sharing `aircraft`, without a FlightGear link, with the components
+    /// sharing `aircraft`, with the components
     /// `outputs` says (see [`spawn_fleet`](Self::spawn_fleet)).
     pub fn spawn_member<M: Model>(
         &mut self,
@@ -177,7 +163,7 @@ impl Simulation {
     ) -> Entity {
         self.schedule.add_model::<M>();
         match outputs {
-            FleetOutputs::Packets => self.spawn::<M>(Arc::clone(aircraft), controls, state, None),
+            FleetOutputs::Placement => self.spawn::<M>(Arc::clone(aircraft), controls, state),
             FleetOutputs::None => {
                 let status = start_status::<M>(&state);
                 self.world.spawn((
@@ -227,8 +213,8 @@ impl Simulation {
 
     /// Puts an `M` aircraft back to `controls` and `state` (e.g. the
     /// interactive reset key): drops its queued input, restarts its flight
-    /// status and recomputes its geodetic position, attitude and packet at
-    /// once, as at spawn. Its parameters, script and FlightGear link stay.
+    /// status and recomputes its geodetic position and attitude at once, as
+    /// at spawn. Its parameters and script stay.
     ///
     /// # Errors
     /// [`EcsError::NoSuchEntity`], or [`EcsError::MissingComponent`] for an
@@ -240,7 +226,7 @@ impl Simulation {
         state: M::State,
     ) -> Result<(), EcsError> {
         let origin = self.resources.origin;
-        let (params, c, s, input, status, geodetic, attitude, packet) = self
+        let (params, c, s, input, status, geodetic, attitude) = self
             .world
             .query_one_mut::<(
                 &Params<M>,
@@ -250,23 +236,18 @@ impl Simulation {
                 &mut FlightStatus,
                 &mut Geodetic,
                 &mut Attitude,
-                &mut FgNetFdm,
             )>(entity)
             .map_err(query_error::<Params<M>>)?;
-        let Display {
-            geodetic: g,
-            attitude: a,
-            packet: p,
-        } = display(&M::view(params, &controls, &state), &origin);
+        let (g, a) = placement(&M::view(params, &controls, &state), &origin);
         *status = start_status::<M>(&state);
         (*c, *s) = (controls, state);
         input.drain();
-        (*geodetic, *attitude, *packet) = (g, a, p);
+        (*geodetic, *attitude) = (g, a);
         Ok(())
     }
 
     /// Runs one frame of the schedule (FlightControl → EquationsOfMotion →
-    /// MakePacket → SendPacket).
+    /// FlightStatus → Place).
     pub fn run_frame(&mut self) {
         self.schedule.run(&mut self.world, &mut self.resources);
     }
@@ -334,7 +315,7 @@ impl Simulation {
     }
 
     /// How many aircraft (of any model) have diverged
-    /// ([`FlightStatus::Diverged`]): they are no longer stepped nor sent.
+    /// ([`FlightStatus::Diverged`]): they are no longer stepped nor placed.
     #[must_use]
     pub fn diverged_count(&self) -> usize {
         self.world
@@ -350,46 +331,21 @@ impl Simulation {
         self.get(entity)
     }
 
-    /// The aircraft's WGS-84 position as of the last MakePacket.
+    /// The aircraft's WGS-84 position as of the last Place.
     #[must_use]
     pub fn geodetic(&self, entity: Entity) -> Option<Geodetic> {
         self.get(entity)
     }
 
-    /// The attitude sent to FlightGear as of the last MakePacket (degrees;
-    /// roll right wing down +, pitch nose up +, heading clockwise from true
-    /// north in `[0, 360)`).
+    /// The aircraft's attitude relative to the local north-east-down frame
+    /// as of the last Place (degrees; roll right wing down +, pitch nose up
+    /// +, heading clockwise from true north in `[0, 360)`).
     #[must_use]
     pub fn attitude(&self, entity: Entity) -> Option<Attitude> {
         self.get(entity)
     }
 
-    /// The datagram built by the last MakePacket.
-    #[must_use]
-    pub fn packet(&self, entity: Entity) -> Option<FgNetFdm> {
-        self.get(entity)
-    }
-
-    /// Datagrams sent and failed through the entity's FlightGear link (`None`
-    /// without a link).
-    #[must_use]
-    pub fn send_stats(&self, entity: Entity) -> Option<SenderStats> {
-        self.world
-            .get::<&FlightGearLink>(entity)
-            .ok()
-            .map(|link| link.stats())
-    }
-
-    /// The error of the link's first failed send, once (see
-    /// [`FlightGearLink::take_first_failure`]).
-    pub fn take_send_failure(&mut self, entity: Entity) -> Option<io::Error> {
-        self.world
-            .get::<&mut FlightGearLink>(entity)
-            .ok()
-            .and_then(|mut link| link.take_first_failure())
-    }
-
-    /// Removes an aircraft (closing its FlightGear link, if any).
+    /// Removes an aircraft.
     ///
     /// # Errors
     /// [`EcsError::NoSuchEntity`] if it does not exist.

@@ -6,23 +6,24 @@
 //! 1. [`flight_control`]: the frame's input actions → controls;
 //! 2. [`equations_of_motion`]: one step of each aircraft's model;
 //! 3. [`flight_status`]: on the ground, airborne, landed (how);
-//! 4. [`make_packet`]: geodetic position, FlightGear attitude and datagram;
-//! 5. [`send_packet`]: the datagram to FlightGear, for linked entities only.
+//! 4. [`place`]: the aircraft's placement on WGS-84 (geodetic position and
+//!    attitude relative to the local north-east-down frame), read by every
+//!    output.
 //!
 //! Each reads what the one before it wrote, so they cannot overlap; the
-//! parallelism is inside EquationsOfMotion and MakePacket, across aircraft.
-//! Nothing here names a model: what differs between models is behind
-//! [`Model`] (the step, the frame's start, the actions) and behind
-//! [`fgnet::bridge`] (the mapping of any model's view to FlightGear).
+//! parallelism is inside EquationsOfMotion and Place, across aircraft.
+//! Nothing here names a model (what differs between models is behind
+//! [`Model`]: the step, the frame's start, the actions, the view) nor a
+//! wire format: the thesis's MakePacket and SendPacket are the FlightGear
+//! output of the run library (`fdm_run::flightgear`), which builds the
+//! datagram from the placement computed here.
 
-use fdm_core::model::{advance, settle, FlightStatus, Model};
-use fgnet::FgNetFdm;
+use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::model::{advance, settle, FlightStatus, FlightView, Model};
 use hecs::{Query, World};
 use rayon::iter::{ParallelBridge, ParallelIterator};
 
-use crate::components::{
-    Attitude, FlightGearLink, FrameInput, Geodetic, Params, ScriptInput, ScriptReplay,
-};
+use crate::components::{Attitude, FrameInput, Geodetic, Params, ScriptInput, ScriptReplay};
 use crate::resources::{Execution, Resources};
 
 /// Entities per batch handed to a worker thread by the parallel systems.
@@ -184,75 +185,69 @@ pub fn flight_status<M: Model>(world: &mut World, _res: &Resources) {
     }
 }
 
-/// The MakePacket query of `M` aircraft.
-type PacketQuery<'a, M> = (
+/// `view` placed on WGS-84 with its model frame at `origin`: the geodetic
+/// position of `position_m` ([`GeodeticOrigin::model_to_geodetic`]) and the
+/// view's attitude made local (true north and the local horizontal at the
+/// aircraft), as [`GeodeticOrigin::attitude_at`] computes it but from the
+/// position already converted (one conversion instead of two). These are the
+/// numbers the FlightGear datagram, the DIS PDUs and the ACMI tracks carry
+/// (`fgnet::bridge::display` computes them the same way, bit for bit).
+#[must_use]
+pub fn placement(view: &FlightView, origin: &GeodeticOrigin) -> (Geodetic, Attitude) {
+    let geodetic = origin.model_to_geodetic(view.position_m);
+    let to_local = origin.model_ned_to_local_ned_at(&geodetic);
+    let attitude = Attitude::from_body_to_ned(&(to_local * view.attitude.body_to_ned()));
+    (geodetic, attitude)
+}
+
+/// The Place query of `M` aircraft.
+type PlaceQuery<'a, M> = (
     &'a Params<M>,
     &'a <M as Model>::Controls,
     &'a <M as Model>::State,
     &'a mut FlightStatus,
     &'a mut Geodetic,
     &'a mut Attitude,
-    &'a mut FgNetFdm,
 );
 
-/// **MakePacket** for model `M`: converts each aircraft's new state into its
-/// geodetic position, its FlightGear attitude and its FGNetFDM datagram
-/// ([`Model::view`], then [`fgnet::bridge::display`]), sequentially or in
-/// parallel according to [`Resources::execution`]. Entities without the
-/// three output components are skipped, and so are diverged ones
-/// ([`FlightStatus::Diverged`]): their last packet stays as it was, built
-/// from their last finite state. A finite state whose view, geodetic
-/// position or attitude is not finite (e.g. a position far beyond the
-/// earth) is marked diverged here and gets no new packet either, so no
-/// datagram ever carries a NaN or an infinity.
+/// **Place** for model `M` (the placement half of the thesis's MakePacket):
+/// converts each aircraft's new state into its geodetic position and its
+/// attitude relative to the local north-east-down frame ([`Model::view`],
+/// then [`placement`]), sequentially or in parallel according to
+/// [`Resources::execution`]. Entities without the two placement components
+/// are skipped, and so are diverged ones ([`FlightStatus::Diverged`]): their
+/// last placement stays as it was, made from their last finite state. A
+/// finite state whose view, geodetic position or attitude is not finite
+/// (e.g. a position far beyond the earth) is marked diverged here and keeps
+/// its old placement too, so no output is ever handed a NaN or an infinity
+/// for an aircraft still flying.
 ///
 /// | access | what |
 /// |---|---|
 /// | reads | [`Params<M>`], `M::Controls`, `M::State`, `Resources::{origin, execution}` |
-/// | writes | [`Geodetic`], [`Attitude`], [`FgNetFdm`], [`FlightStatus`] (diverged only) |
-pub fn make_packet<M: Model>(world: &mut World, res: &Resources) {
+/// | writes | [`Geodetic`], [`Attitude`], [`FlightStatus`] (diverged only) |
+pub fn place<M: Model>(world: &mut World, res: &Resources) {
     let origin = &res.origin;
-    for_each_entity::<PacketQuery<'_, M>, _>(
+    for_each_entity::<PlaceQuery<'_, M>, _>(
         world,
         res.execution,
-        |(params, controls, state, status, geodetic, attitude, packet)| {
+        |(params, controls, state, status, geodetic, attitude)| {
             if *status == FlightStatus::Diverged {
                 return;
             }
             let view = M::view(params, controls, state);
-            let display = fgnet::bridge::display(&view, origin);
-            let (g, a) = (&display.geodetic, &display.attitude);
+            let (g, a) = placement(&view, origin);
             let placed = [g.lat_deg, g.lon_deg, g.alt_m]
                 .into_iter()
                 .chain([a.roll_deg, a.pitch_deg, a.heading_deg])
                 .all(f64::is_finite);
             if !(placed && view.is_finite()) {
                 // A finite state too far out to be shown (e.g. a position
-                // of 1e300 m): diverged as well; the old packet stays.
+                // of 1e300 m): diverged as well; the old placement stays.
                 *status = FlightStatus::Diverged;
                 return;
             }
-            (*geodetic, *attitude, *packet) = (display.geodetic, display.attitude, display.packet);
+            (*geodetic, *attitude) = (g, a);
         },
     );
-}
-
-/// **SendPacket**: sends each linked entity's datagram (one 408-byte UDP
-/// datagram per entity per frame) through its [`FlightGearLink`], whatever
-/// its model. Entities without a link send nothing, and diverged ones
-/// ([`FlightStatus::Diverged`]) send nothing more. Failures never stop the
-/// simulation; they are counted in the link (see [`FlightGearLink::stats`]).
-///
-/// | access | what |
-/// |---|---|
-/// | reads | [`FgNetFdm`], [`FlightStatus`] |
-/// | writes | [`FlightGearLink`] (its socket and counters) |
-pub fn send_packet(world: &mut World, _res: &Resources) {
-    for (packet, status, link) in
-        world.query_mut::<(&FgNetFdm, &FlightStatus, &mut FlightGearLink)>()
-    {
-        if *status != FlightStatus::Diverged {
-            link.send(packet);
-        }
-    }
 }

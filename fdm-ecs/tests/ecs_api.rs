@@ -11,7 +11,7 @@
 //! model's fleet members in order; `aircraft` gives back the shared
 //! parameters, for that model only; the sequential and parallel
 //! EquationsOfMotion systems step as `fdm_core::model::advance` does; and
-//! MakePacket marks diverged a finite state with a finite view that has no
+//! Place marks diverged a finite state with a finite view that has no
 //! geodetic position.
 
 use std::sync::Arc;
@@ -146,9 +146,9 @@ fn a_spawned_aircraft_has_its_status_before_the_first_frame() {
         position_m: Vector3::new(0.0, 0.0, z),
         ..PalmerState::at_rest()
     };
-    let flying = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, at(300.0), None);
-    let parked = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, at(0.0), None);
-    let broken = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, at(f64::NAN), None);
+    let flying = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, at(300.0));
+    let parked = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, at(0.0));
+    let broken = sim.spawn::<Palmer>(Arc::clone(&aircraft), controls, at(f64::NAN));
     assert_eq!(sim.frame(), 0);
     assert_eq!(sim.status(flying), Some(FlightStatus::Airborne));
     assert_eq!(sim.status(parked), Some(FlightStatus::OnGround));
@@ -160,7 +160,7 @@ fn a_spawned_aircraft_has_its_status_before_the_first_frame() {
 
 #[test]
 fn spawn_fleet_spawns_the_members_in_order() {
-    for outputs in [FleetOutputs::None, FleetOutputs::Packets] {
+    for outputs in [FleetOutputs::None, FleetOutputs::Placement] {
         let mut sim = Simulation::new(Resources::new(30.0).unwrap());
         let aircraft = Arc::new(Palmer::default_aircraft());
         sim.spawn_fleet::<Palmer>(&aircraft, 3..8, outputs);
@@ -185,7 +185,6 @@ fn aircraft_gives_back_the_shared_parameters() {
         Arc::clone(&aircraft),
         PalmerControls::default(),
         PalmerState::at_rest(),
-        None,
     );
     let shared = sim.aircraft::<Palmer>(e).unwrap();
     assert!(Arc::ptr_eq(&shared, &aircraft));
@@ -199,7 +198,7 @@ fn with_only(system: System) -> Simulation {
     sim.spawn_fleet::<Palmer>(
         &Arc::new(Palmer::default_aircraft()),
         0..2,
-        FleetOutputs::Packets,
+        FleetOutputs::Placement,
     );
     *sim.schedule_mut() = Schedule::new(vec![system]);
     assert_eq!(sim.schedule().systems().len(), 1);
@@ -234,13 +233,14 @@ fn both_equations_of_motion_variants_step_like_advance() {
 }
 
 /// A position of 1.7e308 m is finite, and so is the view, but no geodetic
-/// position exists for it: MakePacket must not build a packet from it.
+/// position exists for it: Place must mark it diverged (so no output is
+/// handed a placement made from it).
 #[test]
-fn make_packet_marks_an_unplaceable_state_diverged() {
-    use fdm_ecs::systems::make_packet;
+fn place_marks_an_unplaceable_state_diverged() {
+    use fdm_ecs::systems::place;
     let mut sim = with_only(System {
-        name: "MakePacket",
-        run: make_packet::<Palmer>,
+        name: "Place",
+        run: place::<Palmer>,
     });
     let aircraft = Palmer::default_aircraft();
     let controls = PalmerControls::default();
@@ -257,14 +257,14 @@ fn make_packet_marks_an_unplaceable_state_diverged() {
             && placed.geodetic.lon_deg.is_finite()
             && placed.geodetic.alt_m.is_finite())
     );
-    let e = sim.spawn::<Palmer>(Arc::new(aircraft), controls, far, None);
-    let packet_at_spawn = sim.packet(e).unwrap().encode();
-    // `spawn` added Palmer's systems back: MakePacket alone again.
+    let e = sim.spawn::<Palmer>(Arc::new(aircraft), controls, far);
+    let at_spawn = sim.geodetic(e).unwrap().lat_deg.to_bits();
+    // `spawn` added Palmer's systems back: Place alone again.
     *sim.schedule_mut() = Schedule::new(vec![System {
-        name: "MakePacket",
-        run: make_packet::<Palmer>,
+        name: "Place",
+        run: place::<Palmer>,
     }]);
     sim.run_frame();
     assert_eq!(sim.status(e), Some(FlightStatus::Diverged));
-    assert_eq!(sim.packet(e).unwrap().encode(), packet_at_spawn);
+    assert_eq!(sim.geodetic(e).unwrap().lat_deg.to_bits(), at_spawn);
 }

@@ -1,4 +1,6 @@
-//! What MakePacket sends FlightGear follows `docs/cli.md`: heading
+//! The placement Place computes, and the datagram the run library's
+//! FlightGear output makes from it (`fgnet::bridge::packet_at`), follow
+//! `docs/cli.md`: heading
 //! clockwise from true north equal to the direction of travel over the ground,
 //! roll positive right wing down, pitch positive nose up. Checked through the
 //! ECS for both models against quantities computed from the successive
@@ -13,9 +15,10 @@ use fdm_core::bourg::ops::quat_from_euler_deg;
 use fdm_core::bourg::{BourgAction, BourgAircraft, BourgControls, BourgState, Vector3};
 use fdm_core::palmer::{PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_core::script::Script;
-use fdm_ecs::components::{Attitude, FgNetFdm, Geodetic};
+use fdm_ecs::components::{Attitude, Geodetic};
 use fdm_ecs::geodesy::{ground_track_deg, palmer_attitude, GeodeticOrigin, WGS84_A_M, WGS84_F};
 use fdm_ecs::{Entity, Resources, Simulation};
+use fgnet::FgNetFdm;
 use geographiclib_rs::{Geodesic, InverseGeodesic};
 
 /// Signed difference of two angles in degrees, in (-180, 180].
@@ -59,6 +62,23 @@ fn packet_heading_deg(packet: &FgNetFdm) -> f64 {
     f64::from(packet.psi).to_degrees().rem_euclid(360.0)
 }
 
+/// The datagram FlightGear is sent for `e` (a Palmer or a Bourg aircraft):
+/// made from its view and this frame's placement, as `fdm_run`'s FlightGear
+/// output makes it.
+fn packet(sim: &Simulation, e: Entity) -> FgNetFdm {
+    let view = sim
+        .view::<Palmer>(e)
+        .or_else(|| sim.view::<Bourg>(e))
+        .unwrap();
+    let origin = sim.resources().origin;
+    fgnet::bridge::packet_at(
+        &view,
+        &origin,
+        sim.geodetic(e).unwrap(),
+        sim.attitude(e).unwrap(),
+    )
+}
+
 /// Per frame (index 0 = frame 1) and entity: position, attitude, packet.
 type History = Vec<Vec<(Geodetic, Attitude, FgNetFdm)>>;
 
@@ -72,7 +92,7 @@ fn fly(sim: &mut Simulation, entities: &[Entity], frames: usize) -> History {
                     (
                         sim.geodetic(e).unwrap(),
                         sim.attitude(e).unwrap(),
-                        sim.packet(e).unwrap(),
+                        packet(sim, e),
                     )
                 })
                 .collect()
@@ -122,7 +142,6 @@ fn heading_sent_is_the_direction_of_travel_over_the_ground() {
                     position_m: position.into(),
                     velocity_mps: [speed * cos, -speed * sin, 0.0].into(),
                 },
-                None,
             )
         })
         .collect();
@@ -134,7 +153,6 @@ fn heading_sent_is_the_direction_of_travel_over_the_ground() {
             Arc::clone(&bourg),
             BourgControls::initial(),
             bourg_heading(h),
-            None,
         )
     }));
 
@@ -198,7 +216,6 @@ fn positive_roll_is_right_wing_down_and_turns_right() {
             position_m: [0.0, 0.0, 300.0].into(),
             ..PalmerState::at_rest()
         },
-        None,
     );
     for _ in 0..10 {
         sim.push_input(palmer, PalmerAction::BankRight).unwrap();
@@ -208,7 +225,6 @@ fn positive_roll_is_right_wing_down_and_turns_right() {
         Arc::new(BourgAircraft::bourg_default()),
         BourgControls::initial(),
         BourgState::initial(),
-        None,
     );
     let script = "1-5 thrust-up\n6-246 pitch-up\n247-307 roll-right\n";
     sim.set_script(
@@ -264,14 +280,12 @@ fn positive_pitch_is_nose_up() {
             position_m: [0.0, 0.0, 300.0].into(),
             ..PalmerState::at_rest()
         },
-        None,
     );
     // Bourg's `pitch` reference scenario: pitch up all the way.
     let bourg = sim.spawn::<Bourg>(
         Arc::new(BourgAircraft::bourg_default()),
         BourgControls::initial(),
         BourgState::initial(),
-        None,
     );
     let script = "1-5 thrust-up\n1-900 pitch-up\n";
     sim.set_script(
@@ -313,8 +327,8 @@ fn positive_pitch_is_nose_up() {
 }
 
 #[test]
-fn make_packet_rotation_is_the_geodesy_modules_bit_for_bit() {
-    // MakePacket reuses the geodetic position it has just computed instead of
+fn place_rotation_is_the_geodesy_modules_bit_for_bit() {
+    // Place reuses the geodetic position it has just computed instead of
     // converting again inside `GeodeticOrigin::model_ned_to_local_ned`.
     let origins = [
         GeodeticOrigin::default(),
@@ -358,7 +372,6 @@ fn make_packet_rotation_is_the_geodesy_modules_bit_for_bit() {
             velocity_mps: [40.0, -20.0, 3.0].into(),
             ..PalmerState::at_rest()
         },
-        None,
     );
     sim.run_frames(5);
     let state = sim.state::<Palmer>(e).unwrap();

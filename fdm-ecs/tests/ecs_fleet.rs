@@ -10,7 +10,7 @@ use std::sync::Arc;
 use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
 use fdm_core::palmer::{self, Flaps, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_core::script::{Script, ScriptAction};
-use fdm_ecs::components::{Attitude, FgNetFdm, Geodetic, ScriptInput};
+use fdm_ecs::components::{Attitude, Geodetic, ScriptInput};
 use fdm_ecs::{Entity, Execution, Resources, Simulation};
 use fdm_tests::ecs::{bourg_bits, bourg_controls_bits, palmer_bits};
 
@@ -54,14 +54,14 @@ fn build(execution: Execution) -> (Simulation, Vec<Plane>) {
                     position_m: [k * 7.0, -k * 3.0, (i % 500) as f64].into(),
                     velocity_mps: [30.0 + (i % 29) as f64, (i % 11) as f64 - 5.0, 0.0].into(),
                 };
-                Plane::Palmer(sim.spawn::<Palmer>(Arc::clone(&cessna), controls, state, None))
+                Plane::Palmer(sim.spawn::<Palmer>(Arc::clone(&cessna), controls, state))
             } else {
                 let mut controls = BourgControls::initial();
                 controls.thrust_lb = (i % 31) as f32 * 100.0;
                 let mut state = BourgState::initial();
                 state.position_ft.y = (i % 1000) as f32 * 10.0;
                 state.velocity_ftps.x += (i % 17) as f32;
-                let e = sim.spawn::<Bourg>(Arc::clone(&bourg), controls, state, None);
+                let e = sim.spawn::<Bourg>(Arc::clone(&bourg), controls, state);
                 if i % 3 != 0 {
                     sim.set_script(e, Arc::clone(&scripts[i % scripts.len()]))
                         .unwrap();
@@ -102,25 +102,21 @@ fn press_keys(sim: &mut Simulation, planes: &[Plane], frame: u64) {
     }
 }
 
-/// Every bit MakePacket wrote for an entity.
-fn display_bits(sim: &Simulation, e: Entity) -> (Vec<u64>, Vec<u8>) {
+/// Every bit Place wrote for an entity.
+fn display_bits(sim: &Simulation, e: Entity) -> Vec<u64> {
     let g: Geodetic = sim.get(e).unwrap();
     let a: Attitude = sim.get(e).unwrap();
-    let p: FgNetFdm = sim.get(e).unwrap();
-    (
-        [
-            g.lat_deg,
-            g.lon_deg,
-            g.alt_m,
-            a.roll_deg,
-            a.pitch_deg,
-            a.heading_deg,
-        ]
-        .iter()
-        .map(|x| x.to_bits())
-        .collect(),
-        p.encode().to_vec(),
-    )
+    [
+        g.lat_deg,
+        g.lon_deg,
+        g.alt_m,
+        a.roll_deg,
+        a.pitch_deg,
+        a.heading_deg,
+    ]
+    .iter()
+    .map(|x| x.to_bits())
+    .collect()
 }
 
 #[test]

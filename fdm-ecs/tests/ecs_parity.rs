@@ -54,12 +54,7 @@ fn palmer_reference_cases_through_the_ecs_are_bit_identical_to_fdm_core() {
         let entities: Vec<_> = cases
             .iter()
             .map(|case| {
-                sim.spawn::<Palmer>(
-                    Arc::clone(&aircraft),
-                    case.controls,
-                    PalmerState::at_rest(),
-                    None,
-                )
+                sim.spawn::<Palmer>(Arc::clone(&aircraft), case.controls, PalmerState::at_rest())
             })
             .collect();
         for frame in 0..frames {
@@ -133,7 +128,7 @@ fn bourg_reference_scripts_through_the_ecs_are_bit_identical_to_fdm_core() {
             let entities: Vec<_> = cases
                 .iter()
                 .map(|case| {
-                    let e = sim.spawn::<Bourg>(Arc::clone(&aircraft), start.0, start.1, None);
+                    let e = sim.spawn::<Bourg>(Arc::clone(&aircraft), start.0, start.1);
                     if !keyboard {
                         sim.set_script(e, Arc::new(case.script.clone())).unwrap();
                     }
@@ -241,7 +236,6 @@ fn bourg_thrust_limits_default_to_the_core_constants_and_are_honoured() {
         Arc::new(limited),
         BourgControls::initial(),
         BourgState::initial(),
-        None,
     );
     let mut seen = Vec::new();
     for _ in 0..4 {

@@ -1,46 +1,34 @@
 //! The systems run in the declared order, FlightControl → EquationsOfMotion →
-//! FlightStatus → MakePacket → SendPacket (each phase once per model in the
-//! world), every frame, and each sees the data the one before it wrote in the
-//! same frame: checked by observing the world after every system of a frame,
-//! and by the datagram a linked entity sends.
+//! FlightStatus → Place (each phase once per model in the world), every
+//! frame, and each sees the data the one before it wrote in the same frame:
+//! checked by observing the world after every system of a frame. (What the
+//! FlightGear output sends from Place's placement is checked in
+//! `fdm-run/tests/run_flightgear.rs`.)
 
-use std::net::UdpSocket;
 use std::sync::Arc;
-use std::time::Duration;
 
 use fdm_core::bourg::{self, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
 use fdm_core::model::Model;
 use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_core::script::Script;
-use fdm_ecs::components::{FgNetFdm, FlightGearLink, FrameInput, Geodetic};
+use fdm_ecs::components::{Attitude, FrameInput, Geodetic};
 use fdm_ecs::{Entity, World};
 use fdm_ecs::{Resources, Schedule, Simulation};
-use fgnet::DATAGRAM_LEN;
-
-fn receiver() -> (UdpSocket, String) {
-    let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
-    socket
-        .set_read_timeout(Some(Duration::from_secs(5)))
-        .unwrap();
-    let addr = socket.local_addr().unwrap().to_string();
-    (socket, addr)
-}
 
 fn get<T: fdm_ecs::hecs::Component + Clone>(world: &World, e: Entity) -> T {
     (*world.get::<&T>(e).unwrap()).clone()
 }
 
 /// The phases of one frame of the thesis schedule for the two models.
-const THESIS_TRACE: [&str; 9] = [
+const THESIS_TRACE: [&str; 8] = [
     "FlightControl",
     "FlightControl",
     "EquationsOfMotion",
     "EquationsOfMotion",
     "FlightStatus",
     "FlightStatus",
-    "MakePacket",
-    "MakePacket",
-    "SendPacket",
+    "Place",
+    "Place",
 ];
 
 #[test]
@@ -56,7 +44,8 @@ fn the_thesis_schedule_declares_each_phase_per_model_in_order() {
         Schedule::thesis().with_model::<Palmer>().systems().len(),
         THESIS_TRACE.len()
     );
-    // A schedule without models only sends; one model gets one of each phase.
+    // A schedule without models runs nothing; one model gets one of each phase.
+    assert!(Schedule::for_no_model().systems().is_empty());
     let names: Vec<_> = Schedule::for_no_model()
         .with_model::<Bourg>()
         .systems()
@@ -69,8 +58,7 @@ fn the_thesis_schedule_declares_each_phase_per_model_in_order() {
             "FlightControl",
             "EquationsOfMotion",
             "FlightStatus",
-            "MakePacket",
-            "SendPacket"
+            "Place"
         ]
     );
     assert_eq!(
@@ -84,7 +72,6 @@ fn the_thesis_schedule_declares_each_phase_per_model_in_order() {
 /// the previous systems of the same frame wrote.
 #[test]
 fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
-    let (fg, addr) = receiver();
     let res = Resources::new(30.0).unwrap();
     let palmer_aircraft = PalmerAircraft::cessna_172();
     let bourg_aircraft = BourgAircraft::bourg_default();
@@ -93,13 +80,11 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
         Arc::new(palmer_aircraft),
         PalmerControls::default(),
         PalmerState::at_rest(),
-        None,
     );
     let b = sim.spawn::<Bourg>(
         Arc::new(bourg_aircraft),
         BourgControls::initial(),
         BourgState::initial(),
-        Some(FlightGearLink::connect(&addr).unwrap()),
     );
     // Frames 1-2 pitch up by script, frame 3 rolls left: on frame 3 the
     // elevators must be back to neutral, which only FlightControl's
@@ -122,8 +107,7 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
         let p_state0: PalmerState = get(world, p);
         let b_controls0: BourgControls = get(world, b);
         let b_state0: BourgState = get(world, b);
-        let b_packet0: FgNetFdm = get(world, b);
-        let sent0 = sim.send_stats(b).unwrap().sent;
+        let b_placed0: (Geodetic, Attitude) = (get(world, b), get(world, b));
         let script_action = if frame <= 2 {
             BourgAction::PitchUp
         } else {
@@ -135,15 +119,14 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
         let mut trace = Vec::new();
         sim.run_frame_observed(|name, world| {
             trace.push(name);
-            if trace.iter().filter(|n| **n == name).count() < 2 && name != "SendPacket" {
+            if trace.iter().filter(|n| **n == name).count() < 2 {
                 return;
             }
             let p_controls: PalmerControls = get(world, p);
             let p_state: PalmerState = get(world, p);
             let b_controls: BourgControls = get(world, b);
             let b_state: BourgState = get(world, b);
-            let b_packet: FgNetFdm = get(world, b);
-            let sent = world.get::<&FlightGearLink>(b).unwrap().stats().sent;
+            let b_placed: (Geodetic, Attitude) = (get(world, b), get(world, b));
             match name {
                 "FlightControl" => {
                     // Controls updated from this frame's input; nothing else yet.
@@ -159,7 +142,7 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
                         .is_empty());
                     assert!(world.get::<&FrameInput<BourgAction>>(b).unwrap().is_empty());
                     assert_eq!((p_state, b_state), (p_state0, b_state0));
-                    assert_eq!(b_packet, b_packet0);
+                    assert_eq!(b_placed, b_placed0);
                 }
                 "EquationsOfMotion" => {
                     // Stepped with the controls FlightControl just wrote.
@@ -172,34 +155,26 @@ fn each_system_sees_what_the_previous_one_wrote_in_the_same_frame() {
                         b_state,
                         bourg::step(&bourg_aircraft, &b_controls, &b_state0, 1.0f32 / 30.0)
                     );
-                    assert_eq!(b_packet, b_packet0);
-                    assert_eq!(sent, sent0);
+                    assert_eq!(b_placed, b_placed0);
                 }
-                "FlightStatus" => assert_eq!(b_packet, b_packet0),
-                "MakePacket" => {
-                    // Built from the state EquationsOfMotion just wrote.
+                "FlightStatus" => assert_eq!(b_placed, b_placed0),
+                "Place" => {
+                    // Placed from the state EquationsOfMotion just wrote, as
+                    // the FlightGear bridge places it.
                     let view = Bourg::view(&bourg_aircraft, &b_controls, &b_state);
                     let want = fgnet::bridge::display(&view, &origin);
-                    assert_eq!(b_packet, want.packet);
-                    assert_ne!(b_packet, b_packet0);
+                    assert_eq!(b_placed, (want.geodetic, want.attitude));
+                    assert_ne!(b_placed, b_placed0);
                     let view = Palmer::view(&palmer_aircraft, &p_controls, &p_state);
                     let want = fgnet::bridge::display(&view, &origin);
-                    assert_eq!(get::<FgNetFdm>(world, p), want.packet);
+                    assert_eq!(get::<Attitude>(world, p), want.attitude);
                     assert_eq!(get::<Geodetic>(world, p), want.geodetic);
-                    assert_eq!(sent, sent0);
                 }
-                "SendPacket" => assert_eq!(sent, sent0 + 1),
                 other => panic!("unexpected system {other}"),
             }
         });
         assert_eq!(trace, THESIS_TRACE);
         assert_eq!(sim.frame(), frame);
-
-        // What went out this frame is the packet of this frame's step.
-        let mut buf = [0u8; 1024];
-        let len = fg.recv(&mut buf).unwrap();
-        assert_eq!(len, DATAGRAM_LEN);
-        assert_eq!(&buf[..len], &sim.packet(b).unwrap().encode()[..]);
     }
 }
 
@@ -211,7 +186,6 @@ fn frame_counter_numbers_frames_from_one_for_scripts() {
         Arc::new(BourgAircraft::bourg_default()),
         BourgControls::initial(),
         BourgState::initial(),
-        None,
     );
     // A single-frame rule on frame 1 and one on frame 3.
     let script =
@@ -236,7 +210,6 @@ fn script_actions_come_before_queued_keys() {
             ..PalmerControls::default()
         },
         PalmerState::at_rest(),
-        None,
     );
     // Script first: 19 +1 (script) = 20, +1 (key) = 20 (limit), -1 (key) = 19.
     // Keys first would give 19 +1 = 20, -1 = 19, +1 (script) = 20.
@@ -258,14 +231,14 @@ struct Outcome {
         PalmerControls,
         PalmerState,
         Option<fdm_core::model::FlightStatus>,
-        FgNetFdm,
+        Attitude,
     ),
-    bourg: (BourgControls, BourgState, FgNetFdm, u64),
+    bourg: (BourgControls, BourgState, Geodetic),
 }
 
 /// Runs 20 frames of a Palmer aircraft landing (1 m up, sinking at 3 m/s,
 /// throttle up by key) and a scripted Bourg aircraft (thrust up, pitch up,
-/// a roll; linked to a local socket), with the thesis systems except those
+/// a roll), with the thesis systems except those
 /// named in `skip`, system by system as [`Schedule::run`] does.
 fn outcome_without(skip: &[&str]) -> Outcome {
     outcome(Some(skip))
@@ -274,7 +247,6 @@ fn outcome_without(skip: &[&str]) -> Outcome {
 /// [`outcome_without`], or with `None` the same run through
 /// `Simulation::run_frame`.
 fn outcome(skip: Option<&[&str]>) -> Outcome {
-    let (_fg, addr) = receiver();
     let mut sim = Simulation::new(Resources::new(30.0).unwrap());
     let p = sim.spawn::<Palmer>(
         Arc::new(PalmerAircraft::cessna_172()),
@@ -284,13 +256,11 @@ fn outcome(skip: Option<&[&str]>) -> Outcome {
             position_m: [0.0, 0.0, 1.0].into(),
             velocity_mps: [30.0, 0.0, -3.0].into(),
         },
-        None,
     );
     let b = sim.spawn::<Bourg>(
         Arc::new(BourgAircraft::bourg_default()),
         BourgControls::initial(),
         BourgState::initial(),
-        Some(FlightGearLink::connect(&addr).unwrap()),
     );
     sim.set_script(
         b,
@@ -317,11 +287,10 @@ fn outcome(skip: Option<&[&str]>) -> Outcome {
             (system.run)(sim.world_mut(), &res);
         }
     }
-    let sent = sim.world().get::<&FlightGearLink>(b).unwrap().stats().sent;
     let world = sim.world();
     Outcome {
         palmer: (get(world, p), get(world, p), sim.status(p), get(world, p)),
-        bourg: (get(world, b), get(world, b), get(world, b), sent),
+        bourg: (get(world, b), get(world, b), get(world, b)),
     }
 }
 
@@ -335,7 +304,7 @@ fn skipping_any_system_changes_the_outcome() {
     // The manual loop is the simulation's own frame.
     assert_eq!(outcome(None), full);
     // The run did what the skips are to be seen against: Palmer landed,
-    // Bourg's script and the link worked.
+    // Bourg's script worked.
     assert!(
         matches!(
             full.palmer.2,
@@ -345,13 +314,11 @@ fn skipping_any_system_changes_the_outcome() {
         full.palmer.2
     );
     assert_eq!(full.bourg.0.thrust_lb, 800.0);
-    assert_eq!(full.bourg.3, 20);
     for skip in [
         Schedule::FLIGHT_CONTROL,
         Schedule::EQUATIONS_OF_MOTION,
         Schedule::FLIGHT_STATUS,
-        Schedule::MAKE_PACKET,
-        Schedule::SEND_PACKET,
+        Schedule::PLACE,
     ] {
         assert_ne!(outcome_without(&[skip]), full, "without {skip}");
     }

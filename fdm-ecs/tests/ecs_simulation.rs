@@ -21,13 +21,11 @@ fn palmer_and_bourg(sim: &mut Simulation) -> (fdm_ecs::Entity, fdm_ecs::Entity) 
             ..PalmerControls::default()
         },
         PalmerState::at_rest(),
-        None,
     );
     let b = sim.spawn::<Bourg>(
         Arc::new(BourgAircraft::bourg_default()),
         BourgControls::initial(),
         BourgState::initial(),
-        None,
     );
     (p, b)
 }
@@ -100,7 +98,7 @@ fn operations_on_the_wrong_model_or_a_gone_entity_are_errors() {
         sim.reset::<Bourg>(b, BourgControls::initial(), BourgState::initial()),
         Err(EcsError::NoSuchEntity)
     );
-    assert!(sim.state::<Bourg>(b).is_none() && sim.packet(b).is_none());
+    assert!(sim.state::<Bourg>(b).is_none() && sim.geodetic(b).is_none());
     // The survivor still flies.
     sim.run_frame();
     assert!(sim.state::<Palmer>(p).unwrap().time_s > 0.0);
@@ -117,8 +115,8 @@ fn display_components_are_valid_from_spawn_on() {
         &PalmerState::at_rest(),
     );
     assert_eq!(sim.view::<Palmer>(p), Some(view));
+    // The placement is what the FlightGear bridge computes, bit for bit.
     let want = fgnet::bridge::display(&view, &origin);
-    assert_eq!(sim.packet(p), Some(want.packet));
     assert_eq!(sim.geodetic(p), Some(want.geodetic));
     let here = want.geodetic; // at the origin, to the round trip's nanometres
     let there = origin.geodetic();
@@ -132,7 +130,8 @@ fn display_components_are_valid_from_spawn_on() {
         &BourgState::initial(),
     );
     let want = fgnet::bridge::display(&view, &origin);
-    assert_eq!(sim.packet(b), Some(want.packet));
+    assert_eq!(sim.geodetic(b), Some(want.geodetic));
+    assert_eq!(sim.attitude(b), Some(want.attitude));
 }
 
 #[test]
@@ -152,9 +151,9 @@ fn reset_puts_an_aircraft_back_as_if_just_spawned() {
         .unwrap();
     // Immediately: state, controls and display as at spawn.
     assert_eq!(sim.state::<Palmer>(p), fresh.state::<Palmer>(fp));
-    assert_eq!(sim.packet(p), fresh.packet(fp));
+    assert_eq!(sim.attitude(p), fresh.attitude(fp));
     assert_eq!(sim.geodetic(b), fresh.geodetic(fb));
-    assert_eq!(sim.packet(b), fresh.packet(fb));
+    assert_eq!(sim.attitude(b), fresh.attitude(fb));
     // The queued keys were dropped: the next frame flies like a fresh one's
     // first.
     sim.run_frame();
@@ -162,5 +161,5 @@ fn reset_puts_an_aircraft_back_as_if_just_spawned() {
     assert_eq!(sim.state::<Palmer>(p), fresh.state::<Palmer>(fp));
     assert_eq!(sim.controls::<Palmer>(p), fresh.controls::<Palmer>(fp));
     assert_eq!(sim.state::<Bourg>(b), fresh.state::<Bourg>(fb));
-    assert_eq!(sim.packet(b), fresh.packet(fb));
+    assert_eq!(sim.attitude(b), fresh.attitude(fb));
 }

@@ -45,7 +45,8 @@
 //! |---|---|
 //! | [`scenario`] | [`Scenario`], [`Start`] and where it is ([`StartOptions`]: altitude, speed, heading, trim), the run limits ([`MAX_FPS`], [`MAX_FRAMES`]) |
 //! | [`mod@run`] | [`Run`]: the run loop over one `fdm_ecs::Simulation` |
-//! | [`output`] | [`Output`], [`Frame`], [`Placement`]: outputs as plugins |
+//! | [`output`] | [`Output`], [`Frame`], [`Placement`], [`LinkStats`]: outputs as plugins |
+//! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
@@ -57,6 +58,7 @@ pub mod acmi;
 pub mod csv;
 #[cfg(feature = "dis")]
 pub mod dis;
+pub mod flightgear;
 pub mod model;
 pub mod output;
 pub mod pacer;
@@ -66,7 +68,7 @@ pub mod scenario;
 mod shared;
 
 pub use model::RunModel;
-pub use output::{Event, Frame, Output, OutputError, Placement};
+pub use output::{Event, Frame, LinkStats, Output, OutputError, Placement};
 pub use run::{End, Run, RunError};
 pub use scenario::{
     Scenario, ScenarioError, Start, StartOptions, StartRefused, MAX_FPS, MAX_FRAMES,

@@ -7,7 +7,8 @@
 //! reset, and [`Output::finish`] once at the end. Each call carries a
 //! [`Frame`]: the frame's actions, the model's controls, state and
 //! [`FlightView`], the flight status, and the aircraft's [`Placement`] on
-//! WGS-84, computed once per frame by the ECS and shared by every output.
+//! WGS-84, computed once per frame by the ECS (its Place system) and shared
+//! by every output. Network outputs count their sends in a [`LinkStats`].
 //!
 //! A new protocol is one type implementing [`Output`]; the run loop does not
 //! change.
@@ -42,17 +43,26 @@ pub struct Placement {
 }
 
 impl Placement {
-    /// `view` placed at `origin`: the same numbers the FlightGear datagram
-    /// carries (`fgnet::bridge::display`), for aircraft flown outside the ECS
-    /// (the fleet kernels).
+    /// `view` placed at `origin`, for aircraft flown outside the ECS (the
+    /// fleet kernels): what the ECS's Place system computes every frame
+    /// (`fdm_ecs::systems::placement`), the numbers the FlightGear datagram,
+    /// the DIS PDUs and the ACMI tracks carry.
     #[must_use]
     pub fn of(view: &FlightView, origin: &GeodeticOrigin) -> Self {
-        let display = fgnet::bridge::display(view, origin);
-        Self {
-            geodetic: display.geodetic,
-            attitude: display.attitude,
-        }
+        let (geodetic, attitude) = fdm_ecs::systems::placement(view, origin);
+        Self { geodetic, attitude }
     }
+}
+
+/// The counters of a network output (the FlightGear link, a DIS sender):
+/// the one link-counter type of the run library.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LinkStats {
+    /// Datagrams the operating system accepted (UDP: not a delivery).
+    pub sent: u64,
+    /// Datagrams that were not sent (any error, a full buffer, a short
+    /// write); never fatal.
+    pub failed: u64,
 }
 
 /// One frame as the outputs see it.

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use fdm_core::model::{FlightStatus, FlightView, Model};
 use fdm_core::script::ScriptCursor;
-use fdm_ecs::{EcsError, Entity, FlightGearLink, Resources, Simulation};
+use fdm_ecs::{EcsError, Entity, Resources, Simulation};
 
 use crate::output::{Event, Frame, Output, OutputError, Placement};
 use crate::pacer::FramePacer;
@@ -91,18 +91,6 @@ impl<M: Model> Run<M> {
     /// # Errors
     /// A frame rate the scenario or the ECS refuses.
     pub fn new(scenario: Scenario<M>) -> Result<Self, RunError> {
-        Self::with_link(scenario, None)
-    }
-
-    /// As [`Self::new`], the aircraft sending FlightGear native-FDM datagrams
-    /// over `link` every frame.
-    ///
-    /// # Errors
-    /// As [`Self::new`].
-    pub fn with_link(
-        scenario: Scenario<M>,
-        link: Option<FlightGearLink>,
-    ) -> Result<Self, RunError> {
         if !(1..=MAX_FPS).contains(&scenario.fps) {
             return Err(ScenarioError::Fps(scenario.fps).into());
         }
@@ -113,7 +101,6 @@ impl<M: Model> Run<M> {
             Arc::new(start.aircraft.clone()),
             start.controls,
             start.state,
-            link,
         );
         Ok(Self {
             sim,
@@ -339,7 +326,7 @@ impl<M: Model> Run<M> {
     }
 
     /// The aircraft on WGS-84 as of the last frame (computed once per frame
-    /// by the ECS's MakePacket; NaN if the aircraft is gone).
+    /// by the ECS's Place system; NaN if the aircraft is gone).
     #[must_use]
     pub fn placement(&self) -> Placement {
         match (
@@ -368,8 +355,7 @@ impl<M: Model> Run<M> {
         &self.sim
     }
 
-    /// The simulation, for what the run does not wrap (e.g. the FlightGear
-    /// link's failures).
+    /// The simulation, for what the run does not wrap.
     pub fn simulation_mut(&mut self) -> &mut Simulation {
         &mut self.sim
     }

@@ -244,7 +244,7 @@ fn fleet(n: usize, frames: u64, path: &Path) -> MaxError {
     sim.spawn_fleet::<Palmer>(
         &Arc::new(Palmer::default_aircraft()),
         0..n,
-        FleetOutputs::Packets,
+        FleetOutputs::Placement,
     );
     let entities: Vec<_> = sim.world_mut().iter().map(|e| e.entity()).collect();
     let mut writer = AcmiWriter::create(path, &header("fleet", &origin), 30).unwrap();

@@ -1,6 +1,7 @@
 //! The bridge from a model to FlightGear: any model's common
 //! [`FlightView`] placed on WGS-84 and mapped to FlightGear's display fields
-//! ([`display`]: the native-FDM datagram), or to a multiplayer position
+//! ([`display`]: the native-FDM datagram; [`packet_at`] for a view already
+//! placed), or to a multiplayer position
 //! message ([`multiplayer_position`]: one of a fleet shown in FlightGear).
 //!
 //! This is the only place that knows both sides: the models speak
@@ -64,6 +65,50 @@ pub fn display(view: &FlightView, origin: &GeodeticOrigin) -> Display {
     let geodetic = origin.model_to_geodetic(view.position_m);
     let to_local = origin.model_ned_to_local_ned_at(&geodetic);
     let attitude = local_attitude(&to_local, view.attitude);
+    Display {
+        geodetic,
+        attitude,
+        packet: fill(view, &to_local, geodetic, attitude),
+    }
+}
+
+/// The datagram of `view` for an aircraft already placed at `geodetic` with
+/// local `attitude` (what [`display`] computes, e.g. once per frame by the
+/// ECS for every output): the same bytes as [`display`]`(view,
+/// origin).packet` when `geodetic` and `attitude` are [`display`]'s. The
+/// local frame at `geodetic` is computed again for the velocities.
+///
+/// ```
+/// use fdm_core::geodesy::GeodeticOrigin;
+/// use fdm_core::model::Model;
+/// use fdm_core::palmer::Palmer;
+///
+/// let aircraft = Palmer::default_aircraft();
+/// let view = Palmer::view(&aircraft, &Palmer::initial_controls(), &Palmer::initial_state());
+/// let origin = GeodeticOrigin::default();
+/// let shown = fgnet::bridge::display(&view, &origin);
+/// let packet = fgnet::bridge::packet_at(&view, &origin, shown.geodetic, shown.attitude);
+/// assert_eq!(packet.encode(), shown.packet.encode());
+/// ```
+#[must_use]
+pub fn packet_at(
+    view: &FlightView,
+    origin: &GeodeticOrigin,
+    geodetic: Geodetic,
+    attitude: Attitude,
+) -> FgNetFdm {
+    let to_local = origin.model_ned_to_local_ned_at(&geodetic);
+    fill(view, &to_local, geodetic, attitude)
+}
+
+/// The datagram's fields from a placed view; `to_local` is the model-to-local
+/// rotation at `geodetic`.
+fn fill(
+    view: &FlightView,
+    to_local: &Matrix3<f64>,
+    geodetic: Geodetic,
+    attitude: Attitude,
+) -> FgNetFdm {
     let ned_fps = to_local * ned_from_model(view.velocity_mps) / METRES_PER_FOOT;
     let body_fps = view.velocity_body_mps / METRES_PER_FOOT;
     let display = DisplayState {
@@ -92,11 +137,7 @@ pub fn display(view: &FlightView, origin: &GeodeticOrigin) -> Display {
         engine_rpm: view.engine_rpm,
         ..DisplayState::default()
     };
-    Display {
-        geodetic,
-        attitude,
-        packet: FgNetFdm::from_display(&display),
-    }
+    FgNetFdm::from_display(&display)
 }
 
 /// Who an aircraft is in FlightGear's multiplayer: its callsign and the model

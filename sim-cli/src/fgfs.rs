@@ -18,8 +18,9 @@
 //! c172p's tank levels at 0 (both measured, docs/flightgear-check.md).
 //!
 //! The start preset (`--lat/--lon/--altitude/--heading`) is where the ECS places the
-//! model before its first frame, computed by the same functions MakePacket uses
-//! (the model's `view`, then [`fgnet::bridge::display`]):
+//! model before its first frame, computed by the same functions the ECS's Place
+//! system uses (the model's `view`, then the placement [`fgnet::bridge::display`]
+//! also computes):
 //! FlightGear only loads terrain near the preset and drops packets until the FDM is
 //! initialised there (docs/fgnetfdm.md §7). Palmer stands at rest on the runway at the
 //! origin; Bourg starts at model (−5000, 0, 2000) ft, 5000 ft south of the origin and
@@ -419,13 +420,11 @@ mod tests {
                 Arc::new(Palmer::default_aircraft()),
                 Palmer::initial_controls(),
                 Palmer::initial_state(),
-                None,
             );
             let bourg = sim.spawn::<Bourg>(
                 Arc::new(Bourg::default_aircraft()),
                 Bourg::initial_controls(),
                 Bourg::initial_state(),
-                None,
             );
             for (model, entity, (geodetic, attitude)) in [
                 ("palmer", palmer, start_pose::<Palmer>(&origin)),

@@ -4,7 +4,7 @@
 //! FlightGear's native-FDM input shows one aircraft; its multiplayer input
 //! shows one `/ai/models/multiplayer[i]` per callsign. The fleet is spawned
 //! into an fdm-ecs [`Simulation`] at [`FLEET_FPS`] (each aircraft a full
-//! entity, as `sim-cli palmer`/`bourg` spawns it, so MakePacket computes its
+//! entity, as `sim-cli palmer`/`bourg` spawns it, so the ECS's Place computes its
 //! geodetic position and attitude every frame), flown with the same scripted
 //! actions for every aircraft, and the first `--fg-mp-aircraft` aircraft
 //! (default [`DEFAULT_MP_AIRCRAFT`]) are sent to FlightGear every frame as
@@ -92,7 +92,7 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
     }
 }
 
-/// The multiplayer message of one aircraft: position and attitude as MakePacket
+/// The multiplayer message of one aircraft: position and attitude as Place
 /// computed them for the last frame, body velocity from the model's view
 /// ([`fgnet::bridge::multiplayer_position`] builds it).
 ///
@@ -169,7 +169,7 @@ impl<M: CliModel> Show<M> {
         let entities = (0..n)
             .map(|i| {
                 let (controls, state) = start_of::<M>(pattern, i);
-                sim.spawn::<M>(Arc::clone(&aircraft), controls, state, None)
+                sim.spawn::<M>(Arc::clone(&aircraft), controls, state)
             })
             .collect();
         Self {

@@ -1,39 +1,37 @@
 //! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
-//! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with a
-//! [`FlightGearLink`] when the run sends packets, and the run's outputs
-//! (`--record`, `--acmi`) attached.
+//! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with the
+//! run's outputs attached: the FlightGear link (`--fg`,
+//! [`FlightGearOutput`]), DIS (`--dis`), `--record`, `--acmi`.
 //!
 //! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
 //! loop has already put the script's rules for the frame first, in file order,
 //! then the keys pressed) as the entity's frame input, then runs one frame of
 //! the thesis schedule: FlightControl (the model's start of frame, e.g. Bourg's
 //! surfaces back to neutral, then the actions) → EquationsOfMotion →
-//! FlightStatus → MakePacket → SendPacket. The frame rate is the simulation's
+//! FlightStatus → Place; then the run hands the frame to its outputs. The frame rate is the simulation's
 //! [`Resources`](fdm_ecs::Resources), so dt is the model's own [`Model::time_step`] (docs/cli.md).
 //!
 //! Geodetic position and attitude in the [`Snapshot`] are the entity's
-//! [`Geodetic`] and [`Attitude`] components, which MakePacket fills from the
-//! same numbers it encodes into the datagram: the report shows exactly what
-//! FlightGear was sent.
+//! [`Geodetic`] and [`Attitude`] components, which Place fills once per frame
+//! and the FlightGear output encodes into the datagram: the report shows
+//! exactly what FlightGear was sent.
 //!
 //! [`Geodetic`]: fdm_ecs::geodesy::Geodetic
 //! [`Attitude`]: fdm_ecs::geodesy::Attitude
 
-use std::net::SocketAddrV4;
-
 use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
-use fdm_ecs::{Entity, FlightGearLink, Simulation};
+use fdm_ecs::{Entity, Simulation};
 use fdm_run::acmi::AcmiOutput;
-use fdm_run::dis::{DisOutput, DisReport};
+use fdm_run::dis::DisOutput;
+use fdm_run::flightgear::FlightGearOutput;
 use fdm_run::{Output, Run, RunError, Scenario, SharedOutput};
 
 use crate::config::{ModelConfig, RunConfig, Start};
 use crate::error::CliError;
-use crate::hud::LinkStats;
 use crate::models::CliModel;
 use crate::recording::RecordWriter;
-use crate::run::{fly, Flight};
+use crate::run::{fly, Flight, Links};
 use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 
 /// One aircraft of model `M`: an [`fdm_run::Run`] (its own simulation and
@@ -41,13 +39,10 @@ use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
 #[derive(Debug)]
 pub struct ModelFlight<M: Model> {
     run: Run<M>,
-    /// The FlightGear target, for the one-time failure message.
-    fg: Option<SocketAddrV4>,
-    /// The first send failure, as a message, until [`Flight::take_link_failure`].
-    link_failure: Option<String>,
-    /// DIS output (`--dis`), attached to the run (which publishes every
-    /// flown frame); this handle reads its report and failures.
-    dis: Option<SharedOutput<DisOutput>>,
+    /// The FlightGear link (`--fg`) and DIS (`--dis`), attached to the run
+    /// (which hands them every flown frame); these handles read their
+    /// counters and failures.
+    links: Links,
 }
 
 impl<M: CliModel> ModelFlight<M> {
@@ -58,17 +53,18 @@ impl<M: CliModel> ModelFlight<M> {
     }
 
     /// A run at the configured frame rate and origin with one aircraft
-    /// starting at `start`, with a FlightGear link when the run has a target.
+    /// starting at `start`, with the FlightGear output attached when the run
+    /// has a target and the DIS output with `--dis`.
     ///
     /// # Errors
     /// [`CliError::Usage`] for a frame rate the run refuses,
     /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
     pub fn new(run: &RunConfig, start: Start<M>) -> Result<Self, CliError> {
-        let link = match run.fg {
-            Some(addr) => Some(
-                FlightGearLink::connect(&addr.to_string())
+        let fg = match run.fg {
+            Some(addr) => Some(SharedOutput::new(
+                FlightGearOutput::connect(&addr.to_string(), run.origin)
                     .with_context(|| format!("opening the FlightGear link to {addr}"))?,
-            ),
+            )),
             None => None,
         };
         let dis = match &run.dis {
@@ -84,16 +80,17 @@ impl<M: CliModel> ModelFlight<M> {
             frames: 0,
             script: fdm_core::script::Script::default(),
         };
-        let mut flight = Run::with_link(scenario, link)
-            .map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
+        let mut flight =
+            Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
+        if let Some(fg) = &fg {
+            flight.attach(fg.clone()).map_err(anyhow::Error::from)?;
+        }
         if let Some(dis) = &dis {
             flight.attach(dis.clone()).map_err(anyhow::Error::from)?;
         }
         Ok(Self {
             run: flight,
-            fg: run.fg,
-            link_failure: None,
-            dis,
+            links: Links { fg, dis },
         })
     }
 
@@ -124,12 +121,14 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     const TITLE: &'static str = M::TITLE;
 
-    /// Queues `actions` as this frame's key presses, runs the frame, and keeps
-    /// the link's first failure (reported once by the run loop, never per frame).
+    /// Queues `actions` as this frame's key presses and runs the frame; the
+    /// run's outputs send it (a failed send is kept by the output, reported
+    /// once by the run loop, never per frame).
     ///
     /// A step that diverges (a non-finite state) is an error: the ECS has kept
-    /// the last finite state and sent nothing from the non-finite one, and the
-    /// run stops here, before any row, report or HUD is made from it.
+    /// the last finite state, the outputs sent nothing from the non-finite
+    /// one, and the run stops here, before any row, report or HUD is made
+    /// from it.
     fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
         match self.run.step_actions(actions) {
             Ok(()) => {}
@@ -139,16 +138,6 @@ impl<M: CliModel> Flight for ModelFlight<M> {
                 ));
             }
             Err(e) => return Err(e.into()),
-        }
-        let entity = self.run.entity();
-        if let Some(error) = self.run.simulation_mut().take_send_failure(entity) {
-            let target = self
-                .fg
-                .map_or_else(|| "FlightGear".to_owned(), |a| a.to_string());
-            self.link_failure = Some(format!(
-                "sending to {target} failed on frame {}: {error}; the run goes on and counts failures",
-                self.run.simulation().frame()
-            ));
         }
         Ok(())
     }
@@ -190,28 +179,8 @@ impl<M: CliModel> Flight for ModelFlight<M> {
         }
     }
 
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.run
-            .simulation()
-            .send_stats(self.run.entity())
-            .map(|s| LinkStats {
-                sent: s.sent,
-                failed: s.failed,
-            })
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.link_failure.take().or_else(|| {
-            self.dis
-                .as_ref()
-                .and_then(|d| d.with(|o| o.and_then(DisOutput::take_failure)))
-        })
-    }
-
-    fn dis_report(&self) -> Option<DisReport> {
-        self.dis
-            .as_ref()
-            .and_then(|d| d.with(|o| o.map(|o| o.report())))
+    fn links(&self) -> Links {
+        self.links.clone()
     }
 
     /// Completes the run's outputs (`--acmi`).
@@ -297,11 +266,14 @@ mod tests {
     use super::*;
     use crate::config::Mode;
     use crate::hud::status_label;
+    use crate::hud::LinkStats;
     use crate::origin::GeodeticOrigin;
+    use crate::progress::StderrProgress;
+    use crate::run::run_headless;
     use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
     use fdm_core::model::{FlightStatus, LandingState};
     use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
-    use std::net::UdpSocket;
+    use std::net::{SocketAddrV4, UdpSocket};
 
     fn run(fps: u32, fg: Option<SocketAddrV4>) -> RunConfig {
         RunConfig {
@@ -526,8 +498,20 @@ mod tests {
         for _ in 0..5 {
             flight.step(&[BourgAction::RollRight]).unwrap();
         }
-        assert_eq!(flight.link_stats(), Some(LinkStats { sent: 5, failed: 0 }));
-        let packet = flight.simulation().packet(flight.entity()).unwrap();
+        let links = flight.links();
+        assert_eq!(links.fg_stats(), Some(LinkStats { sent: 5, failed: 0 }));
+        let packet = links
+            .fg
+            .as_ref()
+            .and_then(|fg| fg.with(|o| o.and_then(|o| o.last_packet().copied())))
+            .unwrap();
+        let mut buf = [0u8; 512];
+        let mut last = Vec::new();
+        for _ in 0..5 {
+            let n = receiver.recv(&mut buf).unwrap();
+            last = buf[..n].to_vec();
+        }
+        assert_eq!(last, packet.encode());
         let s = flight.snapshot();
         assert_eq!(packet.latitude, s.common.geodetic.lat_deg.to_radians());
         assert_eq!(packet.longitude, s.common.geodetic.lon_deg.to_radians());
@@ -541,7 +525,7 @@ mod tests {
             packet.psi,
             s.common.attitude_deg.heading.to_radians() as f32
         );
-        assert!(flight.take_link_failure().is_none());
+        assert!(links.take_failure().is_none());
     }
 
     #[test]
@@ -555,15 +539,44 @@ mod tests {
             .port();
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
         let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
+        let links = flight.links();
         let mut messages = Vec::new();
         for _ in 0..20 {
             flight.step(&[]).unwrap();
-            messages.extend(flight.take_link_failure());
+            messages.extend(links.take_failure());
         }
-        let stats = flight.link_stats().unwrap();
+        let stats = links.fg_stats().unwrap();
         assert_eq!(stats.sent + stats.failed, 20);
         assert!(stats.failed > 0, "{stats:?}");
         assert_eq!(messages.len(), 1, "{messages:?}");
         assert!(messages[0].contains(&addr.to_string()), "{}", messages[0]);
+    }
+
+    /// A failing link never stops a headless run: the loop takes its first
+    /// failure (the output keeps it once) and flies every frame.
+    #[test]
+    fn a_failing_link_is_never_fatal_in_the_headless_loop() {
+        let port = UdpSocket::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
+        let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
+        let mut progress = StderrProgress::with_enabled(20, false);
+        let report = run_headless::<_, Vec<u8>>(
+            &mut flight,
+            &fdm_core::script::Script::default(),
+            30,
+            20,
+            false,
+            None,
+            &mut progress,
+        )
+        .unwrap();
+        assert_eq!(report.frames, 20);
+        let links = flight.links();
+        assert!(links.fg_stats().unwrap().failed > 0);
+        assert!(links.take_failure().is_none(), "taken by the loop");
     }
 }

@@ -68,6 +68,7 @@ pub fn replay_flight<F: Flight, W: Write>(
     }
     let mut frame = 0_u64;
     let mut done = 0_u64;
+    let links = flight.links();
     'replay: for event in events {
         match event.map_err(CliError::usage)? {
             Replayed::Frames { count, actions } => {
@@ -85,7 +86,7 @@ pub fn replay_flight<F: Flight, W: Write>(
                     if let Some(csv) = csv.as_deref_mut() {
                         csv.write_record(frame, &flight.snapshot())?;
                     }
-                    if let Some(message) = flight.take_link_failure() {
+                    if let Some(message) = links.take_failure() {
                         progress.message(&link_warning(&message));
                     }
                     progress.tick(done);
@@ -234,13 +235,14 @@ impl WithModel for ReplayJob<'_> {
         let mut report = report?;
         finished?;
         plotted?;
+        let links = flight.links();
         if run.fg.is_some() {
-            report.fg = flight.link_stats().map(|l| LinkReport {
+            report.fg = links.fg_stats().map(|l| LinkReport {
                 sent: l.sent,
                 failed: l.failed,
             });
         }
-        report.dis = flight.dis_report();
+        report.dis = links.dis_report();
         if let Some(csv) = csv {
             csv.finish()?;
         }

@@ -274,9 +274,9 @@ impl GeodeticOrigin {
     }
 
     /// [`GeodeticOrigin::model_ned_to_local_ned`] at a position whose geodetic
-    /// coordinates `here` are already known (e.g. MakePacket, which has just
-    /// computed them for the datagram): saves converting the position a second
-    /// time, about a third of MakePacket's cost.
+    /// coordinates `here` are already known (e.g. the ECS's Place system and
+    /// the FlightGear bridge, which have just computed them): saves converting
+    /// the position a second time, about a third of the placement's cost.
     #[must_use]
     pub fn model_ned_to_local_ned_at(&self, here: &Geodetic) -> Matrix3<f64> {
         let local_enu_to_ecef = enu_to_ecef_rotation(here.lat_deg, here.lon_deg);

@@ -63,6 +63,7 @@ pub fn run_headless<F: Flight, W: Write>(
     let mut buffer = Vec::new();
     let mut cursor = ScriptCursor::new();
     let mut flown = 0;
+    let links = flight.links();
     for frame in 1..=frames {
         // A signal ends the run here, as if this were its last frame: the
         // caller finishes every output (crate::signals).
@@ -78,7 +79,7 @@ pub fn run_headless<F: Flight, W: Write>(
             &mut buffer,
             csv.as_deref_mut(),
         )?;
-        if let Some(message) = flight.take_link_failure() {
+        if let Some(message) = links.take_failure() {
             progress.message(&link_warning(&message));
         }
         progress.tick(frame);

@@ -148,7 +148,7 @@ pub struct InteractiveSummary {
     pub overruns: u64,
     /// Final datagram counters.
     pub link: Option<LinkStats>,
-    /// The first datagram send failure, if any (see [`Flight::take_link_failure`]),
+    /// The first datagram send failure, if any (see [`super::Links::take_failure`]),
     /// kept for after the terminal is restored: stderr under the HUD is not readable.
     pub link_failure: Option<String>,
 }
@@ -170,6 +170,7 @@ pub fn run_interactive<F: Flight, W: Write>(
     let mut hud = HudWriter::new();
     let mut session = Session::new();
     let mut link_failure = None;
+    let links = flight.links();
     if let Some(csv) = csv.as_deref_mut() {
         csv.write_record(0, &flight.snapshot())?;
     }
@@ -202,7 +203,7 @@ pub fn run_interactive<F: Flight, W: Write>(
             }
         }
         session.advance(flight, script, csv.as_deref_mut())?;
-        if let Some(message) = flight.take_link_failure() {
+        if let Some(message) = links.take_failure() {
             link_failure.get_or_insert(message);
         }
         // Some ptys report 0x0; treat that like an unknown size.
@@ -214,7 +215,7 @@ pub fn run_interactive<F: Flight, W: Write>(
             F::TITLE,
             &flight.snapshot(),
             fg,
-            flight.link_stats(),
+            links.fg_stats(),
             LoopStatus {
                 frame: session.frame(),
                 fps,
@@ -234,7 +235,7 @@ pub fn run_interactive<F: Flight, W: Write>(
     Ok(InteractiveSummary {
         frames: session.total_frames(),
         overruns: pacer.overruns(),
-        link: flight.link_stats(),
+        link: links.fg_stats(),
         link_failure,
     })
 }

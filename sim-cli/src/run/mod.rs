@@ -10,6 +10,9 @@ use std::io::{self, Write};
 
 use anyhow::Context as _;
 use fdm_core::script::Script;
+use fdm_run::dis::{DisOutput, DisReport};
+use fdm_run::flightgear::FlightGearOutput;
+use fdm_run::SharedOutput;
 
 use crate::config::{Mode, RunConfig};
 use crate::csv::CsvWriter;
@@ -40,8 +43,9 @@ pub trait Flight {
 
     /// Advances one frame of fixed dt: apply `actions` in order as key presses
     /// (for Bourg after returning the rudder, ailerons and elevators to neutral),
-    /// step the model, and send the FlightGear datagram if a target is configured.
-    /// A failed send must not be an error: count it in [`Self::link_stats`].
+    /// step the model, and hand the frame to the run's outputs (the FlightGear
+    /// link, DIS, ...). A failed send must not be an error: the output counts
+    /// it ([`Self::links`]).
     ///
     /// # Errors
     /// Anything that makes continuing pointless; the run stops with exit status 1.
@@ -56,19 +60,10 @@ pub trait Flight {
     /// The current state, for the report, the CSV rows and the HUD.
     fn snapshot(&self) -> Snapshot<Self::Details>;
 
-    /// Datagram counters, or `None` when nothing is sent.
-    fn link_stats(&self) -> Option<LinkStats>;
-
-    /// The DIS output's counts (`--dis`), or `None` when nothing is published.
-    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
-        None
-    }
-
-    /// A one-line description of the first failed datagram send, returned once (later
-    /// failures are only counted in [`Self::link_stats`]). The loops print it on
-    /// stderr at most once per run, never per frame; a failing link is never fatal.
-    fn take_link_failure(&mut self) -> Option<String> {
-        None
+    /// The network outputs attached to the flight (handles to them: their
+    /// counters and first failures). The default: none.
+    fn links(&self) -> Links {
+        Links::default()
     }
 
     /// Called once when the run ends normally, before the report: completes
@@ -82,7 +77,54 @@ pub trait Flight {
     }
 }
 
-/// The stderr line for a link failure (see [`Flight::take_link_failure`]).
+/// The network outputs of a flight, as the loops read them: handles to the
+/// [`fdm_run::Output`]s attached to its run (`--fg`: the FlightGear link,
+/// `--dis`: DIS). The counters and failures come from the outputs
+/// themselves; cloning shares them.
+#[derive(Debug, Clone, Default)]
+pub struct Links {
+    /// `--fg`: the FlightGear native-FDM link.
+    pub fg: Option<SharedOutput<FlightGearOutput>>,
+    /// `--dis`: the DIS output.
+    pub dis: Option<SharedOutput<DisOutput>>,
+}
+
+impl Links {
+    /// The FlightGear link's datagram counters, or `None` without `--fg`.
+    #[must_use]
+    pub fn fg_stats(&self) -> Option<LinkStats> {
+        let stats = self.fg.as_ref()?.with(|o| o.map(|o| o.stats()))?;
+        Some(LinkStats {
+            sent: stats.sent,
+            failed: stats.failed,
+        })
+    }
+
+    /// The DIS output's counts, or `None` without `--dis`.
+    #[must_use]
+    pub fn dis_report(&self) -> Option<DisReport> {
+        self.dis.as_ref()?.with(|o| o.map(|o| o.report()))
+    }
+
+    /// A one-line description of the first failed send of an output (the
+    /// FlightGear link's first, then DIS's), each returned once: later
+    /// failures are only counted. The loops print it on stderr at most once
+    /// per output and run, never per frame; a failing link is never fatal.
+    #[must_use]
+    pub fn take_failure(&self) -> Option<String> {
+        let fg = self
+            .fg
+            .as_ref()
+            .and_then(|fg| fg.with(|o| o.and_then(FlightGearOutput::take_failure)));
+        fg.or_else(|| {
+            self.dis
+                .as_ref()
+                .and_then(|d| d.with(|o| o.and_then(DisOutput::take_failure)))
+        })
+    }
+}
+
+/// The stderr line for a link failure (see [`Links::take_failure`]).
 pub(crate) fn link_warning(message: &str) -> String {
     format!("sim-cli: warning: {}", crate::error::one_line(message))
 }
@@ -141,13 +183,14 @@ pub fn fly<F: Flight>(
             let mut report = report?;
             finished?;
             recorded?;
+            let links = flight.links();
             if fg.is_some() {
-                report.fg = flight.link_stats().map(|l| LinkReport {
+                report.fg = links.fg_stats().map(|l| LinkReport {
                     sent: l.sent,
                     failed: l.failed,
                 });
             }
-            report.dis = flight.dis_report();
+            report.dis = links.dis_report();
             let text = if json {
                 report.to_json().context("encoding the JSON report")?
             } else {
@@ -168,7 +211,7 @@ pub fn fly<F: Flight>(
             let link = summary.link.map_or_else(String::new, |l| {
                 format!(", {} packets sent, {} failed", l.sent, l.failed)
             });
-            let dis = flight.dis_report().map_or_else(String::new, |d| {
+            let dis = flight.links().dis_report().map_or_else(String::new, |d| {
                 format!(", {} DIS PDUs sent, {} failed", d.pdus, d.failed)
             });
             eprintln!(
@@ -199,16 +242,8 @@ impl<F: Flight> Flight for &mut F {
         (**self).snapshot()
     }
 
-    fn link_stats(&self) -> Option<LinkStats> {
-        (**self).link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        (**self).take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
-        (**self).dis_report()
+    fn links(&self) -> Links {
+        (**self).links()
     }
 
     fn finish(&mut self) -> anyhow::Result<()> {
@@ -230,7 +265,6 @@ mod tests {
         steps: Vec<Vec<PalmerAction>>,
         resets: u32,
         fail_at: Option<usize>,
-        link_failures: Vec<String>,
     }
 
     impl Flight for Fake {
@@ -259,14 +293,6 @@ mod tests {
             s.common.position = [self.steps.len() as f64, 0.0, 0.0];
             s.details.controls.throttle = self.steps.iter().flatten().count() as f64;
             s
-        }
-
-        fn link_stats(&self) -> Option<LinkStats> {
-            None
-        }
-
-        fn take_link_failure(&mut self) -> Option<String> {
-            self.link_failures.pop()
         }
     }
 
@@ -413,25 +439,11 @@ mod tests {
         assert_eq!(frames, ["1", "2", "0", "1"]);
     }
 
+    /// The warning line is one line whatever the failure's message (the
+    /// failures themselves: `flight::tests::a_failing_link_is_reported_once_and_counted`).
     #[test]
-    fn link_failures_are_taken_but_never_fatal() {
-        let mut flight = Fake {
-            link_failures: vec!["nobody listens".to_owned()],
-            ..Fake::default()
-        };
-        let mut progress = StderrProgress::with_enabled(3, false);
-        let report = run_headless::<_, Vec<u8>>(
-            &mut flight,
-            &Script::default(),
-            30,
-            3,
-            false,
-            None,
-            &mut progress,
-        )
-        .unwrap();
-        assert_eq!(report.frames, 3);
-        assert!(flight.link_failures.is_empty());
+    fn link_warnings_are_one_line() {
+        assert!(Fake::default().links().take_failure().is_none());
         assert_eq!(
             link_warning("sending to 127.0.0.1:5500 failed\non frame 1"),
             "sim-cli: warning: sending to 127.0.0.1:5500 failed on frame 1"

@@ -8,9 +8,8 @@ use fdm_core::script::Script;
 
 use crate::config::RunConfig;
 use crate::error::CliError;
-use crate::hud::LinkStats;
 use crate::plot::{PlotFile, PlotSample, Trace, TraceBuilder};
-use crate::run::{fly, Flight};
+use crate::run::{fly, Flight, Links};
 use crate::snapshot::Snapshot;
 
 /// A [`Flight`] that records a [`PlotSample`] of the wrapped flight at
@@ -63,16 +62,8 @@ impl<F: Flight> Flight for Plotted<F> {
         self.inner.snapshot()
     }
 
-    fn link_stats(&self) -> Option<LinkStats> {
-        self.inner.link_stats()
-    }
-
-    fn take_link_failure(&mut self) -> Option<String> {
-        self.inner.take_link_failure()
-    }
-
-    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
-        self.inner.dis_report()
+    fn links(&self) -> Links {
+        self.inner.links()
     }
 
     fn finish(&mut self) -> anyhow::Result<()> {
