@@ -47,6 +47,7 @@
 //! | [`mod@run`] | [`Run`]: the run loop over one `fdm_ecs::Simulation` |
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`], [`LinkStats`]: outputs as plugins |
 //! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
+//! | [`multiplayer`] | FlightGear multiplayer for a fleet ([`multiplayer::MultiplayerFleet`], [`multiplayer::MultiplayerSender`]) |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
@@ -60,6 +61,7 @@ pub mod csv;
 pub mod dis;
 pub mod flightgear;
 pub mod model;
+pub mod multiplayer;
 pub mod output;
 pub mod pacer;
 pub mod recording;

@@ -1,32 +1,26 @@
 //! `sim-cli fleet ... --fg-mp HOST:PORT --realtime`: a fleet to watch in
-//! FlightGear (docs/fleet-in-flightgear.md).
+//! FlightGear (docs/fleet-in-flightgear.md): the flags and the wiring.
 //!
-//! FlightGear's native-FDM input shows one aircraft; its multiplayer input
-//! shows one `/ai/models/multiplayer[i]` per callsign. The fleet is spawned
-//! into an fdm-ecs [`Simulation`] at [`FLEET_FPS`] (each aircraft a full
-//! entity, as `sim-cli palmer`/`bourg` spawns it, so the ECS's Place computes its
-//! geodetic position and attitude every frame), flown with the same scripted
+//! The fleet and its messages are the run library's
+//! ([`fdm_run::multiplayer`]): a [`MultiplayerFleet`] at [`FLEET_FPS`] (each
+//! aircraft a full entity, placed every frame), flown with the same scripted
 //! actions for every aircraft, and the first `--fg-mp-aircraft` aircraft
-//! (default [`DEFAULT_MP_AIRCRAFT`]) are sent to FlightGear every frame as
-//! multiplayer position messages ([`fgnet::MultiplayerPosition`]): callsign
-//! [`callsign`]`(i)`, model [`CliModel::FG_MP_MODEL`], ECEF position from
-//! the geodetic position, orientation from the attitude, body velocity from
-//! the model's view.
+//! (default [`DEFAULT_MP_AIRCRAFT`]) sent to FlightGear every frame as
+//! multiplayer position messages through a [`MultiplayerSender`]: callsign
+//! [`callsign`]`(i)`, model [`CliModel::FG_MP_MODEL`].
 //!
 //! Where the aircraft start is [`FleetPattern`]: the models' demonstration
 //! fleet, pairs along a runway ahead of the viewer (a formation take-off for Palmer's Cessnas
 //! with `--script examples/scripts/palmer_climb_turn.txt`), or a V.
 
-use std::net::{SocketAddrV4, UdpSocket};
-use std::sync::Arc;
+use std::net::{SocketAddr, SocketAddrV4};
 use std::time::Instant;
 
 use anyhow::Context as _;
 use fdm_core::geodesy::GeodeticOrigin;
-use fdm_core::script::{Script, ScriptCursor};
-use fdm_ecs::{Entity, Resources, Simulation};
-use fgnet::bridge::{multiplayer_position, MultiplayerIdentity};
-use fgnet::{MultiplayerPosition, MP_POSITION_LEN};
+use fdm_core::script::Script;
+pub use fdm_run::multiplayer::callsign;
+use fdm_run::multiplayer::{MultiplayerFleet, MultiplayerSender};
 use serde::Serialize;
 
 use crate::args::{FleetArgs, FleetPattern, FLEET_FPS};
@@ -50,13 +44,6 @@ pub const V_STEP_M: f64 = 30.0;
 /// (`fgfs-command` puts FlightGear's aircraft there), whose chase view then
 /// looks north at the fleet.
 pub const PATTERN_AHEAD_M: f64 = 50.0;
-
-/// The callsign of fleet aircraft `index` (0-based): `SIM001`, `SIM002`, ...
-/// (FlightGear takes 1 to 7 characters; 1000 aircraft end at `SIM1000`).
-#[must_use]
-pub fn callsign(index: usize) -> String {
-    format!("SIM{:03}", index + 1)
-}
 
 /// Controls and state of aircraft `index` of a fleet of model `M` started in
 /// `pattern`.
@@ -92,38 +79,6 @@ pub fn start_of<M: CliModel>(pattern: FleetPattern, index: usize) -> (M::Control
     }
 }
 
-/// The multiplayer message of one aircraft: position and attitude as Place
-/// computed them for the last frame, body velocity from the model's view
-/// ([`fgnet::bridge::multiplayer_position`] builds it).
-///
-/// # Errors
-/// The callsign or model path does not fit the message (not for this crate's
-/// models and callsigns).
-pub fn message<M: CliModel>(
-    sim: &Simulation,
-    entity: Entity,
-    callsign: &str,
-    time_s: f64,
-) -> anyhow::Result<MultiplayerPosition> {
-    let geodetic = sim
-        .geodetic(entity)
-        .context("a fleet aircraft has no geodetic position")?;
-    let attitude = sim
-        .attitude(entity)
-        .context("a fleet aircraft has no attitude")?;
-    let view = sim
-        .view::<M>(entity)
-        .context("a fleet aircraft is not of its model")?;
-    let who = MultiplayerIdentity {
-        callsign,
-        model_path: M::FG_MP_MODEL,
-    };
-    let timing = (time_s, 1.0 / f64::from(FLEET_FPS));
-    Ok(multiplayer_position(
-        who, timing, geodetic, attitude, &view,
-    )?)
-}
-
 /// What a watched fleet did (`--json`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ShowReport {
@@ -143,86 +98,25 @@ pub struct ShowReport {
     pub overruns: u64,
 }
 
-/// A fleet spawned in a pattern, flying a script.
-#[derive(Debug)]
-pub struct Show<M: CliModel> {
-    sim: Simulation,
-    entities: Vec<Entity>,
+/// `n` aircraft of model `M` in `pattern` around `origin`, to fly `script`
+/// at [`FLEET_FPS`].
+///
+/// # Errors
+/// Not in practice ([`FLEET_FPS`] is a valid frame rate).
+pub fn fleet<M: CliModel>(
+    n: usize,
+    pattern: FleetPattern,
+    origin: GeodeticOrigin,
     script: Script<M::Action>,
-    cursor: ScriptCursor,
-}
-
-impl<M: CliModel> Show<M> {
-    /// `n` aircraft of model `M` in `pattern` around `origin`, to fly `script`.
-    #[must_use]
-    pub fn new(
-        n: usize,
-        pattern: FleetPattern,
-        origin: GeodeticOrigin,
-        script: Script<M::Action>,
-    ) -> Self {
-        let resources = Resources::new(f64::from(FLEET_FPS))
-            .expect("30 frames per second is valid")
-            .with_origin(origin);
-        let mut sim = Simulation::new(resources);
-        let aircraft = Arc::new(M::default_aircraft());
-        let entities = (0..n)
-            .map(|i| {
-                let (controls, state) = start_of::<M>(pattern, i);
-                sim.spawn::<M>(Arc::clone(&aircraft), controls, state)
-            })
-            .collect();
-        Self {
-            sim,
-            entities,
-            script,
-            cursor: ScriptCursor::new(),
-        }
-    }
-
-    /// The simulation.
-    #[must_use]
-    pub fn simulation(&self) -> &Simulation {
-        &self.sim
-    }
-
-    /// The aircraft, in spawn order.
-    #[must_use]
-    pub fn entities(&self) -> &[Entity] {
-        &self.entities
-    }
-
-    /// Flies one frame: the script's actions for it on every aircraft, then the
-    /// schedule.
-    ///
-    /// # Errors
-    /// An aircraft lost its input queue (not in practice).
-    pub fn step(&mut self) -> anyhow::Result<()> {
-        let frame = self.sim.frame() + 1;
-        let actions: Vec<M::Action> = self.cursor.actions(&self.script, frame).collect();
-        for &entity in &self.entities {
-            for &action in &actions {
-                self.sim.push_input(entity, action)?;
-            }
-        }
-        self.sim.run_frame();
-        Ok(())
-    }
-
-    /// The multiplayer messages of the first `count` aircraft now.
-    ///
-    /// # Errors
-    /// As [`message`].
-    pub fn messages(&self, count: usize) -> anyhow::Result<Vec<MultiplayerPosition>> {
-        #[allow(clippy::cast_precision_loss)] // frame counts below 2^53
-        let time_s = self.sim.frame() as f64 / f64::from(FLEET_FPS);
-        self.entities
-            .iter()
-            .take(count)
-            .enumerate()
-            .map(|(i, &e)| message::<M>(&self.sim, e, &callsign(i), time_s))
-            .collect()
-    }
+) -> anyhow::Result<MultiplayerFleet<M>> {
+    let starts = (0..n).map(|i| start_of::<M>(pattern, i));
+    Ok(MultiplayerFleet::new(
+        M::default_aircraft(),
+        starts,
+        FLEET_FPS,
+        origin,
+        script,
+    )?)
 }
 
 /// Flies and streams the fleet `args` describe: `frames` frames, one
@@ -249,34 +143,29 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
         .unwrap_or(DEFAULT_MP_AIRCRAFT)
         .min(n);
     let origin = args.show.origin.unwrap_or_default();
-    let mut show = Show::<M>::new(n, args.show.pattern, origin, script);
-    let socket = UdpSocket::bind("0.0.0.0:0").context("opening the multiplayer socket")?;
+    let mut show = fleet::<M>(n, args.show.pattern, origin, script)?;
+    let mut sender =
+        MultiplayerSender::open(SocketAddr::V4(target)).map_err(anyhow::Error::from)?;
     let mut pacer = FramePacer::new(FramePacer::period_for(FLEET_FPS), Instant::now());
-    let mut buffer = vec![0_u8; MP_POSITION_LEN];
-    let (mut sent, mut failed, mut first_failure) = (0_u64, 0_u64, None);
     for _ in 0..args.frames {
-        show.step()?;
-        for msg in show.messages(streamed)? {
-            let len = msg
-                .encode_into(&mut buffer)
-                .context("encoding a multiplayer message")?;
-            match socket.send_to(&buffer[..len], target) {
-                Ok(_) => sent += 1,
-                Err(e) => {
-                    failed += 1;
-                    first_failure.get_or_insert_with(|| e.to_string());
-                }
-            }
+        show.step().map_err(anyhow::Error::from)?;
+        for msg in show
+            .messages(streamed, M::FG_MP_MODEL)
+            .map_err(anyhow::Error::from)?
+        {
+            sender.send(&msg).map_err(anyhow::Error::from)?;
         }
         let sleep = pacer.finish_frame(Instant::now());
         if !sleep.is_zero() {
             std::thread::sleep(sleep);
         }
     }
-    if let Some(e) = first_failure {
+    let stats = sender.stats();
+    if let Some(e) = sender.take_failure() {
         eprintln!(
-            "sim-cli: warning: sending to {target} failed ({}); {failed} datagrams failed",
-            crate::error::one_line(&e)
+            "sim-cli: warning: sending to {target} failed ({}); {} datagrams failed",
+            crate::error::one_line(&e.to_string()),
+            stats.failed
         );
     }
     Ok(ShowReport {
@@ -284,8 +173,8 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
         aircraft: args.aircraft,
         streamed,
         frames: args.frames,
-        sent,
-        failed,
+        sent: stats.sent,
+        failed: stats.failed,
         overruns: pacer.overruns(),
     })
 }
@@ -376,6 +265,8 @@ mod tests {
     use fdm_core::bourg::Bourg;
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
+    use fgnet::MultiplayerPosition;
+    use std::net::UdpSocket;
     use std::time::Duration;
 
     #[test]
@@ -418,11 +309,11 @@ mod tests {
     fn messages_carry_the_fleets_positions_and_attitudes() {
         let origin = crate::origin::parse_origin("phli").unwrap();
         let script = Script::parse("1-20 thrust-up\n1-60 pitch-up\n").unwrap();
-        let mut show = Show::<Bourg>::new(6, FleetPattern::V, origin, script);
+        let mut show = fleet::<Bourg>(6, FleetPattern::V, origin, script).unwrap();
         for _ in 0..45 {
             show.step().unwrap();
         }
-        let msgs = show.messages(4).unwrap();
+        let msgs = show.messages(4, Bourg::FG_MP_MODEL).unwrap();
         assert_eq!(msgs.len(), 4);
         for (i, msg) in msgs.iter().enumerate() {
             let e = show.entities()[i];
