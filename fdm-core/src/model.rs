@@ -1,9 +1,10 @@
 //! The model interface: what every flight dynamics model offers the layers
-//! above it (the ECS shell, the CLI, the protocol encoders, the benchmarks).
+//! above it (the ECS shell, the SIMD fleets, the run library and its outputs,
+//! the studies, the CLI, the Python package, the benchmarks).
 //!
 //! A model is a zero-sized type implementing [`Model`]: [`crate::palmer::Palmer`]
-//! and [`crate::bourg::Bourg`] here, any number more outside this crate (the
-//! workspace's `examples/third_model.rs` flies a glider written against this
+//! and [`crate::bourg::Bourg`] here, any number more outside this crate
+//! (`fdm-ecs/examples/third_model.rs` flies a glider written against this
 //! trait alone). Everything a shell needs goes through it:
 //!
 //! * the model's own types: [`Model::Aircraft`] (parameters, shared by every
@@ -15,13 +16,17 @@
 //!   unchecked, bit-exact) or [`Model::try_step`] (checked, identical bits on
 //!   success) with the time step [`Model::time_step`] derives from the frame
 //!   rate;
+//! * the ground and the start: [`Model::ground_contact`] and
+//!   [`Model::at_rest`] (applied by [`settle`]), [`Model::state_at`] and
+//!   [`Model::trim`] (starting in the air, `crate::start`);
 //! * one read-only [`FlightView`] of the state in a single frame and unit
 //!   system (SI, the models' shared earth frame), enough to draw the aircraft,
-//!   fill a FlightGear or DIS packet, or print a report.
+//!   fill a FlightGear or DIS packet, or print a report; the flight's status
+//!   ([`FlightStatus`]) and how it is displayed ([`DisplayStatus`]).
 //!
 //! The trait has no `self`: a model is a type, not a value, so generic code
 //! is monomorphised and a step through the trait is the model's own step,
-//! bit for bit (`tests/ecs_parity.rs` checks it through the whole shell).
+//! bit for bit (`fdm-ecs/tests/ecs_parity.rs` checks it through the whole shell).
 //!
 //! ```
 //! use fdm_core::model::Model;
@@ -555,5 +560,161 @@ impl FlightStatus {
             Self::Landed(LandingState::Crash) => "crashed",
             Self::Diverged => "diverged",
         }
+    }
+}
+
+/// The status as shown to a person or written to a report: the
+/// [`FlightStatus`] and whether the model reports a stall. The one place for
+/// the display vocabulary: the HUD's and the plot's labels
+/// ([`Self::label`]: `STALL` while stalling in the air), the JSON report's
+/// word ([`Self::code`]: `stalling`), and the number of `sim-cli --csv`'s
+/// `status` column ([`Self::number`], [`Self::from_number`]). A stall only
+/// shows in the air: on the ground or landed, the flight status wins.
+///
+/// ```
+/// use fdm_core::model::{DisplayStatus, FlightStatus};
+/// let stall = DisplayStatus::new(FlightStatus::Airborne, true);
+/// assert_eq!((stall.label(), stall.code(), stall.number()), ("STALL", "stalling", 6));
+/// assert_eq!(DisplayStatus::from_number(6.0), Some(stall));
+/// let ground = DisplayStatus::new(FlightStatus::OnGround, true);
+/// assert_eq!((ground.label(), ground.code(), ground.number()), ("on ground", "on_ground", 0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct DisplayStatus {
+    /// Where the aircraft is in its flight.
+    pub status: FlightStatus,
+    /// Whether the model reports a stall.
+    pub stalling: bool,
+}
+
+impl DisplayStatus {
+    /// The labels of [`Self::label`] in the order of the plot's status panel,
+    /// bottom to top (without `DIVERGED`: a diverged frame is never shown).
+    pub const PANEL_LABELS: [&'static str; 6] = [
+        "on ground",
+        "flying",
+        "STALL",
+        "landed (safe)",
+        "landed (rough)",
+        "CRASHED",
+    ];
+
+    /// The status `status` with the model's stall flag `stalling`.
+    #[must_use]
+    pub const fn new(status: FlightStatus, stalling: bool) -> Self {
+        Self { status, stalling }
+    }
+
+    /// Whether a stall shows: the model reports one and the aircraft is in
+    /// the air.
+    #[must_use]
+    pub const fn shows_stall(self) -> bool {
+        self.stalling && matches!(self.status, FlightStatus::Airborne)
+    }
+
+    /// The status as the HUD and the plot show it: [`FlightStatus::label`],
+    /// or `STALL` while stalling in the air.
+    #[must_use]
+    pub const fn label(self) -> &'static str {
+        if self.shows_stall() {
+            "STALL"
+        } else {
+            self.status.label()
+        }
+    }
+
+    /// The status as one word, for the JSON report's `status`:
+    /// [`FlightStatus::code`] (`on_ground`, `airborne`, `landed_safe`,
+    /// `landed_rough`, `crashed`, `diverged`), or `stalling` while stalling
+    /// in the air.
+    #[must_use]
+    pub const fn code(self) -> &'static str {
+        if self.shows_stall() {
+            "stalling"
+        } else {
+            self.status.code()
+        }
+    }
+
+    /// The status as a number, for the CSV's `status` column (CSV rows hold
+    /// numbers only): 0 on ground, 1 airborne, 2 landed safe, 3 landed rough,
+    /// 4 crashed, 5 diverged, 6 stalling (in the air).
+    #[must_use]
+    pub const fn number(self) -> u8 {
+        if self.shows_stall() {
+            return 6;
+        }
+        match self.status {
+            FlightStatus::OnGround => 0,
+            FlightStatus::Airborne => 1,
+            FlightStatus::Landed(LandingState::Safe) => 2,
+            FlightStatus::Landed(LandingState::Rough) => 3,
+            FlightStatus::Landed(LandingState::Crash) => 4,
+            FlightStatus::Diverged => 5,
+        }
+    }
+
+    /// The status of a CSV `status` number ([`Self::number`]); `None` for
+    /// any other number.
+    #[must_use]
+    pub fn from_number(x: f64) -> Option<Self> {
+        let status = match x {
+            0.0 => FlightStatus::OnGround,
+            1.0 | 6.0 => FlightStatus::Airborne,
+            2.0 => FlightStatus::Landed(LandingState::Safe),
+            3.0 => FlightStatus::Landed(LandingState::Rough),
+            4.0 => FlightStatus::Landed(LandingState::Crash),
+            5.0 => FlightStatus::Diverged,
+            _ => return None,
+        };
+        Some(Self::new(status, x == 6.0))
+    }
+
+    /// The level of [`Self::label`] in the plot's status panel
+    /// ([`Self::PANEL_LABELS`]), 0 for a label it does not have
+    /// (`DIVERGED`).
+    #[must_use]
+    pub fn panel_level(self) -> usize {
+        let label = self.label();
+        Self::PANEL_LABELS
+            .iter()
+            .position(|&l| l == label)
+            .unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod display_status_tests {
+    use super::{DisplayStatus, FlightStatus, LandingState};
+
+    /// Every status, with and without a stall, reads back from its CSV
+    /// number as it shows (a stall only in the air), and its label is one
+    /// of the panel's but for `DIVERGED`.
+    #[test]
+    fn numbers_round_trip_and_labels_are_the_panels() {
+        let statuses = [
+            FlightStatus::OnGround,
+            FlightStatus::Airborne,
+            FlightStatus::Landed(LandingState::Safe),
+            FlightStatus::Landed(LandingState::Rough),
+            FlightStatus::Landed(LandingState::Crash),
+            FlightStatus::Diverged,
+        ];
+        let mut numbers = [false; 7];
+        for status in statuses {
+            for stalling in [false, true] {
+                let d = DisplayStatus::new(status, stalling);
+                let back = DisplayStatus::from_number(f64::from(d.number())).unwrap();
+                assert_eq!(back, DisplayStatus::new(status, d.shows_stall()));
+                assert_eq!((back.label(), back.code()), (d.label(), d.code()));
+                numbers[usize::from(d.number())] = true;
+                if status != FlightStatus::Diverged {
+                    assert_eq!(DisplayStatus::PANEL_LABELS[d.panel_level()], d.label());
+                }
+            }
+        }
+        assert_eq!(numbers, [true; 7]);
+        assert_eq!(DisplayStatus::from_number(7.0), None);
+        assert_eq!(DisplayStatus::from_number(0.5), None);
     }
 }

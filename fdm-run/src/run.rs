@@ -34,8 +34,11 @@ pub enum RunError {
         /// `0.033333335` for Bourg's `f32`).
         dt: String,
     },
-    /// An output failed.
-    #[error("{0}")]
+    /// An output failed. Display is the output's own message and
+    /// [`std::error::Error::source`] is its cause (the error is transparent),
+    /// so a chain printer (`anyhow`'s `{:#}`) shows e.g. `writing CSV file
+    /// out.csv: disk full`, not only the first half.
+    #[error(transparent)]
     Output(OutputError),
     /// The aircraft is no longer in the simulation.
     #[error("the {0} aircraft is gone from the simulation")]

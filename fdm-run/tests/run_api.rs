@@ -223,3 +223,49 @@ fn bad_scenarios_are_refused() {
     scenario.fps = 0;
     assert!(Run::new(scenario).is_err());
 }
+
+/// An output whose failure has a cause: the CSV writer over a full disk.
+struct FullDisk;
+
+impl std::io::Write for FullDisk {
+    fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+        Err(std::io::Error::other("disk full"))
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// A failing output's error keeps its cause: `RunError::Output` shows the
+/// output's own message and its `source()` is the output's cause, so the
+/// chain reads `writing CSV file out.csv: disk full` (it used to stop at
+/// `writing CSV file out.csv`).
+#[test]
+fn an_output_failure_keeps_its_cause() {
+    use fdm_run::csv::{CsvOutput, CsvWriter};
+    struct Row(f64);
+    impl fdm_run::csv::CsvRecord for Row {
+        fn csv_columns(&self) -> Vec<&'static str> {
+            vec![]
+        }
+        fn time_s(&self) -> f64 {
+            self.0
+        }
+        fn csv_values(&self, _: &mut Vec<f64>) {}
+    }
+    let mut run = Run::new(palmer_scenario(10)).unwrap();
+    let csv = CsvOutput::new(
+        CsvWriter::new(FullDisk, "out.csv"),
+        |f: &Frame<'_, Palmer>| Row(f.view.time_s),
+    );
+    let err = run.attach(csv).unwrap_err();
+    assert!(matches!(err, fdm_run::RunError::Output(_)), "{err:?}");
+    assert_eq!(err.to_string(), "writing CSV file out.csv");
+    let mut chain = vec![err.to_string()];
+    let mut source = std::error::Error::source(&err);
+    while let Some(s) = source {
+        chain.push(s.to_string());
+        source = s.source();
+    }
+    assert_eq!(chain.join(": "), "writing CSV file out.csv: disk full");
+}

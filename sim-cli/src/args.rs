@@ -540,19 +540,24 @@ pub fn parse_throttle(text: &str) -> Result<f64, String> {
     parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
 }
 
-/// `--alpha`: degrees in -16..20 (the range the alpha keys clamp to).
+/// `--alpha`: degrees in -16..20, the range the alpha keys clamp to (the
+/// model's [`ALPHA_MIN_DEG`](fdm_core::palmer::ALPHA_MIN_DEG)..[`ALPHA_MAX_DEG`](fdm_core::palmer::ALPHA_MAX_DEG)).
 pub fn parse_alpha(text: &str) -> Result<f64, String> {
-    parse_in_range(text, -16.0, 20.0, " degrees")
+    use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG};
+    parse_in_range(text, ALPHA_MIN_DEG, ALPHA_MAX_DEG, " degrees")
 }
 
-/// `--thrust-lb`: pounds in 0..3000 (Bourg's thrust range).
+/// `--thrust-lb`: pounds in 0..3000, Bourg's thrust range (the model's
+/// [`MAX_THRUST_LB`](fdm_core::bourg::MAX_THRUST_LB)).
 pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
-    parse_in_range(text, 0.0, 3000.0, " lb")
+    parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
 }
 
-/// `--bank`: degrees in -20..20 (the range the bank keys clamp to).
+/// `--bank`: degrees in -20..20, the range the bank keys clamp to (the
+/// model's [`BANK_LIMIT_DEG`](fdm_core::palmer::BANK_LIMIT_DEG) either side).
 pub fn parse_bank(text: &str) -> Result<f64, String> {
-    parse_in_range(text, -20.0, 20.0, " degrees")
+    use fdm_core::palmer::BANK_LIMIT_DEG;
+    parse_in_range(text, -BANK_LIMIT_DEG, BANK_LIMIT_DEG, " degrees")
 }
 
 /// `--flaps`: exactly 0, 20 or 40 degrees, the model's three notches.

@@ -1,7 +1,7 @@
 //! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
 //! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with the
 //! run's outputs attached: the FlightGear link (`--fg`,
-//! [`FlightGearOutput`]), DIS (`--dis`), `--record`, `--acmi`.
+//! [`FlightGearOutput`]), DIS (`--dis`), `--record`, `--acmi`, `--plot`.
 //!
 //! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
 //! loop has already put the script's rules for the frame first, in file order,
@@ -183,7 +183,7 @@ impl<M: CliModel> Flight for ModelFlight<M> {
         self.links.clone()
     }
 
-    /// Completes the run's outputs (`--acmi`).
+    /// Completes the run's outputs (`--record`, `--acmi`, `--plot`).
     fn finish(&mut self) -> anyhow::Result<()> {
         Ok(self.run.finish()?)
     }
@@ -232,20 +232,12 @@ pub fn run_model_with<M: CliModel>(
         flight.attach(AcmiOutput::<M>::new(acmi))?;
     }
     attach(&mut flight)?;
-    fly_maybe_plotted(flight, &script, run, plot)
-}
-
-/// [`fly`], or with `--plot` [`crate::run::plotted::fly_plotted`].
-fn fly_maybe_plotted<F: Flight>(
-    flight: F,
-    script: &fdm_core::script::Script<F::Action>,
-    run: RunConfig,
-    plot: Option<crate::plot::PlotFile>,
-) -> Result<(), CliError> {
-    match plot {
-        None => fly(flight, script, run),
-        Some(plot) => crate::run::plotted::fly_plotted(flight, script, run, plot),
+    // `--plot`: sampled as the run flies; written when `Flight::finish`
+    // completes the outputs, also when the run stopped early.
+    if let Some(plot) = plot {
+        flight.attach(plot.into_output(M::TITLE))?;
     }
+    fly(flight, &script, run)
 }
 
 /// Never used in practice (the components exist from spawn on); reported as

@@ -9,21 +9,17 @@ use crossterm::style::Print;
 use crossterm::terminal::{Clear, ClearType};
 use crossterm::QueueableCommand;
 
-use fdm_core::model::FlightStatus;
+use fdm_core::model::{DisplayStatus, FlightStatus};
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
 
 use crate::models::{tenths, Details};
 use crate::snapshot::Snapshot;
 
-/// The status as the HUD shows it: the flight status's label, or `STALL`
-/// while the model reports a stall in the air.
+/// The status as the HUD shows it ([`DisplayStatus::label`]): the flight
+/// status's label, or `STALL` while the model reports a stall in the air.
 #[must_use]
 pub fn status_label(status: FlightStatus, stalling: bool) -> &'static str {
-    if stalling && status == FlightStatus::Airborne {
-        "STALL"
-    } else {
-        status.label()
-    }
+    DisplayStatus::new(status, stalling).label()
 }
 
 /// Datagram counters of the FlightGear sender.

@@ -22,8 +22,8 @@
 //! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`acmi`](mod@acmi) | `--acmi FILE`: Tacview ACMI through the run library |
-//! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the flight as one SVG |
-//! | [`study`], [`study_plot`] | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I`, `study.svg` |
+//! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the output file and the CSV read back; the drawing is `fdm_plot`'s |
+//! | [`study`] | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I`, `study.svg` (drawn by `fdm_plot::study`) |
 //! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 
 pub mod acmi;
@@ -56,7 +56,6 @@ pub mod signals;
 pub mod snapshot;
 pub mod start;
 pub mod study;
-pub mod study_plot;
 pub mod terminal;
 
 use std::io::Write;

@@ -39,7 +39,6 @@ use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
 use crate::report::{LinkReport, RealtimeReport, Report};
-use crate::run::plotted::Plotted;
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
 use fdm_core::fingerprint::{self, Fingerprint};
@@ -198,43 +197,27 @@ impl WithModel for ReplayJob<'_> {
         if let Some(acmi) = acmi {
             flight.attach(AcmiOutput::<M>::new(acmi))?;
         }
+        // With --plot the flight is sampled as a run's --plot samples it (the
+        // same output, fdm_plot::PlotOutput), so the two SVGs are the same
+        // bytes.
+        if let Some(plot) = plot {
+            flight.attach(plot.into_output(M::TITLE))?;
+        }
         let mut progress = StderrProgress::new(recording.frames);
-        // With --plot the flight is sampled as a run's --plot samples it
-        // (crate::run::plotted::fly_plotted), so the two SVGs are the same bytes; the
-        // plot is written also when the replay stopped early.
-        let (report, plotted) = match plot {
-            Some(plot) => {
-                let mut plotted = Plotted::new(&mut flight);
-                let report = replay_flight(
-                    &mut plotted,
-                    recording.events(),
-                    recording.fps,
-                    recording.frames,
-                    self.args.realtime,
-                    csv.as_mut(),
-                    &mut progress,
-                );
-                let written = plot.write(plotted.trace());
-                (report, written)
-            }
-            None => (
-                replay_flight(
-                    &mut flight,
-                    recording.events(),
-                    recording.fps,
-                    recording.frames,
-                    self.args.realtime,
-                    csv.as_mut(),
-                    &mut progress,
-                ),
-                Ok(()),
-            ),
-        };
-        // The outputs (--acmi) are completed even when the replay stopped early.
+        let report = replay_flight(
+            &mut flight,
+            recording.events(),
+            recording.fps,
+            recording.frames,
+            self.args.realtime,
+            csv.as_mut(),
+            &mut progress,
+        );
+        // The outputs (--acmi, --plot) are completed even when the replay
+        // stopped early.
         let finished = flight.finish();
         let mut report = report?;
         finished?;
-        plotted?;
         let links = flight.links();
         if run.fg.is_some() {
             report.fg = links.fg_stats().map(|l| LinkReport {

@@ -3,7 +3,7 @@
 //! from. The common part ([`CommonState`]) is the same for every model; the
 //! model's own fields are its [`Details`].
 
-use fdm_core::model::FlightStatus;
+use fdm_core::model::{DisplayStatus, FlightStatus};
 use fdm_core::units::METRES_PER_FOOT;
 use serde::{Deserialize, Serialize};
 
@@ -67,51 +67,34 @@ pub struct Snapshot<D> {
 }
 
 impl<D> Snapshot<D> {
-    /// The status as one word, for the JSON report's `status`: the flight
-    /// status's [`FlightStatus::code`] (`on_ground`, `airborne`,
-    /// `landed_safe`, `landed_rough`, `crashed`, `diverged`), or `stalling`
-    /// while the model reports a stall in the air.
+    /// The status and stall as displayed: the one vocabulary of labels
+    /// (HUD, plot), codes (JSON report) and numbers (CSV `status` column),
+    /// [`DisplayStatus`].
     #[must_use]
-    pub fn status_code(&self) -> &'static str {
-        if self.stalling && self.status == FlightStatus::Airborne {
-            "stalling"
-        } else {
-            self.status.code()
-        }
+    pub fn display_status(&self) -> DisplayStatus {
+        DisplayStatus::new(self.status, self.stalling)
     }
 
-    /// The status as a number, for the CSV's `status` column (CSV rows hold
-    /// numbers only): 0 on ground, 1 airborne, 2 landed safe, 3 landed rough,
-    /// 4 crashed, 5 diverged, 6 stalling (in the air).
+    /// The status as one word, for the JSON report's `status`
+    /// ([`DisplayStatus::code`]).
+    #[must_use]
+    pub fn status_code(&self) -> &'static str {
+        self.display_status().code()
+    }
+
+    /// The status as a number, for the CSV's `status` column
+    /// ([`DisplayStatus::number`]).
     #[must_use]
     pub fn status_number(&self) -> f64 {
-        match self.status_code() {
-            "on_ground" => 0.0,
-            "airborne" => 1.0,
-            "landed_safe" => 2.0,
-            "landed_rough" => 3.0,
-            "crashed" => 4.0,
-            "diverged" => 5.0,
-            _ => 6.0,
-        }
+        f64::from(self.display_status().number())
     }
 }
 
 /// The flight status and stall flag of a CSV `status` number
-/// ([`Snapshot::status_number`]); `None` for any other number.
+/// ([`DisplayStatus::from_number`]); `None` for any other number.
 #[must_use]
 pub fn status_from_number(x: f64) -> Option<(FlightStatus, bool)> {
-    use fdm_core::model::LandingState;
-    Some(match x {
-        0.0 => (FlightStatus::OnGround, false),
-        1.0 => (FlightStatus::Airborne, false),
-        2.0 => (FlightStatus::Landed(LandingState::Safe), false),
-        3.0 => (FlightStatus::Landed(LandingState::Rough), false),
-        4.0 => (FlightStatus::Landed(LandingState::Crash), false),
-        5.0 => (FlightStatus::Diverged, false),
-        6.0 => (FlightStatus::Airborne, true),
-        _ => return None,
-    })
+    DisplayStatus::from_number(x).map(|d| (d.status, d.stalling))
 }
 
 impl<D: Details> Snapshot<D> {

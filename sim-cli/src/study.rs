@@ -186,7 +186,7 @@ fn batch(
             .with_context(|| format!("writing {}", arrow_path.display()))?;
         summary.add(&table);
         if let Some((x, y)) = touchdown_columns {
-            let room = crate::study_plot::MAX_SCATTER_POINTS.saturating_sub(touchdowns.len());
+            let room = fdm_plot::study::MAX_SCATTER_POINTS.saturating_sub(touchdowns.len());
             touchdowns.extend(
                 table.measures[x]
                     .1
@@ -205,7 +205,7 @@ fn batch(
     arrow
         .finish()
         .with_context(|| format!("writing {}", arrow_path.display()))?;
-    let svg = crate::study_plot::render(
+    let svg = fdm_plot::study::render(
         summary.measure_values(),
         &touchdowns,
         &tracks,

@@ -1,4 +1,13 @@
 //! Touchdown detection and landing classification (from the book's GUI versions).
+//!
+//! Superseded: every layer above the model (the ECS, the fleets, the run
+//! library, the CLI, the Python package) tracks a flight with the model-
+//! independent [`crate::model::FlightStatus`] (its `update` from the height
+//! and climb rate, the ground contact applied by [`crate::model::settle`]).
+//! [`FlightPhase`] is Palmer's original two-phase tracker, kept as the
+//! book's GUI versions had it and for callers of the public API; nothing in
+//! the workspace uses it. [`LandingState`] and the landing thresholds are
+//! the model-wide ones, re-exported.
 
 use serde::{Deserialize, Serialize};
 
@@ -7,13 +16,18 @@ use super::PalmerState;
 pub use crate::model::{landing_state, LandingState, ROUGH_LANDING_VZ_MPS, SAFE_LANDING_VZ_MPS};
 
 /// Whether the aircraft is flying, as a small value the caller stores between
-/// frames (e.g. an ECS component); it has no hidden state.
+/// frames; it has no hidden state. Superseded by
+/// [`crate::model::FlightStatus`] (which also knows a crash is final and a
+/// diverged step), what the ECS, the fleets and the run library keep per
+/// aircraft; see the module docs.
 ///
 /// It starts [`FlightPhase::OnGround`], becomes [`FlightPhase::Airborne`] once
 /// the altitude is above 0, and reports a touchdown, once, on the first state
-/// with `z < 0` after that (the model does not stop the aircraft at the ground
-/// plane when it comes down, so `z` dips below 0 on landing). After a
-/// touchdown it is on the ground again and can take off and land again.
+/// with `z < 0` after that (the step alone does not stop the aircraft at the
+/// ground plane when it comes down, so `z` dips below 0 on landing; the ground
+/// contact, [`crate::model::Model::ground_contact`], is applied after the step
+/// by the layers above). After a touchdown it is on the ground again and can
+/// take off and land again.
 ///
 /// ```
 /// use fdm_core::palmer::{FlightPhase, LandingState, PalmerState};

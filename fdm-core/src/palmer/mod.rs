@@ -14,7 +14,8 @@
 //! * [`PalmerState`]: time, position, velocity; derived [`FlightData`].
 //! * [`step`] (RK4, unchecked, NaN propagates), [`try_step`] (checked),
 //!   [`derivatives`] (the right-hand side).
-//! * [`FlightPhase`], [`LandingState`]: touchdown detection and classification.
+//! * [`FlightPhase`] (the original touchdown tracker, superseded by
+//!   [`crate::model::FlightStatus`]), [`LandingState`]: touchdown classification.
 //! * [`Palmer`]: the model behind the common [`Model`](crate::model::Model) interface.
 //!
 //! ```

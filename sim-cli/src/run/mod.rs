@@ -26,7 +26,6 @@ use crate::snapshot::Snapshot;
 
 pub mod headless;
 pub mod interactive;
-pub mod plotted;
 
 pub use headless::run_headless;
 pub use interactive::{run_interactive, Flow, InteractiveSummary, Session};
@@ -156,7 +155,7 @@ pub fn fly<F: Flight>(
         fg,
         origin: _,
         dis: _,
-        // Taken by `run_model`, which wraps the flight (crate::run::plotted::fly_plotted).
+        // Taken by `run_model`, which attaches it to the run (fdm_plot::PlotOutput).
         plot: _,
     } = run;
     match mode {

@@ -1,10 +1,10 @@
-//! `sim-cli study`'s plots: one SVG (`study.svg`) with a histogram per
+//! A study's plots (`sim-cli study`'s `study.svg`): one SVG with a histogram per
 //! measure, when the study measures `touchdown_x_m` and `touchdown_y_m` the
 //! touchdown points as a scatter (east/north, as the flight plots' ground
 //! track), and a thinned sample of ground tracks ([`fdm_study::TrackPlan`]:
 //! at most 50 runs spread evenly over the run indices, each at most about
-//! 300 points). Drawn with `plotters`' SVG backend, in the style of
-//! [`crate::plot`]; each track is one `<polyline class="ground-track"
+//! 300 points). Drawn with `plotters`' SVG backend, in the style of the
+//! flight plot ([`crate::flight`], whose ground chart it shares); each track is one `<polyline class="ground-track"
 //! data-run="I" data-frame-step="S">` whose points are the track's
 //! positions (east = −y, north = x) in the panel's axes, in pixels to
 //! 0.01 px.
@@ -15,7 +15,7 @@ use fdm_study::GroundTrack;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::error::CliError;
+use crate::PlotError;
 
 /// Bins of each histogram.
 pub const HISTOGRAM_BINS: usize = 30;
@@ -27,8 +27,8 @@ pub const MAX_SCATTER_POINTS: usize = 20_000;
 const WIDTH: u32 = 1200;
 const ROW_HEIGHT: u32 = 360;
 
-fn draw_error(e: impl std::fmt::Display) -> CliError {
-    CliError::runtime(format!("drawing the study plot: {e}"))
+fn draw_error(e: impl std::fmt::Display) -> PlotError {
+    PlotError::DrawStudy(e.to_string())
 }
 
 /// A range around `values` (with a margin; a span of at least `1e-9` so a
@@ -50,7 +50,7 @@ fn histogram(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     name: &str,
     values: &[f64],
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     let Some(x) = range_of(values.iter().copied()) else {
         area.titled(&format!("{name}: no values"), ("sans-serif", 16))
             .map_err(draw_error)?;
@@ -97,7 +97,7 @@ fn histogram(
 fn scatter(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     points_east_north_m: &[(f64, f64)],
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     let (Some(mut east), Some(mut north)) = (
         range_of(points_east_north_m.iter().map(|p| p.0)),
         range_of(points_east_north_m.iter().map(|p| p.1)),
@@ -119,7 +119,7 @@ fn scatter(
         points_east_north_m.len()
     );
     let mut chart =
-        crate::plot::east_north_chart(area, (&caption, 16), east, north).map_err(draw_error)?;
+        crate::flight::east_north_chart(area, (&caption, 16), east, north).map_err(draw_error)?;
     chart
         .draw_series(
             points_east_north_m
@@ -137,7 +137,7 @@ fn ground_tracks(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     tracks: &[GroundTrack],
     frame_step: u64,
-) -> Result<String, CliError> {
+) -> Result<String, PlotError> {
     // East = −y, north = x, as the scatter and the flight plots.
     let points = || {
         tracks
@@ -162,7 +162,7 @@ fn ground_tracks(
         "Ground tracks ({} runs spread over the study, every {frame_step} frames; axes not to the same scale)",
         tracks.len()
     );
-    let chart = crate::plot::east_north_chart(area, (&caption, 16), east.clone(), north.clone())
+    let chart = crate::flight::east_north_chart(area, (&caption, 16), east.clone(), north.clone())
         .map_err(draw_error)?;
     // The plotting area's pixels: east grows rightwards, north upwards.
     let (x_px, y_px) = chart.plotting_area().get_pixel_range();
@@ -200,13 +200,13 @@ fn ground_tracks(
 /// ground tracks if `tracks` has any (kept every `frame_step` frames).
 ///
 /// # Errors
-/// [`CliError::Runtime`] if drawing fails.
+/// [`PlotError::DrawStudy`] if drawing fails.
 pub fn render(
     measures: &[(String, Vec<f64>)],
     touchdown_points_east_north_m: &[(f64, f64)],
     tracks: &[GroundTrack],
     frame_step: u64,
-) -> Result<String, CliError> {
+) -> Result<String, PlotError> {
     let histogram_rows = measures.len().div_ceil(2);
     let scatter_rows = if touchdown_points_east_north_m.is_empty() {
         0
