@@ -1,13 +1,17 @@
 //! One aircraft: `afit_fdm.Flight`.
 //!
-//! [`Single`] is the engine: the one place that runs a frame (the adapter to
-//! switch to the run library when it exists). A frame is the ECS's, as
+//! [`Single`] is the engine: the one place that runs a frame. A frame is the ECS's, as
 //! `sim-cli` flies it (docs/cli.md): [`Model::begin_frame`](fdm_core::model::Model::begin_frame), the script's
 //! actions for the frame (frames counted from 1, file order), the actions
 //! given to `step`, then [`fdm_core::model::fly`] (the model's step, the
 //! ground contact and the flight status). `fdm-ecs/tests/ecs_parity.rs` and
 //! `fdm-core/tests/ground_contact.rs` prove that the ECS frame is exactly this;
 //! the Python suite compares every frame with `sim-cli --csv`.
+//!
+//! Recording and outputs are the run library's: its recording writer
+//! ([`fdm_run::recording`]) and its [`fdm_run::Output`]s ([`crate::outputs`]),
+//! handed every frame as `fdm_run::Run` hands them (frame 0 when attached,
+//! each flown frame, each reset).
 
 use std::fs::File;
 
@@ -15,12 +19,13 @@ use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{fly, FlightStatus, FlightView, ScriptAction};
 use fdm_core::script::{Script, ScriptCursor};
 use fdm_run::recording::{RecordWriteError, RecordWriter, SyncedFile};
-use fdm_run::{RunModel, Start};
+use fdm_run::{Event, RunModel, Start};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::models::BindModel;
+use crate::outputs::{AttachError, FrameData, Outputs};
 use crate::start::StartSpec;
 
 /// A recording in progress: the run library's writer (`fdm_run::recording`,
@@ -28,9 +33,6 @@ use crate::start::StartSpec;
 struct Recorder<M: RunModel> {
     writer: RecordWriter<M::Action, SyncedFile>,
     path: String,
-    /// The frame's actions in order (script's, then the caller's): the
-    /// writer's input, reused.
-    frame_actions: Vec<M::Action>,
     /// Frames recorded, across resets.
     frames: u64,
 }
@@ -62,12 +64,19 @@ pub struct Single<M: BindModel> {
     script: Script<M::Action>,
     cursor: ScriptCursor,
     frame: u64,
+    /// Frames flown since the flight began, across resets (the outputs'
+    /// clock).
+    flown: u64,
     fps: u32,
     dt: M::TimeStep,
     /// Controls were set by name since the start or the last reset: the
     /// flight is no longer where a recording's header would say it starts.
     controls_set: bool,
     recorder: Option<Recorder<M>>,
+    outputs: Outputs<M>,
+    /// The frame's actions in order (script's, then the caller's) while a
+    /// recording or an output is on, reused.
+    frame_actions: Vec<M::Action>,
 }
 
 impl<M: BindModel> Single<M> {
@@ -88,28 +97,32 @@ impl<M: BindModel> Single<M> {
             script,
             cursor: ScriptCursor::new(),
             frame: 0,
+            flown: 0,
             fps,
             dt: M::time_step(f64::from(fps)),
             controls_set: false,
             recorder: None,
+            outputs: Outputs::default(),
+            frame_actions: Vec::new(),
         }
     }
 
     /// `n` frames, each with `actions` after the script's; each frame is
-    /// recorded when a recording is on.
+    /// recorded when a recording is on, and handed to the outputs.
     ///
     /// # Errors
-    /// Writing the recording failed (the frame was flown; the recording is
-    /// closed, with what it had, and off).
+    /// Writing the recording or an output failed (the frame was flown; the
+    /// recording or that output is closed, with what it had, and off).
     pub fn step(&mut self, n: u64, actions: &[M::Action]) -> Result<(), String> {
-        if self.recorder.is_some() {
+        if self.recorder.is_some() || !self.outputs.is_empty() {
             for _ in 0..n {
-                self.step_recorded(actions)?;
+                self.step_observed(actions)?;
             }
             return Ok(());
         }
         for _ in 0..n {
             self.frame += 1;
+            self.flown += 1;
             let mut controls = M::begin_frame(self.controls);
             for action in self.cursor.actions(&self.script, self.frame) {
                 controls = M::apply(&self.aircraft, controls, action);
@@ -130,19 +143,17 @@ impl<M: BindModel> Single<M> {
     }
 
     /// One frame as [`Self::step`] flies it, its actions (the script's, then
-    /// `actions`: what the model applied, in order) handed to the recording.
-    fn step_recorded(&mut self, actions: &[M::Action]) -> Result<(), String> {
-        let Some(recorder) = self.recorder.as_mut() else {
-            return Ok(());
-        };
+    /// `actions`: what the model applied, in order) handed to the recording,
+    /// then the frame to the outputs.
+    fn step_observed(&mut self, actions: &[M::Action]) -> Result<(), String> {
         self.frame += 1;
-        recorder.frame_actions.clear();
-        recorder
-            .frame_actions
-            .extend(self.cursor.actions(&self.script, self.frame));
-        recorder.frame_actions.extend_from_slice(actions);
+        self.flown += 1;
+        let mut frame_actions = std::mem::take(&mut self.frame_actions);
+        frame_actions.clear();
+        frame_actions.extend(self.cursor.actions(&self.script, self.frame));
+        frame_actions.extend_from_slice(actions);
         let mut controls = M::begin_frame(self.controls);
-        for &action in &recorder.frame_actions {
+        for &action in &frame_actions {
             controls = M::apply(&self.aircraft, controls, action);
         }
         self.controls = controls;
@@ -153,12 +164,63 @@ impl<M: BindModel> Single<M> {
             &self.state,
             self.dt,
         );
-        let written = recorder.writer.frame(&recorder.frame_actions);
-        recorder.frames += 1;
-        recorder
-            .writer
-            .set_final_state(M::state_fingerprint(&self.state));
-        self.check_written(written)
+        let mut recorded = Ok(());
+        if let Some(recorder) = self.recorder.as_mut() {
+            let written = recorder.writer.frame(&frame_actions);
+            recorder.frames += 1;
+            recorder
+                .writer
+                .set_final_state(M::state_fingerprint(&self.state));
+            recorded = self.check_written(written);
+        }
+        let emitted = self.emit(Event::Step, &frame_actions);
+        self.frame_actions = frame_actions;
+        recorded.and(emitted)
+    }
+
+    /// The flight now as its outputs see it.
+    fn frame_data<'a>(
+        &'a self,
+        event: Event,
+        actions: &'a [M::Action],
+        view: &'a FlightView,
+    ) -> FrameData<'a, M> {
+        FrameData {
+            event,
+            number: self.frame,
+            flown: self.flown,
+            fps: self.fps,
+            actions,
+            controls: &self.controls,
+            state: &self.state,
+            view,
+            status: self.status,
+        }
+    }
+
+    /// Hands the outputs the flight as it is now.
+    fn emit(&mut self, event: Event, actions: &[M::Action]) -> Result<(), String> {
+        if self.outputs.is_empty() {
+            return Ok(());
+        }
+        let view = self.view();
+        let mut outputs = std::mem::take(&mut self.outputs);
+        let emitted = outputs.emit(&self.frame_data(event, actions, &view));
+        self.outputs = outputs;
+        emitted
+    }
+
+    /// Attaches an output made by `attach` (with the flight as it is now,
+    /// its frame 0 for the output).
+    fn attach_with(
+        &mut self,
+        attach: impl FnOnce(&mut Outputs<M>, &FrameData<'_, M>) -> Result<(), AttachError>,
+    ) -> Result<(), AttachError> {
+        let view = self.view();
+        let mut outputs = std::mem::take(&mut self.outputs);
+        let attached = attach(&mut outputs, &self.frame_data(Event::Start, &[], &view));
+        self.outputs = outputs;
+        attached
     }
 
     /// A writer's error closes the recording and becomes the caller's.
@@ -218,8 +280,13 @@ pub trait AnyFlight: Send + Sync {
     /// # Errors
     /// An unknown action name (nothing stepped).
     fn step(&mut self, n: u64, actions: &[String]) -> Result<(), String>;
-    /// Back to the start, frame 0, the script from its first frame.
-    fn reset(&mut self);
+    /// Back to the start, frame 0, the script from its first frame; the
+    /// recording and the outputs take the reset.
+    ///
+    /// # Errors
+    /// Writing the recording or an output failed (the reset happened; that
+    /// recording or output is closed).
+    fn reset(&mut self) -> Result<(), String>;
     /// The state by name.
     fn state(&self) -> Vec<(&'static str, f64)>;
     /// The controls by name.
@@ -249,6 +316,42 @@ pub trait AnyFlight: Send + Sync {
     fn stop_recording(&mut self) -> Result<(String, u64), String>;
     /// Where the recording in progress goes.
     fn recording_path(&self) -> Option<&str>;
+    /// Attaches a Tacview ACMI file (`Flight.acmi_to`).
+    ///
+    /// # Errors
+    /// `(is_os_error, message)`.
+    fn acmi_to(
+        &mut self,
+        path: &str,
+        origin: &GeodeticOrigin,
+        reference_time: Option<&str>,
+        title: Option<&str>,
+    ) -> Result<(), AttachError>;
+    /// Attaches a CSV file (`Flight.csv_to`).
+    ///
+    /// # Errors
+    /// `(is_os_error, message)`.
+    fn csv_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), AttachError>;
+    /// Attaches a DIS output (`Flight.dis_to`).
+    ///
+    /// # Errors
+    /// `(is_os_error, message)`.
+    #[cfg(feature = "dis")]
+    fn dis_to(
+        &mut self,
+        config: &fdm_run::dis::FlightDis,
+        origin: &GeodeticOrigin,
+    ) -> Result<(), AttachError>;
+    /// The DIS output's report so far.
+    #[cfg(feature = "dis")]
+    fn dis_report(&self) -> Option<fdm_run::dis::DisReport>;
+    /// The attached outputs' labels.
+    fn outputs(&self) -> Vec<String>;
+    /// Finishes and removes every output.
+    ///
+    /// # Errors
+    /// The first output that failed to finish.
+    fn close_outputs(&mut self) -> Result<(), String>;
 }
 
 /// `controls` with the named values set, each checked against the model's
@@ -307,20 +410,23 @@ impl<M: BindModel> AnyFlight for Single<M> {
             .collect::<Result<Vec<_>, _>>()?;
         Single::step(self, n, &parsed)
     }
-    fn reset(&mut self) {
+    fn reset(&mut self) -> Result<(), String> {
         (self.controls, self.state) = self.start;
         self.status = FlightStatus::initial(M::height_m(&self.state));
         self.cursor.reset();
         self.frame = 0;
         self.controls_set = false;
+        let mut recorded = Ok(());
         if let Some(recorder) = self.recorder.as_mut() {
             let written = recorder.writer.reset();
             recorder
                 .writer
                 .set_final_state(M::state_fingerprint(&self.state));
             // A failed write stops the recording; the reset itself happened.
-            let _ = self.check_written(written);
+            recorded = self.check_written(written);
         }
+        let emitted = self.emit(Event::Reset, &[]);
+        recorded.and(emitted)
     }
     fn state(&self) -> Vec<(&'static str, f64)> {
         let mut values = vec![0.0; M::STATE_FIELDS.len()];
@@ -393,7 +499,6 @@ impl<M: BindModel> AnyFlight for Single<M> {
         self.recorder = Some(Recorder {
             writer,
             path: path.to_owned(),
-            frame_actions: Vec::new(),
             frames: 0,
         });
         Ok(())
@@ -411,6 +516,36 @@ impl<M: BindModel> AnyFlight for Single<M> {
     }
     fn recording_path(&self) -> Option<&str> {
         self.recorder.as_ref().map(|r| r.path.as_str())
+    }
+    fn acmi_to(
+        &mut self,
+        path: &str,
+        origin: &GeodeticOrigin,
+        reference_time: Option<&str>,
+        title: Option<&str>,
+    ) -> Result<(), AttachError> {
+        self.attach_with(|o, start| o.attach_acmi(path, *origin, reference_time, title, start))
+    }
+    fn csv_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {
+        self.attach_with(|o, start| o.attach_csv(path, *origin, start))
+    }
+    #[cfg(feature = "dis")]
+    fn dis_to(
+        &mut self,
+        config: &fdm_run::dis::FlightDis,
+        origin: &GeodeticOrigin,
+    ) -> Result<(), AttachError> {
+        self.attach_with(|o, start| o.attach_dis(config, *origin, start))
+    }
+    #[cfg(feature = "dis")]
+    fn dis_report(&self) -> Option<fdm_run::dis::DisReport> {
+        self.outputs.dis_report()
+    }
+    fn outputs(&self) -> Vec<String> {
+        self.outputs.labels()
+    }
+    fn close_outputs(&mut self) -> Result<(), String> {
+        self.outputs.close()
     }
 }
 

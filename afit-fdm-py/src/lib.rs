@@ -5,9 +5,12 @@
 //! environments; its documentation is `python/afit_fdm/_afit_fdm.pyi` and
 //! the README's Python section.
 
+#[cfg(feature = "dis")]
+pub mod dis;
 pub mod fleet;
 pub mod flight;
 pub mod models;
+pub mod outputs;
 pub mod replay;
 pub mod start;
 pub mod study;
@@ -66,6 +69,32 @@ fn named_controls(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f
         }
     }
     Ok(out)
+}
+
+/// `os.fspath(path)` as a `str`.
+fn fspath(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<String> {
+    py.import("os")?
+        .call_method1("fspath", (path,))
+        .and_then(|p| p.extract())
+        .map_err(|_| pyo3::exceptions::PyTypeError::new_err("path: expected a str path"))
+}
+
+/// An earth-frame origin `(lat_deg, lon_deg, alt_m)`, the default without one.
+fn read_origin(origin: Option<(f64, f64, f64)>) -> PyResult<fdm_core::geodesy::GeodeticOrigin> {
+    match origin {
+        Some((lat, lon, alt)) => fdm_core::geodesy::GeodeticOrigin::new(lat, lon, alt)
+            .map_err(|e| PyValueError::new_err(format!("origin: {e}"))),
+        None => Ok(fdm_core::geodesy::GeodeticOrigin::default()),
+    }
+}
+
+/// An output that could not be attached: `OSError` or `ValueError`.
+fn attach_error((os, message): outputs::AttachError) -> PyErr {
+    if os {
+        pyo3::exceptions::PyOSError::new_err(message)
+    } else {
+        PyValueError::new_err(message)
+    }
 }
 
 /// One aircraft of a model, flown frame by frame as `sim-cli` flies it.
@@ -133,16 +162,8 @@ impl PyFlight {
         path: &Bound<'_, PyAny>,
         origin: Option<(f64, f64, f64)>,
     ) -> PyResult<()> {
-        let path: String = py
-            .import("os")?
-            .call_method1("fspath", (path,))?
-            .extract()
-            .map_err(|_| pyo3::exceptions::PyTypeError::new_err("path: expected a str path"))?;
-        let origin = match origin {
-            Some((lat, lon, alt)) => fdm_core::geodesy::GeodeticOrigin::new(lat, lon, alt)
-                .map_err(|e| PyValueError::new_err(format!("origin: {e}")))?,
-            None => fdm_core::geodesy::GeodeticOrigin::default(),
-        };
+        let path = fspath(py, path)?;
+        let origin = read_origin(origin)?;
         self.inner
             .record_to(&path, &origin)
             .map_err(|(os, message)| {
@@ -169,8 +190,102 @@ impl PyFlight {
     }
 
     /// Back to the start: state, controls, status, frame 0, script from frame 1.
-    fn reset(&mut self) {
-        self.inner.reset();
+    fn reset(&mut self) -> PyResult<()> {
+        self.inner.reset().map_err(PyValueError::new_err)
+    }
+
+    /// Writes the flight as Tacview ACMI to `path` (see `_afit_fdm.pyi`).
+    #[pyo3(signature = (path, *, origin=None, reference_time=None, title=None))]
+    fn acmi_to(
+        &mut self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        origin: Option<(f64, f64, f64)>,
+        reference_time: Option<&str>,
+        title: Option<&str>,
+    ) -> PyResult<()> {
+        let path = fspath(py, path)?;
+        let origin = read_origin(origin)?;
+        self.inner
+            .acmi_to(&path, &origin, reference_time, title)
+            .map_err(attach_error)
+    }
+
+    /// Writes the flight's CSV to `path` (see `_afit_fdm.pyi`).
+    #[pyo3(signature = (path, *, origin=None))]
+    fn csv_to(
+        &mut self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        origin: Option<(f64, f64, f64)>,
+    ) -> PyResult<()> {
+        let path = fspath(py, path)?;
+        let origin = read_origin(origin)?;
+        self.inner.csv_to(&path, &origin).map_err(attach_error)
+    }
+
+    /// Publishes the flight as a DIS entity to `target` (see `_afit_fdm.pyi`).
+    #[cfg(feature = "dis")]
+    #[pyo3(signature = (target, *, origin=None, entity=1, callsign=None, site=1, application=1, exercise=1, version=7, dr="rvw", position_threshold_m=1.0, orientation_threshold_deg=3.0, heartbeat_s=5.0, every_frame=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn dis_to(
+        &mut self,
+        target: &str,
+        origin: Option<(f64, f64, f64)>,
+        entity: u16,
+        callsign: Option<String>,
+        site: u16,
+        application: u16,
+        exercise: u8,
+        version: u8,
+        dr: &str,
+        position_threshold_m: f64,
+        orientation_threshold_deg: f64,
+        heartbeat_s: f64,
+        every_frame: bool,
+    ) -> PyResult<()> {
+        let origin = read_origin(origin)?;
+        let config = dis::flight_dis(&dis::DisArgs {
+            target,
+            entity,
+            callsign,
+            site,
+            application,
+            exercise,
+            version,
+            dr,
+            position_threshold_m,
+            orientation_threshold_deg,
+            heartbeat_s,
+            every_frame,
+        })?;
+        self.inner.dis_to(&config, &origin).map_err(attach_error)
+    }
+
+    /// The DIS output's counts so far (the `dis` object of `sim-cli --json`),
+    /// or `None` without a DIS output.
+    #[cfg(feature = "dis")]
+    #[getter]
+    fn dis_report<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(report) = self.inner.dis_report() else {
+            return Ok(None);
+        };
+        let text = serde_json::to_string(&report)
+            .map_err(|e| PyValueError::new_err(format!("dis_report: {e}")))?;
+        Ok(Some(py.import("json")?.call_method1("loads", (text,))?))
+    }
+
+    /// The attached outputs, e.g. `["acmi /tmp/f.acmi", "csv /tmp/f.csv"]`.
+    #[getter]
+    fn outputs(&self) -> Vec<String> {
+        self.inner.outputs()
+    }
+
+    /// Finishes and detaches every output (see `_afit_fdm.pyi`).
+    fn close_outputs(&mut self) -> PyResult<()> {
+        self.inner
+            .close_outputs()
+            .map_err(pyo3::exceptions::PyOSError::new_err)
     }
 
     /// Sets controls by name (validated; e.g. `throttle=0.5`).
@@ -264,6 +379,27 @@ impl PyFlight {
             self.inner.status().code()
         )
     }
+}
+
+/// Fills a task's outputs for the fleet as it is: the one place that makes
+/// the task's arguments ([`fleet::TaskArgs`]), for `Fleet.task_step`
+/// (after its frames) and `Fleet.task_observe` (after resets).
+fn observe_task(
+    inner: &dyn AnyFleet,
+    task: task::Task,
+    (target_alt_ft, target_heading_deg): (&[f64], &[f64]),
+    steps: &[i64],
+    max_steps: i64,
+    out: fleet::TaskOut<'_>,
+) {
+    let args = fleet::TaskArgs {
+        task,
+        target_alt_ft,
+        target_heading_deg,
+        steps,
+        max_steps,
+    };
+    inner.task_observe(&args, out);
 }
 
 /// Many aircraft of one model, stepped by the SIMD fleet kernels.
@@ -486,14 +622,14 @@ impl PyFleet {
                 *s = s.saturating_add(1);
             }
             if observe {
-                let args = fleet::TaskArgs {
+                observe_task(
+                    &**inner,
                     task,
-                    target_alt_ft: targets.0,
-                    target_heading_deg: targets.1,
+                    targets,
                     steps,
                     max_steps,
-                };
-                inner.task_observe(&args, outs.into_task_out(columns, status));
+                    outs.into_task_out(columns, status),
+                );
             }
             Ok(())
         })
@@ -539,14 +675,14 @@ impl PyFleet {
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let outs = outs.slices()?;
         py.detach(|| {
-            let args = fleet::TaskArgs {
+            observe_task(
+                &**inner,
                 task,
-                target_alt_ft: targets.0,
-                target_heading_deg: targets.1,
+                targets,
                 steps,
                 max_steps,
-            };
-            inner.task_observe(&args, outs.into_task_out(columns, status));
+                outs.into_task_out(columns, status),
+            );
         });
         Ok(())
     }
@@ -666,6 +802,14 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<replay::PyReplay>()?;
     m.add_function(wrap_pyfunction!(replay::replay, m)?)?;
     m.add("RecordingError", py.get_type::<replay::RecordingError>())?;
+    m.add(
+        "RecordingCutError",
+        py.get_type::<replay::RecordingCutError>(),
+    )?;
+    m.add(
+        "ReplayDivergedError",
+        py.get_type::<replay::ReplayDivergedError>(),
+    )?;
     m.add_function(wrap_pyfunction!(study::summarize_columns, m)?)?;
     m.add("STATUS_CODES", study::status_codes().to_vec())?;
     let models = PyDict::new(py);

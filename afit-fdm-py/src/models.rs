@@ -6,7 +6,7 @@
 use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap};
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
-use fdm_fleet::{BourgFleet, FleetError, PalmerFleet, Precision};
+use fdm_fleet::{BourgFleet, Fleet, FleetError, PalmerFleet, Precision};
 
 use crate::task::{self, Kinematics, FT_PER_M};
 
@@ -15,7 +15,7 @@ use crate::task::{self, Kinematics, FT_PER_M};
 pub type ControlRange = (&'static str, f64, f64);
 
 /// A model as the Python binding exposes it.
-pub trait BindModel: fdm_run::RunModel {
+pub trait BindModel: fdm_run::csv::CsvModel {
     /// The model's fleet kernel behind the one adapter the binding uses.
     type Fleet: FleetOps<Self>;
 
@@ -376,6 +376,23 @@ impl BindModel for Bourg {
     }
 }
 
+/// Every aircraft's controls become `f(index, controls)`: the fleet's own
+/// [`Fleet::par_update_controls`] on rayon's pool when `parallel`, else
+/// [`Fleet::update_controls`] on this thread (the same fleet either way).
+fn update_controls<M: fdm_fleet::LaneModel>(
+    fleet: &mut Fleet<M>,
+    parallel: bool,
+    f: impl Fn(usize, M::Controls) -> M::Controls + Sync,
+) where
+    M::Controls: Send + Sync,
+{
+    if parallel {
+        fleet.par_update_controls(f);
+    } else {
+        fleet.update_controls(f);
+    }
+}
+
 impl FleetOps<Palmer> for PalmerFleet {
     fn empty() -> Result<Self, FleetError> {
         Self::new(Palmer::default_aircraft())
@@ -411,15 +428,7 @@ impl FleetOps<Palmer> for PalmerFleet {
         parallel: bool,
         f: impl Fn(usize, PalmerControls) -> PalmerControls + Sync,
     ) {
-        if parallel {
-            self.par_update_controls(f);
-        } else {
-            for i in 0..self.len() {
-                if let Some(c) = Self::controls(self, i) {
-                    let _ = Self::set_controls(self, i, f(i, c));
-                }
-            }
-        }
+        update_controls(self, parallel, f);
     }
     fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) {
         let dt = Palmer::time_step(fps);
@@ -482,15 +491,7 @@ impl FleetOps<Bourg> for BourgFleet {
         parallel: bool,
         f: impl Fn(usize, BourgControls) -> BourgControls + Sync,
     ) {
-        if parallel {
-            self.par_update_controls(f);
-        } else {
-            for i in 0..self.len() {
-                if let Some(c) = Self::controls(self, i) {
-                    let _ = Self::set_controls(self, i, f(i, c));
-                }
-            }
-        }
+        update_controls(self, parallel, f);
     }
     fn fly(&mut self, fps: f64, _precision: Precision, parallel: bool) {
         let dt = Bourg::time_step(fps);

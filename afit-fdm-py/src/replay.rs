@@ -10,16 +10,25 @@
 //! (the Python suite compares both with the CLI's CSV and JSON report).
 //! Anything that is not a complete, intact recording of a model this build
 //! has raises [`RecordingError`] (a `ValueError`) naming the problem.
+//!
+//! As `sim-cli replay` (docs/recording.md):
+//! * a recording cut before its end marker (its recording run killed, the
+//!   machine stopped) raises [`RecordingCutError`] with the CLI's words
+//!   (where it was cut, how many frames are intact); `salvage=True` flies
+//!   those frames instead ([`Recording::parse_salvaging`]) and the replay
+//!   says where the cut was;
+//! * a frame that diverges (a non-finite state) stops the replay there:
+//!   [`ReplayDivergedError`], with the replay up to that frame.
 
 use std::io::Read;
 
 use fdm_core::bourg::Bourg;
 use fdm_core::fingerprint;
-use fdm_core::model::Model;
+use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::Palmer;
 use fdm_core::script::Script;
 use fdm_run::recording::{
-    recorded_model, Recording, RecordingError as FormatError, Replayed, MAX_RECORDING_BYTES,
+    recorded_model, Cut, Recording, RecordingError as FormatError, Replayed, MAX_RECORDING_BYTES,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyValueError;
@@ -39,6 +48,27 @@ pyo3::create_exception!(
      message names the problem (the same words as `sim-cli replay`)."
 );
 
+pyo3::create_exception!(
+    _afit_fdm,
+    RecordingCutError,
+    RecordingError,
+    "A recording cut before its end marker (its recording run was killed, or \
+     the machine stopped), refused as `sim-cli replay` reports it: where it \
+     was cut (`at_byte`) and how many frames before the cut are intact \
+     (`frames`). `replay(..., salvage=True)` flies those frames."
+);
+
+pyo3::create_exception!(
+    _afit_fdm,
+    ReplayDivergedError,
+    PyValueError,
+    "The replay stopped at a frame whose state is not finite, as `sim-cli \
+     replay` stops (exit status 1): `frame` is that frame (since the start or \
+     the last reset), `replay` the replay up to it (its flight at that frame, \
+     status `diverged`; its trajectory without the diverged row, as the \
+     CLI's CSV)."
+);
+
 /// Most rows a replay's trajectory may hold (frame 0, one per frame, one per
 /// reset): 10 million rows of a Bourg flight are about 2.4 GB of columns.
 pub const MAX_TRAJECTORY_ROWS: u64 = 10_000_000;
@@ -56,6 +86,11 @@ struct Outcome {
     flight: Box<dyn AnyFlight>,
     /// Column names and values, row by row (as `sim-cli replay --csv`).
     trajectory: Option<(Vec<&'static str>, Vec<Vec<f64>>)>,
+    /// Where a salvaged recording was cut.
+    cut: Option<Cut>,
+    /// The diverged frame and the library's message, when the replay
+    /// stopped there.
+    diverged: Option<(u64, String)>,
 }
 
 fn format_error(e: &FormatError) -> PyErr {
@@ -77,9 +112,31 @@ fn push_row<M: BindModel>(single: &Single<M>, columns: &mut [Vec<f64>], scratch:
     columns[1 + state_n + control_n].push(f64::from(status_code(single.current_status())));
 }
 
-/// Parses and flies a recording of model `M`.
-fn replay_model<M: BindModel>(bytes: &[u8], trajectory: bool) -> Result<Outcome, PyErr> {
-    let recording = Recording::<M>::parse(bytes).map_err(|e| format_error(&e))?;
+/// The cut recording's exception, `NAME: cut at byte B ...` as `sim-cli
+/// replay` words it.
+fn cut_error(py: Python<'_>, name: &str, cut: Cut) -> PyErr {
+    let err = RecordingCutError::new_err(format!(
+        "{name}: {cut} (the file is truncated); replay(..., salvage=True) flies them (a cut \
+         recording has no fingerprint to check them against)"
+    ));
+    let value = err.value(py);
+    let _ = value.setattr("at_byte", cut.at_byte);
+    let _ = value.setattr("frames", cut.frames);
+    err
+}
+
+/// Parses and flies a recording of model `M` (up to its cut with
+/// `salvage`); `Ok(Err(cut))` for a cut recording without `salvage`
+/// (nothing flown).
+fn replay_model<M: BindModel>(
+    bytes: &[u8],
+    trajectory: bool,
+    salvage: bool,
+) -> Result<Result<Outcome, Cut>, PyErr> {
+    let (recording, cut) = Recording::<M>::parse_salvaging(bytes).map_err(|e| format_error(&e))?;
+    if let (Some(cut), false) = (cut, salvage) {
+        return Ok(Err(cut));
+    }
     let rows = recording
         .frames
         .saturating_add(recording.resets)
@@ -108,35 +165,48 @@ fn replay_model<M: BindModel>(bytes: &[u8], trajectory: bool) -> Result<Outcome,
     if let Some(columns) = columns.as_mut() {
         push_row(&single, columns, &mut scratch);
     }
-    for event in recording.events() {
+    let mut diverged = None;
+    'replay: for event in recording.events() {
         match event.map_err(|e| format_error(&e))? {
-            Replayed::Frames { count, actions } => match columns.as_mut() {
-                Some(columns) => {
-                    for _ in 0..count {
-                        single.step(1, &actions).map_err(PyValueError::new_err)?;
+            Replayed::Frames { count, actions } => {
+                for _ in 0..count {
+                    single.step(1, &actions).map_err(PyValueError::new_err)?;
+                    // As sim-cli's run: a diverged frame ends the replay
+                    // before anything is written from it.
+                    if single.current_status() == FlightStatus::Diverged {
+                        let frame = single.frame_number();
+                        let error = fdm_run::RunError::Diverged {
+                            model: M::NAME,
+                            frame,
+                            dt: format!("{:?}", M::time_step(f64::from(recording.fps))),
+                        };
+                        diverged = Some((frame, format!("frame {frame}: {error}")));
+                        break 'replay;
+                    }
+                    if let Some(columns) = columns.as_mut() {
                         push_row(&single, columns, &mut scratch);
                     }
                 }
-                None => single
-                    .step(count, &actions)
-                    .map_err(PyValueError::new_err)?,
-            },
+            }
             Replayed::Reset => {
-                AnyFlight::reset(&mut single);
+                AnyFlight::reset(&mut single).map_err(PyValueError::new_err)?;
                 if let Some(columns) = columns.as_mut() {
                     push_row(&single, columns, &mut scratch);
                 }
             }
         }
     }
-    let fingerprint = recording.fingerprint.map(|f| {
-        (
-            f.state == M::state_fingerprint(single.current_state()),
-            f.maths == fingerprint::maths(),
-        )
-    });
+    let fingerprint = recording
+        .fingerprint
+        .filter(|_| diverged.is_none())
+        .map(|f| {
+            (
+                f.state == M::state_fingerprint(single.current_state()),
+                f.maths == fingerprint::maths(),
+            )
+        });
     let origin = recording.origin.geodetic();
-    Ok(Outcome {
+    Ok(Ok(Outcome {
         model: M::NAME,
         fps: recording.fps,
         frames: recording.frames,
@@ -146,14 +216,16 @@ fn replay_model<M: BindModel>(bytes: &[u8], trajectory: bool) -> Result<Outcome,
         fingerprint,
         flight: Box::new(single),
         trajectory: columns.map(|c| (names, c)),
-    })
+        cut,
+        diverged,
+    }))
 }
 
 /// The bytes of `source`: `bytes` as given, or the file a path names (at most
 /// [`MAX_RECORDING_BYTES`]).
-fn read_source(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<Vec<u8>> {
+fn read_source(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<(String, Vec<u8>)> {
     if let Ok(bytes) = source.cast::<PyBytes>() {
-        return Ok(bytes.as_bytes().to_vec());
+        return Ok(("the recording".to_owned(), bytes.as_bytes().to_vec()));
     }
     let path = py
         .import("os")?
@@ -182,20 +254,27 @@ fn read_source(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<Vec<u8>> {
             }
         )));
     }
-    Ok(bytes)
+    Ok((path, bytes))
 }
 
 /// See `_afit_fdm.pyi`.
 #[pyfunction]
-#[pyo3(signature = (source, *, trajectory=false))]
-pub fn replay(py: Python<'_>, source: &Bound<'_, PyAny>, trajectory: bool) -> PyResult<PyReplay> {
-    let bytes = read_source(py, source)?;
+#[pyo3(signature = (source, *, trajectory=false, salvage=false))]
+pub fn replay(
+    py: Python<'_>,
+    source: &Bound<'_, PyAny>,
+    trajectory: bool,
+    salvage: bool,
+) -> PyResult<PyReplay> {
+    let (name, bytes) = read_source(py, source)?;
     let model = recorded_model(&bytes).map_err(|e| format_error(&e))?;
     let outcome = py.detach(|| match model {
-        n if n == Palmer::NAME => replay_model::<Palmer>(&bytes, trajectory),
-        n if n == Bourg::NAME => replay_model::<Bourg>(&bytes, trajectory),
+        n if n == Palmer::NAME => replay_model::<Palmer>(&bytes, trajectory, salvage),
+        n if n == Bourg::NAME => replay_model::<Bourg>(&bytes, trajectory, salvage),
         other => Err(format_error(&FormatError::UnknownModel(other.to_owned()))),
     })?;
+    let outcome = outcome.map_err(|cut| cut_error(py, &name, cut))?;
+    let diverged = outcome.diverged.clone();
     let trajectory = match outcome.trajectory {
         Some((names, columns)) => {
             let d = PyDict::new(py);
@@ -212,7 +291,7 @@ pub fn replay(py: Python<'_>, source: &Bound<'_, PyAny>, trajectory: bool) -> Py
         }
         None => None,
     };
-    Ok(PyReplay {
+    let replay = PyReplay {
         model: outcome.model,
         fps: outcome.fps,
         frames: outcome.frames,
@@ -227,7 +306,18 @@ pub fn replay(py: Python<'_>, source: &Bound<'_, PyAny>, trajectory: bool) -> Py
             },
         )?,
         trajectory,
-    })
+        cut: outcome.cut.map(|c| (c.at_byte, c.frames)),
+    };
+    match diverged {
+        None => Ok(replay),
+        Some((frame, message)) => {
+            let err = ReplayDivergedError::new_err(message);
+            let value = err.value(py);
+            value.setattr("frame", frame)?;
+            value.setattr("replay", Py::new(py, replay)?)?;
+            Err(err)
+        }
+    }
 }
 
 /// A replayed recording: what its header and events held, and the flight
@@ -243,6 +333,7 @@ pub struct PyReplay {
     fingerprint: Option<(bool, bool)>,
     flight: Py<PyFlight>,
     trajectory: Option<Py<PyDict>>,
+    cut: Option<(u64, u64)>,
 }
 
 #[pymethods]
@@ -299,6 +390,13 @@ impl PyReplay {
     #[getter]
     fn trajectory<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyDict>> {
         self.trajectory.as_ref().map(|d| d.bind(py).clone())
+    }
+    /// With `salvage=True`, for a cut recording: `(at_byte, frames)`, where
+    /// it was cut and the frames before the cut (all that was flown);
+    /// `None` for a complete recording.
+    #[getter]
+    fn cut(&self) -> Option<(u64, u64)> {
+        self.cut
     }
     fn __repr__(&self) -> String {
         format!(

@@ -10,7 +10,9 @@
 //!    never waits for the cargo that runs this test);
 //! 3. `pytest` on `tests/` (warnings are errors: `pyproject.toml`), with
 //!    `AFIT_FDM_SIM_CLI` naming a `sim-cli` built from this checkout (in the
-//!    same directory), for the bit-for-bit comparisons.
+//!    same directory), for the bit-for-bit comparisons, and `ACMI_PYTHON` and
+//!    `DIS_PYTHON` the interop tests' pinned Pythons with the independent
+//!    readers (pyacmi, Open-DIS: `fdm_tests::python`) for `test_outputs.py`.
 //!
 //! `AFIT_FDM_PYTHON` can name a ready Python that has the pinned packages
 //! (the package is still installed into it). Nothing is skipped: a missing
@@ -18,7 +20,7 @@
 
 use std::path::Path;
 
-use fdm_tests::python::PythonEnv;
+use fdm_tests::python::{PythonEnv, OPENDIS, PYACMI};
 
 mod common;
 
@@ -47,5 +49,16 @@ fn python_package_installs_and_its_suite_passes() {
     let path = common::with_path(&bin);
     common::install(&python, &path, &build_dir);
     let sim_cli = common::sim_cli(&build_dir);
-    common::pytest(&python, &path, &sim_cli, &["tests"]);
+    let acmi_python = PYACMI.ready(tmp);
+    let dis_python = OPENDIS.ready(tmp);
+    common::pytest(
+        &python,
+        &path,
+        &sim_cli,
+        &[
+            ("ACMI_PYTHON", acmi_python.as_path()),
+            ("DIS_PYTHON", dis_python.as_path()),
+        ],
+        &["tests"],
+    );
 }

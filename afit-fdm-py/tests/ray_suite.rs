@@ -42,5 +42,5 @@ fn python_package_studies_on_a_two_node_ray_cluster() {
     let path = common::with_path(&bin);
     common::install(&python, &path, &build_dir);
     let sim_cli = common::sim_cli(&build_dir);
-    common::pytest(&python, &path, &sim_cli, &["-s", "tests_ray"]);
+    common::pytest(&python, &path, &sim_cli, &[], &["-s", "tests_ray"]);
 }

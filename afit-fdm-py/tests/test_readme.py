@@ -37,3 +37,21 @@ def test_readme_recording_example_runs(capsys, tmp_path, monkeypatch) -> None:
     assert (frames, same_final_state) == ("70", "True")
     assert z_trajectory == z_flight
     assert (tmp_path / "climb.rec").exists()
+
+
+def test_readme_outputs_example_runs(tmp_path, monkeypatch) -> None:
+    """The third example (ACMI, CSV and DIS outputs) runs as written, in a
+    scratch directory (its DIS datagrams go to a closed port: counted as
+    failed sends, never raised)."""
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    section = text[text.index("## From Python"):text.index("## Versions and stability")]
+    code = re.findall(r"```python\n(.*?)```", section, re.S)[2]
+    monkeypatch.chdir(tmp_path)
+    import afit_fdm
+
+    scope: dict = {"afit_fdm": afit_fdm}
+    exec(compile(code, "README.md", "exec"), scope)  # noqa: S102
+    f = scope["f"]
+    assert f.outputs == [] and f.frame == 900
+    assert len((tmp_path / "flight.csv").read_text(encoding="utf-8").splitlines()) == 1 + 901
+    assert (tmp_path / "flight.zip.acmi").stat().st_size > 0

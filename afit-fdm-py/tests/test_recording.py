@@ -268,3 +268,72 @@ def test_mangled_recordings_are_refused_or_are_the_original(model, edits, cut) -
         return
     assert bytes(data) == original
     assert r.same_final_state is True
+
+
+def test_a_cut_recording_is_refused_with_where_it_was_cut_or_salvaged(sim_cli, tmp_path) -> None:
+    """A recording cut before its end marker (its recording run killed)
+    raises RecordingCutError with sim-cli replay's words (where, how many
+    frames are intact); ``salvage=True`` flies those frames, the rows
+    ``sim-cli replay --csv`` writes for the same cut file (which exits 3)."""
+    f = afit_fdm.Flight("palmer", fps=30, script="1-40 throttle-up\n10-30 alpha-up\n")
+    full = tmp_path / "full.rec"
+    f.record_to(full)
+    for i in range(100):  # a new event every frame: blocks of 30 frames
+        f.step(1, ["bank-right"] if i % 2 else ["bank-left"])
+    f.reset()
+    f.step(75)
+    assert f.stop_recording() == 175
+    data = full.read_bytes()
+    cut_file = tmp_path / "cut.rec"
+    cut_file.write_bytes(data[: len(data) - 100])
+    with pytest.raises(afit_fdm.RecordingCutError) as info:
+        afit_fdm.replay(cut_file)
+    err = info.value
+    assert isinstance(err, afit_fdm.RecordingError) and isinstance(err, ValueError)
+    assert str(err).startswith(f"{cut_file}: cut at byte {err.at_byte} before its end marker")
+    assert f"the {err.frames} frames before the cut are intact" in str(err)
+    assert 0 < err.frames < 175 and 0 < err.at_byte < len(data)
+    # sim-cli replay salvages the same frames and says the same.
+    proc = subprocess.run([str(sim_cli), "replay", str(cut_file), "--csv", str(tmp_path / "cut.csv")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 3, proc.stderr
+    assert f"cut at byte {err.at_byte} before its end marker; the {err.frames} frames" in proc.stderr
+    r = afit_fdm.replay(cut_file, trajectory=True, salvage=True)
+    assert r.cut == (err.at_byte, err.frames) and r.frames == err.frames
+    assert r.same_final_state is None
+    compare_csv(read_csv(tmp_path / "cut.csv"), trajectory_rows(r), "palmer")
+    # Bytes name no file; a complete recording has no cut.
+    with pytest.raises(afit_fdm.RecordingCutError, match="^the recording: cut at byte"):
+        afit_fdm.replay(cut_file.read_bytes())
+    assert afit_fdm.replay(full, salvage=True).cut is None
+
+
+def test_a_replay_stops_at_the_diverged_frame_as_sim_cli_replay(sim_cli, tmp_path) -> None:
+    """Bourg at 1 fps with full thrust diverges; a recording of that flight
+    (Python's flight flies on, frozen, past the divergence) replays up to the
+    diverged frame and stops there with ReplayDivergedError, as sim-cli
+    replay stops (exit 1, the same frame in its message; its CSV the
+    trajectory's rows)."""
+    f = afit_fdm.Flight("bourg", fps=1, script="1-30 thrust-up\n")
+    path = tmp_path / "d.rec"
+    f.record_to(path)
+    f.step(2000)
+    assert f.status == "diverged"
+    f.stop_recording()
+    with pytest.raises(afit_fdm.ReplayDivergedError) as info:
+        afit_fdm.replay(path, trajectory=True)
+    err = info.value
+    assert isinstance(err, ValueError)
+    frame = err.frame
+    assert 0 < frame < 2000
+    assert str(err) == f"frame {frame}: the bourg model diverged (non-finite state) at dt = 1.0 s"
+    replay = err.replay
+    assert replay.flight.frame == frame and replay.flight.status == "diverged"
+    assert replay.same_final_state is None
+    proc = subprocess.run([str(sim_cli), "replay", str(path), "--csv", str(tmp_path / "d.csv")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert f"frame {frame}: the bourg model diverged" in proc.stderr
+    rows = read_csv(tmp_path / "d.csv")
+    assert len(rows) == frame
+    compare_csv(rows, trajectory_rows(replay), "bourg")

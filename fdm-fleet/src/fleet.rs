@@ -598,6 +598,24 @@ impl<M: LaneModel> Fleet<M> {
     }
 
     /// Replaces every aircraft's controls with `f(index, current controls)`
+    /// (and recomputes their control terms) on this thread, in index order:
+    /// the same fleet as [`Fleet::set_controls`] called for each index in
+    /// turn, without its per-index checks ([`Fleet::par_update_controls`]
+    /// on a rayon pool).
+    pub fn update_controls(&mut self, mut f: impl FnMut(usize, M::Controls) -> M::Controls) {
+        let (aircraft, shared, len) = (&self.aircraft, &self.shared, self.len);
+        let lanes = M::Lanes::LANES;
+        for (b, block) in self.blocks.iter_mut().enumerate() {
+            let first = b * lanes;
+            for lane in 0..lanes.min(len.saturating_sub(first)) {
+                let controls = f(first + lane, block.controls.as_ref()[lane]);
+                M::set_controls(&mut block.terms, lane, aircraft, shared, &controls);
+                block.controls.as_mut()[lane] = controls;
+            }
+        }
+    }
+
+    /// Replaces every aircraft's controls with `f(index, current controls)`
     /// (and recomputes their control terms), on the threads of the current
     /// rayon pool: the same fleet as [`Fleet::set_controls`] called for each
     /// index in turn, in a fraction of the time for large fleets (the

@@ -10,13 +10,19 @@
 //! What a row holds is the caller's: a [`CsvRecord`] names its columns and
 //! gives their values (`sim-cli --csv` writes its report's snapshot: the
 //! common columns, the model's own, the display status; docs/cli.md).
+//! [`FlightRow`] is that row made from a run's [`Frame`], for the models of
+//! the registry ([`CsvModel`]): what `afit_fdm.Flight.csv_to` writes, the
+//! same bytes as `sim-cli --csv` (the Python suite compares them).
 
 use std::fmt::Write as _;
 use std::io::Write;
 
+use fdm_core::bourg::{Bourg, BourgControls, BourgState};
 use fdm_core::model::{FlightStatus, Model};
+use fdm_core::palmer::{Palmer, PalmerControls, PalmerState};
 
-use crate::output::{Event, Frame, Output, OutputError};
+use crate::model::RunModel;
+use crate::output::{Event, Frame, Output, OutputError, Placement};
 
 /// A value that can be written as one CSV row.
 pub trait CsvRecord {
@@ -243,6 +249,209 @@ where
 
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(self.writer.flush()?)
+    }
+}
+
+/// The columns every model's flight CSV has after `frame,time_s`: the
+/// position and velocity in the model's earth frame and own unit (Palmer
+/// metres, Bourg feet), the WGS-84 placement (as FlightGear gets it), in
+/// this order. The model's own columns ([`CsvModel::CSV_COLUMNS`]) and
+/// `status` follow.
+pub const COMMON_COLUMNS: &[&str] = &[
+    "x",
+    "y",
+    "z",
+    "vx",
+    "vy",
+    "vz",
+    "lat_deg",
+    "lon_deg",
+    "alt_m",
+    "roll_deg",
+    "pitch_deg",
+    "fg_heading_deg",
+];
+
+/// A model whose flights write the flight CSV (docs/cli.md, "CSV output"):
+/// its position and velocity in its own unit, and its own columns.
+pub trait CsvModel: RunModel {
+    /// The model's own columns, between [`COMMON_COLUMNS`] and `status`.
+    const CSV_COLUMNS: &'static [&'static str];
+
+    /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
+    /// up) in the model's own unit, widened to `f64` exactly.
+    fn native_position(state: &Self::State) -> [f64; 3];
+
+    /// Velocity in the same frame and unit per second.
+    fn native_velocity(state: &Self::State) -> [f64; 3];
+
+    /// Appends the values of [`Self::CSV_COLUMNS`], in order.
+    fn csv_values(controls: &Self::Controls, state: &Self::State, out: &mut Vec<f64>);
+}
+
+impl CsvModel for Palmer {
+    const CSV_COLUMNS: &'static [&'static str] = &[
+        "airspeed",
+        "throttle",
+        "alpha_deg",
+        "bank_deg",
+        "flaps_deg",
+        "climb_angle_deg",
+        "climb_rate",
+        "heading_deg",
+    ];
+
+    fn native_position(state: &PalmerState) -> [f64; 3] {
+        state.position_m.into()
+    }
+
+    fn native_velocity(state: &PalmerState) -> [f64; 3] {
+        state.velocity_mps.into()
+    }
+
+    fn csv_values(controls: &PalmerControls, state: &PalmerState, out: &mut Vec<f64>) {
+        out.extend_from_slice(&[
+            state.airspeed_mps(),
+            controls.throttle,
+            controls.alpha_deg,
+            controls.bank_deg,
+            controls.flaps.degrees(),
+            state.climb_angle_deg(),
+            state.climb_rate_mps(),
+            state.heading_deg(),
+        ]);
+    }
+}
+
+impl CsvModel for Bourg {
+    /// `flaps` and `stalling` are written as 0 or 1.
+    const CSV_COLUMNS: &'static [&'static str] = &[
+        "speed",
+        "euler_x_deg",
+        "euler_y_deg",
+        "euler_z_deg",
+        "thrust_lb",
+        "flaps",
+        "stalling",
+        "pitch_trim",
+    ];
+
+    fn native_position(state: &BourgState) -> [f64; 3] {
+        state.position_ft.map(f64::from).into()
+    }
+
+    fn native_velocity(state: &BourgState) -> [f64; 3] {
+        state.velocity_ftps.map(f64::from).into()
+    }
+
+    fn csv_values(controls: &BourgControls, state: &BourgState, out: &mut Vec<f64>) {
+        let euler = state.euler_angles_deg();
+        out.extend_from_slice(&[
+            f64::from(state.speed_ftps()),
+            f64::from(euler.x),
+            f64::from(euler.y),
+            f64::from(euler.z),
+            f64::from(controls.thrust_lb),
+            f64::from(u8::from(controls.landing_flaps)),
+            f64::from(u8::from(state.stalling)),
+            f64::from(controls.pitch_trim),
+        ]);
+    }
+}
+
+/// The flight CSV's `status` number: 0 on ground, 1 airborne, 2 landed
+/// safe, 3 landed rough, 4 crashed, 5 diverged, 6 stalling (airborne while
+/// the model reports a stall).
+#[must_use]
+pub fn status_number(status: FlightStatus, stalling: bool) -> f64 {
+    use fdm_core::model::LandingState;
+    match status {
+        FlightStatus::Airborne if stalling => 6.0,
+        FlightStatus::OnGround => 0.0,
+        FlightStatus::Airborne => 1.0,
+        FlightStatus::Landed(LandingState::Safe) => 2.0,
+        FlightStatus::Landed(LandingState::Rough) => 3.0,
+        FlightStatus::Landed(LandingState::Crash) => 4.0,
+        FlightStatus::Diverged => 5.0,
+    }
+}
+
+/// One row of a flight's CSV, made from a run's [`Frame`]: `time_s` (the
+/// model's clock), [`COMMON_COLUMNS`], the model's [`CsvModel::CSV_COLUMNS`],
+/// `status` ([`status_number`]).
+///
+/// ```
+/// use fdm_core::palmer::Palmer;
+/// use fdm_run::csv::{CsvOutput, CsvWriter, FlightRow};
+/// use fdm_run::{Run, Scenario, SharedOutput, Start};
+///
+/// let mut run = Run::new(Scenario::<Palmer>::new(Start::thesis(), 30, 3)?)?;
+/// let csv = SharedOutput::new(CsvOutput::new(CsvWriter::new(Vec::new(), "mem"), FlightRow::<Palmer>::of));
+/// run.attach(csv.clone())?;
+/// run.run_to_end()?;
+/// run.finish()?;
+/// let text = String::from_utf8(csv.take().unwrap().into_inner().finish()?)?;
+/// assert!(text.starts_with("frame,time_s,x,y,z,vx,vy,vz,lat_deg,lon_deg,alt_m,"));
+/// assert_eq!(text.lines().count(), 1 + 4);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct FlightRow<M: Model> {
+    time_s: f64,
+    state: M::State,
+    controls: M::Controls,
+    placement: Placement,
+    status: FlightStatus,
+    stalling: bool,
+}
+
+impl<M: CsvModel> FlightRow<M> {
+    /// The row of `frame`.
+    #[must_use]
+    pub fn of(frame: &Frame<'_, M>) -> Self {
+        Self {
+            time_s: frame.view.time_s,
+            state: *frame.state,
+            controls: *frame.controls,
+            placement: *frame.placement,
+            status: frame.status,
+            stalling: frame.view.stalling,
+        }
+    }
+
+    /// The columns after `frame,time_s`.
+    #[must_use]
+    pub fn columns() -> Vec<&'static str> {
+        let mut columns = COMMON_COLUMNS.to_vec();
+        columns.extend_from_slice(M::CSV_COLUMNS);
+        columns.push("status");
+        columns
+    }
+}
+
+impl<M: CsvModel> CsvRecord for FlightRow<M> {
+    fn csv_columns(&self) -> Vec<&'static str> {
+        Self::columns()
+    }
+
+    fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    fn csv_values(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&M::native_position(&self.state));
+        out.extend_from_slice(&M::native_velocity(&self.state));
+        let (g, a) = (self.placement.geodetic, self.placement.attitude);
+        out.extend_from_slice(&[
+            g.lat_deg,
+            g.lon_deg,
+            g.alt_m,
+            a.roll_deg,
+            a.pitch_deg,
+            a.heading_deg,
+        ]);
+        M::csv_values(&self.controls, &self.state, out);
+        out.push(status_number(self.status, self.stalling));
     }
 }
 

@@ -5,6 +5,8 @@
   frame exactly as ``sim-cli`` flies it (the same bits).
 * :meth:`Flight.record_to`, :func:`replay`: recordings in ``sim-cli``'s
   format (``--record``, ``sim-cli replay``), flown again to the same bits.
+* :meth:`Flight.acmi_to`, :meth:`Flight.csv_to`, :meth:`Flight.dis_to`:
+  ``sim-cli``'s ``--acmi``, ``--csv`` and ``--dis`` outputs, the same bytes.
 * :class:`Fleet`: many aircraft of one model stepped by the SIMD fleet
   kernels, with the state as read-only NumPy columns.
 * :class:`Study`, :func:`study`: Monte Carlo studies (the study files of
@@ -21,7 +23,17 @@ from __future__ import annotations
 
 import enum
 
-from ._afit_fdm import MODELS, Fleet, Flight, RecordingError, Replay, __version__, replay
+from ._afit_fdm import (
+    MODELS,
+    Fleet,
+    Flight,
+    RecordingCutError,
+    RecordingError,
+    Replay,
+    ReplayDivergedError,
+    __version__,
+    replay,
+)
 from .distributed import ShardDone, ray_study
 from .study import STATUS_CODES, RunTable, Study, study
 
@@ -30,8 +42,10 @@ __all__ = [
     "STATUS_CODES",
     "Fleet",
     "Flight",
+    "RecordingCutError",
     "RecordingError",
     "Replay",
+    "ReplayDivergedError",
     "RunTable",
     "ShardDone",
     "Status",

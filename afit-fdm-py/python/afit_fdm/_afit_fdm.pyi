@@ -55,7 +55,8 @@ class Flight:
         status. A crashed aircraft stays at rest; a step that would give a
         non-finite state is not kept and the status becomes ``"diverged"``."""
     def reset(self) -> None:
-        """Back to the start: state, controls, status, frame 0."""
+        """Back to the start: state, controls, status, frame 0. The recording
+        and the outputs take the reset (``ValueError`` if writing it fails)."""
     def set_controls(self, **controls: Number) -> None:
         """Sets controls by name, validated as in the constructor."""
     @property
@@ -138,13 +139,122 @@ class Flight:
     def recording(self) -> Optional[str]:
         """The path being recorded to, or ``None``."""
 
+    # Outputs: the run library's (fdm_run::acmi, ::csv, ::dis), as sim-cli's
+    # --acmi, --csv and --dis write them. Each takes the flight as it is when
+    # attached (frame 0 for a fresh flight), then every frame a step flies
+    # and every reset, until close_outputs(). A diverged frame is left out
+    # (CSV, DIS) or removes the aircraft (ACMI), as in sim-cli, whose run
+    # stops there. ``origin`` is (lat_deg, lon_deg, alt_m) of the model's
+    # x, y, z = 0, by default sim-cli's (39.8264, -84.0483, 251 m). A write
+    # that fails raises ValueError from step()/reset() naming the output,
+    # which is then closed; the frame was flown.
+    def acmi_to(
+        self,
+        path: Union[str, "os.PathLike[str]"],
+        *,
+        origin: Optional[Tuple[float, float, float]] = None,
+        reference_time: Optional[str] = None,
+        title: Optional[str] = None,
+    ) -> None:
+        """Writes the flight as Tacview ACMI 2.2 to ``path`` (created or
+        truncated; zip-compressed when the name ends in ``.zip.acmi``), the
+        bytes ``sim-cli MODEL --acmi path`` writes for the same flight
+        (docs/cli.md, "Tacview ACMI"): object 1 with the model's name and
+        callsign (``C172-1``, ``BRG-1``), times frames flown / fps (a reset
+        does not turn the clock back). ``reference_time``: an ISO 8601 UTC
+        time ``YYYY-MM-DDTHH:MM:SS[.f]Z`` (default 2000-01-01T00:00:00Z);
+        ``title`` defaults to the model's name. ``OSError`` when the file
+        cannot be created, ``ValueError`` for a bad ``reference_time``."""
+    def csv_to(
+        self,
+        path: Union[str, "os.PathLike[str]"],
+        *,
+        origin: Optional[Tuple[float, float, float]] = None,
+    ) -> None:
+        """Writes a CSV row per frame to ``path`` (created or truncated), the
+        bytes ``sim-cli MODEL --csv path`` writes (docs/cli.md, "CSV output"):
+        ``frame,time_s,x,y,z,vx,vy,vz,lat_deg,lon_deg,alt_m,roll_deg,
+        pitch_deg,fg_heading_deg``, the model's own columns, ``status``;
+        a row for the flight when attached, one per frame, a frame-0 row
+        after each reset. Numbers in the shortest form that reads back to the
+        same bits. ``OSError`` when the file cannot be created."""
+    def dis_to(
+        self,
+        target: str,
+        *,
+        origin: Optional[Tuple[float, float, float]] = None,
+        entity: int = 1,
+        callsign: Optional[str] = None,
+        site: int = 1,
+        application: int = 1,
+        exercise: int = 1,
+        version: int = 7,
+        dr: str = "rvw",
+        position_threshold_m: float = 1.0,
+        orientation_threshold_deg: float = 3.0,
+        heartbeat_s: float = 5.0,
+        every_frame: bool = False,
+    ) -> None:
+        """Publishes the flight as a DIS entity (Entity State PDUs over UDP,
+        one per datagram) to ``target`` (``"HOST:PORT"``, unicast or
+        broadcast, IPv4 or IPv6), the datagrams ``sim-cli MODEL --dis`` sends
+        (docs/cli.md, docs/dis.md): entity ``site:application:entity``,
+        marking ``callsign`` (at most 11 printable ASCII characters; default
+        ``C172-N``/``BRG-N``, N the entity number), dead reckoning ``dr``
+        (``fpw``, ``rpw``, ``rvw``, ``fvw``) with the thresholds, or a PDU
+        every frame. Sends that fail are counted (:attr:`dis_report`), never
+        raised. ``ValueError`` naming the argument for a bad setting;
+        ``OSError`` when the socket cannot be made. One DIS output per
+        flight."""
+    @property
+    def dis_report(self) -> Optional[Dict[str, Any]]:
+        """The DIS output's counts so far, the ``dis`` object of
+        ``sim-cli --json`` (``pdus``, ``bytes``, ``failed``, ``reasons``, ...),
+        or ``None`` without a DIS output."""
+    @property
+    def outputs(self) -> List[str]:
+        """The attached outputs, e.g. ``["acmi f.acmi", "csv f.csv"]``."""
+    def close_outputs(self) -> None:
+        """Finishes and detaches every output (ACMI: its last time line and
+        the zip container; CSV: flushed; DIS: the socket closed). A flight
+        dropped with outputs finishes them too. ``OSError`` naming the first
+        output that could not be finished (all are finished)."""
+
 class RecordingError(ValueError):
     """A recording that cannot be replayed: not a recording, another format
     version, a model this build does not have, truncated or corrupt (every
     block is checksummed). The message names the problem."""
 
+class RecordingCutError(RecordingError):
+    """A recording cut before its end marker, refused by :func:`replay` as
+    ``sim-cli replay`` reports it: ``FILE: cut at byte B before its end
+    marker; the N frames before the cut are intact ...``."""
+
+    at_byte: int
+    """Where the intact blocks end (the first byte of the missing, torn or
+    damaged block)."""
+    frames: int
+    """Frames before the cut, across resets: what ``salvage=True`` flies."""
+
+class ReplayDivergedError(ValueError):
+    """A replay that stopped at a frame whose state is not finite, as
+    ``sim-cli replay`` stops (its message: ``frame N: the MODEL model
+    diverged (non-finite state) at dt = DT s``)."""
+
+    frame: int
+    """The diverged frame, since the start or the last reset."""
+    replay: "Replay"
+    """The replay up to that frame: its :attr:`Replay.flight` at the
+    diverged frame (status ``diverged``, the last finite state), its
+    trajectory without the diverged row (as ``sim-cli replay --csv``)."""
+
 class Replay:
     """What :func:`replay` read and flew."""
+
+    @property
+    def cut(self) -> Optional[Tuple[int, int]]:
+        """With ``salvage=True``, for a cut recording: ``(at_byte, frames)``,
+        where it was cut and the frames flown; ``None`` for a complete one."""
 
     @property
     def model(self) -> str: ...
@@ -184,16 +294,27 @@ class Replay:
         :attr:`Flight.state` fields, the :attr:`Flight.controls` fields
         (float64) and ``status`` (int64, :class:`afit_fdm.Status`)."""
 
-def replay(source: Union[str, "os.PathLike[str]", bytes], *, trajectory: bool = False) -> Replay:
+def replay(
+    source: Union[str, "os.PathLike[str]", bytes],
+    *,
+    trajectory: bool = False,
+    salvage: bool = False,
+) -> Replay:
     """Reads a recording (a file of at most 64 MiB, or its bytes) written by
     :meth:`Flight.record_to` or ``sim-cli --record`` (format versions 1, 2
     and 3), validates it whole and flies it again, with the GIL released:
-    the same frames as ``sim-cli replay``, so the same bits. A recording cut
-    before its end marker is refused (``sim-cli replay`` salvages it).
+    the same frames as ``sim-cli replay``, so the same bits.
+
     Raises :class:`RecordingError` (a ``ValueError``) for anything that is not
-    a complete, intact recording of a model this build has; ``OSError`` when
-    the file cannot be read; ``ValueError`` when ``trajectory=True`` would
-    hold more than 10 million rows."""
+    an intact recording of a model this build has; ``OSError`` when the file
+    cannot be read; ``ValueError`` when ``trajectory=True`` would hold more
+    than 10 million rows. A recording cut before its end marker (its
+    recording run killed, the machine stopped) raises
+    :class:`RecordingCutError` with ``sim-cli replay``'s words; with
+    ``salvage=True`` its intact frames are flown instead, as ``sim-cli
+    replay`` flies them (:attr:`Replay.cut` says where it was cut). As
+    ``sim-cli replay``, the replay stops at a frame whose state is not
+    finite: :class:`ReplayDivergedError`."""
 
 class Fleet:
     """``n`` aircraft of one model, stepped together by the SIMD kernels

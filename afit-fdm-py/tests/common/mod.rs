@@ -70,9 +70,15 @@ pub fn install(python: &Path, path: &std::ffi::OsStr, build_dir: &Path) {
     );
 }
 
-/// `pytest -q ARGS` in this directory with `AFIT_FDM_SIM_CLI` set; fails
-/// the test when pytest does.
-pub fn pytest(python: &Path, path: &std::ffi::OsStr, sim_cli: &Path, args: &[&str]) {
+/// `pytest -q ARGS` in this directory with `AFIT_FDM_SIM_CLI` and `env`
+/// set; fails the test when pytest does.
+pub fn pytest(
+    python: &Path,
+    path: &std::ffi::OsStr,
+    sim_cli: &Path,
+    env: &[(&str, &Path)],
+    args: &[&str],
+) {
     let out = Command::new(python)
         .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
         .args(args)
@@ -80,6 +86,7 @@ pub fn pytest(python: &Path, path: &std::ffi::OsStr, sim_cli: &Path, args: &[&st
         .env("PATH", path)
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .env("AFIT_FDM_SIM_CLI", sim_cli)
+        .envs(env.iter().copied())
         .output()
         .expect("cannot run pytest");
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -1,0 +1,321 @@
+"""Outputs of a ``Flight`` (``acmi_to``, ``csv_to``, ``dis_to``): the run
+library's, written from Python to the same bytes as ``sim-cli --acmi``,
+``--csv`` and ``--dis`` for the same flight (``sim-cli`` run from the test),
+and read back by independent readers pinned as the Rust interop tests pin
+them: pyacmi 1.2.4 for ACMI (``fdm-run/tests/acmi_interop/read_acmi.py``)
+and Open-DIS 1.0 for DIS (``fdm-dis/tests/opendis_interop/decode_udp.py``).
+Those two live in their own virtualenvs (Open-DIS pins an older NumPy):
+``ACMI_PYTHON`` and ``DIS_PYTHON`` name their Pythons (``python_suite.rs``
+sets both). Missing, the tests fail; they never skip.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import pathlib
+import socket
+import subprocess
+import zipfile
+from typing import Dict, List, Sequence, Tuple
+
+import pytest
+
+import afit_fdm
+from conftest import REPO
+
+READ_ACMI = REPO / "fdm-run" / "tests" / "acmi_interop" / "read_acmi.py"
+DECODE_UDP = REPO / "fdm-dis" / "tests" / "opendis_interop" / "decode_udp.py"
+
+# Flights of both models: (sim-cli arguments, Flight keyword arguments,
+# frames). Scripted climbs and turns with a trimmed start, so that every
+# column and every ACMI field moves.
+PALMER_SCRIPT = "1-60 throttle-up\n20-40 alpha-up\n100-130 bank-right\n200-215 bank-left\n"
+BOURG_SCRIPT = "1-10 thrust-up\n5-25 pitch-up\n40-70 roll-right\n90-100 yaw-left\n"
+CASES = {
+    "palmer": (["--altitude-ft", "3000", "--speed-kt", "100", "--trim"],
+               dict(altitude_ft=3000.0, speed_kt=100.0, trim=True), PALMER_SCRIPT, 300),
+    "bourg": (["--altitude-ft", "4000", "--speed-kt", "90", "--trim"],
+              dict(altitude_ft=4000.0, speed_kt=90.0, trim=True), BOURG_SCRIPT, 240),
+}
+
+
+def helper_python(var: str, package: str) -> str:
+    python = os.environ.get(var)
+    assert python, (
+        f"{var} is not set: it names a Python with {package} (python_suite.rs sets it; "
+        f"or `python3 -m venv v && v/bin/pip install {package}` and {var}=v/bin/python)"
+    )
+    return python
+
+
+def run_cli(sim_cli: pathlib.Path, args: Sequence[str]) -> subprocess.CompletedProcess:
+    proc = subprocess.run([str(sim_cli), *args], capture_output=True, text=True)
+    assert proc.returncode == 0, f"sim-cli {' '.join(args)}: exit {proc.returncode}: {proc.stderr}"
+    return proc
+
+
+def cli_args(model: str, tmp: pathlib.Path) -> Tuple[List[str], afit_fdm.Flight, int]:
+    """The case's sim-cli arguments (headless, its script written to ``tmp``)
+    and the same flight from Python."""
+    args, kwargs, script, frames = CASES[model]
+    path = tmp / f"{model}.script"
+    path.write_text(script, encoding="utf-8")
+    full = [model, "--headless", "--fps", "30", "--frames", str(frames), "--script", str(path), *args]
+    return full, afit_fdm.Flight(model, fps=30, script=script, **kwargs), frames
+
+
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+def test_csv_and_acmi_are_the_bytes_sim_cli_writes(sim_cli, tmp_path, model) -> None:
+    args, flight, frames = cli_args(model, tmp_path)
+    run_cli(sim_cli, [*args, "--csv", str(tmp_path / "cli.csv"), "--acmi", str(tmp_path / "cli.acmi")])
+    flight.csv_to(tmp_path / "py.csv")
+    flight.acmi_to(str(tmp_path / "py.acmi"))
+    assert flight.outputs == [f"csv {tmp_path / 'py.csv'}", f"acmi {tmp_path / 'py.acmi'}"]
+    flight.step(frames)
+    flight.close_outputs()
+    assert flight.outputs == []
+    for name in ("csv", "acmi"):
+        cli = (tmp_path / f"cli.{name}").read_bytes()
+        ours = (tmp_path / f"py.{name}").read_bytes()
+        assert ours == cli, name
+    # Closing twice, and stepping on without outputs, is harmless.
+    flight.close_outputs()
+    flight.step(3)
+
+
+def test_zipped_acmi_origin_and_reference_time_as_sim_cli(sim_cli, tmp_path) -> None:
+    args, flight, frames = cli_args("palmer", tmp_path)
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli_file, py_file = tmp_path / "cli" / "f.zip.acmi", tmp_path / "py" / "f.zip.acmi"
+    run_cli(sim_cli, [*args, "--origin", "47.5,11.25,700", "--acmi", str(cli_file),
+                      "--acmi-reference-time", "2026-12-02T10:00:00.5Z"])
+    flight.acmi_to(py_file, origin=(47.5, 11.25, 700.0), reference_time="2026-12-02T10:00:00.5Z")
+    flight.step(frames)
+    flight.close_outputs()
+    with zipfile.ZipFile(py_file) as z:
+        assert z.namelist() == ["f.txt.acmi"]
+        text = z.read("f.txt.acmi").decode()
+    assert "0,ReferenceLongitude=11\n0,ReferenceLatitude=48\n" in text
+    assert py_file.read_bytes() == cli_file.read_bytes()
+
+
+def read_acmi(path: pathlib.Path) -> Tuple[Dict[str, str], Dict[str, List[str]], List[Tuple[float, str, List[float]]]]:
+    """What pyacmi reads: global properties, objects, per-frame samples."""
+    python = helper_python("ACMI_PYTHON", "pyacmi==1.2.4")
+    proc = subprocess.run([python, str(READ_ACMI), str(path)], capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONDONTWRITEBYTECODE="1"))
+    assert proc.returncode == 0, proc.stderr
+    header: Dict[str, str] = {}
+    objects: Dict[str, List[str]] = {}
+    samples = []
+    t = math.nan
+    for line in proc.stdout.splitlines():
+        kind, _, rest = line.partition(" ")
+        if kind == "H":
+            k, _, v = rest.partition(" ")
+            header[k] = v
+        elif kind == "O":
+            oid, _, info = rest.partition(" ")
+            objects[oid] = info.split("\t")
+        elif kind == "F":
+            t = float(rest)
+        elif kind == "P":
+            words = rest.split(" ")
+            samples.append((t, words[0], [float(w) for w in words[1:]]))
+    return header, objects, samples
+
+
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+def test_pyacmi_reads_the_flight_the_csv_shows(tmp_path, model) -> None:
+    """pyacmi reads every frame of the Python-written ACMI file within the
+    file's rounding (1e-7 degrees, 1 cm, 0.01 degrees) of the CSV written
+    beside it, as sim-cli's own interop test reads ``--acmi``; the clock goes
+    on across a reset."""
+    _, flight, frames = cli_args(model, tmp_path)
+    flight.acmi_to(tmp_path / "f.acmi")
+    flight.csv_to(tmp_path / "f.csv")
+    flight.step(frames // 2)
+    flight.reset()
+    flight.step(frames // 2)
+    flight.close_outputs()
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "f.csv").read_text(encoding="utf-8"))))
+    assert len(rows) == 1 + frames // 2 + 1 + frames // 2
+    header, objects, samples = read_acmi(tmp_path / "f.acmi")
+    assert header["FileVersion"] == "2.2"
+    name = "C172" if model == "palmer" else "Bourg 6-DoF"
+    callsign = "C172-1" if model == "palmer" else "BRG-1"
+    assert objects == {"1": [name, "Air+FixedWing", callsign]}
+    # The CSV row of each flown frame (rows after the reset's frame 0 follow
+    # on the clock): row k is clock frame k, the reset's row shares the clock
+    # of the frame before it.
+    clock_rows: Dict[int, Dict[str, str]] = {}
+    flown = 0
+    for i, row in enumerate(rows):
+        if i > 0 and row["frame"] != "0":
+            flown += 1
+        clock_rows[flown] = row
+    by_frame = {round(t * 30): v for t, _, v in samples}
+    assert set(by_frame) <= set(clock_rows) and len(by_frame) > frames // 2
+    worst = [0.0, 0.0, 0.0]
+    for k, v in by_frame.items():
+        r = clock_rows[k]
+        lon, lat, alt, roll, pitch, yaw = v
+        d_deg = max(abs(lon - float(r["lon_deg"])), abs(lat - float(r["lat_deg"])))
+        d_alt = abs(alt - float(r["alt_m"]))
+        d_att = max(abs(roll - float(r["roll_deg"])), abs(pitch - float(r["pitch_deg"])),
+                    abs(((yaw - float(r["fg_heading_deg"]) + 180.0) % 360.0) - 180.0))
+        assert d_deg <= 0.5e-7 + 1e-12 and d_alt <= 0.005 + 1e-9 and d_att <= 0.005 + 1e-9, (k, v, r)
+        worst = [max(worst[0], d_deg), max(worst[1], d_alt), max(worst[2], d_att)]
+    # The flight moved: the comparison was not of a standing aircraft.
+    assert worst[0] > 0.0 and worst[1] > 0.0
+
+
+def capture(sock: socket.socket) -> List[bytes]:
+    """Every datagram waiting on ``sock`` (loopback: all sent before this)."""
+    sock.setblocking(False)
+    out = []
+    while True:
+        try:
+            out.append(sock.recv(65536))
+        except BlockingIOError:
+            return out
+
+
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+@pytest.mark.parametrize("every_frame", [True, False])
+def test_dis_datagrams_are_the_bytes_sim_cli_sends(sim_cli, tmp_path, model, every_frame) -> None:
+    args, flight, frames = cli_args(model, tmp_path)
+    extra = ["--dis-every-frame"] if every_frame else []
+    sink = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sink.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 21)
+    sink.bind(("127.0.0.1", 0))
+    target = f"127.0.0.1:{sink.getsockname()[1]}"
+    with sink:
+        proc = run_cli(sim_cli, [*args, "--json", "--dis", target, "--dis-entity", "12",
+                                 "--dis-exercise", "3", *extra])
+        cli = capture(sink)
+        flight.dis_to(target, entity=12, exercise=3, every_frame=every_frame)
+        flight.step(frames)
+        report = flight.dis_report
+        flight.close_outputs()
+        ours = capture(sink)
+    assert flight.dis_report is None
+    assert len(cli) > 0 and ours == cli
+    if every_frame:
+        assert len(ours) == frames
+    cli_report = json.loads(proc.stdout)["dis"]
+    assert report == cli_report
+
+
+def test_opendis_decodes_the_python_flight(tmp_path) -> None:
+    """Open-DIS (an independent decoder) reads every PDU of a Python flight:
+    its identity, type and marking, and its position and attitude within
+    1e-6 degrees, 1 cm and 1e-4 degrees of the CSV's (the tolerances of
+    sim-cli's own Open-DIS test)."""
+    _, flight, frames = cli_args("palmer", tmp_path)
+    python = helper_python("DIS_PYTHON", "opendis==1.0 numpy==1.26.4")
+    decoder = subprocess.Popen([python, str(DECODE_UDP), str(frames), "20"], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True,
+                               env=dict(os.environ, PYTHONDONTWRITEBYTECODE="1"))
+    try:
+        assert decoder.stdout is not None
+        line = decoder.stdout.readline()
+        assert line.startswith("PORT "), line + (decoder.stderr.read() if decoder.stderr else "")
+        port = int(line.split()[1])
+        flight.dis_to(f"127.0.0.1:{port}", site=7, application=8, entity=9, version=6,
+                      every_frame=True, callsign="PY-9")
+        flight.csv_to(tmp_path / "f.csv")
+        flight.step(frames)
+        flight.close_outputs()
+        out, err = decoder.communicate(timeout=60)
+    finally:
+        if decoder.poll() is None:
+            decoder.kill()
+            decoder.wait()
+    assert decoder.returncode == 0, err
+    pdus = [json.loads(x) for x in out.splitlines()]
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "f.csv").read_text(encoding="utf-8"))))
+    assert len(pdus) == frames
+    for i, pdu in enumerate(pdus):
+        assert pdu["class"] == "EntityStatePdu"
+        assert pdu["header"][0] == 6 and pdu["header"][1] == 1
+        assert pdu["id"] == [7, 8, 9]
+        assert pdu["type"] == [1, 2, 225, 85, 11, 1, 0]
+        assert pdu["marking"] == "PY-9       "
+        row = rows[i + 1]
+        lat, lon, alt = pdu["lla"]
+        roll, pitch, yaw = pdu["rpy_deg"]
+        assert abs(lat - float(row["lat_deg"])) < 1e-6
+        assert abs(lon - float(row["lon_deg"])) < 1e-6
+        assert abs(alt - float(row["alt_m"])) < 0.01
+        assert abs(roll - float(row["roll_deg"])) < 1e-4
+        assert abs(pitch - float(row["pitch_deg"])) < 1e-4
+        assert abs(((yaw - float(row["fg_heading_deg"]) + 180.0) % 360.0) - 180.0) < 1e-4
+
+
+def test_reset_writes_frame_0_again_and_diverged_frames_are_left_out(sim_cli, tmp_path) -> None:
+    """A reset writes a new frame-0 row (as sim-cli's interactive CSV); a
+    diverged flight's CSV ends at the frame before the divergence, as
+    sim-cli's, which stops there."""
+    f = afit_fdm.Flight("bourg", fps=1, script="1-30 thrust-up\n")
+    f.csv_to(tmp_path / "py.csv")
+    f.step(2000)
+    assert f.status == "diverged"
+    f.close_outputs()
+    (tmp_path / "s.txt").write_text("1-30 thrust-up\n", encoding="utf-8")
+    proc = subprocess.run([str(sim_cli), "bourg", "--fps", "1", "--headless", "--frames", "2000",
+                           "--script", str(tmp_path / "s.txt"), "--csv", str(tmp_path / "cli.csv")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1 and "diverged" in proc.stderr
+    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+
+    g = afit_fdm.Flight("palmer")
+    g.step(5)
+    g.csv_to(tmp_path / "mid.csv")
+    g.step(2)
+    g.reset()
+    g.step(1)
+    g.close_outputs()
+    frames = [line.split(",")[0] for line in (tmp_path / "mid.csv").read_text().splitlines()[1:]]
+    assert frames == ["5", "6", "7", "0", "1"]
+
+
+def test_bad_output_arguments_raise_naming_them(tmp_path) -> None:
+    f = afit_fdm.Flight("palmer")
+    with pytest.raises(OSError, match="cannot create"):
+        f.csv_to(tmp_path / "no" / "such" / "dir.csv")
+    with pytest.raises(OSError, match="cannot create"):
+        f.acmi_to(tmp_path / "no" / "such.acmi")
+    with pytest.raises(ValueError, match="reference_time"):
+        f.acmi_to(tmp_path / "a.acmi", reference_time="yesterday")
+    with pytest.raises(ValueError, match="origin"):
+        f.csv_to(tmp_path / "a.csv", origin=(91.0, 0.0, 0.0))
+    with pytest.raises(TypeError, match="path"):
+        f.csv_to(3)  # type: ignore[arg-type]
+    for kwargs, name in [
+        (dict(target="0.0.0.0:3000"), "unspecified"),
+        (dict(target="127.0.0.1:0"), "port 0"),
+        (dict(target="nonsense"), "target"),
+        (dict(target="127.0.0.1:3000", entity=0), "entity"),
+        (dict(target="127.0.0.1:3000", entity=65534), "entity"),
+        (dict(target="127.0.0.1:3000", site=0), "site"),
+        (dict(target="127.0.0.1:3000", application=65535), "application"),
+        (dict(target="127.0.0.1:3000", exercise=0), "exercise"),
+        (dict(target="127.0.0.1:3000", version=5), "version"),
+        (dict(target="127.0.0.1:3000", dr="xyz"), "dr"),
+        (dict(target="127.0.0.1:3000", heartbeat_s=0.0), "heartbeat_s"),
+        (dict(target="127.0.0.1:3000", position_threshold_m=math.nan), "position_threshold_m"),
+        (dict(target="127.0.0.1:3000", callsign="much too long a name"), "dis_to"),
+    ]:
+        with pytest.raises(ValueError, match=name):
+            f.dis_to(**kwargs)
+    assert f.outputs == [] and f.dis_report is None
+    f.dis_to("127.0.0.1:3000")
+    with pytest.raises(ValueError, match="already"):
+        f.dis_to("127.0.0.1:3001")
+    f.close_outputs()
