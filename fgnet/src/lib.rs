@@ -7,7 +7,9 @@
 //!   [`FgNetFdm::decode`].
 //! * [`DisplayState`]: what a flight model hands over (degrees, metres, ft/s,
 //!   knots), converted with [`FgNetFdm::from_display`].
-//! * [`Sender`]: a connected UDP socket that keeps going when nobody listens.
+//! * [`Sender`]: a connected UDP socket that keeps going when nobody listens;
+//!   [`address`]: FlightGear's `HOST:PORT` endpoints, parsed strictly (IPv4
+//!   only, no broadcast or unspecified target) with typed errors.
 //! * [`MultiplayerPosition`]: FlightGear's multiplayer position message
 //!   (protocol 1.1, message id 7), to show many aircraft at once; the
 //!   [`multiplayer`] module documents the format and the orientation helpers.
@@ -89,6 +91,7 @@
 //! # Ok::<(), fgnet::SenderError>(())
 //! ```
 
+pub mod address;
 pub mod bridge;
 mod display;
 mod fdm;

@@ -14,9 +14,9 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::dis::{FleetDisArgs, FlightDisArgs};
-use crate::fgaddr::{parse_fg_listen, parse_fg_target, FgTarget};
 use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
+use fgnet::address::{parse_fg_listen, parse_fg_target, FgTarget};
 
 /// Highest accepted `--fps` and longest accepted run in frames (`--frames`, or
 /// `--duration` × `--fps` rounded): the run library's limits.

@@ -13,12 +13,12 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::fgaddr::FgTarget;
 use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 use fdm_run::dis::FlightDis;
+use fgnet::address::FgTarget;
 
 /// How the run is driven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -322,8 +322,16 @@ fn prepare<A: ScriptAction>(args: CommonArgs, model: &str) -> Result<Prepared<A>
     }
     let dis = args.dis.resolve()?;
     let fg = match (&args.fg, mode) {
-        (Some(target), _) => Some(target.resolve().map_err(CliError::usage)?),
-        (None, Mode::Interactive) => Some(FgTarget::default().resolve().map_err(CliError::usage)?),
+        (Some(target), _) => Some(
+            target
+                .resolve()
+                .map_err(|e| CliError::usage(e.to_string()))?,
+        ),
+        (None, Mode::Interactive) => Some(
+            FgTarget::default()
+                .resolve()
+                .map_err(|e| CliError::usage(e.to_string()))?,
+        ),
         (None, Mode::Headless { .. }) => None,
     };
     // Created last, so that no earlier error leaves a truncated file behind.

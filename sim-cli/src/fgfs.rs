@@ -31,9 +31,9 @@ use fgnet::bridge::{display, Display};
 
 use crate::args::{FgView, FgfsArgs, ModelKind};
 use crate::error::CliError;
-use crate::fgaddr::FgTarget;
 use crate::models::{CliModel, WithModel};
 use crate::start::StartArgs;
+use fgnet::address::FgTarget;
 
 /// Feet per metre as FlightGear converts (`SG_METER_TO_FEET`).
 pub const FT_PER_M: f64 = 3.280_839_895_013_123_4;

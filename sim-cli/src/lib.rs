@@ -17,7 +17,7 @@
 //! | [`report`] | the JSON [`report::Report`] and the human summary |
 //! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
-//! | [`fgfs`], [`fgaddr`], [`origin`] | FlightGear command line, `--fg`, `--origin` |
+//! | [`fgfs`], [`origin`] | FlightGear command line (`--fg` is parsed by `fgnet::address`), `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
 //! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
@@ -33,7 +33,6 @@ pub mod csv;
 pub mod dis;
 pub mod dis_listen;
 pub mod error;
-pub mod fgaddr;
 pub mod fgfs;
 pub mod fleet;
 pub mod fleet_mp;

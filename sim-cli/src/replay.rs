@@ -133,7 +133,11 @@ impl WithModel for ReplayJob<'_> {
         let (recording, cut) = Recording::<M>::parse_salvaging(self.bytes)
             .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
         let fg = match &self.args.fg {
-            Some(target) => Some(target.resolve().map_err(CliError::usage)?),
+            Some(target) => Some(
+                target
+                    .resolve()
+                    .map_err(|e| CliError::usage(e.to_string()))?,
+            ),
             None => None,
         };
         let mut csv = match &self.args.csv {
