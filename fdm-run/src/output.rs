@@ -55,8 +55,9 @@ impl Placement {
 }
 
 /// The counters of a network output (the FlightGear link, a DIS sender):
-/// the one link-counter type of the run library.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// the one link-counter type of the run library, and `sim-cli`'s JSON
+/// report's `fg` object (`{"sent": n, "failed": n}`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub struct LinkStats {
     /// Datagrams the operating system accepted (UDP: not a delivery).
     pub sent: u64,

@@ -258,7 +258,7 @@ mod tests {
     use super::*;
     use crate::config::Mode;
     use crate::hud::status_label;
-    use crate::hud::LinkStats;
+    use fdm_run::LinkStats;
     use crate::origin::GeodeticOrigin;
     use crate::progress::StderrProgress;
     use crate::run::run_headless;

@@ -11,6 +11,7 @@ use crossterm::QueueableCommand;
 
 use fdm_core::model::{DisplayStatus, FlightStatus};
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+use fdm_run::LinkStats;
 
 use crate::models::{tenths, Details};
 use crate::snapshot::Snapshot;
@@ -20,15 +21,6 @@ use crate::snapshot::Snapshot;
 #[must_use]
 pub fn status_label(status: FlightStatus, stalling: bool) -> &'static str {
     DisplayStatus::new(status, stalling).label()
-}
-
-/// Datagram counters of the FlightGear sender.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct LinkStats {
-    /// Datagrams handed to the OS.
-    pub sent: u64,
-    /// Send attempts that failed (e.g. ICMP port unreachable reported back).
-    pub failed: u64,
 }
 
 /// State of the run loop, as opposed to the model.

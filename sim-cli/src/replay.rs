@@ -38,7 +38,7 @@ use crate::pacer::FramePacer;
 use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
-use crate::report::{LinkReport, RealtimeReport, Report};
+use crate::report::{RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
 use fdm_core::fingerprint::{self, Fingerprint};
@@ -224,10 +224,7 @@ impl WithModel for ReplayJob<'_> {
         finished?;
         let links = flight.links();
         if run.fg.is_some() {
-            report.fg = links.fg_stats().map(|l| LinkReport {
-                sent: l.sent,
-                failed: l.failed,
-            });
+            report.fg = links.fg_stats();
         }
         report.dis = links.dis_report();
         if let Some(csv) = csv {

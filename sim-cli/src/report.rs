@@ -15,6 +15,7 @@
 //! `float_roundtrip` feature (enabled by this crate); without it, values can come back
 //! one ulp off (seen in this module's tests, e.g. 1234.5678901234567).
 
+use fdm_run::LinkStats;
 use serde::{Deserialize, Serialize};
 
 use crate::models::Details;
@@ -40,25 +41,17 @@ pub struct Report<D> {
     /// The state both models have.
     #[serde(flatten)]
     pub common: CommonState,
-    /// FlightGear datagram counters, when the run had `--fg`.
+    /// FlightGear datagram counters, when the run had `--fg`: datagrams
+    /// handed to the OS and sends that failed (e.g. "connection refused"
+    /// reported back for an earlier datagram).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fg: Option<LinkReport>,
+    pub fg: Option<LinkStats>,
     /// Real-time pacing, when the run had `--realtime`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub realtime: Option<RealtimeReport>,
     /// DIS output counters, when the run had `--dis` ([`fdm_run::dis::DisReport`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dis: Option<fdm_run::dis::DisReport>,
-}
-
-/// The JSON report's `fg` object: datagrams handed to the OS and sends that
-/// failed (e.g. "connection refused" reported back for an earlier datagram).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct LinkReport {
-    /// Datagrams sent.
-    pub sent: u64,
-    /// Sends that failed.
-    pub failed: u64,
 }
 
 /// The JSON report's `realtime` object.
@@ -418,7 +411,7 @@ mod tests {
         let s = plain.human_summary();
         assert!(!s.contains("flightgear") && !s.contains("realtime"), "{s}");
         let mut report = plain.clone();
-        report.fg = Some(LinkReport {
+        report.fg = Some(LinkStats {
             sent: 8971,
             failed: 29,
         });

@@ -8,12 +8,13 @@ use std::time::{Duration, Instant};
 use anyhow::Context as _;
 use crossterm::event::{self, Event};
 use fdm_core::script::{Script, ScriptCursor};
+use fdm_run::LinkStats;
 
 use super::headless::step_frame;
 use super::Flight;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::hud::{render_hud, HudData, HudWriter, LinkStats, LoopStatus};
+use crate::hud::{render_hud, HudData, HudWriter, LoopStatus};
 use crate::keys::{map_key, AppCommand, Input, KeyAction};
 use crate::pacer::FramePacer;
 use crate::terminal::TerminalGuard;

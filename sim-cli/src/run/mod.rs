@@ -12,16 +12,14 @@ use anyhow::Context as _;
 use fdm_core::script::Script;
 use fdm_run::dis::{DisOutput, DisReport};
 use fdm_run::flightgear::FlightGearOutput;
-use fdm_run::SharedOutput;
+use fdm_run::{LinkStats, SharedOutput};
 
 use crate::config::{Mode, RunConfig};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::hud::LinkStats;
 use crate::keys::KeyAction;
 use crate::models::Details;
 use crate::progress::StderrProgress;
-use crate::report::LinkReport;
 use crate::snapshot::Snapshot;
 
 pub mod headless;
@@ -92,11 +90,7 @@ impl Links {
     /// The FlightGear link's datagram counters, or `None` without `--fg`.
     #[must_use]
     pub fn fg_stats(&self) -> Option<LinkStats> {
-        let stats = self.fg.as_ref()?.with(|o| o.map(|o| o.stats()))?;
-        Some(LinkStats {
-            sent: stats.sent,
-            failed: stats.failed,
-        })
+        self.fg.as_ref()?.with(|o| o.map(|o| o.stats()))
     }
 
     /// The DIS output's counts, or `None` without `--dis`.
@@ -184,10 +178,7 @@ pub fn fly<F: Flight>(
             recorded?;
             let links = flight.links();
             if fg.is_some() {
-                report.fg = links.fg_stats().map(|l| LinkReport {
-                    sent: l.sent,
-                    failed: l.failed,
-                });
+                report.fg = links.fg_stats();
             }
             report.dis = links.dis_report();
             let text = if json {
