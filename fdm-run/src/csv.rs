@@ -364,16 +364,7 @@ impl CsvModel for Bourg {
 /// the model reports a stall).
 #[must_use]
 pub fn status_number(status: FlightStatus, stalling: bool) -> f64 {
-    use fdm_core::model::LandingState;
-    match status {
-        FlightStatus::Airborne if stalling => 6.0,
-        FlightStatus::OnGround => 0.0,
-        FlightStatus::Airborne => 1.0,
-        FlightStatus::Landed(LandingState::Safe) => 2.0,
-        FlightStatus::Landed(LandingState::Rough) => 3.0,
-        FlightStatus::Landed(LandingState::Crash) => 4.0,
-        FlightStatus::Diverged => 5.0,
-    }
+    f64::from(fdm_core::model::DisplayStatus::new(status, stalling).number())
 }
 
 /// One row of a flight's CSV, made from a run's [`Frame`]: `time_s` (the
@@ -606,5 +597,48 @@ mod tests {
         }
         // The throttle went up: the rows are not all the start's.
         assert!(rows[45].3 > rows[0].3);
+    }
+
+    /// A [`FlightRow`] has one value per column for both models, `status`
+    /// last ([`status_number`] of the frame: airborne, 1, for the thesis
+    /// starts), and Bourg's flags as 0 or 1.
+    #[test]
+    fn flight_rows_have_a_value_per_column() {
+        fn row<M: CsvModel>() -> (Vec<&'static str>, Vec<f64>) {
+            let run = Run::new(Scenario::<M>::new(Start::thesis(), 30, 0).unwrap()).unwrap();
+            let (view, placement) = (run.view(), run.placement());
+            let (controls, state) = (run.controls().unwrap(), run.state().unwrap());
+            let frame = Frame {
+                event: Event::Start,
+                number: 0,
+                flown: 0,
+                fps: 30,
+                actions: &[],
+                controls: &controls,
+                state: &state,
+                view: &view,
+                placement: &placement,
+                status: FlightStatus::Airborne,
+            };
+            let mut values = Vec::new();
+            FlightRow::<M>::of(&frame).csv_values(&mut values);
+            (FlightRow::<M>::columns(), values)
+        }
+        let (columns, values) = row::<Palmer>();
+        assert_eq!(columns.len(), values.len());
+        assert_eq!(
+            (columns.last(), values.last()),
+            (Some(&"status"), Some(&1.0))
+        );
+        let (columns, values) = row::<fdm_core::bourg::Bourg>();
+        assert_eq!(columns.len(), values.len());
+        assert_eq!(
+            columns[columns.len() - 4..],
+            ["flaps", "stalling", "pitch_trim", "status"]
+        );
+        assert!(values[values.len() - 4..values.len() - 2]
+            .iter()
+            .all(|&x| x == 0.0 || x == 1.0));
+        assert_eq!(values.last(), Some(&1.0));
     }
 }

@@ -1,11 +1,11 @@
 //! `--csv FILE`: one row per frame, written by the run library's
-//! [`fdm_run::csv::CsvWriter`] (the layout and number format are documented
-//! there and in docs/cli.md). Each row is a [`crate::snapshot::Snapshot`]
-//! ([`CsvRecord`]: the common columns, then the model's
-//! [`Details::CSV_COLUMNS`](crate::models::Details::CSV_COLUMNS), then the
-//! display status).
+//! [`fdm_run::csv::CsvOutput`] attached to the run (the layout and number
+//! format are documented there and in docs/cli.md). Each row is a
+//! [`fdm_run::csv::FlightRow`]: the common columns, then the model's
+//! [`CsvModel::CSV_COLUMNS`](fdm_run::csv::CsvModel::CSV_COLUMNS), then the
+//! display status.
 
-pub use fdm_run::csv::{CsvError, CsvRecord, CsvWriter};
+pub use fdm_run::csv::{CsvError, CsvWriter};
 
 use crate::error::CliError;
 
@@ -20,22 +20,7 @@ impl From<CsvError> for CliError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::snapshot::samples;
     use std::io::Write;
-
-    #[test]
-    fn records_write_their_header_once() {
-        let snap = samples::bourg();
-        let mut w = CsvWriter::new(Vec::new(), "mem");
-        w.write_record(0, &snap).unwrap();
-        w.write_record(1, &snap).unwrap();
-        let text = String::from_utf8(w.finish().unwrap()).unwrap();
-        let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines.len(), 3);
-        assert!(lines[0].starts_with("frame,time_s,x,y,z,"));
-        assert!(lines[2].starts_with("1,60.000000000000746,1234.5678901234567,"));
-        assert_eq!(lines[0].split(',').count(), lines[1].split(',').count());
-    }
 
     #[test]
     fn a_bad_row_is_a_runtime_error() {

@@ -1,7 +1,8 @@
 //! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
 //! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with the
 //! run's outputs attached: the FlightGear link (`--fg`,
-//! [`FlightGearOutput`]), DIS (`--dis`), `--record`, `--acmi`, `--plot`.
+//! [`FlightGearOutput`]), DIS (`--dis`), `--csv` (the run library's
+//! [`CsvOutput`] of [`FlightRow`]s), `--record`, `--acmi`, `--plot`.
 //!
 //! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
 //! loop has already put the script's rules for the frame first, in file order,
@@ -23,6 +24,7 @@ use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
 use fdm_ecs::{Entity, Simulation};
 use fdm_run::acmi::AcmiOutput;
+use fdm_run::csv::{CsvOutput, FlightRow};
 use fdm_run::dis::DisOutput;
 use fdm_run::flightgear::FlightGearOutput;
 use fdm_run::{Output, Run, RunError, Scenario, SharedOutput};
@@ -100,6 +102,21 @@ impl<M: CliModel> ModelFlight<M> {
     /// The output fails on frame 0.
     pub fn attach(&mut self, output: impl Output<M> + 'static) -> anyhow::Result<()> {
         Ok(self.run.attach(output)?)
+    }
+
+    /// Attaches `--csv`: a row per frame (frame 0 now and after each
+    /// reset), the run library's [`FlightRow`].
+    ///
+    /// # Errors
+    /// Writing the header or the first row failed.
+    pub fn attach_csv<W: std::io::Write + 'static>(
+        &mut self,
+        writer: fdm_run::csv::CsvWriter<W>,
+    ) -> anyhow::Result<()> {
+        self.attach(CsvOutput::new(
+            writer,
+            FlightRow::<M>::of as fn(&fdm_run::Frame<'_, M>) -> FlightRow<M>,
+        ))
     }
 
     /// The simulation the aircraft flies in.
@@ -208,6 +225,7 @@ pub fn run_model_with<M: CliModel>(
     attach: impl FnOnce(&mut ModelFlight<M>) -> anyhow::Result<()>,
 ) -> Result<(), CliError> {
     let plot = config.run.plot.take();
+    let csv = config.run.csv.take();
     let ModelConfig {
         run,
         script,
@@ -225,6 +243,9 @@ pub fn run_model_with<M: CliModel>(
     let mut flight = ModelFlight::new(&run, start)?;
     // Outputs of the run: it hands them every frame and reset, and
     // `Flight::finish` completes them.
+    if let Some(csv) = csv {
+        flight.attach_csv(csv)?;
+    }
     if let Some(writer) = writer {
         flight.attach(writer)?;
     }
@@ -258,13 +279,13 @@ mod tests {
     use super::*;
     use crate::config::Mode;
     use crate::hud::status_label;
-    use fdm_run::LinkStats;
     use crate::origin::GeodeticOrigin;
     use crate::progress::StderrProgress;
     use crate::run::run_headless;
     use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
     use fdm_core::model::{FlightStatus, LandingState};
     use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
+    use fdm_run::LinkStats;
     use std::net::{SocketAddrV4, UdpSocket};
 
     fn run(fps: u32, fg: Option<SocketAddrV4>) -> RunConfig {
@@ -556,13 +577,12 @@ mod tests {
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
         let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
         let mut progress = StderrProgress::with_enabled(20, false);
-        let report = run_headless::<_, Vec<u8>>(
+        let report = run_headless(
             &mut flight,
             &fdm_core::script::Script::default(),
             30,
             20,
             false,
-            None,
             &mut progress,
         )
         .unwrap();
@@ -570,5 +590,70 @@ mod tests {
         let links = flight.links();
         assert!(links.fg_stats().unwrap().failed > 0);
         assert!(links.take_failure().is_none(), "taken by the loop");
+    }
+
+    /// `--csv` is an output of the run: row 0 when attached, one row per
+    /// frame the headless loop flies; the interactive session's reset
+    /// writes a new row 0 and the frame numbers start over; paused frames
+    /// write nothing.
+    #[test]
+    fn csv_rows_follow_the_loops_frames_and_resets() {
+        use crate::keys::{AppCommand, Input};
+        use crate::run::Session;
+        use std::sync::{Arc, Mutex};
+
+        /// A writer whose bytes the test reads after the flight finished.
+        #[derive(Clone, Default)]
+        struct Buffer(Arc<Mutex<Vec<u8>>>);
+        impl std::io::Write for Buffer {
+            fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+                self.0.lock().unwrap().extend_from_slice(bytes);
+                Ok(bytes.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        fn frames_of(buffer: &Buffer) -> Vec<String> {
+            String::from_utf8(buffer.0.lock().unwrap().clone())
+                .unwrap()
+                .lines()
+                .skip(1)
+                .map(|l| l.split(',').next().unwrap().to_owned())
+                .collect()
+        }
+
+        let buffer = Buffer::default();
+        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        flight
+            .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
+            .unwrap();
+        let script = fdm_core::script::Script::default();
+        let mut progress = StderrProgress::with_enabled(3, false);
+        run_headless(&mut flight, &script, 10, 3, false, &mut progress).unwrap();
+        flight.finish().unwrap();
+        assert_eq!(frames_of(&buffer), ["0", "1", "2", "3"]);
+
+        let buffer = Buffer::default();
+        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        flight
+            .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
+            .unwrap();
+        let mut session = Session::<PalmerAction>::new();
+        session.advance(&mut flight, &script).unwrap();
+        session
+            .handle(Input::App(AppCommand::Pause), &mut flight)
+            .unwrap();
+        session.advance(&mut flight, &script).unwrap();
+        session
+            .handle(Input::App(AppCommand::Pause), &mut flight)
+            .unwrap();
+        session.advance(&mut flight, &script).unwrap();
+        session
+            .handle(Input::App(AppCommand::Reset), &mut flight)
+            .unwrap();
+        session.advance(&mut flight, &script).unwrap();
+        flight.finish().unwrap();
+        assert_eq!(frames_of(&buffer), ["0", "1", "2", "0", "1"]);
     }
 }

@@ -162,7 +162,7 @@ impl WithModel for DescribeCsv {
         CsvModel {
             title: M::TITLE,
             shown,
-            columns: crate::snapshot::csv_columns::<M::Details>(),
+            columns: fdm_run::csv::FlightRow::<M>::columns(),
             speed_column: <M::Details as Details>::CSV_SPEED_COLUMN,
             metres_per_unit: <M::Details as Details>::METRES_PER_UNIT,
         }

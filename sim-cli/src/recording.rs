@@ -54,6 +54,25 @@ mod tests {
         }
     }
 
+    /// The flight's CSV (`--csv`), attached to its run.
+    type Csv<M> = fdm_run::SharedOutput<
+        fdm_run::csv::CsvOutput<Vec<u8>, fn(&fdm_run::Frame<'_, M>) -> fdm_run::csv::FlightRow<M>>,
+    >;
+
+    fn attach_csv<M: CliModel>(flight: &mut ModelFlight<M>) -> Csv<M> {
+        let csv = fdm_run::SharedOutput::new(fdm_run::csv::CsvOutput::new(
+            CsvWriter::new(Vec::new(), "csv"),
+            fdm_run::csv::FlightRow::<M>::of as fn(&fdm_run::Frame<'_, M>) -> _,
+        ));
+        flight.attach(csv.clone()).unwrap();
+        csv
+    }
+
+    /// The CSV's bytes, after `flight.finish()`.
+    fn csv_bytes<M: CliModel>(csv: &Csv<M>) -> Vec<u8> {
+        csv.take().unwrap().into_inner().finish().unwrap()
+    }
+
     fn quiet(frames: u64) -> StderrProgress {
         StderrProgress::with_enabled(frames, false)
     }
@@ -73,21 +92,13 @@ mod tests {
         let recorder = fdm_run::SharedOutput::new(writer);
         flight.attach(recorder.clone()).unwrap();
         let script = Script::parse(script).unwrap();
-        let mut csv = CsvWriter::new(Vec::new(), "csv");
-        let report = run_headless(
-            &mut flight,
-            &script,
-            fps,
-            frames,
-            false,
-            Some(&mut csv),
-            &mut quiet(frames),
-        )
-        .unwrap();
+        let csv = attach_csv(&mut flight);
+        let report =
+            run_headless(&mut flight, &script, fps, frames, false, &mut quiet(frames)).unwrap();
         flight.finish().unwrap();
         Outcome {
             json: report.to_json().unwrap(),
-            csv: csv.finish().unwrap(),
+            csv: csv_bytes(&csv),
             recording: recorder.take().unwrap().into_inner(),
         }
     }
@@ -104,8 +115,7 @@ mod tests {
         let recorder = fdm_run::SharedOutput::new(writer);
         flight.attach(recorder.clone()).unwrap();
         let script = Script::parse(script).unwrap();
-        let mut csv = CsvWriter::new(Vec::new(), "csv");
-        csv.write_record(0, &flight.snapshot()).unwrap();
+        let csv = attach_csv(&mut flight);
         let mut session = Session::new();
         let actions = <M::Action as ScriptAction>::ALL;
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
@@ -113,7 +123,7 @@ mod tests {
         for frame in 0..frames {
             if frame == frames / 2 {
                 session
-                    .handle(Input::App(AppCommand::Reset), &mut flight, Some(&mut csv))
+                    .handle(Input::App(AppCommand::Reset), &mut flight)
                     .unwrap();
                 resets += 1;
             }
@@ -130,19 +140,17 @@ mod tests {
                     n => Input::Action(actions[n as usize % actions.len()]),
                 };
                 resets += u32::from(input == Input::App(AppCommand::Reset));
-                let flow = session.handle(input, &mut flight, Some(&mut csv)).unwrap();
+                let flow = session.handle(input, &mut flight).unwrap();
                 assert_eq!(flow, Flow::Continue);
             }
-            session
-                .advance(&mut flight, &script, Some(&mut csv))
-                .unwrap();
+            session.advance(&mut flight, &script).unwrap();
         }
         assert!(resets > 0, "the key sequence should reset at least once");
         flight.finish().unwrap();
         let report = Report::new(fps, session.total_frames(), &flight.snapshot());
         Outcome {
             json: report.to_json().unwrap(),
-            csv: csv.finish().unwrap(),
+            csv: csv_bytes(&csv),
             recording: recorder.take().unwrap().into_inner(),
         }
     }
@@ -160,18 +168,18 @@ mod tests {
             ..run_config(recording.fps)
         };
         let mut flight = ModelFlight::new(&run, recording.start.clone()).unwrap();
-        let mut csv = CsvWriter::new(Vec::new(), "csv");
+        let csv = attach_csv(&mut flight);
         let report = replay_flight(
             &mut flight,
             recording.events(),
             recording.fps,
             recording.frames,
             false,
-            Some(&mut csv),
             &mut quiet(recording.frames),
         )
         .unwrap();
-        (report.to_json().unwrap(), csv.finish().unwrap())
+        flight.finish().unwrap();
+        (report.to_json().unwrap(), csv_bytes(&csv))
     }
 
     fn palmer_start() -> Start<Palmer> {

@@ -46,25 +46,22 @@ use fdm_run::acmi::AcmiOutput;
 
 /// Flies the recorded events on `flight` (which starts where the recording
 /// starts): each run of frames steps the flight with its actions, a reset
-/// resets it. CSV rows as the recorded flight wrote them: frame 0 at the
-/// start and after each reset, then the frame number since the last reset.
+/// resets it. The run hands its outputs every frame as the recorded flight's
+/// did (the CSV: frame 0 at the start and after each reset, then the frame
+/// number since the last reset).
 ///
 /// # Errors
-/// A failing step, reset or CSV write ([`CliError::Runtime`]), or an event
+/// A failing step, reset or output ([`CliError::Runtime`]), or an event
 /// that does not decode ([`CliError::Usage`]; not after [`Recording::parse`]).
-pub fn replay_flight<F: Flight, W: Write>(
+pub fn replay_flight<F: Flight>(
     flight: &mut F,
     events: impl IntoIterator<Item = Result<Replayed<F::Action>, RecordingError>>,
     fps: u32,
     total_frames: u64,
     realtime: bool,
-    mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
     let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
-    if let Some(csv) = csv.as_deref_mut() {
-        csv.write_record(0, &flight.snapshot())?;
-    }
     let mut frame = 0_u64;
     let mut done = 0_u64;
     let links = flight.links();
@@ -82,9 +79,6 @@ pub fn replay_flight<F: Flight, W: Write>(
                     flight
                         .step(&actions)
                         .with_context(|| format!("frame {frame}"))?;
-                    if let Some(csv) = csv.as_deref_mut() {
-                        csv.write_record(frame, &flight.snapshot())?;
-                    }
                     if let Some(message) = links.take_failure() {
                         progress.message(&link_warning(&message));
                     }
@@ -100,9 +94,6 @@ pub fn replay_flight<F: Flight, W: Write>(
             Replayed::Reset => {
                 flight.reset().context("reset")?;
                 frame = 0;
-                if let Some(csv) = csv.as_deref_mut() {
-                    csv.write_record(0, &flight.snapshot())?;
-                }
             }
         }
     }
@@ -140,7 +131,7 @@ impl WithModel for ReplayJob<'_> {
             ),
             None => None,
         };
-        let mut csv = match &self.args.csv {
+        let csv = match &self.args.csv {
             Some(path) => {
                 if path == &self.args.file || crate::input::same_file(path, &self.args.file) {
                     return Err(CliError::usage(format!(
@@ -198,6 +189,9 @@ impl WithModel for ReplayJob<'_> {
             ],
         )?;
         let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
+        if let Some(csv) = csv {
+            flight.attach_csv(csv)?;
+        }
         if let Some(acmi) = acmi {
             flight.attach(AcmiOutput::<M>::new(acmi))?;
         }
@@ -214,11 +208,10 @@ impl WithModel for ReplayJob<'_> {
             recording.fps,
             recording.frames,
             self.args.realtime,
-            csv.as_mut(),
             &mut progress,
         );
-        // The outputs (--acmi, --plot) are completed even when the replay
-        // stopped early.
+        // The outputs (--csv, --acmi, --plot) are completed even when the
+        // replay stopped early.
         let finished = flight.finish();
         let mut report = report?;
         finished?;
@@ -227,9 +220,6 @@ impl WithModel for ReplayJob<'_> {
             report.fg = links.fg_stats();
         }
         report.dis = links.dis_report();
-        if let Some(csv) = csv {
-            csv.finish()?;
-        }
         let text = if self.args.json {
             report.to_json().context("encoding the JSON report")?
         } else {

@@ -1,13 +1,12 @@
 //! The state of the flown aircraft as the CLI sees it at one instant
-//! ([`Snapshot`]): what the JSON report, the CSV rows and the HUD are built
-//! from. The common part ([`CommonState`]) is the same for every model; the
+//! ([`Snapshot`]): what the JSON report and the HUD are built from (the CSV
+//! rows are the run library's `fdm_run::csv::FlightRow`). The common part ([`CommonState`]) is the same for every model; the
 //! model's own fields are its [`Details`].
 
 use fdm_core::model::{DisplayStatus, FlightStatus};
 use fdm_core::units::METRES_PER_FOOT;
 use serde::{Deserialize, Serialize};
 
-use crate::csv::CsvRecord;
 use crate::models::Details;
 
 /// Geodetic position as sent to FlightGear.
@@ -81,13 +80,6 @@ impl<D> Snapshot<D> {
     pub fn status_code(&self) -> &'static str {
         self.display_status().code()
     }
-
-    /// The status as a number, for the CSV's `status` column
-    /// ([`DisplayStatus::number`]).
-    #[must_use]
-    pub fn status_number(&self) -> f64 {
-        f64::from(self.display_status().number())
-    }
 }
 
 /// The flight status and stall flag of a CSV `status` number
@@ -120,58 +112,6 @@ impl<D: Details> Snapshot<D> {
     #[must_use]
     pub fn climb_rate_mps(&self) -> f64 {
         self.common.velocity[2] * Self::metres_per_unit()
-    }
-}
-
-/// CSV column names of [`CommonState`] (after `frame,time_s`), in row order.
-pub const COMMON_CSV_COLUMNS: &[&str] = &[
-    "x",
-    "y",
-    "z",
-    "vx",
-    "vy",
-    "vz",
-    "lat_deg",
-    "lon_deg",
-    "alt_m",
-    "roll_deg",
-    "pitch_deg",
-    "fg_heading_deg",
-];
-
-/// The columns of a `--csv` file of a model with details `D`, after
-/// `frame,time_s`: the common ones, the model's, the display status.
-#[must_use]
-pub fn csv_columns<D: Details>() -> Vec<&'static str> {
-    let mut columns = COMMON_CSV_COLUMNS.to_vec();
-    columns.extend_from_slice(D::CSV_COLUMNS);
-    columns.push("status");
-    columns
-}
-
-impl<D: Details> CsvRecord for Snapshot<D> {
-    fn csv_columns(&self) -> Vec<&'static str> {
-        csv_columns::<D>()
-    }
-
-    fn time_s(&self) -> f64 {
-        self.common.time_s
-    }
-
-    fn csv_values(&self, out: &mut Vec<f64>) {
-        let c = &self.common;
-        out.extend_from_slice(&c.position);
-        out.extend_from_slice(&c.velocity);
-        out.extend_from_slice(&[
-            c.geodetic.lat_deg,
-            c.geodetic.lon_deg,
-            c.geodetic.alt_m,
-            c.attitude_deg.roll,
-            c.attitude_deg.pitch,
-            c.attitude_deg.heading,
-        ]);
-        self.details.csv_values(out);
-        out.push(self.status_number());
     }
 }
 

@@ -34,28 +34,6 @@ impl Details for BourgDetails {
     const CSV_SPEED_COLUMN: &'static str = "speed";
     const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
     /// `flaps` and `stalling` are written as 0 or 1.
-    const CSV_COLUMNS: &'static [&'static str] = &[
-        "speed",
-        "euler_x_deg",
-        "euler_y_deg",
-        "euler_z_deg",
-        "thrust_lb",
-        "flaps",
-        "stalling",
-        "pitch_trim",
-    ];
-
-    fn csv_values(&self, out: &mut Vec<f64>) {
-        out.push(self.speed);
-        out.extend_from_slice(&self.euler_deg);
-        out.extend_from_slice(&[
-            self.thrust_lb,
-            f64::from(u8::from(self.flaps)),
-            f64::from(u8::from(self.stalling)),
-            self.pitch_trim,
-        ]);
-    }
-
     fn summary(&self) -> String {
         format!(
             "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}  pitch trim {:.3}",
@@ -99,14 +77,6 @@ impl CliModel for Bourg {
         moved.position_ft.y += ft(west_m);
         moved.position_ft.z += ft(up_m);
         moved
-    }
-
-    fn native_position(state: &BourgState) -> [f64; 3] {
-        state.position_ft.map(f64::from).into()
-    }
-
-    fn native_velocity(state: &BourgState) -> [f64; 3] {
-        state.velocity_ftps.map(f64::from).into()
     }
 
     fn details(

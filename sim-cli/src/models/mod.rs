@@ -12,7 +12,7 @@ pub mod palmer;
 
 use std::fmt::Debug;
 
-use fdm_run::RunModel;
+use fdm_run::csv::CsvModel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -71,7 +71,7 @@ impl ModelKind {
 
 /// A model as `sim-cli` flies it: a [`RunModel`] (what the run library
 /// needs to fly, record and replay it) with the CLI's own parts.
-pub trait CliModel: RunModel<Action: KeyAction> {
+pub trait CliModel: CsvModel<Action: KeyAction> {
     /// The model's own report fields (JSON next to the common ones, CSV
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
@@ -102,14 +102,6 @@ pub trait CliModel: RunModel<Action: KeyAction> {
     /// z, metres), everything else unchanged: fleet spawn patterns.
     fn offset_state(state: &Self::State, north_m: f64, west_m: f64, up_m: f64) -> Self::State;
 
-    /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
-    /// up) in the model's own unit ([`Details::POSITION_UNIT`]), widened to
-    /// `f64` exactly.
-    fn native_position(state: &Self::State) -> [f64; 3];
-
-    /// Velocity in the same frame and unit per second.
-    fn native_velocity(state: &Self::State) -> [f64; 3];
-
     /// The model's report fields now.
     fn details(
         aircraft: &Self::Aircraft,
@@ -124,16 +116,12 @@ pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
     const MODEL: &'static str;
     /// The unit of the native position: `"m"` or `"ft"`.
     const POSITION_UNIT: &'static str;
-    /// CSV column names of these fields, after the common ones.
-    const CSV_COLUMNS: &'static [&'static str];
-    /// The column `sim-cli plot` draws as the airspeed (one of
-    /// [`Self::CSV_COLUMNS`]), in the native unit per second.
+    /// The column `sim-cli plot` draws as the airspeed (one of the model's
+    /// [`CsvModel::CSV_COLUMNS`](fdm_run::csv::CsvModel::CSV_COLUMNS)), in
+    /// the native unit per second.
     const CSV_SPEED_COLUMN: &'static str;
     /// Metres per unit of [`Self::POSITION_UNIT`] (1 for metres).
     const METRES_PER_UNIT: f64;
-
-    /// Appends one value per [`Self::CSV_COLUMNS`] entry, in order.
-    fn csv_values(&self, out: &mut Vec<f64>);
 
     /// The human summary's model-specific line(s), without a trailing newline.
     fn summary(&self) -> String;

@@ -60,30 +60,6 @@ impl Details for PalmerDetails {
     const POSITION_UNIT: &'static str = "m";
     const CSV_SPEED_COLUMN: &'static str = "airspeed";
     const METRES_PER_UNIT: f64 = 1.0;
-    const CSV_COLUMNS: &'static [&'static str] = &[
-        "airspeed",
-        "throttle",
-        "alpha_deg",
-        "bank_deg",
-        "flaps_deg",
-        "climb_angle_deg",
-        "climb_rate",
-        "heading_deg",
-    ];
-
-    fn csv_values(&self, out: &mut Vec<f64>) {
-        out.extend_from_slice(&[
-            self.airspeed,
-            self.controls.throttle,
-            self.controls.alpha_deg,
-            self.controls.bank_deg,
-            self.controls.flaps_deg,
-            self.climb_angle_deg,
-            self.climb_rate,
-            self.heading_deg,
-        ]);
-    }
-
     fn summary(&self) -> String {
         format!(
             "airspeed  {:.3} m/s  climb {:.2} deg, {:.3} m/s\n\
@@ -141,14 +117,6 @@ impl CliModel for Palmer {
         moved.position_m.y += west_m;
         moved.position_m.z += up_m;
         moved
-    }
-
-    fn native_position(state: &PalmerState) -> [f64; 3] {
-        state.position_m.into()
-    }
-
-    fn native_velocity(state: &PalmerState) -> [f64; 3] {
-        state.velocity_mps.into()
     }
 
     fn details(

@@ -1,14 +1,12 @@
 //! The headless loop: a fixed number of frames as fast as possible, then the
 //! report.
 
-use std::io::Write;
 use std::time::Instant;
 
 use anyhow::Context as _;
 use fdm_core::script::{Script, ScriptCursor};
 
 use super::{link_warning, Flight};
-use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
@@ -16,15 +14,15 @@ use crate::report::{RealtimeReport, Report};
 
 /// Steps frame `frame` (1-based): the script's actions for that frame in file order
 /// (through `cursor`, a sweep over the rules: linear in frames plus rules),
-/// then `keys`, then one model step, then the CSV row.
-pub(super) fn step_frame<F: Flight, W: Write>(
+/// then `keys`, then one model step (which hands the frame to the run's
+/// outputs: `--csv`, `--fg`, ...).
+pub(super) fn step_frame<F: Flight>(
     flight: &mut F,
     script: &Script<F::Action>,
     cursor: &mut ScriptCursor,
     frame: u64,
     keys: &[F::Action],
     buffer: &mut Vec<F::Action>,
-    csv: Option<&mut CsvWriter<W>>,
 ) -> Result<(), CliError> {
     buffer.clear();
     buffer.extend(cursor.actions(script, frame));
@@ -32,34 +30,26 @@ pub(super) fn step_frame<F: Flight, W: Write>(
     flight
         .step(buffer)
         .with_context(|| format!("frame {frame}"))?;
-    if let Some(csv) = csv {
-        csv.write_record(frame, &flight.snapshot())?;
-    }
     Ok(())
 }
 
 /// Runs `frames` frames and returns the final report: as fast as possible, or
 /// with `realtime` one frame per 1/fps of wall-clock time like the interactive
 /// loop (so FlightGear, reading at the frame rate, sees every frame; frames
-/// that miss their deadline are counted as overruns in the report). Writes the
-/// initial state as CSV frame 0 and a row after every step. The caller
-/// finishes (flushes) the CSV writer.
+/// that miss their deadline are counted as overruns in the report). The
+/// run's outputs get every frame from the run; the caller finishes them.
 ///
 /// # Errors
-/// The first failing step or CSV write ([`CliError::Runtime`]).
-pub fn run_headless<F: Flight, W: Write>(
+/// The first failing step or output ([`CliError::Runtime`]).
+pub fn run_headless<F: Flight>(
     flight: &mut F,
     script: &Script<F::Action>,
     fps: u32,
     frames: u64,
     realtime: bool,
-    mut csv: Option<&mut CsvWriter<W>>,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
     let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
-    if let Some(csv) = csv.as_deref_mut() {
-        csv.write_record(0, &flight.snapshot())?;
-    }
     let mut buffer = Vec::new();
     let mut cursor = ScriptCursor::new();
     let mut flown = 0;
@@ -70,15 +60,7 @@ pub fn run_headless<F: Flight, W: Write>(
         if crate::signals::stop_requested().is_some() {
             break;
         }
-        step_frame(
-            flight,
-            script,
-            &mut cursor,
-            frame,
-            &[],
-            &mut buffer,
-            csv.as_deref_mut(),
-        )?;
+        step_frame(flight, script, &mut cursor, frame, &[], &mut buffer)?;
         if let Some(message) = links.take_failure() {
             progress.message(&link_warning(&message));
         }

@@ -1,7 +1,7 @@
 //! The interactive loop: keys in, HUD out, one frame per 1/fps of wall time;
 //! [`Session`] holds its state apart from the terminal and the clock.
 
-use std::io::{self, Write};
+use std::io;
 use std::net::SocketAddrV4;
 use std::time::{Duration, Instant};
 
@@ -12,7 +12,6 @@ use fdm_run::LinkStats;
 
 use super::headless::step_frame;
 use super::Flight;
-use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::hud::{render_hud, HudData, HudWriter, LoopStatus};
 use crate::keys::{map_key, AppCommand, Input, KeyAction};
@@ -80,15 +79,15 @@ impl<A: KeyAction> Session<A> {
 
     /// Handles one key. Control keys are queued for the next frame; while paused
     /// they are ignored, so nothing changes behind a frozen display. Reset returns to
-    /// frame 0 (the script starts over) and writes the initial state as a new CSV row 0.
+    /// frame 0 (the script starts over; the run hands its outputs the initial
+    /// state again, e.g. a new CSV row 0).
     ///
     /// # Errors
-    /// A failing reset or CSV write.
-    pub fn handle<F: Flight<Action = A>, W: Write>(
+    /// A failing reset or output.
+    pub fn handle<F: Flight<Action = A>>(
         &mut self,
         input: Input<A>,
         flight: &mut F,
-        csv: Option<&mut CsvWriter<W>>,
     ) -> Result<Flow, CliError> {
         match input {
             Input::App(AppCommand::Quit) => return Ok(Flow::Quit),
@@ -98,9 +97,6 @@ impl<A: KeyAction> Session<A> {
                 self.frame = 0;
                 self.pending.clear();
                 self.cursor.reset();
-                if let Some(csv) = csv {
-                    csv.write_record(0, &flight.snapshot())?;
-                }
             }
             Input::Action(action) => {
                 if !self.paused {
@@ -115,11 +111,10 @@ impl<A: KeyAction> Session<A> {
     ///
     /// # Errors
     /// As [`run_headless`](super::run_headless).
-    pub fn advance<F: Flight<Action = A>, W: Write>(
+    pub fn advance<F: Flight<Action = A>>(
         &mut self,
         flight: &mut F,
         script: &Script<A>,
-        csv: Option<&mut CsvWriter<W>>,
     ) -> Result<(), CliError> {
         if self.paused {
             return Ok(());
@@ -133,7 +128,6 @@ impl<A: KeyAction> Session<A> {
             self.frame,
             &self.pending,
             &mut self.buffer,
-            csv,
         );
         self.pending.clear();
         result
@@ -158,13 +152,12 @@ pub struct InteractiveSummary {
 /// 1/fps seconds of wall time. The terminal is restored on every exit path.
 ///
 /// # Errors
-/// Terminal I/O failures and the first failing step or CSV write.
-pub fn run_interactive<F: Flight, W: Write>(
+/// Terminal I/O failures and the first failing step or output.
+pub fn run_interactive<F: Flight>(
     flight: &mut F,
     script: &Script<F::Action>,
     fps: u32,
     fg: Option<SocketAddrV4>,
-    mut csv: Option<&mut CsvWriter<W>>,
 ) -> Result<InteractiveSummary, CliError> {
     let guard = TerminalGuard::enter().context("setting up the terminal")?;
     let mut out = io::stdout();
@@ -172,9 +165,6 @@ pub fn run_interactive<F: Flight, W: Write>(
     let mut session = Session::new();
     let mut link_failure = None;
     let links = flight.links();
-    if let Some(csv) = csv.as_deref_mut() {
-        csv.write_record(0, &flight.snapshot())?;
-    }
     let mut pacer = FramePacer::new(FramePacer::period_for(fps), Instant::now());
     'run: loop {
         // A signal (a closed terminal window, `kill`) ends the flight like Q:
@@ -187,7 +177,7 @@ pub fn run_interactive<F: Flight, W: Write>(
             match event::read().context("reading the keyboard")? {
                 Event::Key(key) => {
                     if let Some(input) = map_key::<F::Action>(&key) {
-                        if session.handle(input, flight, csv.as_deref_mut())? == Flow::Quit {
+                        if session.handle(input, flight)? == Flow::Quit {
                             break 'run;
                         }
                     }
@@ -203,7 +193,7 @@ pub fn run_interactive<F: Flight, W: Write>(
                 _ => {}
             }
         }
-        session.advance(flight, script, csv.as_deref_mut())?;
+        session.advance(flight, script)?;
         if let Some(message) = links.take_failure() {
             link_failure.get_or_insert(message);
         }

@@ -15,7 +15,6 @@ use fdm_run::flightgear::FlightGearOutput;
 use fdm_run::{LinkStats, SharedOutput};
 
 use crate::config::{Mode, RunConfig};
-use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::keys::KeyAction;
 use crate::models::Details;
@@ -145,7 +144,8 @@ pub fn fly<F: Flight>(
     let RunConfig {
         fps,
         mode,
-        mut csv,
+        // Taken by `run_model`, which attaches it to the run (fdm_run::csv::CsvOutput).
+        csv: _,
         fg,
         origin: _,
         dis: _,
@@ -159,23 +159,13 @@ pub fn fly<F: Flight>(
             realtime,
         } => {
             let mut progress = StderrProgress::new(frames);
-            let report = run_headless(
-                &mut flight,
-                script,
-                fps,
-                frames,
-                realtime,
-                csv.as_mut(),
-                &mut progress,
-            );
-            // The rows written so far are kept and flushed, and the recording
-            // finished, even when the run stopped early (e.g. the model
-            // diverged on the next frame).
-            let finished = csv.map(CsvWriter::finish).transpose();
-            let recorded = flight.finish();
+            let report = run_headless(&mut flight, script, fps, frames, realtime, &mut progress);
+            // The outputs are finished (the CSV rows written so far flushed,
+            // the recording ended) even when the run stopped early (e.g. the
+            // model diverged on the next frame).
+            let finished = flight.finish();
             let mut report = report?;
             finished?;
-            recorded?;
             let links = flight.links();
             if fg.is_some() {
                 report.fg = links.fg_stats();
@@ -189,12 +179,10 @@ pub fn fly<F: Flight>(
             print_stdout(&text)
         }
         Mode::Interactive => {
-            let summary = run_interactive(&mut flight, script, fps, fg, csv.as_mut());
-            let finished = csv.map(CsvWriter::finish).transpose();
-            let recorded = flight.finish();
+            let summary = run_interactive(&mut flight, script, fps, fg);
+            let finished = flight.finish();
             let summary = summary?;
             finished?;
-            recorded?;
             if let Some(message) = &summary.link_failure {
                 eprintln!("{}", link_warning(message));
             }
@@ -296,9 +284,7 @@ mod tests {
         let mut flight = Fake::default();
         let script = script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n");
         let mut progress = StderrProgress::with_enabled(4, false);
-        let report =
-            run_headless::<_, Vec<u8>>(&mut flight, &script, 10, 4, false, None, &mut progress)
-                .unwrap();
+        let report = run_headless(&mut flight, &script, 10, 4, false, &mut progress).unwrap();
         assert_eq!(
             flight.steps,
             [
@@ -317,43 +303,10 @@ mod tests {
     fn headless_zero_frames_reports_the_initial_state() {
         let mut flight = Fake::default();
         let mut progress = StderrProgress::with_enabled(0, false);
-        let report = run_headless::<_, Vec<u8>>(
-            &mut flight,
-            &Script::default(),
-            30,
-            0,
-            false,
-            None,
-            &mut progress,
-        )
-        .unwrap();
+        let report =
+            run_headless(&mut flight, &Script::default(), 30, 0, false, &mut progress).unwrap();
         assert_eq!((report.frames, report.common.time_s), (0, 0.0));
         assert!(flight.steps.is_empty());
-    }
-
-    #[test]
-    fn headless_csv_has_initial_row_and_one_row_per_frame() {
-        let mut flight = Fake::default();
-        let mut csv = CsvWriter::new(Vec::new(), "mem");
-        let mut progress = StderrProgress::with_enabled(3, false);
-        run_headless(
-            &mut flight,
-            &Script::default(),
-            10,
-            3,
-            false,
-            Some(&mut csv),
-            &mut progress,
-        )
-        .unwrap();
-        let text = String::from_utf8(csv.finish().unwrap()).unwrap();
-        let frames: Vec<&str> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').next().unwrap())
-            .collect();
-        assert_eq!(frames, ["0", "1", "2", "3"]);
-        assert!(text.lines().nth(2).unwrap().starts_with("1,0.1,1,"));
     }
 
     #[test]
@@ -363,16 +316,8 @@ mod tests {
             ..Fake::default()
         };
         let mut progress = StderrProgress::with_enabled(5, false);
-        let err = run_headless::<_, Vec<u8>>(
-            &mut flight,
-            &Script::default(),
-            10,
-            5,
-            false,
-            None,
-            &mut progress,
-        )
-        .unwrap_err();
+        let err =
+            run_headless(&mut flight, &Script::default(), 10, 5, false, &mut progress).unwrap_err();
         assert_eq!(err.exit_code(), 1);
         assert_eq!(err.one_line(), "frame 3: model diverged");
     }
@@ -382,51 +327,37 @@ mod tests {
         use PalmerAction::*;
         let mut flight = Fake::default();
         let script = script("1-1 flaps-down\n");
-        let mut csv = CsvWriter::new(Vec::new(), "mem");
         let mut s = Session::new();
-        fn handle(
-            s: &mut Session<PalmerAction>,
-            f: &mut Fake,
-            csv: &mut CsvWriter<Vec<u8>>,
-            input: Input<PalmerAction>,
-        ) -> Flow {
-            s.handle(input, f, Some(csv)).unwrap()
+        fn handle(s: &mut Session<PalmerAction>, f: &mut Fake, input: Input<PalmerAction>) -> Flow {
+            s.handle(input, f).unwrap()
         }
 
         // Frame 1: script first, then keys in the order pressed.
-        handle(&mut s, &mut flight, &mut csv, Input::Action(ThrottleUp));
-        handle(&mut s, &mut flight, &mut csv, Input::Action(ThrottleUp));
-        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        handle(&mut s, &mut flight, Input::Action(ThrottleUp));
+        handle(&mut s, &mut flight, Input::Action(ThrottleUp));
+        s.advance(&mut flight, &script).unwrap();
         assert_eq!(flight.steps, [vec![FlapsDown, ThrottleUp, ThrottleUp]]);
 
         // Paused: no steps, keys ignored.
-        handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Pause));
-        handle(&mut s, &mut flight, &mut csv, Input::Action(AlphaUp));
-        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        handle(&mut s, &mut flight, Input::App(AppCommand::Pause));
+        handle(&mut s, &mut flight, Input::Action(AlphaUp));
+        s.advance(&mut flight, &script).unwrap();
         assert_eq!((s.frame(), flight.steps.len(), s.paused()), (1, 1, true));
-        handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Pause));
-        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        handle(&mut s, &mut flight, Input::App(AppCommand::Pause));
+        s.advance(&mut flight, &script).unwrap();
         assert_eq!(flight.steps[1], []);
 
         // Reset: model reset, frame 0, the script starts over.
-        handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Reset));
+        handle(&mut s, &mut flight, Input::App(AppCommand::Reset));
         assert_eq!((s.frame(), flight.resets), (0, 1));
-        s.advance(&mut flight, &script, Some(&mut csv)).unwrap();
+        s.advance(&mut flight, &script).unwrap();
         assert_eq!(flight.steps, [vec![FlapsDown]]);
         assert_eq!(s.total_frames(), 3);
 
         assert_eq!(
-            handle(&mut s, &mut flight, &mut csv, Input::App(AppCommand::Quit)),
+            handle(&mut s, &mut flight, Input::App(AppCommand::Quit)),
             Flow::Quit
         );
-        let text = String::from_utf8(csv.finish().unwrap()).unwrap();
-        let frames: Vec<&str> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').next().unwrap())
-            .collect();
-        // Rows are only written by steps and resets (the loop writes the first row 0).
-        assert_eq!(frames, ["1", "2", "0", "1"]);
     }
 
     /// The warning line is one line whatever the failure's message (the
