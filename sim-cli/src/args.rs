@@ -32,7 +32,10 @@ use fdm_run::acmi::ReferenceTime;
     about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, or headless from scripts",
     long_about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, \
                   or headless from scripts.\n\n\
-                  Exit status: 0 success, 2 bad usage or bad input file, 1 any other failure.",
+                  Exit status: 0 success, 2 bad usage or bad input file, 1 any other failure, \
+                  3 a replayed recording was cut (the frames before the cut were replayed), \
+                  4 a replay flew another flight than the recorded one (fingerprint mismatch), \
+                  128+N stopped by signal N.",
     after_help = "Run `sim-cli palmer --help` or `sim-cli bourg --help` for the flight options \
                   (frame rate, headless runs, scripts, JSON report, CSV, FlightGear target, origin)."
 )]

@@ -38,7 +38,8 @@ impl CliError {
         Self::Runtime(anyhow::anyhow!("{message}"))
     }
 
-    /// The process exit status for this error: 2 for usage, 1 for runtime.
+    /// The process exit status for this error: 2 for usage, 1 for runtime,
+    /// 3 for an incomplete input used to its end, 4 for a different flight.
     #[must_use]
     pub fn exit_code(&self) -> u8 {
         match self {
@@ -76,6 +77,26 @@ pub fn one_line(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_exit_status_is_in_the_help() {
+        use clap::CommandFactory;
+        let help = crate::args::Cli::command().render_long_help().to_string();
+        let line = &help[help.find("Exit status:").expect("an exit-status line")..];
+        let statuses = [
+            CliError::usage("x"),
+            CliError::runtime("x"),
+            CliError::Incomplete("x".to_owned()),
+            CliError::DifferentFlight("x".to_owned()),
+        ]
+        .map(|e| e.exit_code());
+        for status in [0, 128].into_iter().chain(statuses) {
+            assert!(
+                line.contains(&format!(" {status}")),
+                "{status} missing from: {line}"
+            );
+        }
+    }
 
     #[test]
     fn exit_codes() {
