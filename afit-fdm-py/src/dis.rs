@@ -4,7 +4,7 @@
 //! Markings, identities and thresholds are checked again by fdm-dis when the
 //! output opens.
 
-use std::net::{SocketAddr, ToSocketAddrs};
+use std::net::SocketAddr;
 
 use fdm_dis::{DisVersion, DrAlgorithm, DrThresholds};
 use fdm_run::dis::{DisSettings, FlightDis, ENTITIES_PER_APPLICATION, MAX_SITE_OR_APPLICATION};
@@ -53,31 +53,13 @@ fn in_range(name: &str, value: u64, lo: u64, hi: u64) -> PyResult<()> {
 }
 
 /// `HOST:PORT` resolved (its first address), as `sim-cli --dis` resolves
-/// it: port 0 and the unspecified address are refused.
+/// it ([`fdm_run::dis::resolve_target`]): port 0 and the unspecified address
+/// are refused.
 ///
 /// # Errors
 /// `ValueError` naming `target`.
 pub fn resolve_target(text: &str) -> PyResult<SocketAddr> {
-    let shown: String = text.chars().take(64).collect();
-    let addr = text
-        .to_socket_addrs()
-        .map_err(|e| {
-            refuse(format!(
-                "target: {shown:?} is not a HOST:PORT address ({e})"
-            ))
-        })?
-        .next()
-        .ok_or_else(|| refuse(format!("target: {shown:?} resolves to no address")))?;
-    if addr.port() == 0 {
-        return Err(refuse(format!("target: {shown:?}: port 0")));
-    }
-    if addr.ip().is_unspecified() {
-        return Err(refuse(format!(
-            "target: {shown:?} is the unspecified address (no host); give a receiver's \
-             address, or a broadcast address such as 255.255.255.255"
-        )));
-    }
-    Ok(addr)
+    fdm_run::dis::resolve_target(text).map_err(|e| refuse(format!("target: {e}")))
 }
 
 /// The checked settings of one aircraft's DIS output.

@@ -332,6 +332,13 @@ pub trait AnyFlight: Send + Sync {
     /// # Errors
     /// `(is_os_error, message)`.
     fn csv_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), AttachError>;
+    /// Attaches a FlightGear native-FDM link (`Flight.flightgear_to`).
+    ///
+    /// # Errors
+    /// `(is_os_error, message)`.
+    fn flightgear_to(&mut self, target: &str, origin: &GeodeticOrigin) -> Result<(), AttachError>;
+    /// The FlightGear link's counters so far.
+    fn flightgear_report(&self) -> Option<fdm_run::LinkStats>;
     /// Attaches a DIS output (`Flight.dis_to`).
     ///
     /// # Errors
@@ -528,6 +535,12 @@ impl<M: BindModel> AnyFlight for Single<M> {
     }
     fn csv_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {
         self.attach_with(|o, start| o.attach_csv(path, *origin, start))
+    }
+    fn flightgear_to(&mut self, target: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {
+        self.attach_with(|o, start| o.attach_flightgear(target, *origin, start))
+    }
+    fn flightgear_report(&self) -> Option<fdm_run::LinkStats> {
+        self.outputs.flightgear_report()
     }
     #[cfg(feature = "dis")]
     fn dis_to(

@@ -224,6 +224,28 @@ impl PyFlight {
         self.inner.csv_to(&path, &origin).map_err(attach_error)
     }
 
+    /// Sends the flight to FlightGear at `target` (see `_afit_fdm.pyi`).
+    #[pyo3(signature = (target, *, origin=None))]
+    fn flightgear_to(&mut self, target: &str, origin: Option<(f64, f64, f64)>) -> PyResult<()> {
+        let origin = read_origin(origin)?;
+        self.inner
+            .flightgear_to(target, &origin)
+            .map_err(attach_error)
+    }
+
+    /// The FlightGear link's counts so far (the `fg` object of
+    /// `sim-cli --fg ... --json`), or `None` without a link.
+    #[getter]
+    fn flightgear_report<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(stats) = self.inner.flightgear_report() else {
+            return Ok(None);
+        };
+        let report = PyDict::new(py);
+        report.set_item("sent", stats.sent)?;
+        report.set_item("failed", stats.failed)?;
+        Ok(Some(report))
+    }
+
     /// Publishes the flight as a DIS entity to `target` (see `_afit_fdm.pyi`).
     #[cfg(feature = "dis")]
     #[pyo3(signature = (target, *, origin=None, entity=1, callsign=None, site=1, application=1, exercise=1, version=7, dr="rvw", position_threshold_m=1.0, orientation_threshold_deg=3.0, heartbeat_s=5.0, every_frame=false))]

@@ -7,7 +7,10 @@
 //!   name as `sim-cli --acmi` writes it;
 //! * CSV: [`fdm_run::csv::CsvOutput`] of [`FlightRow`]s, the rows of
 //!   `sim-cli --csv`;
-//! * DIS (feature `dis`): [`fdm_run::dis::DisOutput`], one entity.
+//! * DIS (feature `dis`): [`fdm_run::dis::DisOutput`], one entity;
+//! * FlightGear: [`FlightGearOutput`], one native-FDM datagram per flown
+//!   frame, the target checked as `sim-cli --fg` checks it
+//!   ([`fgnet::address::parse_fg_target`]).
 //!
 //! Each output has its own earth-frame origin (the placement on WGS-84 is
 //! computed per origin, as [`Placement::of`] computes it for the ECS's
@@ -21,7 +24,9 @@ use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{FlightStatus, FlightView};
 use fdm_run::acmi::{AcmiHeader, AcmiOutput, AcmiWriter, ReferenceTime};
 use fdm_run::csv::{CsvOutput, CsvWriter, FlightRow};
-use fdm_run::{Event, Frame, Output, Placement, SharedOutput};
+use fdm_run::flightgear::FlightGearOutput;
+use fdm_run::{Event, Frame, LinkStats, Output, Placement, SharedOutput};
+use fgnet::address::{parse_fg_target, FgAddressError};
 
 use crate::models::BindModel;
 
@@ -62,6 +67,8 @@ pub struct FrameData<'a, M: BindModel> {
 /// A flight's outputs, in the order attached.
 pub struct Outputs<M: BindModel> {
     list: Vec<Attached<M>>,
+    /// The FlightGear link's handle, for its counters.
+    fg: Option<SharedOutput<FlightGearOutput>>,
     /// The DIS output's handle, for its report.
     #[cfg(feature = "dis")]
     dis: Option<SharedOutput<fdm_run::dis::DisOutput>>,
@@ -71,6 +78,7 @@ impl<M: BindModel> Default for Outputs<M> {
     fn default() -> Self {
         Self {
             list: Vec::new(),
+            fg: None,
             #[cfg(feature = "dis")]
             dis: None,
         }
@@ -177,6 +185,48 @@ impl<M: BindModel> Outputs<M> {
         self.attach(format!("csv {path}"), origin, output, start)
     }
 
+    /// Attaches a FlightGear native-FDM link to `target` (`HOST:PORT`, as
+    /// `sim-cli --fg` takes it): one datagram per flown frame.
+    ///
+    /// # Errors
+    /// A target `sim-cli --fg` refuses (IPv6, broadcast, unspecified, bad
+    /// syntax), a host that does not resolve, the socket cannot be made, or
+    /// a FlightGear link is already attached.
+    pub fn attach_flightgear(
+        &mut self,
+        target: &str,
+        origin: GeodeticOrigin,
+        start: &FrameData<'_, M>,
+    ) -> Result<(), AttachError> {
+        if self.fg.is_some() {
+            return Err((
+                false,
+                "flightgear_to: a FlightGear link is already attached (close_outputs() first)"
+                    .to_owned(),
+            ));
+        }
+        let addr = parse_fg_target(target)
+            .and_then(|t| t.resolve())
+            .map_err(|e| {
+                let os = matches!(e, FgAddressError::Resolve { .. });
+                (os, format!("flightgear_to: {e}"))
+            })?;
+        let output = FlightGearOutput::connect(&addr.to_string(), origin)
+            .map_err(|e| (true, format!("flightgear_to: {e}")))?;
+        let shared = SharedOutput::new(output);
+        self.attach(format!("flightgear {addr}"), origin, shared.clone(), start)?;
+        self.fg = Some(shared);
+        Ok(())
+    }
+
+    /// The FlightGear link's datagrams sent and failed so far (the JSON
+    /// report's `fg` object of `sim-cli --fg`), or `None` without one.
+    pub fn flightgear_report(&self) -> Option<LinkStats> {
+        self.fg
+            .as_ref()
+            .and_then(|f| f.with(|o| o.map(|o| o.stats())))
+    }
+
     /// Attaches a DIS output: one entity, as `sim-cli --dis` publishes it.
     ///
     /// # Errors
@@ -255,6 +305,7 @@ impl<M: BindModel> Outputs<M> {
                 first.get_or_insert(format!("{}: {e}", attached.label));
             }
         }
+        self.fg = None;
         #[cfg(feature = "dis")]
         {
             self.dis = None;

@@ -11,8 +11,9 @@
 //! 3. `pytest` on `tests/` (warnings are errors: `pyproject.toml`), with
 //!    `AFIT_FDM_SIM_CLI` naming a `sim-cli` built from this checkout (in the
 //!    same directory), for the bit-for-bit comparisons, and `ACMI_PYTHON` and
-//!    `DIS_PYTHON` the interop tests' pinned Pythons with the independent
-//!    readers (pyacmi, Open-DIS: `fdm_tests::python`) for `test_outputs.py`.
+//!    `DIS_PYTHON` and `FGNET_PYTHON` the interop tests' pinned Pythons with
+//!    the independent readers (pyacmi, Open-DIS, flightgear-python:
+//!    `fdm_tests::python`) for `test_outputs.py`.
 //!
 //! `AFIT_FDM_PYTHON` can name a ready Python that has the pinned packages
 //! (the package is still installed into it). Nothing is skipped: a missing
@@ -20,7 +21,7 @@
 
 use std::path::Path;
 
-use fdm_tests::python::{PythonEnv, OPENDIS, PYACMI};
+use fdm_tests::python::{PythonEnv, FGPY, OPENDIS, PYACMI};
 
 mod common;
 
@@ -51,6 +52,7 @@ fn python_package_installs_and_its_suite_passes() {
     let sim_cli = common::sim_cli(&build_dir);
     let acmi_python = PYACMI.ready(tmp);
     let dis_python = OPENDIS.ready(tmp);
+    let fgnet_python = FGPY.ready(tmp);
     common::pytest(
         &python,
         &path,
@@ -58,6 +60,7 @@ fn python_package_installs_and_its_suite_passes() {
         &[
             ("ACMI_PYTHON", acmi_python.as_path()),
             ("DIS_PYTHON", dis_python.as_path()),
+            ("FGNET_PYTHON", fgnet_python.as_path()),
         ],
         &["tests"],
     );

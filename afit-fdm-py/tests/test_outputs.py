@@ -1,12 +1,15 @@
-"""Outputs of a ``Flight`` (``acmi_to``, ``csv_to``, ``dis_to``): the run
-library's, written from Python to the same bytes as ``sim-cli --acmi``,
-``--csv`` and ``--dis`` for the same flight (``sim-cli`` run from the test),
-and read back by independent readers pinned as the Rust interop tests pin
-them: pyacmi 1.2.4 for ACMI (``fdm-run/tests/acmi_interop/read_acmi.py``)
-and Open-DIS 1.0 for DIS (``fdm-dis/tests/opendis_interop/decode_udp.py``).
-Those two live in their own virtualenvs (Open-DIS pins an older NumPy):
-``ACMI_PYTHON`` and ``DIS_PYTHON`` name their Pythons (``python_suite.rs``
-sets both). Missing, the tests fail; they never skip.
+"""Outputs of a ``Flight`` (``acmi_to``, ``csv_to``, ``dis_to``,
+``flightgear_to``): the run library's, written from Python to the same
+bytes as ``sim-cli --acmi``, ``--csv``, ``--dis`` and ``--fg`` for the same
+flight (``sim-cli`` run from the test), and read back by independent
+readers pinned as the Rust interop tests pin them: pyacmi 1.2.4 for ACMI
+(``fdm-run/tests/acmi_interop/read_acmi.py``), Open-DIS 1.0 for DIS
+(``fdm-dis/tests/opendis_interop/decode_udp.py``) and flightgear-python
+2.1.0 for FGNetFDM (its ``fdm_v24`` struct, as in
+``fgnet/tests/fgnet_interop/parse_udp.py``). Those three live in their own
+virtualenvs (Open-DIS pins an older NumPy): ``ACMI_PYTHON``, ``DIS_PYTHON``
+and ``FGNET_PYTHON`` name their Pythons (``python_suite.rs`` sets them).
+Missing, the tests fail; they never skip.
 """
 
 from __future__ import annotations
@@ -19,8 +22,9 @@ import os
 import pathlib
 import socket
 import subprocess
+import threading
 import zipfile
-from typing import Dict, List, Sequence, Tuple
+from typing import Callable, Dict, List, Sequence, Tuple
 
 import pytest
 
@@ -230,9 +234,23 @@ def test_opendis_decodes_the_python_flight(tmp_path) -> None:
         flight.dis_to(f"127.0.0.1:{port}", site=7, application=8, entity=9, version=6,
                       every_frame=True, callsign="PY-9")
         flight.csv_to(tmp_path / "f.csv")
-        flight.step(frames)
+        # Fly in slices and wait for the decoder to print each slice's PDUs
+        # before sending more: a burst of all frames can overflow the
+        # decoder's socket buffer (about 200 datagrams by default on Linux)
+        # while a loaded machine keeps the slow Python decoder behind, and
+        # a datagram lost on loopback is then a timeout, not a bug of ours.
+        lines: List[str] = []
+        slice_frames = 30
+        for start in range(0, frames, slice_frames):
+            n = min(slice_frames, frames - start)
+            flight.step(n)
+            for _ in range(n):
+                line = decoder.stdout.readline()
+                assert line, "decoder ended early: " + (decoder.stderr.read() if decoder.stderr else "")
+                lines.append(line)
         flight.close_outputs()
-        out, err = decoder.communicate(timeout=60)
+        rest, err = decoder.communicate(timeout=60)
+        out = "".join(lines) + rest
     finally:
         if decoder.poll() is None:
             decoder.kill()
@@ -319,3 +337,140 @@ def test_bad_output_arguments_raise_naming_them(tmp_path) -> None:
     with pytest.raises(ValueError, match="already"):
         f.dis_to("127.0.0.1:3001")
     f.close_outputs()
+
+
+def capture_while(sock: socket.socket, work: Callable[[], None]) -> List[bytes]:
+    """The datagrams ``sock`` receives while ``work()`` runs, drained by a
+    thread as they come: a burst from a subprocess cannot be slowed down,
+    and left in the socket it could overflow the receive buffer (a few
+    hundred datagrams by default on Linux)."""
+    got: List[bytes] = []
+    done = threading.Event()
+
+    def drain() -> None:
+        while True:
+            try:
+                got.append(sock.recv(65536))
+            except socket.timeout:
+                if done.is_set():
+                    return
+
+    sock.settimeout(0.05)
+    reader = threading.Thread(target=drain)
+    reader.start()
+    try:
+        work()
+    finally:
+        done.set()
+        reader.join()
+    return got
+
+
+def fg_sink() -> Tuple[socket.socket, str]:
+    sink = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sink.bind(("127.0.0.1", 0))
+    return sink, f"127.0.0.1:{sink.getsockname()[1]}"
+
+
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+def test_flightgear_datagrams_are_the_bytes_sim_cli_sends(sim_cli, tmp_path, model) -> None:
+    args, flight, frames = cli_args(model, tmp_path)
+    sink, target = fg_sink()
+    with sink:
+        procs: List[subprocess.CompletedProcess] = []
+        cli = capture_while(sink, lambda: procs.append(run_cli(sim_cli, [*args, "--json", "--fg", target])))
+
+        def fly() -> None:
+            flight.flightgear_to(target)
+            assert flight.outputs == [f"flightgear {target}"]
+            assert flight.flightgear_report == {"sent": 0, "failed": 0}
+            flight.step(frames)
+
+        ours = capture_while(sink, fly)
+        report = flight.flightgear_report
+        flight.close_outputs()
+    assert flight.flightgear_report is None and flight.outputs == []
+    # One 408-byte datagram per flown frame, none for the start.
+    assert len(cli) == frames and all(len(d) == 408 for d in cli)
+    assert ours == cli
+    assert report == json.loads(procs[0].stdout)["fg"] == {"sent": frames, "failed": 0}
+
+
+FG_DECODE = """
+import json, sys
+from flightgear_python.fdm_v24 import fdm_struct
+for line in sys.stdin:
+    p = fdm_struct.parse(bytes.fromhex(line))  # Const(24) raises on another version
+    print(json.dumps({k: p[k] for k in ("version", "latitude", "longitude", "altitude", "phi", "theta", "psi")}))
+"""
+
+
+def test_flightgear_python_decodes_the_python_flight(tmp_path) -> None:
+    """flightgear-python's own FGNetFDM v24 struct (an independent decoder)
+    reads every datagram of a Python flight: its position within 1e-6
+    degrees and 1 cm of the CSV's (the datagram's latitude and longitude
+    are f64 radians, its altitude f64 metres), its attitude within 1e-4
+    degrees (f32 radians: about 1e-5 degrees of rounding)."""
+    _, flight, frames = cli_args("bourg", tmp_path)
+    python = helper_python("FGNET_PYTHON", "flightgear-python==2.1.0 construct==2.10.70")
+    sink, target = fg_sink()
+    with sink:
+
+        def fly() -> None:
+            flight.flightgear_to(target)
+            flight.csv_to(tmp_path / "f.csv")
+            flight.step(frames)
+            flight.close_outputs()
+
+        datagrams = capture_while(sink, fly)
+    assert len(datagrams) == frames
+    decoded = subprocess.run([python, "-c", FG_DECODE], input="".join(d.hex() + "\n" for d in datagrams),
+                             capture_output=True, text=True, timeout=120)
+    assert decoded.returncode == 0, decoded.stderr
+    fields = [json.loads(x) for x in decoded.stdout.splitlines()]
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "f.csv").read_text(encoding="utf-8"))))
+    assert len(fields) == frames
+    for i, f in enumerate(fields):
+        row = rows[i + 1]
+        assert f["version"] == 24
+        assert abs(math.degrees(f["latitude"]) - float(row["lat_deg"])) < 1e-6
+        assert abs(math.degrees(f["longitude"]) - float(row["lon_deg"])) < 1e-6
+        assert abs(f["altitude"] - float(row["alt_m"])) < 0.01
+        assert abs(math.degrees(f["phi"]) - float(row["roll_deg"])) < 1e-4
+        assert abs(math.degrees(f["theta"]) - float(row["pitch_deg"])) < 1e-4
+        yaw = math.degrees(f["psi"]) - float(row["fg_heading_deg"])
+        assert abs(((yaw + 180.0) % 360.0) - 180.0) < 1e-4
+
+
+@pytest.mark.parametrize("target,message", [
+    ("0.0.0.0:5500", "unspecified address"),
+    ("255.255.255.255:5500", "broadcast address"),
+    ("[::1]:5500", "IPv6 is not supported"),
+    ("127.0.0.1", "missing port"),
+    ("127.0.0.1:0", "not a decimal number in 1..65535"),
+    ("0x7f.0.0.1:5500", "not a plain IPv4 address"),
+])
+def test_flightgear_targets_sim_cli_refuses_are_refused(target, message) -> None:
+    flight = afit_fdm.Flight("palmer")
+    with pytest.raises(ValueError, match=message):
+        flight.flightgear_to(target)
+    assert flight.outputs == [] and flight.flightgear_report is None
+
+
+def test_a_flightgear_nobody_listens_to_is_counted_not_raised() -> None:
+    """Sends to a closed loopback port fail with "connection refused" (the
+    kernel's ICMP answer to an earlier datagram): counted, never raised;
+    the flight flies on. A second link is refused until the first is closed."""
+    sink, target = fg_sink()
+    sink.close()
+    flight = afit_fdm.Flight("palmer", altitude_ft=3000.0, speed_kt=100.0, trim=True)
+    flight.flightgear_to(target)
+    with pytest.raises(ValueError, match="already attached"):
+        flight.flightgear_to(target)
+    flight.step(10)
+    report = flight.flightgear_report
+    assert report is not None and report["sent"] + report["failed"] == 10 and report["failed"] >= 1
+    assert flight.frame == 10
+    flight.close_outputs()
+    flight.flightgear_to(target)
+    assert flight.outputs == [f"flightgear {target}"]

@@ -38,7 +38,7 @@
 //! feature (dis-rs needs Rust 1.91; builds without DIS, such as the Python
 //! package, keep the workspace's 1.89).
 
-use std::net::SocketAddr;
+use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::Instant;
 
 use fdm_core::geodesy::GeodeticOrigin;
@@ -59,6 +59,77 @@ pub const ENTITIES_PER_APPLICATION: u64 = 0xFFFD;
 
 /// Largest site or application number (0xFFFF means "all").
 pub const MAX_SITE_OR_APPLICATION: u16 = 0xFFFE;
+
+/// Why a DIS target `HOST:PORT` was refused ([`resolve_target`]). The
+/// text is quoted through [`fdm_core::script::Echo`] (control characters
+/// escaped, long text cut), so each message is one line.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DisTargetError {
+    /// Not `HOST:PORT`, or the host does not resolve.
+    #[error("{text}: not a HOST:PORT address ({message})")]
+    NotAnAddress {
+        /// The text as given.
+        text: String,
+        /// The resolver's error.
+        message: String,
+    },
+    /// The host resolves to no address at all.
+    #[error("{text}: resolves to no address")]
+    NoAddress {
+        /// The text as given.
+        text: String,
+    },
+    /// Port 0 names no receiver.
+    #[error("{text}: port 0")]
+    PortZero {
+        /// The text as given.
+        text: String,
+    },
+    /// 0.0.0.0 or `::` names no host.
+    #[error("{text}: the unspecified address (no host); give a receiver's address, or a broadcast address such as 255.255.255.255")]
+    Unspecified {
+        /// The text as given.
+        text: String,
+    },
+}
+
+/// Resolves a DIS target `HOST:PORT` (`sim-cli --dis`, Python's
+/// `Flight.dis_to`) to the first address it names. Unlike FlightGear's
+/// target (`fgnet::address`), broadcast (DIS exercises are often broadcast
+/// on a LAN) and IPv6 (DIS receivers need not be IPv4) are allowed; port 0
+/// and the unspecified address, which name no receiver, are not.
+///
+/// ```
+/// use fdm_run::dis::{resolve_target, DisTargetError};
+///
+/// assert_eq!(resolve_target("127.0.0.1:3000")?.port(), 3000);
+/// assert!(resolve_target("255.255.255.255:3000").is_ok());
+/// assert!(matches!(resolve_target("0.0.0.0:3000"), Err(DisTargetError::Unspecified { .. })));
+/// assert!(matches!(resolve_target("127.0.0.1:0"), Err(DisTargetError::PortZero { .. })));
+/// # Ok::<(), DisTargetError>(())
+/// ```
+///
+/// # Errors
+/// [`DisTargetError`], naming the text.
+pub fn resolve_target(text: &str) -> Result<SocketAddr, DisTargetError> {
+    let shown = || fdm_core::script::Echo::short(text).to_string();
+    let addr = text
+        .to_socket_addrs()
+        .map_err(|e| DisTargetError::NotAnAddress {
+            text: shown(),
+            message: e.to_string(),
+        })?
+        .next()
+        .ok_or_else(|| DisTargetError::NoAddress { text: shown() })?;
+    if addr.port() == 0 {
+        return Err(DisTargetError::PortZero { text: shown() });
+    }
+    if addr.ip().is_unspecified() {
+        return Err(DisTargetError::Unspecified { text: shown() });
+    }
+    Ok(addr)
+}
 
 /// Why DIS output could not start.
 #[derive(Debug, thiserror::Error)]

@@ -24,7 +24,7 @@
 //!   come back unchanged.
 //!
 //! Python: `$FGNET_PYTHON` if set (it must import flightgear-python
-//! [`FGPY_VERSION`]); otherwise a virtualenv created once under
+//! `fdm_tests::python::FGPY`'s version); otherwise a virtualenv created once under
 //! `$CARGO_TARGET_TMPDIR` with `python3 -m venv` and
 //! `pip install flightgear-python==2.1.0 construct==2.10.70`. If that is not
 //! possible the tests fail with the reason; they never skip.
@@ -46,8 +46,6 @@ use fdm_tests::fgnet_fields::{assert_bitwise_eq, element_bits, fields, from_elem
 use fgnet::{DisplayState, EngineState, FgNetFdm, Sender};
 use serde_json::{json, Map, Value};
 
-/// The flightgear-python release these tests pin.
-const FGPY_VERSION: &str = "2.1.0";
 /// flightgear-python's `offset_fg_radian` coefficient (fg_util.py).
 const FGPY_RADIAN_COEFF: f64 = 1.09349403e-9;
 /// The radian fields `fix_fg_radian_parsing` adjusts (our names).
@@ -69,15 +67,9 @@ const TIMEOUT: Duration = Duration::from_secs(20);
 
 // ---------------------------------------------------------------- python setup
 
-/// flightgear-python and its construct, pinned.
-const ENV: PythonEnv = PythonEnv {
-    name: "fgpy-2.1.0",
-    override_var: "FGNET_PYTHON",
-    packages: &["flightgear-python==2.1.0", "construct==2.10.70"],
-    distribution: "flightgear-python",
-    version: FGPY_VERSION,
-    imports: &["flightgear_python.fdm_v24", "flightgear_python.fg_if"],
-};
+/// flightgear-python and its construct, pinned (shared with the Python
+/// package's suite).
+const ENV: PythonEnv = fdm_tests::python::FGPY;
 
 /// A Python script of this test's directory, started with the pinned Python.
 struct Script;

@@ -11,7 +11,7 @@
 //! exercise must not overlap: give each its own `--dis-application` (or site,
 //! or entity base).
 
-use std::net::{SocketAddr, ToSocketAddrs};
+use std::net::SocketAddr;
 
 use clap::{Args, ValueEnum};
 use fdm_dis::{DisVersion, DrAlgorithm, DrThresholds, Marking};
@@ -254,31 +254,12 @@ impl DisArgs {
     }
 }
 
-/// Resolves `HOST:PORT` (the first address it resolves to).
+/// Resolves `--dis HOST:PORT` ([`fdm_run::dis::resolve_target`]).
 ///
 /// # Errors
 /// [`CliError::Usage`] naming the text.
 pub fn resolve_target(text: &str) -> Result<SocketAddr, CliError> {
-    let shown = Echo::short(text);
-    let addr = text
-        .to_socket_addrs()
-        .map_err(|e| CliError::usage(format!("--dis {shown}: not a HOST:PORT address ({e})")))?
-        .next()
-        .ok_or_else(|| CliError::usage(format!("--dis {shown}: resolves to no address")))?;
-    if addr.port() == 0 {
-        return Err(CliError::usage(format!("--dis {shown}: port 0")));
-    }
-    // As for --fg: the unspecified address names no receiver. Unlike --fg,
-    // broadcast (DIS exercises are often broadcast on a LAN) and IPv6 (DIS
-    // receivers need not be IPv4, unlike FlightGear's native-FDM socket) are
-    // allowed.
-    if addr.ip().is_unspecified() {
-        return Err(CliError::usage(format!(
-            "--dis {shown}: the unspecified address (no host); give a receiver's address, \
-             or a broadcast address such as 255.255.255.255"
-        )));
-    }
-    Ok(addr)
+    fdm_run::dis::resolve_target(text).map_err(|e| CliError::usage(format!("--dis {e}")))
 }
 
 impl FlightDisArgs {

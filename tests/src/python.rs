@@ -37,6 +37,19 @@ pub const OPENDIS_SCRIPT_DIR: &str = concat!(
     "/../fdm-dis/tests/opendis_interop"
 );
 
+/// flightgear-python (PyPI `flightgear-python` 2.1.0) and its construct,
+/// pinned: the independent FGNetFDM decoder of fgnet's interop tests and of
+/// the Python package's `Flight.flightgear_to` test. `$FGNET_PYTHON` can
+/// name a ready Python.
+pub const FGPY: PythonEnv = PythonEnv {
+    name: "fgpy-2.1.0",
+    override_var: "FGNET_PYTHON",
+    packages: &["flightgear-python==2.1.0", "construct==2.10.70"],
+    distribution: "flightgear-python",
+    version: "2.1.0",
+    imports: &["flightgear_python.fdm_v24", "flightgear_python.fg_if"],
+};
+
 /// pyacmi (PyPI `pyacmi` 1.2.4, a Tacview ACMI parser) and what it imports,
 /// pinned (`constantly` is imported by pyacmi without being declared as its
 /// dependency): the independent ACMI reader of fdm-run's and sim-cli's

@@ -178,6 +178,29 @@ class Flight:
         a row for the flight when attached, one per frame, a frame-0 row
         after each reset. Numbers in the shortest form that reads back to the
         same bits. ``OSError`` when the file cannot be created."""
+    def flightgear_to(
+        self,
+        target: str,
+        *,
+        origin: Optional[Tuple[float, float, float]] = None,
+    ) -> None:
+        """Sends the flight to FlightGear's native-FDM socket at ``target``
+        (``"HOST:PORT"``, e.g. ``"127.0.0.1:5500"``; FlightGear started with
+        ``--fdm=null --native-fdm=socket,in,30,,5500,udp``): one FGNetFDM v24
+        datagram (408 bytes) per flown frame, the datagrams
+        ``sim-cli MODEL --fg target`` sends for the same flight (docs/cli.md,
+        docs/fgnetfdm.md); none for a diverged frame. They go out as fast as
+        :meth:`step` flies: to watch in real time, step one frame per
+        1/fps seconds. The target is checked as ``sim-cli --fg`` checks it:
+        ``ValueError`` for IPv6, the broadcast or unspecified address or bad
+        syntax; ``OSError`` when the host does not resolve or the socket
+        cannot be made. Sends that fail (nobody listening) are counted
+        (:attr:`flightgear_report`), never raised. One link per flight."""
+    @property
+    def flightgear_report(self) -> Optional[Dict[str, int]]:
+        """The FlightGear link's counts so far, the ``fg`` object of
+        ``sim-cli --fg ... --json``: ``{"sent": n, "failed": n}``, or
+        ``None`` without a link."""
     def dis_to(
         self,
         target: str,
@@ -216,7 +239,8 @@ class Flight:
         """The attached outputs, e.g. ``["acmi f.acmi", "csv f.csv"]``."""
     def close_outputs(self) -> None:
         """Finishes and detaches every output (ACMI: its last time line and
-        the zip container; CSV: flushed; DIS: the socket closed). A flight
+        the zip container; CSV: flushed; DIS, FlightGear: the socket
+        closed). A flight
         dropped with outputs finishes them too. ``OSError`` naming the first
         output that could not be finished (all are finished)."""
 
