@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use fdm_core::model::{FlightStatus, Model};
-use fdm_fleet::Precision;
+use fdm_fleet::{FleetError, Precision};
 use numpy::ndarray::ArrayView1;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -165,7 +165,15 @@ pub trait AnyFleet: Send + Sync {
     fn control_fields(&self) -> &'static [ControlRange];
     /// Steps `frames` frames, then refreshes the buffers; returns the
     /// (start, end) of the work, seconds on a process-wide monotonic clock.
-    fn step(&mut self, frames: u64, columns: &mut [f64], status: &mut [u8]) -> (f64, f64);
+    ///
+    /// # Errors
+    /// The kernel refused the fleet's precision (checked when it was made).
+    fn step(
+        &mut self,
+        frames: u64,
+        columns: &mut [f64],
+        status: &mut [u8],
+    ) -> Result<(f64, f64), FleetError>;
     /// Refreshes the buffers.
     fn gather(&self, columns: &mut [f64], status: &mut [u8]);
     /// Sets controls (already range-checked) for the aircraft with `mask`.
@@ -200,7 +208,10 @@ pub trait AnyFleet: Send + Sync {
     /// (nothing changed).
     fn task_act(&mut self, actions: ActionValues<'_>) -> Result<(), String>;
     /// Flies `frames` frames without refreshing the buffers.
-    fn fly_frames(&mut self, frames: u64);
+    ///
+    /// # Errors
+    /// As [`Self::step`].
+    fn fly_frames(&mut self, frames: u64) -> Result<(), FleetError>;
     /// Refreshes the buffers and fills the task's outputs
     /// ([`crate::task::observe`]) in one pass over the aircraft.
     fn task_observe(&self, args: &TaskArgs<'_>, out: TaskOut<'_>);
@@ -356,13 +367,16 @@ where
     fn control_fields(&self) -> &'static [ControlRange] {
         M::CONTROL_FIELDS
     }
-    fn step(&mut self, frames: u64, columns: &mut [f64], status: &mut [u8]) -> (f64, f64) {
+    fn step(
+        &mut self,
+        frames: u64,
+        columns: &mut [f64],
+        status: &mut [u8],
+    ) -> Result<(f64, f64), FleetError> {
         let start = now_s();
-        for _ in 0..frames {
-            self.fleet.fly(self.fps, self.precision, self.parallel);
-        }
+        let flown = self.fly_frames(frames);
         self.gather(columns, status);
-        (start, now_s())
+        flown.map(|()| (start, now_s()))
     }
     fn gather(&self, columns: &mut [f64], status: &mut [u8]) {
         let (n, k) = (self.len, M::STATE_FIELDS.len());
@@ -478,10 +492,11 @@ where
         });
         Ok(())
     }
-    fn fly_frames(&mut self, frames: u64) {
+    fn fly_frames(&mut self, frames: u64) -> Result<(), FleetError> {
         for _ in 0..frames {
-            self.fleet.fly(self.fps, self.precision, self.parallel);
+            self.fleet.fly(self.fps, self.precision, self.parallel)?;
         }
+        Ok(())
     }
     fn task_observe(&self, args: &TaskArgs<'_>, out: TaskOut<'_>) {
         let n = self.len;

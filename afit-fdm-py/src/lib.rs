@@ -532,7 +532,8 @@ impl PyFleet {
         let inner = &mut self.inner;
         self.last_step = self
             .buffers
-            .with_mut(py, |c, s| py.detach(|| inner.step(frames, c, s)))?;
+            .with_mut(py, |c, s| py.detach(|| inner.step(frames, c, s)))?
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(())
     }
 
@@ -639,7 +640,7 @@ impl PyFleet {
         let start = fleet::now_s();
         py.detach(|| -> Result<(), String> {
             inner.task_act(values)?;
-            inner.fly_frames(frames);
+            inner.fly_frames(frames).map_err(|e| e.to_string())?;
             for s in steps.iter_mut() {
                 *s = s.saturating_add(1);
             }

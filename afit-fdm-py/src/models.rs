@@ -6,7 +6,7 @@
 use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap};
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
-use fdm_fleet::{BourgFleet, Fleet, FleetError, PalmerFleet, Precision};
+use fdm_fleet::{Fleet, FleetError, Precision};
 
 use crate::task::{self, Kinematics, FT_PER_M};
 
@@ -63,8 +63,8 @@ pub trait BindModel: fdm_run::csv::CsvModel {
     fn task_controls(actions: &[f64]) -> ([(usize, f64); 5], usize);
 }
 
-/// The few fleet operations the binding uses (today's `fdm-fleet` API; one
-/// place to change when the fleets become one generic type).
+/// The few fleet operations the binding uses, over `fdm-fleet`'s one
+/// generic [`Fleet`].
 pub trait FleetOps<M: Model>: Send + Sized {
     /// An empty fleet of the model's default aircraft.
     ///
@@ -104,7 +104,11 @@ pub trait FleetOps<M: Model>: Send + Sized {
     );
     /// One frame of every aircraft with its status ([`fdm_core::model::fly`]),
     /// on this thread or on rayon's pool.
-    fn fly(&mut self, fps: f64, precision: Precision, parallel: bool);
+    ///
+    /// # Errors
+    /// A precision the kernel does not have ([`Self::check_precision`],
+    /// which the constructor already asked).
+    fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) -> Result<(), FleetError>;
     /// Every aircraft's state, in order.
     fn for_each_state(&self, f: impl FnMut(usize, &M::State));
     /// Every aircraft's status, in order.
@@ -121,19 +125,11 @@ pub trait FleetOps<M: Model>: Send + Sized {
 /// The integer code of a status (the CSV's `status` column of `sim-cli`,
 /// without its report-only 6 "stalling").
 pub const fn status_code(status: FlightStatus) -> u8 {
-    use fdm_core::model::LandingState;
-    match status {
-        FlightStatus::OnGround => 0,
-        FlightStatus::Airborne => 1,
-        FlightStatus::Landed(LandingState::Safe) => 2,
-        FlightStatus::Landed(LandingState::Rough) => 3,
-        FlightStatus::Landed(LandingState::Crash) => 4,
-        FlightStatus::Diverged => 5,
-    }
+    fdm_core::model::DisplayStatus::new(status, false).number()
 }
 
 impl BindModel for Palmer {
-    type Fleet = PalmerFleet;
+    type Fleet = Fleet<Palmer>;
 
     const STATE_FIELDS: &'static [&'static str] =
         &["time_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
@@ -235,7 +231,7 @@ fn flap_from(value: f64) -> Result<Flap, String> {
 }
 
 impl BindModel for Bourg {
-    type Fleet = BourgFleet;
+    type Fleet = Fleet<Bourg>;
 
     const STATE_FIELDS: &'static [&'static str] = &[
         "time_s",
@@ -376,132 +372,66 @@ impl BindModel for Bourg {
     }
 }
 
-/// Every aircraft's controls become `f(index, controls)`: the fleet's own
-/// [`Fleet::par_update_controls`] on rayon's pool when `parallel`, else
-/// [`Fleet::update_controls`] on this thread (the same fleet either way).
-fn update_controls<M: fdm_fleet::LaneModel>(
-    fleet: &mut Fleet<M>,
-    parallel: bool,
-    f: impl Fn(usize, M::Controls) -> M::Controls + Sync,
-) where
+/// One adapter for every model with a lane instantiation: the fleets are one
+/// generic type ([`Fleet`]).
+impl<M> FleetOps<M> for Fleet<M>
+where
+    M: fdm_fleet::LaneModel,
     M::Controls: Send + Sync,
+    Self: Send,
 {
-    if parallel {
-        fleet.par_update_controls(f);
-    } else {
-        fleet.update_controls(f);
-    }
-}
-
-impl FleetOps<Palmer> for PalmerFleet {
     fn empty() -> Result<Self, FleetError> {
-        Self::new(Palmer::default_aircraft())
+        Self::try_new(M::default_aircraft())
     }
-    fn push(&mut self, state: PalmerState, controls: PalmerControls) {
+    fn push(&mut self, state: M::State, controls: M::Controls) {
         Self::push(self, state, controls);
     }
     fn set(
         &mut self,
         index: usize,
-        state: &PalmerState,
-        controls: PalmerControls,
+        state: &M::State,
+        controls: M::Controls,
         status: FlightStatus,
     ) -> Result<(), FleetError> {
         self.set_state(index, state)?;
         Self::set_controls(self, index, controls)?;
         self.set_status(index, status)
     }
-    fn set_controls(&mut self, index: usize, controls: PalmerControls) -> Result<(), FleetError> {
+    fn set_controls(&mut self, index: usize, controls: M::Controls) -> Result<(), FleetError> {
         Self::set_controls(self, index, controls)
     }
-    fn controls(&self, index: usize) -> Option<PalmerControls> {
+    fn controls(&self, index: usize) -> Option<M::Controls> {
         Self::controls(self, index)
     }
-    fn state_at(&self, index: usize) -> Option<PalmerState> {
+    fn state_at(&self, index: usize) -> Option<M::State> {
         self.state(index)
     }
     fn status_at(&self, index: usize) -> Option<FlightStatus> {
         self.status(index)
     }
+    /// The fleet's own [`Fleet::par_update_controls`] on rayon's pool when
+    /// `parallel`, else [`Fleet::update_controls`] (the same fleet either
+    /// way).
     fn update_controls(
         &mut self,
         parallel: bool,
-        f: impl Fn(usize, PalmerControls) -> PalmerControls + Sync,
+        f: impl Fn(usize, M::Controls) -> M::Controls + Sync,
     ) {
-        update_controls(self, parallel, f);
-    }
-    fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) {
-        let dt = Palmer::time_step(fps);
         if parallel {
-            self.par_fly(dt, precision);
+            self.par_update_controls(f);
         } else {
-            Self::fly(self, dt, precision);
+            Self::update_controls(self, f);
         }
     }
-    fn for_each_state(&self, mut f: impl FnMut(usize, &PalmerState)) {
-        for (i, s) in self.states().enumerate() {
-            f(i, &s);
-        }
-    }
-    fn for_each_status(&self, mut f: impl FnMut(usize, FlightStatus)) {
-        for (i, s) in self.statuses().enumerate() {
-            f(i, s);
-        }
-    }
-    fn check_precision(_: Precision) -> Result<(), FleetError> {
-        Ok(())
-    }
-    fn instruction_set(&self) -> &'static str {
-        Self::instruction_set(self)
-    }
-}
-
-impl FleetOps<Bourg> for BourgFleet {
-    fn empty() -> Result<Self, FleetError> {
-        Ok(Self::new(Bourg::default_aircraft()))
-    }
-    fn push(&mut self, state: BourgState, controls: BourgControls) {
-        Self::push(self, state, controls);
-    }
-    fn set(
-        &mut self,
-        index: usize,
-        state: &BourgState,
-        controls: BourgControls,
-        status: FlightStatus,
-    ) -> Result<(), FleetError> {
-        self.set_state(index, state)?;
-        Self::set_controls(self, index, controls)?;
-        self.set_status(index, status)
-    }
-    fn set_controls(&mut self, index: usize, controls: BourgControls) -> Result<(), FleetError> {
-        Self::set_controls(self, index, controls)
-    }
-    fn controls(&self, index: usize) -> Option<BourgControls> {
-        Self::controls(self, index)
-    }
-    fn state_at(&self, index: usize) -> Option<BourgState> {
-        self.state(index)
-    }
-    fn status_at(&self, index: usize) -> Option<FlightStatus> {
-        self.status(index)
-    }
-    fn update_controls(
-        &mut self,
-        parallel: bool,
-        f: impl Fn(usize, BourgControls) -> BourgControls + Sync,
-    ) {
-        update_controls(self, parallel, f);
-    }
-    fn fly(&mut self, fps: f64, _precision: Precision, parallel: bool) {
-        let dt = Bourg::time_step(fps);
+    fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) -> Result<(), FleetError> {
+        let dt = M::time_step(fps);
         if parallel {
-            self.par_fly(dt);
+            self.par_fly_with(dt, precision)
         } else {
-            Self::fly(self, dt);
+            self.fly_with(dt, precision)
         }
     }
-    fn for_each_state(&self, mut f: impl FnMut(usize, &BourgState)) {
+    fn for_each_state(&self, mut f: impl FnMut(usize, &M::State)) {
         for (i, s) in self.states().enumerate() {
             f(i, &s);
         }
@@ -512,7 +442,7 @@ impl FleetOps<Bourg> for BourgFleet {
         }
     }
     fn check_precision(precision: Precision) -> Result<(), FleetError> {
-        <Self as fdm_fleet::LaneFleet>::check_precision(precision)
+        Self::check_precision(precision)
     }
     fn instruction_set(&self) -> &'static str {
         Self::instruction_set(self)
