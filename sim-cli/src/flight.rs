@@ -656,4 +656,46 @@ mod tests {
         flight.finish().unwrap();
         assert_eq!(frames_of(&buffer), ["0", "1", "2", "0", "1"]);
     }
+
+    /// A CSV write that fails while flying (a full disk) stops the run with
+    /// a run-time error (exit status 1) naming the frame, the file and the
+    /// OS's reason, on one line; the buffered rows are not mistaken for a
+    /// success.
+    #[test]
+    fn a_csv_write_failure_is_a_runtime_error_naming_the_file_and_the_cause() {
+        struct Full;
+        impl std::io::Write for Full {
+            fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+                Err(std::io::Error::other("disk full"))
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Err(std::io::Error::other("disk full"))
+            }
+        }
+        let mut flight = ModelFlight::new(&run(30, None), cruise()).unwrap();
+        // The header and row 0 fit in the writer's buffer; a later row or the
+        // final flush does not.
+        let attached = flight.attach_csv(fdm_run::csv::CsvWriter::new(Full, "out.csv"));
+        let mut progress = StderrProgress::with_enabled(100_000, false);
+        let flown = attached.map_err(CliError::from).and_then(|()| {
+            run_headless(
+                &mut flight,
+                &fdm_core::script::Script::default(),
+                30,
+                100_000,
+                false,
+                &mut progress,
+            )
+            .map(drop)
+        });
+        let err = flown
+            .and_then(|()| flight.finish().map_err(CliError::from))
+            .unwrap_err();
+        assert_eq!(err.exit_code(), 1, "{}", err.one_line());
+        let line = err.one_line();
+        assert!(
+            line.contains("writing CSV file out.csv: disk full"),
+            "{line}"
+        );
+    }
 }
