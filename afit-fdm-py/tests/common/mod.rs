@@ -10,26 +10,24 @@ pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 /// A `sim-cli` built from this checkout, in `build_dir` (not the one next to
 /// this test's executable: a shared target directory may hold another
 /// checkout's).
+///
+/// A debug build: the comparisons fly a few thousand frames at most, and a
+/// release build of `sim-cli` shared little with the wheel's (other
+/// features of the shared dependencies recompiled `fdm-fleet` and
+/// `fdm-study`, minutes each on two cores). The wheel is a release build, so
+/// every bit-for-bit comparison of the suite also checks that the debug and
+/// release builds fly the same bits.
 pub fn sim_cli(build_dir: &Path) -> PathBuf {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     let status = Command::new(cargo)
-        // Release, in the directory maturin built the extension in: the two
-        // builds share their dependencies. (The package is `afit-fdm-cli`.)
-        .args([
-            "build",
-            "-q",
-            "--release",
-            "-p",
-            "afit-fdm-cli",
-            "--bin",
-            "sim-cli",
-        ])
+        // (The package is `afit-fdm-cli`.)
+        .args(["build", "-q", "-p", "afit-fdm-cli", "--bin", "sim-cli"])
         .current_dir(CRATE_DIR)
         .env("CARGO_TARGET_DIR", build_dir)
         .status()
         .expect("cannot run cargo to build sim-cli");
     assert!(status.success(), "cargo build -p afit-fdm-cli failed");
-    build_dir.join("release").join("sim-cli")
+    build_dir.join("debug").join("sim-cli")
 }
 
 /// `PATH` with the virtualenv's `bin` first.
