@@ -15,7 +15,7 @@
 //! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation`; [`flight::run_model`] |
 //! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
 //! | [`report`] | the JSON [`report::Report`] and the human summary |
-//! | [`csv`] | buffered per-frame CSV rows ([`csv::CsvRecord`]) |
+//! | [`csv`] | `--csv`: the run library's CSV output ([`fdm_run::csv::CsvOutput`] of [`fdm_run::csv::FlightRow`]s) and its errors |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`origin`] | FlightGear command line (`--fg` is parsed by `fgnet::address`), `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |

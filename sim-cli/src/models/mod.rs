@@ -69,7 +69,7 @@ impl ModelKind {
     }
 }
 
-/// A model as `sim-cli` flies it: a [`RunModel`] (what the run library
+/// A model as `sim-cli` flies it: a [`RunModel`](fdm_run::RunModel) (what the run library
 /// needs to fly, record and replay it) with the CLI's own parts.
 pub trait CliModel: CsvModel<Action: KeyAction> {
     /// The model's own report fields (JSON next to the common ones, CSV
@@ -117,7 +117,7 @@ pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
     /// The unit of the native position: `"m"` or `"ft"`.
     const POSITION_UNIT: &'static str;
     /// The column `sim-cli plot` draws as the airspeed (one of the model's
-    /// [`CsvModel::CSV_COLUMNS`](fdm_run::csv::CsvModel::CSV_COLUMNS)), in
+    /// [`CsvModel::CSV_COLUMNS`]), in
     /// the native unit per second.
     const CSV_SPEED_COLUMN: &'static str;
     /// Metres per unit of [`Self::POSITION_UNIT`] (1 for metres).
