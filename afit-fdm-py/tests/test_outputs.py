@@ -366,8 +366,19 @@ def capture_while(sock: socket.socket, work: Callable[[], None]) -> List[bytes]:
     return got
 
 
+def step_in_slices(flight: afit_fdm.Flight, frames: int) -> None:
+    """``flight.step(frames)`` in slices of 10 frames, so that the draining
+    thread of :func:`capture_while` runs between them: a step of fewer than
+    256 frames holds the GIL, and one call's burst of datagrams could
+    overflow the socket's buffer before the thread reads any (it did: 166
+    of 240)."""
+    for start in range(0, frames, 10):
+        flight.step(min(10, frames - start))
+
+
 def fg_sink() -> Tuple[socket.socket, str]:
     sink = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sink.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 21)
     sink.bind(("127.0.0.1", 0))
     return sink, f"127.0.0.1:{sink.getsockname()[1]}"
 
@@ -384,7 +395,7 @@ def test_flightgear_datagrams_are_the_bytes_sim_cli_sends(sim_cli, tmp_path, mod
             flight.flightgear_to(target)
             assert flight.outputs == [f"flightgear {target}"]
             assert flight.flightgear_report == {"sent": 0, "failed": 0}
-            flight.step(frames)
+            step_in_slices(flight, frames)
 
         ours = capture_while(sink, fly)
         report = flight.flightgear_report
@@ -401,7 +412,7 @@ import json, sys
 from flightgear_python.fdm_v24 import fdm_struct
 for line in sys.stdin:
     p = fdm_struct.parse(bytes.fromhex(line))  # Const(24) raises on another version
-    print(json.dumps({k: p[k] for k in ("version", "latitude", "longitude", "altitude", "phi", "theta", "psi")}))
+    print(json.dumps({k: p[k] for k in ("version", "lat_rad", "lon_rad", "alt_m", "phi_rad", "theta_rad", "psi_rad")}))
 """
 
 
@@ -419,7 +430,7 @@ def test_flightgear_python_decodes_the_python_flight(tmp_path) -> None:
         def fly() -> None:
             flight.flightgear_to(target)
             flight.csv_to(tmp_path / "f.csv")
-            flight.step(frames)
+            step_in_slices(flight, frames)
             flight.close_outputs()
 
         datagrams = capture_while(sink, fly)
@@ -433,12 +444,12 @@ def test_flightgear_python_decodes_the_python_flight(tmp_path) -> None:
     for i, f in enumerate(fields):
         row = rows[i + 1]
         assert f["version"] == 24
-        assert abs(math.degrees(f["latitude"]) - float(row["lat_deg"])) < 1e-6
-        assert abs(math.degrees(f["longitude"]) - float(row["lon_deg"])) < 1e-6
-        assert abs(f["altitude"] - float(row["alt_m"])) < 0.01
-        assert abs(math.degrees(f["phi"]) - float(row["roll_deg"])) < 1e-4
-        assert abs(math.degrees(f["theta"]) - float(row["pitch_deg"])) < 1e-4
-        yaw = math.degrees(f["psi"]) - float(row["fg_heading_deg"])
+        assert abs(math.degrees(f["lat_rad"]) - float(row["lat_deg"])) < 1e-6
+        assert abs(math.degrees(f["lon_rad"]) - float(row["lon_deg"])) < 1e-6
+        assert abs(f["alt_m"] - float(row["alt_m"])) < 0.01
+        assert abs(math.degrees(f["phi_rad"]) - float(row["roll_deg"])) < 1e-4
+        assert abs(math.degrees(f["theta_rad"]) - float(row["pitch_deg"])) < 1e-4
+        yaw = math.degrees(f["psi_rad"]) - float(row["fg_heading_deg"])
         assert abs(((yaw + 180.0) % 360.0) - 180.0) < 1e-4
 
 
