@@ -376,7 +376,7 @@ impl BindModel for Bourg {
 /// generic type ([`Fleet`]).
 impl<M> FleetOps<M> for Fleet<M>
 where
-    M: fdm_fleet::LaneModel,
+    M: fdm_fleet::FleetKernel,
     M::Controls: Send + Sync,
     Self: Send,
 {

@@ -25,7 +25,7 @@ use fdm_core::model::{FlightView, Model, ScriptAction};
 use fdm_core::palmer::Palmer;
 use fdm_core::real::{F64s, LaneMask, LaneModel, Maths, Real, V3};
 use fdm_ecs::{Entity, Resources, Simulation};
-use fdm_fleet::{Fleet, Precision};
+use fdm_fleet::{Fleet, FleetKernel, Precision};
 use nalgebra::Vector3;
 
 /// Standard gravity, m/s².
@@ -396,6 +396,10 @@ impl LaneModel for Glider {
         state.position_m
     }
 }
+
+/// The glider's fleet kernel: the provided one, compiled in the crate that
+/// flies the fleet (this example).
+impl FleetKernel for Glider {}
 
 /// Flies `n` gliders for `frames` frames at 30 FPS two ways, each member
 /// with its own lift coefficient and bank (the first banking right over

@@ -12,7 +12,7 @@
 use fdm_core::bourg::{Bourg, BourgAircraft};
 use pulp::Arch;
 
-use crate::fleet::{Fleet, Precision};
+use crate::fleet::{Fleet, FleetKernel, KernelRun, Precision};
 pub use fdm_core::bourg::LANES;
 
 /// A fleet of Bourg aircraft sharing one [`BourgAircraft`], each with its own
@@ -36,6 +36,14 @@ pub use fdm_core::bourg::LANES;
 /// assert_eq!(fleet.state(2), Some(one)); // bit for bit
 /// ```
 pub type BourgFleet = Fleet<Bourg>;
+
+/// Bourg's kernel compiled here, once, for every crate that flies a Bourg fleet
+/// (the provided body; see [`FleetKernel`] for why it is written out).
+impl FleetKernel for Bourg {
+    fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
+        run.apply(fleet);
+    }
+}
 
 /// The Bourg fleet's own names: `exact` only, so no precision argument.
 impl Fleet<Bourg> {

@@ -343,32 +343,32 @@ pub(crate) fn finish_lane<M: Model>(
 /// The stepping loop over some blocks, generic over the instruction set pulp
 /// picked: `with_simd` and everything it calls are inlined into pulp's
 /// `#[target_feature]` function, so the lane loops compile to that set.
-struct StepBlocks<'a, M: LaneModel> {
+/// `FastMaths` is the [`Fast`] maths of that instruction set (see
+/// [`dispatch`]).
+struct StepBlocks<'a, M: LaneModel, FastMaths> {
     blocks: &'a mut [Block<M>],
     aircraft: &'a M::Aircraft,
     shared: &'a M::Shared,
     dt: M::TimeStep,
     precision: Precision,
-    /// Whether the instruction set has FMA (used only by the fast maths).
-    fma: bool,
     /// Whole frames with the flight status rather than bare steps.
     fly: bool,
+    fast: core::marker::PhantomData<FastMaths>,
 }
 
-impl<M: LaneModel> WithSimd for StepBlocks<'_, M> {
+impl<M: LaneModel, FastMaths: Maths> WithSimd for StepBlocks<'_, M, FastMaths> {
     type Output = ();
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
-        match (self.precision, self.fma) {
-            (Precision::Fast, false) if M::HAS_FAST => self.each::<Fast<false>>(),
-            (Precision::Fast, true) if M::HAS_FAST => self.each::<Fast<true>>(),
+        match self.precision {
+            Precision::Fast if M::HAS_FAST => self.each::<FastMaths>(),
             _ => self.each::<Exact>(),
         }
     }
 }
 
-impl<M: LaneModel> StepBlocks<'_, M> {
+impl<M: LaneModel, FastMaths> StepBlocks<'_, M, FastMaths> {
     /// The kernel on every block, each followed by its flight status with
     /// [`Self::fly`].
     #[inline(always)]
@@ -388,15 +388,64 @@ impl<M: LaneModel> StepBlocks<'_, M> {
     }
 }
 
-/// Whether `arch` has FMA instructions (x86-64-v3 and v4 do; the baseline and
-/// other architectures are treated as not having them, which is always
-/// correct, only slower).
-const fn has_fma(arch: Arch) -> bool {
-    match arch {
-        #[cfg(target_arch = "x86_64")]
-        Arch::V4(_) | Arch::V3(_) => true,
-        _ => false,
+/// Runs `blocks` with `arch`'s instruction set: pulp's `Arch::dispatch`, with
+/// the fast maths chosen by the instruction set itself rather than by a flag
+/// inside the kernel. `Fast<true>` (the `mul_add` of the FMA instruction)
+/// for x86-64-v3 and v4, which have FMA; `Fast<false>` (Dekker's splitting)
+/// for the baseline and other architectures, treated as not having FMA
+/// (always correct, only slower). Each instruction set's copy of the kernel
+/// is thereby compiled with the one fast maths it can run: a flag would
+/// compile both into every copy (a third more code in `fdm-fleet`'s release
+/// build, whose time is mostly these copies).
+#[inline(always)]
+fn dispatch<M: LaneModel>(
+    arch: Arch,
+    blocks: &mut [Block<M>],
+    aircraft: &M::Aircraft,
+    shared: &M::Shared,
+    dt: M::TimeStep,
+    precision: Precision,
+    fly: bool,
+) {
+    fn op<'a, M: LaneModel, FastMaths>(
+        blocks: &'a mut [Block<M>],
+        aircraft: &'a M::Aircraft,
+        shared: &'a M::Shared,
+        dt: M::TimeStep,
+        precision: Precision,
+        fly: bool,
+    ) -> StepBlocks<'a, M, FastMaths> {
+        StepBlocks {
+            blocks,
+            aircraft,
+            shared,
+            dt,
+            precision,
+            fly,
+            fast: core::marker::PhantomData,
+        }
     }
+    #[cfg(target_arch = "x86_64")]
+    match arch {
+        Arch::V4(simd) => Simd::vectorize(
+            simd,
+            op::<M, Fast<true>>(blocks, aircraft, shared, dt, precision, fly),
+        ),
+        Arch::V3(simd) => Simd::vectorize(
+            simd,
+            op::<M, Fast<true>>(blocks, aircraft, shared, dt, precision, fly),
+        ),
+        // The baseline, and any instruction set a later pulp adds (`Arch`
+        // is non-exhaustive): the scalar copy is correct on every CPU.
+        _ => Simd::vectorize(
+            pulp::Scalar::new(),
+            op::<M, Fast<false>>(blocks, aircraft, shared, dt, precision, fly),
+        ),
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    arch.dispatch(op::<M, Fast<false>>(
+        blocks, aircraft, shared, dt, precision, fly,
+    ));
 }
 
 /// A fleet of one [`LaneModel`]'s aircraft sharing one aircraft type, each
@@ -667,6 +716,69 @@ impl<M: LaneModel> Fleet<M> {
         Ok(())
     }
 
+    /// The kernel itself over every block ([`KernelRun::apply`]): generic,
+    /// so compiled in the crate that names it for a model (see
+    /// [`FleetKernel`]).
+    pub(crate) fn run_blocks(&mut self, run: KernelRun<M>) {
+        let KernelRun {
+            arch,
+            dt,
+            precision,
+            fly,
+            parallel,
+        } = run;
+        let (aircraft, shared) = (&self.aircraft, &self.shared);
+        if parallel {
+            self.blocks
+                .par_chunks_mut(BLOCKS_PER_TASK)
+                .for_each(|blocks| {
+                    dispatch(arch, blocks, aircraft, shared, dt, precision, fly);
+                });
+        } else {
+            dispatch(arch, &mut self.blocks, aircraft, shared, dt, precision, fly);
+        }
+    }
+
+    /// `out` becomes every aircraft's position in the model frame, metres (x
+    /// north, y west, z up), in index order: the `position_m` of
+    /// [`Model::view`], bit for bit ([`LaneModel::position_m`]).
+    pub fn positions_m(&self, out: &mut Vec<Vector3<f64>>) {
+        out.clear();
+        out.extend(self.states().map(|s| M::position_m(&s)));
+    }
+
+    /// The instruction set the kernel runs on, as detected at construction:
+    /// `"x86-64-v4"` (AVX-512), `"x86-64-v3"` (AVX2 and FMA) or `"baseline"`
+    /// (SSE2 on x86-64, or another architecture's default).
+    #[must_use]
+    pub const fn instruction_set(&self) -> &'static str {
+        match self.arch {
+            #[cfg(target_arch = "x86_64")]
+            Arch::V4(_) => "x86-64-v4",
+            #[cfg(target_arch = "x86_64")]
+            Arch::V3(_) => "x86-64-v3",
+            _ => "baseline",
+        }
+    }
+
+    /// Memory per aircraft in the fleet's arrays, bytes (the last block's
+    /// padding aside): the state, the control terms, the clock, the controls
+    /// as set and the status.
+    #[must_use]
+    pub const fn bytes_per_aircraft() -> usize {
+        core::mem::size_of::<Block<M>>() / M::Lanes::LANES
+    }
+
+    /// Memory the fleet's arrays take now, bytes (whole blocks, padding
+    /// included; the `Vec`'s spare capacity not counted).
+    #[must_use]
+    pub const fn bytes(&self) -> usize {
+        self.blocks.len() * core::mem::size_of::<Block<M>>()
+    }
+}
+
+/// What needs the model's kernel: stepping and flying.
+impl<M: FleetKernel> Fleet<M> {
     /// Advances every aircraft by `dt` with one step of the model, on this
     /// thread, with the best instruction set of this CPU. Like
     /// [`Model::step`] it checks nothing: a non-finite `dt` makes every state
@@ -762,7 +874,8 @@ impl<M: LaneModel> Fleet<M> {
     }
 
     /// The kernel over every block with `arch`'s instruction set
-    /// (`precision` already checked, or `Exact`).
+    /// (`precision` already checked, or `Exact`), through the model's
+    /// [`FleetKernel::run_kernel`].
     pub(crate) fn run(
         &mut self,
         arch: Arch,
@@ -771,69 +884,78 @@ impl<M: LaneModel> Fleet<M> {
         fly: bool,
         parallel: bool,
     ) {
-        let (aircraft, shared) = (&self.aircraft, &self.shared);
-        let fma = has_fma(arch);
-        if parallel {
-            self.blocks
-                .par_chunks_mut(BLOCKS_PER_TASK)
-                .for_each(|blocks| {
-                    arch.dispatch(StepBlocks::<M> {
-                        blocks,
-                        aircraft,
-                        shared,
-                        dt,
-                        precision,
-                        fma,
-                        fly,
-                    });
-                });
-        } else {
-            arch.dispatch(StepBlocks::<M> {
-                blocks: &mut self.blocks,
-                aircraft,
-                shared,
+        M::run_kernel(
+            self,
+            KernelRun {
+                arch,
                 dt,
                 precision,
-                fma,
                 fly,
-            });
-        }
+                parallel,
+            },
+        );
     }
+}
 
-    /// `out` becomes every aircraft's position in the model frame, metres (x
-    /// north, y west, z up), in index order: the `position_m` of
-    /// [`Model::view`], bit for bit ([`LaneModel::position_m`]).
-    pub fn positions_m(&self, out: &mut Vec<Vector3<f64>>) {
-        out.clear();
-        out.extend(self.states().map(|s| M::position_m(&s)));
+/// One call of a fleet's kernel, as [`FleetKernel::run_kernel`] receives it:
+/// the instruction set, the time step, the maths, and whether to fly whole
+/// frames and on rayon's pool. Made by [`Fleet`]'s stepping methods; opaque.
+pub struct KernelRun<M: LaneModel> {
+    arch: Arch,
+    dt: M::TimeStep,
+    precision: Precision,
+    fly: bool,
+    parallel: bool,
+}
+
+impl<M: LaneModel> KernelRun<M> {
+    /// Runs the kernel over every block of `fleet` (the body of
+    /// [`FleetKernel::run_kernel`]).
+    pub fn apply(self, fleet: &mut Fleet<M>) {
+        fleet.run_blocks(self);
     }
+}
 
-    /// The instruction set the kernel runs on, as detected at construction:
-    /// `"x86-64-v4"` (AVX-512), `"x86-64-v3"` (AVX2 and FMA) or `"baseline"`
-    /// (SSE2 on x86-64, or another architecture's default).
-    #[must_use]
-    pub const fn instruction_set(&self) -> &'static str {
-        match self.arch {
-            #[cfg(target_arch = "x86_64")]
-            Arch::V4(_) => "x86-64-v4",
-            #[cfg(target_arch = "x86_64")]
-            Arch::V3(_) => "x86-64-v3",
-            _ => "baseline",
-        }
+impl<M: LaneModel> fmt::Debug for KernelRun<M> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let dt_s: f64 = self.dt.into();
+        f.debug_struct("KernelRun")
+            .field("arch", &self.arch)
+            .field("dt_s", &dt_s)
+            .field("precision", &self.precision)
+            .field("fly", &self.fly)
+            .field("parallel", &self.parallel)
+            .finish()
     }
+}
 
-    /// Memory per aircraft in the fleet's arrays, bytes (the last block's
-    /// padding aside): the state, the control terms, the clock, the controls
-    /// as set and the status.
-    #[must_use]
-    pub const fn bytes_per_aircraft() -> usize {
-        core::mem::size_of::<Block<M>>() / M::Lanes::LANES
-    }
-
-    /// Memory the fleet's arrays take now, bytes (whole blocks, padding
-    /// included; the `Vec`'s spare capacity not counted).
-    #[must_use]
-    pub const fn bytes(&self) -> usize {
-        self.blocks.len() * core::mem::size_of::<Block<M>>()
+/// A [`LaneModel`] a [`Fleet`] can step, and the crate its kernel is compiled
+/// in.
+///
+/// A fleet's kernel is the model's whole step inlined into one copy per
+/// instruction set, maths and loop (eighteen copies of Palmer's RK4 step).
+/// A generic function is compiled again in every crate that uses it for a
+/// given model (optimised builds do not share generic code between crates),
+/// so when the kernel was reached only through generic methods, `fdm-study`,
+/// `sim-cli` and the Python extension each compiled both models' kernels
+/// again: five to seven minutes each in a release build on two cores. A
+/// non-generic function is compiled once, in its own crate. So the kernel is
+/// reached through this trait's method: Palmer and Bourg implement it here,
+/// in `fdm-fleet`, with the provided body; every other crate calls those
+/// compiled functions.
+///
+/// A third model needs only an empty implementation (the provided body,
+/// compiled in the crates that fly it):
+///
+/// ```ignore
+/// impl fdm_fleet::FleetKernel for Glider {}
+/// ```
+pub trait FleetKernel: LaneModel + Sized {
+    /// Runs `run` over every block of `fleet`: the kernel, then (for whole
+    /// frames) each aircraft's flight status. An implementation that
+    /// overrides it has the provided body, `run.apply(fleet)`: overriding
+    /// only chooses the crate it is compiled in.
+    fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
+        run.apply(fleet);
     }
 }

@@ -17,7 +17,8 @@
 //!   [`fdm_core::bourg::step`].
 //!
 //! A third model gets a fleet by implementing [`LaneModel`] (its step over
-//! the number type, and the moves of one aircraft in and out of a block):
+//! the number type, and the moves of one aircraft in and out of a block) and,
+//! with an empty `impl`, [`FleetKernel`] (which crate compiles its kernel):
 //! `fdm-ecs/examples/third_model.rs` flies a glider that way.
 //!
 //! Every fleet keeps a [`FlightStatus`] per aircraft: its `fly` frames are
@@ -39,7 +40,7 @@ pub mod palmer;
 
 pub use bourg::BourgFleet;
 pub use fdm_core::real::LaneModel;
-pub use fleet::{Fleet, FleetError, Precision};
+pub use fleet::{Fleet, FleetError, FleetKernel, KernelRun, Precision};
 pub use palmer::PalmerFleet;
 
 use fdm_core::model::{FlightStatus, Model};
@@ -106,7 +107,7 @@ pub trait LaneFleet: Sized + Send {
     fn bytes_per_aircraft() -> usize;
 }
 
-impl<M: LaneModel> LaneFleet for Fleet<M> {
+impl<M: FleetKernel> LaneFleet for Fleet<M> {
     type Model = M;
 
     fn demonstration(n: usize) -> Result<Self, FleetError> {

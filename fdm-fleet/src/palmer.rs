@@ -13,7 +13,7 @@
 use fdm_core::palmer::{Palmer, PalmerAircraft};
 use pulp::Arch;
 
-use crate::fleet::Fleet;
+use crate::fleet::{Fleet, FleetKernel, KernelRun};
 pub use crate::fleet::{FleetError, Precision};
 pub use fdm_core::palmer::LANES;
 
@@ -39,6 +39,14 @@ pub use fdm_core::palmer::LANES;
 /// # Ok::<(), fdm_fleet::palmer::FleetError>(())
 /// ```
 pub type PalmerFleet = Fleet<Palmer>;
+
+/// Palmer's kernel compiled here, once, for every crate that flies a Palmer fleet
+/// (the provided body; see [`FleetKernel`] for why it is written out).
+impl FleetKernel for Palmer {
+    fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
+        run.apply(fleet);
+    }
+}
 
 /// The Palmer fleet's own names: every precision is available, so stepping
 /// cannot fail.

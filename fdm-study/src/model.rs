@@ -5,12 +5,13 @@ use fdm_core::bourg::{Bourg, BourgAircraft, BourgControls, BourgState};
 use fdm_core::message::ShortNumber;
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_core::units::METRES_PER_FOOT;
-use fdm_fleet::LaneModel;
+use fdm_fleet::FleetKernel;
 use fdm_run::RunModel;
 
-/// A model a study can fly: a fleet model ([`LaneModel`]) that runs can also
-/// fly alone and record ([`RunModel`]), with the settings a study file names.
-pub trait StudyModel: LaneModel + RunModel {
+/// A model a study can fly: a fleet model ([`FleetKernel`]) that runs can
+/// also fly alone and record ([`RunModel`]), with the settings a study file
+/// names.
+pub trait StudyModel: FleetKernel + RunModel {
     /// The control settings a study file can give in `[controls]` or
     /// disperse as `controls.NAME`, with their units in the names.
     const CONTROL_KEYS: &'static [&'static str];
@@ -217,7 +218,10 @@ mod tests {
             let (controls, state) = M::fleet_member(5);
             let aircraft = M::default_aircraft();
             let view = M::view(&aircraft, &controls, &state);
-            assert_eq!(<M as LaneModel>::position_m(&state), view.position_m);
+            assert_eq!(
+                <M as fdm_fleet::LaneModel>::position_m(&state),
+                view.position_m
+            );
             assert_eq!(M::velocity_mps(&state), <[f64; 3]>::from(view.velocity_mps));
             assert_eq!(M::time_s(&state), view.time_s);
         }
