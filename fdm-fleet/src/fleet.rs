@@ -933,7 +933,8 @@ impl<M: LaneModel> fmt::Debug for KernelRun<M> {
 /// in.
 ///
 /// A fleet's kernel is the model's whole step inlined into one copy per
-/// instruction set, maths and loop (eighteen copies of Palmer's RK4 step).
+/// instruction set, maths and loop (twelve copies of Palmer's RK4 step on
+/// x86-64: three instruction sets, exact and fast, steps and whole frames).
 /// A generic function is compiled again in every crate that uses it for a
 /// given model (optimised builds do not share generic code between crates),
 /// so when the kernel was reached only through generic methods, `fdm-study`,
