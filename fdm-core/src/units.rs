@@ -113,6 +113,13 @@ mod tests {
             let got = wrap_degrees_360(tiny);
             assert!((0.0..360.0).contains(&got), "{tiny} gave {got:?}");
             assert!(got.is_sign_positive(), "{tiny} gave {got:?}");
+            // The same heading: 360 - |tiny| rounds to 360, which is 0 on the
+            // circle, so the wrap is within |tiny| of the input there.
+            let apart = (got - tiny).rem_euclid(360.0);
+            assert!(
+                apart.min(360.0 - apart) <= tiny.abs(),
+                "{tiny} gave {got:?}"
+            );
         }
         assert_eq!(wrap_degrees_360(-0.0).to_bits(), 0.0f64.to_bits());
         for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
