@@ -6,11 +6,12 @@
 //!    built once per target directory like the interop tests' ([`PythonEnv`]);
 //! 2. `pip install` of this directory into it: the one command a user runs
 //!    from a clone, building the extension in release with maturin (in its
-//!    own target directory under the test's `CARGO_TARGET_TMPDIR`, so it
-//!    never waits for the cargo that runs this test);
+//!    own target directory under the test's `CARGO_TARGET_TMPDIR`, kept
+//!    between runs);
 //! 3. `pytest` on `tests/` (warnings are errors: `pyproject.toml`), with
-//!    `AFIT_FDM_SIM_CLI` naming a `sim-cli` built from this checkout (in the
-//!    same directory), for the bit-for-bit comparisons, and `ACMI_PYTHON` and
+//!    `AFIT_FDM_SIM_CLI` naming a debug `sim-cli` built from this checkout
+//!    (in the test's own target directory: [`common::sim_cli`]), for the
+//!    bit-for-bit comparisons, and `ACMI_PYTHON` and
 //!    `DIS_PYTHON` and `FGNET_PYTHON` the interop tests' pinned Pythons with
 //!    the independent readers (pyacmi, Open-DIS, flightgear-python:
 //!    `fdm_tests::python`) for `test_outputs.py`.
@@ -49,7 +50,7 @@ fn python_package_installs_and_its_suite_passes() {
     let build_dir = tmp.join("afit-fdm-py-build");
     let path = common::with_path(&bin);
     common::install(&python, &path, &build_dir);
-    let sim_cli = common::sim_cli(&build_dir);
+    let sim_cli = common::sim_cli();
     let acmi_python = PYACMI.ready(tmp);
     let dis_python = OPENDIS.ready(tmp);
     let fgnet_python = FGPY.ready(tmp);

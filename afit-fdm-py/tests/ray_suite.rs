@@ -41,6 +41,6 @@ fn python_package_studies_on_a_two_node_ray_cluster() {
     let build_dir = tmp.join("afit-fdm-py-build");
     let path = common::with_path(&bin);
     common::install(&python, &path, &build_dir);
-    let sim_cli = common::sim_cli(&build_dir);
+    let sim_cli = common::sim_cli();
     common::pytest(&python, &path, &sim_cli, &[], &["-s", "tests_ray"]);
 }

@@ -7,27 +7,34 @@ use std::process::Command;
 /// This crate's directory (the Python package's project).
 pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 
-/// A `sim-cli` built from this checkout, in `build_dir` (not the one next to
-/// this test's executable: a shared target directory may hold another
-/// checkout's).
+/// A `sim-cli` built from this checkout, in the target directory this test
+/// runs from (the parent of `CARGO_TARGET_TMPDIR`), where `cargo test
+/// --workspace` has built the workspace's dependencies already: only the
+/// crates whose features differ in a build of `sim-cli` alone are compiled
+/// (cargo holds no lock on the directory while tests run). A build of its own
+/// directory compiled all of them again, about two minutes of CI.
 ///
-/// A debug build: the comparisons fly a few thousand frames at most, and a
-/// release build of `sim-cli` shared little with the wheel's (other
-/// features of the shared dependencies recompiled `fdm-fleet` and
-/// `fdm-study`, minutes each on two cores). The wheel is a release build, so
-/// every bit-for-bit comparison of the suite also checks that the debug and
-/// release builds fly the same bits.
-pub fn sim_cli(build_dir: &Path) -> PathBuf {
+/// A debug build: the comparisons fly a few thousand frames at most. The
+/// wheel is a release build, so every bit-for-bit comparison of the suite
+/// also checks that the debug and release builds fly the same bits.
+pub fn sim_cli() -> PathBuf {
+    let target_dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .expect("CARGO_TARGET_TMPDIR is inside the target directory");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     let status = Command::new(cargo)
         // (The package is `afit-fdm-cli`.)
         .args(["build", "-q", "-p", "afit-fdm-cli", "--bin", "sim-cli"])
         .current_dir(CRATE_DIR)
-        .env("CARGO_TARGET_DIR", build_dir)
+        .env("CARGO_TARGET_DIR", target_dir)
         .status()
         .expect("cannot run cargo to build sim-cli");
     assert!(status.success(), "cargo build -p afit-fdm-cli failed");
-    build_dir.join("debug").join("sim-cli")
+    let sim_cli = target_dir
+        .join("debug")
+        .join(format!("sim-cli{}", std::env::consts::EXE_SUFFIX));
+    assert!(sim_cli.is_file(), "no sim-cli at {}", sim_cli.display());
+    sim_cli
 }
 
 /// `PATH` with the virtualenv's `bin` first.
