@@ -12,7 +12,7 @@ pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 /// --workspace` has built the workspace's dependencies already: only the
 /// crates whose features differ in a build of `sim-cli` alone are compiled
 /// (cargo holds no lock on the directory while tests run). A build of its own
-/// directory compiled all of them again, about two minutes of CI.
+/// directory compiled all of them again.
 ///
 /// A debug build: the comparisons fly a few thousand frames at most. The
 /// wheel is a release build, so every bit-for-bit comparison of the suite
