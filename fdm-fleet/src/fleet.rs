@@ -368,7 +368,21 @@ impl<M: LaneModel, FastMaths: Maths> WithSimd for StepBlocks<'_, M, FastMaths> {
     }
 }
 
-impl<M: LaneModel, FastMaths> StepBlocks<'_, M, FastMaths> {
+impl<'a, M: LaneModel, FastMaths> StepBlocks<'a, M, FastMaths> {
+    /// The same loop with the fast maths `F`.
+    #[inline(always)]
+    fn with_fast<F>(self) -> StepBlocks<'a, M, F> {
+        StepBlocks {
+            blocks: self.blocks,
+            aircraft: self.aircraft,
+            shared: self.shared,
+            dt: self.dt,
+            precision: self.precision,
+            fly: self.fly,
+            fast: core::marker::PhantomData,
+        }
+    }
+
     /// The kernel on every block, each followed by its flight status with
     /// [`Self::fly`].
     #[inline(always)]
@@ -388,7 +402,7 @@ impl<M: LaneModel, FastMaths> StepBlocks<'_, M, FastMaths> {
     }
 }
 
-/// Runs `blocks` with `arch`'s instruction set: pulp's `Arch::dispatch`, with
+/// Runs `op` with `arch`'s instruction set: pulp's `Arch::dispatch`, with
 /// the fast maths chosen by the instruction set itself rather than by a flag
 /// inside the kernel. `Fast<true>` (the `mul_add` of the FMA instruction)
 /// for x86-64-v3 and v4, which have FMA; `Fast<false>` (Dekker's splitting)
@@ -398,54 +412,17 @@ impl<M: LaneModel, FastMaths> StepBlocks<'_, M, FastMaths> {
 /// compile both into every copy (a third more code in `fdm-fleet`'s release
 /// build, whose time is mostly these copies).
 #[inline(always)]
-fn dispatch<M: LaneModel>(
-    arch: Arch,
-    blocks: &mut [Block<M>],
-    aircraft: &M::Aircraft,
-    shared: &M::Shared,
-    dt: M::TimeStep,
-    precision: Precision,
-    fly: bool,
-) {
-    fn op<'a, M: LaneModel, FastMaths>(
-        blocks: &'a mut [Block<M>],
-        aircraft: &'a M::Aircraft,
-        shared: &'a M::Shared,
-        dt: M::TimeStep,
-        precision: Precision,
-        fly: bool,
-    ) -> StepBlocks<'a, M, FastMaths> {
-        StepBlocks {
-            blocks,
-            aircraft,
-            shared,
-            dt,
-            precision,
-            fly,
-            fast: core::marker::PhantomData,
-        }
-    }
+fn dispatch<M: LaneModel>(arch: Arch, op: StepBlocks<'_, M, ()>) {
     #[cfg(target_arch = "x86_64")]
     match arch {
-        Arch::V4(simd) => Simd::vectorize(
-            simd,
-            op::<M, Fast<true>>(blocks, aircraft, shared, dt, precision, fly),
-        ),
-        Arch::V3(simd) => Simd::vectorize(
-            simd,
-            op::<M, Fast<true>>(blocks, aircraft, shared, dt, precision, fly),
-        ),
+        Arch::V4(simd) => Simd::vectorize(simd, op.with_fast::<Fast<true>>()),
+        Arch::V3(simd) => Simd::vectorize(simd, op.with_fast::<Fast<true>>()),
         // The baseline, and any instruction set a later pulp adds (`Arch`
         // is non-exhaustive): the scalar copy is correct on every CPU.
-        _ => Simd::vectorize(
-            pulp::Scalar::new(),
-            op::<M, Fast<false>>(blocks, aircraft, shared, dt, precision, fly),
-        ),
+        _ => Simd::vectorize(pulp::Scalar::new(), op.with_fast::<Fast<false>>()),
     }
     #[cfg(not(target_arch = "x86_64"))]
-    arch.dispatch(op::<M, Fast<false>>(
-        blocks, aircraft, shared, dt, precision, fly,
-    ));
+    arch.dispatch(op.with_fast::<Fast<false>>());
 }
 
 /// A fleet of one [`LaneModel`]'s aircraft sharing one aircraft type, each
@@ -728,14 +705,21 @@ impl<M: LaneModel> Fleet<M> {
             parallel,
         } = run;
         let (aircraft, shared) = (&self.aircraft, &self.shared);
+        let op = |blocks| StepBlocks::<M, ()> {
+            blocks,
+            aircraft,
+            shared,
+            dt,
+            precision,
+            fly,
+            fast: core::marker::PhantomData,
+        };
         if parallel {
             self.blocks
                 .par_chunks_mut(BLOCKS_PER_TASK)
-                .for_each(|blocks| {
-                    dispatch(arch, blocks, aircraft, shared, dt, precision, fly);
-                });
+                .for_each(|blocks| dispatch(arch, op(blocks)));
         } else {
-            dispatch(arch, &mut self.blocks, aircraft, shared, dt, precision, fly);
+            dispatch(arch, op(&mut self.blocks));
         }
     }
 
