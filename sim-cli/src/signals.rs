@@ -248,6 +248,85 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// A directory of this test's own (the lib's tests run in parallel).
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("sim-cli-signals-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// The signal thread flushes every registered output (module docs, step 3):
+    /// a run with a CSV and another file loses neither; and complete lines
+    /// wait in the 64 KiB buffer `create` documents (32 KiB of rows are not on
+    /// disk before the flush; a smaller buffer would have written them).
+    #[test]
+    fn flush_registered_flushes_every_open_output_from_its_64_kib_buffer() {
+        let dir = scratch("two");
+        let (first_path, second_path) = (dir.join("first.csv"), dir.join("second.csv"));
+        let mut first = SignalSafeWriter::create(&first_path).unwrap();
+        let mut second = SignalSafeWriter::create(&second_path).unwrap();
+        let row = "0123456789,0123456789,0123456789\n"; // 32 bytes
+        let rows = row.repeat(1024); // 32 KiB: half the buffer
+        first.write_all(rows.as_bytes()).unwrap();
+        second.write_all(b"a,b\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&first_path).unwrap(), "");
+        assert_eq!(std::fs::read_to_string(&second_path).unwrap(), "");
+        flush_registered();
+        assert_eq!(std::fs::read_to_string(&first_path).unwrap(), rows);
+        assert_eq!(std::fs::read_to_string(&second_path).unwrap(), "a,b\n");
+        drop((first, second));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A partial line stays private until its newline comes, unless it grows
+    /// longer than 64 KiB ([`MAX_TAIL`]'s doc): exactly 64 KiB without a
+    /// newline is not flushed, one byte more is.
+    #[test]
+    fn a_partial_line_is_handed_over_once_longer_than_64_kib() {
+        let dir = scratch("tail");
+        let path = dir.join("out.txt");
+        let mut out = SignalSafeWriter::create(&path).unwrap();
+        out.write_all(&[b'x'; 64 * 1024]).unwrap();
+        flush_registered();
+        assert_eq!(std::fs::read(&path).unwrap().len(), 0);
+        out.write_all(b"x").unwrap();
+        flush_registered();
+        assert_eq!(std::fs::read(&path).unwrap().len(), 64 * 1024 + 1);
+        drop(out);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Dropping an output writes all of it, a last line without its newline
+    /// included, as a `BufWriter` does on drop.
+    #[test]
+    fn dropping_an_output_writes_its_partial_last_line_too() {
+        let dir = scratch("drop");
+        let path = dir.join("out.csv");
+        let mut out = SignalSafeWriter::create(&path).unwrap();
+        out.write_all(b"frame,x\n0,").unwrap();
+        drop(out);
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "frame,x\n0,");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Outputs that are gone leave the registry when the next one registers:
+    /// a long program that opens and closes many outputs does not grow it
+    /// without bound.
+    #[test]
+    fn closed_outputs_leave_the_registry() {
+        let dir = scratch("many");
+        for i in 0..200 {
+            drop(SignalSafeWriter::create(&dir.join(format!("{i}.csv"))).unwrap());
+        }
+        let last = SignalSafeWriter::create(&dir.join("last.csv")).unwrap();
+        // Other tests of this binary may hold a few outputs open meanwhile.
+        let registered = lock(&OUTPUTS).len();
+        assert!(registered < 20, "{registered} outputs registered");
+        drop(last);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn exit_statuses_are_128_plus_the_signal() {
         let statuses: Vec<i32> = HANDLED.iter().map(|&(s, _)| exit_status(s)).collect();
