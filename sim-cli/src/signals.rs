@@ -225,6 +225,7 @@ mod tests {
 
     #[test]
     fn only_complete_lines_reach_the_file_until_flush() {
+        let _flushing = lock(&FLUSHING);
         let dir = std::env::temp_dir().join(format!("sim-cli-signals-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("out.csv");
@@ -248,6 +249,11 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// Held by the tests that call `flush_registered` or look at what is still
+    /// buffered: `flush_registered` flushes every test's outputs, and the
+    /// tests run in parallel.
+    static FLUSHING: Mutex<()> = Mutex::new(());
+
     /// A directory of this test's own (the lib's tests run in parallel).
     fn scratch(name: &str) -> std::path::PathBuf {
         let dir =
@@ -262,6 +268,7 @@ mod tests {
     /// disk before the flush; a smaller buffer would have written them).
     #[test]
     fn flush_registered_flushes_every_open_output_from_its_64_kib_buffer() {
+        let _flushing = lock(&FLUSHING);
         let dir = scratch("two");
         let (first_path, second_path) = (dir.join("first.csv"), dir.join("second.csv"));
         let mut first = SignalSafeWriter::create(&first_path).unwrap();
@@ -284,6 +291,7 @@ mod tests {
     /// newline is not flushed, one byte more is.
     #[test]
     fn a_partial_line_is_handed_over_once_longer_than_64_kib() {
+        let _flushing = lock(&FLUSHING);
         let dir = scratch("tail");
         let path = dir.join("out.txt");
         let mut out = SignalSafeWriter::create(&path).unwrap();
