@@ -693,36 +693,6 @@ impl<M: LaneModel> Fleet<M> {
         Ok(())
     }
 
-    /// The kernel itself over every block ([`KernelRun::apply`]): generic,
-    /// so compiled in the crate that names it for a model (see
-    /// [`FleetKernel`]).
-    pub(crate) fn run_blocks(&mut self, run: KernelRun<M>) {
-        let KernelRun {
-            arch,
-            dt,
-            precision,
-            fly,
-            parallel,
-        } = run;
-        let (aircraft, shared) = (&self.aircraft, &self.shared);
-        let op = |blocks| StepBlocks::<M, ()> {
-            blocks,
-            aircraft,
-            shared,
-            dt,
-            precision,
-            fly,
-            fast: core::marker::PhantomData,
-        };
-        if parallel {
-            self.blocks
-                .par_chunks_mut(BLOCKS_PER_TASK)
-                .for_each(|blocks| dispatch(arch, op(blocks)));
-        } else {
-            dispatch(arch, op(&mut self.blocks));
-        }
-    }
-
     /// `out` becomes every aircraft's position in the model frame, metres (x
     /// north, y west, z up), in index order: the `position_m` of
     /// [`Model::view`], bit for bit ([`LaneModel::position_m`]).
@@ -894,9 +864,34 @@ pub struct KernelRun<M: LaneModel> {
 
 impl<M: LaneModel> KernelRun<M> {
     /// Runs the kernel over every block of `fleet` (the body of
-    /// [`FleetKernel::run_kernel`]).
+    /// [`FleetKernel::run_kernel`]). Generic, so compiled in the crate that
+    /// names it for a model (see [`FleetKernel`]).
     pub fn apply(self, fleet: &mut Fleet<M>) {
-        fleet.run_blocks(self);
+        let Self {
+            arch,
+            dt,
+            precision,
+            fly,
+            parallel,
+        } = self;
+        let (aircraft, shared) = (&fleet.aircraft, &fleet.shared);
+        let op = |blocks| StepBlocks::<M, ()> {
+            blocks,
+            aircraft,
+            shared,
+            dt,
+            precision,
+            fly,
+            fast: core::marker::PhantomData,
+        };
+        if parallel {
+            fleet
+                .blocks
+                .par_chunks_mut(BLOCKS_PER_TASK)
+                .for_each(|blocks| dispatch(arch, op(blocks)));
+        } else {
+            dispatch(arch, op(&mut fleet.blocks));
+        }
     }
 }
 
