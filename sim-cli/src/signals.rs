@@ -226,8 +226,7 @@ mod tests {
     #[test]
     fn only_complete_lines_reach_the_file_until_flush() {
         let _flushing = lock(&FLUSHING);
-        let dir = std::env::temp_dir().join(format!("sim-cli-signals-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("lines");
         let path = dir.join("out.csv");
         let mut out = SignalSafeWriter::create(&path).unwrap();
         out.write_all(b"frame,x\n0,1\n1,").unwrap();
