@@ -98,6 +98,27 @@ pub(crate) fn pow_inlined(x: f64, y: f64) -> f64 {
     pow::pow(x, y)
 }
 
+/// Whether a fused multiply-add is one instruction here: with `std`, on
+/// x86-64 when the CPU has FMA (checked at run time, once), and on every
+/// aarch64 CPU. [`pow`] then takes one product error from it instead of
+/// from Dekker's product (the same exact number, fewer operations in the
+/// chain); [`fma`] is correctly rounded either way.
+#[inline(always)]
+pub(crate) fn fma_is_an_instruction() -> bool {
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    {
+        std::arch::is_x86_feature_detected!("fma")
+    }
+    #[cfg(all(feature = "std", target_arch = "aarch64"))]
+    {
+        true
+    }
+    #[cfg(not(all(feature = "std", any(target_arch = "x86_64", target_arch = "aarch64"))))]
+    {
+        false
+    }
+}
+
 /// Runs `f` in a function compiled for AVX2 and FMA (x86-64-v3) when the CPU
 /// has them (with `std` on x86-64), else as it is. A whole scalar step runs
 /// through it (one run-time check per step, none per `pow`), so that
@@ -453,11 +474,16 @@ fn asinf_blend(x: f32) -> f32 {
     f32::from_bits(r.to_bits() ^ (x.to_bits() & 0x8000_0000))
 }
 
-/// Sine and cosine of `x` (f64, radians): `(sin(x), cos(x))`.
+/// Sine and cosine of `x` (f64, radians): `(sin(x), cos(x))` bit for bit,
+/// with one argument reduction for both (the `libm` crate's `sincos`: the
+/// same fdlibm kernels on the same reduced argument; its own cut-off for
+/// tiny `x`, `2^-27·√2` against `sin`'s `2^-26`, gives `x` there too).
+/// `sin_cos_is_sin_and_cos` checks the bits on dense samples and at the
+/// cut-offs.
 #[inline(always)]
 #[must_use]
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    (sin(x), cos(x))
+    libm::sincos(x)
 }
 
 /// `x * x`, which is what `x.powi(2)` computes (exactly one rounding).
@@ -497,6 +523,68 @@ mod tests {
             None,
             "1.0 is not an exception"
         );
+    }
+
+    /// `sin_cos(x)` is `(sin(x), cos(x))` bit for bit (the scalar Palmer step
+    /// and the multiplayer attitude call it instead of the two): at every
+    /// threshold of fdlibm's kernels and their neighbours (tiny arguments,
+    /// where `sincos` and `sin` cut off differently; π/4; the reductions'
+    /// edges), on 2^20 random bit patterns (every exponent, NaN and the
+    /// infinities included) and on a dense sweep of the angles the models
+    /// give it (±2π, bank angles in degrees converted). Exact comparison of
+    /// the bits: any difference is a bug.
+    #[test]
+    fn sin_cos_is_sin_and_cos() {
+        let check = |x: f64| {
+            let (s, c) = sin_cos(x);
+            assert_eq!(
+                s.to_bits(),
+                sin(x).to_bits(),
+                "sin({x:e}) [{:#x}]",
+                x.to_bits()
+            );
+            assert_eq!(
+                c.to_bits(),
+                cos(x).to_bits(),
+                "cos({x:e}) [{:#x}]",
+                x.to_bits()
+            );
+        };
+        // Thresholds on the high word: 2^-27·√2 (sincos and cos), 2^-26
+        // (sin), π/4, 3π/4 and 5π/4-ish reduction edges, 2^20·π/2 (the
+        // medium reduction's limit), the infinities.
+        for high in [
+            0x3e46_a09e_u64,
+            0x3e50_0000,
+            0x3fe9_21fb,
+            0x4002_d97c,
+            0x400f_6a7a,
+            0x4139_21fb,
+            0x7fef_ffff,
+            0x7ff0_0000,
+        ] {
+            for low in [0_u64, 1, 0x5444_2d18, 0xffff_ffff] {
+                let bits = (high << 32) | low;
+                for b in [bits - 1, bits, bits + 1] {
+                    check(f64::from_bits(b));
+                    check(-f64::from_bits(b));
+                }
+            }
+        }
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..1 << 20 {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            check(f64::from_bits(state.wrapping_mul(0x9e37_79b9_7f4a_7c15)));
+        }
+        for i in -200_000..=200_000 {
+            check(f64::from(i) * (core::f64::consts::TAU / 200_000.0));
+            check(f64::from(i) * 1e-3 * core::f64::consts::PI / 180.0);
+        }
+        check(0.0);
+        check(-0.0);
+        check(f64::NAN);
     }
 
     /// The AVX2/FMA instance of `pow` that `pow` picks at run time has the

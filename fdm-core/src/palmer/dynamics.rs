@@ -67,7 +67,7 @@ use crate::message::ShortNumber;
 use nalgebra::Vector3;
 
 use super::{AircraftError, Flaps, PalmerAircraft, PalmerControls, PalmerState};
-use crate::math::{cos, sin};
+use crate::math::sin_cos;
 use crate::real::{Exact, Mask, Maths, Real};
 
 /// Gravitational acceleration along z, m/s² (`G` of docs/palmer-model.md).
@@ -163,10 +163,10 @@ impl ControlTerms<f64> {
             Flaps::Deg20 => cl += 0.25,
             Flaps::Deg40 => cl += 0.5,
         }
+        let (sin_w, cos_w) = sin_cos(bank_rad); // step 10, bank: `sin` and `cos`, one reduction
         Self {
-            // Step 10, bank.
-            cos_w: cos(bank_rad),
-            sin_w: sin(bank_rad),
+            cos_w,
+            sin_w,
             cl_without_ground_effect: cl,
             half_cl_without_ground_effect: 0.5 * cl,
             half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / at.induced_drag_divisor),
