@@ -6,8 +6,11 @@
 //! on an x86-64 glibc host every result is also compared with `std`'s (glibc's)
 //! directly.
 //!
-//! About a minute in release mode, so ignored by default; CI runs it with
+//! About a minute in release mode, so ignored by default; run it with
 //! `cargo test --release -p fdm-core --test math_exhaustive -- --ignored`.
+//! CI optimises only fdm-core (`--config
+//! 'profile.dev.package.fdm-core.opt-level=3'` instead of `--release`), which
+//! reuses the debug build of the dev-dependencies.
 
 use fdm_core::math::{asinf, pow};
 use fdm_core::real::{F32s, F64s, Real};
