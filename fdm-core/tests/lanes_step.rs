@@ -459,3 +459,37 @@ fn every_component_of_a_bourg_block_reaches_the_finiteness_check() {
         assert_eq!(nan_lanes, [9], "component {component}");
     }
 }
+
+#[test]
+fn bourg_terms_splat_into_every_lane_fly_as_the_scalar_step() {
+    // `BourgTerms::splat`: "Every lane `t`" — with the lanes' number type, a
+    // block whose terms are one aircraft's controls splat into all sixteen
+    // lanes flies every lane with those controls (the airfoil tables of the
+    // ailerons, landing flaps and elevators, the rudder, and the pitch
+    // trim's tables and blend), bit for bit as the scalar step, whatever the
+    // lane's state.
+    use fdm_core::bourg::{BourgLanes, BourgTerms};
+    let aircraft = Bourg::default_aircraft();
+    let members = bourg_members();
+    let dt = Bourg::time_step(30.0);
+    for (controls, _) in &members {
+        let terms = BourgTerms::<BourgLanes>::splat(&BourgTerms::new(&aircraft, controls));
+        let (mut vars, _) = <Bourg as LaneModel>::idle(&aircraft);
+        for (lane, (_, state)) in members.iter().enumerate() {
+            <Bourg as LaneModel>::set_state(&mut vars, lane, state);
+        }
+        let mut scalar: Vec<BourgState> = members.iter().map(|(_, s)| *s).collect();
+        for n in 1..=20 {
+            vars = <Bourg as LaneModel>::step_lanes::<Exact>(&aircraft, &(), &terms, &vars, dt);
+            for (lane, s) in scalar.iter_mut().enumerate() {
+                *s = Bourg::step(&aircraft, controls, s, dt);
+                let l = <Bourg as LaneModel>::state(&vars, 0.0, lane);
+                assert_eq!(
+                    bourg_bits(&l),
+                    bourg_bits(s),
+                    "{controls:?}: lane {lane} after step {n}"
+                );
+            }
+        }
+    }
+}
