@@ -59,13 +59,8 @@ fn oracle_loads(
             drag_dir = -v_local / speed;
         }
         let lift_dir = normalize(&cross(&cross(&drag_dir, &normal), &drag_dir));
-        let mut s = dot(&drag_dir, &normal);
-        if s > 1.0 {
-            s = 1.0;
-        }
-        if s < -1.0 {
-            s = -1.0;
-        }
+        // "clamped to [−1, 1]" (NaN stays NaN, as with the original's `if`s).
+        let s = dot(&drag_dir, &normal).clamp(-1.0, 1.0);
         let attack = radians_to_degrees(asinf(s));
         let q_area = 0.5 * RHO * speed * speed * elements[i].area_ft2;
         let force = match i {
