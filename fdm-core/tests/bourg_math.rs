@@ -743,3 +743,27 @@ fn inverse_of_a_general_matrix() {
         "inverse",
     );
 }
+
+#[test]
+fn euler_angles_at_the_gimbal_lock_keep_the_heading() {
+    // docs/bourg-model.md, "Quaternion → Euler angles": if |r31| > 0.999999
+    // (pitch at ±90°), roll = 0, pitch = −(pi/2)·r31/|r31| and yaw =
+    // atan2(−r12, −r31·r13), with the rotation matrix's r12 = 2(xy − nz),
+    // r13 = 2(xz + ny) (the same matrix as r21 = 2(xy + nz), r31 =
+    // 2(xz − ny)). So a quaternion made from (roll 0, pitch ±90°, yaw ψ)
+    // comes back as (0, ±90, ψ): the reference row of this branch,
+    // (2, 1, 2, 3), has n·y = n + y and cannot tell r13's product from a sum.
+    // Pitch and roll exactly (the branch's own constants); the yaw within
+    // 1e-4°: the quaternion's f32 components carry about 6e-8 relative
+    // error into r12 and r13, some 1e-5° at most in the angle.
+    for (pitch, yaw) in [(90.0, 30.0), (90.0, -135.0), (-90.0, -120.0), (-90.0, 60.0)] {
+        let q = quat_from_euler_deg(&Vector3::new(0.0, pitch, yaw));
+        let e = euler_deg_from_quat(&q);
+        same(e.x, 0.0, "roll");
+        same(e.y, pitch, "pitch");
+        assert!(
+            (e.z - yaw).abs() < 1e-4,
+            "pitch {pitch}, yaw {yaw}: got {e:?}"
+        );
+    }
+}
