@@ -10,9 +10,9 @@
 //! tables at their edges.
 
 use fdm_core::bourg::ops::{
-    conjugate, cross, dot, euler_deg_from_quat, inverse, magnitude, mat_mul_vec, normalize,
-    quat_add, quat_div, quat_from_euler_deg, quat_magnitude, quat_mul, quat_mul_vec, quat_scale,
-    qv_rotate,
+    conjugate, cross, determinant, dot, euler_deg_from_quat, inverse, magnitude, mat_mul_vec,
+    normalize, quat_add, quat_div, quat_from_euler_deg, quat_magnitude, quat_mul, quat_mul_vec,
+    quat_scale, qv_rotate,
 };
 use fdm_core::bourg::{
     drag_coefficient, lift_coefficient, rudder_drag_coefficient, rudder_lift_coefficient, Airframe,
@@ -636,4 +636,134 @@ fn the_generic_quaternion_operations_give_the_same_rows() {
         "Q4 QVRotate qA",
     );
     same(g(q_a()).magnitude(), quat_magnitude(&q_a()), "Q4 |qA|");
+}
+
+#[test]
+fn normalize_at_its_tolerance() {
+    // docs/bourg-model.md, "Normalize": divide by the magnitude (by 1 if it
+    // is <= tol), then flush to +0 any component with |c| < tol, tol = 1e-15
+    // (f32). No reference row reaches either comparison at its edge. Exact:
+    // a magnitude of one nonzero component is that component (`sqrtf(x*x)`
+    // is |x| when x*x neither overflows nor underflows), and dividing by 1
+    // changes nothing.
+    let tol = 1e-15_f32;
+    let zero = v("0", "0", "0");
+    // Magnitude exactly tol: divided by 1, so the component stays tol, which
+    // is not below tol: kept (a vector at the tolerance is not made unit).
+    same_v(
+        &normalize(&Vector3::new(tol, 0.0, 0.0)),
+        &Vector3::new(tol, 0.0, 0.0),
+        "(tol,0,0)",
+    );
+    same_v(
+        &normalize(&Vector3::new(0.0, -tol, 0.0)),
+        &Vector3::new(0.0, -tol, 0.0),
+        "(0,-tol,0)",
+    );
+    // Just above tol: a unit vector.
+    let above = f32::from_bits(tol.to_bits() + 1);
+    same_v(
+        &normalize(&Vector3::new(0.0, 0.0, above)),
+        &v("0", "0", "1"),
+        "(0,0,tol+)",
+    );
+    // Below tol: divided by 1, then the component is below tol: +0, of
+    // either sign.
+    let below = f32::from_bits(tol.to_bits() - 1);
+    same_v(
+        &normalize(&Vector3::new(-below, 0.0, 0.0)),
+        &zero,
+        "(-tol-,0,0)",
+    );
+    same_v(
+        &normalize(&Vector3::new(0.0, 0.0, below)),
+        &zero,
+        "(0,0,tol-)",
+    );
+    // A unit vector's components below tol are flushed to +0 (a negative one
+    // too), those at or above it kept.
+    same_v(
+        &normalize(&Vector3::new(1.0, -1e-16, 1e-20)),
+        &v("1", "0", "0"),
+        "(1,-1e-16,1e-20)",
+    );
+    same_v(
+        &normalize(&Vector3::new(1.0, tol, -tol)),
+        &Vector3::new(1.0, tol, -tol),
+        "(1,tol,-tol)",
+    );
+}
+
+#[test]
+fn cross_and_dot_of_general_vectors() {
+    // docs/bourg-model.md, "Cross: (uy·vz − uz·vy, −ux·vz + uz·vx,
+    // ux·vy − uy·vx)", "Dot: ux·vx + uy·vy + uz·vz". The reference rows have
+    // a zero in one vector, so some terms never show; small integers give
+    // every product and difference exactly (hand-worked):
+    // (1, 2, 3) × (4, 5, 6) = (12 − 15, −6 + 12, 5 − 8) = (−3, 6, −3).
+    let (a, b) = (v("1", "2", "3"), v("4", "5", "6"));
+    same_v(&cross(&a, &b), &v("-3", "6", "-3"), "(1,2,3)x(4,5,6)");
+    same_v(&cross(&b, &a), &v("3", "-6", "3"), "(4,5,6)x(1,2,3)");
+    // (2, −3, 5) × (−7, 11, 13) = (−39 − 55, −26 − 35, 22 − 21) = (−94, −61, 1).
+    same_v(
+        &cross(&v("2", "-3", "5"), &v("-7", "11", "13")),
+        &v("-94", "-61", "1"),
+        "(2,-3,5)x(-7,11,13)",
+    );
+    // 1·4 + 2·5 + 3·6 = 32; 2·(−7) − 3·11 + 5·13 = 18.
+    same(dot(&a, &b), 32.0, "(1,2,3).(4,5,6)");
+    same(
+        dot(&v("2", "-3", "5"), &v("-7", "11", "13")),
+        18.0,
+        "(2,-3,5).(-7,11,13)",
+    );
+}
+
+#[test]
+fn inverse_of_a_general_matrix() {
+    // docs/bourg-model.md, "Inverse: the adjugate divided by d" with
+    // `d = e11·e22·e33 − e11·e32·e23 + e21·e32·e13 − e21·e12·e33 +
+    // e31·e12·e23 − e31·e22·e13`. The reference rows are a singular matrix
+    // (d replaced by 1) and the inertia, whose four products Ixy, Iyz are
+    // zero: neither shows every entry divided by a d other than 1. Worked by
+    // hand on small integers: d = 4 (below), adjugate [[12, 24, 4],
+    // [−7, −15, −2], [−3, −7, −2]] (M · adj = 4·I), so every product and the
+    // inverse are exact in f32 (quarters).
+    let m3 = m([["4", "5", "3"], ["-2", "-3", "-1"], ["1", "3", "-3"]]);
+    // 4·(−3)·(−3) − 4·3·(−1) + (−2)·3·3 − (−2)·5·(−3) + 1·5·(−1) − 1·(−3)·3
+    // = 36 + 12 − 18 − 30 − 5 + 9 = 4.
+    same(determinant(&m3), 4.0, "det");
+    same_m(
+        &inverse(&m3),
+        &m([
+            ["3", "6", "1"],
+            ["-1.75", "-3.75", "-0.5"],
+            ["-0.75", "-1.75", "-0.5"],
+        ]),
+        "inverse",
+    );
+}
+
+#[test]
+fn euler_angles_at_the_gimbal_lock_keep_the_heading() {
+    // docs/bourg-model.md, "Quaternion → Euler angles": if |r31| > 0.999999
+    // (pitch at ±90°), roll = 0, pitch = −(pi/2)·r31/|r31| and yaw =
+    // atan2(−r12, −r31·r13), with the rotation matrix's r12 = 2(xy − nz),
+    // r13 = 2(xz + ny) (the same matrix as r21 = 2(xy + nz), r31 =
+    // 2(xz − ny)). So a quaternion made from (roll 0, pitch ±90°, yaw ψ)
+    // comes back as (0, ±90, ψ): the reference row of this branch,
+    // (2, 1, 2, 3), has n·y = n + y and cannot tell r13's product from a sum.
+    // Pitch and roll exactly (the branch's own constants); the yaw within
+    // 1e-4°: the quaternion's f32 components carry about 6e-8 relative
+    // error into r12 and r13, some 1e-5° at most in the angle.
+    for (pitch, yaw) in [(90.0, 30.0), (90.0, -135.0), (-90.0, -120.0), (-90.0, 60.0)] {
+        let q = quat_from_euler_deg(&Vector3::new(0.0, pitch, yaw));
+        let e = euler_deg_from_quat(&q);
+        same(e.x, 0.0, "roll");
+        same(e.y, pitch, "pitch");
+        assert!(
+            (e.z - yaw).abs() < 1e-4,
+            "pitch {pitch}, yaw {yaw}: got {e:?}"
+        );
+    }
 }

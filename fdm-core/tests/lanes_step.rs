@@ -366,3 +366,130 @@ fn one_aircrafts_terms_splat_into_one_lane_are_themselves() {
         assert_eq!(other, t, "{controls:?}");
     }
 }
+
+#[test]
+fn bourgs_lane_moves_keep_the_clock_the_position_and_the_height_sign() {
+    // `LaneModel` (fdm_core::real) for Bourg, method by method as the trait
+    // documents it: `set_state` "returns its clock"; `state` gives the lane
+    // "with its clock `time_s`"; `above_ground` is "height `> 0` ... false
+    // for NaN" in the model's own unit (feet); `position_m` is "the
+    // `position_m` of `Model::view`, bit for bit". No tolerance: these move
+    // numbers, they do not compute with them (`position_m` is the same
+    // widening and product as the view's).
+    let aircraft = Bourg::default_aircraft();
+    let controls = Bourg::initial_controls();
+    let (mut vars, _) = <Bourg as LaneModel>::idle(&aircraft);
+    let heights = [
+        2000.0,
+        1.0e-30,
+        0.0,
+        -0.0,
+        -1.0e-30,
+        -3.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        0.5,
+        12_345.678,
+        -12_345.678,
+        f32::MIN_POSITIVE,
+        -f32::MIN_POSITIVE,
+        7.0,
+        1.0e30,
+    ];
+    let members = bourg_members();
+    for (lane, &z) in heights.iter().enumerate() {
+        let mut s = members[lane].1;
+        #[allow(clippy::cast_precision_loss)] // lane < 16
+        let (x, clock) = (-5000.0 + 37.5 * lane as f32, 1.5 + lane as f64 * 0.25);
+        s.position_ft = V3f::new(x, 0.125, z);
+        s.time_s = clock;
+        assert_eq!(
+            <Bourg as LaneModel>::set_state(&mut vars, lane, &s).to_bits(),
+            clock.to_bits(),
+            "set_state's clock, lane {lane}"
+        );
+        let back = <Bourg as LaneModel>::state(&vars, 42.0, lane);
+        assert_eq!(back.time_s.to_bits(), 42.0_f64.to_bits(), "lane {lane}");
+        assert_eq!(bourg_bits(&back), bourg_bits(&s), "lane {lane}");
+        let view = Bourg::view(&aircraft, &controls, &s);
+        let p = <Bourg as LaneModel>::position_m(&s);
+        for k in 0..3 {
+            assert_eq!(
+                p[k].to_bits(),
+                view.position_m[k].to_bits(),
+                "position_m[{k}], lane {lane}"
+            );
+        }
+    }
+    let above = <Bourg as LaneModel>::above_ground(&vars);
+    for (lane, &z) in heights.iter().enumerate() {
+        assert_eq!(above.0[lane], z > 0.0, "above_ground, lane {lane}, z {z}");
+    }
+}
+
+#[test]
+fn every_component_of_a_bourg_block_reaches_the_finiteness_check() {
+    // `LaneModel::for_each_component` for Bourg: each of the sixteen numbers
+    // of a lane's state (position, velocity, body velocity, angular velocity,
+    // orientation) made NaN alone, in one lane, reaches the fleet's
+    // finiteness check in that lane only.
+    let aircraft = Bourg::default_aircraft();
+    let (vars, _) = <Bourg as LaneModel>::idle(&aircraft);
+    let mut count = 0;
+    <Bourg as LaneModel>::for_each_component(&vars, |_| count += 1);
+    assert_eq!(count, 16);
+    for component in 0..16 {
+        let mut s = BourgState::initial();
+        let mut n = [
+            -5000.0, 0.0, 2000.0, 60.0, 0.0, 0.0, 60.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0,
+        ];
+        n[component] = f32::NAN;
+        s.position_ft = V3f::new(n[0], n[1], n[2]);
+        s.velocity_ftps = V3f::new(n[3], n[4], n[5]);
+        s.velocity_body_ftps = V3f::new(n[6], n[7], n[8]);
+        s.angular_velocity_radps = V3f::new(n[9], n[10], n[11]);
+        s.orientation = fdm_core::bourg::Quaternion::new(n[12], n[13], n[14], n[15]);
+        let mut vars = vars;
+        <Bourg as LaneModel>::set_state(&mut vars, 9, &s);
+        let mut nan_lanes = Vec::new();
+        <Bourg as LaneModel>::for_each_component(&vars, |v| {
+            nan_lanes.extend((0..fdm_core::bourg::LANES).filter(|&l| v.0[l].is_nan()));
+        });
+        assert_eq!(nan_lanes, [9], "component {component}");
+    }
+}
+
+#[test]
+fn bourg_terms_splat_into_every_lane_fly_as_the_scalar_step() {
+    // `BourgTerms::splat`: "Every lane `t`" — with the lanes' number type, a
+    // block whose terms are one aircraft's controls splat into all sixteen
+    // lanes flies every lane with those controls (the airfoil tables of the
+    // ailerons, landing flaps and elevators, the rudder, and the pitch
+    // trim's tables and blend), bit for bit as the scalar step, whatever the
+    // lane's state.
+    use fdm_core::bourg::{BourgLanes, BourgTerms};
+    let aircraft = Bourg::default_aircraft();
+    let members = bourg_members();
+    let dt = Bourg::time_step(30.0);
+    for (controls, _) in &members {
+        let terms = BourgTerms::<BourgLanes>::splat(&BourgTerms::new(&aircraft, controls));
+        let (mut vars, _) = <Bourg as LaneModel>::idle(&aircraft);
+        for (lane, (_, state)) in members.iter().enumerate() {
+            <Bourg as LaneModel>::set_state(&mut vars, lane, state);
+        }
+        let mut scalar: Vec<BourgState> = members.iter().map(|(_, s)| *s).collect();
+        for n in 1..=20 {
+            vars = <Bourg as LaneModel>::step_lanes::<Exact>(&aircraft, &(), &terms, &vars, dt);
+            for (lane, s) in scalar.iter_mut().enumerate() {
+                *s = Bourg::step(&aircraft, controls, s, dt);
+                let l = <Bourg as LaneModel>::state(&vars, 0.0, lane);
+                assert_eq!(
+                    bourg_bits(&l),
+                    bourg_bits(s),
+                    "{controls:?}: lane {lane} after step {n}"
+                );
+            }
+        }
+    }
+}

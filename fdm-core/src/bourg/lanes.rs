@@ -333,6 +333,35 @@ mod tests {
     }
 
     #[test]
+    fn an_entry_past_the_table_is_its_last() {
+        // `entry`: "`table[i]`, `i` clamped to the table". The look-ups never
+        // index past their tables, but a lane's table offset is a public
+        // number (`BourgTerms::tables`, `BourgReal::airfoil`), and one that
+        // is not one of the three tables' must still read inside them, not
+        // panic in a fleet's kernel.
+        let t = [1.0, 2.0, 3.0];
+        assert_eq!(entry(&t, 0).to_bits(), 1.0_f32.to_bits());
+        assert_eq!(entry(&t, 2).to_bits(), 3.0_f32.to_bits());
+        for i in [3, 4, 1000, u32::MAX] {
+            assert_eq!(entry(&t, i).to_bits(), 3.0_f32.to_bits(), "{i}");
+        }
+        // Through the hook: an offset past the tables reads their last
+        // entries (finite numbers) in that lane; the others are unchanged.
+        let angle = F32s([5.0_f32; LANES]);
+        let mut offsets = [table_offset(Flap::Neutral); LANES];
+        offsets[3] = 1000;
+        let (cl, cd) = BourgLanes::airfoil(angle, offsets);
+        let (scl, scd) = airfoil_coefficients(5.0, Flap::Neutral);
+        for l in 0..LANES {
+            if l == 3 {
+                assert!(cl.0[l].is_finite() && cd.0[l].is_finite());
+            } else {
+                assert!(same(cl.0[l], scl) && same(cd.0[l], scd), "lane {l}");
+            }
+        }
+    }
+
+    #[test]
     fn table_lookups_are_the_scalar_ones() {
         let flaps = [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp];
         for chunk in angles().chunks(LANES) {
