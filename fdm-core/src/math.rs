@@ -493,6 +493,19 @@ pub fn square(x: f64) -> f64 {
     x * x
 }
 
+/// A fixed, reproducible sequence of 64-bit patterns for the tests' samples
+/// (xorshift64* from `seed`).
+#[cfg(test)]
+pub(crate) fn test_bits(seed: u64) -> impl FnMut() -> u64 {
+    let mut state = seed;
+    move || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        state.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -571,12 +584,9 @@ mod tests {
                 }
             }
         }
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = test_bits(0x2545_f491_4f6c_dd1d);
         for _ in 0..1 << 20 {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            check(f64::from_bits(state.wrapping_mul(0x9e37_79b9_7f4a_7c15)));
+            check(f64::from_bits(next()));
         }
         for i in -200_000..=200_000 {
             check(f64::from(i) * (core::f64::consts::TAU / 200_000.0));
@@ -594,16 +604,10 @@ mod tests {
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
     #[test]
     fn pow_of_both_instruction_sets_agree() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            // xorshift64*: a fixed, reproducible sample.
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        };
+        let mut next = test_bits(0x9e37_79b9_7f4a_7c15);
+        let mut unit_bits = test_bits(0x9e37_79b9_7f4a_7c15); // a sequence of its own
         #[allow(clippy::cast_precision_loss)]
-        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut unit = move || (unit_bits() >> 11) as f64 / (1u64 << 53) as f64;
         let check = |x: f64, y: f64| {
             // `pow_inlined` outside `with_fma`: the baseline instance (SSE2,
             // `fma` by call), whatever the CPU.

@@ -385,14 +385,7 @@ mod tests {
     /// comparison of the bits: any difference is a bug.
     #[test]
     fn both_product_errors_give_the_same_pow() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            // xorshift64*: a fixed, reproducible sample.
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        };
+        let mut next = crate::math::test_bits(0x9e37_79b9_7f4a_7c15);
         let check = |x: f64, y: f64| {
             let (a, b) = (pow_with(x, y, true), pow_with(x, y, false));
             assert_eq!(a.to_bits(), b.to_bits(), "pow({x:e}, {y:e}): {a:e} / {b:e}");
