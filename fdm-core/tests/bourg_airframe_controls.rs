@@ -231,3 +231,55 @@ fn a_validated_custom_airframe_flies() {
     }
     assert!(state.is_finite());
 }
+
+/// `BourgControls::elevator_coefficients`: with the elevators neutral and a
+/// nonzero pitch trim, elements 4 and 5 fly `c + (c_deflected − c)·|trim|`,
+/// trailing-edge-up tables for a positive trim, trailing-edge-down for a
+/// negative one, "|trim| clamped to 1"; `BourgTerms::trim` is that factor
+/// ("`|pitch_trim|` clamped to 1"). So a trim beyond ±1 (the keys never make
+/// one, but the controls are public data) flies exactly as ±1, and a trim
+/// inside is used as it is. Exact: the same f32 operations on the same numbers.
+#[test]
+fn the_pitch_trims_blend_factor_is_its_magnitude_clamped_to_one() {
+    use fdm_core::bourg::airfoil::airfoil_coefficients;
+    use fdm_core::bourg::BourgTerms;
+
+    let aircraft = BourgAircraft::default();
+    let elevator = aircraft.airframe().elements[4];
+    let with_trim = |pitch_trim: f32| BourgControls {
+        pitch_trim,
+        ..BourgControls::initial()
+    };
+    for (trim, flap, factor) in [
+        (1.75f32, Flap::TrailingEdgeUp, 1.0f32),
+        (1.0, Flap::TrailingEdgeUp, 1.0),
+        (0.37, Flap::TrailingEdgeUp, 0.37),
+        (-0.62, Flap::TrailingEdgeDown, 0.62),
+        (-1.0, Flap::TrailingEdgeDown, 1.0),
+        (-3.0, Flap::TrailingEdgeDown, 1.0),
+    ] {
+        let controls = with_trim(trim);
+        let terms = BourgTerms::new(&aircraft, &controls);
+        assert_eq!(
+            (terms.trim_tables, terms.trim.to_bits()),
+            (flap, factor.to_bits()),
+            "trim {trim}"
+        );
+        for angle_deg in [-7.5f32, -2.0, 0.0, 3.25, 11.0, 23.5] {
+            let (c_lift, c_drag) = airfoil_coefficients(angle_deg, elevator.flap);
+            let (d_lift, d_drag) = airfoil_coefficients(angle_deg, flap);
+            let want = (
+                c_lift + (d_lift - c_lift) * factor,
+                c_drag + (d_drag - c_drag) * factor,
+            );
+            for index in [4, 5] {
+                let got = controls.elevator_coefficients(index, &elevator, angle_deg);
+                assert_eq!(
+                    (got.0.to_bits(), got.1.to_bits()),
+                    (want.0.to_bits(), want.1.to_bits()),
+                    "trim {trim}, element {index}, {angle_deg}°"
+                );
+            }
+        }
+    }
+}
