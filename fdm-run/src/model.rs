@@ -4,7 +4,8 @@
 //! controls, and the aircraft's parameters as a storable record. The
 //! registry ([`MODELS`], [`with_model`]) is the one place above `fdm-core`
 //! that lists the models by name: the recording's model names, `sim-cli`'s
-//! subcommands and CSV model names all come from it.
+//! subcommands and CSV model names all come from it. Its models also write
+//! the flight CSV ([`CsvModel`]).
 
 use std::fmt::Debug;
 
@@ -126,13 +127,44 @@ impl RunModel for Bourg {
     }
 }
 
+/// A model whose flights write the flight CSV (docs/cli.md, "CSV output"):
+/// its position and velocity in its own unit, its own columns, and how a
+/// plot reads them back ([`crate::csv`] writes the rows). Every model of the
+/// registry is one, so a job run by name ([`with_model`]) can also read or
+/// write its CSV (`fdm_plot::csv` finds a CSV's model from its header).
+pub trait CsvModel: RunModel {
+    /// The model's own columns, between
+    /// [`COMMON_COLUMNS`](crate::csv::COMMON_COLUMNS) and `status`.
+    const CSV_COLUMNS: &'static [&'static str];
+
+    /// The column that holds the airspeed (one of [`Self::CSV_COLUMNS`]),
+    /// in the model's unit per second: what a plot of the CSV draws as the
+    /// airspeed (`sim-cli plot`).
+    const CSV_SPEED_COLUMN: &'static str;
+
+    /// Metres per unit of the model's position and velocity columns (1
+    /// for metres).
+    const METRES_PER_UNIT: f64;
+
+    /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
+    /// up) in the model's own unit, widened to `f64` exactly.
+    fn native_position(state: &Self::State) -> [f64; 3];
+
+    /// Velocity in the same frame and unit per second.
+    fn native_velocity(state: &Self::State) -> [f64; 3];
+
+    /// Appends the values of [`Self::CSV_COLUMNS`], in order.
+    fn csv_values(controls: &Self::Controls, state: &Self::State, out: &mut Vec<f64>);
+}
+
 /// Something to do with a model type chosen at run time by name
 /// ([`with_model`]).
 pub trait ModelJob {
     /// What it returns.
     type Output;
-    /// Does it for model `M`.
-    fn call<M: RunModel>(self) -> Self::Output;
+    /// Does it for model `M` (every model of the registry writes the
+    /// flight CSV, so the job may use [`CsvModel`] as well as [`RunModel`]).
+    fn call<M: CsvModel>(self) -> Self::Output;
 }
 
 /// The models of the registry, by [`Model::NAME`], in the order help texts

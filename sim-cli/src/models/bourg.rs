@@ -31,8 +31,6 @@ pub struct BourgDetails {
 impl Details for BourgDetails {
     const MODEL: &'static str = "bourg";
     const POSITION_UNIT: &'static str = "ft";
-    const CSV_SPEED_COLUMN: &'static str = "speed";
-    const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
     /// `flaps` and `stalling` are written as 0 or 1.
     fn summary(&self) -> String {
         format!(

@@ -116,12 +116,6 @@ pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
     const MODEL: &'static str;
     /// The unit of the native position: `"m"` or `"ft"`.
     const POSITION_UNIT: &'static str;
-    /// The column `sim-cli plot` draws as the airspeed (one of the model's
-    /// [`CsvModel::CSV_COLUMNS`]), in
-    /// the native unit per second.
-    const CSV_SPEED_COLUMN: &'static str;
-    /// Metres per unit of [`Self::POSITION_UNIT`] (1 for metres).
-    const METRES_PER_UNIT: f64;
 
     /// The human summary's model-specific line(s), without a trailing newline.
     fn summary(&self) -> String;

@@ -58,8 +58,6 @@ pub struct PalmerDetails {
 impl Details for PalmerDetails {
     const MODEL: &'static str = "palmer";
     const POSITION_UNIT: &'static str = "m";
-    const CSV_SPEED_COLUMN: &'static str = "airspeed";
-    const METRES_PER_UNIT: f64 = 1.0;
     fn summary(&self) -> String {
         format!(
             "airspeed  {:.3} m/s  climb {:.2} deg, {:.3} m/s\n\
