@@ -46,19 +46,21 @@
 //! | [`scenario`] | [`Scenario`], [`Start`] and where it is ([`StartOptions`]: altitude, speed, heading, trim), the run limits ([`MAX_FPS`], [`MAX_FRAMES`]) |
 //! | [`mod@run`] | [`Run`]: the run loop over one `fdm_ecs::Simulation` |
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`], [`LinkStats`]: outputs as plugins |
+//! | [`fgfs`] | the FlightGear command line that shows a run ([`fgfs::command_line`]: aircraft, start preset, view, multiplayer input) |
 //! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
 //! | [`multiplayer`] | FlightGear multiplayer for a fleet ([`multiplayer::MultiplayerFleet`], [`multiplayer::MultiplayerSender`]) |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
-//! | [`model`] | [`RunModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
+//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type) and the model registry ([`model::MODELS`], [`model::with_model`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
 
 pub mod acmi;
 pub mod csv;
 #[cfg(feature = "dis")]
 pub mod dis;
+pub mod fgfs;
 pub mod flightgear;
 pub mod model;
 pub mod multiplayer;

@@ -58,13 +58,6 @@ impl CliModel for Bourg {
 
     type Lanes = fdm_fleet::Fleet<Self>;
 
-    const FG_AIRCRAFT: &'static str = "ufo";
-
-    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
-    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
-    /// is false, so set the second.
-    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
-
     const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
 
     /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.

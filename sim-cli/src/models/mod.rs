@@ -1,7 +1,8 @@
 //! What differs between the models in the CLI, one module per model: the
 //! report and CSV fields, the HUD's control line, the keys, the starting
-//! controls from the command line and FlightGear's aircraft. Everything else
-//! in `sim-cli` is generic over [`CliModel`].
+//! controls from the command line and FlightGear's multiplayer model (the
+//! native-FDM aircraft is the run library's, `fdm_run::RunModel::FG_AIRCRAFT`).
+//! Everything else in `sim-cli` is generic over [`CliModel`].
 //!
 //! A new model joins the CLI with one more module here implementing
 //! [`CliModel`] (and [`Details`] for its report fields) and one more
@@ -80,19 +81,6 @@ pub trait CliModel: CsvModel<Action: KeyAction> {
     /// lanes`): `fdm_fleet::Fleet<Self>` for any model whose step is written
     /// over `fdm_core::real`'s number type (no hand-written kernel).
     type Lanes: fdm_fleet::LaneFleet<Model = Self>;
-
-    /// FlightGear's aircraft for this model (`--aircraft=...`).
-    const FG_AIRCRAFT: &'static str;
-
-    /// Further fgfs options that aircraft needs with `--fdm=null` (printed by
-    /// `sim-cli fgfs-command`, already shell-quoted where needed).
-    const FG_OPTIONS: &'static [&'static str] = &[];
-
-    /// Nasal statements FlightGear runs once its FDM is initialised (after the
-    /// aircraft's own scripts, which reset properties given as `--prop:`
-    /// options): property settings the aircraft needs with `--fdm=null`.
-    /// Double quotes only (the whole script is one single-quoted shell word).
-    const FG_STARTUP_NASAL: &'static str = "";
 
     /// The model file FlightGear loads for this model as a multiplayer
     /// aircraft (relative to its data directory).
