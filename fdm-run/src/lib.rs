@@ -1,7 +1,7 @@
 //! A flight as a library: a [`Scenario`] becomes a [`Run`] that another
 //! program drives frame by frame ([`Run::step_frame`]) or to the end
 //! ([`Run::run_to_end`]), headless or paced in real time, with [`Output`]s
-//! attached; record and replay ([`recording`]); Tacview ACMI ([`acmi`]).
+//! attached; record and replay ([`recording`], [`mod@replay`]); Tacview ACMI ([`acmi`]).
 //!
 //! `sim-cli` flies its single aircraft through this crate; the Python
 //! bindings and study runners are meant to build on it the same way.
@@ -49,6 +49,7 @@
 //! | [`fgfs`] | the FlightGear command line that shows a run ([`fgfs::command_line`]: aircraft, start preset, view, multiplayer input) |
 //! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
 //! | [`multiplayer`] | FlightGear multiplayer for a fleet ([`multiplayer::MultiplayerFleet`], [`multiplayer::MultiplayerSender`]) |
+//! | [`replay`] | a recording replayed on a run ([`replay::replay`], real-time or not, stoppable) and checked against its fingerprint ([`replay::check_fingerprint`]) |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
@@ -67,6 +68,7 @@ pub mod multiplayer;
 pub mod output;
 pub mod pacer;
 pub mod recording;
+pub mod replay;
 pub mod run;
 pub mod scenario;
 mod shared;
