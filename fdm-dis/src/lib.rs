@@ -147,6 +147,7 @@ pub mod dead_reckoning;
 pub mod entity;
 pub mod error;
 pub mod frames;
+pub mod listen;
 pub mod listener;
 pub mod publisher;
 pub mod tracker;

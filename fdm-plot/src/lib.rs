@@ -3,6 +3,7 @@
 //! | module | what |
 //! |---|---|
 //! | [`flight`] | one flight's six panels ([`render_svg`]), its samples in bounded memory ([`TraceBuilder`]), and [`PlotOutput`], the plot as an [`fdm_run::Output`] (`sim-cli --plot`, `sim-cli replay --plot`) |
+//! | [`csv`] | a flight CSV (`sim-cli --csv`) read back into samples ([`csv::read_trace`]), the model named by the registry (`sim-cli plot`) |
 //! | [`study`] | a Monte Carlo study's `study.svg`: histograms, touchdown scatter, ground tracks ([`study::render`]) |
 //!
 //! Drawn with `plotters`' SVG backend only (no font or bitmap system
@@ -11,6 +12,7 @@
 //! drawing library: the Python package and the study runner build without
 //! it.
 
+pub mod csv;
 pub mod flight;
 pub mod study;
 

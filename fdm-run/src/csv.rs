@@ -21,7 +21,7 @@ use fdm_core::bourg::{Bourg, BourgControls, BourgState};
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{Palmer, PalmerControls, PalmerState};
 
-use crate::model::RunModel;
+pub use crate::model::CsvModel;
 use crate::output::{Event, Frame, Output, OutputError, Placement};
 
 /// A value that can be written as one CSV row.
@@ -272,24 +272,9 @@ pub const COMMON_COLUMNS: &[&str] = &[
     "fg_heading_deg",
 ];
 
-/// A model whose flights write the flight CSV (docs/cli.md, "CSV output"):
-/// its position and velocity in its own unit, and its own columns.
-pub trait CsvModel: RunModel {
-    /// The model's own columns, between [`COMMON_COLUMNS`] and `status`.
-    const CSV_COLUMNS: &'static [&'static str];
-
-    /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
-    /// up) in the model's own unit, widened to `f64` exactly.
-    fn native_position(state: &Self::State) -> [f64; 3];
-
-    /// Velocity in the same frame and unit per second.
-    fn native_velocity(state: &Self::State) -> [f64; 3];
-
-    /// Appends the values of [`Self::CSV_COLUMNS`], in order.
-    fn csv_values(controls: &Self::Controls, state: &Self::State, out: &mut Vec<f64>);
-}
-
 impl CsvModel for Palmer {
+    const CSV_SPEED_COLUMN: &'static str = "airspeed";
+    const METRES_PER_UNIT: f64 = 1.0;
     const CSV_COLUMNS: &'static [&'static str] = &[
         "airspeed",
         "throttle",
@@ -324,6 +309,8 @@ impl CsvModel for Palmer {
 }
 
 impl CsvModel for Bourg {
+    const CSV_SPEED_COLUMN: &'static str = "speed";
+    const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
     /// `flaps` and `stalling` are written as 0 or 1.
     const CSV_COLUMNS: &'static [&'static str] = &[
         "speed",

@@ -1,7 +1,7 @@
 //! A flight as a library: a [`Scenario`] becomes a [`Run`] that another
 //! program drives frame by frame ([`Run::step_frame`]) or to the end
 //! ([`Run::run_to_end`]), headless or paced in real time, with [`Output`]s
-//! attached; record and replay ([`recording`]); Tacview ACMI ([`acmi`]).
+//! attached; record and replay ([`recording`], [`mod@replay`]); Tacview ACMI ([`acmi`]).
 //!
 //! `sim-cli` flies its single aircraft through this crate; the Python
 //! bindings and study runners are meant to build on it the same way.
@@ -46,25 +46,29 @@
 //! | [`scenario`] | [`Scenario`], [`Start`] and where it is ([`StartOptions`]: altitude, speed, heading, trim), the run limits ([`MAX_FPS`], [`MAX_FRAMES`]) |
 //! | [`mod@run`] | [`Run`]: the run loop over one `fdm_ecs::Simulation` |
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`], [`LinkStats`]: outputs as plugins |
+//! | [`fgfs`] | the FlightGear command line that shows a run ([`fgfs::command_line`]: aircraft, start preset, view, multiplayer input) |
 //! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
 //! | [`multiplayer`] | FlightGear multiplayer for a fleet ([`multiplayer::MultiplayerFleet`], [`multiplayer::MultiplayerSender`]) |
+//! | [`replay`] | a recording replayed on a run ([`replay::replay`], real-time or not, stoppable) and checked against its fingerprint ([`replay::check_fingerprint`]) |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
-//! | [`model`] | [`RunModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
+//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type) and the model registry ([`model::MODELS`], [`model::with_model`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
 
 pub mod acmi;
 pub mod csv;
 #[cfg(feature = "dis")]
 pub mod dis;
+pub mod fgfs;
 pub mod flightgear;
 pub mod model;
 pub mod multiplayer;
 pub mod output;
 pub mod pacer;
 pub mod recording;
+pub mod replay;
 pub mod run;
 pub mod scenario;
 mod shared;

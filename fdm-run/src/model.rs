@@ -4,7 +4,8 @@
 //! controls, and the aircraft's parameters as a storable record. The
 //! registry ([`MODELS`], [`with_model`]) is the one place above `fdm-core`
 //! that lists the models by name: the recording's model names, `sim-cli`'s
-//! subcommands and CSV model names all come from it.
+//! subcommands and CSV model names all come from it. Its models also write
+//! the flight CSV ([`CsvModel`]).
 
 use std::fmt::Debug;
 
@@ -40,6 +41,20 @@ pub trait RunModel:
     #[cfg(feature = "dis")]
     const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
 
+    /// FlightGear's aircraft for this model (`fgfs --aircraft=...`,
+    /// [`crate::fgfs`]).
+    const FG_AIRCRAFT: &'static str;
+
+    /// Further fgfs options that aircraft needs with `--fdm=null` (already
+    /// shell-quoted where needed).
+    const FG_OPTIONS: &'static [&'static str] = &[];
+
+    /// Nasal statements FlightGear runs once its FDM is initialised (after the
+    /// aircraft's own scripts, which reset properties given as `--prop:`
+    /// options): property settings the aircraft needs with `--fdm=null`.
+    /// Double quotes only (the whole script is one single-quoted shell word).
+    const FG_STARTUP_NASAL: &'static str = "";
+
     /// The record of `aircraft`.
     fn aircraft_record(aircraft: &Self::Aircraft) -> Self::AircraftRecord;
 
@@ -63,6 +78,20 @@ impl RunModel for Palmer {
     const CALLSIGN: &'static str = "C172";
     #[cfg(feature = "dis")]
     const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
+    const FG_AIRCRAFT: &'static str = "c172p";
+    /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
+    /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
+    /// they do with `--fdm=null`: give them fuel (nothing consumes it). FlightGear
+    /// 2020.3 clamps a tank's level to its capacity and weighs it by its density,
+    /// both 0 without JSBSim, so capacity (28 US gallons) and density (6 lb per
+    /// gallon, avgas) go first. A timer looks every 2 s, because the c172p's own
+    /// start-up scripts reset the tanks after the FDM is initialised. Measured
+    /// live: `--prop:` options for the levels read back 0.
+    const FG_STARTUP_NASAL: &'static str = "var refuel = func { foreach (var tank; [0, 1]) { \
+        var path = \"/consumables/fuel/tank[\" ~ tank ~ \"]/\"; \
+        if (getprop(path ~ \"level-gal_us\") < 1) { setprop(path ~ \"capacity-gal_us\", 28); \
+        setprop(path ~ \"density-ppg\", 6); setprop(path ~ \"level-gal_us\", 20); } } \
+        settimer(refuel, 2); }; refuel();";
 
     fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
         *aircraft
@@ -97,6 +126,12 @@ impl RunModel for Bourg {
     const CALLSIGN: &'static str = "BRG";
     #[cfg(feature = "dis")]
     const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
+    /// The thesis showed Bourg's aircraft as the UFO.
+    const FG_AIRCRAFT: &'static str = "ufo";
+    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
+    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
+    /// is false, so set the second.
+    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
 
     fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
         BourgAircraftRecord {
@@ -126,13 +161,44 @@ impl RunModel for Bourg {
     }
 }
 
+/// A model whose flights write the flight CSV (docs/cli.md, "CSV output"):
+/// its position and velocity in its own unit, its own columns, and how a
+/// plot reads them back ([`crate::csv`] writes the rows). Every model of the
+/// registry is one, so a job run by name ([`with_model`]) can also read or
+/// write its CSV (`fdm_plot::csv` finds a CSV's model from its header).
+pub trait CsvModel: RunModel {
+    /// The model's own columns, between
+    /// [`COMMON_COLUMNS`](crate::csv::COMMON_COLUMNS) and `status`.
+    const CSV_COLUMNS: &'static [&'static str];
+
+    /// The column that holds the airspeed (one of [`Self::CSV_COLUMNS`]),
+    /// in the model's unit per second: what a plot of the CSV draws as the
+    /// airspeed (`sim-cli plot`).
+    const CSV_SPEED_COLUMN: &'static str;
+
+    /// Metres per unit of the model's position and velocity columns (1
+    /// for metres).
+    const METRES_PER_UNIT: f64;
+
+    /// Position `[x, y, z]` in the model's earth frame (x north, y west, z
+    /// up) in the model's own unit, widened to `f64` exactly.
+    fn native_position(state: &Self::State) -> [f64; 3];
+
+    /// Velocity in the same frame and unit per second.
+    fn native_velocity(state: &Self::State) -> [f64; 3];
+
+    /// Appends the values of [`Self::CSV_COLUMNS`], in order.
+    fn csv_values(controls: &Self::Controls, state: &Self::State, out: &mut Vec<f64>);
+}
+
 /// Something to do with a model type chosen at run time by name
 /// ([`with_model`]).
 pub trait ModelJob {
     /// What it returns.
     type Output;
-    /// Does it for model `M`.
-    fn call<M: RunModel>(self) -> Self::Output;
+    /// Does it for model `M` (every model of the registry writes the
+    /// flight CSV, so the job may use [`CsvModel`] as well as [`RunModel`]).
+    fn call<M: CsvModel>(self) -> Self::Output;
 }
 
 /// The models of the registry, by [`Model::NAME`], in the order help texts

@@ -69,11 +69,13 @@
 //! | [`table`] | `runs.csv` (measures, drawn inputs `input.KEY`, `fingerprint`) |
 //! | [`track`] | the thinned sample of ground tracks ([`TrackPlan`], [`Study::fly_runs_tracked`]) |
 //! | [`arrow`] | `runs.arrow`: the table as an Arrow IPC file |
+//! | [`batch`] | a whole study flown chunk by chunk into `runs.csv` and `runs.arrow`, its summary and plot data in bounded memory ([`batch::Batch`], what `sim-cli study` runs) |
 //!
 //! The file format, the measures and the guarantees are in the project's
 //! `docs/studies.md`.
 
 pub mod arrow;
+pub mod batch;
 pub mod fly;
 pub mod measure;
 pub mod model;

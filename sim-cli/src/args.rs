@@ -281,12 +281,9 @@ pub struct FgfsArgs {
     pub fg_mp: Option<u16>,
 }
 
-/// Largest multiplayer input port FlightGear 2020.3 accepts: it keeps the
-/// receive and send ports in signed 16-bit integers, so 32768 and above read
-/// as negative and it logs "Cannot enable multiplayer mode: No receiver port
-/// specified." (measured live, docs/flightgear-check.md). `fgfs-command`
-/// sends FlightGear's own multiplayer output to PORT + 1, which must fit too.
-pub const MAX_FG_MP_PORT: u16 = 32_766;
+/// Largest multiplayer input port FlightGear 2020.3 accepts
+/// ([`fdm_run::fgfs::MAX_MP_PORT`]).
+pub const MAX_FG_MP_PORT: u16 = fdm_run::fgfs::MAX_MP_PORT;
 
 /// A FlightGear multiplayer input port, 1 to [`MAX_FG_MP_PORT`].
 pub fn parse_fg_mp_port(text: &str) -> Result<u16, String> {

@@ -46,19 +46,6 @@ pub fn show_number(value: f64) -> String {
     fdm_core::message::ShortNumber(value).to_string()
 }
 
-/// A number with `decimals` decimals, as in a table column, unless that
-/// is longer than 24 characters: then [`show_number`]'s scientific form
-/// (`1e308`, not 309 digits).
-#[must_use]
-pub fn show_fixed(value: f64, decimals: usize) -> String {
-    let fixed = format!("{value:.decimals$}");
-    if fixed.len() <= 24 {
-        fixed
-    } else {
-        format!("{value:e}")
-    }
-}
-
 /// What a path is, for the refusal message.
 fn kind_of(file_type: fs::FileType) -> &'static str {
     #[cfg(unix)]
@@ -214,13 +201,6 @@ fn same_inode(_a: &fs::Metadata, _b: &fs::Metadata) -> bool {
 
 #[cfg(test)]
 mod tests {
-    #[test]
-    fn huge_fixed_numbers_are_shown_short() {
-        assert_eq!(super::show_fixed(1.5, 2), "1.50");
-        assert_eq!(super::show_fixed(-1e308, 1), "-1e308");
-        assert_eq!(super::show_fixed(f64::MAX, 7), format!("{:e}", f64::MAX));
-    }
-
     use super::*;
 
     fn temp_dir(name: &str) -> std::path::PathBuf {

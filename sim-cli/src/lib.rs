@@ -10,14 +10,14 @@
 //! |---|---|
 //! | [`args`] | clap definition and per-value validation |
 //! | [`config`] | cross-option validation, script loading, CSV creation → [`config::ModelConfig`] |
-//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear aircraft |
+//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear multiplayer model |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
 //! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation`; [`flight::run_model`] |
 //! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
 //! | [`report`] | the JSON [`report::Report`] and the human summary |
 //! | [`csv`] | `--csv`: the run library's CSV output ([`fdm_run::csv::CsvOutput`] of [`fdm_run::csv::FlightRow`]s) and its errors |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
-//! | [`fgfs`], [`origin`] | FlightGear command line (`--fg` is parsed by `fgnet::address`), `--origin` |
+//! | [`fgfs`], [`origin`] | `fgfs-command` (the line is `fdm_run::fgfs`'s; `--fg` is parsed by `fgnet::address`), `--origin` |
 //! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
 //! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |

@@ -4,7 +4,8 @@
 //!
 //! The replay builds the same [`ModelFlight`] the recorded run had (model,
 //! aircraft, fps, origin, controls and state from the header) and feeds it
-//! the recorded frames and resets, so every state is bit-identical to the
+//! the recorded frames and resets (the run library's
+//! [`fdm_run::replay::replay`]), so every state is bit-identical to the
 //! original's: the JSON report equals the headless original's, and the CSV
 //! equals the original's CSV (a reset writes a new frame 0, as in an
 //! interactive flight), and the `--plot` SVG equals the original run's.
@@ -23,7 +24,6 @@
 //! checked.
 
 use std::io::{self, Write};
-use std::time::Instant;
 
 use anyhow::Context as _;
 
@@ -34,25 +34,30 @@ use crate::error::CliError;
 use crate::flight::ModelFlight;
 use crate::input::{read_bytes, show_path};
 use crate::models::{CliModel, WithModel};
-use crate::pacer::FramePacer;
 use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
 use crate::report::{RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use crate::signals::SignalSafeWriter;
-use fdm_core::fingerprint::{self, Fingerprint};
+use fdm_core::fingerprint;
 use fdm_run::acmi::AcmiOutput;
+use fdm_run::replay::{replay, ReplayError, ReplayOptions, ReplayTarget};
+
+pub use fdm_run::replay::{check_fingerprint, Verdict};
 
 /// Flies the recorded events on `flight` (which starts where the recording
-/// starts): each run of frames steps the flight with its actions, a reset
-/// resets it. The run hands its outputs every frame as the recorded flight's
-/// did (the CSV: frame 0 at the start and after each reset, then the frame
-/// number since the last reset).
+/// starts) through the run library's [`replay`]: each run of frames steps
+/// the flight with its actions, a reset resets it. The run hands its outputs
+/// every frame as the recorded flight's did (the CSV: frame 0 at the start
+/// and after each reset, then the frame number since the last reset). A
+/// signal ends the replay before the next frame; the caller finishes the
+/// outputs for the frames replayed (crate::signals).
 ///
 /// # Errors
-/// A failing step, reset or output ([`CliError::Runtime`]), or an event
-/// that does not decode ([`CliError::Usage`]; not after [`Recording::parse`]).
+/// A failing step, reset or output ([`CliError::Runtime`], `frame N: ...`
+/// or `reset: ...`), or an event that does not decode ([`CliError::Usage`];
+/// not after [`Recording::parse`]).
 pub fn replay_flight<F: Flight>(
     flight: &mut F,
     events: impl IntoIterator<Item = Result<Replayed<F::Action>, RecordingError>>,
@@ -61,50 +66,43 @@ pub fn replay_flight<F: Flight>(
     realtime: bool,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
-    let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
-    let mut frame = 0_u64;
-    let mut done = 0_u64;
     let links = flight.links();
-    'replay: for event in events {
-        match event.map_err(CliError::usage)? {
-            Replayed::Frames { count, actions } => {
-                for _ in 0..count {
-                    // A signal ends the replay here; the caller finishes the
-                    // outputs for the frames replayed (crate::signals).
-                    if crate::signals::stop_requested().is_some() {
-                        break 'replay;
-                    }
-                    frame += 1;
-                    done += 1;
-                    flight
-                        .step(&actions)
-                        .with_context(|| format!("frame {frame}"))?;
-                    if let Some(message) = links.take_failure() {
-                        progress.message(&link_warning(&message));
-                    }
-                    progress.tick(done);
-                    if let Some(pacer) = pacer.as_mut() {
-                        let sleep = pacer.finish_frame(Instant::now());
-                        if !sleep.is_zero() {
-                            std::thread::sleep(sleep);
-                        }
-                    }
-                }
-            }
-            Replayed::Reset => {
-                flight.reset().context("reset")?;
-                frame = 0;
-            }
+    let options = ReplayOptions { fps, realtime };
+    let stop = || crate::signals::stop_requested().is_some();
+    let end = replay(&mut Target(flight), events, &options, stop, |done| {
+        if let Some(message) = links.take_failure() {
+            progress.message(&link_warning(&message));
         }
-    }
+        progress.tick(done);
+    })
+    .map_err(|e| match e {
+        ReplayError::Step { frame, source } => {
+            CliError::Runtime(source.context(format!("frame {frame}")))
+        }
+        ReplayError::Reset(e) => CliError::Runtime(e.context("reset")),
+        ReplayError::Event(e) => CliError::usage(e),
+    })?;
     progress.finish();
-    // `done` is `total_frames` unless a signal stopped the replay early.
-    debug_assert!(done <= total_frames);
-    let mut report = Report::new(fps, done, &flight.snapshot());
-    report.realtime = pacer.map(|p| RealtimeReport {
-        overruns: p.overruns(),
-    });
+    // `frames` is `total_frames` unless a signal stopped the replay early.
+    debug_assert!(end.frames <= total_frames);
+    let mut report = Report::new(fps, end.frames, &flight.snapshot());
+    report.realtime = end.overruns.map(|overruns| RealtimeReport { overruns });
     Ok(report)
+}
+
+/// A [`Flight`] as the run library's replay target.
+struct Target<'a, F>(&'a mut F);
+
+impl<F: Flight> ReplayTarget<F::Action> for Target<'_, F> {
+    type Error = anyhow::Error;
+
+    fn step(&mut self, actions: &[F::Action]) -> anyhow::Result<()> {
+        self.0.step(actions)
+    }
+
+    fn reset(&mut self) -> anyhow::Result<()> {
+        self.0.reset()
+    }
 }
 
 /// Replays a recording of model `M` as `args` ask.
@@ -287,53 +285,6 @@ impl WithModel for ReplayJob<'_> {
                 )))
             }
         }
-    }
-}
-
-/// What comparing a replay's end with the recording's fingerprint found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Verdict {
-    /// The final state and the maths are the recording's.
-    Same,
-    /// The recording carries no fingerprint.
-    Unchecked,
-    /// The final state is the recording's, the maths are not.
-    OtherMaths {
-        /// The recording's maths fingerprint.
-        recorded: u64,
-        /// This build's.
-        ours: u64,
-    },
-    /// The final state is not the recording's.
-    DifferentFlight {
-        /// The recording's state fingerprint.
-        recorded: u64,
-        /// The replay's.
-        replayed: u64,
-        /// The recording's and this build's maths fingerprints, when they differ.
-        maths: Option<(u64, u64)>,
-    },
-}
-
-/// Compares a replay's final state (`replayed`, [`fdm_run::RunModel::state_fingerprint`])
-/// and this build's maths (`maths`, [`fingerprint::maths`]) with the
-/// recording's fingerprint.
-#[must_use]
-pub fn check_fingerprint(recorded: Option<Fingerprint>, replayed: u64, maths: u64) -> Verdict {
-    let Some(recorded) = recorded else {
-        return Verdict::Unchecked;
-    };
-    let other_maths = (recorded.maths != maths).then_some((recorded.maths, maths));
-    if recorded.state != replayed {
-        return Verdict::DifferentFlight {
-            recorded: recorded.state,
-            replayed,
-            maths: other_maths,
-        };
-    }
-    match other_maths {
-        None => Verdict::Same,
-        Some((recorded, ours)) => Verdict::OtherMaths { recorded, ours },
     }
 }
 

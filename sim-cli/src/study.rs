@@ -8,6 +8,13 @@
 //! says the study was stopped; `--run I` stops at the next frame and writes no
 //! `run-I.csv` for a flight cut short.
 //!
+//! The flying, the streaming and the summary are the library's
+//! ([`fdm_study::batch`]: [`Batch`], [`fdm_study::batch::scenario_alone`]);
+//! here are the options, the output files (created locked, the CSV
+//! registered with the signal thread), the memory checks, `study.svg`
+//! (drawn by `fdm_plot::study`), `summary.json`, the progress bar and the
+//! printing.
+//!
 //! The file format, the measures and the guarantees: docs/studies.md.
 
 use std::io::{BufWriter, IsTerminal, Write};
@@ -19,23 +26,15 @@ use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fdm_fleet::Precision;
 use fdm_run::SharedOutput;
-use fdm_study::arrow::ArrowWriter;
+use fdm_study::batch::{AloneError, Batch, BatchError};
 use fdm_study::table::{write_csv_header, write_csv_rows};
-use fdm_study::{
-    FlyOptions, GroundTrack, MeasureOutput, RunStatus, RunTable, Study, StudyModel, SummaryBuilder,
-    TrackPlan,
-};
+use fdm_study::{FlyOptions, MeasureOutput, Study, StudyModel};
 
 use crate::args::{CommonArgs, FleetPrecision, StudyArgs};
 use crate::error::CliError;
 use crate::models::CliModel;
 use crate::progress::StderrProgress;
 use crate::signals::SignalSafeWriter;
-
-/// Blocks of runs per chunk and thread: a chunk is flown, written and
-/// dropped before the next, so memory stays bounded whatever the number of
-/// runs.
-const BLOCKS_PER_THREAD_PER_CHUNK: u64 = 8;
 
 fn usage(e: impl std::fmt::Display, file: &Path) -> CliError {
     CliError::usage(format!("{}: {e}", file.display()))
@@ -86,7 +85,9 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
     }
 }
 
-/// Flies the whole study in chunks, streaming `runs.csv`.
+/// Flies the whole study in chunks ([`Batch`]), streaming `runs.csv` and
+/// `runs.arrow`, then writes `study.svg` and `summary.json` and prints the
+/// summary.
 fn batch(
     study: &Study,
     precision: Precision,
@@ -97,9 +98,8 @@ fn batch(
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
     let options = FlyOptions { threads, precision };
-    let chunk_runs =
-        fdm_study::BLOCK_RUNS * BLOCKS_PER_THREAD_PER_CHUNK * u64::try_from(threads).unwrap_or(1);
-    let memory = study.memory(chunk_runs);
+    let mut batch = Batch::new(study, options, fdm_plot::study::MAX_SCATTER_POINTS);
+    let memory = batch.memory();
     let limit = args.memory_limit_mib.saturating_mul(1024 * 1024);
     if memory.total > limit {
         return Err(CliError::usage(format!(
@@ -122,6 +122,18 @@ fn batch(
         )));
     }
     let csv_path = out_dir.join("runs.csv");
+    let arrow_path = out_dir.join("runs.arrow");
+    // A write error with the file's path as its context (`writing PATH: REASON`).
+    let writing = |e: BatchError| match e {
+        BatchError::Fly(fdm_study::StudyError::Fleet(_)) => CliError::usage(e.to_string()),
+        BatchError::Fly(e) => CliError::runtime(e),
+        BatchError::Csv(e) => CliError::Runtime(
+            anyhow::Error::new(e).context(format!("writing {}", csv_path.display())),
+        ),
+        BatchError::Arrow(e) => CliError::Runtime(
+            anyhow::Error::new(e).context(format!("writing {}", arrow_path.display())),
+        ),
+    };
     // Locked as every output file of a run (docs/cli.md, "One writer per output
     // file"): two studies writing into one directory are refused, not spliced.
     let file = crate::outfile::create_locked(&csv_path)
@@ -129,93 +141,38 @@ fn batch(
     // Registered with the signal thread: if the process must end at once (a
     // second signal), the file still ends with a whole row.
     let mut csv = SignalSafeWriter::register(file);
-    write_csv_header(&mut csv, &study.empty_table())
-        .with_context(|| format!("writing {}", csv_path.display()))?;
-    let arrow_path = out_dir.join("runs.arrow");
+    batch.write_csv_header(&mut csv).map_err(writing)?;
     let arrow_file = crate::outfile::create_locked(&arrow_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", arrow_path.display())))?;
-    let mut arrow = ArrowWriter::new(
-        BufWriter::with_capacity(1 << 16, arrow_file),
-        &study.empty_table(),
-    )
-    .with_context(|| format!("writing {}", arrow_path.display()))?;
-    let mut summary = SummaryBuilder::new();
-    // Every measure's entry, even if a stop comes before the first run.
-    summary.add(&RunTable::empty(study.measures()));
-    // Touchdown points for the scatter (east = −y, north = x), the first
-    // runs' up to the plot's limit.
-    let names = study.measure_names();
-    let column = |name: &str| names.iter().position(|n| n == name);
-    let touchdown_columns = column("touchdown_x_m").zip(column("touchdown_y_m"));
-    let mut touchdowns: Vec<(f64, f64)> = Vec::new();
-    // The ground tracks of study.svg: a bounded sample (at most 50 runs of
-    // at most about 300 points, under 0.5 MB whatever the number of runs).
-    let plan = TrackPlan::spread(
-        study.runs(),
-        study.frames(),
-        TrackPlan::DEFAULT_TRACKS,
-        TrackPlan::DEFAULT_POINTS,
-    );
-    let mut tracks: Vec<GroundTrack> = Vec::with_capacity(plan.runs().len());
+    let mut arrow = batch
+        .arrow_writer(BufWriter::with_capacity(1 << 16, arrow_file))
+        .map_err(writing)?;
     let mut progress = StderrProgress::with_enabled(study.runs(), std::io::stderr().is_terminal());
     // A signal (crate::signals) stops the flying within milliseconds, inside
-    // the chunk; the runs completed before it, runs 0 to start - 1, are
-    // written and summarised as at a normal end.
+    // the chunk; the runs completed before it are written and summarised as
+    // at a normal end.
     let stop = || crate::signals::stop_requested().is_some();
-    let mut start = 0;
-    while start < study.runs() && !stop() {
-        let end = (start + chunk_runs).min(study.runs());
-        let (table, chunk_tracks) = study
-            .fly_runs_tracked(start..end, &options, stop, &plan)
-            .map_err(|e| match e {
-                fdm_study::StudyError::Fleet(_) => CliError::usage(e.to_string()),
-                e => CliError::runtime(e),
-            })?;
-        tracks.extend(chunk_tracks);
-        if table.is_empty() {
-            break;
-        }
-        write_csv_rows(&mut csv, &table)
-            .with_context(|| format!("writing {}", csv_path.display()))?;
-        // Each finished chunk on disk (whole rows): what a reader or a
-        // killed process sees grows chunk by chunk.
-        csv.flush()
-            .with_context(|| format!("writing {}", csv_path.display()))?;
-        arrow
-            .write(&table)
-            .with_context(|| format!("writing {}", arrow_path.display()))?;
-        summary.add(&table);
-        if let Some((x, y)) = touchdown_columns {
-            let room = fdm_plot::study::MAX_SCATTER_POINTS.saturating_sub(touchdowns.len());
-            touchdowns.extend(
-                table.measures[x]
-                    .1
-                    .iter()
-                    .zip(&table.measures[y].1)
-                    .filter_map(|(x, y)| Some((-(*y)?, (*x)?)))
-                    .take(room),
-            );
-        }
-        start += table.len() as u64;
-        progress.tick(start - start % 64);
+    while batch
+        .fly_chunk(&mut csv, &mut arrow, stop)
+        .map_err(writing)?
+    {
+        progress.tick(batch.completed() - batch.completed() % 64);
     }
     progress.finish();
-    csv.flush()
-        .with_context(|| format!("writing {}", csv_path.display()))?;
-    arrow
-        .finish()
-        .with_context(|| format!("writing {}", arrow_path.display()))?;
+    csv.flush().map_err(|e| writing(BatchError::Csv(e)))?;
+    arrow.finish().map_err(|e| writing(BatchError::Arrow(e)))?;
     let svg = fdm_plot::study::render(
-        summary.measure_values(),
-        &touchdowns,
-        &tracks,
-        plan.frame_step(),
+        batch.measure_values(),
+        batch.touchdowns(),
+        batch.tracks(),
+        batch.frame_step(),
     )?;
     let plot_path = out_dir.join("study.svg");
     std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
-    let mut summary = summary.finish().with_seed(study.seed());
-    if start < study.runs() {
-        // Only a stop ends the loop early (errors return above).
+    let completed = batch.completed();
+    let mut summary = batch.summary();
+    if completed < study.runs() {
+        // Only a stop ends the flying early (errors return above).
         let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
         summary = summary.stopped(by, study.runs());
     }
@@ -248,32 +205,17 @@ fn run_alone<M: CliModel + StudyModel>(
             study.runs() - 1
         )));
     }
-    // The batch's row of this run: how many frames it flew (its stop).
-    let options = FlyOptions {
-        threads: 1,
-        precision: Precision::Exact,
-    };
-    // A signal during this flight ends the command before the flight alone
+    // Its start, script and the frames it flies in the batch (its stop). A
+    // signal during that flight ends the command before the flight alone
     // (nothing written; exit 128 + N, crate::signals).
-    let batch = study
-        .fly_runs_until(run..run + 1, &options, || {
-            crate::signals::stop_requested().is_some()
-        })
-        .map_err(CliError::runtime)?;
-    if batch.is_empty() {
-        return Ok(());
-    }
-    if batch.status.first() == Some(&RunStatus::StartRefused) {
-        let reason = study
-            .scenario::<M>(run, 0)
-            .err()
-            .map_or_else(|| "refused".to_owned(), |e| e.to_string());
-        return Err(CliError::usage(reason));
-    }
-    let frames = batch.frames.first().copied().unwrap_or(0);
-    let scenario = study
-        .scenario::<M>(run, frames)
-        .map_err(|e| CliError::usage(e.to_string()))?;
+    let stop = || crate::signals::stop_requested().is_some();
+    let scenario = match fdm_study::batch::scenario_alone::<M>(study, run, stop) {
+        Ok(Some(scenario)) => scenario,
+        Ok(None) => return Ok(()),
+        Err(AloneError::Fly(e)) => return Err(CliError::runtime(e)),
+        Err(e @ AloneError::Refused(_)) => return Err(CliError::usage(e)),
+    };
+    let frames = scenario.frames;
     let common = CommonArgs {
         fps: study.fps(),
         headless: true,

@@ -31,8 +31,6 @@ pub struct BourgDetails {
 impl Details for BourgDetails {
     const MODEL: &'static str = "bourg";
     const POSITION_UNIT: &'static str = "ft";
-    const CSV_SPEED_COLUMN: &'static str = "speed";
-    const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
     /// `flaps` and `stalling` are written as 0 or 1.
     fn summary(&self) -> String {
         format!(
@@ -59,13 +57,6 @@ impl CliModel for Bourg {
     type Details = BourgDetails;
 
     type Lanes = fdm_fleet::Fleet<Self>;
-
-    const FG_AIRCRAFT: &'static str = "ufo";
-
-    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
-    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
-    /// is false, so set the second.
-    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
 
     const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
 

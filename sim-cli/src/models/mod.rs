@@ -1,7 +1,8 @@
 //! What differs between the models in the CLI, one module per model: the
 //! report and CSV fields, the HUD's control line, the keys, the starting
-//! controls from the command line and FlightGear's aircraft. Everything else
-//! in `sim-cli` is generic over [`CliModel`].
+//! controls from the command line and FlightGear's multiplayer model (the
+//! native-FDM aircraft is the run library's, `fdm_run::RunModel::FG_AIRCRAFT`).
+//! Everything else in `sim-cli` is generic over [`CliModel`].
 //!
 //! A new model joins the CLI with one more module here implementing
 //! [`CliModel`] (and [`Details`] for its report fields) and one more
@@ -81,19 +82,6 @@ pub trait CliModel: CsvModel<Action: KeyAction> {
     /// over `fdm_core::real`'s number type (no hand-written kernel).
     type Lanes: fdm_fleet::LaneFleet<Model = Self>;
 
-    /// FlightGear's aircraft for this model (`--aircraft=...`).
-    const FG_AIRCRAFT: &'static str;
-
-    /// Further fgfs options that aircraft needs with `--fdm=null` (printed by
-    /// `sim-cli fgfs-command`, already shell-quoted where needed).
-    const FG_OPTIONS: &'static [&'static str] = &[];
-
-    /// Nasal statements FlightGear runs once its FDM is initialised (after the
-    /// aircraft's own scripts, which reset properties given as `--prop:`
-    /// options): property settings the aircraft needs with `--fdm=null`.
-    /// Double quotes only (the whole script is one single-quoted shell word).
-    const FG_STARTUP_NASAL: &'static str = "";
-
     /// The model file FlightGear loads for this model as a multiplayer
     /// aircraft (relative to its data directory).
     const FG_MP_MODEL: &'static str;
@@ -116,12 +104,6 @@ pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
     const MODEL: &'static str;
     /// The unit of the native position: `"m"` or `"ft"`.
     const POSITION_UNIT: &'static str;
-    /// The column `sim-cli plot` draws as the airspeed (one of the model's
-    /// [`CsvModel::CSV_COLUMNS`]), in
-    /// the native unit per second.
-    const CSV_SPEED_COLUMN: &'static str;
-    /// Metres per unit of [`Self::POSITION_UNIT`] (1 for metres).
-    const METRES_PER_UNIT: f64;
 
     /// The human summary's model-specific line(s), without a trailing newline.
     fn summary(&self) -> String;

@@ -58,8 +58,6 @@ pub struct PalmerDetails {
 impl Details for PalmerDetails {
     const MODEL: &'static str = "palmer";
     const POSITION_UNIT: &'static str = "m";
-    const CSV_SPEED_COLUMN: &'static str = "airspeed";
-    const METRES_PER_UNIT: f64 = 1.0;
     fn summary(&self) -> String {
         format!(
             "airspeed  {:.3} m/s  climb {:.2} deg, {:.3} m/s\n\
@@ -92,22 +90,6 @@ impl CliModel for Palmer {
     type Details = PalmerDetails;
 
     type Lanes = fdm_fleet::Fleet<Self>;
-
-    const FG_AIRCRAFT: &'static str = "c172p";
-
-    /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
-    /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
-    /// they do with `--fdm=null`: give them fuel (nothing consumes it). FlightGear
-    /// 2020.3 clamps a tank's level to its capacity and weighs it by its density,
-    /// both 0 without JSBSim, so capacity (28 US gallons) and density (6 lb per
-    /// gallon, avgas) go first. A timer looks every 2 s, because the c172p's own
-    /// start-up scripts reset the tanks after the FDM is initialised. Measured
-    /// live: `--prop:` options for the levels read back 0.
-    const FG_STARTUP_NASAL: &'static str = "var refuel = func { foreach (var tank; [0, 1]) { \
-        var path = \"/consumables/fuel/tank[\" ~ tank ~ \"]/\"; \
-        if (getprop(path ~ \"level-gal_us\") < 1) { setprop(path ~ \"capacity-gal_us\", 28); \
-        setprop(path ~ \"density-ppg\", 6); setprop(path ~ \"level-gal_us\", 20); } } \
-        settimer(refuel, 2); }; refuel();";
 
     const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
 
