@@ -283,3 +283,79 @@ fn the_pitch_trims_blend_factor_is_its_magnitude_clamped_to_one() {
         }
     }
 }
+
+/// The airfoil and rudder tables as docs/bourg-model.md ("Airfoil tables")
+/// lists them (the original's `float` literals, parsed as `f32`), read back
+/// through the look-ups at every angle of the table: there the documented
+/// interpolation `t[i] − (a[i] − angle)·(…)` is `t[i] − 0`, the entry itself,
+/// exactly. The last angle (24°) has no interval `a[i] ≤ angle < a[i+1]`: it
+/// is outside (CL 0, CD 0.75), as is anything beyond either end.
+#[test]
+fn the_table_look_ups_give_the_documented_entries() {
+    use fdm_core::bourg::airfoil::{airfoil_coefficients, rudder_coefficients};
+
+    fn row(text: &str) -> Vec<f32> {
+        text.split_whitespace()
+            .map(|s| s.replace('−', "-").parse().unwrap())
+            .collect()
+    }
+    let angles = row("−8 −4 0 4 8 12 16 20 24");
+    let tables = [
+        (
+            Flap::Neutral,
+            row("−0.54 −0.2 0.2 0.57 0.92 1.21 1.43 1.4 1.0"),
+            row("0.01 0.0074 0.004 0.009 0.013 0.023 0.05 0.12 0.21"),
+        ),
+        (
+            Flap::TrailingEdgeDown,
+            row("0.0 0.45 0.85 1.02 1.39 1.65 1.75 1.38 1.17"),
+            row("0.0065 0.0043 0.0055 0.0153 0.0221 0.0391 0.1 0.195 0.3"),
+        ),
+        (
+            Flap::TrailingEdgeUp,
+            row("−0.74 −0.4 0.0 0.27 0.63 0.92 1.03 1.1 0.78"),
+            row("0.005 0.0043 0.0055 0.02601 0.03757 0.06647 0.13 0.18 0.25"),
+        ),
+    ];
+    let bits = |(cl, cd): (f32, f32)| (cl.to_bits(), cd.to_bits());
+    for (flap, cl, cd) in &tables {
+        for i in 0..angles.len() - 1 {
+            assert_eq!(
+                bits(airfoil_coefficients(angles[i], *flap)),
+                bits((cl[i], cd[i])),
+                "{flap:?} at {}°",
+                angles[i]
+            );
+        }
+        for outside in [24.0, 24.5, -8.5, f32::NAN] {
+            assert_eq!(
+                bits(airfoil_coefficients(outside, *flap)),
+                bits((0.0, 0.75)),
+                "{flap:?} at {outside}°"
+            );
+        }
+    }
+
+    // The rudder: |angle| in its own table, the lift negated below 0°.
+    let angles = row("0 4 8 12 16 20 24");
+    let cl = row("0.16 0.456 0.736 0.968 1.144 1.12 0.8");
+    let cd = row("0.0032 0.0072 0.0104 0.0184 0.04 0.096 0.168");
+    for i in 0..angles.len() - 1 {
+        let a = angles[i];
+        assert_eq!(bits(rudder_coefficients(a)), bits((cl[i], cd[i])), "{a}°");
+        if a > 0.0 {
+            assert_eq!(
+                bits(rudder_coefficients(-a)),
+                bits((-cl[i], cd[i])),
+                "-{a}°"
+            );
+        }
+    }
+    for outside in [24.0, -24.0, 30.0, f32::NAN] {
+        assert_eq!(
+            bits(rudder_coefficients(outside)),
+            bits((0.0, 0.75)),
+            "{outside}°"
+        );
+    }
+}
