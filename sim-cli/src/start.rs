@@ -111,20 +111,24 @@ pub fn start_for<M: Model>(
 ) -> Result<(Start<M>, Option<TrimReport>), CliError> {
     args.options()
         .start::<M>(aircraft, controls)
-        .map_err(|refused| {
-            CliError::usage(match refused {
-                StartRefused::TrimOnGround => {
-                    "--trim: cannot trim on the ground; give --altitude-ft above 0".to_owned()
-                }
-                StartRefused::Trim(e) => format!("--trim: {e}"),
-                StartRefused::Conditions(e) => format!("initial conditions: {e}"),
-                StartRefused::OutOfRange { name, value, .. } => format!(
-                    "--{}: `{}` is out of range",
-                    name.replace('_', "-"),
-                    Echo::short(&value.to_string())
-                ),
-            })
-        })
+        .map_err(refused)
+}
+
+/// A start the model refused, worded with the flags (a usage error, exit 2).
+#[must_use]
+pub fn refused(refused: StartRefused) -> CliError {
+    CliError::usage(match refused {
+        StartRefused::TrimOnGround => {
+            "--trim: cannot trim on the ground; give --altitude-ft above 0".to_owned()
+        }
+        StartRefused::Trim(e) => format!("--trim: {e}"),
+        StartRefused::Conditions(e) => format!("initial conditions: {e}"),
+        StartRefused::OutOfRange { name, value, .. } => format!(
+            "--{}: `{}` is out of range",
+            name.replace('_', "-"),
+            Echo::short(&value.to_string())
+        ),
+    })
 }
 
 /// The stderr line for a trim report.

@@ -91,8 +91,6 @@ impl Details for PalmerDetails {
 impl CliModel for Palmer {
     type Details = PalmerDetails;
 
-    type Lanes = fdm_fleet::Fleet<Self>;
-
     const FG_AIRCRAFT: &'static str = "c172p";
 
     /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
@@ -108,16 +106,6 @@ impl CliModel for Palmer {
         if (getprop(path ~ \"level-gal_us\") < 1) { setprop(path ~ \"capacity-gal_us\", 28); \
         setprop(path ~ \"density-ppg\", 6); setprop(path ~ \"level-gal_us\", 20); } } \
         settimer(refuel, 2); }; refuel();";
-
-    const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
-
-    fn offset_state(state: &PalmerState, north_m: f64, west_m: f64, up_m: f64) -> PalmerState {
-        let mut moved = *state;
-        moved.position_m.x += north_m;
-        moved.position_m.y += west_m;
-        moved.position_m.z += up_m;
-        moved
-    }
 
     fn details(
         _aircraft: &PalmerAircraft,
