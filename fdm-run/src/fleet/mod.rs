@@ -28,7 +28,7 @@
 //!
 //! After every frame the outputs see the fleet: the ACMI writer
 //! ([`FleetRun::attach_acmi`]) gets every aircraft's track, the DIS output
-//! (feature `dis`, [`FleetScenario::dis`]) publishes every aircraft as an
+//! (feature `dis`, `FleetScenario::dis`) publishes every aircraft as an
 //! entity (the time that takes is reported apart), then real-time pacing
 //! waits for the frame's end. Without outputs or pacing
 //! [`FleetRun::run_to_end`] flies in chunks of one second of flight, timing
