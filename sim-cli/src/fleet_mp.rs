@@ -9,7 +9,7 @@ use std::net::{SocketAddr, SocketAddrV4};
 
 use anyhow::Context as _;
 use fdm_core::script::Script;
-use fdm_run::fleet::show::{FleetShow, ShowScenario, StartPattern};
+use fdm_run::fleet::show::{watched_size, FleetShow, ShowScenario, StartPattern};
 pub use fdm_run::fleet::show::{ShowReport, DEFAULT_MP_AIRCRAFT};
 pub use fdm_run::multiplayer::callsign;
 
@@ -26,7 +26,7 @@ use crate::models::{CliModel, WithModel};
 /// A usage error for a fleet too large to watch or a bad script; a runtime
 /// error if the socket cannot be opened.
 pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowReport, CliError> {
-    ShowScenario::<M::Action>::check_size(args.aircraft)?;
+    watched_size(args.aircraft)?;
     let script = match &args.show.script {
         Some(path) => load_script(path)?,
         None => Script::default(),

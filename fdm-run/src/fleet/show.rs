@@ -133,20 +133,19 @@ pub struct ShowScenario<A> {
     pub fps: u32,
 }
 
-impl<A> ShowScenario<A> {
-    /// `aircraft` as a watched fleet's size.
-    ///
-    /// # Errors
-    /// [`FleetError::TooManyToWatch`] above [`MAX_WATCHED_FLEET`].
-    pub fn check_size(aircraft: u64) -> Result<usize, FleetError> {
-        usize::try_from(aircraft)
-            .ok()
-            .filter(|&n| n <= MAX_WATCHED_FLEET)
-            .ok_or(FleetError::TooManyToWatch {
-                aircraft,
-                max: MAX_WATCHED_FLEET,
-            })
-    }
+/// `aircraft` as a watched fleet's size (checked again by
+/// [`FleetShow::new`]; callers that load a script first check it before).
+///
+/// # Errors
+/// [`FleetError::TooManyToWatch`] above [`MAX_WATCHED_FLEET`].
+pub fn watched_size(aircraft: u64) -> Result<usize, FleetError> {
+    usize::try_from(aircraft)
+        .ok()
+        .filter(|&n| n <= MAX_WATCHED_FLEET)
+        .ok_or(FleetError::TooManyToWatch {
+            aircraft,
+            max: MAX_WATCHED_FLEET,
+        })
 }
 
 /// What a watched fleet did (`sim-cli fleet --fg-mp --json`).
@@ -188,7 +187,7 @@ impl<M: FleetModel> FleetShow<M> {
     /// [`FleetError::TooManyToWatch`], or [`FleetError::Multiplayer`] for a
     /// frame rate of 0 or a socket that cannot be opened.
     pub fn new(scenario: ShowScenario<M::Action>, target: SocketAddr) -> Result<Self, FleetError> {
-        let n = ShowScenario::<M::Action>::check_size(scenario.aircraft)?;
+        let n = watched_size(scenario.aircraft)?;
         let streamed = scenario.streamed.min(n);
         let fleet = multiplayer_fleet::<M>(
             n,
@@ -358,9 +357,9 @@ mod tests {
     /// anything is spawned.
     #[test]
     fn shows_too_large_are_refused() {
-        assert_eq!(ShowScenario::<()>::check_size(10_000).unwrap(), 10_000);
+        assert_eq!(watched_size(10_000).unwrap(), 10_000);
         assert!(matches!(
-            ShowScenario::<()>::check_size(10_001),
+            watched_size(10_001),
             Err(FleetError::TooManyToWatch {
                 aircraft: 10_001,
                 max: MAX_WATCHED_FLEET
