@@ -8,6 +8,23 @@
 //! ([`FleetRun::step_frame`]) or to the end ([`FleetRun::run_to_end`]), and
 //! whose counters are data ([`FleetReport`], [`StatusCounts`]).
 //!
+//! ```
+//! use fdm_core::palmer::Palmer;
+//! use fdm_run::fleet::{FleetRun, FleetScenario, Kernel};
+//!
+//! // 100 Cessnas of the demonstration fleet, one second at 30 frames per
+//! // second, one entity each, on this thread.
+//! let mut scenario = FleetScenario::new(100, 30);
+//! scenario.kernel = Kernel::Ecs;
+//! scenario.threads = Some(1);
+//! let mut run = FleetRun::<Palmer>::new(scenario, &mut |_done, _total| {})?;
+//! run.run_to_end(|| false, |_warning| {})?;
+//! run.finish()?;
+//! let report = run.report();
+//! assert_eq!((report.frames, report.statuses.airborne), (30, 100));
+//! # Ok::<(), fdm_run::fleet::FleetError>(())
+//! ```
+//!
 //! Two kernels fly the same demonstration fleet ([`Model::fleet_member`]):
 //!
 //! * [`Kernel::Ecs`]: every aircraft a flying-only entity of an fdm-ecs
