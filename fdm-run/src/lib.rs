@@ -52,7 +52,7 @@
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
-//! | [`fleet`] | fleet runs: [`fleet::FleetScenario`] → [`fleet::FleetRun`] (ECS or lanes kernel, DIS and ACMI outputs, [`fleet::FleetReport`]), a fleet watched in FlightGear ([`fleet::show`]) |
+//! | [`fleet`] | fleet runs: [`fleet::FleetScenario`] → [`fleet::FleetRun`] (ECS or lanes kernel, [`fleet::FleetOutput`] plugins such as ACMI, DIS, [`fleet::FleetReport`]), a fleet watched in FlightGear ([`fleet::show`]) |
 //! | [`memory`] | how much memory this process can still allocate, and the fleet's memory check |
 //! | [`model`] | [`RunModel`], [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |

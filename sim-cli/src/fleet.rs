@@ -13,6 +13,7 @@
 use std::io::Write;
 
 use anyhow::Context as _;
+use fdm_run::acmi::AcmiError;
 use fdm_run::fleet::{FleetDisConfig, FleetError, FleetReport, FleetRun, FleetScenario};
 use fdm_run::fleet::{Kernel, Precision};
 
@@ -80,7 +81,13 @@ impl From<FleetError> for CliError {
             )),
             FleetError::Start(refused) => crate::start::refused(refused),
             FleetError::Dis(e) => e.into(),
-            FleetError::Acmi(e) => anyhow::Error::from(e).context("--acmi").into(),
+            // The only output sim-cli attaches to a fleet is its --acmi file.
+            FleetError::Output(e) => match e.downcast::<AcmiError>() {
+                Ok(e) => anyhow::Error::from(*e),
+                Err(e) => anyhow::anyhow!(e),
+            }
+            .context("--acmi")
+            .into(),
             FleetError::ThreadPool(e) => anyhow::Error::from(e)
                 .context("building the thread pool")
                 .into(),
@@ -133,7 +140,7 @@ impl WithModel for Measure<'_> {
             &[],
         )?;
         if let Some(acmi) = acmi {
-            run.attach_acmi(acmi)?;
+            run.attach(acmi)?;
         }
         // A signal stops the run early (crate::signals; checked between
         // frames, or every second of flight); the first DIS failure is

@@ -43,8 +43,9 @@
 //!   ([`FleetModel::Lanes`], [`LaneFleet::par_fly`]), status included in its
 //!   timed frame, bit-identical to the model's step in [`Precision::Exact`].
 //!
-//! After every frame the outputs see the fleet: the ACMI writer
-//! ([`FleetRun::attach_acmi`]) gets every aircraft's track, the DIS output
+//! After every frame the outputs see the fleet: the attached
+//! [`FleetOutput`]s ([`FleetRun::attach`]; the Tacview ACMI writer is one)
+//! get every aircraft's view and status, the DIS output
 //! (feature `dis`, `FleetScenario::dis`) publishes every aircraft as an
 //! entity (the time that takes is reported apart), then real-time pacing
 //! waits for the frame's end. Without outputs or pacing
@@ -52,6 +53,7 @@
 //! only the steps. Before spawning, a fleet that does not fit in this
 //! process's memory is refused ([`crate::memory`]).
 
+pub mod output;
 pub mod report;
 pub mod show;
 
@@ -59,7 +61,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use fdm_core::geodesy::GeodeticOrigin;
-use fdm_core::model::{FlightStatus, FlightView, Model};
+use fdm_core::model::{FlightStatus, Model};
 use fdm_ecs::systems::{
     equations_of_motion_parallel, equations_of_motion_sequential, flight_status,
 };
@@ -67,12 +69,13 @@ use fdm_ecs::{EcsError, Entity, Execution, FleetOutputs, Resources, Simulation};
 pub use fdm_fleet::Precision;
 use fdm_fleet::{FleetError as KernelError, LaneFleet};
 
-use crate::acmi::{AcmiError, AcmiWriter};
 use crate::memory;
 pub use crate::memory::MemoryRefused;
 use crate::model::FleetModel;
 use crate::pacer::FramePacer;
 use crate::scenario::{StartOptions, StartRefused};
+use output::ViewSource;
+pub use output::{FleetFrame, FleetOutput, Views};
 pub use report::{FleetReport, StatusCounts};
 
 /// The frame rate fleets fly at by default (`sim-cli fleet`'s), frames per
@@ -142,7 +145,10 @@ pub struct FleetScenario {
     pub start: StartOptions,
     /// Paces the frames at 1/fps s of wall-clock time.
     pub realtime: bool,
-    /// Publishes every aircraft over DIS after every frame.
+    /// Publishes every aircraft over DIS after every frame. A scenario
+    /// field, not a [`FleetOutput`]: its entity numbers are checked before
+    /// anything is spawned, and the ECS kernel keeps a tracker component on
+    /// every aircraft, publishing from the world in parallel batches.
     #[cfg(feature = "dis")]
     pub dis: Option<FleetDisConfig>,
 }
@@ -236,9 +242,10 @@ pub enum FleetError {
     #[cfg(feature = "dis")]
     #[error(transparent)]
     Dis(#[from] crate::dis::DisError),
-    /// Writing the ACMI file failed.
+    /// An attached output failed (its message, and its cause as
+    /// `source()`).
     #[error(transparent)]
-    Acmi(#[from] AcmiError),
+    Output(crate::output::OutputError),
     /// A watched fleet ([`show`]) with more aircraft than real time allows.
     #[error("a watched fleet flies at most {max} aircraft in real time (got {aircraft})")]
     TooManyToWatch {
@@ -289,7 +296,7 @@ pub struct FleetRun<M: FleetModel> {
     estimated_bytes_per_aircraft: u64,
     measured_bytes_per_aircraft: Option<f64>,
     pacer: Option<FramePacer>,
-    acmi: Option<AcmiWriter>,
+    outputs: Vec<Box<dyn FleetOutput<M>>>,
     #[cfg(feature = "dis")]
     dis: Option<crate::dis::FleetDis>,
 }
@@ -415,7 +422,7 @@ impl<M: FleetModel> FleetRun<M> {
             estimated_bytes_per_aircraft: estimated,
             measured_bytes_per_aircraft,
             pacer: None,
-            acmi: None,
+            outputs: Vec::new(),
             #[cfg(feature = "dis")]
             dis: None,
             scenario,
@@ -472,18 +479,24 @@ impl<M: FleetModel> FleetRun<M> {
         self.flown >= self.scenario.frames
     }
 
-    /// Attaches an ACMI writer: every aircraft (numbered as the fleet is) is
-    /// written now and after every frame; crashed and diverged aircraft are
-    /// removed ([`AcmiWriter::fleet_frame`]).
+    /// Attaches an output: it is handed the current frame now and every
+    /// flown frame after (an ACMI writer: every aircraft's track, numbered
+    /// as the fleet is; crashed and diverged aircraft removed), and finished
+    /// by [`Self::finish`].
     ///
     /// # Errors
-    /// [`FleetError::Acmi`] when writing fails.
-    pub fn attach_acmi(&mut self, writer: AcmiWriter) -> Result<(), FleetError> {
+    /// [`FleetError::Output`] when the output fails on the current frame
+    /// (it is not attached then).
+    pub fn attach(&mut self, output: impl FleetOutput<M> + 'static) -> Result<(), FleetError> {
         if let Flyer::Ecs { sim, entities, .. } = &mut self.flyer {
-            *entities = sim.world().iter().map(|e| e.entity()).collect();
+            if entities.is_empty() {
+                *entities = sim.world().iter().map(|e| e.entity()).collect();
+            }
         }
-        self.acmi = Some(writer);
-        self.write_acmi()
+        let mut output = Box::new(output);
+        output.frame(&self.frame()).map_err(FleetError::Output)?;
+        self.outputs.push(output);
+        Ok(())
     }
 
     /// Whether anything happens between frames (outputs, pacing): then
@@ -493,7 +506,7 @@ impl<M: FleetModel> FleetRun<M> {
         if self.dis.is_some() {
             return true;
         }
-        self.pacer.is_some() || self.acmi.is_some()
+        self.pacer.is_some() || !self.outputs.is_empty()
     }
 
     /// Flies one frame (timed), then hands it to the outputs (ACMI, DIS) and
@@ -501,7 +514,7 @@ impl<M: FleetModel> FleetRun<M> {
     ///
     /// # Errors
     /// [`FleetError::Kernel`] when the lanes kernel fails,
-    /// [`FleetError::Acmi`] when writing the ACMI file fails.
+    /// [`FleetError::Output`] when an output fails.
     pub fn step_frame(&mut self) -> Result<(), FleetError> {
         let fps = f64::from(self.scenario.fps);
         match &mut self.flyer {
@@ -519,7 +532,7 @@ impl<M: FleetModel> FleetRun<M> {
             }
         }
         self.flown += 1;
-        self.write_acmi()?;
+        self.write_outputs()?;
         #[cfg(feature = "dis")]
         self.publish_dis();
         if let Some(pacer) = self.pacer.as_mut() {
@@ -591,15 +604,19 @@ impl<M: FleetModel> FleetRun<M> {
         None
     }
 
-    /// Completes the outputs (the ACMI file's last bytes).
+    /// Completes the outputs (e.g. an ACMI file's last bytes), each once.
     ///
     /// # Errors
-    /// [`FleetError::Acmi`] when writing the ACMI file fails.
+    /// [`FleetError::Output`]: the first output that fails (the others are
+    /// still finished).
     pub fn finish(&mut self) -> Result<(), FleetError> {
-        if let Some(acmi) = self.acmi.as_mut() {
-            acmi.finish()?;
+        let mut first = None;
+        for mut output in std::mem::take(&mut self.outputs) {
+            if let Err(e) = output.finish() {
+                first.get_or_insert(e);
+            }
         }
-        Ok(())
+        first.map_or(Ok(()), |e| Err(FleetError::Output(e)))
     }
 
     /// How many aircraft are in each flight status now.
@@ -654,33 +671,28 @@ impl<M: FleetModel> FleetRun<M> {
         }
     }
 
-    /// Every aircraft's view and status now, in the outputs' order (`None`:
-    /// not known).
-    fn views(&self) -> Box<dyn Iterator<Item = Option<(FlightView, FlightStatus)>> + '_> {
-        match &self.flyer {
-            Flyer::Ecs { sim, entities, .. } => Box::new(
-                entities
-                    .iter()
-                    .map(|&e| sim.view::<M>(e).zip(sim.status(e))),
-            ),
-            Flyer::Lanes {
-                fleet, aircraft, ..
-            } => Box::new((0..self.n).map(|i| {
-                let state = fleet.state(i)?;
-                let (controls, _) = M::fleet_member(i);
-                Some((M::view(aircraft, &controls, &state), fleet.status(i)?))
-            })),
+    /// The current frame as the outputs see it.
+    fn frame(&self) -> FleetFrame<'_> {
+        FleetFrame {
+            flown: self.flown,
+            fps: self.scenario.fps,
+            origin: &self.origin,
+            source: &self.flyer,
         }
     }
 
-    /// The current frame to the ACMI writer, if one is attached.
-    fn write_acmi(&mut self) -> Result<(), FleetError> {
-        let Some(mut acmi) = self.acmi.take() else {
-            return Ok(());
+    /// The current frame to every attached output.
+    fn write_outputs(&mut self) -> Result<(), FleetError> {
+        let frame = FleetFrame {
+            flown: self.flown,
+            fps: self.scenario.fps,
+            origin: &self.origin,
+            source: &self.flyer,
         };
-        let written = acmi.fleet_frame::<M>(self.flown, &self.origin, self.views());
-        self.acmi = Some(acmi);
-        Ok(written?)
+        for output in &mut self.outputs {
+            output.frame(&frame).map_err(FleetError::Output)?;
+        }
+        Ok(())
     }
 
     /// The current frame to the DIS output, if there is one.
@@ -715,6 +727,25 @@ impl<M: FleetModel> FleetRun<M> {
                     dis.publish_lanes::<M>(|i| states.get(i).copied().flatten(), origin);
                 });
             }
+        }
+    }
+}
+
+impl<M: FleetModel> ViewSource for Flyer<M> {
+    fn views(&self) -> Views<'_> {
+        match self {
+            Self::Ecs { sim, entities, .. } => Box::new(
+                entities
+                    .iter()
+                    .map(|&e| sim.view::<M>(e).zip(sim.status(e))),
+            ),
+            Self::Lanes {
+                fleet, aircraft, ..
+            } => Box::new((0..fleet.len()).map(|i| {
+                let state = fleet.state(i)?;
+                let (controls, _) = M::fleet_member(i);
+                Some((M::view(aircraft, &controls, &state), fleet.status(i)?))
+            })),
         }
     }
 }
@@ -920,6 +951,63 @@ mod tests {
         for (b, a) in before.iter().zip(&after) {
             assert_eq!(a.time_s, 1.0 / 30.0);
             assert!(a.position_m.x > b.position_m.x);
+        }
+    }
+
+    /// A plugin output sees the frame it is attached at and every flown
+    /// frame after, every aircraft each time (either kernel), and is
+    /// finished once; its failure stops the run, typed.
+    #[test]
+    fn outputs_are_plugins() {
+        use std::sync::{Arc, Mutex};
+        #[derive(Default)]
+        struct Seen {
+            frames: Vec<(u64, usize, usize)>,
+            finished: u32,
+        }
+        struct Counter(Arc<Mutex<Seen>>, Option<u64>);
+        impl FleetOutput<Palmer> for Counter {
+            fn frame(&mut self, frame: &FleetFrame<'_>) -> Result<(), crate::OutputError> {
+                if Some(frame.flown) == self.1 {
+                    return Err("full".into());
+                }
+                let views: Vec<_> = frame.views().collect();
+                let airborne = views
+                    .iter()
+                    .filter(|v| v.is_some_and(|(_, s)| s == FlightStatus::Airborne))
+                    .count();
+                let mut seen = self.0.lock().unwrap();
+                seen.frames.push((frame.flown, views.len(), airborne));
+                Ok(())
+            }
+            fn finish(&mut self) -> Result<(), crate::OutputError> {
+                self.0.lock().unwrap().finished += 1;
+                Ok(())
+            }
+        }
+        for kernel in [Kernel::Ecs, Kernel::Lanes] {
+            let mut scenario = FleetScenario::new(4, 3);
+            scenario.kernel = kernel;
+            scenario.threads = Some(1);
+            let mut run = FleetRun::<Palmer>::new(scenario.clone(), &mut |_, _| {}).unwrap();
+            let seen = Arc::new(Mutex::new(Seen::default()));
+            run.attach(Counter(Arc::clone(&seen), None)).unwrap();
+            run.run_to_end(|| false, |_| {}).unwrap();
+            run.finish().unwrap();
+            run.finish().unwrap();
+            let seen = seen.lock().unwrap();
+            assert_eq!(
+                seen.frames,
+                [(0, 4, 4), (1, 4, 4), (2, 4, 4), (3, 4, 4)],
+                "{kernel:?}"
+            );
+            assert_eq!(seen.finished, 1);
+
+            let mut run = FleetRun::<Palmer>::new(scenario, &mut |_, _| {}).unwrap();
+            run.attach(Counter(Arc::default(), Some(2))).unwrap();
+            let err = run.run_to_end(|| false, |_| {}).unwrap_err();
+            assert!(matches!(err, FleetError::Output(_)), "{err}");
+            assert_eq!((err.to_string(), run.flown()), ("full".to_owned(), 2));
         }
     }
 
