@@ -266,7 +266,7 @@ enum Flyer<M: FleetModel> {
         sim: Box<Simulation>,
         execution: Execution,
         /// The aircraft in the order the outputs number them (filled when
-        /// the ACMI writer is attached).
+        /// the first output is attached).
         entities: Vec<Entity>,
     },
     /// The model's structure-of-arrays kernel.
@@ -509,8 +509,9 @@ impl<M: FleetModel> FleetRun<M> {
         self.pacer.is_some() || !self.outputs.is_empty()
     }
 
-    /// Flies one frame (timed), then hands it to the outputs (ACMI, DIS) and
-    /// with real-time pacing waits for the frame's end.
+    /// Flies one frame (timed), then hands it to the outputs (the attached
+    /// [`FleetOutput`]s, then DIS) and with real-time pacing waits for the
+    /// frame's end.
     ///
     /// # Errors
     /// [`FleetError::Kernel`] when the lanes kernel fails,
