@@ -4,7 +4,8 @@
 //! [`AcmiWriter`] writes any number of aircraft as the frames are flown, in
 //! plain text or zip-compressed ([`AcmiWriter::create`] with a name ending in
 //! `.zip.acmi`). [`AcmiOutput`] is the single-aircraft [`Output`] of a
-//! [`Run`](crate::Run); fleets call the writer directly.
+//! [`Run`](crate::Run); for fleets the writer itself is a
+//! [`FleetOutput`](crate::fleet::FleetOutput).
 //!
 //! ```text
 //! FileType=text/acmi/tacview

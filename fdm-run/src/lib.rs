@@ -3,7 +3,7 @@
 //! ([`Run::run_to_end`]), headless or paced in real time, with [`Output`]s
 //! attached; record and replay ([`recording`], [`mod@replay`]); Tacview ACMI ([`acmi`]).
 //!
-//! `sim-cli` flies its single aircraft through this crate; the Python
+//! `sim-cli` flies its single aircraft and its fleets through this crate; the Python
 //! bindings and study runners are meant to build on it the same way.
 //!
 //! ```
@@ -54,7 +54,9 @@
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
-//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type) and the model registry ([`model::MODELS`], [`model::with_model`]) |
+//! | [`fleet`] | fleet runs: [`fleet::FleetScenario`] → [`fleet::FleetRun`] (ECS or lanes kernel, [`fleet::FleetOutput`] plugins such as ACMI, DIS, [`fleet::FleetReport`]), a fleet watched in FlightGear ([`fleet::show`]) |
+//! | [`memory`] | how much memory this process can still allocate, and the fleet's memory check |
+//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
 
 pub mod acmi;
@@ -62,7 +64,9 @@ pub mod csv;
 #[cfg(feature = "dis")]
 pub mod dis;
 pub mod fgfs;
+pub mod fleet;
 pub mod flightgear;
+pub mod memory;
 pub mod model;
 pub mod multiplayer;
 pub mod output;
@@ -73,7 +77,7 @@ pub mod run;
 pub mod scenario;
 mod shared;
 
-pub use model::RunModel;
+pub use model::{FleetModel, RunModel};
 pub use output::{Event, Frame, LinkStats, Output, OutputError, Placement};
 pub use run::{End, Run, RunError};
 pub use scenario::{

@@ -6,6 +6,10 @@
 //! that lists the models by name: the recording's model names, `sim-cli`'s
 //! subcommands and CSV model names all come from it. Its models also write
 //! the flight CSV ([`CsvModel`]).
+//!
+//! [`FleetModel`] is what a fleet run ([`crate::fleet`]) needs besides: the
+//! model's structure-of-arrays kernel, how to move a start for a formation,
+//! and the model FlightGear draws for it as a multiplayer aircraft.
 
 use std::fmt::Debug;
 
@@ -107,6 +111,20 @@ impl RunModel for Palmer {
     }
 }
 
+impl FleetModel for Palmer {
+    type Lanes = fdm_fleet::Fleet<Self>;
+
+    const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
+
+    fn offset_state(state: &PalmerState, north_m: f64, west_m: f64, up_m: f64) -> PalmerState {
+        let mut moved = *state;
+        moved.position_m.x += north_m;
+        moved.position_m.y += west_m;
+        moved.position_m.z += up_m;
+        moved
+    }
+}
+
 /// Bourg's aircraft as a recording stores it: the airframe (from which
 /// [`BourgAircraft::new`] derives the mass properties) and the thrust limits.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -189,6 +207,43 @@ pub trait CsvModel: RunModel {
 
     /// Appends the values of [`Self::CSV_COLUMNS`], in order.
     fn csv_values(controls: &Self::Controls, state: &Self::State, out: &mut Vec<f64>);
+}
+
+impl FleetModel for Bourg {
+    type Lanes = fdm_fleet::Fleet<Self>;
+
+    const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
+
+    /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.
+    fn offset_state(state: &BourgState, north_m: f64, west_m: f64, up_m: f64) -> BourgState {
+        let ft = |m: f64| (m / fdm_core::units::METRES_PER_FOOT) as f32;
+        let mut moved = *state;
+        moved.position_ft.x += ft(north_m);
+        moved.position_ft.y += ft(west_m);
+        moved.position_ft.z += ft(up_m);
+        moved
+    }
+}
+
+/// A model a fleet run ([`crate::fleet`]) can fly: a [`RunModel`] with a
+/// structure-of-arrays kernel, a way to place aircraft in formation, and
+/// FlightGear's multiplayer model.
+pub trait FleetModel: RunModel {
+    /// The model's structure-of-arrays fleet (a fleet run's
+    /// [`Kernel::Lanes`](crate::fleet::Kernel::Lanes)): `fdm_fleet::Fleet<Self>`
+    /// for any model whose step is written over `fdm_core::real`'s number
+    /// type (no hand-written kernel).
+    type Lanes: fdm_fleet::LaneFleet<Model = Self>;
+
+    /// The model file FlightGear loads for this model as a multiplayer
+    /// aircraft (relative to its data directory), e.g.
+    /// `Aircraft/c172p/Models/c172p.xml`.
+    const FG_MP_MODEL: &'static str;
+
+    /// `state` moved by `north_m`, `west_m` and `up_m` (the earth frame's x,
+    /// y, z, metres), everything else unchanged: the start patterns of a
+    /// fleet ([`crate::fleet::show::start_of`]).
+    fn offset_state(state: &Self::State, north_m: f64, west_m: f64, up_m: f64) -> Self::State;
 }
 
 /// Something to do with a model type chosen at run time by name

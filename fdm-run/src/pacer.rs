@@ -9,6 +9,16 @@
 
 use std::time::{Duration, Instant};
 
+use serde::{Deserialize, Serialize};
+
+/// What real-time pacing counted: a JSON report's `realtime` object
+/// (`sim-cli palmer|bourg|fleet --realtime`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RealtimeReport {
+    /// Frames that finished after their wall-clock deadline.
+    pub overruns: u64,
+}
+
 /// Fixed-period frame scheduler.
 #[derive(Debug, Clone)]
 pub struct FramePacer {
@@ -62,6 +72,23 @@ impl FramePacer {
     #[must_use]
     pub fn overruns(&self) -> u64 {
         self.overruns
+    }
+
+    /// The counters as a report's `realtime` object.
+    #[must_use]
+    pub fn report(&self) -> RealtimeReport {
+        RealtimeReport {
+            overruns: self.overruns,
+        }
+    }
+
+    /// Waits until the end of the frame whose work is done now
+    /// ([`Self::finish_frame`] at [`Instant::now`], then sleeping).
+    pub fn pace(&mut self) {
+        let sleep = self.finish_frame(Instant::now());
+        if !sleep.is_zero() {
+            std::thread::sleep(sleep);
+        }
     }
 
     /// Re-anchors the schedule at `now` (after a pause in wall time the pacer did not

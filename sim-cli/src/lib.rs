@@ -18,8 +18,8 @@
 //! | [`csv`] | `--csv`: the run library's CSV output ([`fdm_run::csv::CsvOutput`] of [`fdm_run::csv::FlightRow`]s) and its errors |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`origin`] | `fgfs-command` (the line is `fdm_run::fgfs`'s; `--fg` is parsed by `fgnet::address`), `--origin` |
-//! | [`fleet`] | `sim-cli fleet`: many aircraft through the ECS, aircraft-steps per second |
-//! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: a fleet streamed to FlightGear as multiplayer aircraft |
+//! | [`fleet`] | `sim-cli fleet`: the flags as a fleet run of the run library (`fdm_run::fleet`), progress, the report printed |
+//! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: the flags of a fleet streamed to FlightGear as multiplayer aircraft (`fdm_run::fleet::show`) |
 //! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | [`acmi`](mod@acmi) | `--acmi FILE`: Tacview ACMI through the run library |
 //! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the output file and the CSV read back; the drawing is `fdm_plot`'s |

@@ -54,12 +54,9 @@ pub struct Report<D> {
     pub dis: Option<fdm_run::dis::DisReport>,
 }
 
-/// The JSON report's `realtime` object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct RealtimeReport {
-    /// Frames that finished after their wall-clock deadline.
-    pub overruns: u64,
-}
+/// The JSON report's `realtime` object (the run library's, shared with
+/// `sim-cli fleet`'s report).
+pub use fdm_run::pacer::RealtimeReport;
 
 impl<D: Details> Report<D> {
     /// The report of a run of `frames` frames at `fps` ending in `snapshot`.

@@ -1,5 +1,5 @@
 //! The model modules' record and placement functions through the public
-//! `RunModel` (record) and `CliModel` (placement) traits (found by mutation
+//! `RunModel` (record) and `FleetModel` (placement) traits (found by mutation
 //! testing, docs/testing.md): a recorded
 //! aircraft comes back as it was, bad thrust limits are refused naming the
 //! field, and `offset_state` moves a state by the given metres, converted to
@@ -8,8 +8,8 @@
 use fdm_core::bourg::{Bourg, BourgAircraft, BourgState};
 use fdm_core::model::Model;
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerState};
+use fdm_run::FleetModel;
 use fdm_run::RunModel;
-use sim_cli::models::CliModel;
 
 fn bourg_aircraft() -> BourgAircraft {
     let mut aircraft = Bourg::default_aircraft();

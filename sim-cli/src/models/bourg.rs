@@ -56,20 +56,6 @@ impl Details for BourgDetails {
 impl CliModel for Bourg {
     type Details = BourgDetails;
 
-    type Lanes = fdm_fleet::Fleet<Self>;
-
-    const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
-
-    /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.
-    fn offset_state(state: &BourgState, north_m: f64, west_m: f64, up_m: f64) -> BourgState {
-        let ft = |m: f64| (m / fdm_core::units::METRES_PER_FOOT) as f32;
-        let mut moved = *state;
-        moved.position_ft.x += ft(north_m);
-        moved.position_ft.y += ft(west_m);
-        moved.position_ft.z += ft(up_m);
-        moved
-    }
-
     fn details(
         _aircraft: &BourgAircraft,
         controls: &BourgControls,

@@ -14,6 +14,7 @@ pub mod palmer;
 use std::fmt::Debug;
 
 use fdm_run::csv::CsvModel;
+use fdm_run::FleetModel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -71,24 +72,12 @@ impl ModelKind {
 }
 
 /// A model as `sim-cli` flies it: a [`RunModel`](fdm_run::RunModel) (what the run library
-/// needs to fly, record and replay it) with the CLI's own parts.
-pub trait CliModel: CsvModel<Action: KeyAction> {
+/// needs to fly, record and replay it) and a [`FleetModel`] (its fleet
+/// kernel, formations and multiplayer model) with the CLI's own parts.
+pub trait CliModel: CsvModel<Action: KeyAction> + FleetModel {
     /// The model's own report fields (JSON next to the common ones, CSV
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;
-
-    /// The model's structure-of-arrays fleet (`sim-cli fleet --kernel
-    /// lanes`): `fdm_fleet::Fleet<Self>` for any model whose step is written
-    /// over `fdm_core::real`'s number type (no hand-written kernel).
-    type Lanes: fdm_fleet::LaneFleet<Model = Self>;
-
-    /// The model file FlightGear loads for this model as a multiplayer
-    /// aircraft (relative to its data directory).
-    const FG_MP_MODEL: &'static str;
-
-    /// `state` moved by `north_m`, `west_m` and `up_m` (the earth frame's x, y,
-    /// z, metres), everything else unchanged: fleet spawn patterns.
-    fn offset_state(state: &Self::State, north_m: f64, west_m: f64, up_m: f64) -> Self::State;
 
     /// The model's report fields now.
     fn details(

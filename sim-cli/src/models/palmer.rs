@@ -89,18 +89,6 @@ impl Details for PalmerDetails {
 impl CliModel for Palmer {
     type Details = PalmerDetails;
 
-    type Lanes = fdm_fleet::Fleet<Self>;
-
-    const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
-
-    fn offset_state(state: &PalmerState, north_m: f64, west_m: f64, up_m: f64) -> PalmerState {
-        let mut moved = *state;
-        moved.position_m.x += north_m;
-        moved.position_m.y += west_m;
-        moved.position_m.z += up_m;
-        moved
-    }
-
     fn details(
         _aircraft: &PalmerAircraft,
         controls: &PalmerControls,
