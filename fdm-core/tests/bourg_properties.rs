@@ -253,3 +253,33 @@ fn thrust_is_clamped() {
     }
     assert_eq!(controls.thrust_lb, 0.0);
 }
+
+/// Every `StepError` says what was refused in one line, naming the field
+/// where it has one (the project's rule for errors: a clear message, never
+/// an empty one).
+#[test]
+fn step_errors_are_one_line_naming_what_was_refused() {
+    for (error, must_name) in [
+        (
+            StepError::NonFiniteState {
+                field: "angular_velocity",
+            },
+            "angular_velocity",
+        ),
+        (StepError::NonFiniteControls, "control"),
+        (StepError::InvalidTimeStep, "time step"),
+        (
+            StepError::NonFiniteResult {
+                field: "velocity_body",
+            },
+            "velocity_body",
+        ),
+    ] {
+        let message = error.to_string();
+        assert!(
+            message.contains(must_name) && message.contains("finite"),
+            "{error:?}: {message:?}"
+        );
+        assert!(!message.contains('\n'), "{error:?}: {message:?}");
+    }
+}
