@@ -22,7 +22,6 @@
 
 use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
-use fdm_ecs::{Entity, Simulation};
 use fdm_run::acmi::AcmiOutput;
 use fdm_run::csv::{CsvOutput, FlightRow};
 use fdm_run::dis::DisOutput;
@@ -118,18 +117,6 @@ impl<M: CliModel> ModelFlight<M> {
             FlightRow::<M>::of as fn(&fdm_run::Frame<'_, M>) -> FlightRow<M>,
         ))
     }
-
-    /// The simulation the aircraft flies in.
-    #[must_use]
-    pub fn simulation(&self) -> &Simulation {
-        self.run.simulation()
-    }
-
-    /// The aircraft's entity.
-    #[must_use]
-    pub fn entity(&self) -> Entity {
-        self.run.entity()
-    }
 }
 
 impl<M: CliModel> Flight for ModelFlight<M> {
@@ -163,33 +150,31 @@ impl<M: CliModel> Flight for ModelFlight<M> {
         Ok(self.run.reset()?)
     }
 
+    /// The run's state, view and placement ([`Run::placement`]: NaN if the
+    /// aircraft were gone) as the CLI reports them.
     fn snapshot(&self) -> Snapshot<M::Details> {
         let start = &self.run.scenario().start;
-        let state = self.run.state().unwrap_or(start.state);
+        let state = self.state();
         let controls = self.run.controls().unwrap_or(start.controls);
-        let aircraft = &start.aircraft;
-        let view = M::view(aircraft, &controls, &state);
-        // Spawn computes both components, so they exist for the entity's lifetime.
-        let sim = self.run.simulation();
-        let geodetic = sim.geodetic(self.run.entity());
-        let attitude = sim.attitude(self.run.entity());
+        let view = self.run.view();
+        let fdm_run::Placement { geodetic, attitude } = self.run.placement();
         Snapshot {
             common: CommonState {
                 time_s: view.time_s,
                 position: M::native_position(&state),
                 velocity: M::native_velocity(&state),
-                geodetic: geodetic.map_or(NAN_GEODETIC, |g| GeodeticReport {
-                    lat_deg: g.lat_deg,
-                    lon_deg: g.lon_deg,
-                    alt_m: g.alt_m,
-                }),
-                attitude_deg: attitude.map_or(NAN_ATTITUDE, |a| AttitudeReport {
-                    roll: a.roll_deg,
-                    pitch: a.pitch_deg,
-                    heading: a.heading_deg,
-                }),
+                geodetic: GeodeticReport {
+                    lat_deg: geodetic.lat_deg,
+                    lon_deg: geodetic.lon_deg,
+                    alt_m: geodetic.alt_m,
+                },
+                attitude_deg: AttitudeReport {
+                    roll: attitude.roll_deg,
+                    pitch: attitude.pitch_deg,
+                    heading: attitude.heading_deg,
+                },
             },
-            details: M::details(aircraft, &controls, &state),
+            details: M::details(&start.aircraft, &controls, &state),
             status: self.run.status(),
             stalling: view.stalling,
             airspeed_mps: view.airspeed_mps,
@@ -260,19 +245,6 @@ pub fn run_model_with<M: CliModel>(
     }
     fly(flight, &script, run)
 }
-
-/// Never used in practice (the components exist from spawn on); reported as
-/// NaN, i.e. JSON `null`, rather than a panic.
-const NAN_GEODETIC: GeodeticReport = GeodeticReport {
-    lat_deg: f64::NAN,
-    lon_deg: f64::NAN,
-    alt_m: f64::NAN,
-};
-const NAN_ATTITUDE: AttitudeReport = AttitudeReport {
-    roll: f64::NAN,
-    pitch: f64::NAN,
-    heading: f64::NAN,
-};
 
 #[cfg(test)]
 mod tests {
