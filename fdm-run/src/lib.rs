@@ -48,6 +48,7 @@
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`], [`LinkStats`]: outputs as plugins |
 //! | [`fgfs`] | the FlightGear command line that shows a run ([`fgfs::command_line`]: aircraft, start preset, view, multiplayer input) |
 //! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
+//! | [`links`] | handles to a run's network outputs ([`links::Links`]: the FlightGear link's counters, DIS's report, their first failures) |
 //! | [`multiplayer`] | FlightGear multiplayer for a fleet ([`multiplayer::MultiplayerFleet`], [`multiplayer::MultiplayerSender`]) |
 //! | [`origin`] | where the earth-frame origin is: `LAT,LON,ALT_M` or a named runway ([`origin::parse_origin`], [`origin::NAMED_ORIGINS`]) |
 //! | [`replay`] | a recording replayed on a run ([`replay::replay`], real-time or not, stoppable) and checked against its fingerprint ([`replay::check_fingerprint`]) |
@@ -67,6 +68,7 @@ pub mod dis;
 pub mod fgfs;
 pub mod fleet;
 pub mod flightgear;
+pub mod links;
 pub mod memory;
 pub mod model;
 pub mod multiplayer;

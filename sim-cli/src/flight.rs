@@ -83,16 +83,9 @@ impl<M: CliModel> ModelFlight<M> {
         };
         let mut flight =
             Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
-        if let Some(fg) = &fg {
-            flight.attach(fg.clone()).map_err(anyhow::Error::from)?;
-        }
-        if let Some(dis) = &dis {
-            flight.attach(dis.clone()).map_err(anyhow::Error::from)?;
-        }
-        Ok(Self {
-            run: flight,
-            links: Links { fg, dis },
-        })
+        let links = Links { fg, dis };
+        links.attach_to(&mut flight).map_err(anyhow::Error::from)?;
+        Ok(Self { run: flight, links })
     }
 
     /// Attaches an output to the run (e.g. `--acmi`).

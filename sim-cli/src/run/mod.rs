@@ -10,9 +10,6 @@ use std::io::{self, Write};
 
 use anyhow::Context as _;
 use fdm_core::script::Script;
-use fdm_run::dis::{DisOutput, DisReport};
-use fdm_run::flightgear::FlightGearOutput;
-use fdm_run::{LinkStats, SharedOutput};
 
 use crate::config::{Mode, RunConfig};
 use crate::error::CliError;
@@ -73,48 +70,10 @@ pub trait Flight {
     }
 }
 
-/// The network outputs of a flight, as the loops read them: handles to the
-/// [`fdm_run::Output`]s attached to its run (`--fg`: the FlightGear link,
-/// `--dis`: DIS). The counters and failures come from the outputs
-/// themselves; cloning shares them.
-#[derive(Debug, Clone, Default)]
-pub struct Links {
-    /// `--fg`: the FlightGear native-FDM link.
-    pub fg: Option<SharedOutput<FlightGearOutput>>,
-    /// `--dis`: the DIS output.
-    pub dis: Option<SharedOutput<DisOutput>>,
-}
-
-impl Links {
-    /// The FlightGear link's datagram counters, or `None` without `--fg`.
-    #[must_use]
-    pub fn fg_stats(&self) -> Option<LinkStats> {
-        self.fg.as_ref()?.with(|o| o.map(|o| o.stats()))
-    }
-
-    /// The DIS output's counts, or `None` without `--dis`.
-    #[must_use]
-    pub fn dis_report(&self) -> Option<DisReport> {
-        self.dis.as_ref()?.with(|o| o.map(|o| o.report()))
-    }
-
-    /// A one-line description of the first failed send of an output (the
-    /// FlightGear link's first, then DIS's), each returned once: later
-    /// failures are only counted. The loops print it on stderr at most once
-    /// per output and run, never per frame; a failing link is never fatal.
-    #[must_use]
-    pub fn take_failure(&self) -> Option<String> {
-        let fg = self
-            .fg
-            .as_ref()
-            .and_then(|fg| fg.with(|o| o.and_then(FlightGearOutput::take_failure)));
-        fg.or_else(|| {
-            self.dis
-                .as_ref()
-                .and_then(|d| d.with(|o| o.and_then(DisOutput::take_failure)))
-        })
-    }
-}
+/// The network outputs of a flight, as the loops read them: the run
+/// library's handles to the outputs attached to its run (`--fg`: the
+/// FlightGear link, `--dis`: DIS), their counters and first failures.
+pub use fdm_run::links::Links;
 
 /// The stderr line for a link failure (see [`Links::take_failure`]).
 pub(crate) fn link_warning(message: &str) -> String {
