@@ -4,9 +4,10 @@
 //! [`FlightGearOutput`]), DIS (`--dis`), `--csv` (the run library's
 //! [`CsvOutput`] of [`FlightRow`]s), `--record`, `--acmi`, `--plot`.
 //!
-//! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
-//! loop has already put the script's rules for the frame first, in file order,
-//! then the keys pressed) as the entity's frame input, then runs one frame of
+//! A frame is the ECS's: [`Flight::step`] is the run's
+//! [`Run::step_frame`](fdm_run::Run::step_frame), which pushes the frame's
+//! actions (the script's rules for the frame first, in file order, then the
+//! keys pressed) as the entity's frame input, then runs one frame of
 //! the thesis schedule: FlightControl (the model's start of frame, e.g. Bourg's
 //! surfaces back to neutral, then the actions) → EquationsOfMotion →
 //! FlightStatus → Place; then the run hands the frame to its outputs. The frame rate is the simulation's
@@ -22,6 +23,7 @@
 
 use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
+use fdm_core::script::Script;
 use fdm_run::acmi::AcmiOutput;
 use fdm_run::csv::{CsvOutput, FlightRow};
 use fdm_run::dis::DisOutput;
@@ -61,6 +63,19 @@ impl<M: CliModel> ModelFlight<M> {
     /// [`CliError::Usage`] for a frame rate the run refuses,
     /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
     pub fn new(run: &RunConfig, start: Start<M>) -> Result<Self, CliError> {
+        Self::scripted(run, start, Script::default())
+    }
+
+    /// [`Self::new`] flying `script`: its rules for each frame come first,
+    /// in file order, and it starts over on a reset.
+    ///
+    /// # Errors
+    /// As [`Self::new`].
+    pub fn scripted(
+        run: &RunConfig,
+        start: Start<M>,
+        script: Script<M::Action>,
+    ) -> Result<Self, CliError> {
         let fg = match run.fg {
             Some(addr) => Some(SharedOutput::new(
                 FlightGearOutput::connect(&addr.to_string(), run.origin)
@@ -79,7 +94,7 @@ impl<M: CliModel> ModelFlight<M> {
             origin: run.origin,
             fps: run.fps,
             frames: 0,
-            script: fdm_core::script::Script::default(),
+            script,
         };
         let mut flight =
             Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
@@ -118,7 +133,7 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     const TITLE: &'static str = M::TITLE;
 
-    /// Queues `actions` as this frame's key presses and runs the frame; the
+    /// The script's rules for the next frame, then `keys`, and runs the frame; the
     /// run's outputs send it (a failed send is kept by the output, reported
     /// once by the run loop, never per frame).
     ///
@@ -126,8 +141,8 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     /// the last finite state, the outputs sent nothing from the non-finite
     /// one, and the run stops here, before any row, report or HUD is made
     /// from it.
-    fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
-        match self.run.step_actions(actions) {
+    fn step(&mut self, keys: &[M::Action]) -> anyhow::Result<()> {
+        match self.run.step_frame(keys) {
             Ok(()) => {}
             Err(RunError::Diverged { model, dt, .. }) => {
                 return Err(anyhow!(
@@ -218,7 +233,7 @@ pub fn run_model_with<M: CliModel>(
         ),
         None => None,
     };
-    let mut flight = ModelFlight::new(&run, start)?;
+    let mut flight = ModelFlight::scripted(&run, start, script)?;
     // Outputs of the run: it hands them every frame and reset, and
     // `Flight::finish` completes them.
     if let Some(csv) = csv {
@@ -236,7 +251,7 @@ pub fn run_model_with<M: CliModel>(
     if let Some(plot) = plot {
         flight.attach(plot.into_output(M::TITLE))?;
     }
-    fly(flight, &script, run)
+    fly(flight, run)
 }
 
 #[cfg(test)]
@@ -542,19 +557,93 @@ mod tests {
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
         let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
         let mut progress = StderrProgress::with_enabled(20, false);
-        let report = run_headless(
-            &mut flight,
-            &fdm_core::script::Script::default(),
-            30,
-            20,
-            false,
-            &mut progress,
-        )
-        .unwrap();
+        let report = run_headless(&mut flight, 30, 20, false, &mut progress).unwrap();
         assert_eq!(report.frames, 20);
         let links = flight.links();
         assert!(links.fg_stats().unwrap().failed > 0);
         assert!(links.take_failure().is_none(), "taken by the loop");
+    }
+
+    /// The actions of every frame flown since the start or the last reset,
+    /// as the run hands them to its outputs.
+    #[derive(Default)]
+    struct Steps(Vec<Vec<PalmerAction>>);
+
+    impl Output<Palmer> for Steps {
+        fn frame(
+            &mut self,
+            frame: &fdm_run::Frame<'_, Palmer>,
+        ) -> Result<(), fdm_run::OutputError> {
+            match frame.event {
+                fdm_run::Event::Step => self.0.push(frame.actions.to_vec()),
+                fdm_run::Event::Start | fdm_run::Event::Reset => self.0.clear(),
+            }
+            Ok(())
+        }
+    }
+
+    /// A flight's script comes first in every frame, then the keys in the
+    /// order pressed, in the headless loop and the interactive session
+    /// alike, and starts over on a reset: the run library's
+    /// `Run::step_frame`, which the loops' `Flight::step` is (the loops
+    /// merged the script themselves before; `run::tests` checks them with a
+    /// stand-in flight).
+    #[test]
+    fn the_script_comes_first_and_starts_over_on_a_reset() {
+        use crate::keys::{AppCommand, Input};
+        use crate::run::Session;
+        use PalmerAction::*;
+        let script = |text| Script::parse(text).unwrap();
+        let steps_of = |steps: &SharedOutput<Steps>| steps.with(|s| s.unwrap().0.clone());
+
+        let mut flight = ModelFlight::scripted(
+            &run(10, None),
+            cruise(),
+            script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n"),
+        )
+        .unwrap();
+        let steps = SharedOutput::new(Steps::default());
+        flight.attach(steps.clone()).unwrap();
+        let mut progress = StderrProgress::with_enabled(4, false);
+        let report = run_headless(&mut flight, 10, 4, false, &mut progress).unwrap();
+        assert_eq!(
+            steps_of(&steps),
+            [
+                vec![],
+                vec![ThrottleUp],
+                vec![ThrottleUp, FlapsDown],
+                vec![]
+            ]
+        );
+        assert_eq!((report.frames, report.fps), (4, 10));
+
+        let mut flight =
+            ModelFlight::scripted(&run(10, None), cruise(), script("1-1 flaps-down\n")).unwrap();
+        let steps = SharedOutput::new(Steps::default());
+        flight.attach(steps.clone()).unwrap();
+        let mut s = Session::new();
+        // Frame 1: script first, then keys in the order pressed.
+        for input in [Input::Action(ThrottleUp), Input::Action(ThrottleUp)] {
+            s.handle(input, &mut flight).unwrap();
+        }
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps), [vec![FlapsDown, ThrottleUp, ThrottleUp]]);
+        // Paused: no steps, keys ignored.
+        s.handle(Input::App(AppCommand::Pause), &mut flight)
+            .unwrap();
+        s.handle(Input::Action(AlphaUp), &mut flight).unwrap();
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps).len(), 1);
+        s.handle(Input::App(AppCommand::Pause), &mut flight)
+            .unwrap();
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps)[1], []);
+        // Reset: frame 0, the script starts over.
+        s.handle(Input::App(AppCommand::Reset), &mut flight)
+            .unwrap();
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps), [vec![FlapsDown]]);
+        assert_eq!(s.total_frames(), 3);
     }
 
     /// `--csv` is an output of the run: row 0 when attached, one row per
@@ -593,9 +682,8 @@ mod tests {
         flight
             .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
             .unwrap();
-        let script = fdm_core::script::Script::default();
         let mut progress = StderrProgress::with_enabled(3, false);
-        run_headless(&mut flight, &script, 10, 3, false, &mut progress).unwrap();
+        run_headless(&mut flight, 10, 3, false, &mut progress).unwrap();
         flight.finish().unwrap();
         assert_eq!(frames_of(&buffer), ["0", "1", "2", "3"]);
 
@@ -605,19 +693,19 @@ mod tests {
             .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
             .unwrap();
         let mut session = Session::<PalmerAction>::new();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         session
             .handle(Input::App(AppCommand::Pause), &mut flight)
             .unwrap();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         session
             .handle(Input::App(AppCommand::Pause), &mut flight)
             .unwrap();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         session
             .handle(Input::App(AppCommand::Reset), &mut flight)
             .unwrap();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         flight.finish().unwrap();
         assert_eq!(frames_of(&buffer), ["0", "1", "2", "0", "1"]);
     }
@@ -642,17 +730,9 @@ mod tests {
         // final flush does not.
         let attached = flight.attach_csv(fdm_run::csv::CsvWriter::new(Full, "out.csv"));
         let mut progress = StderrProgress::with_enabled(100_000, false);
-        let flown = attached.map_err(CliError::from).and_then(|()| {
-            run_headless(
-                &mut flight,
-                &fdm_core::script::Script::default(),
-                30,
-                100_000,
-                false,
-                &mut progress,
-            )
-            .map(drop)
-        });
+        let flown = attached
+            .map_err(CliError::from)
+            .and_then(|()| run_headless(&mut flight, 30, 100_000, false, &mut progress).map(drop));
         let err = flown
             .and_then(|()| flight.finish().map_err(CliError::from))
             .unwrap_err();
