@@ -48,7 +48,9 @@
 //! | [`output`] | [`Output`], [`Frame`], [`Placement`], [`LinkStats`]: outputs as plugins |
 //! | [`fgfs`] | the FlightGear command line that shows a run ([`fgfs::command_line`]: aircraft, start preset, view, multiplayer input) |
 //! | [`flightgear`] | the FlightGear native-FDM link ([`flightgear::FlightGearOutput`]) |
+//! | [`links`] | handles to a run's network outputs ([`links::Links`]: the FlightGear link's counters, DIS's report, their first failures) |
 //! | [`multiplayer`] | FlightGear multiplayer for a fleet ([`multiplayer::MultiplayerFleet`], [`multiplayer::MultiplayerSender`]) |
+//! | [`origin`] | where the earth-frame origin is: `LAT,LON,ALT_M` or a named runway ([`origin::parse_origin`], [`origin::NAMED_ORIGINS`]) |
 //! | [`replay`] | a recording replayed on a run ([`replay::replay`], real-time or not, stoppable) and checked against its fingerprint ([`replay::check_fingerprint`]) |
 //! | [`recording`] | the binary flight log (`--record`, `sim-cli replay`; docs/recording.md) |
 //! | [`acmi`] | Tacview ACMI 2.2 ([`acmi::AcmiWriter`], [`acmi::AcmiOutput`]) |
@@ -66,9 +68,11 @@ pub mod dis;
 pub mod fgfs;
 pub mod fleet;
 pub mod flightgear;
+pub mod links;
 pub mod memory;
 pub mod model;
 pub mod multiplayer;
+pub mod origin;
 pub mod output;
 pub mod pacer;
 pub mod recording;

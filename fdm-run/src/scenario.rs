@@ -223,6 +223,74 @@ pub enum ScenarioError {
     Frames(u64),
 }
 
+/// Why a run's length in seconds gives no frame count
+/// ([`frames_for_duration`]). Display starts with the duration (short
+/// number form), so a front end can put its option's name first
+/// (`--duration 1e300 at 30 fps is 3e301 frames, more than 1000000000`).
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum DurationError {
+    /// A negative, NaN or infinite duration.
+    #[error("{} is not a non-negative number of seconds", ShortNumber(*.0))]
+    NotADuration(f64),
+    /// More than [`MAX_FRAMES`] frames at that frame rate.
+    #[error("{} at {fps} fps is {}", ShortNumber(*.duration_s), FrameCount(*.frames))]
+    TooLong {
+        /// The duration given, s.
+        duration_s: f64,
+        /// The frame rate, frames per second.
+        fps: u32,
+        /// `duration_s × fps` rounded: a whole number above [`MAX_FRAMES`],
+        /// or +inf when the product overflows (the duration is fine, the
+        /// product is too long).
+        frames: f64,
+    },
+}
+
+/// A frame count above [`MAX_FRAMES`] as [`DurationError::TooLong`] shows it.
+struct FrameCount(f64);
+
+impl std::fmt::Display for FrameCount {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.is_finite() {
+            write!(f, "{} frames, more than {MAX_FRAMES}", ShortNumber(self.0))
+        } else {
+            write!(f, "more than {MAX_FRAMES} frames")
+        }
+    }
+}
+
+/// The frames a run of `duration_s` seconds has at `fps`:
+/// round(`duration_s` × `fps`), half away from zero, checked against [`MAX_FRAMES`].
+///
+/// ```
+/// use fdm_run::scenario::{frames_for_duration, DurationError};
+///
+/// assert_eq!(frames_for_duration(2.5, 10), Ok(25));
+/// assert_eq!(frames_for_duration(0.05, 30), Ok(2)); // 1.5 rounds up
+/// assert!(matches!(frames_for_duration(-1.0, 30), Err(DurationError::NotADuration(_))));
+/// ```
+///
+/// # Errors
+/// [`DurationError::NotADuration`] for a negative or non-finite duration,
+/// [`DurationError::TooLong`] for more than [`MAX_FRAMES`] frames.
+pub fn frames_for_duration(duration_s: f64, fps: u32) -> Result<u64, DurationError> {
+    if !(duration_s >= 0.0 && duration_s.is_finite()) {
+        return Err(DurationError::NotADuration(duration_s));
+    }
+    let frames = (duration_s * f64::from(fps)).round();
+    // duration_s is finite and non-negative, so frames is a number or +inf (never NaN).
+    // MAX_FRAMES (1e9) is exact in f64.
+    if frames > MAX_FRAMES as f64 {
+        return Err(DurationError::TooLong {
+            duration_s,
+            fps,
+            frames,
+        });
+    }
+    // In range, non-negative and integral, so the cast is exact.
+    Ok(frames as u64)
+}
+
 /// One flight of model `M`: its start, where on Earth, how fast frames go,
 /// how many there are, and the scripted controls.
 ///
@@ -296,6 +364,42 @@ mod tests {
     use fdm_core::palmer::Palmer;
 
     use super::*;
+
+    #[test]
+    fn duration_rounds_to_nearest_frame() {
+        assert_eq!(frames_for_duration(1.0 / 30.0 * 2.4, 30), Ok(2));
+        assert_eq!(frames_for_duration(0.05, 30), Ok(2)); // 1.5 rounds away from zero
+        assert_eq!(frames_for_duration(0.0, 30), Ok(0));
+        assert_eq!(frames_for_duration(2.5, 10), Ok(25));
+        assert_eq!(
+            frames_for_duration(1e8, 10),
+            Ok(MAX_FRAMES),
+            "the longest run is accepted"
+        );
+        assert!(frames_for_duration(f64::NAN, 30).is_err());
+    }
+
+    #[test]
+    fn overlong_durations_say_too_many_frames_in_short_numbers() {
+        assert_eq!(
+            frames_for_duration(1e308, 10_000).unwrap_err().to_string(),
+            "1e308 at 10000 fps is more than 1000000000 frames"
+        );
+        assert_eq!(
+            frames_for_duration(1e300, 30).unwrap_err().to_string(),
+            "1e300 at 30 fps is 3e301 frames, more than 1000000000"
+        );
+        assert_eq!(
+            frames_for_duration(-0.5, 30).unwrap_err(),
+            DurationError::NotADuration(-0.5)
+        );
+        assert_eq!(
+            frames_for_duration(f64::INFINITY, 30)
+                .unwrap_err()
+                .to_string(),
+            "inf is not a non-negative number of seconds"
+        );
+    }
 
     #[test]
     fn no_option_is_the_thesis_start_bit_for_bit() {

@@ -10,10 +10,10 @@ use fdm_core::model::Model;
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls};
 use fdm_core::script::{Script, ScriptAction};
 
-use crate::args::{BourgArgs, CommonArgs, PalmerArgs, MAX_FRAMES};
+use crate::args::{BourgArgs, CommonArgs, PalmerArgs};
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{read_text, show_number, show_path, MAX_INPUT_BYTES};
+use crate::input::{read_text, show_path, MAX_INPUT_BYTES};
 use crate::origin::GeodeticOrigin;
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
@@ -217,34 +217,17 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
     })
 }
 
-/// frames = round(seconds × fps), checked against [`MAX_FRAMES`].
+/// frames = round(seconds × fps), checked against [`fdm_run::MAX_FRAMES`]: the run
+/// library's [`fdm_run::scenario::frames_for_duration`], its error named
+/// `--duration`.
 ///
 /// # Errors
 /// [`CliError::Usage`] for a negative or non-finite duration or too many frames
 /// (also when seconds × fps overflows to infinity: the duration is fine, the
 /// product is too long).
 pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
-    if !(seconds >= 0.0 && seconds.is_finite()) {
-        return Err(CliError::usage(format!(
-            "--duration {} is not a non-negative number of seconds",
-            show_number(seconds)
-        )));
-    }
-    let frames = (seconds * f64::from(fps)).round();
-    // seconds is finite and fps positive, so frames is a number or +inf (never NaN).
-    if frames > MAX_FRAMES as f64 {
-        let count = if frames.is_finite() {
-            format!("{} frames, more than {MAX_FRAMES}", show_number(frames))
-        } else {
-            format!("more than {MAX_FRAMES} frames")
-        };
-        return Err(CliError::usage(format!(
-            "--duration {} at {fps} fps is {count}",
-            show_number(seconds)
-        )));
-    }
-    // In range and integral, so the cast is exact.
-    Ok(frames as u64)
+    fdm_run::scenario::frames_for_duration(seconds, fps)
+        .map_err(|e| CliError::usage(format!("--duration {e}")))
 }
 
 /// Reads and parses a script; errors name the file and line as `FILE:LINE: message`.

@@ -4,9 +4,10 @@
 //! [`FlightGearOutput`]), DIS (`--dis`), `--csv` (the run library's
 //! [`CsvOutput`] of [`FlightRow`]s), `--record`, `--acmi`, `--plot`.
 //!
-//! A frame is the ECS's: [`Flight::step`] pushes the frame's actions (the run
-//! loop has already put the script's rules for the frame first, in file order,
-//! then the keys pressed) as the entity's frame input, then runs one frame of
+//! A frame is the ECS's: [`Flight::step`] is the run's
+//! [`Run::step_frame`](fdm_run::Run::step_frame), which pushes the frame's
+//! actions (the script's rules for the frame first, in file order, then the
+//! keys pressed) as the entity's frame input, then runs one frame of
 //! the thesis schedule: FlightControl (the model's start of frame, e.g. Bourg's
 //! surfaces back to neutral, then the actions) → EquationsOfMotion →
 //! FlightStatus → Place; then the run hands the frame to its outputs. The frame rate is the simulation's
@@ -22,7 +23,7 @@
 
 use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
-use fdm_ecs::{Entity, Simulation};
+use fdm_core::script::Script;
 use fdm_run::acmi::AcmiOutput;
 use fdm_run::csv::{CsvOutput, FlightRow};
 use fdm_run::dis::DisOutput;
@@ -62,6 +63,19 @@ impl<M: CliModel> ModelFlight<M> {
     /// [`CliError::Usage`] for a frame rate the run refuses,
     /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
     pub fn new(run: &RunConfig, start: Start<M>) -> Result<Self, CliError> {
+        Self::scripted(run, start, Script::default())
+    }
+
+    /// [`Self::new`] flying `script`: its rules for each frame come first,
+    /// in file order, and it starts over on a reset.
+    ///
+    /// # Errors
+    /// As [`Self::new`].
+    pub fn scripted(
+        run: &RunConfig,
+        start: Start<M>,
+        script: Script<M::Action>,
+    ) -> Result<Self, CliError> {
         let fg = match run.fg {
             Some(addr) => Some(SharedOutput::new(
                 FlightGearOutput::connect(&addr.to_string(), run.origin)
@@ -80,20 +94,13 @@ impl<M: CliModel> ModelFlight<M> {
             origin: run.origin,
             fps: run.fps,
             frames: 0,
-            script: fdm_core::script::Script::default(),
+            script,
         };
         let mut flight =
             Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
-        if let Some(fg) = &fg {
-            flight.attach(fg.clone()).map_err(anyhow::Error::from)?;
-        }
-        if let Some(dis) = &dis {
-            flight.attach(dis.clone()).map_err(anyhow::Error::from)?;
-        }
-        Ok(Self {
-            run: flight,
-            links: Links { fg, dis },
-        })
+        let links = Links { fg, dis };
+        links.attach_to(&mut flight).map_err(anyhow::Error::from)?;
+        Ok(Self { run: flight, links })
     }
 
     /// Attaches an output to the run (e.g. `--acmi`).
@@ -118,18 +125,6 @@ impl<M: CliModel> ModelFlight<M> {
             FlightRow::<M>::of as fn(&fdm_run::Frame<'_, M>) -> FlightRow<M>,
         ))
     }
-
-    /// The simulation the aircraft flies in.
-    #[must_use]
-    pub fn simulation(&self) -> &Simulation {
-        self.run.simulation()
-    }
-
-    /// The aircraft's entity.
-    #[must_use]
-    pub fn entity(&self) -> Entity {
-        self.run.entity()
-    }
 }
 
 impl<M: CliModel> Flight for ModelFlight<M> {
@@ -138,7 +133,7 @@ impl<M: CliModel> Flight for ModelFlight<M> {
 
     const TITLE: &'static str = M::TITLE;
 
-    /// Queues `actions` as this frame's key presses and runs the frame; the
+    /// The script's rules for the next frame, then `keys`, and runs the frame; the
     /// run's outputs send it (a failed send is kept by the output, reported
     /// once by the run loop, never per frame).
     ///
@@ -146,8 +141,8 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     /// the last finite state, the outputs sent nothing from the non-finite
     /// one, and the run stops here, before any row, report or HUD is made
     /// from it.
-    fn step(&mut self, actions: &[M::Action]) -> anyhow::Result<()> {
-        match self.run.step_actions(actions) {
+    fn step(&mut self, keys: &[M::Action]) -> anyhow::Result<()> {
+        match self.run.step_frame(keys) {
             Ok(()) => {}
             Err(RunError::Diverged { model, dt, .. }) => {
                 return Err(anyhow!(
@@ -163,33 +158,31 @@ impl<M: CliModel> Flight for ModelFlight<M> {
         Ok(self.run.reset()?)
     }
 
+    /// The run's state, view and placement ([`Run::placement`]: NaN if the
+    /// aircraft were gone) as the CLI reports them.
     fn snapshot(&self) -> Snapshot<M::Details> {
         let start = &self.run.scenario().start;
-        let state = self.run.state().unwrap_or(start.state);
+        let state = self.state();
         let controls = self.run.controls().unwrap_or(start.controls);
-        let aircraft = &start.aircraft;
-        let view = M::view(aircraft, &controls, &state);
-        // Spawn computes both components, so they exist for the entity's lifetime.
-        let sim = self.run.simulation();
-        let geodetic = sim.geodetic(self.run.entity());
-        let attitude = sim.attitude(self.run.entity());
+        let view = self.run.view();
+        let fdm_run::Placement { geodetic, attitude } = self.run.placement();
         Snapshot {
             common: CommonState {
                 time_s: view.time_s,
                 position: M::native_position(&state),
                 velocity: M::native_velocity(&state),
-                geodetic: geodetic.map_or(NAN_GEODETIC, |g| GeodeticReport {
-                    lat_deg: g.lat_deg,
-                    lon_deg: g.lon_deg,
-                    alt_m: g.alt_m,
-                }),
-                attitude_deg: attitude.map_or(NAN_ATTITUDE, |a| AttitudeReport {
-                    roll: a.roll_deg,
-                    pitch: a.pitch_deg,
-                    heading: a.heading_deg,
-                }),
+                geodetic: GeodeticReport {
+                    lat_deg: geodetic.lat_deg,
+                    lon_deg: geodetic.lon_deg,
+                    alt_m: geodetic.alt_m,
+                },
+                attitude_deg: AttitudeReport {
+                    roll: attitude.roll_deg,
+                    pitch: attitude.pitch_deg,
+                    heading: attitude.heading_deg,
+                },
             },
-            details: M::details(aircraft, &controls, &state),
+            details: M::details(&start.aircraft, &controls, &state),
             status: self.run.status(),
             stalling: view.stalling,
             airspeed_mps: view.airspeed_mps,
@@ -240,7 +233,7 @@ pub fn run_model_with<M: CliModel>(
         ),
         None => None,
     };
-    let mut flight = ModelFlight::new(&run, start)?;
+    let mut flight = ModelFlight::scripted(&run, start, script)?;
     // Outputs of the run: it hands them every frame and reset, and
     // `Flight::finish` completes them.
     if let Some(csv) = csv {
@@ -258,21 +251,8 @@ pub fn run_model_with<M: CliModel>(
     if let Some(plot) = plot {
         flight.attach(plot.into_output(M::TITLE))?;
     }
-    fly(flight, &script, run)
+    fly(flight, run)
 }
-
-/// Never used in practice (the components exist from spawn on); reported as
-/// NaN, i.e. JSON `null`, rather than a panic.
-const NAN_GEODETIC: GeodeticReport = GeodeticReport {
-    lat_deg: f64::NAN,
-    lon_deg: f64::NAN,
-    alt_m: f64::NAN,
-};
-const NAN_ATTITUDE: AttitudeReport = AttitudeReport {
-    roll: f64::NAN,
-    pitch: f64::NAN,
-    heading: f64::NAN,
-};
 
 #[cfg(test)]
 mod tests {
@@ -577,19 +557,93 @@ mod tests {
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
         let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
         let mut progress = StderrProgress::with_enabled(20, false);
-        let report = run_headless(
-            &mut flight,
-            &fdm_core::script::Script::default(),
-            30,
-            20,
-            false,
-            &mut progress,
-        )
-        .unwrap();
+        let report = run_headless(&mut flight, 30, 20, false, &mut progress).unwrap();
         assert_eq!(report.frames, 20);
         let links = flight.links();
         assert!(links.fg_stats().unwrap().failed > 0);
         assert!(links.take_failure().is_none(), "taken by the loop");
+    }
+
+    /// The actions of every frame flown since the start or the last reset,
+    /// as the run hands them to its outputs.
+    #[derive(Default)]
+    struct Steps(Vec<Vec<PalmerAction>>);
+
+    impl Output<Palmer> for Steps {
+        fn frame(
+            &mut self,
+            frame: &fdm_run::Frame<'_, Palmer>,
+        ) -> Result<(), fdm_run::OutputError> {
+            match frame.event {
+                fdm_run::Event::Step => self.0.push(frame.actions.to_vec()),
+                fdm_run::Event::Start | fdm_run::Event::Reset => self.0.clear(),
+            }
+            Ok(())
+        }
+    }
+
+    /// A flight's script comes first in every frame, then the keys in the
+    /// order pressed, in the headless loop and the interactive session
+    /// alike, and starts over on a reset: the run library's
+    /// `Run::step_frame`, which the loops' `Flight::step` is (the loops
+    /// merged the script themselves before; `run::tests` checks them with a
+    /// stand-in flight).
+    #[test]
+    fn the_script_comes_first_and_starts_over_on_a_reset() {
+        use crate::keys::{AppCommand, Input};
+        use crate::run::Session;
+        use PalmerAction::*;
+        let script = |text| Script::parse(text).unwrap();
+        let steps_of = |steps: &SharedOutput<Steps>| steps.with(|s| s.unwrap().0.clone());
+
+        let mut flight = ModelFlight::scripted(
+            &run(10, None),
+            cruise(),
+            script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n"),
+        )
+        .unwrap();
+        let steps = SharedOutput::new(Steps::default());
+        flight.attach(steps.clone()).unwrap();
+        let mut progress = StderrProgress::with_enabled(4, false);
+        let report = run_headless(&mut flight, 10, 4, false, &mut progress).unwrap();
+        assert_eq!(
+            steps_of(&steps),
+            [
+                vec![],
+                vec![ThrottleUp],
+                vec![ThrottleUp, FlapsDown],
+                vec![]
+            ]
+        );
+        assert_eq!((report.frames, report.fps), (4, 10));
+
+        let mut flight =
+            ModelFlight::scripted(&run(10, None), cruise(), script("1-1 flaps-down\n")).unwrap();
+        let steps = SharedOutput::new(Steps::default());
+        flight.attach(steps.clone()).unwrap();
+        let mut s = Session::new();
+        // Frame 1: script first, then keys in the order pressed.
+        for input in [Input::Action(ThrottleUp), Input::Action(ThrottleUp)] {
+            s.handle(input, &mut flight).unwrap();
+        }
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps), [vec![FlapsDown, ThrottleUp, ThrottleUp]]);
+        // Paused: no steps, keys ignored.
+        s.handle(Input::App(AppCommand::Pause), &mut flight)
+            .unwrap();
+        s.handle(Input::Action(AlphaUp), &mut flight).unwrap();
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps).len(), 1);
+        s.handle(Input::App(AppCommand::Pause), &mut flight)
+            .unwrap();
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps)[1], []);
+        // Reset: frame 0, the script starts over.
+        s.handle(Input::App(AppCommand::Reset), &mut flight)
+            .unwrap();
+        s.advance(&mut flight).unwrap();
+        assert_eq!(steps_of(&steps), [vec![FlapsDown]]);
+        assert_eq!(s.total_frames(), 3);
     }
 
     /// `--csv` is an output of the run: row 0 when attached, one row per
@@ -628,9 +682,8 @@ mod tests {
         flight
             .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
             .unwrap();
-        let script = fdm_core::script::Script::default();
         let mut progress = StderrProgress::with_enabled(3, false);
-        run_headless(&mut flight, &script, 10, 3, false, &mut progress).unwrap();
+        run_headless(&mut flight, 10, 3, false, &mut progress).unwrap();
         flight.finish().unwrap();
         assert_eq!(frames_of(&buffer), ["0", "1", "2", "3"]);
 
@@ -640,19 +693,19 @@ mod tests {
             .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
             .unwrap();
         let mut session = Session::<PalmerAction>::new();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         session
             .handle(Input::App(AppCommand::Pause), &mut flight)
             .unwrap();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         session
             .handle(Input::App(AppCommand::Pause), &mut flight)
             .unwrap();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         session
             .handle(Input::App(AppCommand::Reset), &mut flight)
             .unwrap();
-        session.advance(&mut flight, &script).unwrap();
+        session.advance(&mut flight).unwrap();
         flight.finish().unwrap();
         assert_eq!(frames_of(&buffer), ["0", "1", "2", "0", "1"]);
     }
@@ -677,17 +730,9 @@ mod tests {
         // final flush does not.
         let attached = flight.attach_csv(fdm_run::csv::CsvWriter::new(Full, "out.csv"));
         let mut progress = StderrProgress::with_enabled(100_000, false);
-        let flown = attached.map_err(CliError::from).and_then(|()| {
-            run_headless(
-                &mut flight,
-                &fdm_core::script::Script::default(),
-                30,
-                100_000,
-                false,
-                &mut progress,
-            )
-            .map(drop)
-        });
+        let flown = attached
+            .map_err(CliError::from)
+            .and_then(|()| run_headless(&mut flight, 30, 100_000, false, &mut progress).map(drop));
         let err = flown
             .and_then(|()| flight.finish().map_err(CliError::from))
             .unwrap_err();

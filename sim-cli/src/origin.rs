@@ -1,140 +1,22 @@
 //! `--origin LAT,LON,ALT_M` or `--origin NAME`: where the model's earth-frame origin
-//! sits on the WGS-84 ellipsoid.
-//!
-//! Names ([`NAMED_ORIGINS`]) stand for runway thresholds, so that FlightGear shows the
-//! aircraft on a real runway. Both models fly north (the earth frame's x axis), so the
-//! runways chosen for an offline start point north. Where the coordinates come from is
-//! in docs/cli.md "Named origins".
-//!
-//! The value is the ECS's own [`GeodeticOrigin`], parsed with its `FromStr`, so the
-//! CLI and the geodesy that places the aircraft can never disagree about what an
-//! origin is or which ones are valid (latitude -90..90°, longitude -180..180°,
-//! altitude [`GeodeticOrigin::ALT_RANGE_M`], all finite).
+//! sits on the WGS-84 ellipsoid. The named origins (runway thresholds) and the
+//! parsing are the run library's ([`fdm_run::origin`], re-exported here); the
+//! CLI adds the default's text and the clap value parser.
 
 pub use fdm_ecs::geodesy::GeodeticOrigin;
+pub use fdm_run::origin::{named_origin, origin_names, NamedOrigin, NAMED_ORIGINS};
 
 /// The default origin: the Wright-Patterson AFB runway the thesis flew from (docs/cli.md),
 /// [`GeodeticOrigin::WRIGHT_PATTERSON`].
 pub const DEFAULT_ORIGIN: &str = "39.8264,-84.0483,251";
 
-/// A named origin: a runway threshold FlightGear has scenery for.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NamedOrigin {
-    /// The name `--origin` takes (lower case; matched case-insensitively).
-    pub name: &'static str,
-    /// What and where it is, for `--help` and the docs.
-    pub description: &'static str,
-    /// Latitude of the threshold, degrees.
-    pub lat_deg: f64,
-    /// Longitude of the threshold, degrees.
-    pub lon_deg: f64,
-    /// Height of the runway surface at the threshold above the WGS-84 ellipsoid as
-    /// FlightGear's scenery has it, m.
-    pub alt_m: f64,
-    /// Whether Debian's `flightgear-data-base` 2020.3.16 ships the scenery (so
-    /// FlightGear shows it without TerraSync, offline).
-    pub scenery_offline: bool,
-}
-
-/// The named origins `--origin` accepts (docs/cli.md "Named origins").
-pub const NAMED_ORIGINS: &[NamedOrigin] = &[
-    NamedOrigin {
-        name: "wpafb",
-        description: "Wright-Patterson AFB, the thesis's runway (the default)",
-        lat_deg: 39.8264,
-        lon_deg: -84.0483,
-        alt_m: 251.0,
-        scenery_offline: false,
-    },
-    NamedOrigin {
-        name: "phli",
-        description: "Lihue, Kauai (Hawaii), runway 35 threshold, runway heading 0.01 deg true",
-        lat_deg: 21.963792,
-        lon_deg: -159.335883,
-        alt_m: 26.94,
-        scenery_offline: true,
-    },
-    NamedOrigin {
-        name: "bikf",
-        description: "Keflavik (Iceland), runway 02 threshold, runway heading 0.02 deg true",
-        lat_deg: 63.96448319,
-        lon_deg: -22.60544552,
-        alt_m: 33.81,
-        scenery_offline: true,
-    },
-    NamedOrigin {
-        name: "ksfo",
-        description: "San Francisco, runway 28R threshold (runway heading 298 deg: the models \
-                      fly north, across it); scenery through TerraSync only",
-        lat_deg: 37.61351918,
-        lon_deg: -122.35716907,
-        alt_m: 3.96,
-        scenery_offline: false,
-    },
-];
-
-/// The named origin called `name` (case-insensitive).
-#[must_use]
-pub fn named_origin(name: &str) -> Option<&'static NamedOrigin> {
-    NAMED_ORIGINS
-        .iter()
-        .find(|o| o.name.eq_ignore_ascii_case(name.trim()))
-}
-
-/// The names of [`NAMED_ORIGINS`], comma-separated.
-#[must_use]
-pub fn origin_names() -> String {
-    NAMED_ORIGINS
-        .iter()
-        .map(|o| o.name)
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// Parses and validates `LAT,LON,ALT_M` (degrees, degrees, metres; whitespace
-/// around the numbers is allowed) or the name of a [`NamedOrigin`]. The error is
-/// the geodesy module's one-line message, without the option name, because clap
-/// adds that.
+/// `--origin`'s value parser: [`fdm_run::origin::parse_origin`], its error's
+/// one-line message without the option name (clap adds that).
 ///
 /// # Errors
-/// The text of the [`fdm_ecs::geodesy::GeodesyError`], and for text without a
-/// comma the list of names.
+/// The [`fdm_run::origin::OriginError`]'s message.
 pub fn parse_origin(text: &str) -> Result<GeodeticOrigin, String> {
-    if let Some(named) = named_origin(text) {
-        return GeodeticOrigin::new(named.lat_deg, named.lon_deg, named.alt_m)
-            .map_err(|e| message(&e));
-    }
-    text.parse::<GeodeticOrigin>().map_err(|e| {
-        if text.contains(',') {
-            message(&e)
-        } else {
-            format!("{}; or a named origin: {}", message(&e), origin_names())
-        }
-    })
-}
-
-/// The geodesy module's message, with the value given in the short number
-/// form ([`crate::input::show_number`]: `1e300`, not 301 digits).
-fn message(e: &fdm_ecs::geodesy::GeodesyError) -> String {
-    use crate::input::show_number;
-    use fdm_ecs::geodesy::GeodesyError;
-    match e {
-        GeodesyError::LatitudeOutOfRange { lat_deg } => format!(
-            "latitude must be within [-90, 90] degrees, got {}",
-            show_number(*lat_deg)
-        ),
-        GeodesyError::LongitudeOutOfRange { lon_deg } => format!(
-            "longitude must be within [-180, 180] degrees, got {}",
-            show_number(*lon_deg)
-        ),
-        GeodesyError::AltitudeOutOfRange { alt_m } => format!(
-            "altitude must be within [{}, {}] metres, got {}",
-            GeodeticOrigin::ALT_RANGE_M.start(),
-            GeodeticOrigin::ALT_RANGE_M.end(),
-            show_number(*alt_m)
-        ),
-        other => other.to_string(),
-    }
+    fdm_run::origin::parse_origin(text).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
@@ -142,82 +24,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn named_origins_parse_to_their_coordinates() {
-        for named in NAMED_ORIGINS {
-            for text in [
-                named.name.to_owned(),
-                named.name.to_uppercase(),
-                format!(" {} ", named.name),
-            ] {
-                let g = parse_origin(&text).unwrap().geodetic();
-                assert_eq!(
-                    (g.lat_deg, g.lon_deg, g.alt_m),
-                    (named.lat_deg, named.lon_deg, named.alt_m)
-                );
-            }
-        }
-        assert_eq!(parse_origin("wpafb"), parse_origin(DEFAULT_ORIGIN));
-        let err = parse_origin("kord").unwrap_err();
-        assert!(
-            err.ends_with("or a named origin: wpafb, phli, bikf, ksfo"),
-            "{err}"
-        );
-        assert!(!parse_origin("1,2").unwrap_err().contains("named"));
-    }
-
-    #[test]
     fn default_string_matches_default_value() {
         assert_eq!(parse_origin(DEFAULT_ORIGIN), Ok(GeodeticOrigin::default()));
+        assert_eq!(parse_origin("wpafb"), parse_origin(DEFAULT_ORIGIN));
         assert_eq!(
             GeodeticOrigin::default().geodetic(),
             GeodeticOrigin::WRIGHT_PATTERSON
         );
-    }
-
-    #[test]
-    fn display_round_trips() {
-        let o = parse_origin("-33.94611111111111, 151.1772222222222 ,6.1").unwrap();
-        assert_eq!(parse_origin(&o.geodetic().to_string()), Ok(o));
-    }
-
-    #[test]
-    fn accepts_extremes() {
-        let g = parse_origin(" -90 , 180 ,0").unwrap().geodetic();
-        assert_eq!((g.lat_deg, g.lon_deg, g.alt_m), (-90.0, 180.0, 0.0));
-    }
-
-    #[test]
-    fn rejects_bad_input_with_one_line() {
-        for (bad, needle) in [
-            ("", "LAT,LON,ALT_M"),
-            ("1,2", "found 2 field"),
-            ("1,2,3,4", "found 4 field"),
-            ("a,2,3", "latitude is not a number"),
-            ("1,,3", "longitude is not a number"),
-            ("NaN,0,0", "latitude must be finite"),
-            ("0,inf,0", "longitude must be finite"),
-            ("90.5,0,0", "latitude must be within"),
-            ("0,-180.1,0", "longitude must be within"),
-            ("0,0,1e9", "altitude must be within"),
-            ("1,2,3\nx", "altitude is not a number"),
-        ] {
-            let err = parse_origin(bad).expect_err(bad);
-            assert!(!err.contains('\n'), "{err}");
-            assert!(err.contains(needle), "{bad:?}: {err}");
-        }
-    }
-
-    /// Huge values are echoed in the short number form, not hundreds of digits.
-    #[test]
-    fn out_of_range_values_are_shown_short() {
-        for (bad, got) in [
-            ("1e300,0,0", "got 1e300"),
-            ("0,-1e300,0", "got -1e300"),
-            ("0,0,1e308", "got 1e308"),
-            ("90.5,0,0", "got 90.5"),
-        ] {
-            let err = parse_origin(bad).expect_err(bad);
-            assert!(err.ends_with(got) && err.len() < 80, "{bad:?}: {err}");
-        }
     }
 }

@@ -88,13 +88,12 @@ mod tests {
     fn headless<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
         let run = run_config(fps);
         let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
-        let mut flight = ModelFlight::new(&run, start).unwrap();
+        let script = Script::parse(script).unwrap();
+        let mut flight = ModelFlight::scripted(&run, start, script).unwrap();
         let recorder = fdm_run::SharedOutput::new(writer);
         flight.attach(recorder.clone()).unwrap();
-        let script = Script::parse(script).unwrap();
         let csv = attach_csv(&mut flight);
-        let report =
-            run_headless(&mut flight, &script, fps, frames, false, &mut quiet(frames)).unwrap();
+        let report = run_headless(&mut flight, fps, frames, false, &mut quiet(frames)).unwrap();
         flight.finish().unwrap();
         Outcome {
             json: report.to_json().unwrap(),
@@ -111,10 +110,10 @@ mod tests {
     fn interactive<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
         let run = run_config(fps);
         let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
-        let mut flight = ModelFlight::new(&run, start).unwrap();
+        let script = Script::parse(script).unwrap();
+        let mut flight = ModelFlight::scripted(&run, start, script).unwrap();
         let recorder = fdm_run::SharedOutput::new(writer);
         flight.attach(recorder.clone()).unwrap();
-        let script = Script::parse(script).unwrap();
         let csv = attach_csv(&mut flight);
         let mut session = Session::new();
         let actions = <M::Action as ScriptAction>::ALL;
@@ -143,7 +142,7 @@ mod tests {
                 let flow = session.handle(input, &mut flight).unwrap();
                 assert_eq!(flow, Flow::Continue);
             }
-            session.advance(&mut flight, &script).unwrap();
+            session.advance(&mut flight).unwrap();
         }
         assert!(resets > 0, "the key sequence should reset at least once");
         flight.finish().unwrap();

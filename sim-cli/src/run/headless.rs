@@ -4,7 +4,6 @@
 use std::time::Instant;
 
 use anyhow::Context as _;
-use fdm_core::script::{Script, ScriptCursor};
 
 use super::{link_warning, Flight};
 use crate::error::CliError;
@@ -12,28 +11,8 @@ use crate::pacer::FramePacer;
 use crate::progress::StderrProgress;
 use crate::report::{RealtimeReport, Report};
 
-/// Steps frame `frame` (1-based): the script's actions for that frame in file order
-/// (through `cursor`, a sweep over the rules: linear in frames plus rules),
-/// then `keys`, then one model step (which hands the frame to the run's
-/// outputs: `--csv`, `--fg`, ...).
-pub(super) fn step_frame<F: Flight>(
-    flight: &mut F,
-    script: &Script<F::Action>,
-    cursor: &mut ScriptCursor,
-    frame: u64,
-    keys: &[F::Action],
-    buffer: &mut Vec<F::Action>,
-) -> Result<(), CliError> {
-    buffer.clear();
-    buffer.extend(cursor.actions(script, frame));
-    buffer.extend_from_slice(keys);
-    flight
-        .step(buffer)
-        .with_context(|| format!("frame {frame}"))?;
-    Ok(())
-}
-
-/// Runs `frames` frames and returns the final report: as fast as possible, or
+/// Runs `frames` frames (each the flight's script's rules for the frame,
+/// [`Flight::step`]) and returns the final report: as fast as possible, or
 /// with `realtime` one frame per 1/fps of wall-clock time like the interactive
 /// loop (so FlightGear, reading at the frame rate, sees every frame; frames
 /// that miss their deadline are counted as overruns in the report). The
@@ -43,15 +22,12 @@ pub(super) fn step_frame<F: Flight>(
 /// The first failing step or output ([`CliError::Runtime`]).
 pub fn run_headless<F: Flight>(
     flight: &mut F,
-    script: &Script<F::Action>,
     fps: u32,
     frames: u64,
     realtime: bool,
     progress: &mut StderrProgress,
 ) -> Result<Report<F::Details>, CliError> {
     let mut pacer = realtime.then(|| FramePacer::new(FramePacer::period_for(fps), Instant::now()));
-    let mut buffer = Vec::new();
-    let mut cursor = ScriptCursor::new();
     let mut flown = 0;
     let links = flight.links();
     for frame in 1..=frames {
@@ -60,7 +36,7 @@ pub fn run_headless<F: Flight>(
         if crate::signals::stop_requested().is_some() {
             break;
         }
-        step_frame(flight, script, &mut cursor, frame, &[], &mut buffer)?;
+        flight.step(&[]).with_context(|| format!("frame {frame}"))?;
         if let Some(message) = links.take_failure() {
             progress.message(&link_warning(&message));
         }

@@ -7,10 +7,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use crossterm::event::{self, Event};
-use fdm_core::script::{Script, ScriptCursor};
 use fdm_run::LinkStats;
 
-use super::headless::step_frame;
 use super::Flight;
 use crate::error::CliError;
 use crate::hud::{render_hud, HudData, HudWriter, LoopStatus};
@@ -35,8 +33,6 @@ pub struct Session<A> {
     total_frames: u64,
     paused: bool,
     pending: Vec<A>,
-    buffer: Vec<A>,
-    cursor: ScriptCursor,
 }
 
 impl<A> Default for Session<A> {
@@ -46,8 +42,6 @@ impl<A> Default for Session<A> {
             total_frames: 0,
             paused: false,
             pending: Vec::new(),
-            buffer: Vec::new(),
-            cursor: ScriptCursor::new(),
         }
     }
 }
@@ -96,7 +90,6 @@ impl<A: KeyAction> Session<A> {
                 flight.reset().context("reset")?;
                 self.frame = 0;
                 self.pending.clear();
-                self.cursor.reset();
             }
             Input::Action(action) => {
                 if !self.paused {
@@ -107,30 +100,20 @@ impl<A: KeyAction> Session<A> {
         Ok(Flow::Continue)
     }
 
-    /// Steps one frame with the queued keys, unless paused.
+    /// Steps one frame with the queued keys (after the flight's script's
+    /// rules for the frame, [`Flight::step`]), unless paused.
     ///
     /// # Errors
     /// As [`run_headless`](super::run_headless).
-    pub fn advance<F: Flight<Action = A>>(
-        &mut self,
-        flight: &mut F,
-        script: &Script<A>,
-    ) -> Result<(), CliError> {
+    pub fn advance<F: Flight<Action = A>>(&mut self, flight: &mut F) -> Result<(), CliError> {
         if self.paused {
             return Ok(());
         }
         self.frame += 1;
         self.total_frames += 1;
-        let result = step_frame(
-            flight,
-            script,
-            &mut self.cursor,
-            self.frame,
-            &self.pending,
-            &mut self.buffer,
-        );
+        let result = flight.step(&self.pending);
         self.pending.clear();
-        result
+        Ok(result.with_context(|| format!("frame {}", self.frame))?)
     }
 }
 
@@ -155,7 +138,6 @@ pub struct InteractiveSummary {
 /// Terminal I/O failures and the first failing step or output.
 pub fn run_interactive<F: Flight>(
     flight: &mut F,
-    script: &Script<F::Action>,
     fps: u32,
     fg: Option<SocketAddrV4>,
 ) -> Result<InteractiveSummary, CliError> {
@@ -193,7 +175,7 @@ pub fn run_interactive<F: Flight>(
                 _ => {}
             }
         }
-        session.advance(flight, script)?;
+        session.advance(flight)?;
         if let Some(message) = links.take_failure() {
             link_failure.get_or_insert(message);
         }

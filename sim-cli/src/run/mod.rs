@@ -3,16 +3,14 @@
 //! [`crate::flight::ModelFlight`] implements [`Flight`] for any
 //! [`CliModel`](crate::models::CliModel) (one aircraft entity in an `fdm_ecs::Simulation`);
 //! [`crate::flight::run_model`] builds it from the validated configuration
-//! and hands it to [`fly`]. Everything here (script replay, CSV, JSON report, progress bar,
-//! terminal, keys, pacing, HUD) is model-agnostic and tested with a fake model.
+//! and hands it to [`fly`]. The flight flies its script (the run library's
+//! `Run::step_frame`: the script's rules for the frame, then the keys).
+//! Everything here (JSON report, progress bar, terminal, keys, pacing, HUD)
+//! is model-agnostic and tested with a fake model.
 
 use std::io::{self, Write};
 
 use anyhow::Context as _;
-use fdm_core::script::Script;
-use fdm_run::dis::{DisOutput, DisReport};
-use fdm_run::flightgear::FlightGearOutput;
-use fdm_run::{LinkStats, SharedOutput};
 
 use crate::config::{Mode, RunConfig};
 use crate::error::CliError;
@@ -37,17 +35,19 @@ pub trait Flight {
     /// The model's title for the HUD.
     const TITLE: &'static str;
 
-    /// Advances one frame of fixed dt: apply `actions` in order as key presses
-    /// (for Bourg after returning the rudder, ailerons and elevators to neutral),
-    /// step the model, and hand the frame to the run's outputs (the FlightGear
+    /// Advances one frame of fixed dt: apply the flight's script's rules for
+    /// the frame (in file order; frames count from the start or the last
+    /// reset), then `keys` in order as key presses (for Bourg after returning
+    /// the rudder, ailerons and elevators to neutral), step the model, and hand the frame to the run's outputs (the FlightGear
     /// link, DIS, ...). A failed send must not be an error: the output counts
     /// it ([`Self::links`]).
     ///
     /// # Errors
     /// Anything that makes continuing pointless; the run stops with exit status 1.
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()>;
+    fn step(&mut self, keys: &[Self::Action]) -> anyhow::Result<()>;
 
-    /// Puts the model back to its initial state and controls (interactive R key).
+    /// Puts the model back to its initial state and controls, the script back
+    /// to its first frame (interactive R key).
     ///
     /// # Errors
     /// As [`Self::step`].
@@ -73,48 +73,10 @@ pub trait Flight {
     }
 }
 
-/// The network outputs of a flight, as the loops read them: handles to the
-/// [`fdm_run::Output`]s attached to its run (`--fg`: the FlightGear link,
-/// `--dis`: DIS). The counters and failures come from the outputs
-/// themselves; cloning shares them.
-#[derive(Debug, Clone, Default)]
-pub struct Links {
-    /// `--fg`: the FlightGear native-FDM link.
-    pub fg: Option<SharedOutput<FlightGearOutput>>,
-    /// `--dis`: the DIS output.
-    pub dis: Option<SharedOutput<DisOutput>>,
-}
-
-impl Links {
-    /// The FlightGear link's datagram counters, or `None` without `--fg`.
-    #[must_use]
-    pub fn fg_stats(&self) -> Option<LinkStats> {
-        self.fg.as_ref()?.with(|o| o.map(|o| o.stats()))
-    }
-
-    /// The DIS output's counts, or `None` without `--dis`.
-    #[must_use]
-    pub fn dis_report(&self) -> Option<DisReport> {
-        self.dis.as_ref()?.with(|o| o.map(|o| o.report()))
-    }
-
-    /// A one-line description of the first failed send of an output (the
-    /// FlightGear link's first, then DIS's), each returned once: later
-    /// failures are only counted. The loops print it on stderr at most once
-    /// per output and run, never per frame; a failing link is never fatal.
-    #[must_use]
-    pub fn take_failure(&self) -> Option<String> {
-        let fg = self
-            .fg
-            .as_ref()
-            .and_then(|fg| fg.with(|o| o.and_then(FlightGearOutput::take_failure)));
-        fg.or_else(|| {
-            self.dis
-                .as_ref()
-                .and_then(|d| d.with(|o| o.and_then(DisOutput::take_failure)))
-        })
-    }
-}
+/// The network outputs of a flight, as the loops read them: the run
+/// library's handles to the outputs attached to its run (`--fg`: the
+/// FlightGear link, `--dis`: DIS), their counters and first failures.
+pub use fdm_run::links::Links;
 
 /// The stderr line for a link failure (see [`Links::take_failure`]).
 pub(crate) fn link_warning(message: &str) -> String {
@@ -136,11 +98,7 @@ fn print_stdout(text: &str) -> Result<(), CliError> {
 ///
 /// # Errors
 /// Whatever the loop or the output reports.
-pub fn fly<F: Flight>(
-    mut flight: F,
-    script: &Script<F::Action>,
-    run: RunConfig,
-) -> Result<(), CliError> {
+pub fn fly<F: Flight>(mut flight: F, run: RunConfig) -> Result<(), CliError> {
     let RunConfig {
         fps,
         mode,
@@ -159,7 +117,7 @@ pub fn fly<F: Flight>(
             realtime,
         } => {
             let mut progress = StderrProgress::new(frames);
-            let report = run_headless(&mut flight, script, fps, frames, realtime, &mut progress);
+            let report = run_headless(&mut flight, fps, frames, realtime, &mut progress);
             // The outputs are finished (the CSV rows written so far flushed,
             // the recording ended) even when the run stopped early (e.g. the
             // model diverged on the next frame).
@@ -179,7 +137,7 @@ pub fn fly<F: Flight>(
             print_stdout(&text)
         }
         Mode::Interactive => {
-            let summary = run_interactive(&mut flight, script, fps, fg);
+            let summary = run_interactive(&mut flight, fps, fg);
             let finished = flight.finish();
             let summary = summary?;
             finished?;
@@ -208,8 +166,8 @@ impl<F: Flight> Flight for &mut F {
 
     const TITLE: &'static str = F::TITLE;
 
-    fn step(&mut self, actions: &[Self::Action]) -> anyhow::Result<()> {
-        (**self).step(actions)
+    fn step(&mut self, keys: &[Self::Action]) -> anyhow::Result<()> {
+        (**self).step(keys)
     }
 
     fn reset(&mut self) -> anyhow::Result<()> {
@@ -236,10 +194,15 @@ mod tests {
     use crate::models::palmer::PalmerDetails;
     use crate::snapshot::samples;
     use fdm_core::palmer::PalmerAction;
+    use fdm_core::script::Script;
 
-    /// A stand-in model: records the actions of every step; position x counts steps.
+    /// A stand-in model: records the actions of every step (its script's
+    /// rules for the frame since the last reset, then the keys, as
+    /// [`Flight::step`] has them; `flight::tests::the_script_comes_first_and_starts_over_on_a_reset`
+    /// checks the real flight); position x counts steps.
     #[derive(Default)]
     struct Fake {
+        script: Script<PalmerAction>,
         steps: Vec<Vec<PalmerAction>>,
         resets: u32,
         fail_at: Option<usize>,
@@ -251,11 +214,14 @@ mod tests {
 
         const TITLE: &'static str = "Fake";
 
-        fn step(&mut self, actions: &[PalmerAction]) -> anyhow::Result<()> {
-            if self.fail_at == Some(self.steps.len() + 1) {
+        fn step(&mut self, keys: &[PalmerAction]) -> anyhow::Result<()> {
+            let frame = self.steps.len() + 1;
+            if self.fail_at == Some(frame) {
                 anyhow::bail!("model diverged");
             }
-            self.steps.push(actions.to_vec());
+            let mut actions: Vec<_> = self.script.actions_at(frame as u64).collect();
+            actions.extend_from_slice(keys);
+            self.steps.push(actions);
             Ok(())
         }
 
@@ -281,10 +247,12 @@ mod tests {
     #[test]
     fn headless_applies_script_rules_on_their_frames() {
         use PalmerAction::*;
-        let mut flight = Fake::default();
-        let script = script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n");
+        let mut flight = Fake {
+            script: script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n"),
+            ..Fake::default()
+        };
         let mut progress = StderrProgress::with_enabled(4, false);
-        let report = run_headless(&mut flight, &script, 10, 4, false, &mut progress).unwrap();
+        let report = run_headless(&mut flight, 10, 4, false, &mut progress).unwrap();
         assert_eq!(
             flight.steps,
             [
@@ -303,8 +271,7 @@ mod tests {
     fn headless_zero_frames_reports_the_initial_state() {
         let mut flight = Fake::default();
         let mut progress = StderrProgress::with_enabled(0, false);
-        let report =
-            run_headless(&mut flight, &Script::default(), 30, 0, false, &mut progress).unwrap();
+        let report = run_headless(&mut flight, 30, 0, false, &mut progress).unwrap();
         assert_eq!((report.frames, report.common.time_s), (0, 0.0));
         assert!(flight.steps.is_empty());
     }
@@ -316,8 +283,7 @@ mod tests {
             ..Fake::default()
         };
         let mut progress = StderrProgress::with_enabled(5, false);
-        let err =
-            run_headless(&mut flight, &Script::default(), 10, 5, false, &mut progress).unwrap_err();
+        let err = run_headless(&mut flight, 10, 5, false, &mut progress).unwrap_err();
         assert_eq!(err.exit_code(), 1);
         assert_eq!(err.one_line(), "frame 3: model diverged");
     }
@@ -325,8 +291,10 @@ mod tests {
     #[test]
     fn session_keys_pause_reset_quit() {
         use PalmerAction::*;
-        let mut flight = Fake::default();
-        let script = script("1-1 flaps-down\n");
+        let mut flight = Fake {
+            script: script("1-1 flaps-down\n"),
+            ..Fake::default()
+        };
         let mut s = Session::new();
         fn handle(s: &mut Session<PalmerAction>, f: &mut Fake, input: Input<PalmerAction>) -> Flow {
             s.handle(input, f).unwrap()
@@ -335,22 +303,22 @@ mod tests {
         // Frame 1: script first, then keys in the order pressed.
         handle(&mut s, &mut flight, Input::Action(ThrottleUp));
         handle(&mut s, &mut flight, Input::Action(ThrottleUp));
-        s.advance(&mut flight, &script).unwrap();
+        s.advance(&mut flight).unwrap();
         assert_eq!(flight.steps, [vec![FlapsDown, ThrottleUp, ThrottleUp]]);
 
         // Paused: no steps, keys ignored.
         handle(&mut s, &mut flight, Input::App(AppCommand::Pause));
         handle(&mut s, &mut flight, Input::Action(AlphaUp));
-        s.advance(&mut flight, &script).unwrap();
+        s.advance(&mut flight).unwrap();
         assert_eq!((s.frame(), flight.steps.len(), s.paused()), (1, 1, true));
         handle(&mut s, &mut flight, Input::App(AppCommand::Pause));
-        s.advance(&mut flight, &script).unwrap();
+        s.advance(&mut flight).unwrap();
         assert_eq!(flight.steps[1], []);
 
         // Reset: model reset, frame 0, the script starts over.
         handle(&mut s, &mut flight, Input::App(AppCommand::Reset));
         assert_eq!((s.frame(), flight.resets), (0, 1));
-        s.advance(&mut flight, &script).unwrap();
+        s.advance(&mut flight).unwrap();
         assert_eq!(flight.steps, [vec![FlapsDown]]);
         assert_eq!(s.total_frames(), 3);
 
