@@ -289,6 +289,8 @@ pub struct FleetRun<M: FleetModel> {
     pool: rayon::ThreadPool,
     scenario: FleetScenario,
     threads: usize,
+    /// Aircraft in the fleet (read by the DIS output only).
+    #[cfg_attr(not(feature = "dis"), allow(dead_code))]
     n: usize,
     origin: GeodeticOrigin,
     flown: u64,
