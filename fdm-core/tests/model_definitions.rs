@@ -163,3 +163,133 @@ fn advance_keeps_a_diverged_aircraft_where_it_was_and_steps_the_others() {
     assert_eq!(status, FlightStatus::Diverged);
     assert_eq!(kept, state);
 }
+
+/// Bourg's `Model::view`, from its documentation: feet become metres
+/// (`METRES_PER_FOOT` after widening to `f64`); the body velocity (x forward,
+/// y left, z up) becomes forward, right, down; alpha is `atan2(w, u)` and
+/// sideslip `asin(v / |v|)` of it (0 at rest); flaps 1 with the landing flaps
+/// down; the engine runs while thrust is above 0; rpm 0. Exact: the same
+/// widening and operations as documented (the maths are fdm-core's own
+/// `atan2`/`asin`, which the page names as the model's).
+#[test]
+fn bourgs_view_converts_and_derives_as_documented() {
+    use fdm_core::bourg::{Bourg, BourgControls, BourgState};
+    use fdm_core::math::{asin, atan2};
+    use fdm_core::units::METRES_PER_FOOT;
+
+    let aircraft = Bourg::default_aircraft();
+    let mut controls = BourgControls::initial();
+    controls.landing_flaps = true;
+    controls.thrust_lb = 0.0;
+    let mut state = BourgState::initial();
+    state.time_s = 3.25;
+    state.position_ft = Vector3::new(-4000.0, 12.5, 1500.0);
+    state.velocity_ftps = Vector3::new(80.0, -6.0, -3.5);
+    // Forward 80, left 6 (so right -6), up 3.5 (so down -3.5).
+    state.velocity_body_ftps = Vector3::new(80.0, 6.0, 3.5);
+    let v = Bourg::view(&aircraft, &controls, &state);
+
+    let ft = |x: f32| f64::from(x) * METRES_PER_FOOT;
+    assert_eq!(v.time_s, 3.25);
+    assert_eq!(
+        v.position_m,
+        Vector3::new(ft(-4000.0), ft(12.5), ft(1500.0))
+    );
+    assert_eq!(v.velocity_mps, Vector3::new(ft(80.0), ft(-6.0), ft(-3.5)));
+    assert_eq!(
+        v.velocity_body_mps,
+        Vector3::new(ft(80.0), ft(-6.0), ft(-3.5)),
+        "forward, right, down"
+    );
+    let speed_ftps = (80.0f32 * 80.0 + 6.0 * 6.0 + 3.5 * 3.5).sqrt();
+    assert_eq!(v.airspeed_mps, ft(state.speed_ftps()));
+    assert!((v.airspeed_mps - ft(speed_ftps)).abs() < 1e-5);
+    assert_eq!(v.alpha_deg, atan2(-3.5f64, 80.0).to_degrees());
+    let body_speed = (80.0f64 * 80.0 + 36.0 + 3.5 * 3.5).sqrt();
+    assert_eq!(v.beta_deg, asin(-6.0 / body_speed).to_degrees());
+    assert!(v.beta_deg < -4.0 && v.beta_deg > -4.5, "{}", v.beta_deg);
+    assert_eq!(
+        (v.flaps_norm, v.engine_running, v.engine_rpm),
+        (1.0, false, 0.0)
+    );
+    assert_eq!(Bourg::height_m(&state), ft(1500.0));
+    assert_eq!(Bourg::climb_rate_mps(&state), ft(-3.5));
+
+    // At rest in the body frame: no sideslip (not NaN); thrust runs the engine.
+    controls.thrust_lb = 0.5;
+    controls.landing_flaps = false;
+    state.velocity_body_ftps = Vector3::zeros();
+    let v = Bourg::view(&aircraft, &controls, &state);
+    assert_eq!(v.beta_deg.to_bits(), 0.0f64.to_bits());
+    assert_eq!((v.flaps_norm, v.engine_running), (0.0, true));
+}
+
+/// Bourg's `Model::fleet_member(i)`, as documented: thrust 500..2500 lb in
+/// 21 steps (`500 + (i mod 21)·100`), landing flaps down on every third,
+/// flying north at `60 + (i mod 7)·3` ft/s (the body velocity the same) at
+/// `2000 + (i mod 10)·100` ft, `(i mod 1000)·20` ft sideways; the rest as
+/// the initial controls and state. And the trait's `try_step` is the model's
+/// (same bits on success, the same refusal).
+#[test]
+fn bourgs_fleet_members_and_checked_step_are_as_documented() {
+    use fdm_core::bourg::{Bourg, BourgControls, BourgState};
+
+    for i in [
+        0usize, 1, 2, 3, 7, 20, 21, 22, 999, 1000, 1234, 20_999, 1_000_003,
+    ] {
+        let (controls, state) = Bourg::fleet_member(i);
+        let want_thrust = 500.0 + (i % 21) as f32 * 100.0;
+        assert_eq!(controls.thrust_lb, want_thrust, "member {i}");
+        assert_eq!(controls.landing_flaps, i % 3 == 0, "member {i}");
+        let rest = BourgControls {
+            thrust_lb: controls.thrust_lb,
+            landing_flaps: controls.landing_flaps,
+            ..BourgControls::initial()
+        };
+        assert_eq!(controls, rest, "member {i}");
+        let speed = 60.0 + (i % 7) as f32 * 3.0;
+        assert_eq!(
+            state.position_ft,
+            Vector3::new(
+                -5000.0,
+                (i % 1000) as f32 * 20.0,
+                2000.0 + (i % 10) as f32 * 100.0
+            ),
+            "member {i}"
+        );
+        assert_eq!(
+            state.velocity_ftps,
+            Vector3::new(speed, 0.0, 0.0),
+            "member {i}"
+        );
+        assert_eq!(state.velocity_body_ftps, state.velocity_ftps, "member {i}");
+        let initial = BourgState::initial();
+        assert_eq!(
+            (
+                state.orientation,
+                state.angular_velocity_radps,
+                state.time_s
+            ),
+            (
+                initial.orientation,
+                initial.angular_velocity_radps,
+                initial.time_s
+            ),
+            "member {i}"
+        );
+    }
+
+    let aircraft = Bourg::default_aircraft();
+    let (controls, mut state) = Bourg::fleet_member(5);
+    let dt = Bourg::time_step(30.0);
+    for _ in 0..60 {
+        let checked = <Bourg as Model>::try_step(&aircraft, &controls, &state, dt).unwrap();
+        let plain = <Bourg as Model>::step(&aircraft, &controls, &state, dt);
+        assert_eq!(format!("{checked:?}"), format!("{plain:?}"));
+        assert_ne!(checked, state);
+        state = checked;
+    }
+    let mut broken = state;
+    broken.velocity_ftps.x = f32::NAN;
+    assert!(<Bourg as Model>::try_step(&aircraft, &controls, &broken, dt).is_err());
+}
