@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use fdm_core::model::{FlightStatus, Model};
-use fdm_fleet::{FleetError, Precision};
+use fdm_fleet::{FleetError, FleetPiece, Precision};
 use numpy::ndarray::ArrayView1;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -200,21 +200,32 @@ pub trait AnyFleet: Send + Sync {
     fn task_actions(&self) -> usize;
     /// Observations per aircraft of the Gymnasium tasks.
     fn task_observations(&self) -> usize;
-    /// Validates `actions` (`n × task_actions` values, row by row) and sets
-    /// every aircraft's controls from them, as `afit_fdm.gym` did in NumPy.
+    /// Validates `actions` (`n × task_actions` values, row by row); then,
+    /// in one pass over runs of blocks (on rayon's pool when the fleet is
+    /// parallel), sets every aircraft's controls from them as
+    /// `afit_fdm.gym` did in NumPy, flies `frames` frames, counts `steps`
+    /// up by one and, with `observe`, refreshes the buffers and fills the
+    /// task's outputs ([`crate::task::observe`]): what setting the
+    /// controls, [`Self::step`] without the refresh and
+    /// [`Self::task_observe`] give one after the other, bit for bit (the
+    /// aircraft are independent), with each run of blocks read once while
+    /// it is in the cache.
     ///
     /// # Errors
     /// A NaN where it reaches a control, as `Fleet.set_controls` words it
-    /// (nothing changed).
-    fn task_act(&mut self, actions: ActionValues<'_>) -> Result<(), String>;
-    /// Flies `frames` frames without refreshing the buffers.
-    ///
-    /// # Errors
-    /// As [`Self::step`].
-    fn fly_frames(&mut self, frames: u64) -> Result<(), FleetError>;
+    /// (nothing changed); a precision the kernel does not have (checked
+    /// when the fleet was made).
+    fn task_step(
+        &mut self,
+        actions: ActionValues<'_>,
+        frames: u64,
+        steps: &mut [i64],
+        observe: Option<(&TaskArgs<'_>, TaskOut<'_>)>,
+    ) -> Result<(), String>;
     /// Refreshes the buffers and fills the task's outputs
-    /// ([`crate::task::observe`]) in one pass over the aircraft.
-    fn task_observe(&self, args: &TaskArgs<'_>, out: TaskOut<'_>);
+    /// ([`crate::task::observe`]) in one pass over the aircraft, with each
+    /// aircraft's step count from `steps`.
+    fn task_observe(&self, args: &TaskArgs<'_>, steps: &[i64], out: TaskOut<'_>);
 }
 
 /// An action array's values, row by row, float32 or float64.
@@ -243,11 +254,10 @@ impl ActionValues<'_> {
     /// Value `i`, widened exactly to float64 and clipped to -1..1 as
     /// `np.clip` clips (NaN stays NaN).
     pub fn clipped(&self, i: usize) -> f64 {
-        let v = match self {
-            Self::F32(v) => f64::from(v[i]),
-            Self::F64(v) => v[i],
-        };
-        crate::task::np_clip(v, -1.0, 1.0)
+        match self {
+            Self::F32(v) => clip(v[i]),
+            Self::F64(v) => clip(v[i]),
+        }
     }
 
     /// Whether any value is NaN (a branch-free scan the compiler vectorises).
@@ -259,6 +269,32 @@ impl ActionValues<'_> {
     }
 }
 
+/// An action value widened exactly to float64 and clipped to -1..1 as
+/// `np.clip` clips (NaN stays NaN).
+#[inline(always)]
+fn clip<T: Copy>(v: T) -> f64
+where
+    f64: From<T>,
+{
+    crate::task::np_clip(f64::from(v), -1.0, 1.0)
+}
+
+/// Sets the controls of `piece`'s aircraft from their rows of `values`
+/// (`k` per aircraft), clipped ([`BindModel::task_apply`]).
+#[inline(always)]
+fn act_piece<M: BindModel, T: Copy>(piece: &mut FleetPiece<'_, M>, values: &[T], k: usize)
+where
+    f64: From<T>,
+{
+    piece.update_controls(|i, c| {
+        let mut clipped = [0.0; 8];
+        for (a, v) in clipped.iter_mut().zip(&values[i * k..(i + 1) * k]) {
+            *a = clip(*v);
+        }
+        M::task_apply(c, &clipped[..k])
+    });
+}
+
 /// The task's per-aircraft inputs.
 #[derive(Debug)]
 pub struct TaskArgs<'a> {
@@ -268,8 +304,6 @@ pub struct TaskArgs<'a> {
     pub target_alt_ft: &'a [f64],
     /// Target headings, degrees.
     pub target_heading_deg: &'a [f64],
-    /// Steps since each aircraft's episode began.
-    pub steps: &'a [i64],
     /// Steps after which an episode is truncated.
     pub max_steps: i64,
 }
@@ -291,11 +325,13 @@ pub struct TaskOut<'a> {
     pub truncated: &'a mut [bool],
 }
 
-/// Most aircraft per piece of work of a task pass.
-const TASK_CHUNK: usize = 4096;
+/// Most aircraft per piece of work of a task pass (a piece's blocks and
+/// outputs stay within a core's level-2 cache between acting, flying and
+/// observing).
+const TASK_CHUNK: usize = 2048;
 /// Fewest aircraft per piece (below this a piece costs less than handing it
 /// to another thread).
-const TASK_CHUNK_MIN: usize = 256;
+const TASK_CHUNK_MIN: usize = 512;
 
 /// A fleet of model `M` and how it steps.
 pub struct Lanes<M: BindModel> {
@@ -455,7 +491,129 @@ where
     fn task_observations(&self) -> usize {
         crate::task::KINEMATIC_OBS + M::TASK_CONTROL_OBS
     }
-    fn task_act(&mut self, actions: ActionValues<'_>) -> Result<(), String> {
+    fn task_step(
+        &mut self,
+        actions: ActionValues<'_>,
+        frames: u64,
+        steps: &mut [i64],
+        observe: Option<(&TaskArgs<'_>, TaskOut<'_>)>,
+    ) -> Result<(), String> {
+        self.check_actions(actions)?;
+        M::Fleet::check_precision(self.precision).map_err(|e| e.to_string())?;
+        let n = self.len;
+        if n == 0 {
+            return Ok(());
+        }
+        let (k, dt, precision) = (M::TASK_ACTIONS, M::time_step(self.fps), self.precision);
+        let (chunk, n_obs, parallel) = (self.chunk(), self.task_observations(), self.parallel);
+        let mut fleet_pieces = self.fleet.pieces_mut(chunk / M::Fleet::lanes());
+        let (args, mut outs): (_, Vec<Option<Piece<'_>>>) = match observe {
+            Some((args, out)) => (
+                Some(args),
+                split(out, chunk, M::STATE_FIELDS.len(), n_obs)
+                    .into_iter()
+                    .map(Some)
+                    .collect(),
+            ),
+            None => (None, (0..fleet_pieces.len()).map(|_| None).collect()),
+        };
+        let work = |((piece, steps), out): (
+            (&mut FleetPiece<'_, M>, &mut [i64]),
+            &mut Option<Piece<'_>>,
+        )| {
+            match actions {
+                ActionValues::F32(v) => act_piece(piece, v, k),
+                ActionValues::F64(v) => act_piece(piece, v, k),
+            }
+            for _ in 0..frames {
+                // The precision was checked above: flying cannot fail.
+                let _ = piece.fly_with(dt, precision);
+            }
+            for s in steps.iter_mut() {
+                *s = s.saturating_add(1);
+            }
+            if let (Some(args), Some(out)) = (args, out) {
+                let first = piece.first();
+                piece.for_each(|j, state, status, c| {
+                    observe_one::<M>(args, first + j, j, steps[j], state, status, c, out);
+                });
+            }
+        };
+        if parallel && fleet_pieces.len() > 1 {
+            use rayon::prelude::*;
+            fleet_pieces
+                .par_iter_mut()
+                .zip(steps.par_chunks_mut(chunk))
+                .zip(outs.par_iter_mut())
+                .for_each(work);
+        } else {
+            fleet_pieces
+                .iter_mut()
+                .zip(steps.chunks_mut(chunk))
+                .zip(outs.iter_mut())
+                .for_each(work);
+        }
+        Ok(())
+    }
+    fn task_observe(&self, args: &TaskArgs<'_>, steps: &[i64], out: TaskOut<'_>) {
+        if self.len == 0 {
+            return;
+        }
+        let chunk = self.chunk();
+        let mut pieces = split(out, chunk, M::STATE_FIELDS.len(), self.task_observations());
+        let work = |piece: &mut Piece<'_>| {
+            for j in 0..piece.status.len() {
+                let i = piece.first + j;
+                let (Some(state), Some(status), Some(c)) = (
+                    self.fleet.state_at(i),
+                    self.fleet.status_at(i),
+                    self.fleet.controls(i),
+                ) else {
+                    continue;
+                };
+                observe_one::<M>(args, i, j, steps[i], &state, status, &c, piece);
+            }
+        };
+        if self.parallel && pieces.len() > 1 {
+            use rayon::prelude::*;
+            pieces.par_iter_mut().for_each(work);
+        } else {
+            pieces.iter_mut().for_each(work);
+        }
+    }
+}
+
+impl<M: BindModel> Lanes<M> {
+    /// Flies `frames` frames without refreshing the buffers.
+    fn fly_frames(&mut self, frames: u64) -> Result<(), FleetError> {
+        for _ in 0..frames {
+            self.fleet.fly(self.fps, self.precision, self.parallel)?;
+        }
+        Ok(())
+    }
+
+    /// Aircraft per piece of a task pass: about four pieces per thread,
+    /// within [`TASK_CHUNK_MIN`]..=[`TASK_CHUNK`], in whole blocks (the
+    /// results do not depend on the split).
+    fn chunk(&self) -> usize {
+        let lanes = M::Fleet::lanes();
+        let chunk = if self.parallel {
+            self.len
+                .div_ceil(4 * rayon::current_num_threads())
+                .clamp(TASK_CHUNK_MIN, TASK_CHUNK)
+        } else {
+            TASK_CHUNK
+        };
+        chunk.div_ceil(lanes) * lanes
+    }
+
+    /// The first failure `actions` would cause: a NaN that reaches a
+    /// control, as `Fleet.set_controls` checked the control arrays (control
+    /// by control in the tasks' order, the first bad aircraft).
+    fn check_actions(&self, actions: ActionValues<'_>) -> Result<(), String> {
+        if !actions.any_nan() {
+            return Ok(());
+        }
         let k = M::TASK_ACTIONS;
         let mut clipped = [0.0; 8];
         let row = |i: usize, clipped: &mut [f64; 8]| {
@@ -464,93 +622,53 @@ where
             }
             M::task_controls(&clipped[..k])
         };
-        if actions.any_nan() {
-            // As `Fleet.set_controls` checked the control arrays: control by
-            // control in the tasks' order, the first bad aircraft.
-            let (_, count) = row(0, &mut clipped);
-            for p in 0..count {
-                for i in 0..self.len {
-                    let (index, value) = row(i, &mut clipped).0[p];
-                    let (name, lo, hi) = M::CONTROL_FIELDS[index];
-                    if !value.is_finite() || !(lo..=hi).contains(&value) {
-                        return Err(format!(
-                            "{name}[{i}]: {value} is not a finite number in {lo}..{hi}"
-                        ));
-                    }
+        let (_, count) = row(0, &mut clipped);
+        for p in 0..count {
+            for i in 0..self.len {
+                let (index, value) = row(i, &mut clipped).0[p];
+                let (name, lo, hi) = M::CONTROL_FIELDS[index];
+                if !value.is_finite() || !(lo..=hi).contains(&value) {
+                    return Err(format!(
+                        "{name}[{i}]: {value} is not a finite number in {lo}..{hi}"
+                    ));
                 }
             }
         }
-        // Every value is now finite and in range (the scalings keep -1..1
-        // inside each control's range), so set_control cannot refuse it.
-        self.fleet.update_controls(self.parallel, |i, mut c| {
-            let mut clipped = [0.0; 8];
-            let (pairs, count) = row(i, &mut clipped);
-            for &(index, value) in &pairs[..count] {
-                c = M::set_control(c, index, value).unwrap_or(c);
-            }
-            c
-        });
         Ok(())
     }
-    fn fly_frames(&mut self, frames: u64) -> Result<(), FleetError> {
-        for _ in 0..frames {
-            self.fleet.fly(self.fps, self.precision, self.parallel)?;
-        }
-        Ok(())
-    }
-    fn task_observe(&self, args: &TaskArgs<'_>, out: TaskOut<'_>) {
-        let n = self.len;
-        if n == 0 {
-            return;
-        }
-        let (fields, n_obs) = (M::STATE_FIELDS.len(), self.task_observations());
-        // About four pieces per thread, within TASK_CHUNK_MIN..=TASK_CHUNK
-        // aircraft (the results do not depend on the split).
-        let chunk = if self.parallel {
-            n.div_ceil(4 * rayon::current_num_threads())
-                .clamp(TASK_CHUNK_MIN, TASK_CHUNK)
-        } else {
-            n
-        };
-        let chunks = n.div_ceil(chunk);
-        let mut column_parts: Vec<Vec<&mut [f64]>> =
-            (0..chunks).map(|_| Vec::with_capacity(fields)).collect();
-        for row in out.columns.chunks_mut(n) {
-            for (c, part) in row.chunks_mut(chunk).enumerate() {
-                column_parts[c].push(part);
-            }
-        }
-        let mut pieces: Vec<Piece<'_>> = column_parts
-            .into_iter()
-            .zip(out.status.chunks_mut(chunk))
-            .zip(out.obs.chunks_mut(chunk * n_obs))
-            .zip(out.reward.chunks_mut(chunk))
-            .zip(out.terminated.chunks_mut(chunk))
-            .zip(out.truncated.chunks_mut(chunk))
-            .enumerate()
-            .map(
-                |(first, (((((columns, status), obs), reward), terminated), truncated))| Piece {
-                    first: first * chunk,
-                    columns,
-                    status,
-                    obs,
-                    reward,
-                    terminated,
-                    truncated,
-                },
-            )
-            .collect();
-        if self.parallel && chunks > 1 {
-            use rayon::prelude::*;
-            pieces
-                .par_iter_mut()
-                .for_each(|piece| self.observe_piece(args, piece));
-        } else {
-            for piece in &mut pieces {
-                self.observe_piece(args, piece);
-            }
+}
+
+/// `out` cut into runs of `chunk` aircraft, in order.
+fn split<'a>(out: TaskOut<'a>, chunk: usize, fields: usize, n_obs: usize) -> Vec<Piece<'a>> {
+    let n = out.status.len();
+    let chunks = n.div_ceil(chunk);
+    let mut column_parts: Vec<Vec<&mut [f64]>> =
+        (0..chunks).map(|_| Vec::with_capacity(fields)).collect();
+    for row in out.columns.chunks_mut(n) {
+        for (c, part) in row.chunks_mut(chunk).enumerate() {
+            column_parts[c].push(part);
         }
     }
+    column_parts
+        .into_iter()
+        .zip(out.status.chunks_mut(chunk))
+        .zip(out.obs.chunks_mut(chunk * n_obs))
+        .zip(out.reward.chunks_mut(chunk))
+        .zip(out.terminated.chunks_mut(chunk))
+        .zip(out.truncated.chunks_mut(chunk))
+        .enumerate()
+        .map(
+            |(first, (((((columns, status), obs), reward), terminated), truncated))| Piece {
+                first: first * chunk,
+                columns,
+                status,
+                obs,
+                reward,
+                terminated,
+                truncated,
+            },
+        )
+        .collect()
 }
 
 /// A run of aircraft of a task pass and their parts of the buffers.
@@ -565,43 +683,49 @@ struct Piece<'a> {
     truncated: &'a mut [bool],
 }
 
-impl<M: BindModel> Lanes<M> {
-    /// [`AnyFleet::task_observe`] for one piece.
-    fn observe_piece(&self, args: &TaskArgs<'_>, piece: &mut Piece<'_>) {
-        let n_obs = crate::task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
-        let mut values = vec![0.0; M::STATE_FIELDS.len()];
-        let mut controls = vec![0.0; M::CONTROL_FIELDS.len()];
-        let mut observed = vec![0.0; M::TASK_CONTROL_OBS];
-        for j in 0..piece.status.len() {
-            let i = piece.first + j;
-            let (Some(state), Some(flight_status), Some(c)) = (
-                self.fleet.state_at(i),
-                self.fleet.status_at(i),
-                self.fleet.controls(i),
-            ) else {
-                continue;
-            };
-            M::state_values(&state, &mut values);
-            for (column, v) in piece.columns.iter_mut().zip(&values) {
-                column[j] = *v;
-            }
-            piece.status[j] = status_code(flight_status);
-            M::control_values(&c, &mut controls);
-            M::task_control_obs(&controls, &mut observed);
-            let (reward, ended) = crate::task::observe(
-                args.task,
-                &M::task_kinematics(&values),
-                args.target_alt_ft[i],
-                args.target_heading_deg[i],
-                &observed,
-                flight_status == FlightStatus::Airborne,
-                &mut piece.obs[j * n_obs..(j + 1) * n_obs],
-            );
-            piece.reward[j] = reward;
-            piece.terminated[j] = ended;
-            piece.truncated[j] = args.steps[i] >= args.max_steps && !ended;
-        }
+/// Aircraft `i` (`j` in `piece`), `steps` into its episode: its state
+/// columns and status code refreshed, its observation, reward and flags
+/// filled ([`crate::task::observe`]).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn observe_one<M: BindModel>(
+    args: &TaskArgs<'_>,
+    i: usize,
+    j: usize,
+    steps: i64,
+    state: &M::State,
+    flight_status: FlightStatus,
+    c: &M::Controls,
+    piece: &mut Piece<'_>,
+) {
+    const MAX_FIELDS: usize = 32;
+    const MAX_CONTROLS: usize = 8;
+    let n_obs = crate::task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
+    let mut values = [0.0; MAX_FIELDS];
+    let values = &mut values[..M::STATE_FIELDS.len()];
+    let mut controls = [0.0; MAX_CONTROLS];
+    let controls = &mut controls[..M::CONTROL_FIELDS.len()];
+    let mut observed = [0.0; MAX_CONTROLS];
+    let observed = &mut observed[..M::TASK_CONTROL_OBS];
+    M::state_values(state, values);
+    for (column, v) in piece.columns.iter_mut().zip(values.iter()) {
+        column[j] = *v;
     }
+    piece.status[j] = status_code(flight_status);
+    M::control_values(c, controls);
+    M::task_control_obs(controls, observed);
+    let (reward, ended) = crate::task::observe(
+        args.task,
+        &M::task_kinematics(values),
+        args.target_alt_ft[i],
+        args.target_heading_deg[i],
+        observed,
+        flight_status == FlightStatus::Airborne,
+        &mut piece.obs[j * n_obs..(j + 1) * n_obs],
+    );
+    piece.reward[j] = reward;
+    piece.terminated[j] = ended;
+    piece.truncated[j] = steps >= args.max_steps && !ended;
 }
 
 /// The start and control keyword arguments of `Fleet(...)` and

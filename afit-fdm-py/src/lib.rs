@@ -403,25 +403,19 @@ impl PyFlight {
     }
 }
 
-/// Fills a task's outputs for the fleet as it is: the one place that makes
-/// the task's arguments ([`fleet::TaskArgs`]), for `Fleet.task_step`
-/// (after its frames) and `Fleet.task_observe` (after resets).
-fn observe_task(
-    inner: &dyn AnyFleet,
+/// A task's arguments ([`fleet::TaskArgs`]), for `Fleet.task_step` and
+/// `Fleet.task_observe`.
+fn task_args<'a>(
     task: task::Task,
-    (target_alt_ft, target_heading_deg): (&[f64], &[f64]),
-    steps: &[i64],
+    (target_alt_ft, target_heading_deg): (&'a [f64], &'a [f64]),
     max_steps: i64,
-    out: fleet::TaskOut<'_>,
-) {
-    let args = fleet::TaskArgs {
+) -> fleet::TaskArgs<'a> {
+    fleet::TaskArgs {
         task,
         target_alt_ft,
         target_heading_deg,
-        steps,
         max_steps,
-    };
-    inner.task_observe(&args, out);
+    }
 }
 
 /// Many aircraft of one model, stepped by the SIMD fleet kernels.
@@ -638,23 +632,10 @@ impl PyFleet {
         let outs = outs.slices()?;
         let values = actions.values()?;
         let start = fleet::now_s();
-        py.detach(|| -> Result<(), String> {
-            inner.task_act(values)?;
-            inner.fly_frames(frames).map_err(|e| e.to_string())?;
-            for s in steps.iter_mut() {
-                *s = s.saturating_add(1);
-            }
-            if observe {
-                observe_task(
-                    &**inner,
-                    task,
-                    targets,
-                    steps,
-                    max_steps,
-                    outs.into_task_out(columns, status),
-                );
-            }
-            Ok(())
+        py.detach(|| {
+            let args = task_args(task, targets, max_steps);
+            let observe = observe.then(|| (&args, outs.into_task_out(columns, status)));
+            inner.task_step(values, frames, steps, observe)
         })
         .map_err(PyValueError::new_err)?;
         self.last_step = (start, fleet::now_s());
@@ -698,14 +679,8 @@ impl PyFleet {
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let outs = outs.slices()?;
         py.detach(|| {
-            observe_task(
-                &**inner,
-                task,
-                targets,
-                steps,
-                max_steps,
-                outs.into_task_out(columns, status),
-            );
+            let args = task_args(task, targets, max_steps);
+            inner.task_observe(&args, steps, outs.into_task_out(columns, status));
         });
         Ok(())
     }

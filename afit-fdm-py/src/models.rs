@@ -4,9 +4,9 @@
 //! crate is generic over [`BindModel`].
 
 use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap};
-use fdm_core::model::{FlightStatus, Model};
+use fdm_core::model::FlightStatus;
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
-use fdm_fleet::{Fleet, FleetError, Precision};
+use fdm_fleet::{Fleet, FleetError, FleetKernel, FleetPiece, Precision};
 
 use crate::task::{self, Kinematics, FT_PER_M};
 
@@ -15,7 +15,7 @@ use crate::task::{self, Kinematics, FT_PER_M};
 pub type ControlRange = (&'static str, f64, f64);
 
 /// A model as the Python binding exposes it.
-pub trait BindModel: fdm_run::csv::CsvModel {
+pub trait BindModel: fdm_run::csv::CsvModel + FleetKernel {
     /// The model's fleet kernel behind the one adapter the binding uses.
     type Fleet: FleetOps<Self>;
 
@@ -61,11 +61,18 @@ pub trait BindModel: fdm_run::csv::CsvModel {
     /// `(control index, value)`, in the order the tasks set them; the first
     /// `.1` entries are used.
     fn task_controls(actions: &[f64]) -> ([(usize, f64); 5], usize);
+
+    /// `controls` with the controls one aircraft's actions (clipped to
+    /// -1..1, NaN only where a threshold reads it) set: what setting each
+    /// of [`task_controls`](Self::task_controls) with
+    /// [`set_control`](Self::set_control) gives, without the checks those
+    /// values cannot fail.
+    fn task_apply(controls: Self::Controls, actions: &[f64]) -> Self::Controls;
 }
 
 /// The few fleet operations the binding uses, over `fdm-fleet`'s one
 /// generic [`Fleet`].
-pub trait FleetOps<M: Model>: Send + Sized {
+pub trait FleetOps<M: FleetKernel>: Send + Sized {
     /// An empty fleet of the model's default aircraft.
     ///
     /// # Errors
@@ -118,6 +125,10 @@ pub trait FleetOps<M: Model>: Send + Sized {
     /// # Errors
     /// When it does not.
     fn check_precision(precision: Precision) -> Result<(), FleetError>;
+    /// The fleet as runs of `blocks` whole blocks ([`Fleet::pieces_mut`]).
+    fn pieces_mut(&mut self, blocks: usize) -> Vec<FleetPiece<'_, M>>;
+    /// Aircraft per block.
+    fn lanes() -> usize;
     /// The instruction set the kernel dispatched to.
     fn instruction_set(&self) -> &'static str;
 }
@@ -193,12 +204,14 @@ impl BindModel for Palmer {
     const TASK_CONTROL_OBS: usize = 4;
 
     fn task_kinematics(v: &[f64]) -> Kinematics {
+        let speed = v[4].hypot(v[5]);
         Kinematics {
             alt_ft: v[3] * FT_PER_M,
             vz_fps: v[6] * FT_PER_M,
             vx: v[4],
             vy: v[5],
-            ground_mps: v[4].hypot(v[5]),
+            speed,
+            ground_mps: speed,
         }
     }
 
@@ -209,6 +222,23 @@ impl BindModel for Palmer {
     fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
         let [p0, p1, p2, p3] = task::palmer_controls(a);
         ([p0, p1, p2, p3, (0, 0.0)], 4)
+    }
+
+    #[inline]
+    fn task_apply(mut c: PalmerControls, a: &[f64]) -> PalmerControls {
+        let [(_, throttle), (_, alpha_deg), (_, bank_deg), (_, flaps)] = task::palmer_controls(a);
+        c.throttle = throttle;
+        c.alpha_deg = alpha_deg;
+        c.bank_deg = bank_deg;
+        // `palmer_controls` gives exactly 0, 20 or 40.
+        c.flaps = if flaps == 0.0 {
+            Flaps::Up
+        } else if flaps == 20.0 {
+            Flaps::Deg20
+        } else {
+            Flaps::Deg40
+        };
+        c
     }
 }
 
@@ -354,12 +384,14 @@ impl BindModel for Bourg {
     const TASK_CONTROL_OBS: usize = 5;
 
     fn task_kinematics(v: &[f64]) -> Kinematics {
+        let speed = v[4].hypot(v[5]);
         Kinematics {
             alt_ft: v[3],
             vz_fps: v[6],
             vx: v[4],
             vy: v[5],
-            ground_mps: v[4].hypot(v[5]) * 0.3048,
+            speed,
+            ground_mps: speed * 0.3048,
         }
     }
 
@@ -369,6 +401,28 @@ impl BindModel for Bourg {
 
     fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
         (task::bourg_controls(a), 5)
+    }
+
+    #[inline]
+    #[allow(clippy::cast_possible_truncation)] // as set_control: f32 is the model's type
+    fn task_apply(mut c: BourgControls, a: &[f64]) -> BourgControls {
+        let [(_, thrust), (_, elevator), (_, aileron), (_, rudder), (_, trim)] =
+            task::bourg_controls(a);
+        // `surface` gives exactly -1, 0 or +1 (never -0).
+        let flap = |v: f64| flap_from(v).unwrap_or(Flap::Neutral);
+        c.thrust_lb = thrust as f32;
+        c.elevators = flap(elevator);
+        c.port_aileron = flap(-aileron);
+        c.starboard_aileron = flap(aileron);
+        c.rudder_deg = if rudder == 1.0 {
+            -fdm_core::bourg::RUDDER_DEFLECTION_DEG
+        } else if rudder == -1.0 {
+            fdm_core::bourg::RUDDER_DEFLECTION_DEG
+        } else {
+            0.0
+        };
+        c.pitch_trim = trim as f32;
+        c
     }
 }
 
@@ -443,6 +497,12 @@ where
     }
     fn check_precision(precision: Precision) -> Result<(), FleetError> {
         Self::check_precision(precision)
+    }
+    fn pieces_mut(&mut self, blocks: usize) -> Vec<FleetPiece<'_, M>> {
+        Self::pieces_mut(self, blocks)
+    }
+    fn lanes() -> usize {
+        <M::Lanes as fdm_core::real::Real>::LANES
     }
     fn instruction_set(&self) -> &'static str {
         Self::instruction_set(self)

@@ -125,6 +125,8 @@ pub struct Kinematics {
     pub vx: f64,
     /// The model's west velocity (Palmer m/s, Bourg ft/s).
     pub vy: f64,
+    /// Horizontal speed in the velocity's own units, `vx.hypot(vy)`.
+    pub speed: f64,
     /// Ground speed, m/s.
     pub ground_mps: f64,
 }
@@ -151,7 +153,7 @@ pub fn observe(
     // The track's sine and cosine divide the velocity by the horizontal
     // speed in the velocity's own units (Bourg's ft/s, not the m/s of
     // `ground_mps`): a unit vector for both models.
-    let safe = if moving { k.vx.hypot(k.vy) } else { 1.0 };
+    let safe = if moving { k.speed } else { 1.0 };
     #[allow(clippy::cast_possible_truncation)] // float32 observations, as NumPy casts
     {
         let kinematic = [

@@ -486,6 +486,58 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     libm::sincos(x)
 }
 
+/// [`sin_cos`] of every lane, bit for bit. When every lane is in the range
+/// where fdlibm's `sincos` calls its kernels directly (`|x|` from about
+/// 2^-27·√2 to π/4 by the high word: the bank angles of the controls),
+/// those kernels (`__kernel_sin(x, 0, 0)` and `__kernel_cos(x, 0)`) are
+/// evaluated lane by lane with the same operations in the same order, which
+/// the compiler may put in vector registers (every operation is correctly
+/// rounded, none is fused); otherwise each lane goes through [`sin_cos`].
+#[inline(always)]
+#[must_use]
+pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
+    // fdlibm's coefficients (k_sin.c, k_cos.c), by their bits.
+    const S1: f64 = f64::from_bits(0xbfc5_5555_5555_5549);
+    const S2: f64 = f64::from_bits(0x3f81_1111_1110_f8a6);
+    const S3: f64 = f64::from_bits(0xbf2a_01a0_19c1_61d5);
+    const S4: f64 = f64::from_bits(0x3ec7_1de3_57b1_fe7d);
+    const S5: f64 = f64::from_bits(0xbe5a_e5e6_8a2b_9ceb);
+    const S6: f64 = f64::from_bits(0x3de5_d93a_5acf_d57c);
+    const C1: f64 = f64::from_bits(0x3fa5_5555_5555_554c);
+    const C2: f64 = f64::from_bits(0xbf56_c16c_16c1_5177);
+    const C3: f64 = f64::from_bits(0x3efa_01a0_19cb_1590);
+    const C4: f64 = f64::from_bits(0xbe92_7e4f_809c_52ad);
+    const C5: f64 = f64::from_bits(0x3e21_ee9e_bdb4_b1c4);
+    const C6: f64 = f64::from_bits(0xbda8_fae9_be88_38d4);
+    let kernels = x.iter().fold(true, |all, x| {
+        #[allow(clippy::cast_possible_truncation)] // the high word, as fdlibm reads it
+        let high = (x.to_bits() >> 32) as u32 & 0x7fff_ffff;
+        all & (0x3e46_a09e..=0x3fe9_21fb).contains(&high)
+    });
+    let mut sin = [0.0; N];
+    let mut cos = [0.0; N];
+    if kernels {
+        for ((s, c), &x) in sin.iter_mut().zip(&mut cos).zip(&x) {
+            // __kernel_sin(x, 0, 0)
+            let z = x * x;
+            let w = z * z;
+            let r = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6);
+            let v = z * x;
+            *s = x + v * (S1 + z * r);
+            // __kernel_cos(x, 0)
+            let r = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));
+            let hz = 0.5 * z;
+            let w = 1.0 - hz;
+            *c = w + (((1.0 - w) - hz) + (z * r - x * 0.0));
+        }
+    } else {
+        for ((s, c), &x) in sin.iter_mut().zip(&mut cos).zip(&x) {
+            (*s, *c) = sin_cos(x);
+        }
+    }
+    (sin, cos)
+}
+
 /// `x * x`, which is what `x.powi(2)` computes (exactly one rounding).
 #[inline(always)]
 #[must_use]
@@ -546,6 +598,68 @@ mod tests {
     /// infinities included) and on a dense sweep of the angles the models
     /// give it (±2π, bank angles in degrees converted). Exact comparison of
     /// the bits: any difference is a bug.
+    /// The lane form is [`sin_cos`] bit for bit: whole vectors of bank
+    /// angles (every `f64` bank in -20..=20 degrees of a dense sample, and
+    /// the kernels' range edges), and vectors with one lane outside the
+    /// kernels' range (zero, tiny, past π/4, large, infinite, NaN), which
+    /// take the scalar path.
+    #[test]
+    fn sin_cos_lanes_is_sin_cos() {
+        let check = |x: [f64; 8]| {
+            let (s, c) = sin_cos_lanes(x);
+            for l in 0..8 {
+                let (ws, wc) = sin_cos(x[l]);
+                assert_eq!(
+                    (s[l].to_bits(), c[l].to_bits()),
+                    (ws.to_bits(), wc.to_bits()),
+                    "sin_cos_lanes({:e}) [{:#x}]",
+                    x[l],
+                    x[l].to_bits()
+                );
+            }
+        };
+        let mut bits = test_bits(0x5eed_0b5a);
+        let mut next = || {
+            #[allow(clippy::cast_precision_loss)] // 53 random bits, exact
+            let unit = (bits() >> 11) as f64 / (1_u64 << 53) as f64;
+            let bank_deg = -20.0 + 40.0 * unit;
+            bank_deg * core::f64::consts::PI / 180.0
+        };
+        for _ in 0..250_000 {
+            check(core::array::from_fn(|_| next()));
+        }
+        let edges = [
+            f64::from_bits(0x3e46_a09e_0000_0000),
+            f64::from_bits(0x3e46_a09d_ffff_ffff),
+            f64::from_bits(0x3fe9_21fb_ffff_ffff),
+            f64::from_bits(0x3fe9_21fc_0000_0000),
+            core::f64::consts::FRAC_PI_4,
+            20.0 * core::f64::consts::PI / 180.0,
+        ];
+        for e in edges {
+            check([e, -e, e, -e, e, -e, e, -e]);
+        }
+        for odd in [
+            0.0,
+            -0.0,
+            1e-300,
+            f64::from_bits(1),
+            1.0,
+            -3.0,
+            1e6,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ] {
+            for lane in 0..8 {
+                let mut x: [f64; 8] = core::array::from_fn(|_| next());
+                x[lane] = odd;
+                check(x);
+            }
+        }
+    }
+
     #[test]
     fn sin_cos_is_sin_and_cos() {
         let check = |x: f64| {

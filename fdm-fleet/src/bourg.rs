@@ -12,7 +12,7 @@
 use fdm_core::bourg::{Bourg, BourgAircraft};
 use pulp::Arch;
 
-use crate::fleet::{Fleet, FleetKernel, KernelRun, Precision};
+use crate::fleet::{Fleet, FleetKernel, FleetPiece, KernelRun, Precision};
 pub use fdm_core::bourg::LANES;
 
 /// A fleet of Bourg aircraft sharing one [`BourgAircraft`], each with its own
@@ -42,6 +42,9 @@ pub type BourgFleet = Fleet<Bourg>;
 impl FleetKernel for Bourg {
     fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
         run.apply(fleet);
+    }
+    fn run_kernel_piece(piece: &mut FleetPiece<'_, Self>, run: KernelRun<Self>) {
+        run.apply_to_piece(piece);
     }
 }
 

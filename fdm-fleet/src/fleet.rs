@@ -668,6 +668,33 @@ impl<M: LaneModel> Fleet<M> {
             });
     }
 
+    /// The fleet as runs of `blocks` whole blocks each (the last may be
+    /// shorter; at least one block each), in order: for one pass that sets
+    /// controls, flies and reads back each run while it is in the cache,
+    /// the runs on different threads. Each aircraft is in exactly one piece;
+    /// what a piece does to its aircraft is what the fleet's own methods do
+    /// to them, bit for bit.
+    pub fn pieces_mut(&mut self, blocks: usize) -> Vec<FleetPiece<'_, M>> {
+        let (aircraft, shared, len, arch) = (&self.aircraft, &self.shared, self.len, self.arch);
+        let per = blocks.max(1);
+        let lanes = M::Lanes::LANES;
+        self.blocks
+            .chunks_mut(per)
+            .enumerate()
+            .map(|(k, blocks)| {
+                let first = k * per * lanes;
+                FleetPiece {
+                    aircraft,
+                    shared,
+                    len: (blocks.len() * lanes).min(len.saturating_sub(first)),
+                    blocks,
+                    first,
+                    arch,
+                }
+            })
+            .collect()
+    }
+
     /// Aircraft `index`'s flight status, `None` past the end.
     #[must_use]
     pub fn status(&self, index: usize) -> Option<FlightStatus> {
@@ -728,6 +755,97 @@ impl<M: LaneModel> Fleet<M> {
     #[must_use]
     pub const fn bytes(&self) -> usize {
         self.blocks.len() * core::mem::size_of::<Block<M>>()
+    }
+}
+
+/// A run of whole blocks of a [`Fleet`], borrowed for writing
+/// ([`Fleet::pieces_mut`]): its aircraft's controls set, flown and read back
+/// by one thread, while the run is in that core's cache.
+#[derive(Debug)]
+pub struct FleetPiece<'a, M: LaneModel> {
+    aircraft: &'a M::Aircraft,
+    shared: &'a M::Shared,
+    blocks: &'a mut [Block<M>],
+    /// The fleet index of the piece's first aircraft.
+    first: usize,
+    /// Aircraft in the piece (the padding lanes of the fleet's last block
+    /// not counted).
+    len: usize,
+    arch: Arch,
+}
+
+impl<M: LaneModel> FleetPiece<'_, M> {
+    /// The fleet index of the piece's first aircraft.
+    #[must_use]
+    pub const fn first(&self) -> usize {
+        self.first
+    }
+
+    /// Number of aircraft in the piece.
+    #[must_use]
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the piece has no aircraft.
+    #[must_use]
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Replaces each of the piece's aircraft's controls with `f(fleet
+    /// index, current controls)`, in index order, and recomputes their
+    /// control terms a block at a time ([`LaneModel::set_controls_lanes`]):
+    /// what [`Fleet::update_controls`] does to them, bit for bit.
+    pub fn update_controls(&mut self, mut f: impl FnMut(usize, M::Controls) -> M::Controls) {
+        let (aircraft, shared, len, first) = (self.aircraft, self.shared, self.len, self.first);
+        let lanes = M::Lanes::LANES;
+        for (b, block) in self.blocks.iter_mut().enumerate() {
+            let start = b * lanes;
+            let count = lanes.min(len.saturating_sub(start));
+            for (lane, c) in block.controls.as_mut().iter_mut().enumerate().take(count) {
+                *c = f(first + start + lane, *c);
+            }
+            M::set_controls_lanes(&mut block.terms, count, aircraft, shared, &block.controls);
+        }
+    }
+
+    /// Calls `f(index in the piece, state, status, controls)` for each of
+    /// the piece's aircraft, in order.
+    pub fn for_each(&self, mut f: impl FnMut(usize, &M::State, FlightStatus, &M::Controls)) {
+        let (len, lanes) = (self.len, M::Lanes::LANES);
+        for (b, block) in self.blocks.iter().enumerate() {
+            let start = b * lanes;
+            for lane in 0..lanes.min(len.saturating_sub(start)) {
+                f(
+                    start + lane,
+                    &block.state(lane),
+                    block.status.as_ref()[lane],
+                    &block.controls.as_ref()[lane],
+                );
+            }
+        }
+    }
+}
+
+impl<M: FleetKernel> FleetPiece<'_, M> {
+    /// One whole frame of each of the piece's aircraft with its flight
+    /// status, on this thread: what [`Fleet::fly_with`] does to them, bit
+    /// for bit.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn fly_with(&mut self, dt: M::TimeStep, precision: Precision) -> Result<(), FleetError> {
+        Fleet::<M>::check_precision(precision)?;
+        let run = KernelRun {
+            arch: self.arch,
+            dt,
+            precision,
+            fly: true,
+            parallel: false,
+        };
+        M::run_kernel_piece(self, run);
+        Ok(())
     }
 }
 
@@ -895,6 +1013,33 @@ impl<M: LaneModel> KernelRun<M> {
     }
 }
 
+impl<M: LaneModel> KernelRun<M> {
+    /// Runs the kernel over the blocks of `piece`, on this thread (the body
+    /// of [`FleetKernel::run_kernel_piece`]): the same compiled kernel as
+    /// [`KernelRun::apply`] over a fleet.
+    pub fn apply_to_piece(self, piece: &mut FleetPiece<'_, M>) {
+        let Self {
+            arch,
+            dt,
+            precision,
+            fly,
+            parallel: _,
+        } = self;
+        dispatch(
+            arch,
+            StepBlocks::<M, ()> {
+                blocks: piece.blocks,
+                aircraft: piece.aircraft,
+                shared: piece.shared,
+                dt,
+                precision,
+                fly,
+                fast: core::marker::PhantomData,
+            },
+        );
+    }
+}
+
 impl<M: LaneModel> fmt::Debug for KernelRun<M> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let dt_s: f64 = self.dt.into();
@@ -937,5 +1082,13 @@ pub trait FleetKernel: LaneModel + Sized {
     /// only chooses the crate it is compiled in.
     fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
         run.apply(fleet);
+    }
+
+    /// Runs `run` over the blocks of one piece of a fleet
+    /// ([`FleetPiece::fly_with`]), on this thread. As for
+    /// [`Self::run_kernel`], an override has the provided body,
+    /// `run.apply_to_piece(piece)`.
+    fn run_kernel_piece(piece: &mut FleetPiece<'_, Self>, run: KernelRun<Self>) {
+        run.apply_to_piece(piece);
     }
 }

@@ -40,7 +40,7 @@ pub mod palmer;
 
 pub use bourg::BourgFleet;
 pub use fdm_core::real::LaneModel;
-pub use fleet::{Fleet, FleetError, FleetKernel, KernelRun, Precision};
+pub use fleet::{Fleet, FleetError, FleetKernel, FleetPiece, KernelRun, Precision};
 pub use palmer::PalmerFleet;
 
 use fdm_core::model::{FlightStatus, Model};

@@ -13,7 +13,7 @@
 use fdm_core::palmer::{Palmer, PalmerAircraft};
 use pulp::Arch;
 
-use crate::fleet::{Fleet, FleetKernel, KernelRun};
+use crate::fleet::{Fleet, FleetKernel, FleetPiece, KernelRun};
 pub use crate::fleet::{FleetError, Precision};
 pub use fdm_core::palmer::LANES;
 
@@ -45,6 +45,9 @@ pub type PalmerFleet = Fleet<Palmer>;
 impl FleetKernel for Palmer {
     fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
         run.apply(fleet);
+    }
+    fn run_kernel_piece(piece: &mut FleetPiece<'_, Self>, run: KernelRun<Self>) {
+        run.apply_to_piece(piece);
     }
 }
 

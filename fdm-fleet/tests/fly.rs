@@ -406,3 +406,112 @@ fn par_update_controls_is_set_controls_for_each_index() {
         assert_eq!(bourg.state(i), one_by_one.state(i), "{i}");
     }
 }
+
+/// A fleet flown piece by piece (`Fleet::pieces_mut`: controls set, frames
+/// flown and everything read back per run of blocks, the runs of several
+/// sizes, on rayon's threads) is the fleet flown whole, bit for bit:
+/// states, statuses and controls (compared as printed: some members' are
+/// NaN), for members that land, crash and
+/// diverge too.
+fn pieces_are_the_whole_fleet<M, B: PartialEq + core::fmt::Debug + Clone + Send>(
+    members: &[(M::Controls, M::State, FlightStatus)],
+    change: impl Fn(usize, usize, M::Controls) -> M::Controls + Sync,
+    bits: impl Fn(&M::State) -> B + Sync,
+) where
+    M: fdm_fleet::FleetKernel,
+    M::Controls: PartialEq + core::fmt::Debug + Send + Sync,
+    M::State: Sync,
+{
+    use rayon::prelude::*;
+    let dt = M::time_step(30.0);
+    let mut whole = fdm_fleet::Fleet::<M>::try_new(M::default_aircraft()).unwrap();
+    for (i, (c, s, status)) in members.iter().enumerate() {
+        whole.push(*s, *c);
+        whole.set_status(i, *status).unwrap();
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for blocks in [1, 3, 32, 1000] {
+        let mut fleet = whole.clone();
+        let mut reference = whole.clone();
+        for frame in 0..40 {
+            reference.update_controls(|i, c| change(frame, i, c));
+            for _ in 0..2 {
+                reference.fly_with(dt, Precision::Exact).unwrap();
+            }
+            let mut seen = vec![None; members.len()];
+            pool.install(|| {
+                let mut pieces = fleet.pieces_mut(blocks);
+                let read: Vec<Vec<(usize, B, FlightStatus, String)>> = pieces
+                    .par_iter_mut()
+                    .map(|piece| {
+                        piece.update_controls(|i, c| change(frame, i, c));
+                        for _ in 0..2 {
+                            piece.fly_with(dt, Precision::Exact).unwrap();
+                        }
+                        let mut out = Vec::new();
+                        let first = piece.first();
+                        piece.for_each(|j, s, status, c| {
+                            out.push((first + j, bits(s), status, format!("{c:?}")))
+                        });
+                        assert_eq!(out.len(), piece.len());
+                        out
+                    })
+                    .collect();
+                for (i, b, status, c) in read.into_iter().flatten() {
+                    assert!(seen[i].is_none(), "aircraft {i} in two pieces");
+                    seen[i] = Some((b, status, c));
+                }
+            });
+            for (i, got) in seen.into_iter().enumerate() {
+                let want = (
+                    bits(&reference.state(i).unwrap()),
+                    reference.status(i).unwrap(),
+                    format!("{:?}", reference.controls(i).unwrap()),
+                );
+                assert_eq!(
+                    got.as_ref(),
+                    Some(&want),
+                    "{blocks} blocks, frame {frame}, aircraft {i}"
+                );
+                assert_eq!(bits(&fleet.state(i).unwrap()), want.0);
+            }
+        }
+    }
+}
+
+#[test]
+fn palmer_pieces_are_the_whole_fleet() {
+    let members = palmer_members(7, 301);
+    pieces_are_the_whole_fleet::<Palmer, _>(
+        &members,
+        |frame, i, mut c| {
+            if (frame + i) % 3 == 0 {
+                c.bank_deg = ((frame * 7 + i) % 41) as f64 - 20.0;
+                c.throttle = ((frame + i) % 11) as f64 / 10.0;
+                c.flaps = [Flaps::Up, Flaps::Deg20, Flaps::Deg40][(frame + i) % 3];
+            }
+            c
+        },
+        palmer_bits,
+    );
+}
+
+#[test]
+fn bourg_pieces_are_the_whole_fleet() {
+    let members = bourg_members(8, 301);
+    pieces_are_the_whole_fleet::<Bourg, _>(
+        &members,
+        |frame, i, mut c| {
+            if (frame + i) % 3 == 0 {
+                c.thrust_lb = ((frame + i) % 30) as f32 * 100.0;
+                c.elevators = [Flap::Neutral, Flap::TrailingEdgeUp, Flap::TrailingEdgeDown]
+                    [(frame * 5 + i) % 3];
+            }
+            c
+        },
+        bourg_bits,
+    );
+}

@@ -149,8 +149,28 @@ impl ControlTerms<f64> {
     #[inline(always)]
     #[must_use]
     pub fn new(aircraft: &PalmerAircraft, at: &AircraftTerms, controls: &PalmerControls) -> Self {
-        // Step 1 (alpha stays in degrees).
-        let bank_rad = controls.bank_deg * PI / 180.0;
+        // step 10, bank: `sin` and `cos`, one reduction
+        Self::with_sin_cos(aircraft, at, controls, sin_cos(Self::bank_rad(controls)))
+    }
+
+    /// Step 1: the bank in radians (alpha stays in degrees).
+    #[inline(always)]
+    #[must_use]
+    pub fn bank_rad(controls: &PalmerControls) -> f64 {
+        controls.bank_deg * PI / 180.0
+    }
+
+    /// [`Self::new`] with the sine and cosine of [`Self::bank_rad`] given
+    /// (computed for several aircraft at once, with the same bits:
+    /// [`crate::math::sin_cos_lanes`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn with_sin_cos(
+        aircraft: &PalmerAircraft,
+        at: &AircraftTerms,
+        controls: &PalmerControls,
+        (sin_w, cos_w): (f64, f64),
+    ) -> Self {
         // Step 7, the part that does not depend on z.
         let alpha = controls.alpha_deg;
         let mut cl = if alpha < aircraft.alpha_cl_max_deg {
@@ -163,7 +183,6 @@ impl ControlTerms<f64> {
             Flaps::Deg20 => cl += 0.25,
             Flaps::Deg40 => cl += 0.5,
         }
-        let (sin_w, cos_w) = sin_cos(bank_rad); // step 10, bank: `sin` and `cos`, one reduction
         Self {
             cos_w,
             sin_w,

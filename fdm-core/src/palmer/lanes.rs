@@ -75,6 +75,32 @@ impl LaneModel for Palmer {
         terms.set_lane(lane, &ControlTerms::new(aircraft, shared, controls));
     }
 
+    /// A whole block's bank sines and cosines at once
+    /// ([`crate::math::sin_cos_lanes`], the bits of the scalar `sin_cos`).
+    #[inline]
+    fn set_controls_lanes(
+        terms: &mut Self::Terms,
+        count: usize,
+        aircraft: &PalmerAircraft,
+        shared: &AircraftTerms,
+        controls: &[PalmerControls; LANES],
+    ) {
+        if count < LANES {
+            for (lane, c) in controls.iter().enumerate().take(count) {
+                Self::set_controls(terms, lane, aircraft, shared, c);
+            }
+            return;
+        }
+        let bank_rad: [f64; LANES] = core::array::from_fn(|l| ControlTerms::bank_rad(&controls[l]));
+        let (sin, cos) = crate::math::sin_cos_lanes(bank_rad);
+        for (lane, c) in controls.iter().enumerate() {
+            terms.set_lane(
+                lane,
+                &ControlTerms::with_sin_cos(aircraft, shared, c, (sin[lane], cos[lane])),
+            );
+        }
+    }
+
     #[inline(always)]
     fn step_lanes<F: Maths>(
         aircraft: &PalmerAircraft,

@@ -500,6 +500,23 @@ pub trait LaneModel: Model {
         controls: &Self::Controls,
     );
 
+    /// Writes the terms of `controls[lane]` into lane `lane` of `terms` for
+    /// the first `count` lanes: [`Self::set_controls`] for each of them
+    /// (the provided body), or the same bits computed for the lanes
+    /// together.
+    #[inline]
+    fn set_controls_lanes(
+        terms: &mut Self::Terms,
+        count: usize,
+        aircraft: &Self::Aircraft,
+        shared: &Self::Shared,
+        controls: &<Self::Lanes as Lanes>::Array<Self::Controls>,
+    ) {
+        for (lane, c) in controls.as_ref().iter().enumerate().take(count) {
+            Self::set_controls(terms, lane, aircraft, shared, c);
+        }
+    }
+
     /// One step of every lane (the clock aside): the model's step, lane-wise,
     /// with the maths `F`. Bit-identical to [`Model::step`] lane by lane with
     /// [`Exact`].
