@@ -1,7 +1,7 @@
 //! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
 //! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with the
 //! run's outputs attached: the FlightGear link (`--fg`,
-//! [`FlightGearOutput`]), DIS (`--dis`), `--csv` (the run library's
+//! [`FlightGearOutput`](fdm_run::flightgear::FlightGearOutput)), DIS (`--dis`), `--csv` (the run library's
 //! [`CsvOutput`] of [`FlightRow`]s), `--record`, `--acmi`, `--plot`.
 //!
 //! A frame is the ECS's: [`Flight::step`] is the run's
@@ -26,9 +26,8 @@ use fdm_core::model::Model;
 use fdm_core::script::Script;
 use fdm_run::acmi::AcmiOutput;
 use fdm_run::csv::{CsvOutput, FlightRow};
-use fdm_run::dis::DisOutput;
-use fdm_run::flightgear::FlightGearOutput;
-use fdm_run::{Output, Run, RunError, Scenario, SharedOutput};
+use fdm_run::links::{LinkSettings, LinksError};
+use fdm_run::{Output, Run, RunError, Scenario};
 
 use crate::config::{ModelConfig, RunConfig, Start};
 use crate::error::CliError;
@@ -76,19 +75,14 @@ impl<M: CliModel> ModelFlight<M> {
         start: Start<M>,
         script: Script<M::Action>,
     ) -> Result<Self, CliError> {
-        let fg = match run.fg {
-            Some(addr) => Some(SharedOutput::new(
-                FlightGearOutput::connect(&addr.to_string(), run.origin)
-                    .with_context(|| format!("opening the FlightGear link to {addr}"))?,
-            )),
-            None => None,
+        let settings = LinkSettings {
+            fg: run.fg,
+            dis: run.dis.clone(),
         };
-        let dis = match &run.dis {
-            Some(config) => Some(SharedOutput::new(DisOutput::open::<M>(
-                config, run.origin, run.fps,
-            )?)),
-            None => None,
-        };
+        let links = Links::open::<M>(&settings, run.origin, run.fps).map_err(|e| match e {
+            LinksError::Dis(e) => CliError::from(e),
+            e @ LinksError::FlightGear { .. } => CliError::Runtime(e.into()),
+        })?;
         let scenario = Scenario {
             start,
             origin: run.origin,
@@ -98,7 +92,6 @@ impl<M: CliModel> ModelFlight<M> {
         };
         let mut flight =
             Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
-        let links = Links { fg, dis };
         links.attach_to(&mut flight).map_err(anyhow::Error::from)?;
         Ok(Self { run: flight, links })
     }
@@ -265,7 +258,7 @@ mod tests {
     use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
     use fdm_core::model::{FlightStatus, LandingState};
     use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
-    use fdm_run::LinkStats;
+    use fdm_run::{LinkStats, SharedOutput};
     use std::net::{SocketAddrV4, UdpSocket};
 
     fn run(fps: u32, fg: Option<SocketAddrV4>) -> RunConfig {
