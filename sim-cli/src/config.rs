@@ -16,6 +16,7 @@ use crate::origin::GeodeticOrigin;
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 use fdm_run::dis::FlightDis;
+use fdm_run::Scenario;
 use fgnet::address::FgTarget;
 
 /// How the run is driven.
@@ -63,10 +64,11 @@ pub use fdm_run::Start;
 pub struct ModelConfig<M: Model> {
     /// Shared settings.
     pub run: RunConfig,
-    /// Scripted controls (empty without `--script`).
-    pub script: Script<M::Action>,
-    /// How the aircraft starts (and restarts on reset).
-    pub start: Start<M>,
+    /// The run library's scenario: how the aircraft starts (and restarts on
+    /// reset), the origin, the frame rate, the frames of a headless run (0
+    /// interactive: the user ends it) and the scripted controls (empty
+    /// without `--script`).
+    pub scenario: Scenario<M>,
     /// The `--record` file, already created.
     pub record: Option<RecordFile>,
     /// The `--acmi` file, already created.
@@ -95,10 +97,9 @@ pub fn prepare_study_run<M: Model>(
     start: Start<M>,
     script: Script<M::Action>,
 ) -> Result<ModelConfig<M>, CliError> {
-    Ok(ModelConfig {
-        script,
-        ..prepare_model(args, start)?
-    })
+    let mut config = prepare_model(args, start)?;
+    config.scenario.script = script;
+    Ok(config)
 }
 
 /// Model `M`'s start from the initial-condition options
@@ -307,6 +308,16 @@ pub fn prepare_model<M: Model>(
             (args.record.as_deref(), "--record"),
         ],
     )?;
+    let scenario = Scenario {
+        start,
+        origin: args.origin,
+        fps: args.fps,
+        frames: match mode {
+            Mode::Headless { frames, .. } => frames,
+            Mode::Interactive => 0,
+        },
+        script,
+    };
     let run = RunConfig {
         fps: args.fps,
         mode,
@@ -318,8 +329,7 @@ pub fn prepare_model<M: Model>(
     };
     Ok(ModelConfig {
         run,
-        script,
-        start,
+        scenario,
         record,
         acmi,
     })

@@ -75,14 +75,6 @@ impl<M: CliModel> ModelFlight<M> {
         start: Start<M>,
         script: Script<M::Action>,
     ) -> Result<Self, CliError> {
-        let settings = LinkSettings {
-            fg: run.fg,
-            dis: run.dis.clone(),
-        };
-        let links = Links::open::<M>(&settings, run.origin, run.fps).map_err(|e| match e {
-            LinksError::Dis(e) => CliError::from(e),
-            e @ LinksError::FlightGear { .. } => CliError::Runtime(e.into()),
-        })?;
         let scenario = Scenario {
             start,
             origin: run.origin,
@@ -90,8 +82,27 @@ impl<M: CliModel> ModelFlight<M> {
             frames: 0,
             script,
         };
+        Self::from_scenario(run, scenario)
+    }
+
+    /// A run of `scenario` (its start, origin, frame rate and script) with
+    /// `run`'s FlightGear and DIS outputs attached, as [`Self::new`].
+    ///
+    /// # Errors
+    /// As [`Self::new`].
+    pub fn from_scenario(run: &RunConfig, scenario: Scenario<M>) -> Result<Self, CliError> {
+        let settings = LinkSettings {
+            fg: run.fg,
+            dis: run.dis.clone(),
+        };
+        let links =
+            Links::open::<M>(&settings, scenario.origin, scenario.fps).map_err(|e| match e {
+                LinksError::Dis(e) => CliError::from(e),
+                e @ LinksError::FlightGear { .. } => CliError::Runtime(e.into()),
+            })?;
+        let fps = scenario.fps;
         let mut flight =
-            Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
+            Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {fps}: {e}")))?;
         links.attach_to(&mut flight).map_err(anyhow::Error::from)?;
         Ok(Self { run: flight, links })
     }
@@ -214,19 +225,18 @@ pub fn run_model_with<M: CliModel>(
     let csv = config.run.csv.take();
     let ModelConfig {
         run,
-        script,
-        start,
+        scenario,
         record,
         acmi,
     } = config;
     let writer = match record {
         Some(record) => Some(
-            RecordWriter::new(record.out, run.fps, &run.origin, &start)
+            RecordWriter::new(record.out, run.fps, &run.origin, &scenario.start)
                 .with_context(|| format!("recording to {}", record.path.display()))?,
         ),
         None => None,
     };
-    let mut flight = ModelFlight::scripted(&run, start, script)?;
+    let mut flight = ModelFlight::from_scenario(&run, scenario)?;
     // Outputs of the run: it hands them every frame and reset, and
     // `Flight::finish` completes them.
     if let Some(csv) = csv {
