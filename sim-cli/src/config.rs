@@ -86,22 +86,6 @@ pub struct RecordFile {
     pub out: fdm_run::recording::SyncedFile,
 }
 
-/// One run of a study flown alone (`sim-cli study FILE --run I`): the
-/// flight outputs of `args` (`--csv`, `--plot`, `--record`, `--acmi`,
-/// `--fg`, `--json`; headless) with the run's own start and script.
-///
-/// # Errors
-/// [`CliError::Usage`] for an output that cannot be created.
-pub fn prepare_study_run<M: Model>(
-    args: CommonArgs,
-    start: Start<M>,
-    script: Script<M::Action>,
-) -> Result<ModelConfig<M>, CliError> {
-    let mut config = prepare_model(args, start)?;
-    config.scenario.script = script;
-    Ok(config)
-}
-
 /// Model `M`'s start from the initial-condition options
 /// ([`crate::start::start_for`]), printing a trim's result on stderr.
 ///

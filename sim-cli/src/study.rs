@@ -253,7 +253,10 @@ impl WithModel for Alone<'_> {
             run,
             scenario.start.aircraft.clone(),
         ));
-        let config = crate::config::prepare_study_run(common, scenario.start, scenario.script)?;
+        // The flight outputs of the options (headless) with the run's own
+        // start and script.
+        let mut config = crate::config::prepare_model(common, scenario.start)?;
+        config.scenario.script = scenario.script;
         let attached = measures.clone();
         crate::flight::run_model_with(config, move |flight| flight.attach(attached))?;
         let table = measures
