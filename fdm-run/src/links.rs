@@ -20,12 +20,19 @@
 //! assert!(links.take_failure().is_none());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! [`Links::open`] builds them from their settings ([`LinkSettings`]).
 
+use std::net::SocketAddrV4;
+
+use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::Model;
+use fgnet::SenderError;
 
 #[cfg(feature = "dis")]
-use crate::dis::{DisOutput, DisReport};
+use crate::dis::{DisError, DisOutput, DisReport, FlightDis};
 use crate::flightgear::FlightGearOutput;
+use crate::model::RunModel;
 use crate::output::LinkStats;
 use crate::run::{Run, RunError};
 use crate::shared::SharedOutput;
@@ -41,7 +48,67 @@ pub struct Links {
     pub dis: Option<SharedOutput<DisOutput>>,
 }
 
+/// Where a run's network outputs send: each `None` for no such output.
+#[derive(Debug, Clone, Default)]
+pub struct LinkSettings {
+    /// The FlightGear native-FDM link's target, resolved.
+    pub fg: Option<SocketAddrV4>,
+    /// The DIS output's settings and identity.
+    #[cfg(feature = "dis")]
+    pub dis: Option<FlightDis>,
+}
+
+/// Why a run's network outputs could not be opened.
+#[derive(Debug, thiserror::Error)]
+pub enum LinksError {
+    /// The FlightGear link's socket could not be set up.
+    #[error("opening the FlightGear link to {target}")]
+    FlightGear {
+        /// The target.
+        target: SocketAddrV4,
+        /// Why.
+        #[source]
+        source: SenderError,
+    },
+    /// The DIS output was refused or its socket could not be made
+    /// ([`DisOutput::open`]).
+    #[cfg(feature = "dis")]
+    #[error(transparent)]
+    Dis(#[from] DisError),
+}
+
 impl Links {
+    /// Opens the outputs `settings` ask for (the FlightGear link first, then
+    /// DIS) for one aircraft of model `M` flown at `fps` frames per second
+    /// from `origin`; attach them with [`Self::attach_to`].
+    ///
+    /// # Errors
+    /// [`LinksError::FlightGear`] when the FlightGear socket cannot be set
+    /// up, `LinksError::Dis` when the DIS output is refused or its socket
+    /// cannot be made.
+    #[cfg_attr(not(feature = "dis"), allow(unused_variables))]
+    pub fn open<M: RunModel>(
+        settings: &LinkSettings,
+        origin: GeodeticOrigin,
+        fps: u32,
+    ) -> Result<Self, LinksError> {
+        let fg = match settings.fg {
+            Some(target) => Some(SharedOutput::new(
+                FlightGearOutput::connect(&target.to_string(), origin)
+                    .map_err(|source| LinksError::FlightGear { target, source })?,
+            )),
+            None => None,
+        };
+        Ok(Self {
+            fg,
+            #[cfg(feature = "dis")]
+            dis: match &settings.dis {
+                Some(dis) => Some(SharedOutput::new(DisOutput::open::<M>(dis, origin, fps)?)),
+                None => None,
+            },
+        })
+    }
+
     /// Attaches the outputs to `run` (the FlightGear link first, then DIS):
     /// they take its frame 0 now and every later frame.
     ///
@@ -92,5 +159,30 @@ impl Links {
             return Some(message);
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::palmer::Palmer;
+
+    #[test]
+    fn open_builds_what_the_settings_ask_for() {
+        let origin = crate::Scenario::<Palmer>::new(crate::Start::thesis(), 30, 1)
+            .unwrap()
+            .origin;
+        let none = Links::open::<Palmer>(&LinkSettings::default(), origin, 30).unwrap();
+        assert!(none.fg.is_none() && none.fg_stats().is_none());
+        let receiver = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let std::net::SocketAddr::V4(target) = receiver.local_addr().unwrap() else {
+            unreachable!("bound to IPv4")
+        };
+        let settings = LinkSettings {
+            fg: Some(target),
+            ..LinkSettings::default()
+        };
+        let links = Links::open::<Palmer>(&settings, origin, 30).unwrap();
+        assert_eq!(links.fg_stats(), Some(LinkStats::default()));
     }
 }

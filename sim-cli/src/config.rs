@@ -5,12 +5,10 @@
 use std::net::SocketAddrV4;
 use std::path::{Path, PathBuf};
 
-use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
-use fdm_core::palmer::{Flaps, Palmer, PalmerControls};
 use fdm_core::script::{Script, ScriptAction};
 
-use crate::args::{BourgArgs, CommonArgs, PalmerArgs};
+use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
 use crate::input::{read_text, show_path, MAX_INPUT_BYTES};
@@ -18,6 +16,7 @@ use crate::origin::GeodeticOrigin;
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 use fdm_run::dis::FlightDis;
+use fdm_run::Scenario;
 use fgnet::address::FgTarget;
 
 /// How the run is driven.
@@ -65,10 +64,11 @@ pub use fdm_run::Start;
 pub struct ModelConfig<M: Model> {
     /// Shared settings.
     pub run: RunConfig,
-    /// Scripted controls (empty without `--script`).
-    pub script: Script<M::Action>,
-    /// How the aircraft starts (and restarts on reset).
-    pub start: Start<M>,
+    /// The run library's scenario: how the aircraft starts (and restarts on
+    /// reset), the origin, the frame rate, the frames of a headless run (0
+    /// interactive: the user ends it) and the scripted controls (empty
+    /// without `--script`).
+    pub scenario: Scenario<M>,
     /// The `--record` file, already created.
     pub record: Option<RecordFile>,
     /// The `--acmi` file, already created.
@@ -86,62 +86,12 @@ pub struct RecordFile {
     pub out: fdm_run::recording::SyncedFile,
 }
 
-/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
-/// file; the controls at frame 0 come from `--throttle`, `--alpha`, `--bank`
-/// `--flaps` and `--brakes`.
-///
-/// # Errors
-/// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare_palmer(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
-    let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
-        CliError::usage(format!(
-            "--flaps {}: not a flap setting (0, 20 or 40)",
-            args.flaps
-        ))
-    })?;
-    let start_args = args.common.start;
-    let controls = PalmerControls {
-        throttle: args.throttle,
-        alpha_deg: args.alpha,
-        bank_deg: args.bank,
-        flaps,
-        brakes: args.brakes,
-    };
-    let start = start_model::<Palmer>(controls, &start_args)?;
-    let (run, script, record, acmi) = prepare(args.common, Palmer::NAME)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        record,
-        acmi,
-        start,
-    })
-}
-
-/// One run of a study flown alone (`sim-cli study FILE --run I`): the
-/// flight outputs of `args` (`--csv`, `--plot`, `--record`, `--acmi`,
-/// `--fg`, `--json`; headless) with the run's own start and script.
-///
-/// # Errors
-/// [`CliError::Usage`] for an output that cannot be created.
-pub fn prepare_study_run<M: Model>(
-    args: CommonArgs,
-    start: Start<M>,
-    script: Script<M::Action>,
-) -> Result<ModelConfig<M>, CliError> {
-    let (run, _, record, acmi) = prepare::<M::Action>(args, M::NAME)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        start,
-        record,
-        acmi,
-    })
-}
-
 /// Model `M`'s start from the initial-condition options
 /// ([`crate::start::start_for`]), printing a trim's result on stderr.
-fn start_model<M: Model>(
+///
+/// # Errors
+/// [`CliError::Usage`] for options out of range or a trim that fails.
+pub fn start_model<M: Model>(
     controls: M::Controls,
     args: &crate::start::StartArgs,
 ) -> Result<Start<M>, CliError> {
@@ -150,30 +100,6 @@ fn start_model<M: Model>(
         eprintln!("{}", crate::start::trim_line(M::NAME, &report));
     }
     Ok(start)
-}
-
-/// Validates `sim-cli bourg` arguments, reads the script and creates the CSV file.
-///
-/// # Errors
-/// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare_bourg(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
-    let mut controls = Bourg::initial_controls();
-    if let Some(thrust_lb) = args.thrust_lb {
-        // In 0..3000 (clap checked): exact enough in f32 for any typed value.
-        #[allow(clippy::cast_possible_truncation)]
-        {
-            controls.thrust_lb = thrust_lb as f32;
-        }
-    }
-    let start = start_model::<Bourg>(controls, &args.common.start)?;
-    let (run, script, record, acmi) = prepare(args.common, Bourg::NAME)?;
-    Ok(ModelConfig {
-        run,
-        script,
-        record,
-        acmi,
-        start,
-    })
 }
 
 /// The mode implied by the options, or why they do not fit together.
@@ -287,14 +213,17 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
     }))
 }
 
-type Prepared<A> = (
-    RunConfig,
-    Script<A>,
-    Option<RecordFile>,
-    Option<fdm_run::acmi::AcmiWriter>,
-);
-
-fn prepare<A: ScriptAction>(args: CommonArgs, model: &str) -> Result<Prepared<A>, CliError> {
+/// Model `model`'s run from the options every flight shares: the mode, the
+/// script read, the outputs resolved and created (CSV, plot, recording, ACMI
+/// last, so that no earlier error leaves a truncated file behind), put
+/// together with its `start` ([`start_model`]).
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input.
+pub fn prepare_model<M: Model>(
+    args: CommonArgs,
+    start: Start<M>,
+) -> Result<ModelConfig<M>, CliError> {
     let mode = resolve_mode(&args)?;
     let script = match &args.script {
         Some(path) => load_script(path)?,
@@ -353,7 +282,7 @@ fn prepare<A: ScriptAction>(args: CommonArgs, model: &str) -> Result<Prepared<A>
     let acmi = crate::acmi::create(
         args.acmi.acmi.as_deref(),
         args.acmi.acmi_reference_time.as_ref(),
-        model,
+        M::NAME,
         args.fps,
         &args.origin,
         &[
@@ -363,20 +292,31 @@ fn prepare<A: ScriptAction>(args: CommonArgs, model: &str) -> Result<Prepared<A>
             (args.record.as_deref(), "--record"),
         ],
     )?;
-    Ok((
-        RunConfig {
-            fps: args.fps,
-            mode,
-            csv,
-            fg,
-            origin: args.origin,
-            dis,
-            plot,
+    let scenario = Scenario {
+        start,
+        origin: args.origin,
+        fps: args.fps,
+        frames: match mode {
+            Mode::Headless { frames, .. } => frames,
+            Mode::Interactive => 0,
         },
         script,
+    };
+    let run = RunConfig {
+        fps: args.fps,
+        mode,
+        csv,
+        fg,
+        origin: args.origin,
+        dis,
+        plot,
+    };
+    Ok(ModelConfig {
+        run,
+        scenario,
         record,
         acmi,
-    ))
+    })
 }
 
 #[cfg(test)]

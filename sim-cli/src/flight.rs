@@ -1,7 +1,7 @@
 //! Any [`CliModel`] as a [`Flight`]: one aircraft flown by an
 //! [`fdm_run::Run`] (one entity in its own [`fdm_ecs::Simulation`]), with the
 //! run's outputs attached: the FlightGear link (`--fg`,
-//! [`FlightGearOutput`]), DIS (`--dis`), `--csv` (the run library's
+//! [`FlightGearOutput`](fdm_run::flightgear::FlightGearOutput)), DIS (`--dis`), `--csv` (the run library's
 //! [`CsvOutput`] of [`FlightRow`]s), `--record`, `--acmi`, `--plot`.
 //!
 //! A frame is the ECS's: [`Flight::step`] is the run's
@@ -26,9 +26,8 @@ use fdm_core::model::Model;
 use fdm_core::script::Script;
 use fdm_run::acmi::AcmiOutput;
 use fdm_run::csv::{CsvOutput, FlightRow};
-use fdm_run::dis::DisOutput;
-use fdm_run::flightgear::FlightGearOutput;
-use fdm_run::{Output, Run, RunError, Scenario, SharedOutput};
+use fdm_run::links::{LinkSettings, LinksError};
+use fdm_run::{Output, Run, RunError, Scenario};
 
 use crate::config::{ModelConfig, RunConfig, Start};
 use crate::error::CliError;
@@ -76,19 +75,6 @@ impl<M: CliModel> ModelFlight<M> {
         start: Start<M>,
         script: Script<M::Action>,
     ) -> Result<Self, CliError> {
-        let fg = match run.fg {
-            Some(addr) => Some(SharedOutput::new(
-                FlightGearOutput::connect(&addr.to_string(), run.origin)
-                    .with_context(|| format!("opening the FlightGear link to {addr}"))?,
-            )),
-            None => None,
-        };
-        let dis = match &run.dis {
-            Some(config) => Some(SharedOutput::new(DisOutput::open::<M>(
-                config, run.origin, run.fps,
-            )?)),
-            None => None,
-        };
         let scenario = Scenario {
             start,
             origin: run.origin,
@@ -96,9 +82,27 @@ impl<M: CliModel> ModelFlight<M> {
             frames: 0,
             script,
         };
+        Self::from_scenario(run, scenario)
+    }
+
+    /// A run of `scenario` (its start, origin, frame rate and script) with
+    /// `run`'s FlightGear and DIS outputs attached, as [`Self::new`].
+    ///
+    /// # Errors
+    /// As [`Self::new`].
+    pub fn from_scenario(run: &RunConfig, scenario: Scenario<M>) -> Result<Self, CliError> {
+        let settings = LinkSettings {
+            fg: run.fg,
+            dis: run.dis.clone(),
+        };
+        let links =
+            Links::open::<M>(&settings, scenario.origin, scenario.fps).map_err(|e| match e {
+                LinksError::Dis(e) => CliError::from(e),
+                e @ LinksError::FlightGear { .. } => CliError::Runtime(e.into()),
+            })?;
+        let fps = scenario.fps;
         let mut flight =
-            Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {}: {e}", run.fps)))?;
-        let links = Links { fg, dis };
+            Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {fps}: {e}")))?;
         links.attach_to(&mut flight).map_err(anyhow::Error::from)?;
         Ok(Self { run: flight, links })
     }
@@ -221,19 +225,18 @@ pub fn run_model_with<M: CliModel>(
     let csv = config.run.csv.take();
     let ModelConfig {
         run,
-        script,
-        start,
+        scenario,
         record,
         acmi,
     } = config;
     let writer = match record {
         Some(record) => Some(
-            RecordWriter::new(record.out, run.fps, &run.origin, &start)
+            RecordWriter::new(record.out, run.fps, &run.origin, &scenario.start)
                 .with_context(|| format!("recording to {}", record.path.display()))?,
         ),
         None => None,
     };
-    let mut flight = ModelFlight::scripted(&run, start, script)?;
+    let mut flight = ModelFlight::from_scenario(&run, scenario)?;
     // Outputs of the run: it hands them every frame and reset, and
     // `Flight::finish` completes them.
     if let Some(csv) = csv {
@@ -265,7 +268,7 @@ mod tests {
     use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
     use fdm_core::model::{FlightStatus, LandingState};
     use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
-    use fdm_run::LinkStats;
+    use fdm_run::{LinkStats, SharedOutput};
     use std::net::{SocketAddrV4, UdpSocket};
 
     fn run(fps: u32, fg: Option<SocketAddrV4>) -> RunConfig {

@@ -10,7 +10,7 @@
 //! |---|---|
 //! | [`args`] | clap definition and per-value validation |
 //! | [`config`] | cross-option validation, script loading, CSV creation → [`config::ModelConfig`] |
-//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear multiplayer model |
+//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear multiplayer model, starting controls from its subcommand's arguments |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
 //! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation`; [`flight::run_model`] |
 //! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
@@ -70,8 +70,8 @@ use crate::error::CliError;
 /// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Palmer(args) => flight::run_model(config::prepare_palmer(args)?),
-        Command::Bourg(args) => flight::run_model(config::prepare_bourg(args)?),
+        Command::Palmer(args) => flight::run_model(models::palmer::prepare(args)?),
+        Command::Bourg(args) => flight::run_model(models::bourg::prepare(args)?),
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),

@@ -21,18 +21,15 @@ use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use fdm_core::bourg::Bourg;
-use fdm_core::model::Model;
-use fdm_core::palmer::Palmer;
 use fdm_fleet::Precision;
 use fdm_run::SharedOutput;
 use fdm_study::batch::{AloneError, Batch, BatchError};
 use fdm_study::table::{write_csv_header, write_csv_rows};
-use fdm_study::{FlyOptions, MeasureOutput, Study, StudyModel};
+use fdm_study::{FlyOptions, MeasureOutput, Study};
 
 use crate::args::{CommonArgs, FleetPrecision, StudyArgs};
 use crate::error::CliError;
-use crate::models::CliModel;
+use crate::models::{CliModel, ModelKind, WithModel};
 use crate::progress::StderrProgress;
 use crate::signals::SignalSafeWriter;
 
@@ -75,11 +72,16 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
                      (fly the batch with --precision exact to compare run by run)",
                 ));
             }
-            match study.model() {
-                n if n == Palmer::NAME => run_alone::<Palmer>(&study, run, args, &out_dir),
-                n if n == Bourg::NAME => run_alone::<Bourg>(&study, run, args, &out_dir),
-                other => Err(CliError::usage(format!("no model {other}"))),
-            }
+            let alone = Alone {
+                study: &study,
+                run,
+                args,
+                out_dir: &out_dir,
+            };
+            ModelKind::named(study.model()).map_or_else(
+                || Err(CliError::usage(format!("no model {}", study.model()))),
+                |kind| kind.with(alone),
+            )
         }
         None => batch(&study, precision, args, &out_dir),
     }
@@ -191,70 +193,87 @@ fn batch(
     Ok(())
 }
 
-/// Flies run `run` alone through the run library with the single-flight
-/// outputs, and writes its row (`run-I.csv`, the batch's format).
-fn run_alone<M: CliModel + StudyModel>(
-    study: &Study,
+/// `--run I` as a job for the study's model, chosen through the registry
+/// ([`ModelKind::with`]).
+struct Alone<'a> {
+    study: &'a Study,
     run: u64,
-    args: &StudyArgs,
-    out_dir: &Path,
-) -> Result<(), CliError> {
-    if run >= study.runs() {
-        return Err(CliError::usage(format!(
-            "--run {run}: the study has runs 0 to {}",
-            study.runs() - 1
-        )));
+    args: &'a StudyArgs,
+    out_dir: &'a Path,
+}
+
+impl WithModel for Alone<'_> {
+    type Output = Result<(), CliError>;
+
+    /// Flies run `run` alone through the run library with the single-flight
+    /// outputs, and writes its row (`run-I.csv`, the batch's format).
+    fn call<M: CliModel>(self) -> Self::Output {
+        let Self {
+            study,
+            run,
+            args,
+            out_dir,
+        } = self;
+        if run >= study.runs() {
+            return Err(CliError::usage(format!(
+                "--run {run}: the study has runs 0 to {}",
+                study.runs() - 1
+            )));
+        }
+        // Its start, script and the frames it flies in the batch (its stop). A
+        // signal during that flight ends the command before the flight alone
+        // (nothing written; exit 128 + N, crate::signals).
+        let stop = || crate::signals::stop_requested().is_some();
+        let scenario = match fdm_study::batch::scenario_alone::<M>(study, run, stop) {
+            Ok(Some(scenario)) => scenario,
+            Ok(None) => return Ok(()),
+            Err(AloneError::Fly(e)) => return Err(CliError::runtime(e)),
+            Err(e @ AloneError::Refused(_)) => return Err(CliError::usage(e)),
+        };
+        let frames = scenario.frames;
+        let common = CommonArgs {
+            fps: study.fps(),
+            headless: true,
+            frames: Some(frames),
+            duration: None,
+            script: None,
+            json: args.json,
+            realtime: false,
+            csv: args.csv.clone(),
+            plot: args.plot.clone(),
+            fg: args.fg.clone(),
+            origin: scenario.origin,
+            start: crate::start::StartArgs::default(),
+            dis: crate::dis::FlightDisArgs::default(),
+            record: args.record.clone(),
+            acmi: args.acmi.clone(),
+        };
+        let measures = SharedOutput::new(MeasureOutput::<M>::new(
+            study,
+            run,
+            scenario.start.aircraft.clone(),
+        ));
+        // The flight outputs of the options (headless) with the run's own
+        // start and script.
+        let mut config = crate::config::prepare_model(common, scenario.start)?;
+        config.scenario.script = scenario.script;
+        let attached = measures.clone();
+        crate::flight::run_model_with(config, move |flight| flight.attach(attached))?;
+        let table = measures
+            .take()
+            .map(|m| m.table())
+            .unwrap_or_else(|| study.empty_table());
+        // A signal ended the flight early (its own outputs are finished for the
+        // frames flown, as `sim-cli palmer`'s): its measures are not the batch's
+        // row, so run-I.csv is not written.
+        if crate::signals::stop_requested().is_some() && table.frames.first() != Some(&frames) {
+            return Ok(());
+        }
+        let path = out_dir.join(format!("run-{run}.csv"));
+        let mut text = Vec::new();
+        write_csv_header(&mut text, &table).context("run row")?;
+        write_csv_rows(&mut text, &table).context("run row")?;
+        std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
+        Ok(())
     }
-    // Its start, script and the frames it flies in the batch (its stop). A
-    // signal during that flight ends the command before the flight alone
-    // (nothing written; exit 128 + N, crate::signals).
-    let stop = || crate::signals::stop_requested().is_some();
-    let scenario = match fdm_study::batch::scenario_alone::<M>(study, run, stop) {
-        Ok(Some(scenario)) => scenario,
-        Ok(None) => return Ok(()),
-        Err(AloneError::Fly(e)) => return Err(CliError::runtime(e)),
-        Err(e @ AloneError::Refused(_)) => return Err(CliError::usage(e)),
-    };
-    let frames = scenario.frames;
-    let common = CommonArgs {
-        fps: study.fps(),
-        headless: true,
-        frames: Some(frames),
-        duration: None,
-        script: None,
-        json: args.json,
-        realtime: false,
-        csv: args.csv.clone(),
-        plot: args.plot.clone(),
-        fg: args.fg.clone(),
-        origin: scenario.origin,
-        start: crate::start::StartArgs::default(),
-        dis: crate::dis::FlightDisArgs::default(),
-        record: args.record.clone(),
-        acmi: args.acmi.clone(),
-    };
-    let measures = SharedOutput::new(MeasureOutput::<M>::new(
-        study,
-        run,
-        scenario.start.aircraft.clone(),
-    ));
-    let config = crate::config::prepare_study_run(common, scenario.start, scenario.script)?;
-    let attached = measures.clone();
-    crate::flight::run_model_with(config, move |flight| flight.attach(attached))?;
-    let table = measures
-        .take()
-        .map(|m| m.table())
-        .unwrap_or_else(|| study.empty_table());
-    // A signal ended the flight early (its own outputs are finished for the
-    // frames flown, as `sim-cli palmer`'s): its measures are not the batch's
-    // row, so run-I.csv is not written.
-    if crate::signals::stop_requested().is_some() && table.frames.first() != Some(&frames) {
-        return Ok(());
-    }
-    let path = out_dir.join(format!("run-{run}.csv"));
-    let mut text = Vec::new();
-    write_csv_header(&mut text, &table).context("run row")?;
-    write_csv_rows(&mut text, &table).context("run row")?;
-    std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
 }

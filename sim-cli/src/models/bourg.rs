@@ -2,10 +2,32 @@
 
 use crossterm::event::KeyCode;
 use fdm_core::bourg::{Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::model::Model;
 use serde::{Deserialize, Serialize};
 
 use super::{CliModel, Details};
+use crate::args::BourgArgs;
+use crate::config::{prepare_model, start_model, ModelConfig};
+use crate::error::CliError;
 use crate::keys::{letter, KeyAction};
+
+/// Validates `sim-cli bourg` arguments, reads the script and creates the CSV
+/// file; the thrust at frame 0 comes from `--thrust-lb`.
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input.
+pub fn prepare(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
+    let mut controls = Bourg::initial_controls();
+    if let Some(thrust_lb) = args.thrust_lb {
+        // In 0..3000 (clap checked): exact enough in f32 for any typed value.
+        #[allow(clippy::cast_possible_truncation)]
+        {
+            controls.thrust_lb = thrust_lb as f32;
+        }
+    }
+    let start = start_model::<Bourg>(controls, &args.common.start)?;
+    prepare_model(args.common, start)
+}
 
 /// Bourg-only report fields. The model is `f32`; every float here is the
 /// model's `f32` widened exactly with `f64::from`.

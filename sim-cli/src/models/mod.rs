@@ -15,6 +15,7 @@ use std::fmt::Debug;
 
 use fdm_run::csv::CsvModel;
 use fdm_run::FleetModel;
+use fdm_study::StudyModel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -72,9 +73,11 @@ impl ModelKind {
 }
 
 /// A model as `sim-cli` flies it: a [`RunModel`](fdm_run::RunModel) (what the run library
-/// needs to fly, record and replay it) and a [`FleetModel`] (its fleet
-/// kernel, formations and multiplayer model) with the CLI's own parts.
-pub trait CliModel: CsvModel<Action: KeyAction> + FleetModel {
+/// needs to fly, record and replay it), a [`FleetModel`] (its fleet
+/// kernel, formations and multiplayer model) and a [`StudyModel`] (its
+/// studies' drawn inputs and measures, so `sim-cli study --run I` picks it
+/// through [`ModelKind::with`]) with the CLI's own parts.
+pub trait CliModel: CsvModel<Action: KeyAction> + FleetModel + StudyModel {
     /// The model's own report fields (JSON next to the common ones, CSV
     /// columns after them, a summary line, the HUD's control line).
     type Details: Details;

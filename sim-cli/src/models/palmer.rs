@@ -1,11 +1,38 @@
 //! Palmer's Cessna 172 in the CLI: its report fields, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::palmer::{Palmer, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_core::palmer::{Flaps, Palmer, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
 use serde::{Deserialize, Serialize};
 
 use super::{tenths, CliModel, Details};
+use crate::args::PalmerArgs;
+use crate::config::{prepare_model, start_model, ModelConfig};
+use crate::error::CliError;
 use crate::keys::{letter, KeyAction};
+
+/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
+/// file; the controls at frame 0 come from `--throttle`, `--alpha`, `--bank`
+/// `--flaps` and `--brakes`.
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input.
+pub fn prepare(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
+    let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
+        CliError::usage(format!(
+            "--flaps {}: not a flap setting (0, 20 or 40)",
+            args.flaps
+        ))
+    })?;
+    let controls = PalmerControls {
+        throttle: args.throttle,
+        alpha_deg: args.alpha,
+        bank_deg: args.bank,
+        flaps,
+        brakes: args.brakes,
+    };
+    let start = start_model::<Palmer>(controls, &args.common.start)?;
+    prepare_model(args.common, start)
+}
 
 /// Palmer's controls as the model holds them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
