@@ -87,7 +87,7 @@ pub enum SendReason {
 /// Slack on the heartbeat comparison, seconds, so that a time accumulated
 /// from steps that are not exact in binary (250 × 0.02 s is
 /// 4.999 999 999 999 9…) does not push the heartbeat one frame late.
-const HEARTBEAT_SLACK_S: f64 = 1e-9;
+pub(crate) const HEARTBEAT_SLACK_S: f64 = 1e-9;
 
 /// Where a dead-reckoning model puts the entity `dt_s` seconds after `sent`:
 /// ECEF location (m) and body-to-ECEF orientation matrix.
@@ -295,6 +295,12 @@ impl DeadReckoner {
         } else {
             None
         }
+    }
+
+    /// `last_sent`'s orientation matrix, as [`DeadReckoner::check_at`]
+    /// extrapolates it (the identity before the first PDU).
+    pub(crate) fn last_sent_body_to_ecef(&self) -> &Matrix3<f64> {
+        &self.last_sent_body_to_ecef
     }
 
     /// Records that `sent` went out: receivers now extrapolate from it.

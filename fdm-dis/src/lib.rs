@@ -150,6 +150,7 @@ pub mod frames;
 pub mod listen;
 pub mod listener;
 pub mod publisher;
+mod screen;
 pub mod tracker;
 
 /// The project's WGS-84 geodesy (the one place this crate names its home).
@@ -167,8 +168,10 @@ pub use frames::{
 };
 pub use listener::{decode_datagram, DecodeError, EntityRecord, Listener, ListenerStats};
 pub use publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
+pub use screen::ROUGH_TOLERANCE;
 pub use tracker::{
-    rotation_vector, FleetPublisher, Placed, Placement, ReasonCounts, Tally, Tracker, FLEET_BATCH,
+    rotation_vector, FleetPublisher, Placed, Placement, ReasonCounts, Rough, Tally, Tracker,
+    FLEET_BATCH,
 };
 
 /// The dis-rs crate, for its enumerations (`ForceId`, `Country`, …) and PDU

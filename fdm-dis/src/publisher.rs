@@ -99,7 +99,12 @@ impl EntityPublisher {
     /// found nothing due for (what [`EntityPublisher::update_ecef`] counts
     /// for such a frame).
     pub(crate) fn count_quiet_frame(&mut self) {
-        self.counts.frames += 1;
+        self.count_quiet_frames(1);
+    }
+
+    /// Counts `n` such frames at once (the fleet screen's).
+    pub(crate) fn count_quiet_frames(&mut self, n: u64) {
+        self.counts.frames += n;
     }
 
     /// [`EntityPublisher::update`] for a state already in ECEF.

@@ -35,6 +35,7 @@ use crate::entity::EntityConfig;
 use crate::error::DisOutputError;
 use crate::frames::{ned_to_ecef_rotation, EcefState};
 use crate::publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
+use crate::screen::{Frame as ScreenFrame, ScreenRef};
 
 /// Where a run's model frame sits in ECEF: the flat model frame (x north,
 /// y west, z up) is the tangent plane at the origin, so a model-frame
@@ -166,10 +167,10 @@ pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
 
 /// What the previous frame left for the rates.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Previous {
-    time_s: f64,
-    velocity_ecef_m_s: Vector3<f64>,
-    body_to_ecef: Matrix3<f64>,
+pub(crate) struct Previous {
+    pub(crate) time_s: f64,
+    pub(crate) velocity_ecef_m_s: Vector3<f64>,
+    pub(crate) body_to_ecef: Matrix3<f64>,
 }
 
 /// Largest velocity component, m/s, for which the rates are made only when a
@@ -185,8 +186,8 @@ const LAZY_MIN_FRAME_S: f64 = 1e-6;
 /// for the rates (see the [module documentation](self)).
 #[derive(Debug, Clone)]
 pub struct Tracker {
-    publisher: EntityPublisher,
-    previous: Option<Previous>,
+    pub(crate) publisher: EntityPublisher,
+    pub(crate) previous: Option<Previous>,
 }
 
 impl Tracker {
@@ -233,6 +234,15 @@ impl Tracker {
             velocity_ecef_m_s: placed.velocity_m_s,
             body_to_ecef: placed.body_to_ecef,
         });
+    }
+
+    /// Makes the previous frame, which the fleet screen cleared without
+    /// placing it exactly, exact: `last` is that frame's view (the last one
+    /// this tracker was given), and `quiet` the frames the screen cleared
+    /// since this tracker last counted.
+    fn restore_previous(&mut self, last: &FlightView, placement: &Placement, quiet: u64) {
+        self.remember(&placement.placed(last));
+        self.publisher.count_quiet_frames(quiet);
     }
 
     /// This frame's ECEF state with the rates from the previous frame (zero
@@ -396,6 +406,16 @@ impl Tally {
         }
     }
 
+    /// Counts an aircraft's frame without sending (the tests' sink).
+    #[cfg(test)]
+    fn publish_counts_only(&mut self, result: &Result<Option<Due<'_>>, DisOutputError>) {
+        match result {
+            Ok(Some(_)) => self.pdus += 1,
+            Ok(None) => {}
+            Err(e) => self.invalid(e),
+        }
+    }
+
     /// One aircraft's frame: [`Tracker::update`]'s result sent or counted.
     pub fn publish(&mut self, sender: &UdpSender, result: Result<Option<Due<'_>>, DisOutputError>) {
         match result {
@@ -404,6 +424,30 @@ impl Tally {
             Err(e) => self.invalid(&e),
         }
     }
+}
+
+/// One aircraft's frame as [`FleetPublisher::publish_screened`]'s screen
+/// reads it: what dead reckoning needs, made without the model's full view.
+///
+/// The time, position and velocity must be the bits of the aircraft's
+/// [`FlightView`] (`time_s`, `position_m`, `velocity_mps`); `body_to_ned`
+/// need only be within [`ROUGH_TOLERANCE`](crate::ROUGH_TOLERANCE), element by element, of the view's
+/// [`attitude.body_to_ned()`](fdm_core::geodesy::Attitude::body_to_ned)
+/// (the body-to-NED matrix of the model's flat frame), finite. That is what
+/// lets a model skip its Euler angles (Palmer's attitude is a matrix made
+/// from its velocity and controls, turned into three angles by three
+/// `atan2` and a `hypot`, and back by three `sin_cos`) on the frames where
+/// nothing is due.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rough {
+    /// Simulation time, seconds (the view's bits).
+    pub time_s: f64,
+    /// Position in the model frame, metres (the view's bits).
+    pub position_m: Vector3<f64>,
+    /// Velocity in the model frame, m/s (the view's bits).
+    pub velocity_mps: Vector3<f64>,
+    /// Body-to-NED rotation in the model frame, within [`ROUGH_TOLERANCE`](crate::ROUGH_TOLERANCE).
+    pub body_to_ned: Matrix3<f64>,
 }
 
 /// Aircraft per rayon task of [`FleetPublisher::publish`]: large enough that
@@ -416,13 +460,18 @@ pub const FLEET_BATCH: usize = 1024;
 #[derive(Debug, Clone, Default)]
 pub struct FleetPublisher {
     trackers: Vec<Tracker>,
+    /// The screen's copy of each tracker ([`FleetPublisher::publish_screened`]).
+    refs: Vec<ScreenRef>,
 }
 
 impl FleetPublisher {
     /// A publisher for these trackers (aircraft `i`'s at index `i`).
     #[must_use]
     pub fn new(trackers: Vec<Tracker>) -> Self {
-        Self { trackers }
+        Self {
+            trackers,
+            refs: Vec::new(),
+        }
     }
 
     /// Aircraft published.
@@ -466,6 +515,113 @@ impl FleetPublisher {
                 a.merge(b);
                 a
             })
+    }
+
+    /// [`FleetPublisher::publish`] with a screen: the same PDUs, bytes,
+    /// counts and errors, but the full view of an aircraft (for Palmer its
+    /// Euler angles' `atan2`s, `hypot`s and `sin_cos`es) and its exact
+    /// dead-reckoning check are made only for the aircraft that a cheap
+    /// [`Rough`] frame, screened eight at a time in structure-of-arrays form
+    /// (`screen`: no transcendental function, margins wider than every
+    /// rounding), cannot show to have nothing due.
+    ///
+    /// Aircraft `i`'s input this frame is `state(i)` (`None`: not this
+    /// frame); `rough(first, states, out)` fills `out[k]` with the [`Rough`]
+    /// frame of aircraft `first + k` whose input is `states[k]` (`None`
+    /// where it has none, or where the model cannot make one within
+    /// [`ROUGH_TOLERANCE`](crate::ROUGH_TOLERANCE): that aircraft takes the
+    /// exact path), for up to [`FLEET_BATCH`] aircraft at a time (so that it
+    /// can work on several per instruction); `view(i, s)` makes the exact
+    /// view of aircraft `i` with input `s`.
+    ///
+    /// An aircraft the screen clears is counted as a quiet frame, as
+    /// [`Tracker::update`] would count it; its tracker is not touched until
+    /// its next exact update, which first places the last cleared frame
+    /// exactly (for the rates) from its input. `last` keeps each aircraft's
+    /// last input for that: pass the same buffer on every frame (it is
+    /// resized to the fleet and written here), and do not mix this method
+    /// with [`FleetPublisher::publish`] on one publisher.
+    pub fn publish_screened<S: Copy + Send + Sync>(
+        &mut self,
+        sender: &UdpSender,
+        placement: &Placement,
+        last: &mut Vec<Option<S>>,
+        state: impl Fn(usize) -> Option<S> + Sync,
+        rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]) + Sync,
+        view: impl Fn(usize, &S) -> FlightView + Sync,
+    ) -> Tally {
+        self.screened(placement, last, state, rough, view, |tally, _, due| {
+            tally.publish(sender, due);
+        })
+    }
+
+    /// [`FleetPublisher::publish_screened`] handing each exact update's
+    /// result to `send` instead of a socket.
+    fn screened<S: Copy + Send + Sync>(
+        &mut self,
+        placement: &Placement,
+        last: &mut Vec<Option<S>>,
+        state: impl Fn(usize) -> Option<S> + Sync,
+        rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]) + Sync,
+        view: impl Fn(usize, &S) -> FlightView + Sync,
+        send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync,
+    ) -> Tally {
+        let n = self.trackers.len();
+        last.resize(n, None);
+        self.refs.resize(n, ScreenRef::default());
+        let frame = ScreenFrame::new(placement);
+        self.trackers
+            .par_chunks_mut(FLEET_BATCH)
+            .zip(self.refs.par_chunks_mut(FLEET_BATCH))
+            .zip(last.par_chunks_mut(FLEET_BATCH))
+            .enumerate()
+            .map(|(c, ((trackers, refs), last))| {
+                let first = c * FLEET_BATCH;
+                let mut tally = Tally::default();
+                let states: Vec<Option<S>> = (first..first + trackers.len()).map(&state).collect();
+                let mut roughs = vec![None; states.len()];
+                rough(first, &states, &mut roughs);
+                for (k, (((tracker, screen), last), s)) in trackers
+                    .iter_mut()
+                    .zip(refs.iter_mut())
+                    .zip(last.iter_mut())
+                    .zip(&states)
+                    .enumerate()
+                {
+                    let Some(s) = s else { continue };
+                    if let Some(r) = roughs[k].as_ref().filter(|r| screen.quiet(r, &frame)) {
+                        screen.cleared(r.time_s);
+                    } else {
+                        let i = first + k;
+                        if screen.stale {
+                            match last {
+                                Some(l) => {
+                                    tracker.restore_previous(&view(i, l), placement, screen.pending)
+                                }
+                                // Not reached: a cleared frame's input is kept.
+                                None => tracker.publisher.count_quiet_frames(screen.pending),
+                            }
+                        }
+                        send(&mut tally, i, tracker.update(&view(i, s), placement));
+                        *screen = ScreenRef::refresh(tracker, placement, &frame);
+                    }
+                    *last = Some(*s);
+                }
+                tally
+            })
+            .reduce(Tally::default, |mut a, b| {
+                a.merge(b);
+                a
+            })
+    }
+
+    /// Aircraft `i`'s tracker's counts, with the quiet frames the screen
+    /// cleared since it last counted.
+    #[must_use]
+    pub fn counts(&self, i: usize) -> Option<PublisherCounts> {
+        let mut counts = self.trackers.get(i)?.counts();
+        counts.frames += self.refs.get(i).map_or(0, |r| r.pending);
+        Some(counts)
     }
 }
 
@@ -553,6 +709,130 @@ mod tests {
                 }
                 assert_eq!(lazy.counts(), whole.counts());
                 assert!(lazy.counts().sent > 1);
+            }
+        }
+    }
+
+    /// The screened fleet publisher against the whole computation, aircraft
+    /// by aircraft and frame by frame: the same PDUs (reason and bytes), the
+    /// same errors, the same counts. The rough orientations are the exact
+    /// ones moved by up to 0.9 × [`ROUGH_TOLERANCE`](crate::ROUGH_TOLERANCE)
+    /// in every element (and none for every 13th aircraft), over more than
+    /// one batch of aircraft, tight and loose thresholds, a heartbeat of every
+    /// frame, an aircraft that diverges (NaN) and one left out for some
+    /// frames. Most frames are screened: the full view is made for few.
+    #[test]
+    fn screened_publishing_is_the_whole_computation() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Mutex;
+        const FRAMES: usize = 160;
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = Palmer::default_aircraft();
+        for (thresholds, n) in [
+            (DrThresholds::default(), FLEET_BATCH + 6),
+            (
+                DrThresholds {
+                    position_m: 0.05,
+                    orientation_deg: 0.2,
+                    heartbeat_s: 1.0,
+                },
+                120,
+            ),
+            (
+                DrThresholds {
+                    heartbeat_s: f64::MIN_POSITIVE,
+                    ..DrThresholds::default()
+                },
+                40,
+            ),
+        ] {
+            let (controls, start): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
+            let mut whole: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
+            let mut screened = FleetPublisher::new(whole.clone());
+            let mut last = Vec::new();
+            let mut states = start.clone();
+            let views = AtomicUsize::new(0);
+            for frame in 0..FRAMES {
+                for (s, c) in states.iter_mut().zip(&controls) {
+                    *s = Palmer::step(&aircraft, c, s, 1.0 / 30.0);
+                }
+                if frame == 100 {
+                    states[5].position_m.x = f64::NAN;
+                }
+                let offered = |i: usize| (i != 7 || !(60..70).contains(&frame)).then_some(i);
+                let view = |i: usize, s: &fdm_core::palmer::PalmerState| {
+                    views.fetch_add(1, Ordering::Relaxed);
+                    Palmer::view(&aircraft, &controls[i], s)
+                };
+                let noise = |i: usize, e: usize| {
+                    let mut x = (i * 31 + e * 7 + frame * 131) as u64 ^ 0x9E37_79B9_7F4A_7C15;
+                    x = x.wrapping_mul(0x2545_f491_4f6c_dd1d);
+                    ((x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0)
+                        * 0.9
+                        * crate::ROUGH_TOLERANCE
+                };
+                let rough = |first: usize,
+                             input: &[Option<fdm_core::palmer::PalmerState>],
+                             out: &mut [Option<Rough>]| {
+                    for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
+                        let i = first + k;
+                        *o = s.filter(|_| !i.is_multiple_of(13)).map(|s| {
+                            let v = Palmer::view(&aircraft, &controls[i], &s);
+                            let mut m = v.attitude.body_to_ned();
+                            m.iter_mut()
+                                .enumerate()
+                                .for_each(|(e, x)| *x += noise(i, e));
+                            Rough {
+                                time_s: v.time_s,
+                                position_m: v.position_m,
+                                velocity_mps: v.velocity_mps,
+                                body_to_ned: m,
+                            }
+                        });
+                    }
+                };
+                type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
+                let got = Mutex::new(Vec::<Sent>::new());
+                let tally = screened.screened(
+                    &placement,
+                    &mut last,
+                    |i| offered(i).map(|i| states[i]),
+                    rough,
+                    view,
+                    |tally, i, result| {
+                        let kept = match &result {
+                            Ok(Some(d)) => Some((i, Ok((d.reason, d.bytes.to_vec())))),
+                            Ok(None) => None,
+                            Err(e) => Some((i, Err(e.to_string()))),
+                        };
+                        tally.publish_counts_only(&result);
+                        got.lock().unwrap().extend(kept);
+                    },
+                );
+                let mut got = got.into_inner().unwrap();
+                got.sort_by_key(|(i, _)| *i);
+                let mut expected: Vec<Sent> = Vec::new();
+                for (i, t) in whole.iter_mut().enumerate() {
+                    let Some(i) = offered(i) else { continue };
+                    let v = Palmer::view(&aircraft, &controls[i], &states[i]);
+                    match t.update(&v, &placement) {
+                        Ok(Some(d)) => expected.push((i, Ok((d.reason, d.bytes.to_vec())))),
+                        Ok(None) => {}
+                        Err(e) => expected.push((i, Err(e.to_string()))),
+                    }
+                }
+                assert_eq!(got, expected, "{thresholds:?}, frame {frame}");
+                assert_eq!(tally.invalid, u64::from(frame >= 100), "frame {frame}");
+            }
+            let screened_counts: Vec<_> = (0..n).map(|i| screened.counts(i).unwrap()).collect();
+            let whole_counts: Vec<_> = whole.iter().map(Tracker::counts).collect();
+            assert_eq!(screened_counts, whole_counts, "{thresholds:?}");
+            let views = views.into_inner();
+            // The full view is made for the aircraft not cleared, and again
+            // for the previous frame of those whose previous frame was.
+            if thresholds.heartbeat_s > 0.1 {
+                let most = n * FRAMES / if thresholds.heartbeat_s > 2.0 { 5 } else { 3 };
+                assert!(views < most, "{views} views for {thresholds:?}");
             }
         }
     }
