@@ -45,14 +45,14 @@ use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{FlightStatus, FlightView, Model};
 use fdm_dis::{
     AircraftKind, DisOutputError, DisVersion, DrAlgorithm, DrThresholds, EntityConfig,
-    EntityIdentity, FleetPublisher, Marking, Placement, Tally, Tracker, UdpSender,
+    EntityIdentity, FleetPublisher, Marking, Placement, Rough, Tally, Tracker, UdpSender,
 };
 use fdm_ecs::components::Params;
 use fdm_ecs::{Entity, World};
 use serde::{Deserialize, Serialize};
 
 use crate::output::{Event, Frame, Output, OutputError};
-use crate::RunModel;
+use crate::{FleetModel, RunModel};
 
 /// Entity numbers DIS allows in one application (1 to 0xFFFD).
 pub const ENTITIES_PER_APPLICATION: u64 = 0xFFFD;
@@ -457,6 +457,109 @@ impl DisLink {
     }
 }
 
+/// [`FleetModel::dis_rough`] for Palmer's demonstration fleet: aircraft
+/// `first + k` with state `states[k]` and the controls of
+/// [`Model::fleet_member`]`(first + k)`, its body-to-NED matrix made straight
+/// from the velocity and controls, eight aircraft at a time (the sines and
+/// cosines of the angle of attack and the bank by
+/// [`fdm_core::math::sin_cos_lanes`]).
+///
+/// [`fdm_core::geodesy::palmer_attitude`] makes the matrix
+/// `C = Rz(track) · Ry(climb) · Rx(bank) · Ry(alpha)` with `track` and
+/// `climb` from `atan2` and `hypot` of the velocity, then reads three Euler
+/// angles from it (three `atan2`, a `hypot`), which the DIS placement turns
+/// back into a matrix (three `sin_cos`). Here the sine and cosine of `track`
+/// and `climb` are the velocity's ratios (`vx / vh`, `-vy / vh`, `vh / v`,
+/// `vz / v`) and there are no angles: the same matrix up to rounding
+/// (1e-15 in each element) and to the Euler round trip, whose roll and
+/// heading lose about `1e-16 / cos(pitch)` each. So an aircraft gets a
+/// rough frame only when
+///
+/// * its velocity components are 0 or between 1e-100 and 1e100 m/s in
+///   magnitude, the horizontal ones both 0 or the larger of them in that
+///   range (no square under- or overflows beyond a relative 1e-100), and
+/// * `cos(pitch)² = C₀₀² + C₁₀² ≥ 1e-6` (at least 0.06° from the vertical),
+///
+/// which keeps every element within about 1e-12 of the exact path's, a
+/// thousandth of [`fdm_dis::ROUGH_TOLERANCE`] (the test
+/// `palmer_rough_is_within_the_tolerance` measures it on states near the
+/// limits); any other aircraft (and any non-finite result) takes the exact
+/// path.
+pub fn palmer_rough(
+    first: usize,
+    states: &[Option<fdm_core::palmer::PalmerState>],
+    out: &mut [Option<Rough>],
+) {
+    use fdm_core::palmer::Palmer;
+    const L: usize = 8;
+    for (c, (states, out)) in states.chunks(L).zip(out.chunks_mut(L)).enumerate() {
+        // Lanes past the end get an angle in sin_cos_lanes's kernel range.
+        let mut alpha = [0.1; L];
+        let mut bank = [0.1; L];
+        for (k, (a, b)) in alpha
+            .iter_mut()
+            .zip(&mut bank)
+            .take(states.len())
+            .enumerate()
+        {
+            let (controls, _) = Palmer::fleet_member(first + c * L + k);
+            *a = controls.alpha_deg.to_radians();
+            *b = controls.bank_deg.to_radians();
+        }
+        let (sin_alpha, cos_alpha) = fdm_core::math::sin_cos_lanes(alpha);
+        let (sin_bank, cos_bank) = fdm_core::math::sin_cos_lanes(bank);
+        for (k, (s, o)) in states.iter().zip(out.iter_mut()).enumerate() {
+            *o = s.and_then(|s| {
+                palmer_rough_one(&s, (sin_alpha[k], cos_alpha[k]), (sin_bank[k], cos_bank[k]))
+            });
+        }
+    }
+}
+
+/// One aircraft of [`palmer_rough`].
+fn palmer_rough_one(
+    s: &fdm_core::palmer::PalmerState,
+    (sa, ca): (f64, f64),
+    (sb, cb): (f64, f64),
+) -> Option<Rough> {
+    let v = s.velocity_mps;
+    let in_range = |m: f64| m == 0.0 || (1e-100..1e100).contains(&m);
+    let horizontal = v.x.abs().max(v.y.abs());
+    if !(v.iter().all(|c| c.is_finite()) && in_range(horizontal) && in_range(v.z.abs())) {
+        return None;
+    }
+    let vh2 = v.x * v.x + v.y * v.y;
+    let vh = fdm_core::math::sqrt(vh2);
+    // The degenerate cases as palmer_attitude (and the model) take them.
+    let (ct, st) = if horizontal == 0.0 {
+        (1.0, 0.0)
+    } else {
+        (v.x / vh, -v.y / vh)
+    };
+    let (cc, sc) = if horizontal == 0.0 && v.z == 0.0 {
+        (1.0, 0.0)
+    } else {
+        let speed = fdm_core::math::sqrt(vh2 + v.z * v.z);
+        (vh / speed, v.z / speed)
+    };
+    // Rz(track) · Ry(climb) and Rx(bank) · Ry(alpha), written out.
+    let a =
+        fdm_core::bourg::Matrix3::new(ct * cc, -st, ct * sc, st * cc, ct, st * sc, -sc, 0.0, cc);
+    let b =
+        fdm_core::bourg::Matrix3::new(ca, 0.0, sa, sb * sa, cb, -sb * ca, -cb * sa, sb, cb * ca);
+    let c = a * b;
+    let cos_pitch_sq = c[(0, 0)] * c[(0, 0)] + c[(1, 0)] * c[(1, 0)];
+    if !(cos_pitch_sq >= 1e-6 && c.iter().all(|e| e.is_finite())) {
+        return None;
+    }
+    Some(Rough {
+        time_s: s.time_s,
+        position_m: s.position_m,
+        velocity_mps: v,
+        body_to_ned: c,
+    })
+}
+
 /// One aircraft's DIS identity in a single flight: the shared settings, its
 /// entity number and marking.
 #[derive(Debug, Clone, PartialEq)]
@@ -639,10 +742,16 @@ impl FleetDis {
     /// Publishes one frame of a lanes-kernel fleet: aircraft `i`'s state is
     /// `state(i)` (`None`: not this frame), its controls those of
     /// [`Model::fleet_member`]`(i)` (the kernel's demonstration fleet). On
-    /// the current rayon pool ([`FleetPublisher::publish`]), sending as it
-    /// goes.
-    pub fn publish_lanes<M: Model>(
+    /// the current rayon pool, sending as it goes, screened
+    /// ([`FleetPublisher::publish_screened`]): the model's
+    /// [`FleetModel::dis_rough`] frames decide which aircraft certainly have
+    /// nothing due, and only the others get their full view; the PDUs are
+    /// those of [`FleetPublisher::publish`] bit for bit. `last` keeps each
+    /// aircraft's last state between frames: the same buffer every frame,
+    /// empty at first.
+    pub fn publish_lanes<M: FleetModel>(
         &mut self,
+        last: &mut Vec<Option<M::State>>,
         state: impl Fn(usize) -> Option<M::State> + Sync,
         origin: &GeodeticOrigin,
     ) {
@@ -650,11 +759,17 @@ impl FleetDis {
         self.frames += 1;
         let placement = Placement::new(*origin);
         let aircraft = M::default_aircraft();
-        let tally = self.lanes.publish(&self.link.sender, &placement, |i| {
-            let s = state(i)?;
-            let (controls, _) = M::fleet_member(i);
-            Some(M::view(&aircraft, &controls, &s))
-        });
+        let tally = self.lanes.publish_screened(
+            &self.link.sender,
+            &placement,
+            last,
+            state,
+            |first, states, out| M::dis_rough(first, states, out),
+            |i, s| {
+                let (controls, _) = M::fleet_member(i);
+                M::view(&aircraft, &controls, s)
+            },
+        );
         self.link.tally.merge(tally);
         self.seconds += start.elapsed().as_secs_f64();
     }

@@ -123,6 +123,13 @@ impl FleetModel for Palmer {
         moved.position_m.z += up_m;
         moved
     }
+
+    /// The attitude matrix straight from the velocity and controls, without
+    /// the Euler angles ([`crate::dis::palmer_rough`]).
+    #[cfg(feature = "dis")]
+    fn dis_rough(first: usize, states: &[Option<PalmerState>], out: &mut [Option<fdm_dis::Rough>]) {
+        crate::dis::palmer_rough(first, states, out);
+    }
 }
 
 /// Bourg's aircraft as a recording stores it: the airframe (from which
@@ -233,7 +240,7 @@ pub trait FleetModel: RunModel {
     /// [`Kernel::Lanes`](crate::fleet::Kernel::Lanes)): `fdm_fleet::Fleet<Self>`
     /// for any model whose step is written over `fdm_core::real`'s number
     /// type (no hand-written kernel).
-    type Lanes: fdm_fleet::LaneFleet<Model = Self>;
+    type Lanes: fdm_fleet::LaneFleet<Model = Self> + Sync;
 
     /// The model file FlightGear loads for this model as a multiplayer
     /// aircraft (relative to its data directory), e.g.
@@ -244,6 +251,20 @@ pub trait FleetModel: RunModel {
     /// y, z, metres), everything else unchanged: the start patterns of a
     /// fleet ([`crate::fleet::show::start_of`]).
     fn offset_state(state: &Self::State, north_m: f64, west_m: f64, up_m: f64) -> Self::State;
+
+    /// DIS (feature `dis`): the [`fdm_dis::Rough`] frames of the
+    /// demonstration fleet's aircraft `first..first + states.len()` with
+    /// these states (`None`: none), into `out` (as long as `states`, all
+    /// `None` on entry), for the fleet publisher's screen
+    /// ([`fdm_dis::FleetPublisher::publish_screened`]): the view's time,
+    /// position and velocity bit for bit, its attitude's body-to-NED matrix
+    /// within [`fdm_dis::ROUGH_TOLERANCE`], made more cheaply than the view.
+    /// An aircraft left `None` takes the exact path. The default makes none
+    /// (every aircraft exact).
+    #[cfg(feature = "dis")]
+    fn dis_rough(first: usize, states: &[Option<Self::State>], out: &mut [Option<fdm_dis::Rough>]) {
+        let _ = (first, states, out);
+    }
 }
 
 /// Something to do with a model type chosen at run time by name

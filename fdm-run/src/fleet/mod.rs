@@ -275,9 +275,10 @@ enum Flyer<M: FleetModel> {
         precision: Precision,
         /// The demonstration fleet's aircraft (the fleet's views).
         aircraft: M::Aircraft,
-        /// The states DIS publishes, copied out once per frame.
+        /// Each aircraft's last state DIS published (its screen's memory:
+        /// [`crate::dis::FleetDis::publish_lanes`]).
         #[cfg(feature = "dis")]
-        states: Vec<Option<M::State>>,
+        dis_last: Vec<Option<M::State>>,
     },
 }
 
@@ -399,7 +400,7 @@ impl<M: FleetModel> FleetRun<M> {
                     precision: scenario.precision,
                     aircraft: M::default_aircraft(),
                     #[cfg(feature = "dis")]
-                    states: Vec::new(),
+                    dis_last: Vec::new(),
                 };
                 (flyer, threads, pool, estimated)
             }
@@ -449,8 +450,8 @@ impl<M: FleetModel> FleetRun<M> {
             Flyer::Ecs { sim, .. } => {
                 FleetDis::attach::<M>(sim.world_mut(), &config.settings, config.entity_base)?
             }
-            Flyer::Lanes { states, .. } => {
-                *states = Vec::with_capacity(self.n);
+            Flyer::Lanes { dis_last, .. } => {
+                *dis_last = vec![None; self.n];
                 FleetDis::for_lanes::<M>(&config.settings, config.entity_base, self.n)?
             }
         });
@@ -715,19 +716,23 @@ impl<M: FleetModel> FleetRun<M> {
                     }
                 }
             }
-            Flyer::Lanes { fleet, states, .. } => {
-                // The kernel's arrays are not shareable across threads; the
-                // states are copied out once per frame (a few MB at 100 000).
-                // A diverged aircraft is no longer sent, as with the ECS.
-                states.clear();
-                states.extend((0..self.n).map(|i| {
-                    fleet
-                        .state(i)
-                        .filter(|_| fleet.status(i) != Some(FlightStatus::Diverged))
-                }));
-                let states = &*states;
+            Flyer::Lanes {
+                fleet, dis_last, ..
+            } => {
+                // Each batch of the publisher reads its aircraft's states
+                // from the kernel's arrays on its own thread. A diverged
+                // aircraft is no longer sent, as with the ECS.
+                let fleet = &*fleet;
                 self.pool.install(|| {
-                    dis.publish_lanes::<M>(|i| states.get(i).copied().flatten(), origin);
+                    dis.publish_lanes::<M>(
+                        dis_last,
+                        |i| {
+                            fleet
+                                .state(i)
+                                .filter(|_| fleet.status(i) != Some(FlightStatus::Diverged))
+                        },
+                        origin,
+                    );
                 });
             }
         }
