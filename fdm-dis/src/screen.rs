@@ -25,19 +25,19 @@
 //!   the rough body-to-NED matrix, within [`ROUGH_TOLERANCE`] of the exact
 //!   one) and `R = I + A [ω]× + B' [ω]×²`, whose `A = sin θ/θ` and
 //!   `B' = (1 − cos θ)/θ²` are their Taylor series in `θ²` (for `θ` up to
-//!   0.8 rad, to 1e-16); the aircraft is cleared when that cosine is above
+//!   0.5 rad, to 4e-14); the aircraft is cleared when that cosine is above
 //!   the threshold's by 1e-7, against an error below 1e-8 (see
 //!   [`ScreenRef::quiet_lanes`]).
 //!
 //! Anything else (the first PDU, a clock that went back, a state that is not
-//! certainly finite, a turn of more than 0.8 rad since the last PDU,
+//! certainly finite, a turn of more than 0.5 rad since the last PDU,
 //! thresholds below about 0.03° that leave no room for the margin) is not
 //! cleared.
 
 use fdm_core::math;
 use nalgebra::Matrix3;
 
-use crate::dead_reckoning::HEARTBEAT_SLACK_S;
+use crate::dead_reckoning::{DrThresholds, HEARTBEAT_SLACK_S};
 use crate::tracker::{Placement, Rough, Tracker};
 
 /// How far, element by element, a rough body-to-NED matrix may be from the
@@ -49,12 +49,13 @@ pub const ROUGH_TOLERANCE: f64 = 1e-9;
 /// The margin on the cosine of the orientation error.
 const COS_MARGIN: f64 = 1e-7;
 
-/// Largest `θ²` (rad²) of the extrapolated turn that the series cover.
-const MAX_TURN_SQ: f64 = 0.64;
+/// Largest `θ²` (rad²) of the extrapolated turn that the series cover
+/// (θ ≤ 0.5 rad): the first term left out, `θ¹²/13!`, is below 4e-14.
+const MAX_TURN_SQ: f64 = 0.25;
 
-/// `(−1)ᵏ/(2k + 1 + first)!` for `k = 0..9`.
-const fn series(first: u32) -> [f64; 9] {
-    let mut c = [0.0; 9];
+/// `(−1)ᵏ/(2k + first)!` for `k = 0..6`.
+const fn series(first: u32) -> [f64; 6] {
+    let mut c = [0.0; 6];
     let mut factorial = 1.0;
     let mut n = 1;
     while n <= first {
@@ -62,7 +63,7 @@ const fn series(first: u32) -> [f64; 9] {
         n += 1;
     }
     let mut k = 0;
-    while k < 9 {
+    while k < 6 {
         c[k] = if k % 2 == 0 { 1.0 } else { -1.0 } / factorial;
         factorial *= ((first + 2 * k as u32 + 1) * (first + 2 * k as u32 + 2)) as f64;
         k += 1;
@@ -71,9 +72,17 @@ const fn series(first: u32) -> [f64; 9] {
 }
 
 /// The coefficients of `sin θ/θ` in powers of `θ²`: `(−1)ᵏ/(2k+1)!`.
-const SIN_SERIES: [f64; 9] = series(1);
+const SIN_SERIES: [f64; 6] = series(1);
 /// The coefficients of `(1 − cos θ)/θ²` in powers of `θ²`: `(−1)ᵏ/(2k+2)!`.
-const COS_SERIES: [f64; 9] = series(2);
+const COS_SERIES: [f64; 6] = series(2);
+
+/// `c₀ + c₁ t + … + c₅ t⁵` by Estrin's scheme (three levels instead of
+/// Horner's five dependent steps).
+#[inline(always)]
+fn estrin(c: &[f64; 6], t: f64) -> f64 {
+    let t2 = t * t;
+    (c[0] + c[1] * t) + t2 * ((c[2] + c[3] * t) + t2 * (c[4] + c[5] * t))
+}
 
 /// Largest velocity component (model frame, m/s) the screen clears: the
 /// ECEF velocity is then below `√3 · 1e149 < 1e150` in every component, the
@@ -99,18 +108,13 @@ pub(crate) struct ScreenRef {
     /// `|location|∞ + |origin|∞`, for the position margin.
     sent_scale: f64,
     /// Its velocity, acceleration (zero unless a V model) and angular
-    /// velocity (zero unless an R model), as the exact path widens them.
-    v: [f64; 3],
-    a: [f64; 3],
-    w: [f64; 3],
+    /// velocity (zero unless an R model), the wire's `f32`s (the exact path
+    /// widens them as they are used here).
+    v: [f32; 3],
+    a: [f32; 3],
+    w: [f32; 3],
     /// `C₀ᵀ · C_ecef←ned`, row by row.
     p: [f64; 9],
-    /// The position threshold, metres.
-    position_m: f64,
-    /// `cos(orientation threshold) + COS_MARGIN`.
-    cos_min: f64,
-    /// `heartbeat − slack`, as the exact path computes it.
-    heartbeat_s: f64,
     /// The previous frame's time.
     prev_time: f64,
     /// The screen cleared frames whose exact previous frame the tracker
@@ -120,7 +124,9 @@ pub(crate) struct ScreenRef {
     pub(crate) pending: u64,
 }
 
-/// The per-frame constants of the screen.
+/// The per-frame constants of the screen: the origin, and the thresholds
+/// it screens for (the fleet's, when every tracker has the same; a tracker
+/// with others is never cleared).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Frame {
     /// The origin's ECEF position.
@@ -128,17 +134,37 @@ pub(crate) struct Frame {
     ecef0_scale: f64,
     /// ENU to ECEF at the origin, row by row.
     enu_to_ecef: [f64; 9],
+    /// The thresholds screened for.
+    thresholds: Option<DrThresholds>,
+    /// The position threshold, metres.
+    position_m: f64,
+    /// `cos(orientation threshold) + COS_MARGIN`.
+    cos_min: f64,
+    /// `heartbeat − slack`, as the exact path computes it.
+    heartbeat_s: f64,
 }
 
 impl Frame {
-    pub(crate) fn new(placement: &Placement) -> Self {
+    pub(crate) fn new(placement: &Placement, thresholds: Option<DrThresholds>) -> Self {
         let o = placement.origin();
         let e = o.ecef_m();
         let m = o.enu_to_ecef();
+        let (position_m, cos_min, heartbeat_s) =
+            thresholds.map_or((f64::NAN, f64::NAN, f64::NAN), |t| {
+                (
+                    t.position_m,
+                    math::cos(t.orientation_deg.to_radians()) + COS_MARGIN,
+                    t.heartbeat_s - HEARTBEAT_SLACK_S,
+                )
+            });
         Self {
             ecef0: [e.x, e.y, e.z],
             ecef0_scale: e.x.abs().max(e.y.abs()).max(e.z.abs()),
             enu_to_ecef: rows(&m),
+            thresholds,
+            position_m,
+            cos_min,
+            heartbeat_s,
         }
     }
 }
@@ -168,15 +194,13 @@ impl ScreenRef {
         let (Some(sent), Some(prev)) = (reckoner.last_sent(), tracker.previous) else {
             return Self::default();
         };
-        let t = reckoner.thresholds();
         let algorithm = reckoner.algorithm();
-        let widen = |v: [f32; 3]| v.map(f64::from);
         let c = reckoner.last_sent_body_to_ecef().transpose() * placement.model_ned_to_ecef();
         let l = sent.location_m;
         let prev_ok = prev.body_to_ecef.iter().all(|c| c.is_finite())
             && prev.velocity_ecef_m_s.iter().all(|c| c.abs() < 1e150);
         Self {
-            screenable: prev_ok,
+            screenable: prev_ok && frame.thresholds == Some(reckoner.thresholds()),
             sent_time: sent.time_s,
             sent_rel: [
                 l.x - frame.ecef0[0],
@@ -184,21 +208,18 @@ impl ScreenRef {
                 l.z - frame.ecef0[2],
             ],
             sent_scale: max_abs([l.x, l.y, l.z]) + frame.ecef0_scale,
-            v: widen(sent.velocity_m_s),
+            v: sent.velocity_m_s,
             a: if algorithm.accelerates() {
-                widen(sent.acceleration_m_s2)
+                sent.acceleration_m_s2
             } else {
                 [0.0; 3]
             },
             w: if algorithm.rotates() {
-                widen(sent.angular_velocity_rad_s)
+                sent.angular_velocity_rad_s
             } else {
                 [0.0; 3]
             },
             p: rows(&c),
-            position_m: t.position_m,
-            cos_min: math::cos(t.orientation_deg.to_radians()) + COS_MARGIN,
-            heartbeat_s: t.heartbeat_s - HEARTBEAT_SLACK_S,
             prev_time: prev.time_s,
             stale: false,
             pending: 0,
@@ -220,7 +241,8 @@ impl ScreenRef {
     /// element, `N` (its product with `C₀ᵀ`, whose rows have norm 1) within
     /// `3 · tol`, and `tr(Rᵀ N)` (the nine elements of `R` have absolute
     /// values summing to at most `3√3`) within `16 · tol`: the cosine is
-    /// within `8 · tol` = 8e-9 of the exact path's, plus rounding (1e-15),
+    /// within `8 · tol` = 8e-9 of the exact path's, plus rounding and the
+    /// series' truncation (below 1e-12 together),
     /// below the margin of 1e-7. The exact path's angle is then below the
     /// threshold by at least `9e-8` in cosine, far more than its `atan2`'s
     /// rounding, so it finds no orientation error.
@@ -232,7 +254,7 @@ impl ScreenRef {
         let t = r.time_s;
         let elapsed = t - s.sent_time;
         let frame_s = t - s.prev_time;
-        let time_ok = (elapsed >= 0.0) & (elapsed < s.heartbeat_s) & (frame_s >= MIN_FRAME_S);
+        let time_ok = (elapsed >= 0.0) & (elapsed < frame.heartbeat_s) & (frame_s >= MIN_FRAME_S);
 
         // Finite and slow: everything the exact path would place is finite
         // (an infinity or NaN anywhere makes the sum's product with 0 NaN),
@@ -253,12 +275,13 @@ impl ScreenRef {
         let ry = m[3] * ex + m[4] * ey + m[5] * ez;
         let rz = m[6] * ex + m[7] * ey + m[8] * ez;
         let half_e2 = 0.5 * elapsed * elapsed;
-        let dx = s.sent_rel[0] + s.v[0] * elapsed + s.a[0] * half_e2 - rx;
-        let dy = s.sent_rel[1] + s.v[1] * elapsed + s.a[1] * half_e2 - ry;
-        let dz = s.sent_rel[2] + s.v[2] * elapsed + s.a[2] * half_e2 - rz;
+        let (v, a) = (s.v.map(f64::from), s.a.map(f64::from));
+        let dx = s.sent_rel[0] + v[0] * elapsed + a[0] * half_e2 - rx;
+        let dy = s.sent_rel[1] + v[1] * elapsed + a[1] * half_e2 - ry;
+        let dz = s.sent_rel[2] + v[2] * elapsed + a[2] * half_e2 - rz;
         let scale =
-            s.sent_scale + max_abs(s.v) * elapsed + max_abs(s.a) * half_e2 + max_abs([rx, ry, rz]);
-        let limit = s.position_m - (1e-6 + 1e-13 * scale);
+            s.sent_scale + max_abs(v) * elapsed + max_abs(a) * half_e2 + max_abs([rx, ry, rz]);
+        let limit = frame.position_m - (1e-6 + 1e-13 * scale);
         let position_ok = (limit > 0.0) & (dx * dx + dy * dy + dz * dz < limit * limit);
 
         // Orientation: N = P · B, ω = w Δt, cos = (tr(Rᵀ N) − 1)/2.
@@ -269,23 +292,22 @@ impl ScreenRef {
         let (n00, n01, n02) = (n(0, 0), n(0, 1), n(0, 2));
         let (n10, n11, n12) = (n(1, 0), n(1, 1), n(1, 2));
         let (n20, n21, n22) = (n(2, 0), n(2, 1), n(2, 2));
-        let wx = s.w[0] * elapsed;
-        let wy = s.w[1] * elapsed;
-        let wz = s.w[2] * elapsed;
+        let wx = f64::from(s.w[0]) * elapsed;
+        let wy = f64::from(s.w[1]) * elapsed;
+        let wz = f64::from(s.w[2]) * elapsed;
         let tt = wx * wx + wy * wy + wz * wz;
         // sin θ/θ = Σ (−θ²)ᵏ/(2k+1)!, (1 − cos θ)/θ² = Σ (−θ²)ᵏ/(2k+2)!,
-        // k ≤ 8 by Horner's rule: the first term left out is below 1e-16
-        // at θ² = 0.64.
-        let horner = |c: &[f64; 9]| c.iter().rev().fold(0.0, |acc, &ck| acc * tt + ck);
-        let a = horner(&SIN_SERIES);
-        let bb = horner(&COS_SERIES);
+        // k ≤ 5: the first term left out is below 4e-14 for θ² ≤ 0.25, and
+        // it multiplies terms below 1 in the cosine.
+        let a = estrin(&SIN_SERIES, tt);
+        let bb = estrin(&COS_SERIES, tt);
         let tr = n00 + n11 + n22;
         let s1 = wx * (n21 - n12) + wy * (n02 - n20) + wz * (n10 - n01);
         let quad = wx * (n00 * wx + n01 * wy + n02 * wz)
             + wy * (n10 * wx + n11 * wy + n12 * wz)
             + wz * (n20 * wx + n21 * wy + n22 * wz);
         let cos = (tr + a * s1 + bb * (quad - tt * tr) - 1.0) * 0.5;
-        let orientation_ok = (tt <= MAX_TURN_SQ) & (cos > s.cos_min);
+        let orientation_ok = (tt <= MAX_TURN_SQ) & (cos > frame.cos_min);
 
         s.screenable & time_ok & state_ok & position_ok & orientation_ok
     }

@@ -569,7 +569,13 @@ impl FleetPublisher {
         let n = self.trackers.len();
         last.resize(n, None);
         self.refs.resize(n, ScreenRef::default());
-        let frame = ScreenFrame::new(placement);
+        // The thresholds screened for: the first tracker's (a fleet's are
+        // one setting; a tracker with others is never cleared).
+        let thresholds = self
+            .trackers
+            .first()
+            .map(|t| t.publisher.reckoner().thresholds());
+        let frame = ScreenFrame::new(placement, thresholds);
         self.trackers
             .par_chunks_mut(FLEET_BATCH)
             .zip(self.refs.par_chunks_mut(FLEET_BATCH))

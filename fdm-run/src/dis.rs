@@ -531,16 +531,18 @@ fn palmer_rough_one(
     let vh2 = v.x * v.x + v.y * v.y;
     let vh = fdm_core::math::sqrt(vh2);
     // The degenerate cases as palmer_attitude (and the model) take them.
+    // One division each (a rounding more than a quotient: within 1e-15).
     let (ct, st) = if horizontal == 0.0 {
         (1.0, 0.0)
     } else {
-        (v.x / vh, -v.y / vh)
+        let per_vh = 1.0 / vh;
+        (v.x * per_vh, -v.y * per_vh)
     };
     let (cc, sc) = if horizontal == 0.0 && v.z == 0.0 {
         (1.0, 0.0)
     } else {
-        let speed = fdm_core::math::sqrt(vh2 + v.z * v.z);
-        (vh / speed, v.z / speed)
+        let per_speed = 1.0 / fdm_core::math::sqrt(vh2 + v.z * v.z);
+        (vh * per_speed, v.z * per_speed)
     };
     // Rz(track) · Ry(climb) and Rx(bank) · Ry(alpha), written out.
     let a =
