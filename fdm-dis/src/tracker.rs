@@ -843,6 +843,71 @@ mod tests {
         }
     }
 
+    /// Frames far shorter than the tracker's lazy-rates bound (a clock
+    /// started at 0 and advanced by subnormal steps, the velocity changing
+    /// by 1 m/s a frame): the exact path's rates overflow and it reports
+    /// the state as unsendable; the screen must not clear those frames as
+    /// quiet. Same results, frame by frame, as the whole computation.
+    #[test]
+    fn screened_publishing_does_not_clear_frames_shorter_than_the_lazy_bound() {
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = Palmer::default_aircraft();
+        let (controls, start) = Palmer::fleet_member(0);
+        let base = Palmer::view(&aircraft, &controls, &start);
+        let mut whole = tracker(DrThresholds::default());
+        let mut screened = FleetPublisher::new(vec![whole.clone()]);
+        let mut last = Vec::new();
+        let mut unsendable = 0;
+        for frame in 0..6_u32 {
+            let mut v = base;
+            // 0, 1e-310, 2e-310, ... s: frames of 1e-310 s.
+            v.time_s = f64::from(frame) * 1e-310;
+            v.velocity_mps.x += f64::from(frame);
+            let rough = |_: usize, input: &[Option<FlightView>], out: &mut [Option<Rough>]| {
+                for (s, o) in input.iter().zip(out.iter_mut()) {
+                    *o = s.map(|s| Rough {
+                        time_s: s.time_s,
+                        position_m: s.position_m,
+                        velocity_mps: s.velocity_mps,
+                        body_to_ned: s.attitude.body_to_ned(),
+                    });
+                }
+            };
+            let got = std::sync::Mutex::new(Vec::new());
+            screened.screened(
+                &placement,
+                &mut last,
+                |_| Some(v),
+                rough,
+                |_, s| *s,
+                |tally, _, result| {
+                    let kept = match &result {
+                        Ok(d) => d.as_ref().map(|d| Ok(d.bytes.to_vec())),
+                        Err(e) => Some(Err(e.to_string())),
+                    };
+                    got.lock().unwrap().extend(kept);
+                    tally.publish_counts_only(&result);
+                },
+            );
+            let expected = match whole.update(&v, &placement) {
+                Ok(Some(d)) => vec![Ok(d.bytes.to_vec())],
+                Ok(None) => vec![],
+                Err(e) => {
+                    unsendable += 1;
+                    vec![Err(e.to_string())]
+                }
+            };
+            // Quiet frames (cleared, or not due on the exact path) send
+            // nothing; PDUs and errors must be the same.
+            assert_eq!(got.into_inner().unwrap(), expected, "frame {frame}");
+        }
+        assert!(
+            unsendable > 0,
+            "the frames must overflow the exact path's rates"
+        );
+        assert_eq!(screened.counts(0).unwrap(), whole.counts());
+    }
+
     /// The orientation screen never calls an angle above the threshold
     /// "certainly within": random rotations near the threshold.
     #[test]
