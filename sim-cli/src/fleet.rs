@@ -131,14 +131,7 @@ impl WithModel for Measure<'_> {
                 .tick(done);
         })?;
         drop(bar);
-        let acmi = crate::acmi::create(
-            args.acmi.acmi.as_deref(),
-            args.acmi.acmi_reference_time.as_ref(),
-            M::NAME,
-            FLEET_FPS,
-            &run.origin(),
-            &[],
-        )?;
+        let acmi = crate::acmi::create(&args.acmi, M::NAME, FLEET_FPS, &run.origin(), &[])?;
         if let Some(acmi) = acmi {
             run.attach(acmi)?;
         }

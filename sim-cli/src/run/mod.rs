@@ -9,10 +9,11 @@
 //! is model-agnostic and tested with a fake model.
 
 use std::io::{self, Write};
+use std::net::SocketAddrV4;
 
 use anyhow::Context as _;
 
-use crate::config::{Mode, RunConfig};
+use crate::config::Mode;
 use crate::error::CliError;
 use crate::keys::KeyAction;
 use crate::models::Details;
@@ -93,23 +94,18 @@ fn print_stdout(text: &str) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Flies `flight` as configured: headless (report on stdout: JSON with `--json`,
+/// Flies `flight` at `fps` in `mode` (`fg`: the FlightGear link's target,
+/// whose counters the report shows): headless (report on stdout: JSON with `--json`,
 /// else a short summary) or interactive (a one-line summary on stderr at the end).
 ///
 /// # Errors
 /// Whatever the loop or the output reports.
-pub fn fly<F: Flight>(mut flight: F, run: RunConfig) -> Result<(), CliError> {
-    let RunConfig {
-        fps,
-        mode,
-        // Taken by `run_model`, which attaches it to the run (fdm_run::csv::CsvOutput).
-        csv: _,
-        fg,
-        origin: _,
-        dis: _,
-        // Taken by `run_model`, which attaches it to the run (fdm_plot::PlotOutput).
-        plot: _,
-    } = run;
+pub fn fly<F: Flight>(
+    mut flight: F,
+    mode: Mode,
+    fps: u32,
+    fg: Option<SocketAddrV4>,
+) -> Result<(), CliError> {
     match mode {
         Mode::Headless {
             frames,
