@@ -33,7 +33,7 @@ use crate::error::CliError;
 use crate::models::CliModel;
 use crate::recording::RecordWriter;
 use crate::run::{fly, Flight, Links};
-use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
+use crate::snapshot::Snapshot;
 
 /// One aircraft of model `M`: an [`fdm_run::Run`] (its own simulation and
 /// the outputs attached to it), and what the CLI adds around it.
@@ -172,35 +172,9 @@ impl<M: CliModel> Flight for ModelFlight<M> {
         Ok(self.run.reset()?)
     }
 
-    /// The run's state, view and placement ([`Run::placement`]: NaN if the
-    /// aircraft were gone) as the CLI reports them.
+    /// The run's snapshot ([`Run::snapshot`]).
     fn snapshot(&self) -> Snapshot<M::Details> {
-        let start = &self.run.scenario().start;
-        let state = self.state();
-        let controls = self.run.controls().unwrap_or(start.controls);
-        let view = self.run.view();
-        let fdm_run::Placement { geodetic, attitude } = self.run.placement();
-        Snapshot {
-            common: CommonState {
-                time_s: view.time_s,
-                position: M::native_position(&state),
-                velocity: M::native_velocity(&state),
-                geodetic: GeodeticReport {
-                    lat_deg: geodetic.lat_deg,
-                    lon_deg: geodetic.lon_deg,
-                    alt_m: geodetic.alt_m,
-                },
-                attitude_deg: AttitudeReport {
-                    roll: attitude.roll_deg,
-                    pitch: attitude.pitch_deg,
-                    heading: attitude.heading_deg,
-                },
-            },
-            details: M::details(&start.aircraft, &controls, &state),
-            status: self.run.status(),
-            stalling: view.stalling,
-            airspeed_mps: view.airspeed_mps,
-        }
+        self.run.snapshot()
     }
 
     fn links(&self) -> Links {

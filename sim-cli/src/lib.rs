@@ -9,12 +9,11 @@
 //! | module | what |
 //! |---|---|
 //! | [`args`] | clap definition and per-value validation |
-//! | [`config`] | cross-option validation, script loading, CSV creation → [`config::ModelConfig`] |
-//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear multiplayer model, starting controls from its subcommand's arguments |
+//! | [`config`] | cross-option validation, script loading, the output files created → [`config::ModelConfig`] (the run library's scenario, the mode, the outputs) |
+//! | [`models`] | [`models::CliModel`]: per model, its keys, HUD line and starting controls from its subcommand's arguments (its report fields, CSV columns and FlightGear models are the run library's) |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
-//! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation`; [`flight::run_model`] |
-//! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
-//! | [`report`] | the JSON [`report::Report`] and the human summary |
+//! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model flown by an `fdm_run::Run` with its outputs; [`flight::run_model`] |
+//! | [`snapshot`], [`report`] | the aircraft's state at one instant ([`snapshot::Snapshot`]), the JSON [`report::Report`] and the human summary: the run library's ([`fdm_run::report`]) |
 //! | [`csv`] | `--csv`: the run library's CSV output ([`fdm_run::csv::CsvOutput`] of [`fdm_run::csv::FlightRow`]s) and its errors |
 //! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
 //! | [`fgfs`], [`origin`] | `fgfs-command` (the line is `fdm_run::fgfs`'s; `--fg` is parsed by `fgnet::address`), `--origin` |

@@ -1,11 +1,10 @@
-//! Bourg's 6-DoF aircraft in the CLI: its report fields and keys.
+//! Bourg's 6-DoF aircraft in the CLI: its HUD line, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::bourg::{Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::bourg::{Bourg, BourgAction};
 use fdm_core::model::Model;
-use serde::{Deserialize, Serialize};
 
-use super::{CliModel, Details};
+use super::Details;
 use crate::args::BourgArgs;
 use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
@@ -29,42 +28,11 @@ pub fn prepare(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
     prepare_model(args.common, start)
 }
 
-/// Bourg-only report fields. The model is `f32`; every float here is the
-/// model's `f32` widened exactly with `f64::from`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct BourgDetails {
-    /// Speed |velocity|, ft/s.
-    pub speed: f64,
-    /// Euler angles [x roll, y pitch (positive nose-down), z yaw] in degrees, exactly as
-    /// `MakeEulerAnglesFromQ` computes them.
-    pub euler_deg: [f64; 3],
-    /// Thrust, lb.
-    pub thrust_lb: f64,
-    /// Landing flaps down.
-    pub flaps: bool,
-    /// Any wing element past its stall angle on the last step.
-    pub stalling: bool,
-    /// The persistent pitch trim, −1..=1 (an extension of the model; 0
-    /// unless trimmed or moved with T/G). Absent in older reports.
-    #[serde(default)]
-    pub pitch_trim: f64,
-}
+/// Bourg's report fields and its aircraft as a recording stores it: the
+/// run library's.
+pub use fdm_run::model::bourg::{BourgAircraftRecord, BourgDetails};
 
 impl Details for BourgDetails {
-    const MODEL: &'static str = "bourg";
-    const POSITION_UNIT: &'static str = "ft";
-    /// `flaps` and `stalling` are written as 0 or 1.
-    fn summary(&self) -> String {
-        format!(
-            "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}  pitch trim {:.3}",
-            self.speed,
-            self.thrust_lb,
-            if self.flaps { "down" } else { "up" },
-            if self.stalling { "yes" } else { "no" },
-            self.pitch_trim,
-        )
-    }
-
     fn hud_controls(&self) -> String {
         format!(
             "THRUST {:4.0} lb   FLAPS {}   TRIM {:+.2}",
@@ -74,28 +42,6 @@ impl Details for BourgDetails {
         )
     }
 }
-
-impl CliModel for Bourg {
-    type Details = BourgDetails;
-
-    fn details(
-        _aircraft: &BourgAircraft,
-        controls: &BourgControls,
-        state: &BourgState,
-    ) -> BourgDetails {
-        BourgDetails {
-            speed: f64::from(state.speed_ftps()),
-            euler_deg: state.euler_angles_deg().map(f64::from).into(),
-            thrust_lb: f64::from(controls.thrust_lb),
-            flaps: controls.landing_flaps,
-            stalling: state.stalling,
-            pitch_trim: f64::from(controls.pitch_trim),
-        }
-    }
-}
-
-/// Bourg's aircraft as a recording stores it (the run library's).
-pub use fdm_run::model::BourgAircraftRecord;
 
 impl KeyAction for BourgAction {
     const KEY_HELP: &'static str =

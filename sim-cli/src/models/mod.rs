@@ -1,23 +1,19 @@
 //! What differs between the models in the CLI, one module per model: the
-//! report and CSV fields, the HUD's control line, the keys, the starting
-//! controls from the command line and FlightGear's multiplayer model (the
-//! native-FDM aircraft is the run library's, `fdm_run::RunModel::FG_AIRCRAFT`).
-//! Everything else in `sim-cli` is generic over [`CliModel`].
+//! HUD's control line, the keys and the starting controls from the command
+//! line. What the run library needs of a model (its recording, CSV columns,
+//! report fields, FlightGear models, fleet kernel) is its adapter module in
+//! `fdm_run::model`. Everything else in `sim-cli` is generic over
+//! [`CliModel`].
 //!
-//! A new model joins the CLI with one more module here implementing
-//! [`CliModel`] (and [`Details`] for its report fields) and one more
-//! subcommand in [`crate::args`].
+//! A new model joins the CLI with one more module here (the HUD line of its
+//! report fields, [`Details`], and its keys) and one more subcommand in
+//! [`crate::args`].
 
 pub mod bourg;
 pub mod palmer;
 
-use std::fmt::Debug;
-
-use fdm_run::csv::CsvModel;
-use fdm_run::FleetModel;
+use fdm_run::{FleetModel, ReportModel};
 use fdm_study::StudyModel;
-use serde::de::DeserializeOwned;
-use serde::Serialize;
 
 use clap::ValueEnum;
 
@@ -72,34 +68,25 @@ impl ModelKind {
     }
 }
 
-/// A model as `sim-cli` flies it: a [`RunModel`](fdm_run::RunModel) (what the run library
-/// needs to fly, record and replay it), a [`FleetModel`] (its fleet
-/// kernel, formations and multiplayer model) and a [`StudyModel`] (its
-/// studies' drawn inputs and measures, so `sim-cli study --run I` picks it
-/// through [`ModelKind::with`]) with the CLI's own parts.
-pub trait CliModel: CsvModel<Action: KeyAction> + FleetModel + StudyModel {
-    /// The model's own report fields (JSON next to the common ones, CSV
-    /// columns after them, a summary line, the HUD's control line).
-    type Details: Details;
-
-    /// The model's report fields now.
-    fn details(
-        aircraft: &Self::Aircraft,
-        controls: &Self::Controls,
-        state: &Self::State,
-    ) -> Self::Details;
+/// A model as `sim-cli` flies it: a [`ReportModel`] (what the run library
+/// needs to fly, record, replay and report it, and its CSV columns), a
+/// [`FleetModel`] (its fleet kernel, formations and multiplayer model) and a
+/// [`StudyModel`] (its studies' drawn inputs and measures, so `sim-cli study
+/// --run I` picks it through [`ModelKind::with`]) with the CLI's own parts:
+/// its keys and its report fields' HUD line ([`Details`]).
+pub trait CliModel:
+    ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
+{
 }
 
-/// A model's own report fields.
-pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
-    /// The JSON `model` field and the CLI subcommand: `"palmer"`, `"bourg"`.
-    const MODEL: &'static str;
-    /// The unit of the native position: `"m"` or `"ft"`.
-    const POSITION_UNIT: &'static str;
+impl<M> CliModel for M where
+    M: ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
+{
+}
 
-    /// The human summary's model-specific line(s), without a trailing newline.
-    fn summary(&self) -> String;
-
+/// A model's own report fields ([`fdm_run::report::Details`]: the JSON
+/// fields and the summary line) and the HUD's control line made from them.
+pub trait Details: fdm_run::report::Details {
     /// The HUD's control line.
     fn hud_controls(&self) -> String;
 }
