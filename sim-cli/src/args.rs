@@ -11,7 +11,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 
 use crate::dis::{FleetDisArgs, FlightDisArgs};
 use crate::input::Echo;
@@ -24,34 +24,101 @@ pub use fdm_run::{MAX_FPS, MAX_FRAMES};
 
 use fdm_run::acmi::ReferenceTime;
 
-/// `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft.
+/// The command line as clap derives it, without the models' subcommands
+/// (added from the registry by [`Cli`]'s [`CommandFactory`]).
 #[derive(Debug, Parser)]
-#[command(
-    name = "sim-cli",
-    version,
-    about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, or headless from scripts",
-    long_about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, \
-                  or headless from scripts.\n\n\
-                  Exit status: 0 success, 2 bad usage or bad input file, 1 any other failure, \
-                  3 a replayed recording was cut (the frames before the cut were replayed), \
-                  4 a replay flew another flight than the recorded one (fingerprint mismatch), \
-                  128+N stopped by signal N.",
-    after_help = "Run `sim-cli palmer --help` or `sim-cli bourg --help` for the flight options \
-                  (frame rate, headless runs, scripts, JSON report, CSV, FlightGear target, origin)."
-)]
+#[command(name = "sim-cli", version)]
+struct Spec {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// `sim-cli`: fly the registry's models ([`crate::models`]). Its subcommands
+/// are the registry's models' (their arguments and help are
+/// [`CliModel::Args`](crate::models::CliModel::Args) and
+/// [`CliModel::ABOUT`](crate::models::CliModel::ABOUT)), then [`Command`]'s.
+#[derive(Debug)]
 pub struct Cli {
     /// What to do.
-    #[command(subcommand)]
     pub command: Command,
+}
+
+impl CommandFactory for Cli {
+    fn command() -> clap::Command {
+        let mut command = Spec::command();
+        let models = ModelKind::ALL.len();
+        let tools: Vec<String> = command
+            .get_subcommands()
+            .map(|tool| tool.get_name().to_owned())
+            .collect();
+        for (i, tool) in tools.iter().enumerate() {
+            command = command.mut_subcommand(tool, |c| c.display_order(models + i));
+        }
+        for (i, kind) in ModelKind::ALL.iter().enumerate() {
+            command = command.subcommand(kind.subcommand().display_order(i));
+        }
+        let aircraft = ModelKind::list(|kind| kind.aircraft().to_owned());
+        let flies =
+            format!("Fly {aircraft} from the keyboard into FlightGear, or headless from scripts");
+        command
+            .about(flies.clone())
+            .long_about(format!(
+                "{flies}.\n\nExit status: 0 success, 2 bad usage or bad input file, 1 any other \
+                 failure, 3 a replayed recording was cut (the frames before the cut were \
+                 replayed), 4 a replay flew another flight than the recorded one (fingerprint \
+                 mismatch), 128+N stopped by signal N."
+            ))
+            .after_help(format!(
+                "Run {} for the flight options (frame rate, headless runs, scripts, JSON report, \
+                 CSV, FlightGear target, origin).",
+                ModelKind::list(|kind| format!("`sim-cli {} --help`", kind.name()))
+            ))
+    }
+
+    fn command_for_update() -> clap::Command {
+        Self::command()
+    }
+}
+
+impl FromArgMatches for Cli {
+    fn from_arg_matches(matches: &ArgMatches) -> Result<Self, clap::Error> {
+        let command = match matches.subcommand() {
+            Some((name, args)) => match ModelKind::named(name) {
+                Some(model) => Command::Fly(Fly {
+                    model,
+                    args: args.clone(),
+                }),
+                None => Command::from_arg_matches(matches)?,
+            },
+            None => Command::from_arg_matches(matches)?,
+        };
+        Ok(Self { command })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl Parser for Cli {}
+
+/// `sim-cli <model> ...`: the model and its subcommand's arguments, parsed
+/// (read by the model's [`CliModel::Args`](crate::models::CliModel::Args)).
+#[derive(Debug, Clone)]
+pub struct Fly {
+    /// The model.
+    pub model: ModelKind,
+    /// Its subcommand's arguments.
+    pub args: ArgMatches,
 }
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)
-    Palmer(PalmerArgs),
-    /// Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)
-    Bourg(BourgArgs),
+    /// A model's flight: one subcommand per model of the registry.
+    #[command(skip)]
+    Fly(Fly),
     /// Print the fgfs (FlightGear 2020.3) command line that shows a model flown by sim-cli
     FgfsCommand(FgfsArgs),
     /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
@@ -201,47 +268,6 @@ pub struct ReplayArgs {
     /// Tacview ACMI output of the replayed flight.
     #[command(flatten)]
     pub acmi: AcmiArgs,
-}
-
-/// `sim-cli palmer`.
-#[derive(Debug, Clone, Args)]
-pub struct PalmerArgs {
-    /// Options both models share.
-    #[command(flatten)]
-    pub common: CommonArgs,
-
-    /// Throttle at frame 0, as a fraction of full power (0..1)
-    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_hyphen_values = true)]
-    pub throttle: f64,
-
-    /// Angle of attack at frame 0, degrees (-16..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_hyphen_values = true)]
-    pub alpha: f64,
-
-    /// Bank angle at frame 0, degrees, positive banks right (-20..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_hyphen_values = true)]
-    pub bank: f64,
-
-    /// Flap setting at frame 0, degrees (0, 20 or 40)
-    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
-    pub flaps: u8,
-
-    /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
-    /// brakes-on/brakes-off)
-    #[arg(long)]
-    pub brakes: bool,
-}
-
-/// `sim-cli bourg`.
-#[derive(Debug, Clone, Args)]
-pub struct BourgArgs {
-    /// Options both models share.
-    #[command(flatten)]
-    pub common: CommonArgs,
-
-    /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
-    #[arg(long, value_name = "LB", value_parser = parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
-    pub thrust_lb: Option<f64>,
 }
 
 /// `sim-cli fgfs-command`.
@@ -576,7 +602,7 @@ pub fn parse_flaps(text: &str) -> Result<u8, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::CommandFactory;
+    use crate::models::palmer::PalmerArgs;
 
     #[test]
     fn clap_definition_is_consistent() {
@@ -586,9 +612,10 @@ mod tests {
     #[test]
     fn defaults() {
         let cli = Cli::try_parse_from(["sim-cli", "palmer"]).unwrap();
-        let Command::Palmer(p) = cli.command else {
+        let Command::Fly(fly) = cli.command else {
             panic!("not palmer")
         };
+        let p = PalmerArgs::from_arg_matches(&fly.args).unwrap();
         assert_eq!(p.common.fps, 30);
         assert_eq!(p.common.origin, GeodeticOrigin::default());
         assert_eq!(p.common.fg, None);
@@ -608,9 +635,10 @@ mod tests {
             "-33.9,18.6,0",
         ])
         .unwrap();
-        let Command::Palmer(p) = cli.command else {
+        let Command::Fly(fly) = cli.command else {
             panic!("not palmer")
         };
+        let p = PalmerArgs::from_arg_matches(&fly.args).unwrap();
         assert_eq!((p.alpha, p.bank), (-5.0, -20.0));
         assert_eq!(p.common.origin.geodetic().lat_deg, -33.9);
     }

@@ -325,12 +325,13 @@ pub fn prepare_model<M: Model>(
 mod tests {
     use super::*;
     use crate::args::{Cli, Command};
-    use clap::Parser;
+    use crate::models::bourg::BourgArgs;
+    use clap::{FromArgMatches, Parser};
 
     fn common(extra: &[&str]) -> CommonArgs {
         let argv = ["sim-cli", "bourg"].iter().chain(extra).copied();
         match Cli::try_parse_from(argv).unwrap().command {
-            Command::Bourg(b) => b.common,
+            Command::Fly(fly) => BourgArgs::from_arg_matches(&fly.args).unwrap().common,
             _ => unreachable!(),
         }
     }

@@ -69,8 +69,7 @@ use crate::error::CliError;
 /// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Palmer(args) => flight::run_model(models::palmer::prepare(args)?),
-        Command::Bourg(args) => flight::run_model(models::bourg::prepare(args)?),
+        Command::Fly(fly) => fly.model.fly(&fly.args),
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
@@ -93,8 +92,14 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet, study, plot, replay or dis-listen (see --help)"
-            .to_owned();
+        let models = models::ModelKind::ALL.iter().map(|kind| kind.name());
+        let names: Vec<&str> = models
+            .chain(["fgfs-command", "fleet", "study", "plot"])
+            .collect();
+        return format!(
+            "missing subcommand: {}, replay or dis-listen (see --help)",
+            names.join(", ")
+        );
     }
     let text = error.render().to_string();
     let mut parts = Vec::new();

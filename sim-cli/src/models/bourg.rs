@@ -1,31 +1,48 @@
 //! Bourg's 6-DoF aircraft in the CLI: its HUD line, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::bourg::{Bourg, BourgAction};
+use fdm_core::bourg::BourgAction;
 use fdm_core::model::Model;
 
-use super::Details;
-use crate::args::BourgArgs;
+use super::{CliModel, Details};
+use crate::args;
 use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
 use crate::keys::{letter, KeyAction};
 
-/// Validates `sim-cli bourg` arguments, reads the script and creates the CSV
-/// file; the thrust at frame 0 comes from `--thrust-lb`.
-///
-/// # Errors
-/// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
-    let mut controls = Bourg::initial_controls();
-    if let Some(thrust_lb) = args.thrust_lb {
-        // In 0..3000 (clap checked): exact enough in f32 for any typed value.
-        #[allow(clippy::cast_possible_truncation)]
-        {
-            controls.thrust_lb = thrust_lb as f32;
+/// Bourg's 6-DoF aircraft, as the registry names it.
+pub use fdm_core::bourg::Bourg;
+
+/// `sim-cli bourg`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BourgArgs {
+    /// Options both models share.
+    #[command(flatten)]
+    pub common: args::CommonArgs,
+
+    /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
+    #[arg(long, value_name = "LB", value_parser = args::parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
+    pub thrust_lb: Option<f64>,
+}
+
+impl CliModel for Bourg {
+    const AIRCRAFT: &'static str = "Bourg's 6-DoF aircraft";
+    const ABOUT: &'static str = "Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)";
+    type Args = BourgArgs;
+
+    /// The thrust at frame 0 comes from `--thrust-lb`.
+    fn prepare(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
+        let mut controls = Bourg::initial_controls();
+        if let Some(thrust_lb) = args.thrust_lb {
+            // In 0..3000 (clap checked): exact enough in f32 for any typed value.
+            #[allow(clippy::cast_possible_truncation)]
+            {
+                controls.thrust_lb = thrust_lb as f32;
+            }
         }
-    }
-    let start = start_model::<Bourg>(controls, &args.common.start)?;
-    prepare_model(args.common, start)
+        let start = start_model::<Bourg>(controls, &args.common.start)?;
+        prepare_model(args.common, start)
+}
 }
 
 /// Bourg's report fields and its aircraft as a recording stores it: the

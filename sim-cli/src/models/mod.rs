@@ -9,34 +9,45 @@
 //! report fields, [`Details`], and its keys) and one more subcommand in
 //! [`crate::args`].
 
-pub mod bourg;
-pub mod palmer;
-
+use clap::builder::PossibleValue;
+use clap::{Args, FromArgMatches, ValueEnum};
 use fdm_run::{FleetModel, ReportModel};
 use fdm_study::StudyModel;
 
-use clap::ValueEnum;
-
+use crate::config::ModelConfig;
+use crate::error::CliError;
 use crate::keys::KeyAction;
 
-/// Which model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelKind {
-    /// Palmer's Cessna 172.
-    Palmer,
-    /// Bourg's 6-DoF aircraft.
-    Bourg,
+/// The registry: one line per model, its module (`models/<name>.rs`) and its
+/// model type. The subcommands, their help, the `--model` values and the
+/// models a recording or a study may name all come from it.
+macro_rules! registry {
+    ($($(#[$cfg:meta])* $module:ident :: $model:ident,)*) => {
+        $($(#[$cfg])* pub mod $module;)*
+
+        /// Which model: one of the registry's.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub enum ModelKind {
+            $($(#[$cfg])* #[doc = concat!("`", stringify!($module), "`")] $model,)*
+        }
+
+        impl ModelKind {
+            /// Every model of the registry, in the order help texts list them.
+            pub const ALL: &[Self] = &[$($(#[$cfg])* Self::$model,)*];
+
+            /// Runs `job` with this kind's model type.
+            pub fn with<W: WithModel>(self, job: W) -> W::Output {
+                match self {
+                    $($(#[$cfg])* Self::$model => job.call::<$module::$model>(),)*
+                }
+            }
+        }
+    };
 }
 
-impl ModelKind {
-    /// The lowercase name used on the command line and in the JSON report.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Palmer => "palmer",
-            Self::Bourg => "bourg",
-        }
-    }
+registry! {
+    palmer::Palmer,
+    bourg::Bourg,
 }
 
 /// Something to do with a model type chosen at run time: the one place that
@@ -49,22 +60,89 @@ pub trait WithModel {
     fn call<M: CliModel>(self) -> Self::Output;
 }
 
+/// A model's name, aircraft and subcommand, as [`WithModel`] jobs.
+struct Name;
+impl WithModel for Name {
+    type Output = (&'static str, &'static str);
+    fn call<M: CliModel>(self) -> Self::Output {
+        (M::NAME, M::AIRCRAFT)
+    }
+}
+
+struct Subcommand;
+impl WithModel for Subcommand {
+    type Output = clap::Command;
+    fn call<M: CliModel>(self) -> clap::Command {
+        M::Args::augment_args(clap::Command::new(M::NAME))
+            .about(M::ABOUT)
+            .long_about(None)
+    }
+}
+
+/// Flies the model's subcommand's arguments (`sim-cli <model> ...`).
+struct Fly<'a>(&'a clap::ArgMatches);
+impl WithModel for Fly<'_> {
+    type Output = Result<(), CliError>;
+    fn call<M: CliModel>(self) -> Self::Output {
+        let args = M::Args::from_arg_matches(self.0).map_err(|e| CliError::usage(e.to_string()))?;
+        crate::flight::run_model(M::prepare(args)?)
+    }
+}
+
 impl ModelKind {
+    /// The lowercase name used on the command line and in the JSON report
+    /// ([`fdm_core::model::Model::NAME`]).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        self.with(Name).0
+    }
+
+    /// What the model flies, for help texts ([`CliModel::AIRCRAFT`]).
+    #[must_use]
+    pub fn aircraft(self) -> &'static str {
+        self.with(Name).1
+    }
+
     /// The kind of the model named `name` (its [`fdm_core::model::Model::NAME`]).
     #[must_use]
     pub fn named(name: &str) -> Option<Self> {
-        <Self as clap::ValueEnum>::value_variants()
-            .iter()
-            .copied()
-            .find(|kind| kind.name() == name)
+        Self::ALL.iter().copied().find(|kind| kind.name() == name)
     }
 
-    /// Runs `job` with this kind's model type.
-    pub fn with<W: WithModel>(self, job: W) -> W::Output {
-        match self {
-            Self::Palmer => job.call::<fdm_core::palmer::Palmer>(),
-            Self::Bourg => job.call::<fdm_core::bourg::Bourg>(),
+    /// The model's subcommand (`sim-cli palmer`): its arguments ([`CliModel::Args`]) and help.
+    #[must_use]
+    pub fn subcommand(self) -> clap::Command {
+        self.with(Subcommand)
+    }
+
+    /// Flies `sim-cli <model>` with its subcommand's parsed arguments.
+    ///
+    /// # Errors
+    /// As [`CliModel::prepare`] and [`crate::flight::run_model`].
+    pub fn fly(self, args: &clap::ArgMatches) -> Result<(), CliError> {
+        self.with(Fly(args))
+    }
+
+    /// The registry's models as text: `a, b or c`, each shown by `show`.
+    pub fn list(show: impl Fn(Self) -> String) -> String {
+        let shown: Vec<String> = Self::ALL.iter().map(|&kind| show(kind)).collect();
+        match shown.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+            None => String::new(),
         }
+    }
+}
+
+/// `--model palmer|bourg` and `fgfs-command <MODEL>`: the registry's names,
+/// with what each flies as their help.
+impl ValueEnum for ModelKind {
+    fn value_variants<'a>() -> &'a [Self] {
+        Self::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.aircraft()))
     }
 }
 
@@ -73,15 +151,23 @@ impl ModelKind {
 /// [`FleetModel`] (its fleet kernel, formations and multiplayer model) and a
 /// [`StudyModel`] (its studies' drawn inputs and measures, so `sim-cli study
 /// --run I` picks it through [`ModelKind::with`]) with the CLI's own parts:
-/// its keys and its report fields' HUD line ([`Details`]).
+/// its subcommand, its keys and its report fields' HUD line ([`Details`]).
 pub trait CliModel:
     ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
 {
-}
+    /// What the model flies, in a few words for help texts: `Palmer's Cessna 172`.
+    const AIRCRAFT: &'static str;
+    /// Its subcommand's help line.
+    const ABOUT: &'static str;
+    /// Its subcommand's arguments.
+    type Args: Args + FromArgMatches;
 
-impl<M> CliModel for M where
-    M: ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
-{
+    /// Validates `sim-cli <model>`'s arguments, reads the script and creates
+    /// the output files.
+    ///
+    /// # Errors
+    /// [`CliError::Usage`] for anything wrong with the input.
+    fn prepare(args: Self::Args) -> Result<ModelConfig<Self>, CliError>;
 }
 
 /// A model's own report fields ([`fdm_run::report::Details`]: the JSON

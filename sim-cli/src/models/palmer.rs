@@ -1,37 +1,71 @@
 //! Palmer's Cessna 172 in the CLI: its HUD line, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::palmer::{Flaps, Palmer, PalmerAction, PalmerControls};
+use fdm_core::palmer::{Flaps, PalmerAction, PalmerControls};
 use fdm_run::model::palmer::brakes_note;
 
-use super::{tenths, Details};
-use crate::args::PalmerArgs;
+use super::{tenths, CliModel, Details};
+use crate::args;
 use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
 use crate::keys::{letter, KeyAction};
 
-/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
-/// file; the controls at frame 0 come from `--throttle`, `--alpha`, `--bank`
-/// `--flaps` and `--brakes`.
-///
-/// # Errors
-/// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
-    let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
-        CliError::usage(format!(
-            "--flaps {}: not a flap setting (0, 20 or 40)",
-            args.flaps
-        ))
-    })?;
-    let controls = PalmerControls {
-        throttle: args.throttle,
-        alpha_deg: args.alpha,
-        bank_deg: args.bank,
-        flaps,
-        brakes: args.brakes,
-    };
-    let start = start_model::<Palmer>(controls, &args.common.start)?;
-    prepare_model(args.common, start)
+/// Palmer's Cessna 172, as the registry names it.
+pub use fdm_core::palmer::Palmer;
+
+/// `sim-cli palmer`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PalmerArgs {
+    /// Options both models share.
+    #[command(flatten)]
+    pub common: args::CommonArgs,
+
+    /// Throttle at frame 0, as a fraction of full power (0..1)
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = args::parse_throttle, allow_hyphen_values = true)]
+    pub throttle: f64,
+
+    /// Angle of attack at frame 0, degrees (-16..20)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = args::parse_alpha, allow_hyphen_values = true)]
+    pub alpha: f64,
+
+    /// Bank angle at frame 0, degrees, positive banks right (-20..20)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = args::parse_bank, allow_hyphen_values = true)]
+    pub bank: f64,
+
+    /// Flap setting at frame 0, degrees (0, 20 or 40)
+    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = args::parse_flaps, allow_hyphen_values = true)]
+    pub flaps: u8,
+
+    /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
+    /// brakes-on/brakes-off)
+    #[arg(long)]
+    pub brakes: bool,
+}
+
+impl CliModel for Palmer {
+    const AIRCRAFT: &'static str = "Palmer's Cessna 172";
+    const ABOUT: &'static str = "Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)";
+    type Args = PalmerArgs;
+
+    /// The controls at frame 0 come from `--throttle`, `--alpha`, `--bank`,
+    /// `--flaps` and `--brakes`.
+    fn prepare(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
+        let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
+            CliError::usage(format!(
+                "--flaps {}: not a flap setting (0, 20 or 40)",
+                args.flaps
+            ))
+        })?;
+        let controls = PalmerControls {
+            throttle: args.throttle,
+            alpha_deg: args.alpha,
+            bank_deg: args.bank,
+            flaps,
+            brakes: args.brakes,
+        };
+        let start = start_model::<Palmer>(controls, &args.common.start)?;
+        prepare_model(args.common, start)
+}
 }
 
 /// Palmer's report fields: the run library's.
