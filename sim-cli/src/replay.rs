@@ -31,11 +31,13 @@ use crate::args::{ModelKind, ReplayArgs};
 use crate::config::{clash, create_csv, Outputs};
 use crate::error::CliError;
 use crate::flight::ModelFlight;
-use crate::input::{read_bytes, show_path};
+use crate::input::{read_bytes, show_path, Echo};
 use crate::models::{CliModel, WithModel};
 use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
-use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
+use crate::recording::{
+    recorded_model_name, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
+};
 use crate::report::{RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use fdm_core::fingerprint;
@@ -287,13 +289,16 @@ impl WithModel for ReplayJob<'_> {
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
     let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
-    let kind =
-        recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
-    let kind = ModelKind::named(kind).ok_or_else(|| {
+    let name = recorded_model_name(&bytes)
+        .map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
+    // The CLI's registry, which may have models the run library's does not.
+    let kind = ModelKind::named(&name).ok_or_else(|| {
+        let ours: Vec<&str> = ModelKind::ALL.iter().map(|kind| kind.name()).collect();
         CliError::usage(format!(
-            "{}: {}",
+            "{}: recorded with model `{}`, which this sim-cli does not have ({})",
             show_path(path),
-            RecordingError::UnknownModel(kind.to_owned())
+            Echo::short(&name),
+            ours.join(", ")
         ))
     })?;
     kind.with(ReplayJob {

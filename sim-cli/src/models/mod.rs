@@ -48,6 +48,8 @@ macro_rules! registry {
 registry! {
     palmer::Palmer,
     bourg::Bourg,
+    #[cfg(feature = "glider")]
+    glider::Glider,
 }
 
 /// Something to do with a model type chosen at run time: the one place that
