@@ -29,7 +29,7 @@ pub fn create(
     let Some(path) = args.acmi.as_deref() else {
         return Ok(None);
     };
-    if let Some(name) = crate::config::clash(path, others) {
+    if let Some(name) = crate::input::clash(path, others) {
         return Err(CliError::usage(format!(
             "--acmi {} is also the {name} file",
             show_path(path)

@@ -34,9 +34,9 @@ struct Spec {
 }
 
 /// `sim-cli`: fly the registry's models ([`crate::models`]). Its subcommands
-/// are the registry's models' (their arguments and help are
-/// [`CliModel::Args`](crate::models::CliModel::Args) and
-/// [`CliModel::ABOUT`](crate::models::CliModel::ABOUT)), then [`Command`]'s.
+/// are the registry's models' (their arguments are [`CommonArgs`] and the
+/// model's [`CliModel::Args`], their help [`CliModel::ABOUT`]), then
+/// [`Command`]'s.
 #[derive(Debug)]
 pub struct Cli {
     /// What to do.
@@ -55,7 +55,7 @@ impl CommandFactory for Cli {
             command = command.mut_subcommand(tool, |c| c.display_order(models + i));
         }
         for (i, kind) in ModelKind::ALL.iter().enumerate() {
-            command = command.subcommand(kind.subcommand().display_order(i));
+            command = command.subcommand(kind.with(ModelSubcommand).display_order(i));
         }
         let aircraft = ModelKind::list(|kind| kind.aircraft().to_owned());
         let flies =
@@ -77,6 +77,21 @@ impl CommandFactory for Cli {
 
     fn command_for_update() -> clap::Command {
         Self::command()
+    }
+}
+
+/// A model's subcommand (`sim-cli palmer`): the options every model shares
+/// ([`CommonArgs`]), then the model's own ([`CliModel::Args`]), and its help line.
+struct ModelSubcommand;
+
+impl WithModel for ModelSubcommand {
+    type Output = clap::Command;
+
+    fn call<M: CliModel>(self) -> clap::Command {
+        let command = CommonArgs::augment_args(clap::Command::new(M::NAME));
+        M::Args::augment_args(command)
+            .about(M::ABOUT)
+            .long_about(None)
     }
 }
 
@@ -104,7 +119,7 @@ impl FromArgMatches for Cli {
 impl Parser for Cli {}
 
 /// `sim-cli <model> ...`: the model and its subcommand's arguments, parsed
-/// (read by the model's [`CliModel::Args`](crate::models::CliModel::Args)).
+/// (read as [`CommonArgs`] and the model's [`CliModel::Args`]).
 #[derive(Debug, Clone)]
 pub struct Fly {
     /// The model.
@@ -147,6 +162,7 @@ pub struct PlotArgs {
 
 /// Which model (the registry, [`crate::models`]).
 pub use crate::models::ModelKind;
+use crate::models::{CliModel, WithModel};
 
 /// Options both models share (docs/cli.md "Options both models share").
 #[derive(Debug, Clone, Args)]
@@ -505,26 +521,6 @@ pub fn parse_threads(text: &str) -> Result<usize, String> {
     parse_count(text, max, "threads").map(|v| usize::try_from(v).unwrap_or(MAX_THREADS))
 }
 
-fn parse_finite(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("`{}` is not a finite number", Echo::short(text))),
-    }
-}
-
-fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
-    let v = parse_finite(text)?;
-    if (lo..=hi).contains(&v) {
-        Ok(v)
-    } else {
-        // The text as given, not `v`: 1e308 printed as a float has 309 digits.
-        Err(format!(
-            "`{}` is outside {lo}..{hi}{unit}",
-            Echo::short(text.trim())
-        ))
-    }
-}
-
 /// `--fps`: a whole number from 1 to [`MAX_FPS`]. Whole, because the frame rate is
 /// the ECS's `Resources::new(fps: u32)` and both models derive dt from it (docs/cli.md:
 /// dt = 1/N, `1.0f32 / N as f32` for Bourg).
@@ -553,7 +549,7 @@ pub fn parse_frames(text: &str) -> Result<u64, String> {
 
 /// `--duration`: finite seconds, >= 0. The frame limit is checked once the fps is known.
 pub fn parse_duration(text: &str) -> Result<f64, String> {
-    let v = parse_finite(text)?;
+    let v = crate::input::parse_finite(text)?;
     if v >= 0.0 {
         Ok(v)
     } else {
@@ -561,48 +557,18 @@ pub fn parse_duration(text: &str) -> Result<f64, String> {
     }
 }
 
-/// `--throttle`: fraction in 0..1.
-pub fn parse_throttle(text: &str) -> Result<f64, String> {
-    parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
-}
-
-/// `--alpha`: degrees in -16..20, the range the alpha keys clamp to (the
-/// model's [`ALPHA_MIN_DEG`](fdm_core::palmer::ALPHA_MIN_DEG)..[`ALPHA_MAX_DEG`](fdm_core::palmer::ALPHA_MAX_DEG)).
-pub fn parse_alpha(text: &str) -> Result<f64, String> {
-    use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG};
-    parse_in_range(text, ALPHA_MIN_DEG, ALPHA_MAX_DEG, " degrees")
-}
-
-/// `--thrust-lb`: pounds in 0..3000, Bourg's thrust range (the model's
-/// [`MAX_THRUST_LB`](fdm_core::bourg::MAX_THRUST_LB)).
-pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
-    parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
-}
-
-/// `--bank`: degrees in -20..20, the range the bank keys clamp to (the
-/// model's [`BANK_LIMIT_DEG`](fdm_core::palmer::BANK_LIMIT_DEG) either side).
-pub fn parse_bank(text: &str) -> Result<f64, String> {
-    use fdm_core::palmer::BANK_LIMIT_DEG;
-    parse_in_range(text, -BANK_LIMIT_DEG, BANK_LIMIT_DEG, " degrees")
-}
-
-/// `--flaps`: exactly 0, 20 or 40 degrees, the model's three notches.
-pub fn parse_flaps(text: &str) -> Result<u8, String> {
-    match text.trim() {
-        "0" => Ok(0),
-        "20" => Ok(20),
-        "40" => Ok(40),
-        _ => Err(format!(
-            "`{}` is not a flap setting (0, 20 or 40)",
-            Echo::short(text)
-        )),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::palmer::PalmerArgs;
+    use crate::models::palmer::{parse_alpha, parse_bank, parse_flaps, parse_throttle, PalmerArgs};
+
+    /// The options of `sim-cli palmer ...`: the shared ones and Palmer's.
+    fn palmer(args: &ArgMatches) -> (CommonArgs, PalmerArgs) {
+        (
+            CommonArgs::from_arg_matches(args).unwrap(),
+            PalmerArgs::from_arg_matches(args).unwrap(),
+        )
+    }
 
     #[test]
     fn clap_definition_is_consistent() {
@@ -615,10 +581,10 @@ mod tests {
         let Command::Fly(fly) = cli.command else {
             panic!("not palmer")
         };
-        let p = PalmerArgs::from_arg_matches(&fly.args).unwrap();
-        assert_eq!(p.common.fps, 30);
-        assert_eq!(p.common.origin, GeodeticOrigin::default());
-        assert_eq!(p.common.fg, None);
+        let (common, p) = palmer(&fly.args);
+        assert_eq!(common.fps, 30);
+        assert_eq!(common.origin, GeodeticOrigin::default());
+        assert_eq!(common.fg, None);
         assert_eq!((p.throttle, p.alpha, p.bank, p.flaps), (0.0, 0.0, 0.0, 0));
     }
 
@@ -638,9 +604,9 @@ mod tests {
         let Command::Fly(fly) = cli.command else {
             panic!("not palmer")
         };
-        let p = PalmerArgs::from_arg_matches(&fly.args).unwrap();
+        let (common, p) = palmer(&fly.args);
         assert_eq!((p.alpha, p.bank), (-5.0, -20.0));
-        assert_eq!(p.common.origin.geodetic().lat_deg, -33.9);
+        assert_eq!(common.origin.geodetic().lat_deg, -33.9);
     }
 
     #[test]

@@ -10,7 +10,7 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{read_text, show_path, MAX_INPUT_BYTES};
+use crate::input::{clash, read_text, show_path, MAX_INPUT_BYTES};
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
 use fdm_run::links::LinkSettings;
@@ -168,26 +168,6 @@ pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> 
     })
 }
 
-/// Whether `a` and `b` are the same file: the same path, or device and inode
-/// where the system has them (hard links, symlinks), else the canonical paths.
-fn same_file(a: &Path, b: &Path) -> bool {
-    a == b
-        || crate::input::same_file(a, b)
-        || match (a.canonicalize(), b.canonicalize()) {
-            (Ok(a), Ok(b)) => a == b,
-            _ => false,
-        }
-}
-
-/// The name of the first of `others` (a run's other files with their
-/// option names) that is `path`'s file: an output that would overwrite it.
-pub fn clash<'a>(path: &Path, others: &[(Option<&Path>, &'a str)]) -> Option<&'a str> {
-    others
-        .iter()
-        .find(|(other, _)| other.is_some_and(|o| same_file(path, o)))
-        .map(|&(_, name)| name)
-}
-
 /// Creates the `--csv` file (registered with the signal thread).
 ///
 /// # Errors
@@ -325,13 +305,12 @@ pub fn prepare_model<M: Model>(
 mod tests {
     use super::*;
     use crate::args::{Cli, Command};
-    use crate::models::bourg::BourgArgs;
     use clap::{FromArgMatches, Parser};
 
     fn common(extra: &[&str]) -> CommonArgs {
         let argv = ["sim-cli", "bourg"].iter().chain(extra).copied();
         match Cli::try_parse_from(argv).unwrap().command {
-            Command::Fly(fly) => BourgArgs::from_arg_matches(&fly.args).unwrap().common,
+            Command::Fly(fly) => CommonArgs::from_arg_matches(&fly.args).unwrap(),
             _ => unreachable!(),
         }
     }

@@ -28,9 +28,12 @@ use fdm_run::csv::{CsvOutput, FlightRow};
 use fdm_run::links::{LinkSettings, LinksError};
 use fdm_run::{Output, Run, RunError, Scenario};
 
-use crate::config::{ModelConfig, Outputs};
+use clap::{ArgMatches, FromArgMatches};
+
+use crate::args::{CommonArgs, Fly};
+use crate::config::{prepare_model, start_model, ModelConfig, Outputs};
 use crate::error::CliError;
-use crate::models::CliModel;
+use crate::models::{CliModel, WithModel};
 use crate::recording::RecordWriter;
 use crate::run::{fly, Flight, Links};
 use crate::snapshot::Snapshot;
@@ -184,6 +187,32 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     /// Completes the run's outputs (`--record`, `--acmi`, `--plot`).
     fn finish(&mut self) -> anyhow::Result<()> {
         Ok(self.run.finish()?)
+    }
+}
+
+/// `sim-cli <model> ...`: the options every model shares and the model's
+/// own, as parsed ([`Fly`]), validated into a run ([`ModelConfig`]: the
+/// start from the model's controls at frame 0, the script read, the output
+/// files created) and flown ([`run_model`]).
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input, else as [`run_model`].
+pub fn fly_model(fly: &Fly) -> Result<(), CliError> {
+    fly.model.with(FlyJob(&fly.args))
+}
+
+/// [`fly_model`] for the model's type.
+struct FlyJob<'a>(&'a ArgMatches);
+
+impl WithModel for FlyJob<'_> {
+    type Output = Result<(), CliError>;
+
+    fn call<M: CliModel>(self) -> Self::Output {
+        let parsed = |e: clap::Error| CliError::usage(e.to_string());
+        let common = CommonArgs::from_arg_matches(self.0).map_err(parsed)?;
+        let own = M::Args::from_arg_matches(self.0).map_err(parsed)?;
+        let start = start_model::<M>(M::controls(&own)?, &common.start)?;
+        run_model(prepare_model(common, start)?)
     }
 }
 

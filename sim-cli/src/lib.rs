@@ -69,7 +69,7 @@ use crate::error::CliError;
 /// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Fly(fly) => fly.model.fly(&fly.args),
+        Command::Fly(fly) => flight::fly_model(&fly),
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),

@@ -28,9 +28,10 @@ use std::io::{self, Write};
 use anyhow::Context as _;
 
 use crate::args::{ModelKind, ReplayArgs};
-use crate::config::{clash, create_csv, Outputs};
+use crate::config::{create_csv, Outputs};
 use crate::error::CliError;
 use crate::flight::ModelFlight;
+use crate::input::clash;
 use crate::input::{read_bytes, show_path, Echo};
 use crate::models::{CliModel, WithModel};
 use crate::plot::PlotFile;

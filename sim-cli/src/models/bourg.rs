@@ -1,27 +1,22 @@
 //! Bourg's 6-DoF aircraft in the CLI: its HUD line, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::bourg::BourgAction;
+use fdm_core::bourg::{BourgAction, BourgControls};
 use fdm_core::model::Model;
 
 use super::{CliModel, Details};
-use crate::args;
-use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
+use crate::input::parse_in_range;
 use crate::keys::{letter, KeyAction};
 
 /// Bourg's 6-DoF aircraft, as the registry names it.
 pub use fdm_core::bourg::Bourg;
 
-/// `sim-cli bourg`.
+/// `sim-cli bourg`'s own options (after the options every model shares).
 #[derive(Debug, Clone, clap::Args)]
 pub struct BourgArgs {
-    /// Options both models share.
-    #[command(flatten)]
-    pub common: args::CommonArgs,
-
     /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
-    #[arg(long, value_name = "LB", value_parser = args::parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
+    #[arg(long, value_name = "LB", value_parser = parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
     pub thrust_lb: Option<f64>,
 }
 
@@ -30,8 +25,8 @@ impl CliModel for Bourg {
     const ABOUT: &'static str = "Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)";
     type Args = BourgArgs;
 
-    /// The thrust at frame 0 comes from `--thrust-lb`.
-    fn prepare(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
+    /// The model's start, with `--thrust-lb`.
+    fn controls(args: &BourgArgs) -> Result<BourgControls, CliError> {
         let mut controls = Bourg::initial_controls();
         if let Some(thrust_lb) = args.thrust_lb {
             // In 0..3000 (clap checked): exact enough in f32 for any typed value.
@@ -40,9 +35,14 @@ impl CliModel for Bourg {
                 controls.thrust_lb = thrust_lb as f32;
             }
         }
-        let start = start_model::<Bourg>(controls, &args.common.start)?;
-        prepare_model(args.common, start)
+        Ok(controls)
+    }
 }
+
+/// `--thrust-lb`: pounds in 0..3000, Bourg's thrust range (the model's
+/// [`MAX_THRUST_LB`](fdm_core::bourg::MAX_THRUST_LB)).
+pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
 }
 
 /// Bourg's report fields and its aircraft as a recording stores it: the

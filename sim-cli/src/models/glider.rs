@@ -23,8 +23,6 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::{tenths, CliModel, Details};
-use crate::args::CommonArgs;
-use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
 use crate::input::Echo;
 use crate::keys::{letter, KeyAction};
@@ -590,13 +588,9 @@ impl KeyAction for GliderAction {
     }
 }
 
-/// `sim-cli glider`.
+/// `sim-cli glider`'s own options (after the options every model shares).
 #[derive(Debug, Clone, clap::Args)]
 pub struct GliderArgs {
-    /// Options every model has.
-    #[command(flatten)]
-    pub common: CommonArgs,
-
     /// Lift coefficient at frame 0 (0..1.4) [default: 0.6, the model's start]
     #[arg(long, value_name = "CL", value_parser = parse_cl, allow_hyphen_values = true)]
     pub lift_coefficient: Option<f64>,
@@ -619,12 +613,12 @@ impl CliModel for Glider {
         "Fly a point-mass glider (the third model: semi-implicit Euler, f64; metres, m/s)";
     type Args = GliderArgs;
 
-    fn prepare(args: GliderArgs) -> Result<ModelConfig<Glider>, CliError> {
+    /// The model's start, with `--lift-coefficient`.
+    fn controls(args: &GliderArgs) -> Result<GliderControls, CliError> {
         let mut controls = Glider::initial_controls();
         if let Some(cl) = args.lift_coefficient {
             controls.lift_coefficient = cl;
         }
-        let start = start_model::<Glider>(controls, &args.common.start)?;
-        prepare_model(args.common, start)
+        Ok(controls)
     }
 }

@@ -1,20 +1,21 @@
-//! What differs between the models in the CLI, one module per model: the
-//! HUD's control line, the keys and the starting controls from the command
-//! line. What the run library needs of a model (its recording, CSV columns,
-//! report fields, FlightGear models, fleet kernel) is its adapter module in
-//! `fdm_run::model`. Everything else in `sim-cli` is generic over
-//! [`CliModel`].
+//! What differs between the models in the CLI, one module per model: its
+//! subcommand's own options and help, its controls at frame 0 from them,
+//! its keys and the HUD's control line ([`CliModel`]). What the run library
+//! needs of a model (its recording, CSV columns, report fields, FlightGear
+//! models, fleet kernel) is its adapter module in `fdm_run::model` (or, for a
+//! model outside the library crates such as the `glider` feature's, its
+//! module here). Everything else in `sim-cli` is generic over [`CliModel`].
 //!
-//! A new model joins the CLI with one more module here (the HUD line of its
-//! report fields, [`Details`], and its keys) and one more subcommand in
-//! [`crate::args`].
+//! A new model joins the CLI with one more module here and one more line in
+//! the registry below: its subcommand (after the options every model shares,
+//! `crate::args::CommonArgs`), its help, the `--model` and `fgfs-command`
+//! values and the models a recording may name follow from it.
 
 use clap::builder::PossibleValue;
 use clap::{Args, FromArgMatches, ValueEnum};
 use fdm_run::{FleetModel, ReportModel};
 use fdm_study::StudyModel;
 
-use crate::config::ModelConfig;
 use crate::error::CliError;
 use crate::keys::KeyAction;
 
@@ -62,32 +63,12 @@ pub trait WithModel {
     fn call<M: CliModel>(self) -> Self::Output;
 }
 
-/// A model's name, aircraft and subcommand, as [`WithModel`] jobs.
+/// A model's name and what it flies, as a [`WithModel`] job.
 struct Name;
 impl WithModel for Name {
     type Output = (&'static str, &'static str);
     fn call<M: CliModel>(self) -> Self::Output {
         (M::NAME, M::AIRCRAFT)
-    }
-}
-
-struct Subcommand;
-impl WithModel for Subcommand {
-    type Output = clap::Command;
-    fn call<M: CliModel>(self) -> clap::Command {
-        M::Args::augment_args(clap::Command::new(M::NAME))
-            .about(M::ABOUT)
-            .long_about(None)
-    }
-}
-
-/// Flies the model's subcommand's arguments (`sim-cli <model> ...`).
-struct Fly<'a>(&'a clap::ArgMatches);
-impl WithModel for Fly<'_> {
-    type Output = Result<(), CliError>;
-    fn call<M: CliModel>(self) -> Self::Output {
-        let args = M::Args::from_arg_matches(self.0).map_err(|e| CliError::usage(e.to_string()))?;
-        crate::flight::run_model(M::prepare(args)?)
     }
 }
 
@@ -109,20 +90,6 @@ impl ModelKind {
     #[must_use]
     pub fn named(name: &str) -> Option<Self> {
         Self::ALL.iter().copied().find(|kind| kind.name() == name)
-    }
-
-    /// The model's subcommand (`sim-cli palmer`): its arguments ([`CliModel::Args`]) and help.
-    #[must_use]
-    pub fn subcommand(self) -> clap::Command {
-        self.with(Subcommand)
-    }
-
-    /// Flies `sim-cli <model>` with its subcommand's parsed arguments.
-    ///
-    /// # Errors
-    /// As [`CliModel::prepare`] and [`crate::flight::run_model`].
-    pub fn fly(self, args: &clap::ArgMatches) -> Result<(), CliError> {
-        self.with(Fly(args))
     }
 
     /// The registry's models as text: `a, b or c`, each shown by `show`.
@@ -153,7 +120,8 @@ impl ValueEnum for ModelKind {
 /// [`FleetModel`] (its fleet kernel, formations and multiplayer model) and a
 /// [`StudyModel`] (its studies' drawn inputs and measures, so `sim-cli study
 /// --run I` picks it through [`ModelKind::with`]) with the CLI's own parts:
-/// its subcommand, its keys and its report fields' HUD line ([`Details`]).
+/// its subcommand's options and help, its keys and its report fields' HUD
+/// line ([`Details`]).
 pub trait CliModel:
     ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
 {
@@ -161,15 +129,15 @@ pub trait CliModel:
     const AIRCRAFT: &'static str;
     /// Its subcommand's help line.
     const ABOUT: &'static str;
-    /// Its subcommand's arguments.
+    /// Its subcommand's own options, after those every model shares
+    /// (`crate::args::CommonArgs`).
     type Args: Args + FromArgMatches;
 
-    /// Validates `sim-cli <model>`'s arguments, reads the script and creates
-    /// the output files.
+    /// The controls at frame 0 from the model's own options.
     ///
     /// # Errors
-    /// [`CliError::Usage`] for anything wrong with the input.
-    fn prepare(args: Self::Args) -> Result<ModelConfig<Self>, CliError>;
+    /// [`CliError::Usage`] for options the model refuses.
+    fn controls(args: &Self::Args) -> Result<Self::Controls, CliError>;
 }
 
 /// A model's own report fields ([`fdm_run::report::Details`]: the JSON

@@ -5,35 +5,30 @@ use fdm_core::palmer::{Flaps, PalmerAction, PalmerControls};
 use fdm_run::model::palmer::brakes_note;
 
 use super::{tenths, CliModel, Details};
-use crate::args;
-use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
+use crate::input::{parse_in_range, Echo};
 use crate::keys::{letter, KeyAction};
 
 /// Palmer's Cessna 172, as the registry names it.
 pub use fdm_core::palmer::Palmer;
 
-/// `sim-cli palmer`.
+/// `sim-cli palmer`'s own options (after the options every model shares).
 #[derive(Debug, Clone, clap::Args)]
 pub struct PalmerArgs {
-    /// Options both models share.
-    #[command(flatten)]
-    pub common: args::CommonArgs,
-
     /// Throttle at frame 0, as a fraction of full power (0..1)
-    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = args::parse_throttle, allow_hyphen_values = true)]
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_hyphen_values = true)]
     pub throttle: f64,
 
     /// Angle of attack at frame 0, degrees (-16..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = args::parse_alpha, allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_hyphen_values = true)]
     pub alpha: f64,
 
     /// Bank angle at frame 0, degrees, positive banks right (-20..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = args::parse_bank, allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_hyphen_values = true)]
     pub bank: f64,
 
     /// Flap setting at frame 0, degrees (0, 20 or 40)
-    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = args::parse_flaps, allow_hyphen_values = true)]
+    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
     pub flaps: u8,
 
     /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
@@ -47,26 +42,56 @@ impl CliModel for Palmer {
     const ABOUT: &'static str = "Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)";
     type Args = PalmerArgs;
 
-    /// The controls at frame 0 come from `--throttle`, `--alpha`, `--bank`,
-    /// `--flaps` and `--brakes`.
-    fn prepare(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
+    /// `--throttle`, `--alpha`, `--bank`, `--flaps` and `--brakes`.
+    fn controls(args: &PalmerArgs) -> Result<PalmerControls, CliError> {
         let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
             CliError::usage(format!(
                 "--flaps {}: not a flap setting (0, 20 or 40)",
                 args.flaps
             ))
         })?;
-        let controls = PalmerControls {
+        Ok(PalmerControls {
             throttle: args.throttle,
             alpha_deg: args.alpha,
             bank_deg: args.bank,
             flaps,
             brakes: args.brakes,
-        };
-        let start = start_model::<Palmer>(controls, &args.common.start)?;
-        prepare_model(args.common, start)
+        })
+    }
 }
+
+/// `--throttle`: fraction in 0..1.
+pub fn parse_throttle(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
 }
+
+/// `--alpha`: degrees in -16..20, the range the alpha keys clamp to (the
+/// model's [`ALPHA_MIN_DEG`](fdm_core::palmer::ALPHA_MIN_DEG)..[`ALPHA_MAX_DEG`](fdm_core::palmer::ALPHA_MAX_DEG)).
+pub fn parse_alpha(text: &str) -> Result<f64, String> {
+    use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG};
+    parse_in_range(text, ALPHA_MIN_DEG, ALPHA_MAX_DEG, " degrees")
+}
+
+/// `--bank`: degrees in -20..20, the range the bank keys clamp to (the
+/// model's [`BANK_LIMIT_DEG`](fdm_core::palmer::BANK_LIMIT_DEG) either side).
+pub fn parse_bank(text: &str) -> Result<f64, String> {
+    use fdm_core::palmer::BANK_LIMIT_DEG;
+    parse_in_range(text, -BANK_LIMIT_DEG, BANK_LIMIT_DEG, " degrees")
+}
+
+/// `--flaps`: exactly 0, 20 or 40 degrees, the model's three notches.
+pub fn parse_flaps(text: &str) -> Result<u8, String> {
+    match text.trim() {
+        "0" => Ok(0),
+        "20" => Ok(20),
+        "40" => Ok(40),
+        _ => Err(format!(
+            "`{}` is not a flap setting (0, 20 or 40)",
+            Echo::short(text)
+        )),
+    }
+}
+
 
 /// Palmer's report fields: the run library's.
 pub use fdm_run::model::palmer::{PalmerControlsReport, PalmerDetails};
