@@ -1,12 +1,12 @@
 //! The command line (clap derive). Only syntax and per-value ranges live here;
-//! checks that involve several options, files or the terminal are in [`crate::config`].
+//! checks that involve several options, files or the terminal are in `crate::config`.
 //!
 //! Every value parser returns a one-line message so clap's error, which `main`
 //! squeezes onto one line, stays readable; clap exits usage errors with status 2.
 //!
 //! `fleet` (many aircraft: throughput, and their DIS, FlightGear multiplayer and
 //! ACMI outputs) has its own arguments, [`FleetArgs`], and its own module,
-//! [`crate::fleet`]. The limits (`--fps`, `--frames`) are the run library's
+//! `crate::fleet`. The limits (`--fps`, `--frames`) are the run library's
 //! ([`fdm_run::MAX_FPS`], [`fdm_run::MAX_FRAMES`]).
 
 use std::path::PathBuf;
@@ -33,9 +33,9 @@ struct Spec {
     command: Command,
 }
 
-/// `sim-cli`: fly the registry's models ([`crate::models`]). Its subcommands
+/// `sim-cli`: fly the registry's models (`crate::models`). Its subcommands
 /// are the registry's models' (their arguments are [`CommonArgs`] and the
-/// model's [`CliModel::Args`], their help [`CliModel::ABOUT`]), then
+/// model's `CliModel::Args`, their help `CliModel::ABOUT`), then
 /// [`Command`]'s.
 #[derive(Debug)]
 pub struct Cli {
@@ -119,7 +119,7 @@ impl FromArgMatches for Cli {
 impl Parser for Cli {}
 
 /// `sim-cli <model> ...`: the model and its subcommand's arguments, parsed
-/// (read as [`CommonArgs`] and the model's [`CliModel::Args`]).
+/// (read as [`CommonArgs`] and the model's `CliModel::Args`).
 #[derive(Debug, Clone)]
 pub struct Fly {
     /// The model.
@@ -160,7 +160,7 @@ pub struct PlotArgs {
     pub output: PathBuf,
 }
 
-/// Which model (the registry, [`crate::models`]).
+/// Which model (the registry, `crate::models`).
 pub use crate::models::ModelKind;
 use crate::models::{CliModel, WithModel};
 
@@ -218,7 +218,7 @@ pub struct CommonArgs {
     #[command(flatten)]
     pub start: crate::start::StartArgs,
 
-    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    /// DIS output (`--dis HOST:PORT` and its options, `crate::dis`).
     #[command(flatten)]
     pub dis: FlightDisArgs,
 
@@ -277,7 +277,7 @@ pub struct ReplayArgs {
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
 
-    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    /// DIS output (`--dis HOST:PORT` and its options, `crate::dis`).
     #[command(flatten)]
     pub dis: FlightDisArgs,
 
@@ -405,7 +405,7 @@ pub struct FleetArgs {
     #[arg(long)]
     pub json: bool,
 
-    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    /// DIS output (`--dis HOST:PORT` and its options, `crate::dis`).
     #[command(flatten)]
     pub dis: FleetDisArgs,
 
@@ -426,7 +426,7 @@ pub struct FleetArgs {
 pub const MAX_MP_AIRCRAFT: usize = 1000;
 
 /// `sim-cli fleet` options for watching the fleet in FlightGear through its
-/// multiplayer protocol ([`crate::fleet_mp`]).
+/// multiplayer protocol (`crate::fleet_mp`).
 #[derive(Debug, Clone, Default, Args)]
 pub struct FleetShowArgs {
     /// Stream the fleet to FlightGear's multiplayer input at HOST:PORT (UDP, IPv4), one position

@@ -1,11 +1,9 @@
 //! The state of the flown aircraft at one instant, as the JSON report and
 //! the HUD are built from it: the run library's [`Snapshot`]
-//! ([`fdm_run::report`]; the common part, [`CommonState`], is the same for
+//! ([`fdm_run::report`]; the common part, `CommonState`, is the same for
 //! every model, the model's own fields are its [`Details`](crate::models::Details)).
 
-pub use fdm_run::report::{
-    status_from_number, AttitudeReport, CommonState, GeodeticReport, Snapshot,
-};
+pub use fdm_run::report::Snapshot;
 
 #[cfg(test)]
 pub(crate) mod samples {
@@ -13,6 +11,7 @@ pub(crate) mod samples {
     use crate::models::bourg::BourgDetails;
     use crate::models::palmer::{PalmerControlsReport, PalmerDetails};
     use fdm_core::model::FlightStatus;
+    use fdm_run::report::{AttitudeReport, CommonState, GeodeticReport};
 
     fn common() -> CommonState {
         CommonState {

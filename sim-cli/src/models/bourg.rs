@@ -45,9 +45,8 @@ pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
     parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
 }
 
-/// Bourg's report fields and its aircraft as a recording stores it: the
-/// run library's.
-pub use fdm_run::model::bourg::{BourgAircraftRecord, BourgDetails};
+/// Bourg's report fields: the run library's.
+pub use fdm_run::model::bourg::BourgDetails;
 
 impl Details for BourgDetails {
     fn hud_controls(&self) -> String {

@@ -21,7 +21,7 @@ use crate::keys::KeyAction;
 
 /// The registry: one line per model, its module (`models/<name>.rs`) and its
 /// model type. The subcommands, their help, the `--model` values and the
-/// models a recording or a study may name all come from it.
+/// models a recording may name all come from it.
 macro_rules! registry {
     ($($(#[$cfg:meta])* $module:ident :: $model:ident,)*) => {
         $($(#[$cfg])* pub mod $module;)*
@@ -80,7 +80,7 @@ impl ModelKind {
         self.with(Name).0
     }
 
-    /// What the model flies, for help texts ([`CliModel::AIRCRAFT`]).
+    /// What the model flies, for help texts (`CliModel::AIRCRAFT`).
     #[must_use]
     pub fn aircraft(self) -> &'static str {
         self.with(Name).1

@@ -94,7 +94,10 @@ pub fn parse_flaps(text: &str) -> Result<u8, String> {
 
 
 /// Palmer's report fields: the run library's.
-pub use fdm_run::model::palmer::{PalmerControlsReport, PalmerDetails};
+pub use fdm_run::model::palmer::PalmerDetails;
+/// Palmer's controls in its report fields (the HUD's tests make some).
+#[cfg(test)]
+pub use fdm_run::model::palmer::PalmerControlsReport;
 
 impl Details for PalmerDetails {
     fn hud_controls(&self) -> String {

@@ -1,8 +1,8 @@
 //! The run loops, written once for every model against the [`Flight`] trait.
 //!
-//! [`crate::flight::ModelFlight`] implements [`Flight`] for any
-//! [`CliModel`](crate::models::CliModel) (one aircraft entity in an `fdm_ecs::Simulation`);
-//! [`crate::flight::run_model`] builds it from the validated configuration
+//! `crate::flight::ModelFlight` implements [`Flight`] for any
+//! `CliModel` (one aircraft entity in an `fdm_ecs::Simulation`);
+//! `crate::flight::run_model` builds it from the validated configuration
 //! and hands it to [`fly`]. The flight flies its script (the run library's
 //! `Run::step_frame`: the script's rules for the frame, then the keys).
 //! Everything here (JSON report, progress bar, terminal, keys, pacing, HUD)
