@@ -240,41 +240,20 @@ impl WithModel for ReplayJob<'_> {
             M::state_fingerprint(&flight.state()),
             fingerprint::maths(),
         );
+        let Some(text) = verdict.describe("sim-cli") else {
+            return Ok(());
+        };
         match verdict {
-            Verdict::Same => Ok(()),
+            Verdict::DifferentFlight { .. } => {
+                Err(CliError::DifferentFlight(format!("{file}: {text}")))
+            }
             Verdict::Unchecked => {
-                progress.message(&format!(
-                    "sim-cli: note: {file}: this recording (format version 1 or 2) has no \
-                     fingerprint; the replay was not checked against the recorded flight"
-                ));
+                progress.message(&format!("sim-cli: note: {file}: {text}"));
                 Ok(())
             }
-            Verdict::OtherMaths { recorded, ours } => {
-                progress.message(&format!(
-                    "sim-cli: warning: {file}: the recording was made with different maths \
-                     (maths fingerprint {recorded:#018x}, this sim-cli's {ours:#018x}); the \
-                     replay still ended in the recorded final state"
-                ));
+            _ => {
+                progress.message(&format!("sim-cli: warning: {file}: {text}"));
                 Ok(())
-            }
-            Verdict::DifferentFlight {
-                recorded,
-                replayed,
-                maths,
-            } => {
-                let why = match maths {
-                    Some((recorded_maths, ours)) => format!(
-                        "; the recording was made with different maths (maths fingerprint \
-                         {recorded_maths:#018x}, this sim-cli's {ours:#018x})"
-                    ),
-                    None => {
-                        "; the maths are the same, so the build or the machine differs".to_owned()
-                    }
-                };
-                Err(CliError::DifferentFlight(format!(
-                    "{file}: the replay flew a different flight: its final state's fingerprint is \
-                     {replayed:#018x}, the recording's {recorded:#018x}{why}"
-                )))
             }
         }
     }
