@@ -17,9 +17,7 @@
 use std::fmt::Write as _;
 use std::io::Write;
 
-use fdm_core::bourg::{Bourg, BourgControls, BourgState};
 use fdm_core::model::{FlightStatus, Model};
-use fdm_core::palmer::{Palmer, PalmerControls, PalmerState};
 
 pub use crate::model::CsvModel;
 use crate::output::{Event, Frame, Output, OutputError, Placement};
@@ -271,80 +269,6 @@ pub const COMMON_COLUMNS: &[&str] = &[
     "pitch_deg",
     "fg_heading_deg",
 ];
-
-impl CsvModel for Palmer {
-    const CSV_SPEED_COLUMN: &'static str = "airspeed";
-    const METRES_PER_UNIT: f64 = 1.0;
-    const CSV_COLUMNS: &'static [&'static str] = &[
-        "airspeed",
-        "throttle",
-        "alpha_deg",
-        "bank_deg",
-        "flaps_deg",
-        "climb_angle_deg",
-        "climb_rate",
-        "heading_deg",
-    ];
-
-    fn native_position(state: &PalmerState) -> [f64; 3] {
-        state.position_m.into()
-    }
-
-    fn native_velocity(state: &PalmerState) -> [f64; 3] {
-        state.velocity_mps.into()
-    }
-
-    fn csv_values(controls: &PalmerControls, state: &PalmerState, out: &mut Vec<f64>) {
-        out.extend_from_slice(&[
-            state.airspeed_mps(),
-            controls.throttle,
-            controls.alpha_deg,
-            controls.bank_deg,
-            controls.flaps.degrees(),
-            state.climb_angle_deg(),
-            state.climb_rate_mps(),
-            state.heading_deg(),
-        ]);
-    }
-}
-
-impl CsvModel for Bourg {
-    const CSV_SPEED_COLUMN: &'static str = "speed";
-    const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
-    /// `flaps` and `stalling` are written as 0 or 1.
-    const CSV_COLUMNS: &'static [&'static str] = &[
-        "speed",
-        "euler_x_deg",
-        "euler_y_deg",
-        "euler_z_deg",
-        "thrust_lb",
-        "flaps",
-        "stalling",
-        "pitch_trim",
-    ];
-
-    fn native_position(state: &BourgState) -> [f64; 3] {
-        state.position_ft.map(f64::from).into()
-    }
-
-    fn native_velocity(state: &BourgState) -> [f64; 3] {
-        state.velocity_ftps.map(f64::from).into()
-    }
-
-    fn csv_values(controls: &BourgControls, state: &BourgState, out: &mut Vec<f64>) {
-        let euler = state.euler_angles_deg();
-        out.extend_from_slice(&[
-            f64::from(state.speed_ftps()),
-            f64::from(euler.x),
-            f64::from(euler.y),
-            f64::from(euler.z),
-            f64::from(controls.thrust_lb),
-            f64::from(u8::from(controls.landing_flaps)),
-            f64::from(u8::from(state.stalling)),
-            f64::from(controls.pitch_trim),
-        ]);
-    }
-}
 
 /// The flight CSV's `status` number: 0 on ground, 1 airborne, 2 landed
 /// safe, 3 landed rough, 4 crashed, 5 diverged, 6 stalling (airborne while

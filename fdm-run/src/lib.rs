@@ -58,7 +58,8 @@
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
 //! | [`fleet`] | fleet runs: [`fleet::FleetScenario`] → [`fleet::FleetRun`] (ECS or lanes kernel, [`fleet::FleetOutput`] plugins such as ACMI, DIS, [`fleet::FleetReport`]), a fleet watched in FlightGear ([`fleet::show`]) |
 //! | [`memory`] | how much memory this process can still allocate, and the fleet's memory check |
-//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]) |
+//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]); one adapter module per model ([`model::palmer`], [`model::bourg`]) |
+//! | [`report`] | what a run reports at its end: [`Report`] (JSON and a human summary) from a [`Snapshot`] ([`Run::snapshot`]), each model's own fields ([`ReportModel`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
 
 pub mod acmi;
@@ -77,12 +78,14 @@ pub mod output;
 pub mod pacer;
 pub mod recording;
 pub mod replay;
+pub mod report;
 pub mod run;
 pub mod scenario;
 mod shared;
 
 pub use model::{FleetModel, RunModel};
 pub use output::{Event, Frame, LinkStats, Output, OutputError, Placement};
+pub use report::{Report, ReportModel, Snapshot};
 pub use run::{End, Run, RunError};
 pub use scenario::{
     Scenario, ScenarioError, Start, StartOptions, StartRefused, MAX_FPS, MAX_FRAMES,

@@ -10,15 +10,23 @@
 //! [`FleetModel`] is what a fleet run ([`crate::fleet`]) needs besides: the
 //! model's structure-of-arrays kernel, how to move a start for a formation,
 //! and the model FlightGear draws for it as a multiplayer aircraft.
+//!
+//! Each model's implementations of these traits (and of
+//! [`ReportModel`](crate::report::ReportModel), its report's fields) are in
+//! one adapter module per model: [`palmer`], [`bourg`].
 
 use std::fmt::Debug;
 
-use fdm_core::bourg::{Airframe, Bourg, BourgAircraft, BourgState};
-use fdm_core::fingerprint;
+pub mod bourg;
+pub mod palmer;
+
+use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
-use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerState};
+use fdm_core::palmer::Palmer;
 use serde::de::DeserializeOwned;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
+
+pub use bourg::BourgAircraftRecord;
 
 /// A model a run can fly, record and replay.
 pub trait RunModel:
@@ -75,117 +83,6 @@ pub trait RunModel:
     fn state_fingerprint(state: &Self::State) -> u64;
 }
 
-impl RunModel for Palmer {
-    type AircraftRecord = PalmerAircraft;
-
-    const ACMI_NAME: &'static str = "C172";
-    const CALLSIGN: &'static str = "C172";
-    #[cfg(feature = "dis")]
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
-    const FG_AIRCRAFT: &'static str = "c172p";
-    /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
-    /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
-    /// they do with `--fdm=null`: give them fuel (nothing consumes it). FlightGear
-    /// 2020.3 clamps a tank's level to its capacity and weighs it by its density,
-    /// both 0 without JSBSim, so capacity (28 US gallons) and density (6 lb per
-    /// gallon, avgas) go first. A timer looks every 2 s, because the c172p's own
-    /// start-up scripts reset the tanks after the FDM is initialised. Measured
-    /// live: `--prop:` options for the levels read back 0.
-    const FG_STARTUP_NASAL: &'static str = "var refuel = func { foreach (var tank; [0, 1]) { \
-        var path = \"/consumables/fuel/tank[\" ~ tank ~ \"]/\"; \
-        if (getprop(path ~ \"level-gal_us\") < 1) { setprop(path ~ \"capacity-gal_us\", 28); \
-        setprop(path ~ \"density-ppg\", 6); setprop(path ~ \"level-gal_us\", 20); } } \
-        settimer(refuel, 2); }; refuel();";
-
-    fn aircraft_record(aircraft: &PalmerAircraft) -> PalmerAircraft {
-        *aircraft
-    }
-
-    fn aircraft_from_record(record: PalmerAircraft) -> Result<PalmerAircraft, String> {
-        record.validate().map_err(|e| e.to_string())?;
-        Ok(record)
-    }
-
-    fn state_fingerprint(state: &PalmerState) -> u64 {
-        fingerprint::palmer_state(state)
-    }
-}
-
-impl FleetModel for Palmer {
-    type Lanes = fdm_fleet::Fleet<Self>;
-
-    const FG_MP_MODEL: &'static str = "Aircraft/c172p/Models/c172p.xml";
-
-    fn offset_state(state: &PalmerState, north_m: f64, west_m: f64, up_m: f64) -> PalmerState {
-        let mut moved = *state;
-        moved.position_m.x += north_m;
-        moved.position_m.y += west_m;
-        moved.position_m.z += up_m;
-        moved
-    }
-
-    /// The attitude matrix straight from the velocity and controls, without
-    /// the Euler angles ([`crate::dis::palmer_rough`]).
-    #[cfg(feature = "dis")]
-    fn dis_rough(first: usize, states: &[Option<PalmerState>], out: &mut [Option<fdm_dis::Rough>]) {
-        crate::dis::palmer_rough(first, states, out);
-    }
-}
-
-/// Bourg's aircraft as a recording stores it: the airframe (from which
-/// [`BourgAircraft::new`] derives the mass properties) and the thrust limits.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct BourgAircraftRecord {
-    /// The eight lifting elements.
-    pub airframe: Airframe,
-    /// Maximum thrust, lb.
-    pub max_thrust_lb: f32,
-    /// Thrust change per thrust-up/down action, lb.
-    pub delta_thrust_lb: f32,
-}
-
-impl RunModel for Bourg {
-    type AircraftRecord = BourgAircraftRecord;
-
-    const ACMI_NAME: &'static str = "Bourg 6-DoF";
-    const CALLSIGN: &'static str = "BRG";
-    #[cfg(feature = "dis")]
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
-    /// The thesis showed Bourg's aircraft as the UFO.
-    const FG_AIRCRAFT: &'static str = "ufo";
-    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
-    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
-    /// is false, so set the second.
-    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
-
-    fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
-        BourgAircraftRecord {
-            airframe: *aircraft.airframe(),
-            max_thrust_lb: aircraft.max_thrust_lb,
-            delta_thrust_lb: aircraft.delta_thrust_lb,
-        }
-    }
-
-    fn aircraft_from_record(record: BourgAircraftRecord) -> Result<BourgAircraft, String> {
-        let mut aircraft = BourgAircraft::new(record.airframe).map_err(|e| e.to_string())?;
-        for (name, value) in [
-            ("max_thrust_lb", record.max_thrust_lb),
-            ("delta_thrust_lb", record.delta_thrust_lb),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(format!("{name} {value} is not a finite thrust >= 0"));
-            }
-        }
-        aircraft.max_thrust_lb = record.max_thrust_lb;
-        aircraft.delta_thrust_lb = record.delta_thrust_lb;
-        Ok(aircraft)
-    }
-
-    fn state_fingerprint(state: &BourgState) -> u64 {
-        fingerprint::bourg_state(state)
-    }
-}
-
 /// A model whose flights write the flight CSV (docs/cli.md, "CSV output"):
 /// its position and velocity in its own unit, its own columns, and how a
 /// plot reads them back ([`crate::csv`] writes the rows). Every model of the
@@ -214,22 +111,6 @@ pub trait CsvModel: RunModel {
 
     /// Appends the values of [`Self::CSV_COLUMNS`], in order.
     fn csv_values(controls: &Self::Controls, state: &Self::State, out: &mut Vec<f64>);
-}
-
-impl FleetModel for Bourg {
-    type Lanes = fdm_fleet::Fleet<Self>;
-
-    const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
-
-    /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.
-    fn offset_state(state: &BourgState, north_m: f64, west_m: f64, up_m: f64) -> BourgState {
-        let ft = |m: f64| (m / fdm_core::units::METRES_PER_FOOT) as f32;
-        let mut moved = *state;
-        moved.position_ft.x += ft(north_m);
-        moved.position_ft.y += ft(west_m);
-        moved.position_ft.z += ft(up_m);
-        moved
-    }
 }
 
 /// A model a fleet run ([`crate::fleet`]) can fly: a [`RunModel`] with a

@@ -329,12 +329,24 @@ fn prefix(bytes: &[u8]) -> Result<(String, u16, &[u8]), RecordingError> {
 /// # Errors
 /// As [`parse_recording`], for the prefix only.
 pub fn recorded_model(bytes: &[u8]) -> Result<&'static str, RecordingError> {
-    let (model, _, _) = prefix(bytes)?;
+    let model = recorded_model_name(bytes)?;
     MODELS
         .iter()
         .copied()
         .find(|&name| name == model)
         .ok_or(RecordingError::UnknownModel(model))
+}
+
+/// The name of the model a recording was made with, from its first bytes,
+/// whether or not this library's registry has it: a program with models of
+/// its own ([`RunModel`]s outside the registry, such as `sim-cli`'s
+/// `glider` feature) looks it up in its own list and parses the recording
+/// with [`Recording::parse`].
+///
+/// # Errors
+/// As [`parse_recording`], for the prefix only.
+pub fn recorded_model_name(bytes: &[u8]) -> Result<String, RecordingError> {
+    prefix(bytes).map(|(model, _, _)| model)
 }
 
 /// What [`parse_recording`] found in a valid recording.

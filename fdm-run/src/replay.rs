@@ -220,6 +220,45 @@ pub enum Verdict {
     },
 }
 
+impl Verdict {
+    /// What the verdict means, in words for the person replaying, or `None`
+    /// for [`Verdict::Same`]; `program` names the replaying program ("this
+    /// sim-cli's" maths). [`Verdict::Unchecked`] is a note,
+    /// [`Verdict::OtherMaths`] a warning (the flight may still be the
+    /// same), [`Verdict::DifferentFlight`] a failure.
+    #[must_use]
+    pub fn describe(&self, program: &str) -> Option<String> {
+        let maths = |recorded: u64, ours: u64| {
+            format!(
+                "the recording was made with different maths (maths fingerprint \
+                 {recorded:#018x}, this {program}'s {ours:#018x})"
+            )
+        };
+        Some(match *self {
+            Self::Same => return None,
+            Self::Unchecked => "this recording (format version 1 or 2) has no fingerprint; the \
+                                replay was not checked against the recorded flight"
+                .to_owned(),
+            Self::OtherMaths { recorded, ours } => format!(
+                "{}; the replay still ended in the recorded final state",
+                maths(recorded, ours)
+            ),
+            Self::DifferentFlight {
+                recorded,
+                replayed,
+                maths: other,
+            } => format!(
+                "the replay flew a different flight: its final state's fingerprint is \
+                 {replayed:#018x}, the recording's {recorded:#018x}; {}",
+                other.map_or_else(
+                    || "the maths are the same, so the build or the machine differs".to_owned(),
+                    |(recorded, ours)| maths(recorded, ours)
+                )
+            ),
+        })
+    }
+}
+
 /// Compares a replay's final state (`replayed`, [`crate::RunModel::state_fingerprint`])
 /// and this build's maths (`maths`, [`fdm_core::fingerprint::maths`]) with the
 /// recording's fingerprint.
@@ -245,6 +284,37 @@ pub fn check_fingerprint(recorded: Option<Fingerprint>, replayed: u64, maths: u6
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn verdicts_are_described_in_the_program_s_name() {
+        assert_eq!(Verdict::Same.describe("sim-cli"), None);
+        assert!(Verdict::Unchecked
+            .describe("sim-cli")
+            .unwrap()
+            .starts_with("this recording (format version 1 or 2) has no fingerprint; the replay"));
+        let other = Verdict::OtherMaths {
+            recorded: 2,
+            ours: 3,
+        };
+        assert_eq!(
+            other.describe("x").unwrap(),
+            "the recording was made with different maths (maths fingerprint 0x0000000000000002, \
+             this x's 0x0000000000000003); the replay still ended in the recorded final state"
+        );
+        let different = |maths| Verdict::DifferentFlight {
+            recorded: 1,
+            replayed: 4,
+            maths,
+        };
+        assert!(different(None)
+            .describe("sim-cli")
+            .unwrap()
+            .ends_with("the recording's 0x0000000000000001; the maths are the same, so the build or the machine differs"));
+        assert!(different(Some((2, 3)))
+            .describe("sim-cli")
+            .unwrap()
+            .ends_with("; the recording was made with different maths (maths fingerprint 0x0000000000000002, this sim-cli's 0x0000000000000003)"));
+    }
 
     #[test]
     fn verdicts() {

@@ -5,13 +5,14 @@
 use std::path::Path;
 
 use fdm_core::geodesy::GeodeticOrigin;
-use fdm_run::acmi::{AcmiHeader, AcmiWriter, ReferenceTime};
+use fdm_run::acmi::{AcmiHeader, AcmiWriter};
 
+use crate::args::AcmiArgs;
 use crate::error::CliError;
 use crate::input::show_path;
 
-/// The ACMI writer for `--acmi path` (`None` without it) with
-/// `--acmi-reference-time reference_time` (default
+/// The ACMI writer for `--acmi` (`None` without it) with
+/// `--acmi-reference-time` (default
 /// [`fdm_run::acmi::DEFAULT_REFERENCE_TIME`]): `title` and the run's `fps`
 /// and `origin` go into the header. `others` are the run's other files with
 /// their option names; none may be the ACMI file.
@@ -19,26 +20,23 @@ use crate::input::show_path;
 /// # Errors
 /// [`CliError::Usage`]: the file is one of `others`, or cannot be created.
 pub fn create(
-    path: Option<&Path>,
-    reference_time: Option<&ReferenceTime>,
+    args: &AcmiArgs,
     title: &str,
     fps: u32,
     origin: &GeodeticOrigin,
     others: &[(Option<&Path>, &str)],
 ) -> Result<Option<AcmiWriter>, CliError> {
-    let Some(path) = path else {
+    let Some(path) = args.acmi.as_deref() else {
         return Ok(None);
     };
-    for &(other, name) in others {
-        if other.is_some_and(|o| o == path || crate::input::same_file(path, o)) {
-            return Err(CliError::usage(format!(
-                "--acmi {} is also the {name} file",
-                show_path(path)
-            )));
-        }
+    if let Some(name) = crate::input::clash(path, others) {
+        return Err(CliError::usage(format!(
+            "--acmi {} is also the {name} file",
+            show_path(path)
+        )));
     }
     let header = AcmiHeader {
-        reference_time: reference_time.cloned().unwrap_or_default(),
+        reference_time: args.acmi_reference_time.clone().unwrap_or_default(),
         title: title.to_owned(),
         origin: origin.geodetic(),
     };

@@ -1,17 +1,17 @@
 //! The command line (clap derive). Only syntax and per-value ranges live here;
-//! checks that involve several options, files or the terminal are in [`crate::config`].
+//! checks that involve several options, files or the terminal are in `crate::config`.
 //!
 //! Every value parser returns a one-line message so clap's error, which `main`
 //! squeezes onto one line, stays readable; clap exits usage errors with status 2.
 //!
 //! `fleet` (many aircraft: throughput, and their DIS, FlightGear multiplayer and
 //! ACMI outputs) has its own arguments, [`FleetArgs`], and its own module,
-//! [`crate::fleet`]. The limits (`--fps`, `--frames`) are the run library's
+//! `crate::fleet`. The limits (`--fps`, `--frames`) are the run library's
 //! ([`fdm_run::MAX_FPS`], [`fdm_run::MAX_FRAMES`]).
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 
 use crate::dis::{FleetDisArgs, FlightDisArgs};
 use crate::input::Echo;
@@ -24,34 +24,116 @@ pub use fdm_run::{MAX_FPS, MAX_FRAMES};
 
 use fdm_run::acmi::ReferenceTime;
 
-/// `sim-cli`: fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft.
+/// The command line as clap derives it, without the models' subcommands
+/// (added from the registry by [`Cli`]'s [`CommandFactory`]).
 #[derive(Debug, Parser)]
-#[command(
-    name = "sim-cli",
-    version,
-    about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, or headless from scripts",
-    long_about = "Fly Palmer's Cessna 172 or Bourg's 6-DoF aircraft from the keyboard into FlightGear, \
-                  or headless from scripts.\n\n\
-                  Exit status: 0 success, 2 bad usage or bad input file, 1 any other failure, \
-                  3 a replayed recording was cut (the frames before the cut were replayed), \
-                  4 a replay flew another flight than the recorded one (fingerprint mismatch), \
-                  128+N stopped by signal N.",
-    after_help = "Run `sim-cli palmer --help` or `sim-cli bourg --help` for the flight options \
-                  (frame rate, headless runs, scripts, JSON report, CSV, FlightGear target, origin)."
-)]
+#[command(name = "sim-cli", version)]
+struct Spec {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// `sim-cli`: fly the registry's models (`crate::models`). Its subcommands
+/// are the registry's models' (their arguments are [`CommonArgs`] and the
+/// model's `CliModel::Args`, their help `CliModel::ABOUT`), then
+/// [`Command`]'s.
+#[derive(Debug)]
 pub struct Cli {
     /// What to do.
-    #[command(subcommand)]
     pub command: Command,
+}
+
+impl CommandFactory for Cli {
+    fn command() -> clap::Command {
+        let mut command = Spec::command();
+        let models = ModelKind::ALL.len();
+        let tools: Vec<String> = command
+            .get_subcommands()
+            .map(|tool| tool.get_name().to_owned())
+            .collect();
+        for (i, tool) in tools.iter().enumerate() {
+            command = command.mut_subcommand(tool, |c| c.display_order(models + i));
+        }
+        for (i, kind) in ModelKind::ALL.iter().enumerate() {
+            command = command.subcommand(kind.with(ModelSubcommand).display_order(i));
+        }
+        let aircraft = ModelKind::list(|kind| kind.aircraft().to_owned());
+        let flies =
+            format!("Fly {aircraft} from the keyboard into FlightGear, or headless from scripts");
+        command
+            .about(flies.clone())
+            .long_about(format!(
+                "{flies}.\n\nExit status: 0 success, 2 bad usage or bad input file, 1 any other \
+                 failure, 3 a replayed recording was cut (the frames before the cut were \
+                 replayed), 4 a replay flew another flight than the recorded one (fingerprint \
+                 mismatch), 128+N stopped by signal N."
+            ))
+            .after_help(format!(
+                "Run {} for the flight options (frame rate, headless runs, scripts, JSON report, \
+                 CSV, FlightGear target, origin).",
+                ModelKind::list(|kind| format!("`sim-cli {} --help`", kind.name()))
+            ))
+    }
+
+    fn command_for_update() -> clap::Command {
+        Self::command()
+    }
+}
+
+/// A model's subcommand (`sim-cli palmer`): the options every model shares
+/// ([`CommonArgs`]), then the model's own ([`CliModel::Args`]), and its help line.
+struct ModelSubcommand;
+
+impl WithModel for ModelSubcommand {
+    type Output = clap::Command;
+
+    fn call<M: CliModel>(self) -> clap::Command {
+        let command = CommonArgs::augment_args(clap::Command::new(M::NAME));
+        M::Args::augment_args(command)
+            .about(M::ABOUT)
+            .long_about(None)
+    }
+}
+
+impl FromArgMatches for Cli {
+    fn from_arg_matches(matches: &ArgMatches) -> Result<Self, clap::Error> {
+        let command = match matches.subcommand() {
+            Some((name, args)) => match ModelKind::named(name) {
+                Some(model) => Command::Fly(Fly {
+                    model,
+                    args: args.clone(),
+                }),
+                None => Command::from_arg_matches(matches)?,
+            },
+            None => Command::from_arg_matches(matches)?,
+        };
+        Ok(Self { command })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl Parser for Cli {}
+
+/// `sim-cli <model> ...`: the model and its subcommand's arguments, parsed
+/// (read as [`CommonArgs`] and the model's `CliModel::Args`).
+#[derive(Debug, Clone)]
+pub struct Fly {
+    /// The model.
+    pub model: ModelKind,
+    /// Its subcommand's arguments.
+    pub args: ArgMatches,
 }
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)
-    Palmer(PalmerArgs),
-    /// Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)
-    Bourg(BourgArgs),
+    /// A model's flight: one subcommand per model of the registry.
+    #[command(skip)]
+    Fly(Fly),
     /// Print the fgfs (FlightGear 2020.3) command line that shows a model flown by sim-cli
     FgfsCommand(FgfsArgs),
     /// Fly a fleet of one model headless through the ECS and report aircraft-steps per second
@@ -78,8 +160,9 @@ pub struct PlotArgs {
     pub output: PathBuf,
 }
 
-/// Which model (the registry, [`crate::models`]).
+/// Which model (the registry, `crate::models`).
 pub use crate::models::ModelKind;
+use crate::models::{CliModel, WithModel};
 
 /// Options both models share (docs/cli.md "Options both models share").
 #[derive(Debug, Clone, Args)]
@@ -135,7 +218,7 @@ pub struct CommonArgs {
     #[command(flatten)]
     pub start: crate::start::StartArgs,
 
-    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    /// DIS output (`--dis HOST:PORT` and its options, `crate::dis`).
     #[command(flatten)]
     pub dis: FlightDisArgs,
 
@@ -194,54 +277,13 @@ pub struct ReplayArgs {
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_fg_target)]
     pub fg: Option<FgTarget>,
 
-    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    /// DIS output (`--dis HOST:PORT` and its options, `crate::dis`).
     #[command(flatten)]
     pub dis: FlightDisArgs,
 
     /// Tacview ACMI output of the replayed flight.
     #[command(flatten)]
     pub acmi: AcmiArgs,
-}
-
-/// `sim-cli palmer`.
-#[derive(Debug, Clone, Args)]
-pub struct PalmerArgs {
-    /// Options both models share.
-    #[command(flatten)]
-    pub common: CommonArgs,
-
-    /// Throttle at frame 0, as a fraction of full power (0..1)
-    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_hyphen_values = true)]
-    pub throttle: f64,
-
-    /// Angle of attack at frame 0, degrees (-16..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_hyphen_values = true)]
-    pub alpha: f64,
-
-    /// Bank angle at frame 0, degrees, positive banks right (-20..20)
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_hyphen_values = true)]
-    pub bank: f64,
-
-    /// Flap setting at frame 0, degrees (0, 20 or 40)
-    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
-    pub flaps: u8,
-
-    /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
-    /// brakes-on/brakes-off)
-    #[arg(long)]
-    pub brakes: bool,
-}
-
-/// `sim-cli bourg`.
-#[derive(Debug, Clone, Args)]
-pub struct BourgArgs {
-    /// Options both models share.
-    #[command(flatten)]
-    pub common: CommonArgs,
-
-    /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
-    #[arg(long, value_name = "LB", value_parser = parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
-    pub thrust_lb: Option<f64>,
 }
 
 /// `sim-cli fgfs-command`.
@@ -363,7 +405,7 @@ pub struct FleetArgs {
     #[arg(long)]
     pub json: bool,
 
-    /// DIS output (`--dis HOST:PORT` and its options, [`crate::dis`]).
+    /// DIS output (`--dis HOST:PORT` and its options, `crate::dis`).
     #[command(flatten)]
     pub dis: FleetDisArgs,
 
@@ -384,7 +426,7 @@ pub struct FleetArgs {
 pub const MAX_MP_AIRCRAFT: usize = 1000;
 
 /// `sim-cli fleet` options for watching the fleet in FlightGear through its
-/// multiplayer protocol ([`crate::fleet_mp`]).
+/// multiplayer protocol (`crate::fleet_mp`).
 #[derive(Debug, Clone, Default, Args)]
 pub struct FleetShowArgs {
     /// Stream the fleet to FlightGear's multiplayer input at HOST:PORT (UDP, IPv4), one position
@@ -479,26 +521,6 @@ pub fn parse_threads(text: &str) -> Result<usize, String> {
     parse_count(text, max, "threads").map(|v| usize::try_from(v).unwrap_or(MAX_THREADS))
 }
 
-fn parse_finite(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("`{}` is not a finite number", Echo::short(text))),
-    }
-}
-
-fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
-    let v = parse_finite(text)?;
-    if (lo..=hi).contains(&v) {
-        Ok(v)
-    } else {
-        // The text as given, not `v`: 1e308 printed as a float has 309 digits.
-        Err(format!(
-            "`{}` is outside {lo}..{hi}{unit}",
-            Echo::short(text.trim())
-        ))
-    }
-}
-
 /// `--fps`: a whole number from 1 to [`MAX_FPS`]. Whole, because the frame rate is
 /// the ECS's `Resources::new(fps: u32)` and both models derive dt from it (docs/cli.md:
 /// dt = 1/N, `1.0f32 / N as f32` for Bourg).
@@ -527,7 +549,7 @@ pub fn parse_frames(text: &str) -> Result<u64, String> {
 
 /// `--duration`: finite seconds, >= 0. The frame limit is checked once the fps is known.
 pub fn parse_duration(text: &str) -> Result<f64, String> {
-    let v = parse_finite(text)?;
+    let v = crate::input::parse_finite(text)?;
     if v >= 0.0 {
         Ok(v)
     } else {
@@ -535,48 +557,18 @@ pub fn parse_duration(text: &str) -> Result<f64, String> {
     }
 }
 
-/// `--throttle`: fraction in 0..1.
-pub fn parse_throttle(text: &str) -> Result<f64, String> {
-    parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
-}
-
-/// `--alpha`: degrees in -16..20, the range the alpha keys clamp to (the
-/// model's [`ALPHA_MIN_DEG`](fdm_core::palmer::ALPHA_MIN_DEG)..[`ALPHA_MAX_DEG`](fdm_core::palmer::ALPHA_MAX_DEG)).
-pub fn parse_alpha(text: &str) -> Result<f64, String> {
-    use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG};
-    parse_in_range(text, ALPHA_MIN_DEG, ALPHA_MAX_DEG, " degrees")
-}
-
-/// `--thrust-lb`: pounds in 0..3000, Bourg's thrust range (the model's
-/// [`MAX_THRUST_LB`](fdm_core::bourg::MAX_THRUST_LB)).
-pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
-    parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
-}
-
-/// `--bank`: degrees in -20..20, the range the bank keys clamp to (the
-/// model's [`BANK_LIMIT_DEG`](fdm_core::palmer::BANK_LIMIT_DEG) either side).
-pub fn parse_bank(text: &str) -> Result<f64, String> {
-    use fdm_core::palmer::BANK_LIMIT_DEG;
-    parse_in_range(text, -BANK_LIMIT_DEG, BANK_LIMIT_DEG, " degrees")
-}
-
-/// `--flaps`: exactly 0, 20 or 40 degrees, the model's three notches.
-pub fn parse_flaps(text: &str) -> Result<u8, String> {
-    match text.trim() {
-        "0" => Ok(0),
-        "20" => Ok(20),
-        "40" => Ok(40),
-        _ => Err(format!(
-            "`{}` is not a flap setting (0, 20 or 40)",
-            Echo::short(text)
-        )),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::CommandFactory;
+    use crate::models::palmer::{parse_alpha, parse_bank, parse_flaps, parse_throttle, PalmerArgs};
+
+    /// The options of `sim-cli palmer ...`: the shared ones and Palmer's.
+    fn palmer(args: &ArgMatches) -> (CommonArgs, PalmerArgs) {
+        (
+            CommonArgs::from_arg_matches(args).unwrap(),
+            PalmerArgs::from_arg_matches(args).unwrap(),
+        )
+    }
 
     #[test]
     fn clap_definition_is_consistent() {
@@ -586,12 +578,13 @@ mod tests {
     #[test]
     fn defaults() {
         let cli = Cli::try_parse_from(["sim-cli", "palmer"]).unwrap();
-        let Command::Palmer(p) = cli.command else {
+        let Command::Fly(fly) = cli.command else {
             panic!("not palmer")
         };
-        assert_eq!(p.common.fps, 30);
-        assert_eq!(p.common.origin, GeodeticOrigin::default());
-        assert_eq!(p.common.fg, None);
+        let (common, p) = palmer(&fly.args);
+        assert_eq!(common.fps, 30);
+        assert_eq!(common.origin, GeodeticOrigin::default());
+        assert_eq!(common.fg, None);
         assert_eq!((p.throttle, p.alpha, p.bank, p.flaps), (0.0, 0.0, 0.0, 0));
     }
 
@@ -608,11 +601,12 @@ mod tests {
             "-33.9,18.6,0",
         ])
         .unwrap();
-        let Command::Palmer(p) = cli.command else {
+        let Command::Fly(fly) = cli.command else {
             panic!("not palmer")
         };
+        let (common, p) = palmer(&fly.args);
         assert_eq!((p.alpha, p.bank), (-5.0, -20.0));
-        assert_eq!(p.common.origin.geodetic().lat_deg, -33.9);
+        assert_eq!(common.origin.geodetic().lat_deg, -33.9);
     }
 
     #[test]

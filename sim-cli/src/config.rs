@@ -2,7 +2,6 @@
 //! wrong with the input is found here, before anything runs, and reported as a
 //! usage error (exit status 2).
 
-use std::net::SocketAddrV4;
 use std::path::{Path, PathBuf};
 
 use fdm_core::model::Model;
@@ -11,11 +10,10 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{read_text, show_path, MAX_INPUT_BYTES};
-use crate::origin::GeodeticOrigin;
+use crate::input::{clash, read_text, show_path, MAX_INPUT_BYTES};
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
-use fdm_run::dis::FlightDis;
+use fdm_run::links::LinkSettings;
 use fdm_run::Scenario;
 use fgnet::address::FgTarget;
 
@@ -35,25 +33,23 @@ pub enum Mode {
     Interactive,
 }
 
-/// What both models need to run, validated.
-#[derive(Debug)]
-pub struct RunConfig {
-    /// Frames per second (1 to [`crate::args::MAX_FPS`]).
-    pub fps: u32,
-    /// Headless or interactive.
-    pub mode: Mode,
-    /// The CSV output, already created (so an unwritable path failed as a usage
-    /// error); flushed by the signal thread if a signal ends the run
-    /// ([`crate::signals`]).
+/// A flight's outputs, validated and created before anything flies (so an
+/// unwritable path is a usage error and nothing has run). The frame rate and
+/// the origin they need are the scenario's.
+#[derive(Debug, Default)]
+pub struct Outputs {
+    /// The FlightGear link's resolved target (`--fg`, or the default when
+    /// interactive) and DIS (`--dis`); `None` sends nothing.
+    pub links: LinkSettings,
+    /// The CSV output, already created; flushed by the signal thread if a
+    /// signal ends the run ([`crate::signals`]).
     pub csv: Option<CsvWriter<SignalSafeWriter>>,
-    /// Where to send FlightGear datagrams, resolved; `None` sends nothing.
-    pub fg: Option<SocketAddrV4>,
-    /// Geodetic position of the model's earth-frame origin.
-    pub origin: GeodeticOrigin,
-    /// DIS output (`--dis`), validated; `None` sends nothing.
-    pub dis: Option<FlightDis>,
     /// The `--plot` output, already created (like the CSV).
     pub plot: Option<PlotFile>,
+    /// The `--record` file, already created.
+    pub record: Option<RecordFile>,
+    /// The `--acmi` file, already created.
+    pub acmi: Option<fdm_run::acmi::AcmiWriter>,
 }
 
 /// How the aircraft starts (and restarts on a reset): the run library's.
@@ -62,17 +58,15 @@ pub use fdm_run::Start;
 /// A validated `sim-cli <model>` run of model `M`.
 #[derive(Debug)]
 pub struct ModelConfig<M: Model> {
-    /// Shared settings.
-    pub run: RunConfig,
     /// The run library's scenario: how the aircraft starts (and restarts on
     /// reset), the origin, the frame rate, the frames of a headless run (0
     /// interactive: the user ends it) and the scripted controls (empty
     /// without `--script`).
     pub scenario: Scenario<M>,
-    /// The `--record` file, already created.
-    pub record: Option<RecordFile>,
-    /// The `--acmi` file, already created.
-    pub acmi: Option<fdm_run::acmi::AcmiWriter>,
+    /// Headless or interactive.
+    pub mode: Mode,
+    /// The outputs, created.
+    pub outputs: Outputs,
 }
 
 /// The `--record` output, created before the run (so an unwritable path is a
@@ -174,14 +168,14 @@ pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> 
     })
 }
 
-/// Whether `a` and `b` are the same file: device and inode where the system has
-/// them (hard links, symlinks), else the canonical paths.
-fn same_file(a: &Path, b: &Path) -> bool {
-    crate::input::same_file(a, b)
-        || match (a.canonicalize(), b.canonicalize()) {
-            (Ok(a), Ok(b)) => a == b,
-            _ => false,
-        }
+/// Creates the `--csv` file (registered with the signal thread).
+///
+/// # Errors
+/// [`CliError::Usage`] naming the path and the reason.
+pub fn create_csv(path: &Path) -> Result<CsvWriter<SignalSafeWriter>, CliError> {
+    let out = SignalSafeWriter::create(path)
+        .map_err(|e| CliError::usage(format!("cannot create CSV file {}: {e}", show_path(path))))?;
+    Ok(CsvWriter::new(out, show_path(path)))
 }
 
 /// Creates the `--record` file after checking it is none of the input or
@@ -190,20 +184,16 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
     let Some(path) = &args.record else {
         return Ok(None);
     };
-    for (other, name) in [
-        (&args.script, "--script"),
-        (&args.csv, "--csv"),
-        (&args.plot, "--plot"),
-    ] {
-        if other
-            .as_deref()
-            .is_some_and(|o| o == path || same_file(path, o))
-        {
-            return Err(CliError::usage(format!(
-                "--record {} is also the {name} file",
-                path.display()
-            )));
-        }
+    let others = [
+        (args.script.as_deref(), "--script"),
+        (args.csv.as_deref(), "--csv"),
+        (args.plot.as_deref(), "--plot"),
+    ];
+    if let Some(name) = clash(path, &others) {
+        return Err(CliError::usage(format!(
+            "--record {} is also the {name} file",
+            path.display()
+        )));
     }
     let file = crate::outfile::create_locked(path)
         .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
@@ -225,7 +215,7 @@ pub fn prepare_model<M: Model>(
     start: Start<M>,
 ) -> Result<ModelConfig<M>, CliError> {
     let mode = resolve_mode(&args)?;
-    let script = match &args.script {
+    let loaded = match &args.script {
         Some(path) => load_script(path)?,
         None => Script::default(),
     };
@@ -247,32 +237,29 @@ pub fn prepare_model<M: Model>(
         (None, Mode::Headless { .. }) => None,
     };
     // Created last, so that no earlier error leaves a truncated file behind.
+    let script = args.script.as_deref();
     let csv = match &args.csv {
         Some(path) => {
-            if let Some(script) = &args.script {
-                if same_file(path, script) {
-                    return Err(CliError::usage(format!(
-                        "--csv {} would overwrite the --script file",
-                        show_path(path)
-                    )));
-                }
+            if clash(path, &[(script, "--script")]).is_some() {
+                return Err(CliError::usage(format!(
+                    "--csv {} would overwrite the --script file",
+                    show_path(path)
+                )));
             }
-            let out = SignalSafeWriter::create(path).map_err(|e| {
-                CliError::usage(format!("cannot create CSV file {}: {e}", show_path(path)))
-            })?;
-            Some(CsvWriter::new(out, show_path(path)))
+            Some(create_csv(path)?)
         }
         None => None,
     };
     let plot = match &args.plot {
         Some(path) => {
-            for (other, name) in [(&args.script, "--script"), (&args.csv, "--csv")] {
-                if other.as_deref().is_some_and(|o| same_file(path, o)) {
-                    return Err(CliError::usage(format!(
-                        "--plot {} would overwrite the {name} file",
-                        path.display()
-                    )));
-                }
+            if let Some(name) = clash(
+                path,
+                &[(script, "--script"), (args.csv.as_deref(), "--csv")],
+            ) {
+                return Err(CliError::usage(format!(
+                    "--plot {} would overwrite the {name} file",
+                    path.display()
+                )));
             }
             Some(PlotFile::create(path)?)
         }
@@ -280,42 +267,37 @@ pub fn prepare_model<M: Model>(
     };
     let record = create_record(&args)?;
     let acmi = crate::acmi::create(
-        args.acmi.acmi.as_deref(),
-        args.acmi.acmi_reference_time.as_ref(),
+        &args.acmi,
         M::NAME,
         args.fps,
         &args.origin,
         &[
-            (args.script.as_deref(), "--script"),
+            (script, "--script"),
             (args.csv.as_deref(), "--csv"),
             (args.plot.as_deref(), "--plot"),
             (args.record.as_deref(), "--record"),
         ],
     )?;
-    let scenario = Scenario {
-        start,
-        origin: args.origin,
-        fps: args.fps,
-        frames: match mode {
-            Mode::Headless { frames, .. } => frames,
-            Mode::Interactive => 0,
-        },
-        script,
-    };
-    let run = RunConfig {
-        fps: args.fps,
-        mode,
-        csv,
-        fg,
-        origin: args.origin,
-        dis,
-        plot,
+    let frames = match mode {
+        Mode::Headless { frames, .. } => frames,
+        Mode::Interactive => 0,
     };
     Ok(ModelConfig {
-        run,
-        scenario,
-        record,
-        acmi,
+        scenario: Scenario {
+            start,
+            origin: args.origin,
+            fps: args.fps,
+            frames,
+            script: loaded,
+        },
+        mode,
+        outputs: Outputs {
+            links: LinkSettings { fg, dis },
+            csv,
+            plot,
+            record,
+            acmi,
+        },
     })
 }
 
@@ -323,12 +305,12 @@ pub fn prepare_model<M: Model>(
 mod tests {
     use super::*;
     use crate::args::{Cli, Command};
-    use clap::Parser;
+    use clap::{FromArgMatches, Parser};
 
     fn common(extra: &[&str]) -> CommonArgs {
         let argv = ["sim-cli", "bourg"].iter().chain(extra).copied();
         match Cli::try_parse_from(argv).unwrap().command {
-            Command::Bourg(b) => b.common,
+            Command::Fly(fly) => CommonArgs::from_arg_matches(&fly.args).unwrap(),
             _ => unreachable!(),
         }
     }

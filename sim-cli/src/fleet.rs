@@ -2,7 +2,8 @@
 //! library's fleet runs ([`fdm_run::fleet`]), to measure how many this
 //! machine can fly: the flags become a [`FleetScenario`], spawning shows a
 //! progress bar on a terminal, a signal stops the run between frames, and
-//! the [`FleetReport`] is printed as a summary or (`--json`) one JSON object.
+//! the [`FleetReport`] is printed as its summary ([`FleetReport::summary`])
+//! or (`--json`) one JSON object.
 //!
 //! With `--dis` every aircraft is also published as a DIS entity after every
 //! frame (its time reported apart, in `dis.publish_seconds`), `--acmi` writes
@@ -24,41 +25,6 @@ use crate::progress::StderrProgress;
 
 /// The frame rate the fleet flies at and the one "could fly" refers to.
 pub use crate::args::FLEET_FPS;
-
-/// The human-readable summary of a fleet's report (two lines, and one more
-/// for each of divergence, landings and DIS).
-#[must_use]
-pub fn summary(report: &FleetReport) -> String {
-    let r = report;
-    let mut text = format!(
-        "{} fleet: {} aircraft x {} frames on {} thread{} in {:.3} s\n\
-         {:.2} M aircraft-steps/s: this machine could fly {} {} aircraft at 30 Hz",
-        r.model,
-        r.aircraft,
-        r.frames,
-        r.threads,
-        if r.threads == 1 { "" } else { "s" },
-        r.seconds,
-        r.aircraft_steps_per_s / 1e6,
-        r.aircraft_at_30hz,
-        r.model,
-    );
-    if r.diverged > 0 {
-        text += &format!("\n{} aircraft diverged and were skipped", r.diverged);
-    }
-    let landed = r.statuses.landed();
-    if landed > 0 {
-        text += &format!(
-            "\n{landed} aircraft landed ({} crashed)",
-            r.statuses.crashed
-        );
-    }
-    if let Some(d) = &r.dis {
-        let publish = d.publish_seconds.unwrap_or(0.0);
-        text += &format!("\n{}\ndis  {publish:.3} s publishing", d.summary());
-    }
-    text
-}
 
 impl From<FleetError> for CliError {
     /// A fleet run's error in the command line's words: what the flags asked
@@ -131,14 +97,7 @@ impl WithModel for Measure<'_> {
                 .tick(done);
         })?;
         drop(bar);
-        let acmi = crate::acmi::create(
-            args.acmi.acmi.as_deref(),
-            args.acmi.acmi_reference_time.as_ref(),
-            M::NAME,
-            FLEET_FPS,
-            &run.origin(),
-            &[],
-        )?;
+        let acmi = crate::acmi::create(&args.acmi, M::NAME, FLEET_FPS, &run.origin(), &[])?;
         if let Some(acmi) = acmi {
             run.attach(acmi)?;
         }
@@ -182,7 +141,7 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
     let text = if args.json {
         serde_json::to_string(&report).context("encoding the report")?
     } else {
-        summary(&report)
+        report.summary()
     };
     print_line(&text)
 }
@@ -233,7 +192,7 @@ mod tests {
                 report.aircraft_at_30hz,
                 (report.aircraft_steps_per_s / 30.0).floor() as u64
             );
-            assert!(summary(&report).contains("aircraft at 30 Hz"));
+            assert!(report.summary().contains("aircraft at 30 Hz"));
             assert_eq!(report.statuses.airborne, 10, "{:?}", report.statuses);
             assert_eq!(report.diverged, 0);
         }

@@ -3,7 +3,7 @@
 //! into the run library's [`ShowScenario`] ([`fdm_run::fleet::show`]: the
 //! fleet, its start patterns, the multiplayer messages and their pacing),
 //! and the line printed. The first `--fg-mp-aircraft` aircraft (default
-//! [`DEFAULT_MP_AIRCRAFT`]) are streamed, callsigns [`callsign`]`(i)`.
+//! [`DEFAULT_MP_AIRCRAFT`]) are streamed, callsigns `fdm_run::multiplayer::callsign(i)`.
 
 use std::net::{SocketAddr, SocketAddrV4};
 
@@ -11,7 +11,6 @@ use anyhow::Context as _;
 use fdm_core::script::Script;
 use fdm_run::fleet::show::{watched_size, FleetShow, ShowScenario, StartPattern};
 pub use fdm_run::fleet::show::{ShowReport, DEFAULT_MP_AIRCRAFT};
-pub use fdm_run::multiplayer::callsign;
 
 use crate::args::{FleetArgs, FleetPattern, FLEET_FPS};
 use crate::config::load_script;
@@ -102,18 +101,7 @@ pub fn run_show(args: &FleetArgs) -> Result<Option<String>, CliError> {
     Ok(Some(if args.json {
         serde_json::to_string(&report).context("encoding the report")?
     } else {
-        format!(
-            "{} fleet: {} aircraft, {} streamed to {target} as multiplayer aircraft SIM001..{}, \
-             {} frames, {} datagrams sent, {} failed, {} overruns",
-            report.model,
-            report.aircraft,
-            report.streamed,
-            callsign(report.streamed.saturating_sub(1)),
-            report.frames,
-            report.sent,
-            report.failed,
-            report.overruns
-        )
+        report.summary(SocketAddr::V4(target))
     }))
 }
 

@@ -23,18 +23,20 @@
 
 use anyhow::{anyhow, Context as _};
 use fdm_core::model::Model;
-use fdm_core::script::Script;
 use fdm_run::acmi::AcmiOutput;
 use fdm_run::csv::{CsvOutput, FlightRow};
 use fdm_run::links::{LinkSettings, LinksError};
 use fdm_run::{Output, Run, RunError, Scenario};
 
-use crate::config::{ModelConfig, RunConfig, Start};
+use clap::{ArgMatches, FromArgMatches};
+
+use crate::args::{CommonArgs, Fly};
+use crate::config::{prepare_model, start_model, ModelConfig, Outputs};
 use crate::error::CliError;
-use crate::models::CliModel;
+use crate::models::{CliModel, WithModel};
 use crate::recording::RecordWriter;
 use crate::run::{fly, Flight, Links};
-use crate::snapshot::{AttitudeReport, CommonState, GeodeticReport, Snapshot};
+use crate::snapshot::Snapshot;
 
 /// One aircraft of model `M`: an [`fdm_run::Run`] (its own simulation and
 /// the outputs attached to it), and what the CLI adds around it.
@@ -54,49 +56,16 @@ impl<M: CliModel> ModelFlight<M> {
         self.run.state().unwrap_or(self.run.scenario().start.state)
     }
 
-    /// A run at the configured frame rate and origin with one aircraft
-    /// starting at `start`, with the FlightGear output attached when the run
-    /// has a target and the DIS output with `--dis`.
+    /// A run of `scenario` (its start, origin, frame rate and script) with
+    /// the FlightGear output attached when `links` has a target and the DIS
+    /// output with `--dis`.
     ///
     /// # Errors
     /// [`CliError::Usage`] for a frame rate the run refuses,
     /// [`CliError::Runtime`] when the FlightGear socket cannot be opened.
-    pub fn new(run: &RunConfig, start: Start<M>) -> Result<Self, CliError> {
-        Self::scripted(run, start, Script::default())
-    }
-
-    /// [`Self::new`] flying `script`: its rules for each frame come first,
-    /// in file order, and it starts over on a reset.
-    ///
-    /// # Errors
-    /// As [`Self::new`].
-    pub fn scripted(
-        run: &RunConfig,
-        start: Start<M>,
-        script: Script<M::Action>,
-    ) -> Result<Self, CliError> {
-        let scenario = Scenario {
-            start,
-            origin: run.origin,
-            fps: run.fps,
-            frames: 0,
-            script,
-        };
-        Self::from_scenario(run, scenario)
-    }
-
-    /// A run of `scenario` (its start, origin, frame rate and script) with
-    /// `run`'s FlightGear and DIS outputs attached, as [`Self::new`].
-    ///
-    /// # Errors
-    /// As [`Self::new`].
-    pub fn from_scenario(run: &RunConfig, scenario: Scenario<M>) -> Result<Self, CliError> {
-        let settings = LinkSettings {
-            fg: run.fg,
-            dis: run.dis.clone(),
-        };
+    pub fn new(scenario: Scenario<M>, links: &LinkSettings) -> Result<Self, CliError> {
         let links =
-            Links::open::<M>(&settings, scenario.origin, scenario.fps).map_err(|e| match e {
+            Links::open::<M>(links, scenario.origin, scenario.fps).map_err(|e| match e {
                 LinksError::Dis(e) => CliError::from(e),
                 e @ LinksError::FlightGear { .. } => CliError::Runtime(e.into()),
             })?;
@@ -105,6 +74,50 @@ impl<M: CliModel> ModelFlight<M> {
             Run::new(scenario).map_err(|e| CliError::usage(format!("--fps {fps}: {e}")))?;
         links.attach_to(&mut flight).map_err(anyhow::Error::from)?;
         Ok(Self { run: flight, links })
+    }
+
+    /// [`Self::new`] with the files of `outputs` attached, in this order:
+    /// `--csv`, `--record`, `--acmi`, then what `attach` attaches (`sim-cli
+    /// study --run I`'s measures), then `--plot` (sampled as the run flies;
+    /// written when [`Flight::finish`] completes the outputs, also when the
+    /// run stopped early). The run hands them every frame and reset.
+    ///
+    /// # Errors
+    /// As [`Self::new`], an output that fails on frame 0, or `attach`'s.
+    pub fn with_outputs(
+        scenario: Scenario<M>,
+        outputs: Outputs,
+        attach: impl FnOnce(&mut Self) -> anyhow::Result<()>,
+    ) -> Result<Self, CliError> {
+        let Outputs {
+            links,
+            csv,
+            plot,
+            record,
+            acmi,
+        } = outputs;
+        let writer = match record {
+            Some(record) => Some(
+                RecordWriter::new(record.out, scenario.fps, &scenario.origin, &scenario.start)
+                    .with_context(|| format!("recording to {}", record.path.display()))?,
+            ),
+            None => None,
+        };
+        let mut flight = Self::new(scenario, &links)?;
+        if let Some(csv) = csv {
+            flight.attach_csv(csv)?;
+        }
+        if let Some(writer) = writer {
+            flight.attach(writer)?;
+        }
+        if let Some(acmi) = acmi {
+            flight.attach(AcmiOutput::<M>::new(acmi))?;
+        }
+        attach(&mut flight)?;
+        if let Some(plot) = plot {
+            flight.attach(plot.into_output(M::TITLE))?;
+        }
+        Ok(flight)
     }
 
     /// Attaches an output to the run (e.g. `--acmi`).
@@ -162,35 +175,9 @@ impl<M: CliModel> Flight for ModelFlight<M> {
         Ok(self.run.reset()?)
     }
 
-    /// The run's state, view and placement ([`Run::placement`]: NaN if the
-    /// aircraft were gone) as the CLI reports them.
+    /// The run's snapshot ([`Run::snapshot`]).
     fn snapshot(&self) -> Snapshot<M::Details> {
-        let start = &self.run.scenario().start;
-        let state = self.state();
-        let controls = self.run.controls().unwrap_or(start.controls);
-        let view = self.run.view();
-        let fdm_run::Placement { geodetic, attitude } = self.run.placement();
-        Snapshot {
-            common: CommonState {
-                time_s: view.time_s,
-                position: M::native_position(&state),
-                velocity: M::native_velocity(&state),
-                geodetic: GeodeticReport {
-                    lat_deg: geodetic.lat_deg,
-                    lon_deg: geodetic.lon_deg,
-                    alt_m: geodetic.alt_m,
-                },
-                attitude_deg: AttitudeReport {
-                    roll: attitude.roll_deg,
-                    pitch: attitude.pitch_deg,
-                    heading: attitude.heading_deg,
-                },
-            },
-            details: M::details(&start.aircraft, &controls, &state),
-            status: self.run.status(),
-            stalling: view.stalling,
-            airspeed_mps: view.airspeed_mps,
-        }
+        self.run.snapshot()
     }
 
     fn links(&self) -> Links {
@@ -200,6 +187,32 @@ impl<M: CliModel> Flight for ModelFlight<M> {
     /// Completes the run's outputs (`--record`, `--acmi`, `--plot`).
     fn finish(&mut self) -> anyhow::Result<()> {
         Ok(self.run.finish()?)
+    }
+}
+
+/// `sim-cli <model> ...`: the options every model shares and the model's
+/// own, as parsed ([`Fly`]), validated into a run ([`ModelConfig`]: the
+/// start from the model's controls at frame 0, the script read, the output
+/// files created) and flown ([`run_model`]).
+///
+/// # Errors
+/// [`CliError::Usage`] for anything wrong with the input, else as [`run_model`].
+pub fn fly_model(fly: &Fly) -> Result<(), CliError> {
+    fly.model.with(FlyJob(&fly.args))
+}
+
+/// [`fly_model`] for the model's type.
+struct FlyJob<'a>(&'a ArgMatches);
+
+impl WithModel for FlyJob<'_> {
+    type Output = Result<(), CliError>;
+
+    fn call<M: CliModel>(self) -> Self::Output {
+        let parsed = |e: clap::Error| CliError::usage(e.to_string());
+        let common = CommonArgs::from_arg_matches(self.0).map_err(parsed)?;
+        let own = M::Args::from_arg_matches(self.0).map_err(parsed)?;
+        let start = start_model::<M>(M::controls(&own)?, &common.start)?;
+        run_model(prepare_model(common, start)?)
     }
 }
 
@@ -218,49 +231,27 @@ pub fn run_model<M: CliModel>(config: ModelConfig<M>) -> Result<(), CliError> {
 /// # Errors
 /// As [`run_model`], or `attach`'s.
 pub fn run_model_with<M: CliModel>(
-    mut config: ModelConfig<M>,
+    config: ModelConfig<M>,
     attach: impl FnOnce(&mut ModelFlight<M>) -> anyhow::Result<()>,
 ) -> Result<(), CliError> {
-    let plot = config.run.plot.take();
-    let csv = config.run.csv.take();
     let ModelConfig {
-        run,
         scenario,
-        record,
-        acmi,
+        mode,
+        outputs,
     } = config;
-    let writer = match record {
-        Some(record) => Some(
-            RecordWriter::new(record.out, run.fps, &run.origin, &scenario.start)
-                .with_context(|| format!("recording to {}", record.path.display()))?,
-        ),
-        None => None,
-    };
-    let mut flight = ModelFlight::from_scenario(&run, scenario)?;
-    // Outputs of the run: it hands them every frame and reset, and
-    // `Flight::finish` completes them.
-    if let Some(csv) = csv {
-        flight.attach_csv(csv)?;
-    }
-    if let Some(writer) = writer {
-        flight.attach(writer)?;
-    }
-    if let Some(acmi) = acmi {
-        flight.attach(AcmiOutput::<M>::new(acmi))?;
-    }
-    attach(&mut flight)?;
-    // `--plot`: sampled as the run flies; written when `Flight::finish`
-    // completes the outputs, also when the run stopped early.
-    if let Some(plot) = plot {
-        flight.attach(plot.into_output(M::TITLE))?;
-    }
-    fly(flight, run)
+    let fps = scenario.fps;
+    let fg = outputs.links.fg;
+    fly(
+        ModelFlight::with_outputs(scenario, outputs, attach)?,
+        mode,
+        fps,
+        fg,
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::Mode;
     use crate::hud::status_label;
     use crate::origin::GeodeticOrigin;
     use crate::progress::StderrProgress;
@@ -268,23 +259,33 @@ mod tests {
     use fdm_core::bourg::{self, Bourg, BourgAction, Flap};
     use fdm_core::model::{FlightStatus, LandingState};
     use fdm_core::palmer::{self, Palmer, PalmerAction, PalmerControls};
+    use fdm_core::script::Script;
+    use fdm_run::Start;
     use fdm_run::{LinkStats, SharedOutput};
     use std::net::{SocketAddrV4, UdpSocket};
 
-    fn run(fps: u32, fg: Option<SocketAddrV4>) -> RunConfig {
-        RunConfig {
-            fps,
-            mode: Mode::Headless {
-                frames: 0,
-                json: false,
-                realtime: false,
-            },
-            csv: None,
-            fg,
+    fn new_flight<M: CliModel>(
+        fps: u32,
+        fg: Option<SocketAddrV4>,
+        start: Start<M>,
+    ) -> ModelFlight<M> {
+        scripted(fps, fg, start, Script::default())
+    }
+
+    fn scripted<M: CliModel>(
+        fps: u32,
+        fg: Option<SocketAddrV4>,
+        start: Start<M>,
+        script: Script<M::Action>,
+    ) -> ModelFlight<M> {
+        let scenario = Scenario {
+            start,
             origin: GeodeticOrigin::default(),
-            dis: None,
-            plot: None,
-        }
+            fps,
+            frames: 0,
+            script,
+        };
+        ModelFlight::new(scenario, &LinkSettings { fg, dis: None }).unwrap()
     }
 
     fn cruise() -> Start<Palmer> {
@@ -300,7 +301,7 @@ mod tests {
 
     #[test]
     fn palmer_matches_the_core_step_by_step() {
-        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        let mut flight = new_flight(10, None, cruise());
         let aircraft = Palmer::default_aircraft();
         let mut controls = cruise().controls;
         let mut state = Palmer::initial_state();
@@ -331,7 +332,7 @@ mod tests {
 
     #[test]
     fn palmer_status_follows_the_flight_phase() {
-        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        let mut flight = new_flight(10, None, cruise());
         let status = |f: &ModelFlight<Palmer>| {
             let s = f.snapshot();
             status_label(s.status, s.stalling)
@@ -363,7 +364,7 @@ mod tests {
 
     #[test]
     fn palmer_reset_restores_the_initial_controls() {
-        let mut flight = ModelFlight::new(&run(30, None), cruise()).unwrap();
+        let mut flight = new_flight(30, None, cruise());
         flight.step(&[PalmerAction::ThrottleDown]).unwrap();
         flight.reset().unwrap();
         let p = flight.snapshot().details;
@@ -378,7 +379,7 @@ mod tests {
     #[test]
     fn bourg_stall_shows_on_the_hud() {
         use crate::hud::{render_hud, HudData, LoopStatus};
-        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let mut flight = new_flight::<Bourg>(30, None, Start::thesis());
         let mut status_line = Vec::new();
         for frame in 1..=40_u64 {
             let mut actions = Vec::new();
@@ -412,7 +413,7 @@ mod tests {
 
     #[test]
     fn bourg_surfaces_are_neutral_at_the_start_of_every_frame() {
-        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let mut flight = new_flight::<Bourg>(30, None, Start::thesis());
         let controls = |f: &ModelFlight<Bourg>| f.run.controls().unwrap();
         flight
             .step(&[
@@ -444,7 +445,7 @@ mod tests {
 
     #[test]
     fn bourg_matches_the_core_and_keeps_the_models_clock() {
-        let mut flight = ModelFlight::<Bourg>::new(&run(30, None), Start::thesis()).unwrap();
+        let mut flight = new_flight::<Bourg>(30, None, Start::thesis());
         let aircraft = Bourg::default_aircraft();
         let mut controls = Bourg::initial_controls();
         let mut state = Bourg::initial_state();
@@ -490,7 +491,7 @@ mod tests {
         let std::net::SocketAddr::V4(addr) = receiver.local_addr().unwrap() else {
             panic!("not IPv4")
         };
-        let mut flight = ModelFlight::<Bourg>::new(&run(30, Some(addr)), Start::thesis()).unwrap();
+        let mut flight = new_flight::<Bourg>(30, Some(addr), Start::thesis());
         for _ in 0..5 {
             flight.step(&[BourgAction::RollRight]).unwrap();
         }
@@ -534,7 +535,7 @@ mod tests {
             .unwrap()
             .port();
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
-        let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
+        let mut flight = new_flight(30, Some(addr), cruise());
         let links = flight.links();
         let mut messages = Vec::new();
         for _ in 0..20 {
@@ -558,7 +559,7 @@ mod tests {
             .unwrap()
             .port();
         let addr = SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, port);
-        let mut flight = ModelFlight::new(&run(30, Some(addr)), cruise()).unwrap();
+        let mut flight = new_flight(30, Some(addr), cruise());
         let mut progress = StderrProgress::with_enabled(20, false);
         let report = run_headless(&mut flight, 30, 20, false, &mut progress).unwrap();
         assert_eq!(report.frames, 20);
@@ -599,12 +600,12 @@ mod tests {
         let script = |text| Script::parse(text).unwrap();
         let steps_of = |steps: &SharedOutput<Steps>| steps.with(|s| s.unwrap().0.clone());
 
-        let mut flight = ModelFlight::scripted(
-            &run(10, None),
+        let mut flight = scripted(
+            10,
+            None,
             cruise(),
             script("2-3 throttle-up\n3-3 flaps-down\n5-9 alpha-up\n"),
-        )
-        .unwrap();
+        );
         let steps = SharedOutput::new(Steps::default());
         flight.attach(steps.clone()).unwrap();
         let mut progress = StderrProgress::with_enabled(4, false);
@@ -620,8 +621,7 @@ mod tests {
         );
         assert_eq!((report.frames, report.fps), (4, 10));
 
-        let mut flight =
-            ModelFlight::scripted(&run(10, None), cruise(), script("1-1 flaps-down\n")).unwrap();
+        let mut flight = scripted(10, None, cruise(), script("1-1 flaps-down\n"));
         let steps = SharedOutput::new(Steps::default());
         flight.attach(steps.clone()).unwrap();
         let mut s = Session::new();
@@ -681,7 +681,7 @@ mod tests {
         }
 
         let buffer = Buffer::default();
-        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        let mut flight = new_flight(10, None, cruise());
         flight
             .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
             .unwrap();
@@ -691,7 +691,7 @@ mod tests {
         assert_eq!(frames_of(&buffer), ["0", "1", "2", "3"]);
 
         let buffer = Buffer::default();
-        let mut flight = ModelFlight::new(&run(10, None), cruise()).unwrap();
+        let mut flight = new_flight(10, None, cruise());
         flight
             .attach_csv(fdm_run::csv::CsvWriter::new(buffer.clone(), "mem"))
             .unwrap();
@@ -728,7 +728,7 @@ mod tests {
                 Err(std::io::Error::other("disk full"))
             }
         }
-        let mut flight = ModelFlight::new(&run(30, None), cruise()).unwrap();
+        let mut flight = new_flight(30, None, cruise());
         // The header and row 0 fit in the writer's buffer; a later row or the
         // final flush does not.
         let attached = flight.attach_csv(fdm_run::csv::CsvWriter::new(Full, "out.csv"));

@@ -175,6 +175,55 @@ pub fn open_input(path: &Path, what: &str) -> Result<File, CliError> {
     file.map_err(cannot)
 }
 
+/// A finite number, or a one-line message echoing `text`.
+///
+/// # Errors
+/// `text` is not a finite number.
+pub fn parse_finite(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("`{}` is not a finite number", Echo::short(text))),
+    }
+}
+
+/// A finite number in `lo..=hi` (`unit` ends the message), or a one-line
+/// message echoing `text` as given.
+///
+/// # Errors
+/// `text` is not a finite number in the range.
+pub fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
+    let v = parse_finite(text)?;
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        // The text as given, not `v`: 1e308 printed as a float has 309 digits.
+        Err(format!(
+            "`{}` is outside {lo}..{hi}{unit}",
+            Echo::short(text.trim())
+        ))
+    }
+}
+
+/// Whether `a` and `b` are the same file: the same path, or [`same_file`],
+/// else the same canonical path.
+fn same_output(a: &Path, b: &Path) -> bool {
+    a == b
+        || same_file(a, b)
+        || match (a.canonicalize(), b.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        }
+}
+
+/// The name of the first of `others` (a run's other files with their
+/// option names) that is `path`'s file: an output that would overwrite it.
+pub fn clash<'a>(path: &Path, others: &[(Option<&Path>, &'a str)]) -> Option<&'a str> {
+    others
+        .iter()
+        .find(|(other, _)| other.is_some_and(|o| same_output(path, o)))
+        .map(|&(_, name)| name)
+}
+
 /// Whether two paths name the same file: same device and inode, so hard links and
 /// symlinks are caught whatever the names. A path that does not exist (yet) is
 /// not the same file as anything.

@@ -3,58 +3,61 @@
 //!
 //! The binary (`main.rs`) only maps [`run()`]'s result to an exit status; everything
 //! else lives in this library so it can be unit-tested. Everything is generic over
-//! the model ([`models::CliModel`]); what differs per model sits in one module per
-//! model under [`models`].
+//! the model (`models::CliModel`); what differs per model sits in one module per
+//! model under `models`.
 //!
 //! | module | what |
 //! |---|---|
 //! | [`args`] | clap definition and per-value validation |
-//! | [`config`] | cross-option validation, script loading, CSV creation → [`config::ModelConfig`] |
-//! | [`models`] | [`models::CliModel`]: per model, its report fields, keys, HUD line, FlightGear multiplayer model, starting controls from its subcommand's arguments |
+//! | `config` | cross-option validation, script loading, the output files created → `config::ModelConfig` (the run library's scenario, the mode, the outputs) |
+//! | `models` | `models::CliModel`: per model, its keys, HUD line and starting controls from its subcommand's arguments (its report fields, CSV columns and FlightGear models are the run library's) |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
-//! | [`flight`] | [`flight::ModelFlight`]: one aircraft of any model in an `fdm_ecs::Simulation`; [`flight::run_model`] |
-//! | [`snapshot`] | [`snapshot::Snapshot`]: the aircraft's state as the CLI sees it, and its CSV row |
-//! | [`report`] | the JSON [`report::Report`] and the human summary |
+//! | `flight` | `flight::ModelFlight`: one aircraft of any model flown by an `fdm_run::Run` with its outputs; `flight::run_model` |
+//! | `snapshot`, `report` | the aircraft's state at one instant ([`snapshot::Snapshot`]), the JSON [`report::Report`] and the human summary: the run library's ([`fdm_run::report`]) |
 //! | [`csv`] | `--csv`: the run library's CSV output ([`fdm_run::csv::CsvOutput`] of [`fdm_run::csv::FlightRow`]s) and its errors |
-//! | [`hud`], [`keys`], [`pacer`], [`terminal`], [`progress`] | interactive and progress plumbing |
-//! | [`fgfs`], [`origin`] | `fgfs-command` (the line is `fdm_run::fgfs`'s; `--fg` is parsed by `fgnet::address`), `--origin` |
-//! | [`fleet`] | `sim-cli fleet`: the flags as a fleet run of the run library (`fdm_run::fleet`), progress, the report printed |
-//! | [`fleet_mp`] | `sim-cli fleet --fg-mp`: the flags of a fleet streamed to FlightGear as multiplayer aircraft (`fdm_run::fleet::show`) |
-//! | [`recording`], [`replay`] | `--record FILE` flight logs and `sim-cli replay FILE` |
-//! | [`acmi`](mod@acmi) | `--acmi FILE`: Tacview ACMI through the run library |
-//! | [`plot`] | `--plot FILE.svg` and `sim-cli plot`: the output file and the CSV read back; the drawing is `fdm_plot`'s |
-//! | [`study`] | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I`, `study.svg` (drawn by `fdm_plot::study`) |
-//! | [`dis`], [`dis_listen`] | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
+//! | `hud`, `keys`, `pacer`, [`terminal`], [`progress`] | interactive and progress plumbing |
+//! | `fgfs`, `origin` | `fgfs-command` (the line is `fdm_run::fgfs`'s; `--fg` is parsed by `fgnet::address`), `--origin` |
+//! | `fleet` | `sim-cli fleet`: the flags as a fleet run of the run library (`fdm_run::fleet`), progress, the report printed |
+//! | `fleet_mp` | `sim-cli fleet --fg-mp`: the flags of a fleet streamed to FlightGear as multiplayer aircraft (`fdm_run::fleet::show`) |
+//! | `recording`, `replay` | `--record FILE` flight logs and `sim-cli replay FILE` |
+//! | `acmi` | `--acmi FILE`: Tacview ACMI through the run library |
+//! | `plot` | `--plot FILE.svg` and `sim-cli plot`: the output file and the CSV read back; the drawing is `fdm_plot`'s |
+//! | `study` | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I`, `study.svg` (drawn by `fdm_plot::study`) |
+//! | `dis`, `dis_listen` | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
+//!
+//! Public are only the modules the binary and the tests use ([`args`], [`error`], [`run`](mod@run),
+//! [`signals`], [`progress`], [`terminal`], [`csv`]); the domain is the libraries' (`fdm_run`,
+//! `fdm_study`, `fdm_plot`, `fdm_dis`).
 
-pub mod acmi;
+mod acmi;
 pub mod args;
-pub mod config;
+mod config;
 pub mod csv;
-pub mod dis;
-pub mod dis_listen;
+mod dis;
+mod dis_listen;
 pub mod error;
-pub mod fgfs;
-pub mod fleet;
-pub mod fleet_mp;
-pub mod flight;
-pub mod hud;
-pub mod input;
-pub mod keys;
-pub mod memory;
-pub mod models;
-pub mod origin;
-pub mod outfile;
-pub mod pacer;
-pub mod plot;
+mod fgfs;
+mod fleet;
+mod fleet_mp;
+mod flight;
+mod hud;
+mod input;
+mod keys;
+mod memory;
+mod models;
+mod origin;
+mod outfile;
+mod pacer;
+mod plot;
 pub mod progress;
-pub mod recording;
-pub mod replay;
-pub mod report;
+mod recording;
+mod replay;
+mod report;
 pub mod run;
 pub mod signals;
-pub mod snapshot;
-pub mod start;
-pub mod study;
+mod snapshot;
+mod start;
+mod study;
 pub mod terminal;
 
 use std::io::Write;
@@ -67,11 +70,10 @@ use crate::error::CliError;
 /// Executes a parsed command line.
 ///
 /// # Errors
-/// [`CliError::Usage`] for bad input (exit 2), [`CliError::Runtime`] otherwise (exit 1).
+/// `CliError::Usage` for bad input (exit 2), `CliError::Runtime` otherwise (exit 1).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Palmer(args) => flight::run_model(models::palmer::prepare(args)?),
-        Command::Bourg(args) => flight::run_model(models::bourg::prepare(args)?),
+        Command::Fly(fly) => flight::fly_model(&fly),
         Command::Fleet(args) => fleet::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
@@ -94,8 +96,14 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 pub fn clap_error_line(error: &clap::Error) -> String {
     if error.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         // clap renders the whole help here; one line is the contract.
-        return "missing subcommand: palmer, bourg, fgfs-command, fleet, study, plot, replay or dis-listen (see --help)"
-            .to_owned();
+        let models = models::ModelKind::ALL.iter().map(|kind| kind.name());
+        let names: Vec<&str> = models
+            .chain(["fgfs-command", "fleet", "study", "plot"])
+            .collect();
+        return format!(
+            "missing subcommand: {}, replay or dis-listen (see --help)",
+            names.join(", ")
+        );
     }
     let text = error.render().to_string();
     let mut parts = Vec::new();

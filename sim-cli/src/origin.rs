@@ -1,10 +1,9 @@
 //! `--origin LAT,LON,ALT_M` or `--origin NAME`: where the model's earth-frame origin
 //! sits on the WGS-84 ellipsoid. The named origins (runway thresholds) and the
-//! parsing are the run library's ([`fdm_run::origin`], re-exported here); the
+//! parsing are the run library's ([`fdm_run::origin`]); the
 //! CLI adds the default's text and the clap value parser.
 
 pub use fdm_ecs::geodesy::GeodeticOrigin;
-pub use fdm_run::origin::{named_origin, origin_names, NamedOrigin, NAMED_ORIGINS};
 
 /// The default origin: the Wright-Patterson AFB runway the thesis flew from (docs/cli.md),
 /// [`GeodeticOrigin::WRIGHT_PATTERSON`].

@@ -11,7 +11,6 @@ pub use fdm_run::recording::*;
 mod tests {
     use super::*;
     use crate::config::Start;
-    use crate::config::{Mode, RunConfig};
     use crate::csv::CsvWriter;
     use crate::flight::ModelFlight;
     use crate::keys::{AppCommand, Input};
@@ -38,20 +37,22 @@ mod tests {
         "37.6,-122.4,4".parse().unwrap()
     }
 
-    fn run_config(fps: u32) -> RunConfig {
-        RunConfig {
+    /// A flight of `start` at `fps` from [`origin`] flying `script`, no
+    /// network output.
+    fn flight<M: CliModel>(
+        start: Start<M>,
+        fps: u32,
+        origin: GeodeticOrigin,
+        script: Script<M::Action>,
+    ) -> ModelFlight<M> {
+        let scenario = fdm_run::Scenario {
+            start,
+            origin,
             fps,
-            mode: Mode::Headless {
-                frames: 0,
-                json: true,
-                realtime: false,
-            },
-            csv: None,
-            fg: None,
-            origin: origin(),
-            plot: None,
-            dis: None,
-        }
+            frames: 0,
+            script,
+        };
+        ModelFlight::new(scenario, &fdm_run::links::LinkSettings::default()).unwrap()
     }
 
     /// The flight's CSV (`--csv`), attached to its run.
@@ -86,10 +87,9 @@ mod tests {
 
     /// A headless flight of `frames` frames with `script`, recorded.
     fn headless<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
-        let run = run_config(fps);
-        let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
+        let writer = RecordWriter::new(Vec::new(), fps, &origin(), &start).unwrap();
         let script = Script::parse(script).unwrap();
-        let mut flight = ModelFlight::scripted(&run, start, script).unwrap();
+        let mut flight = flight(start, fps, origin(), script);
         let recorder = fdm_run::SharedOutput::new(writer);
         flight.attach(recorder.clone()).unwrap();
         let csv = attach_csv(&mut flight);
@@ -108,10 +108,9 @@ mod tests {
     /// `script`, recorded. The report is what a headless run of the same
     /// frames would print.
     fn interactive<M: CliModel>(start: Start<M>, fps: u32, script: &str, frames: u64) -> Outcome {
-        let run = run_config(fps);
-        let writer = RecordWriter::new(Vec::new(), fps, &run.origin, &start).unwrap();
+        let writer = RecordWriter::new(Vec::new(), fps, &origin(), &start).unwrap();
         let script = Script::parse(script).unwrap();
-        let mut flight = ModelFlight::scripted(&run, start, script).unwrap();
+        let mut flight = flight(start, fps, origin(), script);
         let recorder = fdm_run::SharedOutput::new(writer);
         flight.attach(recorder.clone()).unwrap();
         let csv = attach_csv(&mut flight);
@@ -162,11 +161,12 @@ mod tests {
     /// Replays a parsed (or salvaged) recording as `sim-cli replay --json
     /// --csv` does.
     fn replay_parsed<M: CliModel>(recording: &Recording<'_, M>) -> (String, Vec<u8>) {
-        let run = RunConfig {
-            origin: recording.origin,
-            ..run_config(recording.fps)
-        };
-        let mut flight = ModelFlight::new(&run, recording.start.clone()).unwrap();
+        let mut flight = flight(
+            recording.start.clone(),
+            recording.fps,
+            recording.origin,
+            Script::default(),
+        );
         let csv = attach_csv(&mut flight);
         let report = replay_flight(
             &mut flight,

@@ -28,21 +28,24 @@ use std::io::{self, Write};
 use anyhow::Context as _;
 
 use crate::args::{ModelKind, ReplayArgs};
-use crate::config::{Mode, RunConfig};
-use crate::csv::CsvWriter;
+use crate::config::{create_csv, Outputs};
 use crate::error::CliError;
 use crate::flight::ModelFlight;
-use crate::input::{read_bytes, show_path};
+use crate::input::clash;
+use crate::input::{read_bytes, show_path, Echo};
 use crate::models::{CliModel, WithModel};
 use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
-use crate::recording::{recorded_model, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES};
+use crate::recording::{
+    recorded_model_name, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
+};
 use crate::report::{RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
-use crate::signals::SignalSafeWriter;
 use fdm_core::fingerprint;
-use fdm_run::acmi::AcmiOutput;
+use fdm_core::script::Script;
+use fdm_run::links::LinkSettings;
 use fdm_run::replay::{replay, ReplayError, ReplayOptions, ReplayTarget};
+use fdm_run::Scenario;
 
 pub use fdm_run::replay::{check_fingerprint, Verdict};
 
@@ -129,76 +132,65 @@ impl WithModel for ReplayJob<'_> {
             ),
             None => None,
         };
+        let recording_file = Some(self.args.file.as_path());
         let csv = match &self.args.csv {
             Some(path) => {
-                if path == &self.args.file || crate::input::same_file(path, &self.args.file) {
+                if clash(path, &[(recording_file, "recording")]).is_some() {
                     return Err(CliError::usage(format!(
                         "--csv {} would overwrite the recording",
                         show_path(path)
                     )));
                 }
-                let out = SignalSafeWriter::create(path).map_err(|e| {
-                    CliError::usage(format!("cannot create CSV file {}: {e}", show_path(path)))
-                })?;
-                Some(CsvWriter::new(out, show_path(path)))
+                Some(create_csv(path)?)
             }
             None => None,
         };
+        let others = [
+            (recording_file, "recording"),
+            (self.args.csv.as_deref(), "--csv"),
+            (self.args.plot.as_deref(), "--plot"),
+        ];
         let plot = match &self.args.plot {
             Some(path) => {
-                for (other, name) in [
-                    (Some(&self.args.file), "recording"),
-                    (self.args.csv.as_ref(), "--csv"),
-                ] {
-                    if other.is_some_and(|o| path == o || crate::input::same_file(path, o)) {
-                        return Err(CliError::usage(format!(
-                            "--plot {} would overwrite the {name} file",
-                            show_path(path)
-                        )));
-                    }
+                if let Some(name) = clash(path, &others[..2]) {
+                    return Err(CliError::usage(format!(
+                        "--plot {} would overwrite the {name} file",
+                        show_path(path)
+                    )));
                 }
                 Some(PlotFile::create(path)?)
             }
             None => None,
         };
-        let run = RunConfig {
-            fps: recording.fps,
-            mode: Mode::Headless {
-                frames: recording.frames,
-                json: self.args.json,
-                realtime: self.args.realtime,
-            },
-            csv: None,
+        let links = LinkSettings {
             fg,
-            origin: recording.origin,
-            plot: None,
             dis: self.args.dis.resolve()?,
         };
         let acmi = crate::acmi::create(
-            self.args.acmi.acmi.as_deref(),
-            self.args.acmi.acmi_reference_time.as_ref(),
+            &self.args.acmi,
             M::NAME,
             recording.fps,
             &recording.origin,
-            &[
-                (Some(self.args.file.as_path()), "recording"),
-                (self.args.csv.as_deref(), "--csv"),
-                (self.args.plot.as_deref(), "--plot"),
-            ],
+            &others,
         )?;
-        let mut flight = ModelFlight::<M>::new(&run, recording.start.clone())?;
-        if let Some(csv) = csv {
-            flight.attach_csv(csv)?;
-        }
-        if let Some(acmi) = acmi {
-            flight.attach(AcmiOutput::<M>::new(acmi))?;
-        }
+        let outputs = Outputs {
+            links,
+            csv,
+            plot,
+            record: None,
+            acmi,
+        };
+        let scenario = Scenario {
+            start: recording.start.clone(),
+            origin: recording.origin,
+            fps: recording.fps,
+            frames: 0,
+            script: Script::default(),
+        };
         // With --plot the flight is sampled as a run's --plot samples it (the
         // same output, fdm_plot::PlotOutput), so the two SVGs are the same
         // bytes.
-        if let Some(plot) = plot {
-            flight.attach(plot.into_output(M::TITLE))?;
-        }
+        let mut flight = ModelFlight::<M>::with_outputs(scenario, outputs, |_| Ok(()))?;
         let mut progress = StderrProgress::new(recording.frames);
         let report = replay_flight(
             &mut flight,
@@ -214,7 +206,7 @@ impl WithModel for ReplayJob<'_> {
         let mut report = report?;
         finished?;
         let links = flight.links();
-        if run.fg.is_some() {
+        if self.args.fg.is_some() {
             report.fg = links.fg_stats();
         }
         report.dis = links.dis_report();
@@ -248,41 +240,20 @@ impl WithModel for ReplayJob<'_> {
             M::state_fingerprint(&flight.state()),
             fingerprint::maths(),
         );
+        let Some(text) = verdict.describe("sim-cli") else {
+            return Ok(());
+        };
         match verdict {
-            Verdict::Same => Ok(()),
+            Verdict::DifferentFlight { .. } => {
+                Err(CliError::DifferentFlight(format!("{file}: {text}")))
+            }
             Verdict::Unchecked => {
-                progress.message(&format!(
-                    "sim-cli: note: {file}: this recording (format version 1 or 2) has no \
-                     fingerprint; the replay was not checked against the recorded flight"
-                ));
+                progress.message(&format!("sim-cli: note: {file}: {text}"));
                 Ok(())
             }
-            Verdict::OtherMaths { recorded, ours } => {
-                progress.message(&format!(
-                    "sim-cli: warning: {file}: the recording was made with different maths \
-                     (maths fingerprint {recorded:#018x}, this sim-cli's {ours:#018x}); the \
-                     replay still ended in the recorded final state"
-                ));
+            _ => {
+                progress.message(&format!("sim-cli: warning: {file}: {text}"));
                 Ok(())
-            }
-            Verdict::DifferentFlight {
-                recorded,
-                replayed,
-                maths,
-            } => {
-                let why = match maths {
-                    Some((recorded_maths, ours)) => format!(
-                        "; the recording was made with different maths (maths fingerprint \
-                         {recorded_maths:#018x}, this sim-cli's {ours:#018x})"
-                    ),
-                    None => {
-                        "; the maths are the same, so the build or the machine differs".to_owned()
-                    }
-                };
-                Err(CliError::DifferentFlight(format!(
-                    "{file}: the replay flew a different flight: its final state's fingerprint is \
-                     {replayed:#018x}, the recording's {recorded:#018x}{why}"
-                )))
             }
         }
     }
@@ -298,13 +269,16 @@ impl WithModel for ReplayJob<'_> {
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
     let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
-    let kind =
-        recorded_model(&bytes).map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
-    let kind = ModelKind::named(kind).ok_or_else(|| {
+    let name = recorded_model_name(&bytes)
+        .map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
+    // The CLI's registry, which may have models the run library's does not.
+    let kind = ModelKind::named(&name).ok_or_else(|| {
+        let ours: Vec<&str> = ModelKind::ALL.iter().map(|kind| kind.name()).collect();
         CliError::usage(format!(
-            "{}: {}",
+            "{}: recorded with model `{}`, which this sim-cli does not have ({})",
             show_path(path),
-            RecordingError::UnknownModel(kind.to_owned())
+            Echo::short(&name),
+            ours.join(", ")
         ))
     })?;
     kind.with(ReplayJob {

@@ -161,7 +161,7 @@ const MAX_TAIL: usize = 64 * 1024;
 
 impl SignalSafeWriter {
     /// Creates (truncates) `path`, locked against other writers
-    /// ([`crate::outfile::create_locked`]), with a 64 KiB buffer and registers it.
+    /// (`crate::outfile::create_locked`), with a 64 KiB buffer and registers it.
     ///
     /// # Errors
     /// The OS error from creating the file.

@@ -53,6 +53,44 @@ pub struct FleetReport {
     pub realtime: Option<RealtimeReport>,
 }
 
+impl FleetReport {
+    /// The human-readable summary (`sim-cli fleet` without `--json`): two
+    /// lines, and one more for each of divergence, landings and DIS.
+    #[must_use]
+    pub fn summary(&self) -> String {
+        let r = self;
+        let mut text = format!(
+            "{} fleet: {} aircraft x {} frames on {} thread{} in {:.3} s\n\
+             {:.2} M aircraft-steps/s: this machine could fly {} {} aircraft at 30 Hz",
+            r.model,
+            r.aircraft,
+            r.frames,
+            r.threads,
+            if r.threads == 1 { "" } else { "s" },
+            r.seconds,
+            r.aircraft_steps_per_s / 1e6,
+            r.aircraft_at_30hz,
+            r.model,
+        );
+        if r.diverged > 0 {
+            text += &format!("\n{} aircraft diverged and were skipped", r.diverged);
+        }
+        let landed = r.statuses.landed();
+        if landed > 0 {
+            text += &format!(
+                "\n{landed} aircraft landed ({} crashed)",
+                r.statuses.crashed
+            );
+        }
+        #[cfg(feature = "dis")]
+        if let Some(d) = &r.dis {
+            let publish = d.publish_seconds.unwrap_or(0.0);
+            text += &format!("\n{}\ndis  {publish:.3} s publishing", d.summary());
+        }
+        text
+    }
+}
+
 /// How many aircraft of a fleet are in each [`FlightStatus`] (a fleet
 /// report's `statuses`, keyed by [`FlightStatus::code`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]

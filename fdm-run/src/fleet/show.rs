@@ -167,6 +167,27 @@ pub struct ShowReport {
     pub overruns: u64,
 }
 
+impl ShowReport {
+    /// The human-readable summary (`sim-cli fleet --fg-mp` without
+    /// `--json`): one line, the fleet streamed to `target` with the
+    /// multiplayer callsigns it used.
+    #[must_use]
+    pub fn summary(&self, target: SocketAddr) -> String {
+        format!(
+            "{} fleet: {} aircraft, {} streamed to {target} as multiplayer aircraft SIM001..{}, \
+             {} frames, {} datagrams sent, {} failed, {} overruns",
+            self.model,
+            self.aircraft,
+            self.streamed,
+            crate::multiplayer::callsign(self.streamed.saturating_sub(1)),
+            self.frames,
+            self.sent,
+            self.failed,
+            self.overruns
+        )
+    }
+}
+
 /// A watched fleet of model `M` flying and streaming.
 #[derive(Debug)]
 pub struct FleetShow<M: FleetModel> {

@@ -1,70 +1,54 @@
-//! Bourg's 6-DoF aircraft in the CLI: its report fields and keys.
+//! Bourg's 6-DoF aircraft in the CLI: its HUD line, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::bourg::{Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::bourg::{BourgAction, BourgControls};
 use fdm_core::model::Model;
-use serde::{Deserialize, Serialize};
 
 use super::{CliModel, Details};
-use crate::args::BourgArgs;
-use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
+use crate::input::parse_in_range;
 use crate::keys::{letter, KeyAction};
 
-/// Validates `sim-cli bourg` arguments, reads the script and creates the CSV
-/// file; the thrust at frame 0 comes from `--thrust-lb`.
-///
-/// # Errors
-/// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare(args: BourgArgs) -> Result<ModelConfig<Bourg>, CliError> {
-    let mut controls = Bourg::initial_controls();
-    if let Some(thrust_lb) = args.thrust_lb {
-        // In 0..3000 (clap checked): exact enough in f32 for any typed value.
-        #[allow(clippy::cast_possible_truncation)]
-        {
-            controls.thrust_lb = thrust_lb as f32;
-        }
-    }
-    let start = start_model::<Bourg>(controls, &args.common.start)?;
-    prepare_model(args.common, start)
+/// Bourg's 6-DoF aircraft, as the registry names it.
+pub use fdm_core::bourg::Bourg;
+
+/// `sim-cli bourg`'s own options (after the options every model shares).
+#[derive(Debug, Clone, clap::Args)]
+pub struct BourgArgs {
+    /// Thrust at frame 0, lb (0..3000) [default: 500, the model's start]
+    #[arg(long, value_name = "LB", value_parser = parse_thrust_lb, allow_hyphen_values = true, conflicts_with = "trim")]
+    pub thrust_lb: Option<f64>,
 }
 
-/// Bourg-only report fields. The model is `f32`; every float here is the
-/// model's `f32` widened exactly with `f64::from`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct BourgDetails {
-    /// Speed |velocity|, ft/s.
-    pub speed: f64,
-    /// Euler angles [x roll, y pitch (positive nose-down), z yaw] in degrees, exactly as
-    /// `MakeEulerAnglesFromQ` computes them.
-    pub euler_deg: [f64; 3],
-    /// Thrust, lb.
-    pub thrust_lb: f64,
-    /// Landing flaps down.
-    pub flaps: bool,
-    /// Any wing element past its stall angle on the last step.
-    pub stalling: bool,
-    /// The persistent pitch trim, −1..=1 (an extension of the model; 0
-    /// unless trimmed or moved with T/G). Absent in older reports.
-    #[serde(default)]
-    pub pitch_trim: f64,
+impl CliModel for Bourg {
+    const AIRCRAFT: &'static str = "Bourg's 6-DoF aircraft";
+    const ABOUT: &'static str = "Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)";
+    type Args = BourgArgs;
+
+    /// The model's start, with `--thrust-lb`.
+    fn controls(args: &BourgArgs) -> Result<BourgControls, CliError> {
+        let mut controls = Bourg::initial_controls();
+        if let Some(thrust_lb) = args.thrust_lb {
+            // In 0..3000 (clap checked): exact enough in f32 for any typed value.
+            #[allow(clippy::cast_possible_truncation)]
+            {
+                controls.thrust_lb = thrust_lb as f32;
+            }
+        }
+        Ok(controls)
+    }
 }
+
+/// `--thrust-lb`: pounds in 0..3000, Bourg's thrust range (the model's
+/// [`MAX_THRUST_LB`](fdm_core::bourg::MAX_THRUST_LB)).
+pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
+}
+
+/// Bourg's report fields: the run library's.
+pub use fdm_run::model::bourg::BourgDetails;
 
 impl Details for BourgDetails {
-    const MODEL: &'static str = "bourg";
-    const POSITION_UNIT: &'static str = "ft";
-    /// `flaps` and `stalling` are written as 0 or 1.
-    fn summary(&self) -> String {
-        format!(
-            "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}  pitch trim {:.3}",
-            self.speed,
-            self.thrust_lb,
-            if self.flaps { "down" } else { "up" },
-            if self.stalling { "yes" } else { "no" },
-            self.pitch_trim,
-        )
-    }
-
     fn hud_controls(&self) -> String {
         format!(
             "THRUST {:4.0} lb   FLAPS {}   TRIM {:+.2}",
@@ -74,28 +58,6 @@ impl Details for BourgDetails {
         )
     }
 }
-
-impl CliModel for Bourg {
-    type Details = BourgDetails;
-
-    fn details(
-        _aircraft: &BourgAircraft,
-        controls: &BourgControls,
-        state: &BourgState,
-    ) -> BourgDetails {
-        BourgDetails {
-            speed: f64::from(state.speed_ftps()),
-            euler_deg: state.euler_angles_deg().map(f64::from).into(),
-            thrust_lb: f64::from(controls.thrust_lb),
-            flaps: controls.landing_flaps,
-            stalling: state.stalling,
-            pitch_trim: f64::from(controls.pitch_trim),
-        }
-    }
-}
-
-/// Bourg's aircraft as a recording stores it (the run library's).
-pub use fdm_run::model::BourgAircraftRecord;
 
 impl KeyAction for BourgAction {
     const KEY_HELP: &'static str =

@@ -1,46 +1,56 @@
-//! What differs between the models in the CLI, one module per model: the
-//! report and CSV fields, the HUD's control line, the keys, the starting
-//! controls from the command line and FlightGear's multiplayer model (the
-//! native-FDM aircraft is the run library's, `fdm_run::RunModel::FG_AIRCRAFT`).
-//! Everything else in `sim-cli` is generic over [`CliModel`].
+//! What differs between the models in the CLI, one module per model: its
+//! subcommand's own options and help, its controls at frame 0 from them,
+//! its keys and the HUD's control line ([`CliModel`]). What the run library
+//! needs of a model (its recording, CSV columns, report fields, FlightGear
+//! models, fleet kernel) is its adapter module in `fdm_run::model` (or, for a
+//! model outside the library crates such as the `glider` feature's, its
+//! module here). Everything else in `sim-cli` is generic over [`CliModel`].
 //!
-//! A new model joins the CLI with one more module here implementing
-//! [`CliModel`] (and [`Details`] for its report fields) and one more
-//! subcommand in [`crate::args`].
+//! A new model joins the CLI with one more module here and one more line in
+//! the registry below: its subcommand (after the options every model shares,
+//! `crate::args::CommonArgs`), its help, the `--model` and `fgfs-command`
+//! values and the models a recording may name follow from it.
 
-pub mod bourg;
-pub mod palmer;
-
-use std::fmt::Debug;
-
-use fdm_run::csv::CsvModel;
-use fdm_run::FleetModel;
+use clap::builder::PossibleValue;
+use clap::{Args, FromArgMatches, ValueEnum};
+use fdm_run::{FleetModel, ReportModel};
 use fdm_study::StudyModel;
-use serde::de::DeserializeOwned;
-use serde::Serialize;
 
-use clap::ValueEnum;
-
+use crate::error::CliError;
 use crate::keys::KeyAction;
 
-/// Which model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelKind {
-    /// Palmer's Cessna 172.
-    Palmer,
-    /// Bourg's 6-DoF aircraft.
-    Bourg,
+/// The registry: one line per model, its module (`models/<name>.rs`) and its
+/// model type. The subcommands, their help, the `--model` values and the
+/// models a recording may name all come from it.
+macro_rules! registry {
+    ($($(#[$cfg:meta])* $module:ident :: $model:ident,)*) => {
+        $($(#[$cfg])* pub mod $module;)*
+
+        /// Which model: one of the registry's.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub enum ModelKind {
+            $($(#[$cfg])* #[doc = concat!("`", stringify!($module), "`")] $model,)*
+        }
+
+        impl ModelKind {
+            /// Every model of the registry, in the order help texts list them.
+            pub const ALL: &[Self] = &[$($(#[$cfg])* Self::$model,)*];
+
+            /// Runs `job` with this kind's model type.
+            pub fn with<W: WithModel>(self, job: W) -> W::Output {
+                match self {
+                    $($(#[$cfg])* Self::$model => job.call::<$module::$model>(),)*
+                }
+            }
+        }
+    };
 }
 
-impl ModelKind {
-    /// The lowercase name used on the command line and in the JSON report.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Palmer => "palmer",
-            Self::Bourg => "bourg",
-        }
-    }
+registry! {
+    palmer::Palmer,
+    bourg::Bourg,
+    #[cfg(feature = "glider")]
+    glider::Glider,
 }
 
 /// Something to do with a model type chosen at run time: the one place that
@@ -53,53 +63,86 @@ pub trait WithModel {
     fn call<M: CliModel>(self) -> Self::Output;
 }
 
+/// A model's name and what it flies, as a [`WithModel`] job.
+struct Name;
+impl WithModel for Name {
+    type Output = (&'static str, &'static str);
+    fn call<M: CliModel>(self) -> Self::Output {
+        (M::NAME, M::AIRCRAFT)
+    }
+}
+
 impl ModelKind {
+    /// The lowercase name used on the command line and in the JSON report
+    /// ([`fdm_core::model::Model::NAME`]).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        self.with(Name).0
+    }
+
+    /// What the model flies, for help texts (`CliModel::AIRCRAFT`).
+    #[must_use]
+    pub fn aircraft(self) -> &'static str {
+        self.with(Name).1
+    }
+
     /// The kind of the model named `name` (its [`fdm_core::model::Model::NAME`]).
     #[must_use]
     pub fn named(name: &str) -> Option<Self> {
-        <Self as clap::ValueEnum>::value_variants()
-            .iter()
-            .copied()
-            .find(|kind| kind.name() == name)
+        Self::ALL.iter().copied().find(|kind| kind.name() == name)
     }
 
-    /// Runs `job` with this kind's model type.
-    pub fn with<W: WithModel>(self, job: W) -> W::Output {
-        match self {
-            Self::Palmer => job.call::<fdm_core::palmer::Palmer>(),
-            Self::Bourg => job.call::<fdm_core::bourg::Bourg>(),
+    /// The registry's models as text: `a, b or c`, each shown by `show`.
+    pub fn list(show: impl Fn(Self) -> String) -> String {
+        let shown: Vec<String> = Self::ALL.iter().map(|&kind| show(kind)).collect();
+        match shown.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+            None => String::new(),
         }
     }
 }
 
-/// A model as `sim-cli` flies it: a [`RunModel`](fdm_run::RunModel) (what the run library
-/// needs to fly, record and replay it), a [`FleetModel`] (its fleet
-/// kernel, formations and multiplayer model) and a [`StudyModel`] (its
-/// studies' drawn inputs and measures, so `sim-cli study --run I` picks it
-/// through [`ModelKind::with`]) with the CLI's own parts.
-pub trait CliModel: CsvModel<Action: KeyAction> + FleetModel + StudyModel {
-    /// The model's own report fields (JSON next to the common ones, CSV
-    /// columns after them, a summary line, the HUD's control line).
-    type Details: Details;
+/// `--model palmer|bourg` and `fgfs-command <MODEL>`: the registry's names,
+/// with what each flies as their help.
+impl ValueEnum for ModelKind {
+    fn value_variants<'a>() -> &'a [Self] {
+        Self::ALL
+    }
 
-    /// The model's report fields now.
-    fn details(
-        aircraft: &Self::Aircraft,
-        controls: &Self::Controls,
-        state: &Self::State,
-    ) -> Self::Details;
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.aircraft()))
+    }
 }
 
-/// A model's own report fields.
-pub trait Details: Serialize + DeserializeOwned + Copy + Debug + PartialEq {
-    /// The JSON `model` field and the CLI subcommand: `"palmer"`, `"bourg"`.
-    const MODEL: &'static str;
-    /// The unit of the native position: `"m"` or `"ft"`.
-    const POSITION_UNIT: &'static str;
+/// A model as `sim-cli` flies it: a [`ReportModel`] (what the run library
+/// needs to fly, record, replay and report it, and its CSV columns), a
+/// [`FleetModel`] (its fleet kernel, formations and multiplayer model) and a
+/// [`StudyModel`] (its studies' drawn inputs and measures, so `sim-cli study
+/// --run I` picks it through [`ModelKind::with`]) with the CLI's own parts:
+/// its subcommand's options and help, its keys and its report fields' HUD
+/// line ([`Details`]).
+pub trait CliModel:
+    ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
+{
+    /// What the model flies, in a few words for help texts: `Palmer's Cessna 172`.
+    const AIRCRAFT: &'static str;
+    /// Its subcommand's help line.
+    const ABOUT: &'static str;
+    /// Its subcommand's own options, after those every model shares
+    /// (`crate::args::CommonArgs`).
+    type Args: Args + FromArgMatches;
 
-    /// The human summary's model-specific line(s), without a trailing newline.
-    fn summary(&self) -> String;
+    /// The controls at frame 0 from the model's own options.
+    ///
+    /// # Errors
+    /// [`CliError::Usage`] for options the model refuses.
+    fn controls(args: &Self::Args) -> Result<Self::Controls, CliError>;
+}
 
+/// A model's own report fields ([`fdm_run::report::Details`]: the JSON
+/// fields and the summary line) and the HUD's control line made from them.
+pub trait Details: fdm_run::report::Details {
     /// The HUD's control line.
     fn hud_controls(&self) -> String;
 }

@@ -1,105 +1,105 @@
-//! Palmer's Cessna 172 in the CLI: its report fields, keys and starting controls.
+//! Palmer's Cessna 172 in the CLI: its HUD line, keys and starting controls.
 
 use crossterm::event::KeyCode;
-use fdm_core::palmer::{Flaps, Palmer, PalmerAction, PalmerAircraft, PalmerControls, PalmerState};
-use serde::{Deserialize, Serialize};
+use fdm_core::palmer::{Flaps, PalmerAction, PalmerControls};
+use fdm_run::model::palmer::brakes_note;
 
 use super::{tenths, CliModel, Details};
-use crate::args::PalmerArgs;
-use crate::config::{prepare_model, start_model, ModelConfig};
 use crate::error::CliError;
+use crate::input::{parse_in_range, Echo};
 use crate::keys::{letter, KeyAction};
 
-/// Validates `sim-cli palmer` arguments, reads the script and creates the CSV
-/// file; the controls at frame 0 come from `--throttle`, `--alpha`, `--bank`
-/// `--flaps` and `--brakes`.
-///
-/// # Errors
-/// [`CliError::Usage`] for anything wrong with the input.
-pub fn prepare(args: PalmerArgs) -> Result<ModelConfig<Palmer>, CliError> {
-    let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
-        CliError::usage(format!(
-            "--flaps {}: not a flap setting (0, 20 or 40)",
-            args.flaps
-        ))
-    })?;
-    let controls = PalmerControls {
-        throttle: args.throttle,
-        alpha_deg: args.alpha,
-        bank_deg: args.bank,
-        flaps,
-        brakes: args.brakes,
-    };
-    let start = start_model::<Palmer>(controls, &args.common.start)?;
-    prepare_model(args.common, start)
-}
+/// Palmer's Cessna 172, as the registry names it.
+pub use fdm_core::palmer::Palmer;
 
-/// Palmer's controls as the model holds them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct PalmerControlsReport {
-    /// Throttle fraction, 0..1.
+/// `sim-cli palmer`'s own options (after the options every model shares).
+#[derive(Debug, Clone, clap::Args)]
+pub struct PalmerArgs {
+    /// Throttle at frame 0, as a fraction of full power (0..1)
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.0, value_parser = parse_throttle, allow_hyphen_values = true)]
     pub throttle: f64,
-    /// Angle of attack, degrees.
-    pub alpha_deg: f64,
-    /// Bank, degrees, positive right.
-    pub bank_deg: f64,
-    /// Flap setting, degrees (0, 20 or 40).
-    pub flaps_deg: f64,
-    /// Wheel brakes set (our extension); absent from the JSON while off, so
-    /// reports without the brakes read as before.
-    #[serde(default, skip_serializing_if = "is_off")]
+
+    /// Angle of attack at frame 0, degrees (-16..20)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_alpha, allow_hyphen_values = true)]
+    pub alpha: f64,
+
+    /// Bank angle at frame 0, degrees, positive banks right (-20..20)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, value_parser = parse_bank, allow_hyphen_values = true)]
+    pub bank: f64,
+
+    /// Flap setting at frame 0, degrees (0, 20 or 40)
+    #[arg(long, value_name = "0|20|40", default_value_t = 0, value_parser = parse_flaps, allow_hyphen_values = true)]
+    pub flaps: u8,
+
+    /// Wheel brakes set at frame 0 (our extension; keys B/V, script actions
+    /// brakes-on/brakes-off)
+    #[arg(long)]
     pub brakes: bool,
 }
 
-/// Serde's test for leaving `brakes` out of a report: brakes off.
-#[allow(clippy::trivially_copy_pass_by_ref)] // serde passes a reference
-fn is_off(brakes: &bool) -> bool {
-    !*brakes
-}
+impl CliModel for Palmer {
+    const AIRCRAFT: &'static str = "Palmer's Cessna 172";
+    const ABOUT: &'static str = "Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)";
+    type Args = PalmerArgs;
 
-/// What the summary and the HUD add while the brakes are set.
-fn brakes_note(brakes: bool) -> &'static str {
-    if brakes {
-        "  BRAKES"
-    } else {
-        ""
+    /// `--throttle`, `--alpha`, `--bank`, `--flaps` and `--brakes`.
+    fn controls(args: &PalmerArgs) -> Result<PalmerControls, CliError> {
+        let flaps = Flaps::from_degrees(args.flaps).ok_or_else(|| {
+            CliError::usage(format!(
+                "--flaps {}: not a flap setting (0, 20 or 40)",
+                args.flaps
+            ))
+        })?;
+        Ok(PalmerControls {
+            throttle: args.throttle,
+            alpha_deg: args.alpha,
+            bank_deg: args.bank,
+            flaps,
+            brakes: args.brakes,
+        })
     }
 }
 
-/// Palmer-only report fields (all `f64` in the model).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct PalmerDetails {
-    /// Airspeed, m/s.
-    pub airspeed: f64,
-    /// Current controls.
-    pub controls: PalmerControlsReport,
-    /// Climb angle, degrees.
-    pub climb_angle_deg: f64,
-    /// Climb rate (vz), m/s.
-    pub climb_rate: f64,
-    /// The model's heading angle, degrees in [0, 360), measured from +x toward +y
-    /// (i.e. toward the west; not a compass heading, see `attitude_deg.heading`).
-    pub heading_deg: f64,
+/// `--throttle`: fraction in 0..1.
+pub fn parse_throttle(text: &str) -> Result<f64, String> {
+    parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
 }
+
+/// `--alpha`: degrees in -16..20, the range the alpha keys clamp to (the
+/// model's [`ALPHA_MIN_DEG`](fdm_core::palmer::ALPHA_MIN_DEG)..[`ALPHA_MAX_DEG`](fdm_core::palmer::ALPHA_MAX_DEG)).
+pub fn parse_alpha(text: &str) -> Result<f64, String> {
+    use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG};
+    parse_in_range(text, ALPHA_MIN_DEG, ALPHA_MAX_DEG, " degrees")
+}
+
+/// `--bank`: degrees in -20..20, the range the bank keys clamp to (the
+/// model's [`BANK_LIMIT_DEG`](fdm_core::palmer::BANK_LIMIT_DEG) either side).
+pub fn parse_bank(text: &str) -> Result<f64, String> {
+    use fdm_core::palmer::BANK_LIMIT_DEG;
+    parse_in_range(text, -BANK_LIMIT_DEG, BANK_LIMIT_DEG, " degrees")
+}
+
+/// `--flaps`: exactly 0, 20 or 40 degrees, the model's three notches.
+pub fn parse_flaps(text: &str) -> Result<u8, String> {
+    match text.trim() {
+        "0" => Ok(0),
+        "20" => Ok(20),
+        "40" => Ok(40),
+        _ => Err(format!(
+            "`{}` is not a flap setting (0, 20 or 40)",
+            Echo::short(text)
+        )),
+    }
+}
+
+
+/// Palmer's report fields: the run library's.
+pub use fdm_run::model::palmer::PalmerDetails;
+/// Palmer's controls in its report fields (the HUD's tests make some).
+#[cfg(test)]
+pub use fdm_run::model::palmer::PalmerControlsReport;
 
 impl Details for PalmerDetails {
-    const MODEL: &'static str = "palmer";
-    const POSITION_UNIT: &'static str = "m";
-    fn summary(&self) -> String {
-        format!(
-            "airspeed  {:.3} m/s  climb {:.2} deg, {:.3} m/s\n\
-             controls  throttle {:.0} %  alpha {} deg  bank {} deg  flaps {} deg{}",
-            self.airspeed,
-            self.climb_angle_deg,
-            self.climb_rate,
-            self.controls.throttle * 100.0,
-            self.controls.alpha_deg,
-            self.controls.bank_deg,
-            self.controls.flaps_deg,
-            brakes_note(self.controls.brakes),
-        )
-    }
-
     fn hud_controls(&self) -> String {
         let c = &self.controls;
         format!(
@@ -110,30 +110,6 @@ impl Details for PalmerDetails {
             c.flaps_deg,
             brakes_note(c.brakes),
         )
-    }
-}
-
-impl CliModel for Palmer {
-    type Details = PalmerDetails;
-
-    fn details(
-        _aircraft: &PalmerAircraft,
-        controls: &PalmerControls,
-        state: &PalmerState,
-    ) -> PalmerDetails {
-        PalmerDetails {
-            airspeed: state.airspeed_mps(),
-            controls: PalmerControlsReport {
-                throttle: controls.throttle,
-                alpha_deg: controls.alpha_deg,
-                bank_deg: controls.bank_deg,
-                flaps_deg: controls.flaps.degrees(),
-                brakes: controls.brakes,
-            },
-            climb_angle_deg: state.climb_angle_deg(),
-            climb_rate: state.climb_rate_mps(),
-            heading_deg: state.heading_deg(),
-        }
     }
 }
 

@@ -1,18 +1,19 @@
 //! The run loops, written once for every model against the [`Flight`] trait.
 //!
-//! [`crate::flight::ModelFlight`] implements [`Flight`] for any
-//! [`CliModel`](crate::models::CliModel) (one aircraft entity in an `fdm_ecs::Simulation`);
-//! [`crate::flight::run_model`] builds it from the validated configuration
+//! `crate::flight::ModelFlight` implements [`Flight`] for any
+//! `CliModel` (one aircraft entity in an `fdm_ecs::Simulation`);
+//! `crate::flight::run_model` builds it from the validated configuration
 //! and hands it to [`fly`]. The flight flies its script (the run library's
 //! `Run::step_frame`: the script's rules for the frame, then the keys).
 //! Everything here (JSON report, progress bar, terminal, keys, pacing, HUD)
 //! is model-agnostic and tested with a fake model.
 
 use std::io::{self, Write};
+use std::net::SocketAddrV4;
 
 use anyhow::Context as _;
 
-use crate::config::{Mode, RunConfig};
+use crate::config::Mode;
 use crate::error::CliError;
 use crate::keys::KeyAction;
 use crate::models::Details;
@@ -93,23 +94,18 @@ fn print_stdout(text: &str) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Flies `flight` as configured: headless (report on stdout: JSON with `--json`,
+/// Flies `flight` at `fps` in `mode` (`fg`: the FlightGear link's target,
+/// whose counters the report shows): headless (report on stdout: JSON with `--json`,
 /// else a short summary) or interactive (a one-line summary on stderr at the end).
 ///
 /// # Errors
 /// Whatever the loop or the output reports.
-pub fn fly<F: Flight>(mut flight: F, run: RunConfig) -> Result<(), CliError> {
-    let RunConfig {
-        fps,
-        mode,
-        // Taken by `run_model`, which attaches it to the run (fdm_run::csv::CsvOutput).
-        csv: _,
-        fg,
-        origin: _,
-        dis: _,
-        // Taken by `run_model`, which attaches it to the run (fdm_plot::PlotOutput).
-        plot: _,
-    } = run;
+pub fn fly<F: Flight>(
+    mut flight: F,
+    mode: Mode,
+    fps: u32,
+    fg: Option<SocketAddrV4>,
+) -> Result<(), CliError> {
     match mode {
         Mode::Headless {
             frames,

@@ -1,0 +1,178 @@
+//! Bourg's 6-DoF aircraft in the run library: everything the registry
+//! needs of it in one place. A recording keeps its airframe and thrust
+//! limits ([`BourgAircraftRecord`], [`RunModel`]); fleets fly it in
+//! `fdm_fleet::Fleet<Bourg>` and FlightGear draws the UFO ([`FleetModel`]);
+//! the flight CSV's columns ([`CsvModel`]) and the report's fields
+//! ([`ReportModel`], [`BourgDetails`]).
+
+use fdm_core::bourg::{Airframe, Bourg, BourgAircraft, BourgControls, BourgState};
+use fdm_core::fingerprint;
+use serde::{Deserialize, Serialize};
+
+use crate::csv::CsvModel;
+use crate::report::{Details, ReportModel};
+use crate::{FleetModel, RunModel};
+
+/// Bourg's aircraft as a recording stores it: the airframe (from which
+/// [`BourgAircraft::new`] derives the mass properties) and the thrust limits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BourgAircraftRecord {
+    /// The eight lifting elements.
+    pub airframe: Airframe,
+    /// Maximum thrust, lb.
+    pub max_thrust_lb: f32,
+    /// Thrust change per thrust-up/down action, lb.
+    pub delta_thrust_lb: f32,
+}
+
+impl RunModel for Bourg {
+    type AircraftRecord = BourgAircraftRecord;
+
+    const ACMI_NAME: &'static str = "Bourg 6-DoF";
+    const CALLSIGN: &'static str = "BRG";
+    #[cfg(feature = "dis")]
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
+    /// The thesis showed Bourg's aircraft as the UFO.
+    const FG_AIRCRAFT: &'static str = "ufo";
+    /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is
+    /// `ufo` or `/sim/model/always-show-in-MP` is true; with `--fdm=null` the first
+    /// is false, so set the second.
+    const FG_OPTIONS: &'static [&'static str] = &["--prop:bool:/sim/model/always-show-in-MP=true"];
+
+    fn aircraft_record(aircraft: &BourgAircraft) -> BourgAircraftRecord {
+        BourgAircraftRecord {
+            airframe: *aircraft.airframe(),
+            max_thrust_lb: aircraft.max_thrust_lb,
+            delta_thrust_lb: aircraft.delta_thrust_lb,
+        }
+    }
+
+    fn aircraft_from_record(record: BourgAircraftRecord) -> Result<BourgAircraft, String> {
+        let mut aircraft = BourgAircraft::new(record.airframe).map_err(|e| e.to_string())?;
+        for (name, value) in [
+            ("max_thrust_lb", record.max_thrust_lb),
+            ("delta_thrust_lb", record.delta_thrust_lb),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(format!("{name} {value} is not a finite thrust >= 0"));
+            }
+        }
+        aircraft.max_thrust_lb = record.max_thrust_lb;
+        aircraft.delta_thrust_lb = record.delta_thrust_lb;
+        Ok(aircraft)
+    }
+
+    fn state_fingerprint(state: &BourgState) -> u64 {
+        fingerprint::bourg_state(state)
+    }
+}
+
+impl FleetModel for Bourg {
+    type Lanes = fdm_fleet::Fleet<Self>;
+
+    const FG_MP_MODEL: &'static str = "Aircraft/ufo/Models/ufo.xml";
+
+    /// Bourg's position is in feet, `f32`: the offset is converted and rounded once.
+    fn offset_state(state: &BourgState, north_m: f64, west_m: f64, up_m: f64) -> BourgState {
+        let ft = |m: f64| (m / fdm_core::units::METRES_PER_FOOT) as f32;
+        let mut moved = *state;
+        moved.position_ft.x += ft(north_m);
+        moved.position_ft.y += ft(west_m);
+        moved.position_ft.z += ft(up_m);
+        moved
+    }
+}
+
+impl CsvModel for Bourg {
+    const CSV_SPEED_COLUMN: &'static str = "speed";
+    const METRES_PER_UNIT: f64 = fdm_core::units::METRES_PER_FOOT;
+    /// `flaps` and `stalling` are written as 0 or 1.
+    const CSV_COLUMNS: &'static [&'static str] = &[
+        "speed",
+        "euler_x_deg",
+        "euler_y_deg",
+        "euler_z_deg",
+        "thrust_lb",
+        "flaps",
+        "stalling",
+        "pitch_trim",
+    ];
+
+    fn native_position(state: &BourgState) -> [f64; 3] {
+        state.position_ft.map(f64::from).into()
+    }
+
+    fn native_velocity(state: &BourgState) -> [f64; 3] {
+        state.velocity_ftps.map(f64::from).into()
+    }
+
+    fn csv_values(controls: &BourgControls, state: &BourgState, out: &mut Vec<f64>) {
+        let euler = state.euler_angles_deg();
+        out.extend_from_slice(&[
+            f64::from(state.speed_ftps()),
+            f64::from(euler.x),
+            f64::from(euler.y),
+            f64::from(euler.z),
+            f64::from(controls.thrust_lb),
+            f64::from(u8::from(controls.landing_flaps)),
+            f64::from(u8::from(state.stalling)),
+            f64::from(controls.pitch_trim),
+        ]);
+    }
+}
+
+impl ReportModel for Bourg {
+    type Details = BourgDetails;
+
+    fn details(
+        _aircraft: &BourgAircraft,
+        controls: &BourgControls,
+        state: &BourgState,
+    ) -> BourgDetails {
+        BourgDetails {
+            speed: f64::from(state.speed_ftps()),
+            euler_deg: state.euler_angles_deg().map(f64::from).into(),
+            thrust_lb: f64::from(controls.thrust_lb),
+            flaps: controls.landing_flaps,
+            stalling: state.stalling,
+            pitch_trim: f64::from(controls.pitch_trim),
+        }
+    }
+}
+
+/// Bourg-only report fields. The model is `f32`; every float here is the
+/// model's `f32` widened exactly with `f64::from`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BourgDetails {
+    /// Speed |velocity|, ft/s.
+    pub speed: f64,
+    /// Euler angles [x roll, y pitch (positive nose-down), z yaw] in degrees, exactly as
+    /// `MakeEulerAnglesFromQ` computes them.
+    pub euler_deg: [f64; 3],
+    /// Thrust, lb.
+    pub thrust_lb: f64,
+    /// Landing flaps down.
+    pub flaps: bool,
+    /// Any wing element past its stall angle on the last step.
+    pub stalling: bool,
+    /// The persistent pitch trim, −1..=1 (an extension of the model; 0
+    /// unless trimmed or moved with T/G). Absent in older reports.
+    #[serde(default)]
+    pub pitch_trim: f64,
+}
+
+impl Details for BourgDetails {
+    const MODEL: &'static str = "bourg";
+    const POSITION_UNIT: &'static str = "ft";
+    /// `flaps` and `stalling` are written as 0 or 1.
+    fn summary(&self) -> String {
+        format!(
+            "speed     {:.3} ft/s  thrust {} lb  flaps {}  stalling {}  pitch trim {:.3}",
+            self.speed,
+            self.thrust_lb,
+            if self.flaps { "down" } else { "up" },
+            if self.stalling { "yes" } else { "no" },
+            self.pitch_trim,
+        )
+    }
+}

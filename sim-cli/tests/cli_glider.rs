@@ -1,0 +1,182 @@
+//! A third model flown from `sim-cli` (cargo feature `glider`: `cargo test -p
+//! afit-fdm-cli --features glider --test cli_glider`): the point-mass glider of
+//! `fdm-ecs/examples/third_model.rs`, added by one module
+//! (`sim-cli/src/models/glider.rs`) and one line of the model registry
+//! (`sim-cli/src/models/mod.rs`). Through the built binary: its subcommand
+//! and help are there, derived from the registry; it flies headless with
+//! the options every model shares; its report, CSV and recording name it;
+//! the recording replays to the same bits; `fleet` (both kernels) and
+//! `fgfs-command` take it by name.
+
+mod support;
+
+use support::{report, scratch, sim, sim_ok, text, write_file};
+
+#[test]
+fn the_glider_is_a_subcommand_with_help_from_the_registry() {
+    let help = sim_ok(&["--help"]);
+    assert!(
+        help.contains("Fly Palmer's Cessna 172, Bourg's 6-DoF aircraft or a point-mass glider"),
+        "{help}"
+    );
+    let glider_line = help
+        .lines()
+        .find(|l| l.trim_start().starts_with("glider "))
+        .unwrap_or_else(|| panic!("no glider subcommand: {help}"));
+    assert!(glider_line.contains("Fly a point-mass glider"), "{help}");
+    assert!(
+        help.contains("`sim-cli palmer --help`, `sim-cli bourg --help` or `sim-cli glider --help`"),
+        "{help}"
+    );
+    // The model subcommands come first, in the registry's order.
+    let order: Vec<&str> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take(4)
+        .map(|l| l.split_whitespace().next().unwrap_or(""))
+        .collect();
+    assert_eq!(order, ["palmer", "bourg", "glider", "fgfs-command"]);
+
+    let help = sim_ok(&["glider", "--help"]);
+    for option in [
+        "--lift-coefficient",
+        "--fps",
+        "--headless",
+        "--csv",
+        "--record",
+        "--acmi",
+    ] {
+        assert!(help.contains(option), "glider help lacks {option}: {help}");
+    }
+    assert!(!help.contains("--throttle"), "{help}");
+
+    let out = sim(&[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        text(&out.stderr),
+        "sim-cli: error: missing subcommand: palmer, bourg, glider, fgfs-command, fleet, study, \
+         plot, replay or dis-listen (see --help)\n"
+    );
+    // --model's values and their help are the registry's too.
+    let help = sim_ok(&["fleet", "--help"]);
+    assert!(help.contains("- glider: a point-mass glider"), "{help}");
+}
+
+#[test]
+fn the_glider_flies_headless_and_reports_as_itself() {
+    let v = report(&["glider", "--headless", "--frames", "90", "--json"]);
+    assert_eq!(v["model"], "glider");
+    assert_eq!(v["frames"], 90);
+    assert_eq!(v["status"], "airborne");
+    assert_eq!(v["lift_coefficient"], 0.6);
+    assert_eq!(v["time_s"], 2.999999999999999);
+    let z = v["position"][2].as_f64().unwrap();
+    assert!(z < 600.0 && z > 500.0, "{v}");
+
+    // A bad value of its own option is a usage error, in the CLI's words.
+    let out = sim(&[
+        "glider",
+        "--headless",
+        "--frames",
+        "1",
+        "--lift-coefficient",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("`2` is not a lift coefficient in 0..1.4"),
+        "{stderr}"
+    );
+    // A script of its own actions, counted from frame 1.
+    let dir = scratch("glider-script");
+    let script = write_file(&dir, "bank.txt", "1-6 bank-right\n");
+    let v = report(&[
+        "glider",
+        "--headless",
+        "--frames",
+        "30",
+        "--json",
+        "--script",
+        &script,
+    ]);
+    assert_eq!(v["bank_deg"], 30.0);
+}
+
+/// The CSV and the recording name the model (from the registry), and the
+/// recording replays to the recorded flight's report and CSV, byte for
+/// byte; the ACMI file names it too.
+#[test]
+fn the_glider_records_replays_and_writes_its_outputs() {
+    let dir = scratch("glider-outputs");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let (rec, csv, acmi, plot) = (path("g.rec"), path("g.csv"), path("g.acmi"), path("g.svg"));
+    let flown = sim_ok(&[
+        "glider",
+        "--headless",
+        "--frames",
+        "120",
+        "--json",
+        "--lift-coefficient",
+        "0.9",
+        "--record",
+        &rec,
+        "--csv",
+        &csv,
+        "--acmi",
+        &acmi,
+        "--plot",
+        &plot,
+    ]);
+    let header = std::fs::read_to_string(&csv).unwrap();
+    let header = header.lines().next().unwrap();
+    assert!(
+        header.ends_with(",airspeed,lift_coefficient,bank_deg,status"),
+        "{header}"
+    );
+    let recording = std::fs::read(&rec).unwrap();
+    assert!(
+        recording.windows(6).any(|w| w == b"glider"),
+        "the recording names its model"
+    );
+    let acmi_text = std::fs::read_to_string(&acmi).unwrap();
+    assert!(acmi_text.contains("Name=Glider"), "{acmi_text}");
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(
+        svg.contains("Point-mass glider"),
+        "the plot's title is the model's"
+    );
+
+    let replay_csv = path("replay.csv");
+    let replayed = sim_ok(&["replay", &rec, "--json", "--csv", &replay_csv]);
+    assert_eq!(replayed, flown);
+    assert_eq!(
+        std::fs::read(&replay_csv).unwrap(),
+        std::fs::read(&csv).unwrap()
+    );
+}
+
+#[test]
+fn fleets_and_fgfs_take_the_glider_by_name() {
+    for kernel in ["lanes", "ecs"] {
+        let out = sim_ok(&[
+            "fleet",
+            "--model",
+            "glider",
+            "--aircraft",
+            "16",
+            "--frames",
+            "30",
+            "--kernel",
+            kernel,
+            "--json",
+        ]);
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["model"], "glider", "{out}");
+        assert_eq!(v["aircraft"], 16);
+        assert_eq!(v["diverged"], 0, "{out}");
+    }
+    let line = sim_ok(&["fgfs-command", "glider"]);
+    assert!(line.contains("--aircraft=ufo"), "{line}");
+}
