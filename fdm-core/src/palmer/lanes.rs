@@ -127,3 +127,53 @@ impl LaneModel for Palmer {
         state.position_m
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::palmer::Flaps;
+
+    /// Every field of every lane as bits (`-0.0` and `0.0` differ).
+    fn bits(t: &ControlTerms<PalmerLanes>) -> [[u64; LANES]; 7] {
+        [
+            t.cos_w,
+            t.sin_w,
+            t.cl_without_ground_effect,
+            t.half_cl_without_ground_effect,
+            t.half_cd_without_ground_effect,
+            t.throttle,
+            t.wheel_friction,
+        ]
+        .map(|field| field.0.map(f64::to_bits))
+    }
+
+    fn controls() -> [PalmerControls; LANES] {
+        core::array::from_fn(|l| PalmerControls {
+            throttle: 0.1 * l as f64,
+            alpha_deg: l as f64 - 2.0,
+            bank_deg: 11.0 * l as f64 - 30.0,
+            flaps: [Flaps::Up, Flaps::Deg20, Flaps::Deg40][l % 3],
+            brakes: l % 2 == 1,
+        })
+    }
+
+    /// The block path and the lane-by-lane path write the same bits, and a
+    /// partial block (`count < LANES`, the fleet's last block) leaves the
+    /// lanes past `count` as they were: they belong to no aircraft.
+    #[test]
+    fn block_controls_are_the_lane_by_lane_bits_and_stop_at_count() {
+        let aircraft = PalmerAircraft::cessna_172();
+        let shared = AircraftTerms::new(&aircraft);
+        let controls = controls();
+        let (_, idle) = Palmer::idle(&aircraft);
+        for count in 0..=LANES {
+            let mut block = idle;
+            Palmer::set_controls_lanes(&mut block, count, &aircraft, &shared, &controls);
+            let mut by_lane = idle;
+            for (lane, c) in controls.iter().enumerate().take(count) {
+                Palmer::set_controls(&mut by_lane, lane, &aircraft, &shared, c);
+            }
+            assert_eq!(bits(&block), bits(&by_lane), "count {count}");
+        }
+    }
+}
