@@ -115,6 +115,63 @@ fn bourg_state_at_places_and_points_the_aircraft() {
     assert!(view.attitude.pitch_deg.abs() < 1e-3);
 }
 
+/// `bourg::state_at_attitude`, as documented: flying level toward the
+/// heading with the nose `pitch_deg` above the horizon, so the view's pitch
+/// is `pitch_deg` and, in level flight, so is the angle of attack (the view's
+/// alpha, `atan2` of the body velocity's down and forward components), with
+/// no sideslip. Within 1e-4°: the attitude is an `f32` quaternion (relative
+/// error about 6e-8, i.e. 3e-6° in an angle) and the body velocity an `f32`
+/// rotation of it; measured errors are below 4e-6°. And the conditions and
+/// the pitch are checked each on its own: invalid conditions are refused at
+/// a level nose, a pitch that is not finite in valid conditions.
+#[test]
+fn bourg_state_at_attitude_raises_the_nose_above_the_level_path() {
+    use fdm_core::bourg::state_at_attitude;
+
+    let a = Bourg::default_aircraft();
+    let ic = InitialConditions::from_feet_knots(2000.0, 100.0, 30.0);
+    for pitch in [5.0f32, -3.0, 12.5] {
+        let s = state_at_attitude(&ic, pitch).unwrap();
+        assert_eq!(s.velocity_ftps.z, 0.0, "level");
+        let view = Bourg::view(&a, &Bourg::initial_controls(), &s);
+        let p = f64::from(pitch);
+        assert!(
+            (view.attitude.pitch_deg - p).abs() < 1e-4,
+            "pitch {pitch}: {:?}",
+            view.attitude
+        );
+        assert!((view.attitude.heading_deg - 30.0).abs() < 1e-4);
+        assert!(view.attitude.roll_deg.abs() < 1e-4);
+        assert!(
+            (view.alpha_deg - p).abs() < 1e-4,
+            "pitch {pitch}: alpha {}",
+            view.alpha_deg
+        );
+        assert!(view.beta_deg.abs() < 1e-4, "{}", view.beta_deg);
+    }
+
+    let invalid = [
+        InitialConditions::from_feet_knots(-1.0, 100.0, 0.0),
+        InitialConditions::from_feet_knots(2000.0, -1.0, 0.0),
+        InitialConditions::from_feet_knots(2000.0, f64::NAN, 0.0),
+        InitialConditions::from_feet_knots(2000.0, 100.0, f64::INFINITY),
+    ];
+    for ic in invalid {
+        assert_eq!(
+            state_at_attitude(&ic, 0.0),
+            Err(StartError::InvalidConditions),
+            "{ic:?}"
+        );
+    }
+    for pitch in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        assert_eq!(
+            state_at_attitude(&ic, pitch),
+            Err(StartError::InvalidConditions),
+            "pitch {pitch}"
+        );
+    }
+}
+
 #[test]
 fn bourg_untrimmable_speeds_are_refused() {
     let a = Bourg::default_aircraft();
