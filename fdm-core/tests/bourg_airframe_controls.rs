@@ -3,7 +3,7 @@
 
 use fdm_core::bourg::{
     step, Airframe, AirframeError, BourgAction, BourgAircraft, BourgControls, BourgState, Flap,
-    MassProperties, Vector3, DELTA_THRUST_LB, MAX_THRUST_LB,
+    MassProperties, Matrix3, Vector3, DELTA_THRUST_LB, MAX_THRUST_LB,
 };
 
 #[test]
@@ -217,6 +217,129 @@ fn validation_rejects_bad_airframes() {
     );
     let message = a.validate().unwrap_err().to_string();
     assert!(message.contains("singular"), "{message}");
+}
+
+/// `Airframe::validate`'s documented checks, each bad input on its own in an
+/// otherwise valid airframe: a total mass that is not finite (two finite
+/// element masses whose `f32` sum overflows) is `NonPositiveMass` ("zero,
+/// negative, or not finite"); an inertia tensor so large that its `f32`
+/// determinant overflows is `SingularInertia` with that infinite determinant,
+/// although the original's inverse (adjugate over the determinant) is then
+/// finite, all zeros: not an inverse, so not "invertible with a finite
+/// inverse".
+#[test]
+fn validation_rejects_an_infinite_total_mass_and_an_overflowing_determinant() {
+    let mut a = Airframe::bourg_default();
+    a.elements[0].mass_slug = 3.0e38;
+    a.elements[7].mass_slug = 3.0e38;
+    assert_eq!(
+        a.validate(),
+        Err(AirframeError::NonPositiveMass {
+            total_mass_slug: f64::INFINITY
+        })
+    );
+
+    // Every element 1e13 slug·ft² about each of its axes: Ixx·Iyy·Izz is
+    // about 5e41, beyond f32::MAX (3.4e38).
+    let mut a = Airframe::bourg_default();
+    for e in &mut a.elements {
+        e.local_inertia = Vector3::new(1.0e13, 1.0e13, 1.0e13);
+    }
+    let mass = MassProperties::from_airframe(&a);
+    assert!(mass.inertia.iter().all(|v| v.is_finite()));
+    assert!(
+        mass.inertia_inverse.iter().all(|v| *v == 0.0),
+        "the adjugate over an infinite determinant: {}",
+        mass.inertia_inverse
+    );
+    assert_eq!(
+        a.validate(),
+        Err(AirframeError::SingularInertia {
+            determinant: f64::INFINITY
+        })
+    );
+    assert!(BourgAircraft::new(a).is_err());
+}
+
+/// `MassProperties::from_airframe`'s documented sums, worked by hand for an
+/// airframe without Bourg's left-right symmetry (with the thesis data the
+/// products of inertia Ixy and Iyz are sums that cancel to zero, whatever
+/// their sign): masses 1, 3, 2, 2, 1, 3, 2, 2 slug (16 in all), design
+/// positions of small integers, local inertias (k, 2k, 3k) for element
+/// k − 1. First moment / mass: CG (16/16, −2/16, 7/16) ft = (1, −0.125,
+/// 0.4375). The offsets `dsg − CG` are then multiples of 1/16, e.g. element 0
+/// at (4, 2, 1): (3, 17/8, 9/16), so its Ixy term is 1·3·17/8. Summed:
+/// Ixx = 2171/16, Iyy = 2879/16, Izz = 911/4, Ixy = 1, Ixz = −19,
+/// Iyz = −265/8, in the tensor `[Ixx −Ixy −Ixz; −Ixy Iyy −Iyz; −Ixz −Iyz
+/// Izz]`. Exact in `f32`: every value and partial sum is a multiple of 1/256
+/// below 2^10. The inverse is the original's (adjugate / determinant), checked
+/// as the inverse: the tensor times it is the identity within 1e-6, about 8
+/// ulps of 1 (the inverse's entries, 1e-2 to 1e-4, each rounded to `f32`,
+/// summed against entries up to 230; measured: one ulp, 1.2e-7).
+#[test]
+fn mass_properties_are_the_documented_sums_of_an_asymmetric_airframe() {
+    let masses = [1.0, 3.0, 2.0, 2.0, 1.0, 3.0, 2.0, 2.0];
+    let positions = [
+        [4.0, 2.0, 1.0],
+        [0.0, -3.0, 2.0],
+        [2.0, 1.0, -1.0],
+        [-2.0, 0.0, 3.0],
+        [5.0, -1.0, 0.0],
+        [1.0, 2.0, -2.0],
+        [3.0, -2.0, 1.0],
+        [-1.0, 1.0, 0.0],
+    ];
+    let mut airframe = Airframe::bourg_default();
+    for (k, e) in airframe.elements.iter_mut().enumerate() {
+        let n = (k + 1) as f32;
+        e.mass_slug = masses[k];
+        e.design_position_ft = Vector3::from(positions[k]);
+        e.local_inertia = Vector3::new(n, 2.0 * n, 3.0 * n);
+    }
+    let aircraft = BourgAircraft::new(airframe).unwrap();
+    let mass = aircraft.mass_properties();
+    assert_eq!(*mass, MassProperties::from_airframe(&airframe));
+
+    assert_eq!(mass.mass_slug, 16.0);
+    assert_eq!(mass.cg_ft, Vector3::new(1.0, -0.125, 0.4375));
+    let offsets = [
+        [3.0, 17.0 / 8.0, 9.0 / 16.0],
+        [-1.0, -23.0 / 8.0, 25.0 / 16.0],
+        [1.0, 9.0 / 8.0, -23.0 / 16.0],
+        [-3.0, 1.0 / 8.0, 41.0 / 16.0],
+        [4.0, -7.0 / 8.0, -7.0 / 16.0],
+        [0.0, 17.0 / 8.0, -39.0 / 16.0],
+        [2.0, -15.0 / 8.0, 9.0 / 16.0],
+        [-2.0, 9.0 / 8.0, -7.0 / 16.0],
+    ];
+    for (k, want) in offsets.iter().enumerate() {
+        assert_eq!(mass.cg_offsets_ft[k], Vector3::from(*want), "offset {k}");
+    }
+    let (ixx, iyy, izz) = (2171.0 / 16.0, 2879.0 / 16.0, 911.0 / 4.0);
+    let (ixy, ixz, iyz) = (1.0, -19.0, -265.0 / 8.0);
+    let want = Matrix3::new(ixx, -ixy, -ixz, -ixy, iyy, -iyz, -ixz, -iyz, izz);
+    assert_eq!(mass.inertia, want);
+
+    let product = mass.inertia * mass.inertia_inverse;
+    let error = (product - Matrix3::identity()).abs().max();
+    assert!(error < 1e-6, "I·I⁻¹ = {product}");
+}
+
+/// `BourgAircraft::airframe` is the airframe the aircraft was built from (its
+/// mass properties are that airframe's), not Bourg's default.
+#[test]
+fn an_aircraft_keeps_the_airframe_it_was_built_from() {
+    let mut airframe = Airframe::bourg_default();
+    airframe.elements[7].mass_slug = 40.0;
+    airframe.elements[6].incidence_deg = 1.5;
+    airframe.elements[2].flap = Flap::TrailingEdgeDown;
+    let aircraft = BourgAircraft::new(airframe).unwrap();
+    assert_eq!(*aircraft.airframe(), airframe);
+    assert_ne!(*aircraft.airframe(), Airframe::bourg_default());
+    assert_eq!(
+        *BourgAircraft::bourg_default().airframe(),
+        Airframe::bourg_default()
+    );
 }
 
 #[test]

@@ -293,3 +293,57 @@ fn bourgs_fleet_members_and_checked_step_are_as_documented() {
     broken.velocity_ftps.x = f32::NAN;
     assert!(<Bourg as Model>::try_step(&aircraft, &controls, &broken, dt).is_err());
 }
+
+/// Bourg's `Model::at_rest`, as `Model::at_rest` documents it: a crashed
+/// aircraft one frame later is where it was (position and attitude, the
+/// stall flag too), at rest (every velocity zero: earth and body frames and
+/// the rotation, so it does not keep spinning), its clock advanced by `dt`
+/// (`time_s + f64::from(dt)`). `advance` applies it to a crashed aircraft
+/// whatever the controls. From a state that still moves and spins in every
+/// axis, so that each velocity is seen to be zeroed on its own. Exact: zeros
+/// and copies, and the clock's one documented addition.
+#[test]
+fn a_crashed_bourg_aircraft_rests_where_it_was_with_its_clock_advanced() {
+    use fdm_core::bourg::ops::quat_from_euler_deg;
+    use fdm_core::bourg::{Bourg, BourgControls, BourgState};
+
+    let mut state = BourgState::initial();
+    state.time_s = 41.5;
+    state.position_ft = Vector3::new(-1234.5, 67.25, 0.0);
+    state.velocity_ftps = Vector3::new(55.0, -4.5, 2.25);
+    state.velocity_body_ftps = Vector3::new(54.0, 6.5, -3.75);
+    state.angular_velocity_radps = Vector3::new(0.5, -0.25, 0.125);
+    state.orientation = quat_from_euler_deg(&Vector3::new(12.0, -7.0, 135.0));
+    state.stalling = true;
+    let dt = Bourg::time_step(30.0);
+
+    let rest = Bourg::at_rest(&state, dt);
+    assert_eq!(rest.time_s, 41.5 + f64::from(dt));
+    assert_eq!(rest.velocity_ftps, Vector3::zeros(), "earth-frame velocity");
+    assert_eq!(rest.velocity_body_ftps, Vector3::zeros(), "body velocity");
+    assert_eq!(
+        rest.angular_velocity_radps,
+        Vector3::zeros(),
+        "rotation: a crashed aircraft does not keep spinning"
+    );
+    assert_eq!(rest.position_ft, state.position_ft);
+    assert_eq!(rest.orientation, state.orientation);
+    assert!(rest.stalling);
+
+    let aircraft = Bourg::default_aircraft();
+    let crash = FlightStatus::Landed(LandingState::Crash);
+    let full = BourgControls {
+        thrust_lb: 3000.0,
+        ..BourgControls::initial()
+    };
+    let (next, status) = advance::<Bourg>(&aircraft, &full, crash, &state, dt);
+    assert_eq!(status, crash);
+    assert_eq!(next, rest);
+    // And it stays there, frame after frame, only its clock moving.
+    let (later, _) = advance::<Bourg>(&aircraft, &full, crash, &next, dt);
+    assert_eq!(later.time_s, next.time_s + f64::from(dt));
+    assert_eq!(
+        (later.position_ft, later.orientation, later.velocity_ftps),
+        (rest.position_ft, rest.orientation, Vector3::zeros())
+    );
+}

@@ -126,7 +126,8 @@ fn solve(j: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
 /// [`StartError::AboveMaxPower`] when the thrust needed exceeds the
 /// aircraft's maximum, [`StartError::BelowStall`] when no attitude up to
 /// the stall carries the weight, [`StartError::OutOfTrim`] when the pitch
-/// trim would have to go beyond ±1.
+/// trim would have to go beyond ±1 (or the thrust below 0). A thrust of
+/// exactly the maximum, or 0, and a trim of exactly ±1 are within.
 pub fn trim(
     aircraft: &BourgAircraft,
     controls: &BourgControls,
@@ -150,7 +151,7 @@ pub fn trim(
         let r = residuals(aircraft, &base, conditions, x)
             .ok_or(StartError::BelowStall { speed_mps })?;
         last = r;
-        if abs(r[0]) < 0.5 && abs(r[1]) < 0.5 && abs(r[2]) < 5.0 {
+        if within_tolerance(r) {
             converged = true;
             break;
         }
@@ -169,7 +170,56 @@ pub fn trim(
             x[i] += d[i].clamp(-limits[i], limits[i]);
         }
     }
-    let max_thrust = f64::from(aircraft.max_thrust_lb);
+    verdict(
+        converged,
+        x,
+        last,
+        f64::from(aircraft.max_thrust_lb),
+        speed_mps,
+    )?;
+    let controls = BourgControls {
+        thrust_lb: x[0] as f32,
+        pitch_trim: x[2] as f32,
+        ..base
+    };
+    let state = state_at_attitude(conditions, x[1] as f32)?;
+    Ok(Trimmed {
+        controls,
+        state,
+        report: TrimReport {
+            values: [
+                ("thrust", f64::from(controls.thrust_lb), "lb"),
+                ("pitch", f64::from(x[1] as f32), "deg"),
+                ("elevator trim", f64::from(controls.pitch_trim), ""),
+            ],
+        },
+    })
+}
+
+/// [`trim`]'s tolerance: the forces along the path and vertical (`r[0]`,
+/// `r[1]`) below 0.5 lb and the pitching moment (`r[2]`) below 5 ft·lb, in
+/// magnitude (strictly: a residual of exactly 0.5 lb is not within).
+fn within_tolerance(r: [f64; 3]) -> bool {
+    abs(r[0]) < 0.5 && abs(r[1]) < 0.5 && abs(r[2]) < 5.0
+}
+
+/// How [`trim`]'s iteration ended, as its errors document: with the
+/// solution `x = [thrust_lb, pitch_deg, pitch_trim]` of a `converged`
+/// iteration, `Ok` while the thrust is within `0..=max_thrust` and the trim
+/// within `-1..=1`; [`StartError::AboveMaxPower`] when the thrust exceeds
+/// `max_thrust`, [`StartError::OutOfTrim`] when the trim is beyond ±1 or the
+/// thrust below 0. Without convergence, from the `last` residuals and
+/// where `x` ran to: [`StartError::BelowStall`] when the vertical force was
+/// still downward (`last[1] < 0`: the lift short of the weight) at a thrust
+/// within the maximum, else [`StartError::AboveMaxPower`] if the thrust ran
+/// beyond the maximum, else [`StartError::OutOfTrim`].
+fn verdict(
+    converged: bool,
+    x: [f64; 3],
+    last: [f64; 3],
+    max_thrust: f64,
+    speed_mps: f64,
+) -> Result<(), StartError> {
     if converged && (x[0] > max_thrust) {
         return Err(StartError::AboveMaxPower { speed_mps });
     }
@@ -190,23 +240,7 @@ pub fn trim(
     if abs(x[2]) > 1.0 {
         return Err(StartError::OutOfTrim { speed_mps });
     }
-    let controls = BourgControls {
-        thrust_lb: x[0] as f32,
-        pitch_trim: x[2] as f32,
-        ..base
-    };
-    let state = state_at_attitude(conditions, x[1] as f32)?;
-    Ok(Trimmed {
-        controls,
-        state,
-        report: TrimReport {
-            values: [
-                ("thrust", f64::from(controls.thrust_lb), "lb"),
-                ("pitch", f64::from(x[1] as f32), "deg"),
-                ("elevator trim", f64::from(controls.pitch_trim), ""),
-            ],
-        },
-    })
+    Ok(())
 }
 
 /// `|x|` (without relying on `f64::abs` being in `core`).
@@ -215,5 +249,96 @@ fn abs(x: f64) -> f64 {
         -x
     } else {
         x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `solve`: `j · d = −r` by Cramer's rule, on a system worked by hand with
+    /// every entry of `j` nonzero and distinct (so each product of every
+    /// minor matters): det j = 2(20 − 2) − 1(5 − 3) + 3(2 − 12) = 4, and for
+    /// d = (1, −2, 3), j · d = (9, −4, 14). Exact: small integers, and each
+    /// Cramer determinant is a multiple of 4.
+    #[test]
+    fn solve_gives_the_step_that_zeroes_the_linearised_residuals() {
+        let j = [[2.0, 1.0, 3.0], [1.0, 4.0, 1.0], [3.0, 2.0, 5.0]];
+        assert_eq!(solve(j, [-9.0, 4.0, -14.0]), Some([1.0, -2.0, 3.0]));
+        // Another right-hand side: d = (−3, 5, 2), j · d = (5, 19, 11).
+        assert_eq!(solve(j, [-5.0, -19.0, -11.0]), Some([-3.0, 5.0, 2.0]));
+        // Another matrix, nine different entries: det = 1(55 − 56) −
+        // 2(44 − 42) + 3(32 − 30) = 1; for d = (2, −1, 1), k · d = (3, 10, 15).
+        let k = [[1.0, 2.0, 3.0], [4.0, 5.0, 7.0], [6.0, 8.0, 11.0]];
+        assert_eq!(solve(k, [-3.0, -10.0, -15.0]), Some([2.0, -1.0, 1.0]));
+        // Singular (the third row the sum of the first two): no step.
+        let singular = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [5.0, 7.0, 9.0]];
+        assert_eq!(solve(singular, [1.0, 1.0, 1.0]), None);
+    }
+
+    /// The tolerance of `trim`'s doc: each force below 0.5 lb and the moment
+    /// below 5 ft·lb, in magnitude, each on its own; exactly at a limit, on
+    /// either side of zero, is not converged, and the largest `f64` below it
+    /// is.
+    #[test]
+    fn the_tolerance_is_below_half_a_pound_and_five_foot_pounds() {
+        let below = |limit: f64| f64::from_bits(limit.to_bits() - 1);
+        assert!(within_tolerance([0.0, 0.0, 0.0]));
+        assert!(within_tolerance([below(0.5), -below(0.5), below(5.0)]));
+        assert!(within_tolerance([-below(0.5), below(0.5), -below(5.0)]));
+        for r in [
+            [0.5, 0.0, 0.0],
+            [-0.5, 0.0, 0.0],
+            [0.0, 0.5, 0.0],
+            [0.0, -0.5, 0.0],
+            [0.0, 0.0, 5.0],
+            [0.0, 0.0, -5.0],
+            [f64::NAN, 0.0, 0.0],
+        ] {
+            assert!(!within_tolerance(r), "{r:?}");
+        }
+    }
+
+    /// `trim`'s errors at their documented limits, landed exactly from both
+    /// sides: a thrust up to and including the aircraft's maximum (3000 lb
+    /// here) and down to and including 0, and a trim up to and including ±1,
+    /// are trimmed; the next `f64` beyond is refused, with the documented
+    /// error. Without convergence: a vertical force still downward at a
+    /// thrust within the maximum is below the stall (exactly 0 is not
+    /// downward), a thrust run beyond the maximum is above full power, and
+    /// anything else is out of trim.
+    #[test]
+    fn the_limits_are_the_documented_ones_from_both_sides() {
+        let max = 3000.0;
+        let speed = 40.0;
+        let up = |v: f64| f64::from_bits(v.to_bits() + 1);
+        let over = up(max);
+        let above_max = Err(StartError::AboveMaxPower { speed_mps: speed });
+        let out_of_trim = Err(StartError::OutOfTrim { speed_mps: speed });
+        let below_stall = Err(StartError::BelowStall { speed_mps: speed });
+        let done = |x: [f64; 3]| verdict(true, x, [0.0; 3], max, speed);
+
+        assert_eq!(done([1500.0, 3.0, 0.25]), Ok(()));
+        assert_eq!(done([max, 3.0, 0.25]), Ok(()));
+        assert_eq!(done([over, 3.0, 0.25]), above_max);
+        assert_eq!(done([0.0, 3.0, 0.25]), Ok(()));
+        assert_eq!(done([-f64::MIN_POSITIVE, 3.0, 0.25]), out_of_trim);
+        assert_eq!(done([1500.0, 3.0, 1.0]), Ok(()));
+        assert_eq!(done([1500.0, 3.0, -1.0]), Ok(()));
+        assert_eq!(done([1500.0, 3.0, up(1.0)]), out_of_trim);
+        assert_eq!(done([1500.0, 3.0, -up(1.0)]), out_of_trim);
+
+        let stopped =
+            |x: [f64; 3], vertical: f64| verdict(false, x, [0.25, vertical, 1.0], max, speed);
+        // Still short of lift, thrust within the maximum: too slow.
+        assert_eq!(stopped([max, 10.0, 0.0], -1e-9), below_stall);
+        assert_eq!(stopped([1500.0, 10.0, 0.0], -100.0), below_stall);
+        // Short of lift but the thrust ran away: above full power.
+        assert_eq!(stopped([over, 10.0, 0.0], -100.0), above_max);
+        // The weight carried (a vertical force of 0 or upward).
+        assert_eq!(stopped([1500.0, 10.0, 0.0], 0.0), out_of_trim);
+        assert_eq!(stopped([max, 10.0, 0.0], 100.0), out_of_trim);
+        assert_eq!(stopped([over, 10.0, 0.0], 100.0), above_max);
+        assert_eq!(stopped([over, 10.0, 0.0], 0.0), above_max);
     }
 }

@@ -450,6 +450,54 @@ mod tests {
         assert!(err.to_string().contains("0, 20 or 40"), "{err}");
     }
 
+    /// The brakes' serialised forms, as the type's doc gives them: JSON adds
+    /// `"brakes": true` only while they are set (and reads them back); a
+    /// compact binary format (bincode, as a recording's header: standard
+    /// config, so the `f64`s are 8 bytes each and the flaps one byte) writes
+    /// the flap degrees with the top bit (0x80) set for the brakes, reads
+    /// both back for every flap setting, and refuses a flaps byte whose
+    /// low bits are no flap setting, with the top bit set or not.
+    #[test]
+    fn the_brakes_serialise_as_documented() {
+        let on = PalmerControls {
+            throttle: 0.5,
+            alpha_deg: -2.0,
+            bank_deg: 3.0,
+            flaps: Flaps::Deg40,
+            brakes: true,
+        };
+        let json = serde_json::to_string(&on).unwrap();
+        assert_eq!(
+            json,
+            r#"{"throttle":0.5,"alpha_deg":-2.0,"bank_deg":3.0,"flaps":40,"brakes":true}"#
+        );
+        assert_eq!(serde_json::from_str::<PalmerControls>(&json).unwrap(), on);
+
+        let config = bincode::config::standard();
+        for flaps in [Flaps::Up, Flaps::Deg20, Flaps::Deg40] {
+            for brakes in [false, true] {
+                let c = PalmerControls {
+                    flaps,
+                    brakes,
+                    ..on
+                };
+                let bytes = bincode::serde::encode_to_vec(c, config).unwrap();
+                let flaps_byte = u8::from(flaps) | if brakes { 0x80 } else { 0 };
+                assert_eq!(bytes.len(), 25, "{c:?}");
+                assert_eq!(bytes[24], flaps_byte, "{c:?}");
+                let (back, _): (PalmerControls, usize) =
+                    bincode::serde::decode_from_slice(&bytes, config).unwrap();
+                assert_eq!(back, c);
+            }
+        }
+        let mut bytes = bincode::serde::encode_to_vec(on, config).unwrap();
+        for bad in [0x80 | 25, 25, 0x40 | 20, 0x7f] {
+            bytes[24] = bad;
+            let decoded = bincode::serde::decode_from_slice::<PalmerControls, _>(&bytes, config);
+            assert!(decoded.is_err(), "flaps byte {bad:#x}: {decoded:?}");
+        }
+    }
+
     #[test]
     fn non_finite_controls_do_not_panic() {
         let c = PalmerControls {

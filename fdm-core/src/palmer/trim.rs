@@ -38,9 +38,12 @@ const BISECTIONS: u32 = 60;
 /// (thrust = drag). With the velocity horizontal, thrust acts along it, so
 /// the first depends on the angle of attack only: it is found by bisection
 /// on [`derivatives`] between −16° and the stall angle (`alpha_cl_max_deg`,
-/// below which the lift grows with alpha). The horizontal acceleration is
-/// affine in the throttle (thrust is throttle × a function of speed and
-/// altitude), so two evaluations give the throttle exactly.
+/// below which the lift grows with alpha), down to the spacing of `f64`: the
+/// angle returned is the `f64` nearest level flight (the lowest, where
+/// several side by side give exactly zero vertical acceleration). The
+/// horizontal acceleration is affine in the throttle (thrust is throttle × a
+/// function of speed and altitude), so two evaluations give the throttle
+/// exactly.
 ///
 /// # Errors
 /// [`StartError::InvalidConditions`] (also at altitude 0: level flight needs
@@ -68,10 +71,10 @@ pub fn trim(
     // Just below the stall angle: the highest lift of the pre-stall line.
     let mut hi = aircraft.alpha_cl_max_deg - 1e-9;
     let mut lo = ALPHA_MIN_DEG;
-    if speed_mps == 0.0 || az(hi) < 0.0 {
+    if speed_mps == 0.0 || lifts_less_than_weight(az(hi)) {
         return Err(StartError::BelowStall { speed_mps });
     }
-    if az(lo) > 0.0 {
+    if lifts_more_than_weight(az(lo)) {
         return Err(StartError::AboveMaxPower { speed_mps });
     }
     for _ in 0..BISECTIONS {
@@ -117,11 +120,46 @@ pub fn trim(
     })
 }
 
+/// Whether the lift is less than the weight, from the vertical acceleration
+/// in level flight: downward (`az < 0`). Exactly 0 is lift = weight, level
+/// flight: not less. So at the stall angle, [`trim`]'s "even the stall angle
+/// lifts less than the weight" (`BelowStall`).
+fn lifts_less_than_weight(az: f64) -> bool {
+    az < 0.0
+}
+
+/// Whether the lift is more than the weight: upward (`az > 0`); exactly 0 is
+/// not more. At −16°, the bisection's other end, the speed is too fast for
+/// the angle range (`AboveMaxPower`).
+fn lifts_more_than_weight(az: f64) -> bool {
+    az > 0.0
+}
+
 /// `|x|` (without relying on `f64::abs` being in `core`).
 fn abs(x: f64) -> f64 {
     if x < 0.0 {
         -x
     } else {
         x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bisection's ends at their thresholds, from both sides: a vertical
+    /// acceleration of exactly 0 (of either sign) is lift = weight, neither
+    /// less nor more; the smallest `f64` either side of it is.
+    #[test]
+    fn lift_equal_to_the_weight_is_neither_less_nor_more() {
+        let tiny = f64::from_bits(1);
+        for zero in [0.0, -0.0] {
+            assert!(!lifts_less_than_weight(zero));
+            assert!(!lifts_more_than_weight(zero));
+        }
+        assert!(lifts_less_than_weight(-tiny) && !lifts_more_than_weight(-tiny));
+        assert!(lifts_more_than_weight(tiny) && !lifts_less_than_weight(tiny));
+        assert!(!lifts_less_than_weight(f64::NAN) && !lifts_more_than_weight(f64::NAN));
     }
 }
