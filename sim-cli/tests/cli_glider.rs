@@ -10,7 +10,7 @@
 
 mod support;
 
-use support::{report, scratch, sim, sim_ok, text, write_file};
+use support::{csv_body, report, scratch, sim, sim_ok, text, write_file};
 
 #[test]
 fn the_glider_is_a_subcommand_with_help_from_the_registry() {
@@ -104,9 +104,9 @@ fn the_glider_flies_headless_and_reports_as_itself() {
     assert_eq!(v["bank_deg"], 30.0);
 }
 
-/// The CSV and the recording name the model (from the registry), and the
-/// recording replays to the recorded flight's report and CSV, byte for
-/// byte; the ACMI file names it too.
+/// The CSV and the recording name the model (from the registry), `sim-cli
+/// plot` replots the CSV, and the recording replays to the recorded
+/// flight's report and CSV, byte for byte; the ACMI file names it too.
 #[test]
 fn the_glider_records_replays_and_writes_its_outputs() {
     let dir = scratch("glider-outputs");
@@ -130,7 +130,7 @@ fn the_glider_records_replays_and_writes_its_outputs() {
         &plot,
     ]);
     let header = std::fs::read_to_string(&csv).unwrap();
-    let header = header.lines().next().unwrap();
+    let header = csv_body(&header, "glider").lines().next().unwrap();
     assert!(
         header.ends_with(",airspeed,lift_coefficient,bank_deg,status"),
         "{header}"
@@ -147,6 +147,23 @@ fn the_glider_records_replays_and_writes_its_outputs() {
         svg.contains("Point-mass glider"),
         "the plot's title is the model's"
     );
+
+    // `sim-cli plot` reads the glider's CSV (its model line names it; the
+    // glider is in the CLI's registry, not the run library's) and draws
+    // the run's own plot but for the title, which names the file.
+    let replot = path("replot.svg");
+    sim_ok(&["plot", &csv, "-o", &replot]);
+    let replotted = std::fs::read_to_string(&replot).unwrap();
+    assert!(
+        replotted.contains(&format!("Point-mass glider from {csv}: 121 samples")),
+        "the replot's title names the model and the file"
+    );
+    let without_title = |svg: &str| {
+        let start = svg.find("<text").expect("a title");
+        let end = start + svg[start..].find("</text>").expect("closed");
+        format!("{}{}", &svg[..start], &svg[end..])
+    };
+    assert_eq!(without_title(&replotted), without_title(&svg));
 
     let replay_csv = path("replay.csv");
     let replayed = sim_ok(&["replay", &rec, "--json", "--csv", &replay_csv]);

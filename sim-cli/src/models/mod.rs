@@ -92,6 +92,20 @@ impl ModelKind {
         Self::ALL.iter().copied().find(|kind| kind.name() == name)
     }
 
+    /// The CSV layouts of the registry's models, in registry order: the
+    /// models whose CSVs `sim-cli plot` reads ([`fdm_plot::csv::read_trace_among`]).
+    #[must_use]
+    pub fn csv_layouts() -> Vec<fdm_plot::csv::CsvLayout> {
+        struct Layout;
+        impl WithModel for Layout {
+            type Output = fdm_plot::csv::CsvLayout;
+            fn call<M: CliModel>(self) -> Self::Output {
+                fdm_plot::csv::CsvLayout::of::<M>()
+            }
+        }
+        Self::ALL.iter().map(|kind| kind.with(Layout)).collect()
+    }
+
     /// The registry's models as text: `a, b or c`, each shown by `show`.
     pub fn list(show: impl Fn(Self) -> String) -> String {
         let shown: Vec<String> = Self::ALL.iter().map(|&kind| show(kind)).collect();
