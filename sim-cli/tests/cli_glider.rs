@@ -5,8 +5,10 @@
 //! (`sim-cli/src/models/mod.rs`). Through the built binary: its subcommand
 //! and help are there, derived from the registry; it flies headless with
 //! the options every model shares; its report, CSV and recording name it;
-//! the recording replays to the same bits; `fleet` (both kernels) and
-//! `fgfs-command` take it by name.
+//! the recording replays to the same bits; `plot` reads its CSV; `study`
+//! flies studies of it (the CLI's registry is the list the study file's
+//! `model` is looked up in); `fleet` (both kernels) and `fgfs-command` take
+//! it by name.
 
 mod support;
 
@@ -196,4 +198,60 @@ fn fleets_and_fgfs_take_the_glider_by_name() {
     }
     let line = sim_ok(&["fgfs-command", "glider"]);
     assert!(line.contains("--aircraft=ufo"), "{line}");
+}
+
+/// A study of the glider: the study file's `model` is looked up in the
+/// CLI's registry (the glider is not in the run library's), the batch flies
+/// on the lanes fleets, and `--run I` flies run I alone to the batch's row,
+/// with its own CSV naming the model.
+#[test]
+fn the_glider_is_studied_by_name() {
+    let dir = scratch("glider-study");
+    let file = write_file(
+        &dir,
+        "g.toml",
+        r#"
+model = "glider"
+runs = 8
+seed = 5
+duration_s = 4.0
+measures = ["final_x_m", "max_height_m"]
+[controls]
+lift_coefficient = 0.8
+[[dispersion]]
+key = "controls.bank_deg"
+distribution = "uniform"
+low = -20.0
+high = 20.0
+"#,
+    );
+    let out = dir.join("out");
+    let out_s = out.to_str().unwrap();
+    let o = sim(&["study", &file, "--out", out_s]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    let lines: Vec<&str> = runs.lines().collect();
+    assert_eq!(
+        lines[0],
+        "run,status,final_x_m,max_height_m,input.controls.bank_deg,fingerprint"
+    );
+    assert_eq!(lines.len(), 1 + 8);
+    let flight_csv = dir.join("run-3-flight.csv");
+    let o = sim(&[
+        "study",
+        &file,
+        "--out",
+        out_s,
+        "--run",
+        "3",
+        "--csv",
+        flight_csv.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let alone = std::fs::read_to_string(out.join("run-3.csv")).unwrap();
+    let alone: Vec<&str> = alone.lines().collect();
+    assert_eq!(alone, [lines[0], lines[4]]);
+    let flight = std::fs::read_to_string(&flight_csv).unwrap();
+    assert_eq!(csv_body(&flight, "glider").lines().count(), 1 + 121);
 }

@@ -106,6 +106,21 @@ impl ModelKind {
         Self::ALL.iter().map(|kind| kind.with(Layout)).collect()
     }
 
+    /// The registry's models as a study may name them, in registry order:
+    /// what `sim-cli study` reads a study file with
+    /// ([`fdm_study::Study::from_path_among`]).
+    #[must_use]
+    pub fn study_models() -> Vec<fdm_study::StudyEntry> {
+        struct Entry;
+        impl WithModel for Entry {
+            type Output = fdm_study::StudyEntry;
+            fn call<M: CliModel>(self) -> Self::Output {
+                fdm_study::StudyEntry::of::<M>()
+            }
+        }
+        Self::ALL.iter().map(|kind| kind.with(Entry)).collect()
+    }
+
     /// The registry's models as text: `a, b or c`, each shown by `show`.
     pub fn list(show: impl Fn(Self) -> String) -> String {
         let shown: Vec<String> = Self::ALL.iter().map(|&kind| show(kind)).collect();
