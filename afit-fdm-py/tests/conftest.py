@@ -45,10 +45,20 @@ def reference(name: str) -> dict:
         return json.load(f)
 
 
+def csv_rows(text: str, model: str) -> List[Dict[str, str]]:
+    """A flight CSV's rows by column name. Its first line must be the model
+    line ``# model: MODEL`` (docs/cli.md, "CSV output"); the header follows."""
+    first, _, body = text.partition("\n")
+    assert first == f"# model: {model}", first
+    assert body.startswith("frame,time_s,"), body[:80]
+    return list(csv.DictReader(io.StringIO(body)))
+
+
 def run_csv(sim_cli: pathlib.Path, args: Sequence[str], tmp: pathlib.Path) -> List[Dict[str, float]]:
-    """Runs ``sim-cli ARGS --headless --csv FILE`` and returns its rows, every
-    number parsed with ``float`` (``sim-cli`` prints the shortest form that
-    round-trips, so ``float`` recovers the exact bits)."""
+    """Runs ``sim-cli ARGS --headless --csv FILE`` (``ARGS[0]`` the model) and
+    returns its rows, every number parsed with ``float`` (``sim-cli`` prints
+    the shortest form that round-trips, so ``float`` recovers the exact
+    bits)."""
     out = tmp / "run.csv"
     proc = subprocess.run(
         [str(sim_cli), *args, "--headless", "--csv", str(out)],
@@ -57,7 +67,7 @@ def run_csv(sim_cli: pathlib.Path, args: Sequence[str], tmp: pathlib.Path) -> Li
     )
     assert proc.returncode == 0, f"{sim_cli} {' '.join(args)}: exit {proc.returncode}: {proc.stderr}"
     text = out.read_text(encoding="utf-8")
-    return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(io.StringIO(text))]
+    return [{k: float(v) for k, v in row.items()} for row in csv_rows(text, args[0])]
 
 
 # No example database in the source tree: every run draws afresh (and the

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import subprocess
 import pathlib
@@ -13,7 +11,7 @@ from typing import Dict, List, Optional
 import pytest
 
 import afit_fdm
-from conftest import REPO, reference, run_csv
+from conftest import REPO, csv_rows, reference, run_csv
 
 PALMER_COLUMNS = {
     "time_s": "time_s",
@@ -224,7 +222,7 @@ def test_divergence_keeps_the_last_finite_state(sim_cli, tmp_path) -> None:
         capture_output=True, text=True,
     )
     assert proc.returncode == 1 and "diverged" in proc.stderr
-    rows = list(csv.DictReader(io.StringIO((tmp_path / "d.csv").read_text(encoding="utf-8"))))
+    rows = csv_rows((tmp_path / "d.csv").read_text(encoding="utf-8"), "bourg")
     g = afit_fdm.Flight("bourg", fps=1, script="1-30 thrust-up\n")
     g.step(len(rows) - 1)
     assert g.status != "diverged" and g.state["x_ft"] == float(rows[-1]["x"])

@@ -14,8 +14,6 @@ Missing, the tests fail; they never skip.
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 import os
@@ -29,7 +27,7 @@ from typing import Callable, Dict, List, Sequence, Tuple
 import pytest
 
 import afit_fdm
-from conftest import REPO
+from conftest import REPO, csv_rows
 
 READ_ACMI = REPO / "fdm-run" / "tests" / "acmi_interop" / "read_acmi.py"
 DECODE_UDP = REPO / "fdm-dis" / "tests" / "opendis_interop" / "decode_udp.py"
@@ -147,7 +145,7 @@ def test_pyacmi_reads_the_flight_the_csv_shows(tmp_path, model) -> None:
     flight.reset()
     flight.step(frames // 2)
     flight.close_outputs()
-    rows = list(csv.DictReader(io.StringIO((tmp_path / "f.csv").read_text(encoding="utf-8"))))
+    rows = csv_rows((tmp_path / "f.csv").read_text(encoding="utf-8"), model)
     assert len(rows) == 1 + frames // 2 + 1 + frames // 2
     header, objects, samples = read_acmi(tmp_path / "f.acmi")
     assert header["FileVersion"] == "2.2"
@@ -257,7 +255,7 @@ def test_opendis_decodes_the_python_flight(tmp_path) -> None:
             decoder.wait()
     assert decoder.returncode == 0, err
     pdus = [json.loads(x) for x in out.splitlines()]
-    rows = list(csv.DictReader(io.StringIO((tmp_path / "f.csv").read_text(encoding="utf-8"))))
+    rows = csv_rows((tmp_path / "f.csv").read_text(encoding="utf-8"), "palmer")
     assert len(pdus) == frames
     for i, pdu in enumerate(pdus):
         assert pdu["class"] == "EntityStatePdu"
@@ -299,7 +297,9 @@ def test_reset_writes_frame_0_again_and_diverged_frames_are_left_out(sim_cli, tm
     g.reset()
     g.step(1)
     g.close_outputs()
-    frames = [line.split(",")[0] for line in (tmp_path / "mid.csv").read_text().splitlines()[1:]]
+    mid = (tmp_path / "mid.csv").read_text().splitlines()
+    assert mid[0] == "# model: palmer" and mid[1].startswith("frame,time_s,")
+    frames = [line.split(",")[0] for line in mid[2:]]
     assert frames == ["5", "6", "7", "0", "1"]
 
 
@@ -439,7 +439,7 @@ def test_flightgear_python_decodes_the_python_flight(tmp_path) -> None:
                              capture_output=True, text=True, timeout=120)
     assert decoded.returncode == 0, decoded.stderr
     fields = [json.loads(x) for x in decoded.stdout.splitlines()]
-    rows = list(csv.DictReader(io.StringIO((tmp_path / "f.csv").read_text(encoding="utf-8"))))
+    rows = csv_rows((tmp_path / "f.csv").read_text(encoding="utf-8"), "bourg")
     assert len(fields) == frames
     for i, f in enumerate(fields):
         row = rows[i + 1]

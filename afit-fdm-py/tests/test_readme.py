@@ -53,5 +53,7 @@ def test_readme_outputs_example_runs(tmp_path, monkeypatch) -> None:
     exec(compile(code, "README.md", "exec"), scope)  # noqa: S102
     f = scope["f"]
     assert f.outputs == [] and f.frame == 900
-    assert len((tmp_path / "flight.csv").read_text(encoding="utf-8").splitlines()) == 1 + 901
+    lines = (tmp_path / "flight.csv").read_text(encoding="utf-8").splitlines()
+    assert lines[0] == "# model: palmer" and lines[1].startswith("frame,time_s,")
+    assert len(lines) == 2 + 901
     assert (tmp_path / "flight.zip.acmi").stat().st_size > 0

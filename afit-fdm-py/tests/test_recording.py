@@ -5,9 +5,7 @@ is the exact value)."""
 
 from __future__ import annotations
 
-import csv
 import gc
-import io
 import json
 import pathlib
 import subprocess
@@ -18,15 +16,17 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import afit_fdm
-from conftest import REPO
+from conftest import REPO, csv_rows
 from test_flight import compare, row_of, same
 
 GOLDEN = REPO / "sim-cli" / "tests" / "golden"
 
 
-def read_csv(path: pathlib.Path) -> List[Dict[str, float]]:
+def read_csv(path: pathlib.Path, model: str) -> List[Dict[str, float]]:
+    """A flight CSV written by ``model`` (its first line says so), every
+    number parsed with ``float``."""
     text = path.read_text(encoding="utf-8")
-    return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(io.StringIO(text))]
+    return [{k: float(v) for k, v in row.items()} for row in csv_rows(text, model)]
 
 
 def trajectory_rows(replay: afit_fdm.Replay) -> List[Dict[str, float]]:
@@ -64,7 +64,7 @@ def test_golden_cli_recordings_replay_to_the_committed_csv_and_json(model: str, 
     replay = afit_fdm.replay(stem.with_suffix(".rec"), trajectory=True)
     report = json.loads(stem.with_suffix(".replay.json").read_text(encoding="utf-8"))
     assert (replay.model, replay.fps, replay.frames) == (model, report["fps"], report["frames"])
-    compare_csv(read_csv(stem.with_suffix(".replay.csv")), trajectory_rows(replay), model)
+    compare_csv(read_csv(stem.with_suffix(".replay.csv"), model), trajectory_rows(replay), model)
     final = replay.flight.state
     keys = ("x_m", "y_m", "z_m") if model == "palmer" else ("x_ft", "y_ft", "z_ft")
     assert all(same(final[k], v) for k, v in zip(keys, report["position"]))
@@ -145,7 +145,7 @@ def test_a_python_recording_replays_in_sim_cli_to_the_same_states(sim_cli, tmp_p
     assert "note" not in proc.stderr and "warning" not in proc.stderr, proc.stderr
     report = json.loads(proc.stdout)
     assert report["frames"] == 122
-    cli = read_csv(out_csv)
+    cli = read_csv(out_csv, model)
     # Rows with a step of several frames in one call: only its last frame
     # was seen from Python; the CLI wrote them all.
     by_key = {}
@@ -301,7 +301,7 @@ def test_a_cut_recording_is_refused_with_where_it_was_cut_or_salvaged(sim_cli, t
     r = afit_fdm.replay(cut_file, trajectory=True, salvage=True)
     assert r.cut == (err.at_byte, err.frames) and r.frames == err.frames
     assert r.same_final_state is None
-    compare_csv(read_csv(tmp_path / "cut.csv"), trajectory_rows(r), "palmer")
+    compare_csv(read_csv(tmp_path / "cut.csv", "palmer"), trajectory_rows(r), "palmer")
     # Bytes name no file; a complete recording has no cut.
     with pytest.raises(afit_fdm.RecordingCutError, match="^the recording: cut at byte"):
         afit_fdm.replay(cut_file.read_bytes())
@@ -334,6 +334,6 @@ def test_a_replay_stops_at_the_diverged_frame_as_sim_cli_replay(sim_cli, tmp_pat
                           capture_output=True, text=True)
     assert proc.returncode == 1
     assert f"frame {frame}: the bourg model diverged" in proc.stderr
-    rows = read_csv(tmp_path / "d.csv")
+    rows = read_csv(tmp_path / "d.csv", "bourg")
     assert len(rows) == frame
     compare_csv(rows, trajectory_rows(replay), "bourg")

@@ -3,7 +3,7 @@
 //! | module | what |
 //! |---|---|
 //! | [`flight`] | one flight's six panels ([`render_svg`]), its samples in bounded memory ([`TraceBuilder`]), and [`PlotOutput`], the plot as an [`fdm_run::Output`] (`sim-cli --plot`, `sim-cli replay --plot`) |
-//! | [`csv`] | a flight CSV (`sim-cli --csv`) read back into samples ([`csv::read_trace`]), the model named by the registry (`sim-cli plot`) |
+//! | [`csv`] | a flight CSV (`sim-cli --csv`) read back into samples ([`csv::read_trace`], [`csv::read_trace_among`]), the model the CSV's first line names, `# model: NAME` (`sim-cli plot`) |
 //! | [`study`] | a Monte Carlo study's `study.svg`: histograms, touchdown scatter, ground tracks ([`study::render`]) |
 //!
 //! Drawn with `plotters`' SVG backend only (no font or bitmap system

@@ -1,8 +1,14 @@
 //! Per-frame CSV: one row per frame, buffered ([`CsvWriter`]), and the same
 //! as an [`Output`] of a run ([`CsvOutput`]).
 //!
-//! Layout: a header `frame,time_s,<columns>`, a row for the initial state as
-//! frame 0, then one row after every step (and frame 0 again after a reset).
+//! Layout: for a record that names its model ([`CsvRecord::csv_model`], as
+//! every flight CSV's [`FlightRow`] does), first one comment line
+//! `# model: NAME` ([`MODEL_LINE_PREFIX`] and the registry's name of the model
+//! that wrote it, e.g. `# model: palmer`), so a reader such as `sim-cli plot`
+//! knows the model without guessing it from the columns; then a header
+//! `frame,time_s,<columns>`, a row for the initial state as frame 0, then one
+//! row after every step (and frame 0 again after a reset). The comment line is
+//! the only line starting with `#` (pandas: `read_csv(path, comment='#')`).
 //! Numbers use Rust's shortest round-trip form (exponent notation for very
 //! large or small magnitudes); NaN and infinities are written as `NaN`,
 //! `inf`, `-inf`, which Python and pandas read back.
@@ -30,7 +36,18 @@ pub trait CsvRecord {
     fn time_s(&self) -> f64;
     /// Appends one value per column, in [`Self::csv_columns`] order.
     fn csv_values(&self, out: &mut Vec<f64>);
+    /// The registry's name of the model that wrote the row
+    /// ([`Model::NAME`]), written before the header as `# model: NAME`
+    /// ([`MODEL_LINE_PREFIX`]); `None` (the default): no model line.
+    fn csv_model(&self) -> Option<&'static str> {
+        None
+    }
 }
+
+/// How a flight CSV's first line starts: `# model: NAME`, NAME being the
+/// registry's name of the model that wrote the file ([`Model::NAME`]:
+/// `palmer`, `bourg`, ...). The header follows on the next line.
+pub const MODEL_LINE_PREFIX: &str = "# model: ";
 
 /// Why a CSV row or header was not written.
 #[derive(Debug, thiserror::Error)]
@@ -99,6 +116,23 @@ impl<W: Write> CsvWriter<W> {
         self.columns.is_some()
     }
 
+    /// Writes the model line `# model: NAME` ([`MODEL_LINE_PREFIX`]), which
+    /// comes before the header.
+    ///
+    /// # Errors
+    /// [`CsvError::HeaderTwice`] if the header was already written,
+    /// [`CsvError::Io`] if writing fails.
+    pub fn write_model_line(&mut self, model: &str) -> Result<(), CsvError> {
+        if self.columns.is_some() {
+            return Err(CsvError::HeaderTwice(self.name.clone()));
+        }
+        self.line.clear();
+        self.line.push_str(MODEL_LINE_PREFIX);
+        self.line.push_str(model);
+        self.line.push('\n');
+        self.flush_line()
+    }
+
     /// Writes the header line `frame,time_s,<columns>`.
     ///
     /// # Errors
@@ -149,12 +183,18 @@ impl<W: Write> CsvWriter<W> {
         self.flush_line()
     }
 
-    /// Writes `record` as frame `frame`, writing the header first if needed.
+    /// Writes `record` as frame `frame`, writing the model line (when the
+    /// record names its model, [`CsvRecord::csv_model`]) and the header
+    /// first if needed.
     ///
     /// # Errors
-    /// As [`Self::write_header`] and [`Self::write_row`].
+    /// As [`Self::write_model_line`], [`Self::write_header`] and
+    /// [`Self::write_row`].
     pub fn write_record(&mut self, frame: u64, record: &impl CsvRecord) -> Result<(), CsvError> {
         if self.columns.is_none() {
+            if let Some(model) = record.csv_model() {
+                self.write_model_line(model)?;
+            }
             self.write_header(&record.csv_columns())?;
         }
         let mut values = std::mem::take(&mut self.values);
@@ -280,7 +320,8 @@ pub fn status_number(status: FlightStatus, stalling: bool) -> f64 {
 
 /// One row of a flight's CSV, made from a run's [`Frame`]: `time_s` (the
 /// model's clock), [`COMMON_COLUMNS`], the model's [`CsvModel::CSV_COLUMNS`],
-/// `status` ([`status_number`]).
+/// `status` ([`status_number`]). The file names its model first:
+/// `# model: NAME` ([`MODEL_LINE_PREFIX`], [`Model::NAME`]).
 ///
 /// ```
 /// use fdm_core::palmer::Palmer;
@@ -293,8 +334,8 @@ pub fn status_number(status: FlightStatus, stalling: bool) -> f64 {
 /// run.run_to_end()?;
 /// run.finish()?;
 /// let text = String::from_utf8(csv.take().unwrap().into_inner().finish()?)?;
-/// assert!(text.starts_with("frame,time_s,x,y,z,vx,vy,vz,lat_deg,lon_deg,alt_m,"));
-/// assert_eq!(text.lines().count(), 1 + 4);
+/// assert!(text.starts_with("# model: palmer\nframe,time_s,x,y,z,vx,vy,vz,lat_deg,lon_deg,alt_m,"));
+/// assert_eq!(text.lines().count(), 2 + 4);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy)]
@@ -338,6 +379,10 @@ impl<M: CsvModel> CsvRecord for FlightRow<M> {
 
     fn time_s(&self) -> f64 {
         self.time_s
+    }
+
+    fn csv_model(&self) -> Option<&'static str> {
+        Some(M::NAME)
     }
 
     fn csv_values(&self, out: &mut Vec<f64>) {
@@ -508,6 +553,43 @@ mod tests {
         }
         // The throttle went up: the rows are not all the start's.
         assert!(rows[45].3 > rows[0].3);
+    }
+
+    /// A flight CSV names its model on its first line, `# model: NAME`
+    /// (the registry's name), before the header; a record that names no
+    /// model (the default) has no such line.
+    #[test]
+    fn a_flight_csv_names_its_model_first() {
+        fn text<M: CsvModel>() -> String {
+            let mut run = Run::new(Scenario::<M>::new(Start::thesis(), 30, 1).unwrap()).unwrap();
+            let csv = SharedOutput::new(CsvOutput::new(
+                CsvWriter::new(Vec::new(), "mem"),
+                FlightRow::<M>::of,
+            ));
+            run.attach(csv.clone()).unwrap();
+            run.run_to_end().unwrap();
+            run.finish().unwrap();
+            String::from_utf8(csv.take().unwrap().into_inner().finish().unwrap()).unwrap()
+        }
+        for (text, name) in [
+            (text::<Palmer>(), "palmer"),
+            (text::<fdm_core::bourg::Bourg>(), "bourg"),
+        ] {
+            let mut lines = text.lines();
+            assert_eq!(
+                lines.next(),
+                Some(format!("{MODEL_LINE_PREFIX}{name}").as_str())
+            );
+            assert!(lines.next().unwrap().starts_with("frame,time_s,x,y,z,"));
+            assert_eq!(lines.count(), 2, "frames 0 and 1");
+            assert_eq!(text.matches('#').count(), 1, "{text}");
+        }
+        let mut w = CsvWriter::new(Vec::new(), "mem");
+        w.write_header(&["a"]).unwrap();
+        assert!(matches!(
+            w.write_model_line("palmer"),
+            Err(CsvError::HeaderTwice(_))
+        ));
     }
 
     /// A [`FlightRow`] has one value per column for both models, `status`

@@ -2,9 +2,14 @@
 //!
 //! [`RunModel`] is [`Model`] plus what a recording needs: serde state and
 //! controls, and the aircraft's parameters as a storable record. The
-//! registry ([`MODELS`], [`with_model`]) is the one place above `fdm-core`
-//! that lists the models by name: the recording's model names, `sim-cli`'s
-//! subcommands and CSV model names all come from it. Its models also write
+//! registry ([`MODELS`], [`with_model`]) is the run library's list of its
+//! models by name: the recording's and the flight CSV's model names
+//! ([`Model::NAME`]; a flight CSV's first line is `# model: NAME`), and what
+//! a program without models of its own (the Python bindings) reads
+//! recordings, CSVs (`fdm_plot::csv::read_trace`) and study files
+//! (`fdm_study::StudyEntry::registry`) with. `sim-cli`'s registry lists the
+//! same models (and, with its `glider` feature, one outside the library
+//! crates) and gives its own list to those readers. Its models also write
 //! the flight CSV ([`CsvModel`]).
 //!
 //! [`FleetModel`] is what a fleet run ([`crate::fleet`]) needs besides: the
@@ -87,7 +92,8 @@ pub trait RunModel:
 /// its position and velocity in its own unit, its own columns, and how a
 /// plot reads them back ([`crate::csv`] writes the rows). Every model of the
 /// registry is one, so a job run by name ([`with_model`]) can also read or
-/// write its CSV (`fdm_plot::csv` finds a CSV's model from its header).
+/// write its CSV (`fdm_plot::csv` reads a CSV's model from its first line,
+/// `# model: NAME`).
 pub trait CsvModel: RunModel {
     /// The model's own columns, between
     /// [`COMMON_COLUMNS`](crate::csv::COMMON_COLUMNS) and `status`.

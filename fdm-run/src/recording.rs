@@ -223,8 +223,11 @@ pub enum RecordingError {
         /// The version in the file.
         found: u16,
     },
-    /// A model this `sim-cli` does not have (the name as stored).
-    #[error("recorded with model `{}`, which this sim-cli does not have ({})", Echo::short(.0), MODELS.join(", "))]
+    /// A model the run library's registry ([`MODELS`]) does not have (the
+    /// name as stored). A program with models of its own looks the name up
+    /// in its list first ([`recorded_model_name`]) and says so in its own
+    /// words (`sim-cli replay`: "which this sim-cli does not have").
+    #[error("recorded with model `{}`, which the run library's registry does not have ({})", Echo::short(.0), MODELS.join(", "))]
     UnknownModel(String),
     /// A recording of another model than the one asked for.
     #[error("a recording of model `{}`, not `{expected}`", Echo::short(.found))]
@@ -1159,6 +1162,18 @@ mod tests {
     /// A well-formed recording of more frames than any run may have (here
     /// 2^40, written by hand) is refused rather than replayed for ever.
     /// (Moved here from `sim-cli` with the format: it sets private fields.)
+    /// The library's message for a model outside its registry names no
+    /// program (`sim-cli replay` prints its own, from its registry).
+    #[test]
+    fn an_unknown_model_message_names_no_program() {
+        let message = RecordingError::UnknownModel("glider".to_owned()).to_string();
+        assert_eq!(
+            message,
+            "recorded with model `glider`, which the run library's registry does not have \
+             (palmer, bourg)"
+        );
+    }
+
     #[test]
     fn endless_recordings_are_refused() {
         let start = Start::<Palmer>::thesis();

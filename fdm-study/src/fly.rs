@@ -12,7 +12,7 @@ use fdm_fleet::{Fleet, Precision};
 use fdm_run::{Event, Frame, Output, OutputError};
 
 use crate::measure::{needs_view, Measure, Tracker};
-use crate::model::{with_study_model, StudyJob, StudyModel};
+use crate::model::{StudyJob, StudyModel};
 use crate::spec::{RunSetup, Stop, Study};
 use crate::table::{Row, RunStatus, RunTable};
 use crate::track::{GroundTrack, TrackPlan};
@@ -168,20 +168,13 @@ impl Study {
         if options.threads == 0 {
             return Err(StudyError::Threads);
         }
-        with_study_model(
-            self.model(),
-            FlyJob {
-                study: self,
-                runs,
-                options: *options,
-                stop: &stop,
-                plan,
-            },
-        )
-        .unwrap_or(Err(StudyError::Model {
-            study: self.model(),
-            asked: "registry",
-        }))
+        self.entry().fly(FlyJob {
+            study: self,
+            runs,
+            options: *options,
+            stop: &stop,
+            plan,
+        })
     }
 
     /// Flies one block of runs of model `M` (keeping the tracks of
@@ -363,7 +356,11 @@ impl Study {
 /// A block's (or a range's) rows and the ground tracks kept.
 type Flown = (RunTable, Vec<GroundTrack>);
 
-struct FlyJob<'a> {
+/// What flying a study's runs returns.
+pub(crate) type FlyResult = Result<Flown, StudyError>;
+
+/// Flying a study's runs with its model's type.
+pub(crate) struct FlyJob<'a> {
     study: &'a Study,
     runs: Range<u64>,
     options: FlyOptions,
@@ -540,23 +537,15 @@ impl Study {
     /// program's own code and stacks aside).
     #[must_use]
     pub fn memory(&self, chunk_runs: u64) -> MemoryEstimate {
-        with_study_model(
-            self.model(),
-            MemoryJob {
-                study: self,
-                chunk_runs,
-            },
-        )
-        .unwrap_or(MemoryEstimate {
-            kept_per_run: 0,
-            flying_per_run: 0,
+        self.entry().memory(MemoryJob {
+            study: self,
             chunk_runs,
-            total: 0,
         })
     }
 }
 
-struct MemoryJob<'a> {
+/// A study's memory estimate with its model's type.
+pub(crate) struct MemoryJob<'a> {
     study: &'a Study,
     chunk_runs: u64,
 }

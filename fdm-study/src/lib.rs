@@ -87,7 +87,7 @@ pub mod track;
 
 pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, BLOCK_RUNS};
 pub use measure::Measure;
-pub use model::StudyModel;
+pub use model::{StudyEntry, StudyModel};
 pub use spec::{Distribution, Stop, Study, MAX_RUNS};
 pub use summary::{summarize, MeasureSummary, StoppedEarly, Summary, SummaryBuilder};
 pub use table::{RunStatus, RunTable};

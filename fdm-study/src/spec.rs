@@ -13,7 +13,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::measure::Measure;
-use crate::model::{with_study_model, StudyJob, StudyModel};
+use crate::model::{StudyEntry, StudyJob, StudyModel};
 use crate::rng::{normal_cdf, normal_quantile, uniform};
 use crate::StudyError;
 
@@ -212,7 +212,7 @@ struct StudyFile {
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Study {
-    model: &'static str,
+    model: StudyEntry,
     runs: u64,
     seed: u64,
     fps: u32,
@@ -255,12 +255,23 @@ pub(crate) struct RunSetup<M: Model> {
 }
 
 impl Study {
-    /// Parses and validates a study file's text.
+    /// Parses and validates a study file's text; its model is one of the
+    /// run library's registry ([`StudyEntry::registry`]).
     ///
     /// # Errors
     /// [`StudyError::Invalid`] naming the line, the key and what was
     /// expected.
     pub fn from_toml_str(text: &str) -> Result<Self, StudyError> {
+        Self::from_toml_str_among(text, &StudyEntry::registry())
+    }
+
+    /// Parses and validates a study file's text whose model is one of
+    /// `models` (a program's own registry, e.g. `sim-cli`'s).
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] naming the line, the key and what was
+    /// expected (for `model`: one of `models`' names).
+    pub fn from_toml_str_among(text: &str, models: &[StudyEntry]) -> Result<Self, StudyError> {
         let file: StudyFile = toml::from_str(text).map_err(|e| {
             let line = e.span().map_or(1, |s| line_of(text, s.start));
             StudyError::Syntax {
@@ -273,17 +284,18 @@ impl Study {
             key: key.to_owned(),
             expected,
         };
-        let model = fdm_run::model::MODELS
+        let model = models
             .iter()
             .copied()
-            .find(|m| *m == file.model.get_ref())
+            .find(|m| m.name() == file.model.get_ref())
             .ok_or_else(|| {
+                let names: Vec<&str> = models.iter().map(StudyEntry::name).collect();
                 invalid(
                     file.model.span(),
                     "model",
                     format!(
                         "one of {}, found \"{}\"",
-                        fdm_run::model::MODELS.join(", "),
+                        names.join(", "),
                         file.model.get_ref()
                     ),
                 )
@@ -484,15 +496,11 @@ impl Study {
         };
         // The model's own checks: the names of controls, parameters, the
         // script's actions, and the nominal run's start.
-        with_study_model(
-            model,
-            CheckModel {
-                study: &study,
-                file: &file,
-                text,
-            },
-        )
-        .unwrap_or(Ok(()))?;
+        model.check(CheckModel {
+            study: &study,
+            file: &file,
+            text,
+        })?;
         Ok(study)
     }
 
@@ -506,6 +514,19 @@ impl Study {
             source,
         })?;
         Self::from_toml_str(&text)
+    }
+
+    /// Reads and parses a study file whose model is one of `models`
+    /// ([`Study::from_toml_str_among`]).
+    ///
+    /// # Errors
+    /// As [`Study::from_path`].
+    pub fn from_path_among(path: &Path, models: &[StudyEntry]) -> Result<Self, StudyError> {
+        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_toml_str_among(&text, models)
     }
 
     /// The same study with `runs` runs.
@@ -542,6 +563,12 @@ impl Study {
     /// The model's name ([`fdm_core::model::Model::NAME`]).
     #[must_use]
     pub fn model(&self) -> &'static str {
+        self.model.name()
+    }
+
+    /// The study's model's entry (its name and its type's study work).
+    #[must_use]
+    pub fn entry(&self) -> StudyEntry {
         self.model
     }
 
@@ -762,9 +789,9 @@ impl Study {
         run: u64,
         frames: u64,
     ) -> Result<Scenario<M>, StudyError> {
-        if M::NAME != self.model {
+        if M::NAME != self.model() {
             return Err(StudyError::Model {
-                study: self.model,
+                study: self.model(),
                 asked: M::NAME,
             });
         }
@@ -932,7 +959,7 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
 }
 
 /// The model-specific checks of a study file.
-struct CheckModel<'a> {
+pub(crate) struct CheckModel<'a> {
     study: &'a Study,
     file: &'a StudyFile,
     text: &'a str,

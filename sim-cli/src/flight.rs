@@ -671,11 +671,14 @@ mod tests {
                 Ok(())
             }
         }
+        /// The frame numbers of a Palmer CSV's rows, after its model line
+        /// and header.
         fn frames_of(buffer: &Buffer) -> Vec<String> {
-            String::from_utf8(buffer.0.lock().unwrap().clone())
-                .unwrap()
-                .lines()
-                .skip(1)
+            let text = String::from_utf8(buffer.0.lock().unwrap().clone()).unwrap();
+            let mut lines = text.lines();
+            assert_eq!(lines.next(), Some("# model: palmer"));
+            assert!(lines.next().unwrap().starts_with("frame,time_s,"));
+            lines
                 .map(|l| l.split(',').next().unwrap().to_owned())
                 .collect()
         }

@@ -3,8 +3,10 @@
 //! `--csv`: the CLI's side of the plot. The drawing, the plot as an output
 //! of a run and the CSV read back into samples are the library's
 //! ([`fdm_plot`]: six panels, bounded memory, [`fdm_plot::PlotOutput`],
-//! [`fdm_plot::csv::read_trace`], which takes the model from the registry
-//! by the CSV's header); here are the output file, created before the run
+//! [`fdm_plot::csv::read_trace_among`], which takes the model the CSV's
+//! first line names, `# model: NAME`, among the CLI's registry's models,
+//! [`ModelKind::csv_layouts`]; files written before that line by their
+//! header); here are the output file, created before the run
 //! ([`PlotFile`]), and the mapping of errors to exit statuses.
 
 use std::fs::File;
@@ -16,6 +18,7 @@ use fdm_plot::{PlotError, PlotOutput};
 pub use fdm_plot::Trace;
 
 use crate::error::CliError;
+use crate::models::ModelKind;
 
 impl From<PlotError> for CliError {
     /// Every plot failure happens after the input was accepted: a run-time
@@ -83,7 +86,8 @@ impl PlotFile {
 pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
     let file = crate::input::open_input(csv, "CSV")?;
     let name = csv.display().to_string();
-    let read = fdm_plot::csv::read_trace(std::io::BufReader::new(file), &name)?;
+    let models = ModelKind::csv_layouts();
+    let read = fdm_plot::csv::read_trace_among(std::io::BufReader::new(file), &name, &models)?;
     if let Some(warning) = &read.torn_last_row {
         eprintln!("sim-cli: warning: {warning}");
     }

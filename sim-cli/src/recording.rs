@@ -353,10 +353,14 @@ mod tests {
                 full_csv.starts_with(&csv),
                 "{frames} frames salvaged from {len} bytes: not a prefix of the full replay"
             );
-            // The header line and frame 0, then a row per frame and one more
-            // per reset (a reset writes a new frame 0).
+            // The model line, the header line and frame 0, then a row per
+            // frame and one more per reset (a reset writes a new frame 0).
+            assert!(
+                csv.starts_with("# model: palmer\nframe,time_s,"),
+                "{csv:.80}"
+            );
             let resets = recording.resets as usize;
-            assert_eq!(csv.lines().count(), 2 + frames as usize + resets);
+            assert_eq!(csv.lines().count(), 3 + frames as usize + resets);
         }
     }
 

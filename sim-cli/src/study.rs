@@ -8,7 +8,9 @@
 //! says the study was stopped; `--run I` stops at the next frame and writes no
 //! `run-I.csv` for a flight cut short.
 //!
-//! The flying, the streaming and the summary are the library's
+//! The study file's `model` is looked up in the CLI's registry
+//! ([`ModelKind::study_models`]), so every model `sim-cli` flies can be
+//! studied. The flying, the streaming and the summary are the library's
 //! ([`fdm_study::batch`]: [`Batch`], [`fdm_study::batch::scenario_alone`]);
 //! here are the options, the output files (created locked, the CSV
 //! registered with the signal thread), the memory checks, `study.svg`
@@ -44,7 +46,9 @@ fn usage(e: impl std::fmt::Display, file: &Path) -> CliError {
 /// that will not fit in `--memory-limit-mib`; [`CliError::Runtime`] for a
 /// failure while flying or writing.
 pub fn run(args: &StudyArgs) -> Result<(), CliError> {
-    let mut study = Study::from_path(&args.file).map_err(|e| usage(e, &args.file))?;
+    // The CLI's registry, which may have models the run library's does not.
+    let mut study = Study::from_path_among(&args.file, &ModelKind::study_models())
+        .map_err(|e| usage(e, &args.file))?;
     if let Some(runs) = args.runs {
         study = study.with_runs(runs).map_err(|e| usage(e, &args.file))?;
     }

@@ -11,7 +11,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use fdm_tests::python::{PyScript, PYACMI, PYACMI_SCRIPT};
-use support::{scratch, sim, sim_ok, text};
+use support::{csv_body, scratch, sim, sim_ok, text};
 
 const EXAMPLES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/scripts/");
 
@@ -73,10 +73,10 @@ fn read(path: &Path) -> Read {
 }
 
 /// The CSV's placement columns by frame number (the first row of each frame
-/// number: a headless flight has one).
-fn csv_placements(path: &Path) -> HashMap<u64, [f64; 6]> {
+/// number: a headless flight has one), of a CSV written by `model`.
+fn csv_placements(path: &Path, model: &str) -> HashMap<u64, [f64; 6]> {
     let csv = std::fs::read_to_string(path).unwrap();
-    let mut lines = csv.lines();
+    let mut lines = csv_body(&csv, model).lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|&h| h == name).unwrap();
     let cols = [
@@ -121,7 +121,7 @@ fn the_acmi_track_is_the_csvs_within_1e_7_degrees_and_a_centimetre() {
             "--acmi-reference-time",
             "2024-05-01T12:00:00Z",
         ]);
-        let rows = csv_placements(&csv);
+        let rows = csv_placements(&csv, model);
         let read = read(&acmi);
         assert_eq!(read.header["ReferenceTime"], "2024-05-01T12:00:00Z");
         assert_eq!(read.header["FileVersion"], "2.2");

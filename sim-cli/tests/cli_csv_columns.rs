@@ -7,18 +7,18 @@
 mod support;
 
 use serde_json::Value;
-use support::{num, report, scratch, write_file};
+use support::{csv_body, num, report, scratch, write_file};
 
-/// One parsed CSV file: the header and the rows.
+/// One parsed CSV file: the header and the rows (after the model line).
 struct Csv {
     header: Vec<String>,
     rows: Vec<Vec<f64>>,
 }
 
 impl Csv {
-    fn read(path: &std::path::Path) -> Self {
+    fn read(path: &std::path::Path, model: &str) -> Self {
         let text = std::fs::read_to_string(path).unwrap();
-        let mut lines = text.lines();
+        let mut lines = csv_body(&text, model).lines();
         let header = lines
             .next()
             .unwrap()
@@ -103,7 +103,7 @@ fn run_and_compare(model: &str, extra: &[&str], script: &str, frames: u64, stops
         report(&args)
     };
     run(frames, true);
-    let csv = Csv::read(&csv_path);
+    let csv = Csv::read(&csv_path, model);
     assert_eq!(csv.rows.len() as u64, frames + 1, "{model}");
     for &stop in stops {
         let r = run(stop, false);

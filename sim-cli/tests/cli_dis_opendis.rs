@@ -30,7 +30,7 @@ use std::path::Path;
 use fdm_tests::python::PyScript;
 
 use serde_json::Value;
-use support::{num, report, scratch};
+use support::{csv_body, num, report, scratch};
 
 const LATLON_TOL_DEG: f64 = 1e-6;
 const HEIGHT_TOL_M: f64 = 0.01;
@@ -56,10 +56,10 @@ fn finish(mut decoder: PyScript, count: u64) -> Vec<Value> {
     pdus
 }
 
-/// The CSV rows by frame: `{column: value}`.
+/// The CSV rows by frame, after Palmer's model line: `{column: value}`.
 fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, f64>> {
     let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
+    let mut lines = csv_body(&text, "palmer").lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     lines
         .map(|l| {

@@ -10,7 +10,7 @@ use std::net::UdpSocket;
 use std::time::Duration;
 
 use fgnet::FgNetFdm;
-use support::{num, report, scratch, sim, text, triple, write_file};
+use support::{csv_body, num, report, scratch, sim, text, triple, write_file};
 
 #[test]
 fn palmer_crash_at_10_fps_stays_on_the_ground_and_exits_0() {
@@ -46,6 +46,7 @@ fn palmer_crash_at_10_fps_stays_on_the_ground_and_exits_0() {
     assert_eq!(triple(&r["position"])[2], 0.0);
     assert_eq!(triple(&r["velocity"]), [0.0; 3]);
     let rows = std::fs::read_to_string(csv).unwrap();
+    let rows = csv_body(&rows, "palmer");
     let header: Vec<&str> = rows.lines().next().unwrap().split(',').collect();
     let z = header.iter().position(|c| *c == "z").unwrap();
     let status = header.iter().position(|c| *c == "status").unwrap();
@@ -125,8 +126,9 @@ fn a_divergence_stops_the_run_with_one_line_and_nothing_non_finite() {
         message,
         "the bourg model diverged (non-finite state) at dt = 1.0 s; try a higher --fps"
     );
-    // CSV: header and frames 0..frame-1, all finite, flushed.
+    // CSV: the model line, the header and frames 0..frame-1, all finite, flushed.
     let rows = std::fs::read_to_string(csv).unwrap();
+    let rows = csv_body(&rows, "bourg");
     let frames: Vec<u64> = rows
         .lines()
         .skip(1)

@@ -5,12 +5,14 @@
 //! (`sim-cli/src/models/mod.rs`). Through the built binary: its subcommand
 //! and help are there, derived from the registry; it flies headless with
 //! the options every model shares; its report, CSV and recording name it;
-//! the recording replays to the same bits; `fleet` (both kernels) and
-//! `fgfs-command` take it by name.
+//! the recording replays to the same bits; `plot` reads its CSV; `study`
+//! flies studies of it (the CLI's registry is the list the study file's
+//! `model` is looked up in); `fleet` (both kernels) and `fgfs-command` take
+//! it by name.
 
 mod support;
 
-use support::{report, scratch, sim, sim_ok, text, write_file};
+use support::{csv_body, report, scratch, sim, sim_ok, text, write_file};
 
 #[test]
 fn the_glider_is_a_subcommand_with_help_from_the_registry() {
@@ -104,9 +106,9 @@ fn the_glider_flies_headless_and_reports_as_itself() {
     assert_eq!(v["bank_deg"], 30.0);
 }
 
-/// The CSV and the recording name the model (from the registry), and the
-/// recording replays to the recorded flight's report and CSV, byte for
-/// byte; the ACMI file names it too.
+/// The CSV and the recording name the model (from the registry), `sim-cli
+/// plot` replots the CSV, and the recording replays to the recorded
+/// flight's report and CSV, byte for byte; the ACMI file names it too.
 #[test]
 fn the_glider_records_replays_and_writes_its_outputs() {
     let dir = scratch("glider-outputs");
@@ -130,7 +132,7 @@ fn the_glider_records_replays_and_writes_its_outputs() {
         &plot,
     ]);
     let header = std::fs::read_to_string(&csv).unwrap();
-    let header = header.lines().next().unwrap();
+    let header = csv_body(&header, "glider").lines().next().unwrap();
     assert!(
         header.ends_with(",airspeed,lift_coefficient,bank_deg,status"),
         "{header}"
@@ -147,6 +149,23 @@ fn the_glider_records_replays_and_writes_its_outputs() {
         svg.contains("Point-mass glider"),
         "the plot's title is the model's"
     );
+
+    // `sim-cli plot` reads the glider's CSV (its model line names it; the
+    // glider is in the CLI's registry, not the run library's) and draws
+    // the run's own plot but for the title, which names the file.
+    let replot = path("replot.svg");
+    sim_ok(&["plot", &csv, "-o", &replot]);
+    let replotted = std::fs::read_to_string(&replot).unwrap();
+    assert!(
+        replotted.contains(&format!("Point-mass glider from {csv}: 121 samples")),
+        "the replot's title names the model and the file"
+    );
+    let without_title = |svg: &str| {
+        let start = svg.find("<text").expect("a title");
+        let end = start + svg[start..].find("</text>").expect("closed");
+        format!("{}{}", &svg[..start], &svg[end..])
+    };
+    assert_eq!(without_title(&replotted), without_title(&svg));
 
     let replay_csv = path("replay.csv");
     let replayed = sim_ok(&["replay", &rec, "--json", "--csv", &replay_csv]);
@@ -179,4 +198,60 @@ fn fleets_and_fgfs_take_the_glider_by_name() {
     }
     let line = sim_ok(&["fgfs-command", "glider"]);
     assert!(line.contains("--aircraft=ufo"), "{line}");
+}
+
+/// A study of the glider: the study file's `model` is looked up in the
+/// CLI's registry (the glider is not in the run library's), the batch flies
+/// on the lanes fleets, and `--run I` flies run I alone to the batch's row,
+/// with its own CSV naming the model.
+#[test]
+fn the_glider_is_studied_by_name() {
+    let dir = scratch("glider-study");
+    let file = write_file(
+        &dir,
+        "g.toml",
+        r#"
+model = "glider"
+runs = 8
+seed = 5
+duration_s = 4.0
+measures = ["final_x_m", "max_height_m"]
+[controls]
+lift_coefficient = 0.8
+[[dispersion]]
+key = "controls.bank_deg"
+distribution = "uniform"
+low = -20.0
+high = 20.0
+"#,
+    );
+    let out = dir.join("out");
+    let out_s = out.to_str().unwrap();
+    let o = sim(&["study", &file, "--out", out_s]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    let lines: Vec<&str> = runs.lines().collect();
+    assert_eq!(
+        lines[0],
+        "run,status,final_x_m,max_height_m,input.controls.bank_deg,fingerprint"
+    );
+    assert_eq!(lines.len(), 1 + 8);
+    let flight_csv = dir.join("run-3-flight.csv");
+    let o = sim(&[
+        "study",
+        &file,
+        "--out",
+        out_s,
+        "--run",
+        "3",
+        "--csv",
+        flight_csv.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let alone = std::fs::read_to_string(out.join("run-3.csv")).unwrap();
+    let alone: Vec<&str> = alone.lines().collect();
+    assert_eq!(alone, [lines[0], lines[4]]);
+    let flight = std::fs::read_to_string(&flight_csv).unwrap();
+    assert_eq!(csv_body(&flight, "glider").lines().count(), 1 + 121);
 }

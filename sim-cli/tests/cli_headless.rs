@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use fgnet::FgNetFdm;
 use serde_json::Value;
-use support::{num, report, scratch, sim, text, triple, write_file};
+use support::{csv_body, num, report, scratch, sim, text, triple, write_file};
 
 #[test]
 fn json_report_has_the_contract_fields() {
@@ -182,7 +182,7 @@ fn csv_has_a_header_and_one_row_per_frame() {
         }
         let r = report(&args);
         let content = std::fs::read_to_string(&csv).unwrap();
-        let mut lines = content.lines();
+        let mut lines = csv_body(&content, model).lines();
         let header: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(&header[..5], ["frame", "time_s", "x", "y", "z"], "{model}");
         let rows: Vec<Vec<f64>> = lines

@@ -19,7 +19,7 @@ mod support;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use support::{scratch, sim, text};
+use support::{csv_body, scratch, sim, text};
 
 fn signal_finishes_every_output(signal: &str, number: i32) {
     let dir = scratch(&format!("signal-outputs-{signal}"));
@@ -88,8 +88,7 @@ fn signal_finishes_every_output(signal: &str, number: i32) {
         plot.trim_end().ends_with("</svg>"),
         "{signal}: plot unfinished"
     );
-    let rows = std::fs::read_to_string(&csv)
-        .expect("the CSV")
+    let rows = csv_body(&std::fs::read_to_string(&csv).expect("the CSV"), "palmer")
         .lines()
         .count() as u64;
     assert_eq!(rows, frames + 2, "{signal}: CSV rows");

@@ -11,7 +11,7 @@
 
 mod support;
 
-use support::{scratch, sim, text, write_file};
+use support::{csv_body, scratch, sim, text, write_file};
 
 /// xorshift64*.
 fn next(state: &mut u64) -> u64 {
@@ -59,6 +59,7 @@ fn soak(model: &str, actions: &[&str], fps: u32, seed: u64, cruise: bool) {
     }
     let out = sim(&args);
     let rows = std::fs::read_to_string(csv).unwrap();
+    let rows = csv_body(&rows, model);
     let header: Vec<&str> = rows.lines().next().unwrap().split(',').collect();
     let z = header.iter().position(|c| *c == "z").unwrap();
     let mut last_frame = None;

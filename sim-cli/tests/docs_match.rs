@@ -351,7 +351,7 @@ fn the_csv_has_exactly_the_documented_columns() {
         ]);
         assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
         let written = std::fs::read_to_string(&csv).unwrap();
-        let header: Vec<String> = written
+        let header: Vec<String> = support::csv_body(&written, model)
             .lines()
             .next()
             .unwrap()

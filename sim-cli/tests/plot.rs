@@ -169,6 +169,45 @@ fn bourg_script_run_plots_and_replots_identically() {
         svg,
     ]);
     sim_ok(&["plot", csv, "--output", replot]);
+    // The same file without its model line (as written before the line
+    // existed): the legacy path finds Bourg by the header, the same plot.
+    let written = std::fs::read_to_string(csv).unwrap();
+    let legacy = dir.join("b-legacy.csv");
+    let legacy_svg = dir.join("b-legacy.svg");
+    std::fs::write(&legacy, support::csv_body(&written, "bourg")).unwrap();
+    sim_ok(&[
+        "plot",
+        legacy.to_str().unwrap(),
+        "-o",
+        legacy_svg.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        without_title(&std::fs::read_to_string(&legacy_svg).unwrap()),
+        without_title(&std::fs::read_to_string(replot).unwrap())
+    );
+    // A model line naming a model sim-cli does not have: a usage error
+    // naming the file, its line and the models it has.
+    let unknown = dir.join("b-unknown.csv");
+    std::fs::write(
+        &unknown,
+        written.replacen("# model: bourg", "# model: cessna", 1),
+    )
+    .unwrap();
+    let out = sim(&[
+        "plot",
+        unknown.to_str().unwrap(),
+        "-o",
+        legacy_svg.to_str().unwrap(),
+    ]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with(&format!(
+            "sim-cli: error: {}:1: written by model `cessna`, which this reader does not know (palmer, bourg",
+            unknown.display()
+        )),
+        "{stderr}"
+    );
     let run = std::fs::read_to_string(svg).unwrap();
     let parsed = parse(&run);
     assert!(parsed.texts[0].starts_with("Bourg 6-DoF: 451 samples"));

@@ -7,7 +7,7 @@
 
 mod support;
 
-use support::{scratch, sim, text, write_file};
+use support::{csv_body, scratch, sim, text, write_file};
 
 const STUDY: &str = r#"
 model = "palmer"
@@ -517,7 +517,7 @@ high = 60.0
         ]);
         assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
         let flight = std::fs::read_to_string(&csv_path).unwrap();
-        let (names, frames) = rows(&flight);
+        let (names, frames) = rows(csv_body(&flight, "palmer"));
         assert!(names.iter().any(|n| n == "x") && names.iter().any(|n| n == "y"));
         let at = |parity: u64| -> Vec<(f64, f64)> {
             frames

@@ -173,8 +173,10 @@ class Flight:
     ) -> None:
         """Writes a CSV row per frame to ``path`` (created or truncated), the
         bytes ``sim-cli MODEL --csv path`` writes (docs/cli.md, "CSV output"):
-        ``frame,time_s,x,y,z,vx,vy,vz,lat_deg,lon_deg,alt_m,roll_deg,
-        pitch_deg,fg_heading_deg``, the model's own columns, ``status``;
+        the model line ``# model: NAME`` (pandas: ``read_csv(path,
+        comment="#")``), then the header ``frame,time_s,x,y,z,vx,vy,vz,
+        lat_deg,lon_deg,alt_m,roll_deg,pitch_deg,fg_heading_deg``, the
+        model's own columns, ``status``;
         a row for the flight when attached, one per frame, a frame-0 row
         after each reset. Numbers in the shortest form that reads back to the
         same bits. ``OSError`` when the file cannot be created."""

@@ -92,6 +92,35 @@ impl ModelKind {
         Self::ALL.iter().copied().find(|kind| kind.name() == name)
     }
 
+    /// The CSV layouts of the registry's models, in registry order: the
+    /// models whose CSVs `sim-cli plot` reads ([`fdm_plot::csv::read_trace_among`]).
+    #[must_use]
+    pub fn csv_layouts() -> Vec<fdm_plot::csv::CsvLayout> {
+        struct Layout;
+        impl WithModel for Layout {
+            type Output = fdm_plot::csv::CsvLayout;
+            fn call<M: CliModel>(self) -> Self::Output {
+                fdm_plot::csv::CsvLayout::of::<M>()
+            }
+        }
+        Self::ALL.iter().map(|kind| kind.with(Layout)).collect()
+    }
+
+    /// The registry's models as a study may name them, in registry order:
+    /// what `sim-cli study` reads a study file with
+    /// ([`fdm_study::Study::from_path_among`]).
+    #[must_use]
+    pub fn study_models() -> Vec<fdm_study::StudyEntry> {
+        struct Entry;
+        impl WithModel for Entry {
+            type Output = fdm_study::StudyEntry;
+            fn call<M: CliModel>(self) -> Self::Output {
+                fdm_study::StudyEntry::of::<M>()
+            }
+        }
+        Self::ALL.iter().map(|kind| kind.with(Entry)).collect()
+    }
+
     /// The registry's models as text: `a, b or c`, each shown by `show`.
     pub fn list(show: impl Fn(Self) -> String) -> String {
         let shown: Vec<String> = Self::ALL.iter().map(|&kind| show(kind)).collect();

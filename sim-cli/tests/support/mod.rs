@@ -110,3 +110,17 @@ pub fn write_file(dir: &Path, name: &str, content: &str) -> String {
     std::fs::write(&path, content).unwrap();
     path.to_str().expect("UTF-8 temp path").to_owned()
 }
+
+/// A flight CSV's text after its first line, which must be the model line
+/// `# model: MODEL` (docs/cli.md, "CSV output"): the header and the rows.
+pub fn csv_body<'a>(csv: &'a str, model: &str) -> &'a str {
+    let (first, body) = csv
+        .split_once('\n')
+        .unwrap_or_else(|| panic!("no line after the model line: {csv:?}"));
+    assert_eq!(first, format!("# model: {model}"), "the CSV's model line");
+    assert!(
+        body.starts_with("frame,time_s,"),
+        "the header follows the model line: {body:?}"
+    );
+    body
+}
