@@ -571,10 +571,12 @@ fn palmer_rough_one(
 /// The matrix is not made from the quaternion alone: the exact path's
 /// attitude goes through the model's `f32` Euler angles
 /// ([`BourgState::euler_angles_deg`](fdm_core::bourg::BourgState::euler_angles_deg),
-/// rounded to `f32` radians and again to `f32` degrees), whose rounding
-/// moves its matrix by up to a few 1e-7 from the quaternion's, far beyond
-/// [`fdm_dis::ROUGH_TOLERANCE`] (the test `bourg_rough_is_the_views_frame`
-/// measures both). So the angles are the model's and the matrix is
+/// `f32` products, an `asin` of a quaternion not quite of unit length, a
+/// gimbal-lock branch, angles rounded to `f32` radians and again to `f32`
+/// degrees), which move its matrix from the quaternion's by far more than
+/// [`fdm_dis::ROUGH_TOLERANCE`] (up to 1.4e-3 over the states of the test
+/// `bourg_rough_is_the_views_frame`, which asserts it is more than ten
+/// times the tolerance). So the angles are the model's and the matrix is
 /// [`fdm_core::geodesy::bourg_attitude`]'s `body_to_ned`, the exact path's
 /// operations: within 0 of it, gimbal lock included. What the screen saves
 /// for Bourg is the placement in ECEF and the dead-reckoning comparison of
