@@ -562,6 +562,45 @@ fn palmer_rough_one(
     })
 }
 
+/// [`FleetModel::dis_rough`] for Bourg: each aircraft's view's time,
+/// position and velocity (feet widened to `f64`, times
+/// [`METRES_PER_FOOT`](fdm_core::units::METRES_PER_FOOT), the view's
+/// operations) and the view's own attitude matrix, bit for bit, without the
+/// rest of the view (the body velocity, alpha, sideslip, airspeed).
+///
+/// The matrix is not made from the quaternion alone: the exact path's
+/// attitude goes through the model's `f32` Euler angles
+/// ([`BourgState::euler_angles_deg`](fdm_core::bourg::BourgState::euler_angles_deg),
+/// `f32` products, an `asin` of a quaternion not quite of unit length, a
+/// gimbal-lock branch, angles rounded to `f32` radians and again to `f32`
+/// degrees), which move its matrix from the quaternion's by far more than
+/// [`fdm_dis::ROUGH_TOLERANCE`] (up to 1.4e-3 over the states of the test
+/// `bourg_rough_is_the_views_frame`, which asserts it is more than ten
+/// times the tolerance). So the angles are the model's and the matrix is
+/// [`fdm_core::geodesy::bourg_attitude`]'s `body_to_ned`, the exact path's
+/// operations: within 0 of it, gimbal lock included. What the screen saves
+/// for Bourg is the placement in ECEF and the dead-reckoning comparison of
+/// the aircraft it clears. A state with a non-finite number gets no rough
+/// frame (the exact path takes it).
+pub fn bourg_rough(states: &[Option<fdm_core::bourg::BourgState>], out: &mut [Option<Rough>]) {
+    use fdm_core::units::METRES_PER_FOOT;
+    let widen = |v: fdm_core::bourg::Vector3<f32>| v.map(f64::from);
+    for (s, o) in states.iter().zip(out.iter_mut()) {
+        *o = s
+            .filter(fdm_core::bourg::BourgState::is_finite)
+            .and_then(|s| {
+                let body_to_ned =
+                    fdm_core::geodesy::bourg_attitude(s.euler_angles_deg()).body_to_ned();
+                body_to_ned.iter().all(|e| e.is_finite()).then(|| Rough {
+                    time_s: s.time_s,
+                    position_m: widen(s.position_ft) * METRES_PER_FOOT,
+                    velocity_mps: widen(s.velocity_ftps) * METRES_PER_FOOT,
+                    body_to_ned,
+                })
+            });
+    }
+}
+
 /// One aircraft's DIS identity in a single flight: the shared settings, its
 /// entity number and marking.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,11 +1,14 @@
 //! The screened DIS publishing of a lanes fleet (`FleetDis::publish_lanes`
-//! over `FleetPublisher::publish_screened` and `palmer_rough`) against the
+//! over `FleetPublisher::publish_screened` and `palmer_rough` or
+//! `bourg_rough`) against the
 //! path it replaced (`FleetPublisher::publish` of every aircraft's full
 //! view): the same datagrams, byte for byte, frame by frame, over loopback
-//! UDP; and Palmer's rough attitude matrices within their tolerance.
+//! UDP, for Palmer's and Bourg's fleets; Palmer's rough attitude matrices
+//! within their tolerance and Bourg's the view's own.
 
 use std::net::UdpSocket;
 
+use fdm_core::bourg::{ops, Bourg, BourgState, Quaternion};
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::Model;
 use fdm_core::palmer::{Palmer, PalmerState};
@@ -14,9 +17,9 @@ use fdm_dis::{
     ROUGH_TOLERANCE,
 };
 use fdm_fleet::{LaneFleet, Precision};
-use fdm_run::dis::{callsign, fleet_identity, palmer_rough, DisSettings};
+use fdm_run::dis::{bourg_rough, callsign, fleet_identity, palmer_rough, DisSettings};
 use fdm_run::fleet::{FleetDisConfig, FleetRun, FleetScenario};
-use fdm_run::{FleetModel, RunModel};
+use fdm_run::FleetModel;
 use nalgebra::Vector3;
 
 /// Every datagram waiting on `socket` (non-blocking), sorted: the order
@@ -43,6 +46,25 @@ fn sink() -> UdpSocket {
 /// the old path's.
 #[test]
 fn screened_fleet_sends_the_old_paths_datagrams() {
+    let reasons = screened_fleet_against_the_old_path::<Palmer>();
+    assert!(reasons.0 > 0 && reasons.1 > 0, "{reasons:?}");
+}
+
+/// The same for Bourg's demonstration fleet (its rough frames are
+/// `bourg_rough`'s): its aircraft keep sending for position and
+/// orientation, so no heartbeat falls due in these 11 s (the screen's
+/// heartbeat test is Palmer's above; the screen does not depend on the model).
+#[test]
+fn screened_bourg_fleet_sends_the_old_paths_datagrams() {
+    let reasons = screened_fleet_against_the_old_path::<Bourg>();
+    assert!(reasons.0 > 0, "{reasons:?}");
+}
+
+/// The screened publishing of `M`'s demonstration fleet through `FleetRun`
+/// against the old path, frame by frame, under the three settings of
+/// [`screened_fleet_sends_the_old_paths_datagrams`]; the orientation errors
+/// and heartbeats sent over the three runs.
+fn screened_fleet_against_the_old_path<M: FleetModel>() -> (u64, u64) {
     const N: usize = 200;
     const FRAMES: u64 = 330;
     // Orientation errors and heartbeats sent, over the three runs.
@@ -77,7 +99,7 @@ fn screened_fleet_sends_the_old_paths_datagrams() {
             settings: settings(new_sink.local_addr().unwrap()),
             entity_base: 11,
         });
-        let mut run = FleetRun::<Palmer>::new(scenario, &mut |_, _| {}).unwrap();
+        let mut run = FleetRun::<M>::new(scenario, &mut |_, _| {}).unwrap();
 
         // The old path: the same fleet, every aircraft's full view.
         let old_settings = settings(old_sink.local_addr().unwrap());
@@ -85,15 +107,15 @@ fn screened_fleet_sends_the_old_paths_datagrams() {
             .map(|i| {
                 let id = fleet_identity(3, 4, 11, i).unwrap();
                 old_settings
-                    .tracker::<Palmer>(id, &callsign(Palmer::CALLSIGN, 11 + i))
+                    .tracker::<M>(id, &callsign(M::CALLSIGN, 11 + i))
                     .unwrap()
             })
             .collect();
         let mut old = FleetPublisher::new(trackers);
         let sender = UdpSender::new(old_sink.local_addr().unwrap(), false).unwrap();
-        let mut fleet = <Palmer as FleetModel>::Lanes::demonstration(N).unwrap();
+        let mut fleet = <M as FleetModel>::Lanes::demonstration(N).unwrap();
         let placement = Placement::new(GeodeticOrigin::default());
-        let aircraft = Palmer::default_aircraft();
+        let aircraft = M::default_aircraft();
 
         let mut sent = 0;
         for frame in 0..FRAMES {
@@ -101,14 +123,15 @@ fn screened_fleet_sends_the_old_paths_datagrams() {
             LaneFleet::par_fly(&mut fleet, 30.0, Precision::Exact).unwrap();
             let tally = old.publish(&sender, &placement, |i| {
                 let s = LaneFleet::state(&fleet, i)?;
-                Some(Palmer::view(&aircraft, &Palmer::fleet_member(i).0, &s))
+                Some(M::view(&aircraft, &M::fleet_member(i).0, &s))
             });
             let new = drain(&new_sink);
             let expected = drain(&old_sink);
             assert_eq!(new.len() as u64, tally.pdus, "{dr:?} frame {frame}");
             assert!(
                 new == expected,
-                "{dr:?} {thresholds:?}: frame {frame} differs"
+                "{} {dr:?} {thresholds:?}: frame {frame} differs",
+                M::NAME
             );
             sent += new.len();
         }
@@ -120,7 +143,7 @@ fn screened_fleet_sends_the_old_paths_datagrams() {
         reasons.0 += dis.reasons.orientation;
         reasons.1 += dis.reasons.heartbeat;
     }
-    assert!(reasons.0 > 0 && reasons.1 > 0, "{reasons:?}");
+    reasons
 }
 
 /// Palmer's rough body-to-NED matrices against the exact path's (the view's
@@ -201,4 +224,118 @@ fn palmer_rough_is_within_the_tolerance() {
         palmer_rough(10, &[Some(s)], &mut out);
         assert!(out[0].is_none(), "{v}");
     }
+}
+
+/// Bourg's rough frames against its views, bit for bit (time, position,
+/// velocity and the attitude matrix), over orientations in every direction
+/// (random quaternions, normalised or a little off, as the step leaves
+/// them), banked, inverted, turning and near or at the vertical (the
+/// Euler angles' gimbal-lock branch): a rough frame for every finite state,
+/// none for a non-finite one. The matrix straight from the quaternion is
+/// measured too: the view's `f32` Euler angles move the view's matrix from
+/// it by more than `ROUGH_TOLERANCE`, which is why `bourg_rough` does not
+/// use it.
+#[test]
+fn bourg_rough_is_the_views_frame() {
+    let aircraft = Bourg::default_aircraft();
+    let mut x: u64 = 0x0fed_cba9_8765_4321;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut orientations: Vec<Quaternion<f32>> = Vec::new();
+    for k in 0..20_000 {
+        let q = Quaternion::new(next() as f32, next() as f32, next() as f32, next() as f32);
+        let n = q.norm();
+        // Normalised, or off by up to a few 1e-6 as integration leaves it.
+        let scale = if k % 2 == 0 {
+            1.0
+        } else {
+            1.0 + 4e-6 * next() as f32
+        };
+        orientations.push(Quaternion::from_vector(q.coords.map(|c| c / n * scale)));
+    }
+    // Euler angles (roll, pitch nose-down, yaw): banked, inverted, turning,
+    // near and at the vertical.
+    for k in 0..4_000 {
+        let pitch = match k % 4 {
+            0 => 90.0 - 10f64.powi(-(k % 9)) * next().abs(),
+            1 => -90.0 + 10f64.powi(-(k % 9)) * next().abs(),
+            2 => 89.0 * next(),
+            _ => 90.0 * next().signum(),
+        };
+        let euler = nalgebra::Vector3::new(180.0 * next(), pitch, 180.0 * next()).map(|c| c as f32);
+        orientations.push(ops::quat_from_euler_deg(&euler));
+    }
+    for roll in [0.0f32, 45.0, 90.0, 135.0, 180.0, -180.0, -60.0] {
+        for yaw in [0.0f32, 30.0, 90.0, -170.0, 180.0] {
+            orientations.push(ops::quat_from_euler_deg(&nalgebra::Vector3::new(
+                roll, 5.0, yaw,
+            )));
+        }
+    }
+    let n = orientations.len();
+    let states: Vec<Option<BourgState>> = orientations
+        .iter()
+        .enumerate()
+        .map(|(i, q)| {
+            let mut s = BourgState::initial();
+            s.time_s = i as f64 / 30.0;
+            s.position_ft = nalgebra::Vector3::new(i as f32 * 1.7, -3.3, 2000.0 + next() as f32);
+            s.velocity_ftps =
+                nalgebra::Vector3::new(next(), next(), next()).map(|c| (c * 300.0) as f32);
+            s.orientation = *q;
+            s.velocity_body_ftps = ops::qv_rotate(&ops::conjugate(q), &s.velocity_ftps);
+            s.angular_velocity_radps =
+                nalgebra::Vector3::new(next(), next(), next()).map(|c| c as f32);
+            Some(s)
+        })
+        .collect();
+    let mut out = vec![None; n];
+    bourg_rough(&states, &mut out);
+    // Model (x north, y west, z up) and body (forward, left, up) axes to
+    // north-east-down and forward-right-down.
+    let flip = nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, -1.0, -1.0));
+    let mut from_quaternion: f64 = 0.0;
+    for (i, (s, r)) in states.iter().zip(&out).enumerate() {
+        let s = s.unwrap();
+        let r = r.expect("a rough frame for every finite state");
+        let view = Bourg::view(&aircraft, &Bourg::fleet_member(i).0, &s);
+        assert_eq!(r.time_s.to_bits(), view.time_s.to_bits());
+        let bits = |v: nalgebra::Vector3<f64>| v.map(f64::to_bits);
+        assert_eq!(bits(r.position_m), bits(view.position_m));
+        assert_eq!(bits(r.velocity_mps), bits(view.velocity_mps));
+        let exact = view.attitude.body_to_ned();
+        assert_eq!(
+            r.body_to_ned.map(f64::to_bits),
+            exact.map(f64::to_bits),
+            "{:?}",
+            s.orientation
+        );
+        let q = Quaternion::from_vector(s.orientation.coords.map(f64::from));
+        let q = nalgebra::UnitQuaternion::from_quaternion(q);
+        let straight = flip * q.to_rotation_matrix().into_inner() * flip;
+        from_quaternion = from_quaternion.max((straight - exact).amax());
+    }
+    assert!(
+        from_quaternion > ROUGH_TOLERANCE * 10.0,
+        "{from_quaternion:e}"
+    );
+    for bad in [
+        |s: &mut BourgState| s.time_s = f64::NAN,
+        |s: &mut BourgState| s.position_ft.x = f32::INFINITY,
+        |s: &mut BourgState| s.velocity_ftps.z = f32::NAN,
+        |s: &mut BourgState| s.orientation.coords.w = f32::NAN,
+    ] {
+        let mut s = BourgState::initial();
+        bad(&mut s);
+        let mut out = [None];
+        bourg_rough(&[Some(s)], &mut out);
+        assert!(out[0].is_none(), "{s:?}");
+    }
+    let mut out = [None];
+    bourg_rough(&[None], &mut out);
+    assert!(out[0].is_none());
 }

@@ -81,6 +81,14 @@ impl FleetModel for Bourg {
         moved.position_ft.z += ft(up_m);
         moved
     }
+
+    /// The view's frame without the rest of the view, its attitude matrix
+    /// through the model's `f32` Euler angles as the view's
+    /// ([`crate::dis::bourg_rough`]).
+    #[cfg(feature = "dis")]
+    fn dis_rough(_first: usize, states: &[Option<BourgState>], out: &mut [Option<fdm_dis::Rough>]) {
+        crate::dis::bourg_rough(states, out);
+    }
 }
 
 impl CsvModel for Bourg {
