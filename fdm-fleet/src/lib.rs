@@ -58,6 +58,21 @@ pub trait LaneFleet: Sized + Send {
     /// [`FleetError`] if the aircraft cannot be flown.
     fn demonstration(n: usize) -> Result<Self, FleetError>;
 
+    /// A fleet of `aircraft` flying the given starts `(controls, state)`, in
+    /// order ([`Fleet::from_states`]).
+    ///
+    /// # Errors
+    /// [`FleetError`] if the aircraft cannot be flown.
+    fn from_starts(
+        aircraft: <Self::Model as Model>::Aircraft,
+        starts: impl IntoIterator<
+            Item = (
+                <Self::Model as Model>::Controls,
+                <Self::Model as Model>::State,
+            ),
+        >,
+    ) -> Result<Self, FleetError>;
+
     /// Number of aircraft.
     fn len(&self) -> usize;
 
@@ -68,6 +83,19 @@ pub trait LaneFleet: Sized + Send {
 
     /// Aircraft `index`'s state.
     fn state(&self, index: usize) -> Option<<Self::Model as Model>::State>;
+
+    /// Aircraft `index`'s controls.
+    fn controls(&self, index: usize) -> Option<<Self::Model as Model>::Controls>;
+
+    /// The aircraft every member flies.
+    fn aircraft(&self) -> &<Self::Model as Model>::Aircraft;
+
+    /// Replaces every aircraft's controls with `f(index, current controls)`
+    /// on rayon's current pool ([`Fleet::par_update_controls`]).
+    fn par_update_controls(
+        &mut self,
+        f: impl Fn(usize, <Self::Model as Model>::Controls) -> <Self::Model as Model>::Controls + Sync,
+    );
 
     /// Whether the kernel has `precision`.
     ///
@@ -120,12 +148,36 @@ impl<M: FleetKernel> LaneFleet for Fleet<M> {
         )
     }
 
+    fn from_starts(
+        aircraft: M::Aircraft,
+        starts: impl IntoIterator<Item = (M::Controls, M::State)>,
+    ) -> Result<Self, FleetError> {
+        Self::from_states(
+            aircraft,
+            starts
+                .into_iter()
+                .map(|(controls, state)| (state, controls)),
+        )
+    }
+
     fn len(&self) -> usize {
         self.len()
     }
 
     fn state(&self, index: usize) -> Option<M::State> {
         self.state(index)
+    }
+
+    fn controls(&self, index: usize) -> Option<M::Controls> {
+        self.controls(index)
+    }
+
+    fn aircraft(&self) -> &M::Aircraft {
+        self.aircraft()
+    }
+
+    fn par_update_controls(&mut self, f: impl Fn(usize, M::Controls) -> M::Controls + Sync) {
+        self.par_update_controls(f);
     }
 
     fn check_precision(precision: Precision) -> Result<(), FleetError> {

@@ -423,7 +423,7 @@ pub struct FleetArgs {
 }
 
 /// Most fleet aircraft `--fg-mp` streams to FlightGear.
-pub const MAX_MP_AIRCRAFT: usize = 1000;
+pub const MAX_MP_AIRCRAFT: usize = fdm_run::fleet::show::MAX_STREAMED;
 
 /// `sim-cli fleet` options for watching the fleet in FlightGear through its
 /// multiplayer protocol (`crate::fleet_mp`).

@@ -42,9 +42,6 @@ impl From<FleetError> for CliError {
             ),
             FleetError::Precision(e) => CliError::usage(format!("--precision: {e}")),
             FleetError::TooMany(_) | FleetError::Memory(_) => CliError::usage(error),
-            FleetError::TooManyToWatch { aircraft, max } => CliError::usage(format!(
-                "--fg-mp flies at most {max} aircraft in real time (got --aircraft {aircraft})"
-            )),
             FleetError::Start(refused) => crate::start::refused(refused),
             FleetError::Dis(e) => e.into(),
             // The only output sim-cli attaches to a fleet is its --acmi file.
@@ -63,6 +60,14 @@ impl From<FleetError> for CliError {
     }
 }
 
+/// The run library's precision for `--precision`.
+pub(crate) fn precision(precision: FleetPrecision) -> Precision {
+    match precision {
+        FleetPrecision::Exact => Precision::Exact,
+        FleetPrecision::Fast => Precision::Fast,
+    }
+}
+
 /// [`measure`] for the model the arguments name.
 struct Measure<'a>(&'a FleetArgs);
 
@@ -77,10 +82,7 @@ impl WithModel for Measure<'_> {
             FleetKernel::Lanes => Kernel::Lanes,
             FleetKernel::Ecs => Kernel::Ecs,
         };
-        scenario.precision = match args.precision {
-            FleetPrecision::Exact => Precision::Exact,
-            FleetPrecision::Fast => Precision::Fast,
-        };
+        scenario.precision = precision(args.precision);
         scenario.start = args.start.options();
         scenario.realtime = args.show.realtime;
         // The ECS kernel's precision is refused before the DIS target is resolved.

@@ -1,8 +1,8 @@
-//! `sim-cli fleet ... --fg-mp HOST:PORT --realtime`: a fleet to watch in
-//! FlightGear (docs/fleet-in-flightgear.md): the flags, checked and turned
-//! into the run library's [`ShowScenario`] ([`fdm_run::fleet::show`]: the
-//! fleet, its start patterns, the multiplayer messages and their pacing),
-//! and the line printed. The first `--fg-mp-aircraft` aircraft (default
+//! `sim-cli fleet ... --fg-mp HOST:PORT --realtime`: a fleet of any size to
+//! watch in FlightGear (docs/fleet-in-flightgear.md): the flags, checked and
+//! turned into the run library's [`ShowScenario`] ([`fdm_run::fleet::show`]:
+//! the fleet on the lanes kernel, its start patterns, the multiplayer
+//! messages and their pacing), and the line printed. The first `--fg-mp-aircraft` aircraft (default
 //! [`DEFAULT_MP_AIRCRAFT`]) are streamed, callsigns `fdm_run::multiplayer::callsign(i)`.
 
 use std::net::{SocketAddr, SocketAddrV4};
@@ -12,7 +12,7 @@ use fdm_core::script::Script;
 use fdm_run::fleet::show::{watched_size, FleetShow, ShowScenario, StartPattern};
 pub use fdm_run::fleet::show::{ShowReport, DEFAULT_MP_AIRCRAFT};
 
-use crate::args::{FleetArgs, FleetPattern, FLEET_FPS};
+use crate::args::{FleetArgs, FleetKernel, FleetPattern, FLEET_FPS};
 use crate::config::load_script;
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
@@ -22,10 +22,11 @@ use crate::models::{CliModel, WithModel};
 /// 1/30 s per frame.
 ///
 /// # Errors
-/// A usage error for a fleet too large to watch or a bad script; a runtime
-/// error if the socket cannot be opened.
+/// A usage error for a fleet that does not fit in memory, a precision the
+/// model's kernel has not or a bad script; a runtime error if the thread
+/// pool or the socket cannot be made.
 pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowReport, CliError> {
-    watched_size(args.aircraft)?;
+    watched_size::<M>(args.aircraft)?;
     let script = match &args.show.script {
         Some(path) => load_script(path)?,
         None => Script::default(),
@@ -42,6 +43,8 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
         script,
         frames: args.frames,
         fps: FLEET_FPS,
+        threads: args.threads,
+        precision: crate::fleet::precision(args.precision),
     };
     let mut show = FleetShow::<M>::new(scenario, SocketAddr::V4(target))?;
     show.run_to_end()?;
@@ -83,6 +86,17 @@ pub fn run_show(args: &FleetArgs) -> Result<Option<String>, CliError> {
         }
         return Ok(None);
     };
+    if args.kernel == FleetKernel::Ecs {
+        return Err(CliError::usage(
+            "fleet --fg-mp flies the lanes kernel (--kernel ecs is for measuring the ECS)",
+        ));
+    }
+    if !args.start.is_thesis() {
+        return Err(CliError::usage(
+            "fleet --fg-mp starts the aircraft in a --pattern (--altitude-ft, --speed-kt, \
+             --heading-deg and --trim are for measuring with --kernel ecs)",
+        ));
+    }
     if args.dis.common.target.is_some() {
         return Err(CliError::usage(
             "fleet --dis and --fg-mp cannot be used together (publish over DIS or stream to \
@@ -189,5 +203,72 @@ mod tests {
                 ("SIM003".to_owned(), 15)
             ]
         );
+    }
+
+    fn fleet_args(extra: &[&str]) -> FleetArgs {
+        let mut argv = vec!["sim-cli", "fleet", "--model", "bourg", "--frames", "3"];
+        argv.extend_from_slice(extra);
+        let Command::Fleet(args) = Cli::try_parse_from(argv).unwrap().command else {
+            panic!("not fleet")
+        };
+        args
+    }
+
+    /// A fleet larger than the old ECS show's 10,000 flies on the lanes
+    /// kernel on the threads asked for and streams only the aircraft asked
+    /// for: 3 frames of 20,000 Bourg aircraft on 2 threads, 2 streamed, 6
+    /// datagrams.
+    #[test]
+    fn a_fleet_of_any_size_streams_the_aircraft_asked_for() {
+        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        let target = format!("127.0.0.1:{}", rx.local_addr().unwrap().port());
+        let args = fleet_args(&[
+            "--aircraft",
+            "20000",
+            "--threads",
+            "2",
+            "--fg-mp",
+            &target,
+            "--fg-mp-aircraft",
+            "2",
+            "--realtime",
+            "--json",
+        ]);
+        let text = run_show(&args).unwrap().unwrap();
+        let report: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(report["aircraft"], 20_000);
+        assert_eq!(report["streamed"], 2);
+        assert_eq!(report["sent"], 6);
+        let mut buf = [0_u8; 2048];
+        for _ in 0..6 {
+            let n = rx.recv(&mut buf).unwrap();
+            let msg = MultiplayerPosition::decode(&buf[..n]).unwrap();
+            assert!(["SIM001", "SIM002"].contains(&msg.callsign.as_str()));
+        }
+    }
+
+    /// What a watched fleet cannot do is a usage error naming the flag,
+    /// before anything flies: the ECS kernel, initial conditions meant for
+    /// it, a precision Bourg's kernel has not.
+    #[test]
+    fn options_a_watched_fleet_cannot_honour_are_refused() {
+        let base = ["--fg-mp", "127.0.0.1:5000", "--realtime", "--aircraft"];
+        for (extra, says) in [
+            (&["3", "--kernel", "ecs"][..], "--kernel ecs"),
+            (&["3", "--altitude-ft", "3000"][..], "--altitude-ft"),
+            (&["3", "--precision", "fast"][..], "fast"),
+        ] {
+            let mut argv = base.to_vec();
+            argv.extend_from_slice(extra);
+            let args = fleet_args(&argv);
+            let err = match run_show(&args) {
+                Err(e) => e,
+                Ok(_) => panic!("{extra:?} was accepted"),
+            };
+            let text = err.to_string();
+            assert!(matches!(err, CliError::Usage(_)), "{extra:?}: {text}");
+            assert!(text.contains(says), "{extra:?}: {text}");
+        }
     }
 }

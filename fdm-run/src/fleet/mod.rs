@@ -193,11 +193,16 @@ impl FleetScenario {
 
     /// The threads the pool gets: [`Self::threads`] or one per core.
     fn thread_count(&self) -> Result<usize, FleetError> {
-        match self.threads {
-            Some(0) => Err(FleetError::NoThreads),
-            Some(n) => Ok(n),
-            None => Ok(std::thread::available_parallelism().map_or(1, usize::from)),
-        }
+        threads_or_cores(self.threads)
+    }
+}
+
+/// `threads`, or one per available core for `None`.
+fn threads_or_cores(threads: Option<usize>) -> Result<usize, FleetError> {
+    match threads {
+        Some(0) => Err(FleetError::NoThreads),
+        Some(n) => Ok(n),
+        None => Ok(std::thread::available_parallelism().map_or(1, usize::from)),
     }
 }
 
@@ -246,14 +251,6 @@ pub enum FleetError {
     /// `source()`).
     #[error(transparent)]
     Output(crate::output::OutputError),
-    /// A watched fleet ([`show`]) with more aircraft than real time allows.
-    #[error("a watched fleet flies at most {max} aircraft in real time (got {aircraft})")]
-    TooManyToWatch {
-        /// Aircraft asked for.
-        aircraft: u64,
-        /// [`show::MAX_WATCHED_FLEET`].
-        max: usize,
-    },
     /// Flying or streaming a watched fleet failed.
     #[error(transparent)]
     Multiplayer(#[from] crate::multiplayer::MultiplayerError),

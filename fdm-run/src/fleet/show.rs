@@ -2,12 +2,18 @@
 //! --realtime`, docs/fleet-in-flightgear.md): a [`ShowScenario`] becomes a
 //! [`FleetShow`], driven frame by frame or to the end.
 //!
-//! The fleet is a [`MultiplayerFleet`] (each aircraft a full entity of one ECS
-//! world, placed every frame) flying one script together; after every frame
-//! the first [`ShowScenario::streamed`] aircraft are sent to FlightGear as
-//! multiplayer position messages through a [`MultiplayerSender`] (callsign
-//! [`callsign`](crate::multiplayer::callsign)`(i)`, model [`FleetModel::FG_MP_MODEL`]), and the frame is
-//! paced at 1/fps s of wall-clock time.
+//! The fleet is the model's structure-of-arrays kernel
+//! ([`FleetModel::Lanes`]) on a rayon pool, so a show flies a fleet of any
+//! size that fits in memory, every aircraft flying one script together.
+//! FlightGear takes far fewer multiplayer aircraft than that: after every
+//! frame only the first [`ShowScenario::streamed`] aircraft (at most
+//! [`MAX_STREAMED`]) are placed on WGS-84 ([`Placement::of`], on the pool's
+//! threads) and sent as multiplayer position messages through a
+//! [`MultiplayerSender`] (callsign [`callsign`]`(i)`,
+//! model [`FleetModel::FG_MP_MODEL`]); the rest fly unplaced. The frame is
+//! then paced at 1/fps s of wall-clock time. In [`Precision::Exact`] the
+//! messages are byte for byte those of the same aircraft as full ECS
+//! entities ([`MultiplayerFleet`], [`multiplayer_fleet`]; tested).
 //!
 //! Where the aircraft start is a [`StartPattern`] ([`start_of`]): the models'
 //! demonstration fleet, pairs along a runway ahead of the viewer (a formation
@@ -16,23 +22,31 @@
 
 use std::io;
 use std::net::SocketAddr;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use fdm_core::geodesy::GeodeticOrigin;
-use fdm_core::script::Script;
+use fdm_core::model::{FlightStatus, FlightView};
+use fdm_core::script::{Script, ScriptCursor};
+use fdm_fleet::{LaneFleet, Precision};
+use fgnet::bridge::{multiplayer_position, MultiplayerIdentity};
+use fgnet::MultiplayerPosition;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::FleetError;
 use crate::model::FleetModel;
-use crate::multiplayer::{MultiplayerError, MultiplayerFleet, MultiplayerSender};
+use crate::multiplayer::{callsign, MultiplayerError, MultiplayerFleet, MultiplayerSender};
+use crate::output::Placement;
 use crate::pacer::FramePacer;
 
 /// Aircraft streamed when the caller does not say.
 pub const DEFAULT_MP_AIRCRAFT: usize = 16;
 
-/// Largest fleet a show flies (every aircraft is a full entity stepped in
-/// real time on one thread).
-pub const MAX_WATCHED_FLEET: usize = 10_000;
+/// Most aircraft a show streams: FlightGear draws every multiplayer
+/// aircraft it is sent as an AI model with its own property tree, and 1000
+/// callsigns end at `SIM1000`, the longest that fits its 7 characters.
+pub const MAX_STREAMED: usize = 1000;
 
 /// Rows pattern: metres between the two aircraft of a row (10 m either side of
 /// the runway's centre line).
@@ -116,10 +130,10 @@ pub fn multiplayer_fleet<M: FleetModel>(
 /// What a watched fleet flies.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShowScenario<A> {
-    /// Aircraft flown (at most [`MAX_WATCHED_FLEET`]).
+    /// Aircraft flown (at least 1; as many as fit in memory).
     pub aircraft: u64,
     /// Aircraft streamed to FlightGear: the first this many (at most
-    /// `aircraft`).
+    /// `aircraft` and [`MAX_STREAMED`]).
     pub streamed: usize,
     /// Where they start.
     pub pattern: StartPattern,
@@ -131,21 +145,34 @@ pub struct ShowScenario<A> {
     pub frames: u64,
     /// Frames per second (wall-clock pace).
     pub fps: u32,
+    /// Threads of the rayon pool flying the fleet and placing the streamed
+    /// aircraft; `None`: one per available core.
+    pub threads: Option<usize>,
+    /// The kernel's precision ([`Precision::Exact`]: each aircraft as
+    /// [`fdm_core::model::fly`] leaves it).
+    pub precision: Precision,
 }
 
-/// `aircraft` as a watched fleet's size (checked again by
-/// [`FleetShow::new`]; callers that load a script first check it before).
+/// `aircraft` as a watched fleet of model `M`'s size, if this machine can
+/// hold it (checked again by [`FleetShow::new`]; callers that load a script
+/// first check it before).
 ///
 /// # Errors
-/// [`FleetError::TooManyToWatch`] above [`MAX_WATCHED_FLEET`].
-pub fn watched_size(aircraft: u64) -> Result<usize, FleetError> {
-    usize::try_from(aircraft)
-        .ok()
-        .filter(|&n| n <= MAX_WATCHED_FLEET)
-        .ok_or(FleetError::TooManyToWatch {
-            aircraft,
-            max: MAX_WATCHED_FLEET,
-        })
+/// [`FleetError::NoAircraft`] for 0, [`FleetError::TooMany`] above the
+/// address space, [`FleetError::Memory`] for a fleet that does not fit in
+/// the memory this process can allocate ([`crate::memory::check_fleet`]).
+pub fn watched_size<M: FleetModel>(aircraft: u64) -> Result<usize, FleetError> {
+    if aircraft == 0 {
+        return Err(FleetError::NoAircraft);
+    }
+    let n = usize::try_from(aircraft).map_err(|_| FleetError::TooMany(aircraft))?;
+    crate::memory::check_fleet(
+        M::NAME,
+        aircraft,
+        M::Lanes::bytes_per_aircraft() as u64,
+        crate::memory::available_bytes(),
+    )?;
+    Ok(n)
 }
 
 /// What a watched fleet did (`sim-cli fleet --fg-mp --json`).
@@ -165,6 +192,10 @@ pub struct ShowReport {
     pub failed: u64,
     /// Frames that missed their real-time deadline.
     pub overruns: u64,
+    /// Seconds spent flying the frames (the controls and the kernel).
+    pub fly_seconds: f64,
+    /// Seconds spent placing, encoding and sending the streamed aircraft.
+    pub stream_seconds: f64,
 }
 
 impl ShowReport {
@@ -189,61 +220,181 @@ impl ShowReport {
 }
 
 /// A watched fleet of model `M` flying and streaming.
-#[derive(Debug)]
 pub struct FleetShow<M: FleetModel> {
-    fleet: MultiplayerFleet<M>,
+    fleet: M::Lanes,
+    precision: Precision,
+    pool: rayon::ThreadPool,
+    origin: GeodeticOrigin,
+    script: Script<M::Action>,
+    cursor: ScriptCursor,
+    /// Whether the next frame's [`Model::begin_frame`] may change a
+    /// control: true until a frame without actions changed none (then, with
+    /// no actions, every later frame would leave them as they are).
+    controls_may_change: bool,
+    /// Each streamed aircraft's last placement and view whose numbers are
+    /// all finite: what it is shown at once it diverges.
+    shown: Vec<(Placement, FlightView)>,
     sender: MultiplayerSender,
     pacer: FramePacer,
     aircraft: u64,
-    streamed: usize,
     frames: u64,
+    fps: u32,
     flown: u64,
+    fly_seconds: f64,
+    stream_seconds: f64,
+}
+
+impl<M: FleetModel> std::fmt::Debug for FleetShow<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FleetShow")
+            .field("model", &M::NAME)
+            .field("aircraft", &self.aircraft)
+            .field("streamed", &self.shown.len())
+            .field("flown", &self.flown)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<M: FleetModel> FleetShow<M> {
-    /// Spawns the fleet and opens the socket to FlightGear at `target`; the
-    /// real-time clock starts now.
+    /// Spawns the fleet, builds its thread pool and opens the socket to
+    /// FlightGear at `target`; the real-time clock starts now.
     ///
     /// # Errors
-    /// [`FleetError::TooManyToWatch`], or [`FleetError::Multiplayer`] for a
-    /// frame rate of 0 or a socket that cannot be opened.
+    /// As [`watched_size`]; [`FleetError::Fps`] for a frame rate of 0,
+    /// [`FleetError::NoThreads`], [`FleetError::ThreadPool`],
+    /// [`FleetError::Precision`] for a precision the model's kernel has not,
+    /// [`FleetError::Kernel`] for an aircraft it cannot fly, or
+    /// [`FleetError::Multiplayer`] for a socket that cannot be opened.
     pub fn new(scenario: ShowScenario<M::Action>, target: SocketAddr) -> Result<Self, FleetError> {
-        let n = watched_size(scenario.aircraft)?;
-        let streamed = scenario.streamed.min(n);
-        let fleet = multiplayer_fleet::<M>(
-            n,
-            scenario.pattern,
-            scenario.origin,
-            scenario.script,
-            scenario.fps,
-        )?;
+        let n = watched_size::<M>(scenario.aircraft)?;
+        // The ECS's check of the frame rate, as the ECS fleet had it.
+        fdm_ecs::Resources::new(f64::from(scenario.fps))?;
+        M::Lanes::check_precision(scenario.precision).map_err(FleetError::Precision)?;
+        let pool = super::thread_pool(super::threads_or_cores(scenario.threads)?)?;
+        let (pattern, origin) = (scenario.pattern, scenario.origin);
+        let fleet = pool
+            .install(|| {
+                M::Lanes::from_starts(
+                    M::default_aircraft(),
+                    (0..n).map(|i| start_of::<M>(pattern, i)),
+                )
+            })
+            .map_err(FleetError::Kernel)?;
+        let streamed = scenario.streamed.min(n).min(MAX_STREAMED);
+        let shown = (0..streamed)
+            .map(|i| {
+                let (controls, state) = start_of::<M>(pattern, i);
+                let view = M::view(fleet.aircraft(), &controls, &state);
+                (Placement::of(&view, &origin), view)
+            })
+            .collect();
         let sender = MultiplayerSender::open(target)?;
         let pacer = FramePacer::new(FramePacer::period_for(scenario.fps), Instant::now());
         Ok(Self {
             fleet,
+            precision: scenario.precision,
+            pool,
+            origin,
+            script: scenario.script,
+            cursor: ScriptCursor::new(),
+            controls_may_change: true,
+            shown,
             sender,
             pacer,
             aircraft: scenario.aircraft,
-            streamed,
             frames: scenario.frames,
+            fps: scenario.fps,
             flown: 0,
+            fly_seconds: 0.0,
+            stream_seconds: 0.0,
         })
     }
 
-    /// Flies one frame, sends the streamed aircraft's messages and waits for
-    /// the frame's end.
+    /// Flies one frame (the script's actions for it on every aircraft, then
+    /// the kernel), sends the streamed aircraft's messages and waits for the
+    /// frame's end.
     ///
     /// # Errors
-    /// [`FleetError::Multiplayer`] when a message cannot be made (a failed
-    /// send is counted, never an error).
+    /// [`FleetError::Kernel`] if the kernel fails; [`FleetError::Multiplayer`]
+    /// when a message cannot be made (a failed send is counted, never an
+    /// error).
     pub fn step_frame(&mut self) -> Result<(), FleetError> {
-        self.fleet.step()?;
-        for msg in self.fleet.messages(self.streamed, M::FG_MP_MODEL)? {
+        let start = Instant::now();
+        self.fly()?;
+        let flown = Instant::now();
+        for msg in self.messages()? {
             self.sender.send(&msg)?;
         }
-        self.flown += 1;
+        self.fly_seconds += (flown - start).as_secs_f64();
+        self.stream_seconds += flown.elapsed().as_secs_f64();
         self.pacer.pace();
         Ok(())
+    }
+
+    /// The frame's controls (as the ECS's FlightControl system sets them:
+    /// [`Model::begin_frame`], then each action of the script's frame) and
+    /// the frame itself, on the pool.
+    fn fly(&mut self) -> Result<(), FleetError> {
+        let frame = self.flown + 1;
+        let actions: Vec<M::Action> = self.cursor.actions(&self.script, frame).collect();
+        let fleet = &mut self.fleet;
+        let (precision, fps) = (self.precision, f64::from(self.fps));
+        if !actions.is_empty() || self.controls_may_change {
+            let aircraft = fleet.aircraft().clone();
+            let changed = AtomicBool::new(false);
+            self.pool.install(|| {
+                fleet.par_update_controls(|_, controls| {
+                    let begun = M::begin_frame(controls);
+                    if begun != controls {
+                        changed.store(true, Ordering::Relaxed);
+                    }
+                    actions
+                        .iter()
+                        .fold(begun, |c, &action| M::apply(&aircraft, c, action))
+                });
+            });
+            self.controls_may_change = !actions.is_empty() || changed.into_inner();
+        }
+        self.pool
+            .install(|| fleet.par_fly(fps, precision))
+            .map_err(FleetError::Kernel)?;
+        self.flown = frame;
+        Ok(())
+    }
+
+    /// The streamed aircraft's messages now (placed on the pool's threads),
+    /// callsigns [`callsign`]`(0)`, `(1)`, ...: position and attitude from
+    /// [`Placement::of`] the model's view, body velocity from the view; the
+    /// time is the fleet's clock, the lag one frame. A diverged aircraft,
+    /// or one whose placement is not finite, is shown where it last was.
+    ///
+    /// # Errors
+    /// [`MultiplayerError::Name`] for the model's path if it does not fit the
+    /// message.
+    pub fn messages(&mut self) -> Result<Vec<MultiplayerPosition>, FleetError> {
+        let (fleet, origin) = (&self.fleet, &self.origin);
+        #[allow(clippy::cast_precision_loss)] // frame counts below 2^53
+        let time_s = self.flown as f64 / f64::from(self.fps);
+        let timing = (time_s, 1.0 / f64::from(self.fps));
+        let shown = &mut self.shown;
+        let messages = self.pool.install(|| {
+            shown
+                .par_iter_mut()
+                .enumerate()
+                .map(|(i, last)| {
+                    if let Some(now) = placed::<M>(fleet, i, origin) {
+                        *last = now;
+                    }
+                    let (placement, view) = &*last;
+                    let who = MultiplayerIdentity {
+                        callsign: &callsign(i),
+                        model_path: M::FG_MP_MODEL,
+                    };
+                    multiplayer_position(who, timing, placement.geodetic, placement.attitude, view)
+                })
+                .collect::<Result<Vec<_>, _>>()
+        });
+        Ok(messages.map_err(MultiplayerError::Name)?)
     }
 
     /// Flies the frames left of [`ShowScenario::frames`].
@@ -259,8 +410,14 @@ impl<M: FleetModel> FleetShow<M> {
 
     /// The fleet.
     #[must_use]
-    pub fn fleet(&self) -> &MultiplayerFleet<M> {
+    pub fn fleet(&self) -> &M::Lanes {
         &self.fleet
+    }
+
+    /// Frames flown so far.
+    #[must_use]
+    pub fn flown(&self) -> u64 {
+        self.flown
     }
 
     /// The error of the first failed send, once.
@@ -275,13 +432,46 @@ impl<M: FleetModel> FleetShow<M> {
         ShowReport {
             model: M::NAME,
             aircraft: self.aircraft,
-            streamed: self.streamed,
+            streamed: self.shown.len(),
             frames: self.flown,
             sent: stats.sent,
             failed: stats.failed,
             overruns: self.pacer.overruns(),
+            fly_seconds: self.fly_seconds,
+            stream_seconds: self.stream_seconds,
         }
     }
+}
+
+/// Aircraft `index`'s placement and view now, `None` when it has diverged
+/// or any of their numbers is not finite (the rule of the ECS's Place
+/// system, `fdm_ecs::systems::place`).
+fn placed<M: FleetModel>(
+    fleet: &M::Lanes,
+    index: usize,
+    origin: &GeodeticOrigin,
+) -> Option<(Placement, FlightView)> {
+    if fleet.status(index)? == FlightStatus::Diverged {
+        return None;
+    }
+    let view = M::view(
+        fleet.aircraft(),
+        &fleet.controls(index)?,
+        &fleet.state(index)?,
+    );
+    let placement = Placement::of(&view, origin);
+    let (g, a) = (&placement.geodetic, &placement.attitude);
+    let finite = [
+        g.lat_deg,
+        g.lon_deg,
+        g.alt_m,
+        a.roll_deg,
+        a.pitch_deg,
+        a.heading_deg,
+    ]
+    .into_iter()
+    .all(f64::is_finite);
+    (finite && view.is_finite()).then_some((placement, view))
 }
 
 #[cfg(test)]
@@ -374,17 +564,161 @@ mod tests {
         assert_eq!(lead.velocity_ftps, wing.velocity_ftps);
     }
 
-    /// A show too large to fly in real time is a typed error, before
-    /// anything is spawned.
+    /// A loopback socket for a show to send to.
+    fn receiver() -> (std::net::UdpSocket, SocketAddr) {
+        let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let addr = socket.local_addr().unwrap();
+        (socket, addr)
+    }
+
+    fn scenario<M: FleetModel>(
+        aircraft: u64,
+        streamed: usize,
+        pattern: StartPattern,
+        script: &str,
+    ) -> ShowScenario<M::Action> {
+        ShowScenario {
+            aircraft,
+            streamed,
+            pattern,
+            // PHLI, Lihue (sim-cli's `--origin phli`).
+            origin: GeodeticOrigin::new(21.963792, -159.335883, 26.94).unwrap(),
+            script: Script::parse(script).unwrap(),
+            frames: 90,
+            fps: 30,
+            threads: Some(2),
+            precision: Precision::Exact,
+        }
+    }
+
+    /// The lanes show sends, byte for byte, what the same aircraft send as
+    /// full ECS entities (the Place system's placement, the FlightControl
+    /// system's controls): every streamed aircraft, every frame, for each
+    /// pattern, with scripts that start and stop actions (Bourg's surfaces
+    /// return to neutral at every frame's start) and 21 aircraft (two whole
+    /// blocks of 8 and a partial one).
     #[test]
-    fn shows_too_large_are_refused() {
-        assert_eq!(watched_size(10_000).unwrap(), 10_000);
+    fn the_lanes_show_sends_the_ecs_fleets_messages_byte_for_byte() {
+        fn check<M: FleetModel>(script: &str, frames: u64) {
+            let (_socket, addr) = receiver();
+            for pattern in [StartPattern::Demo, StartPattern::Rows, StartPattern::V] {
+                let scenario = scenario::<M>(21, 21, pattern, script);
+                let mut ecs = multiplayer_fleet::<M>(
+                    21,
+                    pattern,
+                    scenario.origin,
+                    scenario.script.clone(),
+                    30,
+                )
+                .unwrap();
+                let mut show = FleetShow::<M>::new(scenario, addr).unwrap();
+                for frame in 1..=frames {
+                    ecs.step().unwrap();
+                    show.fly().unwrap();
+                    let want: Vec<_> = ecs
+                        .messages(21, M::FG_MP_MODEL)
+                        .unwrap()
+                        .iter()
+                        .map(|m| m.encode().unwrap())
+                        .collect();
+                    let got: Vec<_> = show
+                        .messages()
+                        .unwrap()
+                        .iter()
+                        .map(|m| m.encode().unwrap())
+                        .collect();
+                    assert_eq!(got.len(), want.len());
+                    let differs = (0..want.len()).find(|&k| got[k] != want[k]);
+                    assert_eq!(
+                        differs,
+                        None,
+                        "{} {pattern:?} frame {frame}: this aircraft's message differs",
+                        M::NAME
+                    );
+                }
+            }
+        }
+        check::<Bourg>(
+            "1-20 thrust-up\n5-40 pitch-up\n41-50 roll-right\n61-70 yaw-left\n",
+            90,
+        );
+        check::<Palmer>(
+            "1-20 throttle-up\n1-5 alpha-up\n31-45 bank-right\n61-75 bank-left\n",
+            90,
+        );
+    }
+
+    /// A show flies the whole fleet and streams only the first aircraft:
+    /// 2,000 aircraft (beyond the 1,000 FlightGear callsigns), 3 frames, 5
+    /// streamed: 15 datagrams arrive on loopback, each a position message
+    /// of one of the 5 callsigns, and every aircraft flew (the last one's
+    /// clock moved).
+    #[test]
+    fn a_show_flies_every_aircraft_and_streams_the_first() {
+        let (socket, addr) = receiver();
+        socket
+            .set_read_timeout(Some(std::time::Duration::from_secs(5)))
+            .unwrap();
+        let mut scenario = scenario::<Palmer>(2_000, 5, StartPattern::Demo, "1-3 throttle-up\n");
+        scenario.frames = 3;
+        let before = Palmer::fleet_member(1_999).1;
+        let mut show = FleetShow::<Palmer>::new(scenario, addr).unwrap();
+        show.run_to_end().unwrap();
+        let report = show.report();
+        assert_eq!(
+            (report.aircraft, report.streamed, report.frames, report.sent),
+            (2_000, 5, 3, 15)
+        );
+        let mut seen = Vec::new();
+        let mut buf = [0_u8; 2048];
+        for _ in 0..15 {
+            let len = socket.recv(&mut buf).unwrap();
+            let msg = MultiplayerPosition::decode(&buf[..len]).unwrap();
+            seen.push(msg.callsign);
+        }
+        seen.sort();
+        seen.dedup();
+        assert_eq!(seen, (0..5).map(callsign).collect::<Vec<_>>());
+        let last = show.fleet().state(1_999).unwrap();
+        assert!(last.time_s > before.time_s, "{last:?}");
+        assert_eq!(show.fleet().len(), 2_000);
+    }
+
+    /// Streamed aircraft are capped at what FlightGear's callsigns allow,
+    /// and an empty fleet or a frame rate of 0 is a typed error before
+    /// anything is sent.
+    #[test]
+    fn shows_check_their_scenario() {
+        let (_socket, addr) = receiver();
+        let show = FleetShow::<Palmer>::new(
+            scenario::<Palmer>(1_500, 5_000, StartPattern::Rows, ""),
+            addr,
+        )
+        .unwrap();
+        assert_eq!(show.report().streamed, MAX_STREAMED);
+        let show =
+            FleetShow::<Palmer>::new(scenario::<Palmer>(3, 16, StartPattern::Rows, ""), addr)
+                .unwrap();
+        assert_eq!(show.report().streamed, 3);
         assert!(matches!(
-            watched_size(10_001),
-            Err(FleetError::TooManyToWatch {
-                aircraft: 10_001,
-                max: MAX_WATCHED_FLEET
-            })
+            FleetShow::<Bourg>::new(scenario::<Bourg>(0, 1, StartPattern::V, ""), addr),
+            Err(FleetError::NoAircraft)
+        ));
+        let mut zero_fps = scenario::<Bourg>(1, 1, StartPattern::V, "");
+        zero_fps.fps = 0;
+        assert!(matches!(
+            FleetShow::<Bourg>::new(zero_fps, addr),
+            Err(FleetError::Fps(_))
+        ));
+        let mut no_threads = scenario::<Bourg>(1, 1, StartPattern::V, "");
+        no_threads.threads = Some(0);
+        assert!(matches!(
+            FleetShow::<Bourg>::new(no_threads, addr),
+            Err(FleetError::NoThreads)
+        ));
+        assert!(matches!(
+            watched_size::<Palmer>(u64::MAX),
+            Err(FleetError::TooMany(_) | FleetError::Memory(_))
         ));
     }
 }
