@@ -200,6 +200,22 @@ pub fn placement(view: &FlightView, origin: &GeodeticOrigin) -> (Geodetic, Attit
     (geodetic, attitude)
 }
 
+/// [`placement`] of `view` when it can be shown: `None` unless the view and
+/// every number of the placement are finite (the rule of [`place`], which
+/// marks such an aircraft diverged and keeps its last placement).
+#[must_use]
+pub fn finite_placement(
+    view: &FlightView,
+    origin: &GeodeticOrigin,
+) -> Option<(Geodetic, Attitude)> {
+    let (g, a) = placement(view, origin);
+    let placed = [g.lat_deg, g.lon_deg, g.alt_m]
+        .into_iter()
+        .chain([a.roll_deg, a.pitch_deg, a.heading_deg])
+        .all(f64::is_finite);
+    (placed && view.is_finite()).then_some((g, a))
+}
+
 /// The Place query of `M` aircraft.
 type PlaceQuery<'a, M> = (
     &'a Params<M>,
@@ -236,18 +252,13 @@ pub fn place<M: Model>(world: &mut World, res: &Resources) {
                 return;
             }
             let view = M::view(params, controls, state);
-            let (g, a) = placement(&view, origin);
-            let placed = [g.lat_deg, g.lon_deg, g.alt_m]
-                .into_iter()
-                .chain([a.roll_deg, a.pitch_deg, a.heading_deg])
-                .all(f64::is_finite);
-            if !(placed && view.is_finite()) {
+            let Some(placed) = finite_placement(&view, origin) else {
                 // A finite state too far out to be shown (e.g. a position
-                // of 1e300 m): diverged as well; the old placement stays.
+                // of 1.7e308 m): diverged as well; the old placement stays.
                 *status = FlightStatus::Diverged;
                 return;
-            }
-            (*geodetic, *attitude) = (g, a);
+            };
+            (*geodetic, *attitude) = placed;
         },
     );
 }

@@ -52,6 +52,15 @@ impl Placement {
         let (geodetic, attitude) = fdm_ecs::systems::placement(view, origin);
         Self { geodetic, attitude }
     }
+
+    /// [`Self::of`] when it can be shown: `None` unless the view and every
+    /// number of the placement are finite (the ECS's Place system's rule,
+    /// `fdm_ecs::systems::finite_placement`).
+    #[must_use]
+    pub fn of_finite(view: &FlightView, origin: &GeodeticOrigin) -> Option<Self> {
+        fdm_ecs::systems::finite_placement(view, origin)
+            .map(|(geodetic, attitude)| Self { geodetic, attitude })
+    }
 }
 
 /// The counters of a network output (the FlightGear link, a DIS sender):

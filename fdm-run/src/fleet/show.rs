@@ -232,8 +232,9 @@ pub struct FleetShow<M: FleetModel> {
     /// no actions, every later frame would leave them as they are).
     controls_may_change: bool,
     /// Each streamed aircraft's last placement and view whose numbers are
-    /// all finite: what it is shown at once it diverges.
-    shown: Vec<(Placement, FlightView)>,
+    /// all finite: what it is shown at once it diverges (`None`: never
+    /// placed, not sent).
+    shown: Vec<Option<(Placement, FlightView)>>,
     sender: MultiplayerSender,
     pacer: FramePacer,
     aircraft: u64,
@@ -285,7 +286,7 @@ impl<M: FleetModel> FleetShow<M> {
             .map(|i| {
                 let (controls, state) = start_of::<M>(pattern, i);
                 let view = M::view(fleet.aircraft(), &controls, &state);
-                (Placement::of(&view, &origin), view)
+                Some((Placement::of_finite(&view, &origin)?, view))
             })
             .collect();
         let sender = MultiplayerSender::open(target)?;
@@ -366,7 +367,9 @@ impl<M: FleetModel> FleetShow<M> {
     /// callsigns [`callsign`]`(0)`, `(1)`, ...: position and attitude from
     /// [`Placement::of`] the model's view, body velocity from the view; the
     /// time is the fleet's clock, the lag one frame. A diverged aircraft,
-    /// or one whose placement is not finite, is shown where it last was.
+    /// or one whose placement is not finite, is shown where it last was (and
+    /// not at all if it never had a finite placement: no message carries a
+    /// NaN or an infinity).
     ///
     /// # Errors
     /// [`MultiplayerError::Name`] for the model's path if it does not fit the
@@ -381,16 +384,22 @@ impl<M: FleetModel> FleetShow<M> {
             shown
                 .par_iter_mut()
                 .enumerate()
-                .map(|(i, last)| {
+                .filter_map(|(i, last)| {
                     if let Some(now) = placed::<M>(fleet, i, origin) {
-                        *last = now;
+                        *last = Some(now);
                     }
-                    let (placement, view) = &*last;
+                    let (placement, view) = last.as_ref()?;
                     let who = MultiplayerIdentity {
                         callsign: &callsign(i),
                         model_path: M::FG_MP_MODEL,
                     };
-                    multiplayer_position(who, timing, placement.geodetic, placement.attitude, view)
+                    Some(multiplayer_position(
+                        who,
+                        timing,
+                        placement.geodetic,
+                        placement.attitude,
+                        view,
+                    ))
                 })
                 .collect::<Result<Vec<_>, _>>()
         });
@@ -459,19 +468,7 @@ fn placed<M: FleetModel>(
         &fleet.controls(index)?,
         &fleet.state(index)?,
     );
-    let placement = Placement::of(&view, origin);
-    let (g, a) = (&placement.geodetic, &placement.attitude);
-    let finite = [
-        g.lat_deg,
-        g.lon_deg,
-        g.alt_m,
-        a.roll_deg,
-        a.pitch_deg,
-        a.heading_deg,
-    ]
-    .into_iter()
-    .all(f64::is_finite);
-    (finite && view.is_finite()).then_some((placement, view))
+    Some((Placement::of_finite(&view, origin)?, view))
 }
 
 #[cfg(test)]
@@ -720,5 +717,31 @@ mod tests {
             watched_size::<Palmer>(u64::MAX),
             Err(FleetError::TooMany(_) | FleetError::Memory(_))
         ));
+    }
+
+    /// What is not shown: a diverged aircraft, and a finite state whose
+    /// placement is not (a position of 1.7e308 m); their messages keep the
+    /// last placement ([`FleetShow::messages`]).
+    #[test]
+    fn diverged_and_unplaceable_aircraft_are_not_placed() {
+        let origin = GeodeticOrigin::default();
+        let (controls, state) = Palmer::fleet_member(0);
+        // Finite, but no geodetic position exists for it.
+        let mut far = state;
+        (far.position_m.x, far.position_m.z) = (1.7e308, 1.7e308);
+        let mut fleet = <Palmer as FleetModel>::Lanes::from_starts(
+            Palmer::default_aircraft(),
+            [(controls, state), (controls, far), (controls, state)],
+        )
+        .unwrap();
+        fleet.set_status(2, FlightStatus::Diverged).unwrap();
+        let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
+        assert_eq!(
+            placed::<Palmer>(&fleet, 0, &origin),
+            Some((Placement::of(&view, &origin), view))
+        );
+        assert_eq!(placed::<Palmer>(&fleet, 1, &origin), None);
+        assert_eq!(placed::<Palmer>(&fleet, 2, &origin), None);
+        assert_eq!(placed::<Palmer>(&fleet, 3, &origin), None);
     }
 }
