@@ -11,6 +11,17 @@
 //! ```sh
 //! cargo bench -p fdm-fleet --bench fleet_kernels -- --warm-up-time 1 --measurement-time 3
 //! ```
+//!
+//! Group `divider`: this CPU's throughput of the two operations that bound
+//! the kernels (BENCHMARKS.md, "Distance to the divider"): 1,024
+//! independent `f64` and `f32` divisions and square roots a pass, in the
+//! widest vectors the CPU has (the fleets' own dispatch, [`pulp::Arch`]),
+//! throughput in lane-operations. With the kernels' counts of divisions and
+//! square roots per aircraft-step, they give each kernel's floor:
+//!
+//! ```sh
+//! cargo bench -p fdm-fleet --bench fleet_kernels -- 'divider|/1t/1000$' --warm-up-time 1 --measurement-time 3
+//! ```
 
 use std::hint::black_box;
 
@@ -19,6 +30,7 @@ use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgStat
 use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_fleet::bourg::BourgFleet;
 use fdm_fleet::palmer::{PalmerFleet, Precision};
+use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
 const CESSNA: PalmerAircraft = PalmerAircraft::cessna_172();
@@ -190,5 +202,91 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_bourg);
+/// Lane-operations a pass of the `divider` group.
+const DIVIDER_LANES: usize = 1024;
+
+/// `out[i] = op(a[i], b[i])` for every `i`, compiled for the instruction set
+/// [`Arch::dispatch`] picks, so the loop is vectorised as wide as the CPU
+/// allows; every element independent (throughput, not latency).
+struct LaneOps<'a, T, F> {
+    a: &'a [T],
+    b: &'a [T],
+    out: &'a mut [T],
+    op: F,
+}
+
+impl<T: Copy, F: Fn(T, T) -> T> WithSimd for LaneOps<'_, T, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        for ((o, &a), &b) in self.out.iter_mut().zip(self.a).zip(self.b) {
+            *o = (self.op)(a, b);
+        }
+    }
+}
+
+fn bench_divider(c: &mut Criterion) {
+    let arch = Arch::new();
+    #[allow(clippy::cast_precision_loss)] // small integers, exact
+    let a: Vec<f64> = (0..DIVIDER_LANES).map(|i| 1.0 + i as f64 / 7.0).collect();
+    #[allow(clippy::cast_precision_loss)] // small integers, exact
+    let b: Vec<f64> = (0..DIVIDER_LANES).map(|i| 3.0 + i as f64 / 5.0).collect();
+    #[allow(clippy::cast_possible_truncation)] // f32 operands, as Bourg's
+    let (a32, b32): (Vec<f32>, Vec<f32>) = (
+        a.iter().map(|&x| x as f32).collect(),
+        b.iter().map(|&x| x as f32).collect(),
+    );
+    let mut out = vec![0.0_f64; DIVIDER_LANES];
+    let mut out32 = vec![0.0_f32; DIVIDER_LANES];
+    let mut group = c.benchmark_group("divider");
+    group.throughput(Throughput::Elements(DIVIDER_LANES as u64));
+    group.bench_function("f64_div", |bench| {
+        bench.iter(|| {
+            arch.dispatch(LaneOps {
+                a: black_box(&a),
+                b: black_box(&b),
+                out: &mut out,
+                op: |x: f64, y: f64| x / y,
+            });
+            black_box(&out);
+        });
+    });
+    group.bench_function("f64_sqrt", |bench| {
+        bench.iter(|| {
+            arch.dispatch(LaneOps {
+                a: black_box(&a),
+                b: black_box(&b),
+                out: &mut out,
+                op: |x: f64, _: f64| x.sqrt(),
+            });
+            black_box(&out);
+        });
+    });
+    group.bench_function("f32_div", |bench| {
+        bench.iter(|| {
+            arch.dispatch(LaneOps {
+                a: black_box(&a32),
+                b: black_box(&b32),
+                out: &mut out32,
+                op: |x: f32, y: f32| x / y,
+            });
+            black_box(&out32);
+        });
+    });
+    group.bench_function("f32_sqrt", |bench| {
+        bench.iter(|| {
+            arch.dispatch(LaneOps {
+                a: black_box(&a32),
+                b: black_box(&b32),
+                out: &mut out32,
+                op: |x: f32, _: f32| x.sqrt(),
+            });
+            black_box(&out32);
+        });
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_bourg, bench_divider);
 criterion_main!(benches);
