@@ -146,6 +146,7 @@
 pub mod dead_reckoning;
 pub mod entity;
 pub mod error;
+pub mod fleet;
 pub mod frames;
 pub mod listen;
 pub mod listener;
@@ -162,6 +163,7 @@ pub use entity::{
     DrAlgorithm, EntityConfig, EntityIdentity, Marking, WireState, ENTITY_STATE_PDU_LEN,
 };
 pub use error::DisOutputError;
+pub use fleet::{FleetPublisher, FLEET_BATCH};
 pub use frames::{
     ecef_vector_to_ned, local_from_ecef, ned_to_ecef_rotation, rotation_angle_between,
     AircraftState, DisEuler, EcefState,
@@ -169,10 +171,7 @@ pub use frames::{
 pub use listener::{decode_datagram, DecodeError, EntityRecord, Listener, ListenerStats};
 pub use publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
 pub use screen::ROUGH_TOLERANCE;
-pub use tracker::{
-    rotation_vector, FleetPublisher, Placed, Placement, ReasonCounts, Rough, Tally, Tracker,
-    FLEET_BATCH,
-};
+pub use tracker::{rotation_vector, Placed, Placement, ReasonCounts, Rough, Tally, Tracker};
 
 /// The dis-rs crate, for its enumerations (`ForceId`, `Country`, …) and PDU
 /// model.

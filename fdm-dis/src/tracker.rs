@@ -1,8 +1,8 @@
 //! Publishing flight models' aircraft: each aircraft seen through the model
 //! interface's [`FlightView`], placed on WGS-84 from the run's
 //! [`GeodeticOrigin`] straight into ECEF ([`Placement`]), its rates derived
-//! from consecutive frames ([`Tracker`]), its PDUs counted ([`Tally`]); and
-//! a whole fleet of them published on all threads ([`FleetPublisher`]).
+//! from consecutive frames ([`Tracker`]), its PDUs counted ([`Tally`]). A
+//! whole fleet of them is published by [`crate::fleet::FleetPublisher`].
 //!
 //! # Rates
 //!
@@ -28,14 +28,12 @@
 use fdm_core::geodesy::{ned_from_model, GeodeticOrigin};
 use fdm_core::model::FlightView;
 use nalgebra::{Matrix3, Vector3};
-use rayon::prelude::*;
 
 use crate::dead_reckoning::{DrThresholds, SendReason};
 use crate::entity::EntityConfig;
 use crate::error::DisOutputError;
 use crate::frames::{ned_to_ecef_rotation, EcefState};
 use crate::publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
-use crate::screen::{Frame as ScreenFrame, ScreenRef};
 
 /// Where a run's model frame sits in ECEF: the flat model frame (x north,
 /// y west, z up) is the tangent plane at the origin, so a model-frame
@@ -240,7 +238,12 @@ impl Tracker {
     /// placing it exactly, exact: `last` is that frame's view (the last one
     /// this tracker was given), and `quiet` the frames the screen cleared
     /// since this tracker last counted.
-    fn restore_previous(&mut self, last: &FlightView, placement: &Placement, quiet: u64) {
+    pub(crate) fn restore_previous(
+        &mut self,
+        last: &FlightView,
+        placement: &Placement,
+        quiet: u64,
+    ) {
         self.remember(&placement.placed(last));
         self.publisher.count_quiet_frames(quiet);
     }
@@ -408,7 +411,7 @@ impl Tally {
 
     /// Counts an aircraft's frame without sending (the tests' sink).
     #[cfg(test)]
-    fn publish_counts_only(&mut self, result: &Result<Option<Due<'_>>, DisOutputError>) {
+    pub(crate) fn publish_counts_only(&mut self, result: &Result<Option<Due<'_>>, DisOutputError>) {
         match result {
             Ok(Some(_)) => self.pdus += 1,
             Ok(None) => {}
@@ -426,7 +429,7 @@ impl Tally {
     }
 }
 
-/// One aircraft's frame as [`FleetPublisher::publish_screened`]'s screen
+/// One aircraft's frame as [`crate::FleetPublisher::publish_screened`]'s screen
 /// reads it: what dead reckoning needs, made without the model's full view.
 ///
 /// The time, position and velocity must be the bits of the aircraft's
@@ -450,189 +453,8 @@ pub struct Rough {
     pub body_to_ned: Matrix3<f64>,
 }
 
-/// Aircraft per rayon task of [`FleetPublisher::publish`]: large enough that
-/// a task's overhead vanishes next to its aircraft, small enough that two
-/// threads share a frame evenly.
-pub const FLEET_BATCH: usize = 1024;
-
-/// A fleet's DIS output: a [`Tracker`] per aircraft, aircraft `i` at index
-/// `i`, published on the current rayon pool.
-#[derive(Debug, Clone, Default)]
-pub struct FleetPublisher {
-    trackers: Vec<Tracker>,
-    /// The screen's copy of each tracker ([`FleetPublisher::publish_screened`]).
-    refs: Vec<ScreenRef>,
-}
-
-impl FleetPublisher {
-    /// A publisher for these trackers (aircraft `i`'s at index `i`).
-    #[must_use]
-    pub fn new(trackers: Vec<Tracker>) -> Self {
-        Self {
-            trackers,
-            refs: Vec::new(),
-        }
-    }
-
-    /// Aircraft published.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.trackers.len()
-    }
-
-    /// Whether there are none.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.trackers.is_empty()
-    }
-
-    /// Publishes one frame: aircraft `i` seen through `view(i)` (`None`: not
-    /// this frame, e.g. a diverged aircraft), placed by `placement`, its PDU
-    /// sent through `sender` if due. On the current rayon pool in batches
-    /// of [`FLEET_BATCH`] aircraft, each batch sending as it goes (a UDP
-    /// socket sends whole datagrams from any thread): the datagrams of one
-    /// frame are in no particular order; each aircraft's own stay in order.
-    /// Returns the frame's counts.
-    pub fn publish(
-        &mut self,
-        sender: &UdpSender,
-        placement: &Placement,
-        view: impl Fn(usize) -> Option<FlightView> + Sync,
-    ) -> Tally {
-        self.trackers
-            .par_chunks_mut(FLEET_BATCH)
-            .enumerate()
-            .map(|(c, trackers)| {
-                let mut tally = Tally::default();
-                for (k, tracker) in trackers.iter_mut().enumerate() {
-                    if let Some(v) = view(c * FLEET_BATCH + k) {
-                        tally.publish(sender, tracker.update(&v, placement));
-                    }
-                }
-                tally
-            })
-            .reduce(Tally::default, |mut a, b| {
-                a.merge(b);
-                a
-            })
-    }
-
-    /// [`FleetPublisher::publish`] with a screen: the same PDUs, bytes,
-    /// counts and errors, but the full view of an aircraft (for Palmer its
-    /// Euler angles' `atan2`s, `hypot`s and `sin_cos`es) and its exact
-    /// dead-reckoning check are made only for the aircraft that a cheap
-    /// [`Rough`] frame, screened eight at a time in structure-of-arrays form
-    /// (`screen`: no transcendental function, margins wider than every
-    /// rounding), cannot show to have nothing due.
-    ///
-    /// Aircraft `i`'s input this frame is `state(i)` (`None`: not this
-    /// frame); `rough(first, states, out)` fills `out[k]` with the [`Rough`]
-    /// frame of aircraft `first + k` whose input is `states[k]` (`None`
-    /// where it has none, or where the model cannot make one within
-    /// [`ROUGH_TOLERANCE`](crate::ROUGH_TOLERANCE): that aircraft takes the
-    /// exact path), for up to [`FLEET_BATCH`] aircraft at a time (so that it
-    /// can work on several per instruction); `view(i, s)` makes the exact
-    /// view of aircraft `i` with input `s`.
-    ///
-    /// An aircraft the screen clears is counted as a quiet frame, as
-    /// [`Tracker::update`] would count it; its tracker is not touched until
-    /// its next exact update, which first places the last cleared frame
-    /// exactly (for the rates) from its input. `last` keeps each aircraft's
-    /// last input for that: pass the same buffer on every frame (it is
-    /// resized to the fleet and written here), and do not mix this method
-    /// with [`FleetPublisher::publish`] on one publisher.
-    pub fn publish_screened<S: Copy + Send + Sync>(
-        &mut self,
-        sender: &UdpSender,
-        placement: &Placement,
-        last: &mut Vec<Option<S>>,
-        state: impl Fn(usize) -> Option<S> + Sync,
-        rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]) + Sync,
-        view: impl Fn(usize, &S) -> FlightView + Sync,
-    ) -> Tally {
-        self.screened(placement, last, state, rough, view, |tally, _, due| {
-            tally.publish(sender, due);
-        })
-    }
-
-    /// [`FleetPublisher::publish_screened`] handing each exact update's
-    /// result to `send` instead of a socket.
-    fn screened<S: Copy + Send + Sync>(
-        &mut self,
-        placement: &Placement,
-        last: &mut Vec<Option<S>>,
-        state: impl Fn(usize) -> Option<S> + Sync,
-        rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]) + Sync,
-        view: impl Fn(usize, &S) -> FlightView + Sync,
-        send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync,
-    ) -> Tally {
-        let n = self.trackers.len();
-        last.resize(n, None);
-        self.refs.resize(n, ScreenRef::default());
-        // The thresholds screened for: the first tracker's (a fleet's are
-        // one setting; a tracker with others is never cleared).
-        let thresholds = self
-            .trackers
-            .first()
-            .map(|t| t.publisher.reckoner().thresholds());
-        let frame = ScreenFrame::new(placement, thresholds);
-        self.trackers
-            .par_chunks_mut(FLEET_BATCH)
-            .zip(self.refs.par_chunks_mut(FLEET_BATCH))
-            .zip(last.par_chunks_mut(FLEET_BATCH))
-            .enumerate()
-            .map(|(c, ((trackers, refs), last))| {
-                let first = c * FLEET_BATCH;
-                let mut tally = Tally::default();
-                let states: Vec<Option<S>> = (first..first + trackers.len()).map(&state).collect();
-                let mut roughs = vec![None; states.len()];
-                rough(first, &states, &mut roughs);
-                for (k, (((tracker, screen), last), s)) in trackers
-                    .iter_mut()
-                    .zip(refs.iter_mut())
-                    .zip(last.iter_mut())
-                    .zip(&states)
-                    .enumerate()
-                {
-                    let Some(s) = s else { continue };
-                    if let Some(r) = roughs[k].as_ref().filter(|r| screen.quiet(r, &frame)) {
-                        screen.cleared(r.time_s);
-                    } else {
-                        let i = first + k;
-                        if screen.stale {
-                            match last {
-                                Some(l) => {
-                                    tracker.restore_previous(&view(i, l), placement, screen.pending)
-                                }
-                                // Not reached: a cleared frame's input is kept.
-                                None => tracker.publisher.count_quiet_frames(screen.pending),
-                            }
-                        }
-                        send(&mut tally, i, tracker.update(&view(i, s), placement));
-                        *screen = ScreenRef::refresh(tracker, placement, &frame);
-                    }
-                    *last = Some(*s);
-                }
-                tally
-            })
-            .reduce(Tally::default, |mut a, b| {
-                a.merge(b);
-                a
-            })
-    }
-
-    /// Aircraft `i`'s tracker's counts, with the quiet frames the screen
-    /// cleared since it last counted.
-    #[must_use]
-    pub fn counts(&self, i: usize) -> Option<PublisherCounts> {
-        let mut counts = self.trackers.get(i)?.counts();
-        counts.frames += self.refs.get(i).map_or(0, |r| r.pending);
-        Some(counts)
-    }
-}
-
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::entity::{AircraftKind, EntityIdentity, Marking};
     use crate::frames::rotation_angle_between;
@@ -661,7 +483,7 @@ mod tests {
         assert!(rotation_vector(&over).iter().all(|c| c.is_finite()));
     }
 
-    fn tracker(thresholds: DrThresholds) -> Tracker {
+    pub(crate) fn tracker(thresholds: DrThresholds) -> Tracker {
         let config = EntityConfig::new(
             EntityIdentity::new(1, 1, 1).unwrap(),
             AircraftKind::Cessna172,
@@ -717,195 +539,6 @@ mod tests {
                 assert!(lazy.counts().sent > 1);
             }
         }
-    }
-
-    /// The screened fleet publisher against the whole computation, aircraft
-    /// by aircraft and frame by frame: the same PDUs (reason and bytes), the
-    /// same errors, the same counts. The rough orientations are the exact
-    /// ones moved by up to 0.9 × [`ROUGH_TOLERANCE`](crate::ROUGH_TOLERANCE)
-    /// in every element (and none for every 13th aircraft), over more than
-    /// one batch of aircraft, tight and loose thresholds, a heartbeat of every
-    /// frame, an aircraft that diverges (NaN) and one left out for some
-    /// frames. Most frames are screened: the full view is made for few.
-    #[test]
-    fn screened_publishing_is_the_whole_computation() {
-        use std::sync::atomic::{AtomicUsize, Ordering};
-        use std::sync::Mutex;
-        const FRAMES: usize = 160;
-        let placement = Placement::new(GeodeticOrigin::default());
-        let aircraft = Palmer::default_aircraft();
-        for (thresholds, n) in [
-            (DrThresholds::default(), FLEET_BATCH + 6),
-            (
-                DrThresholds {
-                    position_m: 0.05,
-                    orientation_deg: 0.2,
-                    heartbeat_s: 1.0,
-                },
-                120,
-            ),
-            (
-                DrThresholds {
-                    heartbeat_s: f64::MIN_POSITIVE,
-                    ..DrThresholds::default()
-                },
-                40,
-            ),
-        ] {
-            let (controls, start): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
-            let mut whole: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
-            let mut screened = FleetPublisher::new(whole.clone());
-            let mut last = Vec::new();
-            let mut states = start.clone();
-            let views = AtomicUsize::new(0);
-            for frame in 0..FRAMES {
-                for (s, c) in states.iter_mut().zip(&controls) {
-                    *s = Palmer::step(&aircraft, c, s, 1.0 / 30.0);
-                }
-                if frame == 100 {
-                    states[5].position_m.x = f64::NAN;
-                }
-                let offered = |i: usize| (i != 7 || !(60..70).contains(&frame)).then_some(i);
-                let view = |i: usize, s: &fdm_core::palmer::PalmerState| {
-                    views.fetch_add(1, Ordering::Relaxed);
-                    Palmer::view(&aircraft, &controls[i], s)
-                };
-                let noise = |i: usize, e: usize| {
-                    let mut x = (i * 31 + e * 7 + frame * 131) as u64 ^ 0x9E37_79B9_7F4A_7C15;
-                    x = x.wrapping_mul(0x2545_f491_4f6c_dd1d);
-                    ((x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0)
-                        * 0.9
-                        * crate::ROUGH_TOLERANCE
-                };
-                let rough = |first: usize,
-                             input: &[Option<fdm_core::palmer::PalmerState>],
-                             out: &mut [Option<Rough>]| {
-                    for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
-                        let i = first + k;
-                        *o = s.filter(|_| !i.is_multiple_of(13)).map(|s| {
-                            let v = Palmer::view(&aircraft, &controls[i], &s);
-                            let mut m = v.attitude.body_to_ned();
-                            m.iter_mut()
-                                .enumerate()
-                                .for_each(|(e, x)| *x += noise(i, e));
-                            Rough {
-                                time_s: v.time_s,
-                                position_m: v.position_m,
-                                velocity_mps: v.velocity_mps,
-                                body_to_ned: m,
-                            }
-                        });
-                    }
-                };
-                type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
-                let got = Mutex::new(Vec::<Sent>::new());
-                let tally = screened.screened(
-                    &placement,
-                    &mut last,
-                    |i| offered(i).map(|i| states[i]),
-                    rough,
-                    view,
-                    |tally, i, result| {
-                        let kept = match &result {
-                            Ok(Some(d)) => Some((i, Ok((d.reason, d.bytes.to_vec())))),
-                            Ok(None) => None,
-                            Err(e) => Some((i, Err(e.to_string()))),
-                        };
-                        tally.publish_counts_only(&result);
-                        got.lock().unwrap().extend(kept);
-                    },
-                );
-                let mut got = got.into_inner().unwrap();
-                got.sort_by_key(|(i, _)| *i);
-                let mut expected: Vec<Sent> = Vec::new();
-                for (i, t) in whole.iter_mut().enumerate() {
-                    let Some(i) = offered(i) else { continue };
-                    let v = Palmer::view(&aircraft, &controls[i], &states[i]);
-                    match t.update(&v, &placement) {
-                        Ok(Some(d)) => expected.push((i, Ok((d.reason, d.bytes.to_vec())))),
-                        Ok(None) => {}
-                        Err(e) => expected.push((i, Err(e.to_string()))),
-                    }
-                }
-                assert_eq!(got, expected, "{thresholds:?}, frame {frame}");
-                assert_eq!(tally.invalid, u64::from(frame >= 100), "frame {frame}");
-            }
-            let screened_counts: Vec<_> = (0..n).map(|i| screened.counts(i).unwrap()).collect();
-            let whole_counts: Vec<_> = whole.iter().map(Tracker::counts).collect();
-            assert_eq!(screened_counts, whole_counts, "{thresholds:?}");
-            let views = views.into_inner();
-            // The full view is made for the aircraft not cleared, and again
-            // for the previous frame of those whose previous frame was.
-            if thresholds.heartbeat_s > 0.1 {
-                let most = n * FRAMES / if thresholds.heartbeat_s > 2.0 { 5 } else { 3 };
-                assert!(views < most, "{views} views for {thresholds:?}");
-            }
-        }
-    }
-
-    /// Frames far shorter than the tracker's lazy-rates bound (a clock
-    /// started at 0 and advanced by subnormal steps, the velocity changing
-    /// by 1 m/s a frame): the exact path's rates overflow and it reports
-    /// the state as unsendable; the screen must not clear those frames as
-    /// quiet. Same results, frame by frame, as the whole computation.
-    #[test]
-    fn screened_publishing_does_not_clear_frames_shorter_than_the_lazy_bound() {
-        let placement = Placement::new(GeodeticOrigin::default());
-        let aircraft = Palmer::default_aircraft();
-        let (controls, start) = Palmer::fleet_member(0);
-        let base = Palmer::view(&aircraft, &controls, &start);
-        let mut whole = tracker(DrThresholds::default());
-        let mut screened = FleetPublisher::new(vec![whole.clone()]);
-        let mut last = Vec::new();
-        let mut unsendable = 0;
-        for frame in 0..6_u32 {
-            let mut v = base;
-            // 0, 1e-310, 2e-310, ... s: frames of 1e-310 s.
-            v.time_s = f64::from(frame) * 1e-310;
-            v.velocity_mps.x += f64::from(frame);
-            let rough = |_: usize, input: &[Option<FlightView>], out: &mut [Option<Rough>]| {
-                for (s, o) in input.iter().zip(out.iter_mut()) {
-                    *o = s.map(|s| Rough {
-                        time_s: s.time_s,
-                        position_m: s.position_m,
-                        velocity_mps: s.velocity_mps,
-                        body_to_ned: s.attitude.body_to_ned(),
-                    });
-                }
-            };
-            let got = std::sync::Mutex::new(Vec::new());
-            screened.screened(
-                &placement,
-                &mut last,
-                |_| Some(v),
-                rough,
-                |_, s| *s,
-                |tally, _, result| {
-                    let kept = match &result {
-                        Ok(d) => d.as_ref().map(|d| Ok(d.bytes.to_vec())),
-                        Err(e) => Some(Err(e.to_string())),
-                    };
-                    got.lock().unwrap().extend(kept);
-                    tally.publish_counts_only(&result);
-                },
-            );
-            let expected = match whole.update(&v, &placement) {
-                Ok(Some(d)) => vec![Ok(d.bytes.to_vec())],
-                Ok(None) => vec![],
-                Err(e) => {
-                    unsendable += 1;
-                    vec![Err(e.to_string())]
-                }
-            };
-            // Quiet frames (cleared, or not due on the exact path) send
-            // nothing; PDUs and errors must be the same.
-            assert_eq!(got.into_inner().unwrap(), expected, "frame {frame}");
-        }
-        assert!(
-            unsendable > 0,
-            "the frames must overflow the exact path's rates"
-        );
-        assert_eq!(screened.counts(0).unwrap(), whole.counts());
     }
 
     /// The orientation screen never calls an angle above the threshold

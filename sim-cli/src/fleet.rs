@@ -60,14 +60,6 @@ impl From<FleetError> for CliError {
     }
 }
 
-/// The run library's precision for `--precision`.
-pub(crate) fn precision(precision: FleetPrecision) -> Precision {
-    match precision {
-        FleetPrecision::Exact => Precision::Exact,
-        FleetPrecision::Fast => Precision::Fast,
-    }
-}
-
 /// [`measure`] for the model the arguments name.
 struct Measure<'a>(&'a FleetArgs);
 
@@ -82,7 +74,10 @@ impl WithModel for Measure<'_> {
             FleetKernel::Lanes => Kernel::Lanes,
             FleetKernel::Ecs => Kernel::Ecs,
         };
-        scenario.precision = precision(args.precision);
+        scenario.precision = match args.precision {
+            FleetPrecision::Exact => Precision::Exact,
+            FleetPrecision::Fast => Precision::Fast,
+        };
         scenario.start = args.start.options();
         scenario.realtime = args.show.realtime;
         // The ECS kernel's precision is refused before the DIS target is resolved.

@@ -11,8 +11,9 @@ use anyhow::Context as _;
 use fdm_core::script::Script;
 use fdm_run::fleet::show::{watched_size, FleetShow, ShowScenario, StartPattern};
 pub use fdm_run::fleet::show::{ShowReport, DEFAULT_MP_AIRCRAFT};
+use fdm_run::fleet::Precision;
 
-use crate::args::{FleetArgs, FleetKernel, FleetPattern, FLEET_FPS};
+use crate::args::{FleetArgs, FleetKernel, FleetPattern, FleetPrecision, FLEET_FPS};
 use crate::config::load_script;
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
@@ -44,7 +45,10 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
         frames: args.frames,
         fps: FLEET_FPS,
         threads: args.threads,
-        precision: crate::fleet::precision(args.precision),
+        precision: match args.precision {
+            FleetPrecision::Exact => Precision::Exact,
+            FleetPrecision::Fast => Precision::Fast,
+        },
     };
     let mut show = FleetShow::<M>::new(scenario, SocketAddr::V4(target))?;
     show.run_to_end()?;
