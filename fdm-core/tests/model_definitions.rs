@@ -347,3 +347,232 @@ fn a_crashed_bourg_aircraft_rests_where_it_was_with_its_clock_advanced() {
         (rest.position_ft, rest.orientation, Vector3::zeros())
     );
 }
+
+/// Palmer's `Model::view`, from its documentation (`fdm_core::palmer`): a
+/// point mass has no attitude state, so the attitude is
+/// `geodesy::palmer_attitude` of the velocity, alpha and bank; the body
+/// velocity is `u = V cos α`, `w = V sin α`, no sideslip; flaps
+/// `degrees / 40`; the engine runs at the model's propeller speed
+/// (`engine_rps · 60` rev/min) while the throttle is above 0, and not at 0;
+/// no stall. Exact: the documented operations on the same numbers, with
+/// fdm-core's own `sqrt`, `cos` and `sin` (the model's maths).
+#[test]
+fn palmers_view_derives_as_documented() {
+    use fdm_core::geodesy::palmer_attitude;
+    use fdm_core::math::{cos, sin, sqrt};
+    use fdm_core::palmer::Flaps;
+
+    let aircraft = Palmer::default_aircraft();
+    let controls = PalmerControls {
+        throttle: 0.35,
+        alpha_deg: 6.0,
+        bank_deg: -12.0,
+        flaps: Flaps::Deg20,
+        brakes: false,
+    };
+    let state = PalmerState {
+        time_s: 7.25,
+        position_m: Vector3::new(120.0, -35.5, 640.0),
+        velocity_mps: Vector3::new(48.0, -5.0, 2.5),
+    };
+    let v = Palmer::view(&aircraft, &controls, &state);
+    let speed = sqrt(48.0 * 48.0 + 5.0 * 5.0 + 2.5 * 2.5);
+    assert_eq!(v.airspeed_mps, speed);
+    assert_eq!(
+        (v.time_s, v.position_m, v.velocity_mps),
+        (7.25, state.position_m, state.velocity_mps)
+    );
+    let alpha = 6.0f64.to_radians();
+    assert_eq!(
+        v.velocity_body_mps,
+        Vector3::new(speed * cos(alpha), 0.0, speed * sin(alpha))
+    );
+    assert_eq!(v.attitude, palmer_attitude(state.velocity_mps, 6.0, -12.0));
+    assert_eq!((v.alpha_deg, v.beta_deg), (6.0, 0.0));
+    assert_eq!(v.flaps_norm, 0.5);
+    assert_eq!(v.engine_rpm, aircraft.engine_rps * 60.0);
+    assert!(
+        v.engine_running && v.engine_rpm > 1000.0,
+        "{}",
+        v.engine_rpm
+    );
+    assert!(!v.stalling);
+    assert!(v.is_finite());
+
+    // Idle (throttle exactly 0): the engine does not run; full flaps are 1.
+    let idle = PalmerControls {
+        throttle: 0.0,
+        flaps: Flaps::Deg40,
+        ..controls
+    };
+    let v = Palmer::view(&aircraft, &idle, &state);
+    assert_eq!(
+        (v.engine_running, v.engine_rpm, v.flaps_norm),
+        (false, 0.0, 1.0)
+    );
+    // Any throttle above 0 runs it; flaps up are 0.
+    let least = PalmerControls {
+        throttle: f64::from_bits(1),
+        flaps: Flaps::Up,
+        ..controls
+    };
+    let v = Palmer::view(&aircraft, &least, &state);
+    assert_eq!(
+        (v.engine_running, v.engine_rpm, v.flaps_norm),
+        (true, aircraft.engine_rps * 60.0, 0.0)
+    );
+    assert_eq!(Palmer::height_m(&state), 640.0);
+    assert_eq!(Palmer::climb_rate_mps(&state), 2.5);
+}
+
+/// Palmer's `Model::fleet_member(i)`, as documented: throttle 50..100 % in
+/// 11 steps (5 % each), alpha 2..6° and bank −10..10° in whole degrees, flaps
+/// up or 20°, 45..54 m/s north, 500 m up, spaced 10 m apart along x (the
+/// first at the origin), no brakes, time 0; and no two neighbours share all
+/// their controls. Over the first 2310 members (every combination of the
+/// steps' periods) each step of each control is taken. Exact: sums and
+/// products of small whole numbers and of 0.05-multiples as `f64` computes
+/// them (`0.5 + k / 20`).
+#[test]
+fn palmers_fleet_members_are_as_documented() {
+    use fdm_core::palmer::Flaps;
+    use std::collections::BTreeSet;
+
+    let (mut throttles, mut alphas, mut banks, mut speeds) = (
+        BTreeSet::new(),
+        BTreeSet::new(),
+        BTreeSet::new(),
+        BTreeSet::new(),
+    );
+    let mut flaps = BTreeSet::new();
+    let mut previous: Option<PalmerControls> = None;
+    for i in 0..2310usize {
+        let (controls, state) = Palmer::fleet_member(i);
+        let k = (0..=10)
+            .find(|&k| controls.throttle == 0.5 + f64::from(k) / 20.0)
+            .unwrap_or_else(|| panic!("member {i}: throttle {}", controls.throttle));
+        throttles.insert(k);
+        assert!(
+            controls.alpha_deg == controls.alpha_deg.round()
+                && (2.0..=6.0).contains(&controls.alpha_deg),
+            "member {i}: alpha {}",
+            controls.alpha_deg
+        );
+        alphas.insert(controls.alpha_deg as i64);
+        assert!(
+            controls.bank_deg == controls.bank_deg.round()
+                && (-10.0..=10.0).contains(&controls.bank_deg),
+            "member {i}: bank {}",
+            controls.bank_deg
+        );
+        banks.insert(controls.bank_deg as i64);
+        assert!(
+            matches!(controls.flaps, Flaps::Up | Flaps::Deg20),
+            "member {i}"
+        );
+        flaps.insert(controls.flaps.degrees() as i64);
+        assert!(!controls.brakes, "member {i}");
+        assert_eq!(state.time_s, 0.0, "member {i}");
+        assert_eq!(
+            state.position_m,
+            Vector3::new(10.0 * i as f64, 0.0, 500.0),
+            "member {i}"
+        );
+        let speed = state.velocity_mps.x;
+        assert!(
+            speed == speed.round() && (45.0..=54.0).contains(&speed),
+            "member {i}: speed {speed}"
+        );
+        assert_eq!(state.velocity_mps, Vector3::new(speed, 0.0, 0.0));
+        speeds.insert(speed as i64);
+        if let Some(before) = previous {
+            assert_ne!(controls, before, "members {} and {i}", i - 1);
+        }
+        previous = Some(controls);
+    }
+    assert_eq!(throttles, (0..=10).collect());
+    assert_eq!(alphas, (2..=6).collect());
+    assert_eq!(banks, (-10..=10).collect());
+    assert_eq!(speeds, (45..=54).collect());
+    assert_eq!(flaps, [0, 20].into_iter().collect());
+    // Far members too: within the same ranges, 10 m apart.
+    for i in [65_535usize, 65_536, 1_000_003] {
+        let (controls, state) = Palmer::fleet_member(i);
+        assert!((0.5..=1.0).contains(&controls.throttle), "member {i}");
+        assert!((2.0..=6.0).contains(&controls.alpha_deg), "member {i}");
+        assert!((-10.0..=10.0).contains(&controls.bank_deg), "member {i}");
+        assert!((45.0..=54.0).contains(&state.velocity_mps.x), "member {i}");
+        assert_eq!(state.position_m.x, 10.0 * i as f64, "member {i}");
+    }
+}
+
+/// Palmer's `Model::at_rest`, `ground_contact`, `time_step` and `apply`, as
+/// documented: a crashed aircraft one frame later is where it was, every
+/// velocity 0, its clock advanced by `dt`; the contact point is the point
+/// mass (a height below 0 becomes 0, a downward `vz` becomes 0, `vx` and
+/// `vy` are kept; a crash stops it); `dt = 1.0 / fps` in `f64`
+/// (docs/cli.md); the checked step is `step` on valid input; `apply` is the
+/// controls' own. Exact: copies, zeros, the clock's one addition and the
+/// same step.
+#[test]
+fn palmer_rests_touches_the_ground_and_steps_as_documented() {
+    use fdm_core::palmer::PalmerAction;
+
+    let dt = Palmer::time_step(30.0);
+    assert_eq!(dt, 1.0 / 30.0);
+    assert_eq!(Palmer::time_step(8.0), 0.125);
+    let state = PalmerState {
+        time_s: 41.5,
+        position_m: Vector3::new(-1234.5, 67.25, 0.0),
+        velocity_mps: Vector3::new(55.0, -4.5, 2.25),
+    };
+    let rest = Palmer::at_rest(&state, dt);
+    assert_eq!(rest.time_s, 41.5 + dt);
+    assert_eq!(rest.position_m, state.position_m);
+    assert_eq!(rest.velocity_mps, Vector3::zeros());
+
+    let aircraft = Palmer::default_aircraft();
+    let below = PalmerState {
+        position_m: Vector3::new(300.0, -20.0, -0.75),
+        velocity_mps: Vector3::new(40.0, 3.0, -2.5),
+        ..state
+    };
+    let on = Palmer::ground_contact(&aircraft, &below, false);
+    assert_eq!(on.time_s, below.time_s);
+    assert_eq!(on.position_m, Vector3::new(300.0, -20.0, 0.0));
+    assert_eq!(on.velocity_mps, Vector3::new(40.0, 3.0, 0.0));
+    let crashed = Palmer::ground_contact(&aircraft, &below, true);
+    assert_eq!(crashed.position_m, Vector3::new(300.0, -20.0, 0.0));
+    assert_eq!(crashed.velocity_mps, Vector3::zeros());
+    // Above the ground and climbing: untouched.
+    let above = PalmerState {
+        position_m: Vector3::new(300.0, -20.0, 0.5),
+        velocity_mps: Vector3::new(40.0, 3.0, 1.5),
+        ..state
+    };
+    assert_eq!(Palmer::ground_contact(&aircraft, &above, false), above);
+
+    // The checked step is the model's: the same bits as `step` on valid
+    // input (docs/palmer-model.md), a refusal for a non-finite state.
+    let (member, mut flying) = Palmer::fleet_member(3);
+    for _ in 0..30 {
+        let checked = <Palmer as Model>::try_step(&aircraft, &member, &flying, dt).unwrap();
+        assert_eq!(checked, Palmer::step(&aircraft, &member, &flying, dt));
+        assert_ne!(checked, flying);
+        flying = checked;
+    }
+    let broken = PalmerState {
+        velocity_mps: Vector3::new(f64::NAN, 0.0, 0.0),
+        ..flying
+    };
+    assert!(<Palmer as Model>::try_step(&aircraft, &member, &broken, dt).is_err());
+
+    let controls = PalmerControls::default();
+    for action in [PalmerAction::ThrottleUp, PalmerAction::BankLeft] {
+        assert_eq!(
+            Palmer::apply(&aircraft, controls, action),
+            controls.apply(action)
+        );
+        assert_ne!(Palmer::apply(&aircraft, controls, action), controls);
+    }
+}

@@ -256,4 +256,26 @@ mod tests {
         )
         .is_err());
     }
+
+    /// `packet_at` for an aircraft placed by `display` gives the same bytes as
+    /// `display`'s own packet (its documented contract), for a flown Palmer
+    /// away from the origin, moving and banked, and for one at rest at the
+    /// origin. Exact: the same computation from the same placement.
+    #[test]
+    fn a_packet_for_a_placed_aircraft_is_the_displays_packet() {
+        let origin = GeodeticOrigin::default();
+        let aircraft = Palmer::default_aircraft();
+        let (controls, mut state) = Palmer::fleet_member(7);
+        let at_rest = Palmer::view(&aircraft, &controls, &Palmer::initial_state());
+        for _ in 0..300 {
+            state = Palmer::step(&aircraft, &controls, &state, 1.0 / 30.0);
+        }
+        let flown = Palmer::view(&aircraft, &controls, &state);
+        assert!(flown.velocity_mps.norm() > 10.0, "the aircraft moves");
+        for view in [flown, at_rest] {
+            let shown = display(&view, &origin);
+            let packet = packet_at(&view, &origin, shown.geodetic, shown.attitude);
+            assert_eq!(packet.encode(), shown.packet.encode());
+        }
+    }
 }

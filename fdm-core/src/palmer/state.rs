@@ -242,6 +242,28 @@ mod tests {
         assert_eq!(s.climb_rate_mps(), 12.0);
     }
 
+    /// The straight-line distance `sqrt(x² + y² + z²)` from the origin, on
+    /// whole-number triples whose distance is a whole number (exact in
+    /// `f64`), none of the coordinates 2 (where `2 · 2`
+    /// and `2 + 2` agree), with mixed signs.
+    #[test]
+    fn distance_is_the_straight_line_from_the_origin() {
+        for ([x, y, z], d) in [
+            ([1.0, 4.0, 8.0], 9.0),
+            ([-8.0, 1.0, -4.0], 9.0),
+            ([4.0, -7.0, 4.0], 9.0),
+            ([-12.0, -3.0, 4.0], 13.0),
+            ([0.0, 0.0, -5.0], 5.0),
+        ] {
+            let s = PalmerState {
+                position_m: Vector3::new(x, y, z),
+                ..PalmerState::at_rest()
+            };
+            assert_eq!(s.distance_from_origin_m(), d, "({x}, {y}, {z})");
+            assert_eq!(s.flight_data().distance_from_origin_m, d);
+        }
+    }
+
     #[test]
     fn climb_angle() {
         assert!(close(moving(10.0, 0.0, 10.0).climb_angle_deg(), 45.0));
@@ -297,6 +319,63 @@ mod tests {
         let c = moving(1.0, 1e-300, 0.0).compass_heading_deg();
         assert!((0.0..360.0).contains(&c), "{c}");
         assert!(moving(-1.0, -0.0, 0.0).heading_deg() == 180.0);
+    }
+
+    /// A heading a hair north-west of +x (a small positive angle) keeps its
+    /// relative precision: `atan2` of it is the angle itself and the degrees
+    /// are two roundings away, so within 1e-14 of `(vy / vx) · 180 / π`
+    /// (`atan(x) = x` to double precision below 1e-8). Mapping it into
+    /// `[0, 360)` by way of 360 (`+ 2π`, then `- 360`) would keep only the
+    /// absolute precision of 360, about 6e-14°, a relative error near 1e-5.
+    #[test]
+    fn a_small_heading_keeps_its_precision() {
+        for vy in [1e-10, 3.5e-12, 1e-300] {
+            let h = moving(1.0, vy, 0.0).heading_deg();
+            let want = vy * 180.0 / PI;
+            assert!(
+                (h - want).abs() <= 1e-14 * want,
+                "vy {vy}: heading {h}, want {want}"
+            );
+        }
+    }
+
+    /// The heading's bits are part of what a replay prints: rows of the
+    /// golden replay CSV of the committed Palmer recording
+    /// (`sim-cli/tests/golden/palmer_v3.replay.csv`, replayed bit for bit by
+    /// `sim-cli/tests/golden.rs`, docs/recording.md), flying slightly east of
+    /// north (`atan2 < 0`). Other orders of the same mapping into
+    /// `[0, 360)` (adding 360° after the conversion to degrees, or taking
+    /// 2π away instead of adding it) are as accurate to a few ulps but give
+    /// other bits for up to 104 of that file's 151 rows. Exact (the CSV
+    /// prints the shortest text that reads back as the same `f64`).
+    #[test]
+    fn headings_are_the_golden_replays_bits() {
+        let rows = [
+            // frame, vx, vy, heading_deg
+            (
+                30,
+                "51.450835860914985",
+                "-0.005154416180565983",
+                "359.99426002926737",
+            ),
+            (
+                33,
+                "51.41836807430152",
+                "-0.051481215575198955",
+                "359.94263420832846",
+            ),
+            (
+                143,
+                "43.910433694847185",
+                "-2.088809951805195",
+                "357.27650508669814",
+            ),
+        ];
+        for (frame, vx, vy, heading) in rows {
+            let [vx, vy, heading]: [f64; 3] = [vx, vy, heading].map(|t| t.parse().unwrap());
+            let h = moving(vx, vy, 0.0).heading_deg();
+            assert_eq!(h.to_bits(), heading.to_bits(), "frame {frame}: {h}");
+        }
     }
 
     #[test]

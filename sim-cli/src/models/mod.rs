@@ -186,3 +186,78 @@ pub fn tenths(x: f64) -> f64 {
         x
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The registry in its documented order (docs/cli.md's subcommand
+    /// table: palmer, bourg, then the `glider` feature's glider), by name,
+    /// with what each flies as docs/cli.md words it.
+    fn documented() -> Vec<(&'static str, &'static str)> {
+        let mut models = vec![
+            ("palmer", "Palmer's Cessna 172"),
+            ("bourg", "Bourg's 6-DoF aircraft"),
+        ];
+        if cfg!(feature = "glider") {
+            models.push(("glider", "a point-mass glider"));
+        }
+        models
+    }
+
+    /// Each kind's name and what it flies (the help texts' "Fly Palmer's
+    /// Cessna 172, ..." and the `--model` values' help), and `named` finds
+    /// each kind by its name and nothing by another.
+    #[test]
+    fn each_model_is_named_and_says_what_it_flies() {
+        let kinds: Vec<(&str, &str)> = ModelKind::ALL
+            .iter()
+            .map(|kind| (kind.name(), kind.aircraft()))
+            .collect();
+        assert_eq!(kinds, documented());
+        for &kind in ModelKind::ALL {
+            assert_eq!(ModelKind::named(kind.name()), Some(kind));
+            let value = kind.to_possible_value().unwrap();
+            assert_eq!(value.get_name(), kind.name());
+            assert_eq!(
+                value.get_help().map(ToString::to_string),
+                Some(kind.aircraft().to_owned())
+            );
+        }
+        assert_eq!(ModelKind::named("cessna"), None);
+        assert_eq!(ModelKind::value_variants(), ModelKind::ALL);
+    }
+
+    /// `list` is "a, b or c" (commas, then "or" before the last), each
+    /// model shown by the caller's function, in registry order.
+    #[test]
+    fn the_list_of_models_reads_a_b_or_c() {
+        let names: Vec<&str> = documented().iter().map(|(name, _)| *name).collect();
+        let (last, rest) = names.split_last().unwrap();
+        let want = format!("{} or {last}", rest.join(", "));
+        assert_eq!(ModelKind::list(|kind| kind.name().to_owned()), want);
+        assert_eq!(
+            ModelKind::list(|kind| format!("<{}>", kind.name())),
+            want.replace("palmer", "<palmer>")
+                .replace("bourg", "<bourg>")
+                .replace("glider", "<glider>")
+        );
+    }
+
+    /// The CSV layouts `sim-cli plot` reads and the study models `sim-cli
+    /// study` reads: one per model of the registry, in registry order.
+    #[test]
+    fn plot_and_study_take_every_model_of_the_registry_in_order() {
+        let names: Vec<&str> = ModelKind::ALL.iter().map(|kind| kind.name()).collect();
+        let layouts: Vec<&str> = ModelKind::csv_layouts()
+            .iter()
+            .map(fdm_plot::csv::CsvLayout::name)
+            .collect();
+        assert_eq!(layouts, names);
+        let studies: Vec<&str> = ModelKind::study_models()
+            .iter()
+            .map(fdm_study::StudyEntry::name)
+            .collect();
+        assert_eq!(studies, names);
+    }
+}
