@@ -10,9 +10,10 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{clash, read_text, show_path, MAX_INPUT_BYTES};
+use crate::input::{clash, show_path, waiting, MAX_INPUT_BYTES};
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
+use fdm_run::input::read_text;
 use fdm_run::links::LinkSettings;
 use fdm_run::Scenario;
 use fgnet::address::FgTarget;
@@ -158,7 +159,7 @@ pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
 /// [`CliError::Usage`] for an unreadable, oversized or non-UTF-8 file, a path that
 /// is not a regular file or pipe, or the first bad line.
 pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> {
-    let text = read_text(path, "script", MAX_INPUT_BYTES)?;
+    let text = read_text(path, "script", MAX_INPUT_BYTES, waiting)?;
     Script::parse(&text).map_err(|e| {
         // ScriptError displays as "line N: message"; the CLI convention is FILE:N: message.
         let full = e.to_string();
@@ -195,7 +196,7 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
             path.display()
         )));
     }
-    let file = crate::outfile::create_locked(path)
+    let file = fdm_run::outfile::create_locked(path)
         .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
     Ok(Some(RecordFile {
         path: path.clone(),

@@ -46,7 +46,6 @@ mod keys;
 mod memory;
 mod models;
 mod origin;
-mod outfile;
 mod pacer;
 mod plot;
 pub mod progress;

@@ -50,7 +50,7 @@ impl PlotFile {
     /// # Errors
     /// [`CliError::Usage`] naming the path and the OS reason.
     pub fn create(path: &Path) -> Result<Self, CliError> {
-        let file = crate::outfile::create_locked(path).map_err(|e| {
+        let file = fdm_run::outfile::create_locked(path).map_err(|e| {
             CliError::usage(format!("cannot create plot file {}: {e}", path.display()))
         })?;
         Ok(Self {
@@ -84,7 +84,7 @@ impl PlotFile {
 /// [`CliError::Usage`] for an unreadable or malformed CSV or an uncreatable
 /// output; [`CliError::Runtime`] if drawing or writing fails.
 pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
-    let file = crate::input::open_input(csv, "CSV")?;
+    let file = fdm_run::input::open_input(csv, "CSV", crate::input::waiting)?;
     let name = csv.display().to_string();
     let models = ModelKind::csv_layouts();
     let read = fdm_plot::csv::read_trace_among(std::io::BufReader::new(file), &name, &models)?;

@@ -32,7 +32,7 @@ use crate::config::{create_csv, Outputs};
 use crate::error::CliError;
 use crate::flight::ModelFlight;
 use crate::input::clash;
-use crate::input::{read_bytes, show_path, Echo};
+use crate::input::{show_path, waiting, Echo};
 use crate::models::{CliModel, WithModel};
 use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
@@ -43,6 +43,7 @@ use crate::report::{RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use fdm_core::fingerprint;
 use fdm_core::script::Script;
+use fdm_run::input::read_bytes;
 use fdm_run::links::LinkSettings;
 use fdm_run::replay::{replay, ReplayError, ReplayOptions, ReplayTarget};
 use fdm_run::Scenario;
@@ -268,7 +269,7 @@ impl WithModel for ReplayJob<'_> {
 /// problem; [`CliError::Runtime`] for failures while replaying.
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
-    let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
+    let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES, waiting)?;
     let name = recorded_model_name(&bytes)
         .map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
     // The CLI's registry, which may have models the run library's does not.

@@ -142,13 +142,13 @@ fn batch(
     };
     // Locked as every output file of a run (docs/cli.md, "One writer per output
     // file"): two studies writing into one directory are refused, not spliced.
-    let file = crate::outfile::create_locked(&csv_path)
+    let file = fdm_run::outfile::create_locked(&csv_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", csv_path.display())))?;
     // Registered with the signal thread: if the process must end at once (a
     // second signal), the file still ends with a whole row.
     let mut csv = SignalSafeWriter::register(file);
     batch.write_csv_header(&mut csv).map_err(writing)?;
-    let arrow_file = crate::outfile::create_locked(&arrow_path)
+    let arrow_file = fdm_run::outfile::create_locked(&arrow_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", arrow_path.display())))?;
     let mut arrow = batch
         .arrow_writer(BufWriter::with_capacity(1 << 16, arrow_file))
