@@ -21,32 +21,3 @@ impl From<InputError> for CliError {
 pub fn waiting(note: String) {
     eprintln!("sim-cli: {note}");
 }
-
-/// A finite number, or a one-line message echoing `text`.
-///
-/// # Errors
-/// `text` is not a finite number.
-pub fn parse_finite(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("`{}` is not a finite number", Echo::short(text))),
-    }
-}
-
-/// A finite number in `lo..=hi` (`unit` ends the message), or a one-line
-/// message echoing `text` as given.
-///
-/// # Errors
-/// `text` is not a finite number in the range.
-pub fn parse_in_range(text: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
-    let v = parse_finite(text)?;
-    if (lo..=hi).contains(&v) {
-        Ok(v)
-    } else {
-        // The text as given, not `v`: 1e308 printed as a float has 309 digits.
-        Err(format!(
-            "`{}` is outside {lo}..{hi}{unit}",
-            Echo::short(text.trim())
-        ))
-    }
-}

@@ -16,7 +16,7 @@ use crate::error::CliError;
 use crate::input::Echo;
 use fdm_run::{Start, StartOptions, StartRefused};
 
-pub use fdm_run::scenario::{MAX_ALTITUDE_FT, MAX_HEADING_DEG, MAX_SPEED_KT};
+use fdm_run::values::{parse_altitude_ft, parse_heading_deg, parse_speed_kt};
 
 /// Initial-condition options.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Args)]
@@ -36,45 +36,6 @@ pub struct StartArgs {
     /// Start trimmed for steady level flight at the initial altitude and speed (sets Palmer's throttle and angle of attack, Bourg's thrust, pitch and pitch trim); prints what it found on stderr
     #[arg(long)]
     pub trim: bool,
-}
-
-fn parse_number(text: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}` is not {what} in {lo}..{hi}",
-            Echo::short(text.trim())
-        )),
-    }
-}
-
-/// `--altitude-ft`: 0 to [`MAX_ALTITUDE_FT`].
-///
-/// # Errors
-/// A one-line message.
-pub fn parse_altitude_ft(text: &str) -> Result<f64, String> {
-    parse_number(text, 0.0, MAX_ALTITUDE_FT, "an altitude in feet")
-}
-
-/// `--speed-kt`: 0 to [`MAX_SPEED_KT`].
-///
-/// # Errors
-/// A one-line message.
-pub fn parse_speed_kt(text: &str) -> Result<f64, String> {
-    parse_number(text, 0.0, MAX_SPEED_KT, "a speed in knots")
-}
-
-/// `--heading-deg`: −360 to 360.
-///
-/// # Errors
-/// A one-line message.
-pub fn parse_heading_deg(text: &str) -> Result<f64, String> {
-    parse_number(
-        text,
-        -MAX_HEADING_DEG,
-        MAX_HEADING_DEG,
-        "a heading in degrees",
-    )
 }
 
 impl StartArgs {
