@@ -11,7 +11,6 @@
 //! entities are counted as untracked and not stored. Here are the
 //! arguments, the messages and the printing.
 
-use std::io::{self, Write};
 use std::net::UdpSocket;
 
 use anyhow::Context as _;
@@ -113,11 +112,7 @@ pub fn run(args: &DisListenArgs) -> Result<(), CliError> {
     } else {
         report.human()
     };
-    let mut out = io::stdout().lock();
-    writeln!(out, "{text}")
-        .and_then(|()| out.flush())
-        .context("writing to stdout")?;
-    Ok(())
+    crate::print_line(&text)
 }
 
 #[cfg(test)]

@@ -11,8 +11,6 @@
 //! wall-clock time. `--fg-mp` streams the fleet to FlightGear instead
 //! ([`crate::fleet_mp`]).
 
-use std::io::Write;
-
 use anyhow::Context as _;
 use fdm_run::acmi::AcmiError;
 use fdm_run::fleet::{FleetDisConfig, FleetError, FleetReport, FleetRun, FleetScenario};
@@ -137,7 +135,7 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
         ));
     }
     if let Some(text) = crate::fleet_mp::run_show(args)? {
-        return print_line(&text);
+        return crate::print_line(&text);
     }
     let report = measure(args)?;
     let text = if args.json {
@@ -145,16 +143,7 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
     } else {
         report.summary()
     };
-    print_line(&text)
-}
-
-/// `text` and a newline on stdout.
-fn print_line(text: &str) -> Result<(), CliError> {
-    let mut out = std::io::stdout().lock();
-    writeln!(out, "{text}")
-        .and_then(|()| out.flush())
-        .context("writing to stdout")?;
-    Ok(())
+    crate::print_line(&text)
 }
 
 #[cfg(test)]

@@ -78,15 +78,18 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::Study(args) => study::run(&args),
         Command::DisListen(args) => dis_listen::run(&args),
-        Command::FgfsCommand(args) => {
-            let line = fgfs::fgfs_command_line(&args)?;
-            let mut out = std::io::stdout().lock();
-            writeln!(out, "{line}")
-                .and_then(|()| out.flush())
-                .context("writing to stdout")?;
-            Ok(())
-        }
+        Command::FgfsCommand(args) => print_line(&fgfs::fgfs_command_line(&args)?),
     }
+}
+
+/// Writes `text` and a newline to stdout, turning a closed pipe into an error
+/// instead of the panic `println!` would raise.
+pub(crate) fn print_line(text: &str) -> Result<(), CliError> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{text}")
+        .and_then(|()| out.flush())
+        .context("writing to stdout")?;
+    Ok(())
 }
 
 /// clap's multi-paragraph error text reduced to one line: the error itself plus any

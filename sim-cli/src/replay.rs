@@ -23,8 +23,6 @@
 //! fingerprint (versions 1 and 2, a cut recording) a note that nothing was
 //! checked.
 
-use std::io::{self, Write};
-
 use anyhow::Context as _;
 
 use crate::args::{ModelKind, ReplayArgs};
@@ -222,10 +220,7 @@ impl WithModel for ReplayJob<'_> {
                 recording.resets
             )
         };
-        let mut out = io::stdout().lock();
-        writeln!(out, "{text}")
-            .and_then(|()| out.flush())
-            .context("writing to stdout")?;
+        crate::print_line(&text)?;
         if let Some(cut) = cut {
             return Err(CliError::Incomplete(format!(
                 "{file}: {cut}; they were replayed (a cut recording has no fingerprint to check \

@@ -105,28 +105,10 @@ fn batch(
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
     let options = FlyOptions { threads, precision };
     let mut batch = Batch::new(study, options, fdm_plot::study::MAX_SCATTER_POINTS);
-    let memory = batch.memory();
-    let limit = args.memory_limit_mib.saturating_mul(1024 * 1024);
-    if memory.total > limit {
-        return Err(CliError::usage(format!(
-            "the study needs about {} MiB ({} runs × {} bytes kept + {} runs in flight × {} bytes), \
-             more than --memory-limit-mib {}",
-            memory.total.div_ceil(1024 * 1024),
-            study.runs(),
-            memory.kept_per_run,
-            memory.chunk_runs.min(study.runs()),
-            memory.flying_per_run,
-            args.memory_limit_mib
-        )));
-    }
-    if let Some(have) = crate::memory::available_bytes().filter(|&have| memory.total > have) {
-        return Err(CliError::usage(format!(
-            "the study needs about {} MiB; this process has {} MiB available (the machine's \
-             available memory, the address-space limit and the cgroup's memory limit)",
-            memory.total.div_ceil(1024 * 1024),
-            have / (1024 * 1024)
-        )));
-    }
+    let available = crate::memory::available_bytes();
+    (batch.memory())
+        .check(study.runs(), args.memory_limit_mib, available)
+        .map_err(CliError::usage)?;
     let csv_path = out_dir.join("runs.csv");
     let arrow_path = out_dir.join("runs.arrow");
     // A write error with the file's path as its context (`writing PATH: REASON`).

@@ -8,7 +8,6 @@
 //! Everything here (JSON report, progress bar, terminal, keys, pacing, HUD)
 //! is model-agnostic and tested with a fake model.
 
-use std::io::{self, Write};
 use std::net::SocketAddrV4;
 
 use anyhow::Context as _;
@@ -84,16 +83,6 @@ pub(crate) fn link_warning(message: &str) -> String {
     format!("sim-cli: warning: {}", crate::error::one_line(message))
 }
 
-/// Writes `text` and a newline to stdout, turning a closed pipe into an error
-/// instead of the panic `println!` would raise.
-fn print_stdout(text: &str) -> Result<(), CliError> {
-    let mut out = io::stdout().lock();
-    writeln!(out, "{text}")
-        .and_then(|()| out.flush())
-        .context("writing to stdout")?;
-    Ok(())
-}
-
 /// Flies `flight` at `fps` in `mode` (`fg`: the FlightGear link's target,
 /// whose counters the report shows): headless (report on stdout: JSON with `--json`,
 /// else a short summary) or interactive (a one-line summary on stderr at the end).
@@ -130,7 +119,7 @@ pub fn fly<F: Flight>(
             } else {
                 report.human_summary()
             };
-            print_stdout(&text)
+            crate::print_line(&text)
         }
         Mode::Interactive => {
             let summary = run_interactive(&mut flight, fps, fg);
