@@ -451,6 +451,20 @@ pub struct Recording<'a, M: RunModel> {
 }
 
 impl<'a, M: RunModel> Recording<'a, M> {
+    /// The scenario a replay starts from: the recorded start, origin and
+    /// frame rate, no frames or script of its own (the recorded events drive
+    /// it, [`crate::replay::replay`]).
+    #[must_use]
+    pub fn scenario(&self) -> crate::Scenario<M> {
+        crate::Scenario {
+            start: self.start.clone(),
+            origin: self.origin,
+            fps: self.fps,
+            frames: 0,
+            script: fdm_core::script::Script::default(),
+        }
+    }
+
     /// Parses and validates a whole recording: prefix, header (model `M`,
     /// fps, origin, aircraft, action names), every event, the end marker and
     /// its checksum, and that nothing follows it. A recording cut before its

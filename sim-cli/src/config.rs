@@ -10,10 +10,9 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{clash, show_path, waiting, MAX_INPUT_BYTES};
+use crate::input::{clash, show_path, waiting};
 use crate::plot::PlotFile;
 use crate::signals::SignalSafeWriter;
-use fdm_run::input::read_text;
 use fdm_run::links::LinkSettings;
 use fdm_run::Scenario;
 use fgnet::address::FgTarget;
@@ -151,22 +150,13 @@ pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
         .map_err(|e| CliError::usage(format!("--duration {e}")))
 }
 
-/// Reads and parses a script; errors name the file and line as `FILE:LINE: message`.
-/// The file is read with [`read_text`]: a regular file or a pipe of at most
-/// [`MAX_INPUT_BYTES`].
+/// Reads and parses a script ([`fdm_run::scenario::load_script`]: errors
+/// name the file and line as `FILE:LINE: message`).
 ///
 /// # Errors
-/// [`CliError::Usage`] for an unreadable, oversized or non-UTF-8 file, a path that
-/// is not a regular file or pipe, or the first bad line.
+/// [`CliError::Usage`] for a file that cannot be read or its first bad line.
 pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> {
-    let text = read_text(path, "script", MAX_INPUT_BYTES, waiting)?;
-    Script::parse(&text).map_err(|e| {
-        // ScriptError displays as "line N: message"; the CLI convention is FILE:N: message.
-        let full = e.to_string();
-        let prefix = format!("line {}: ", e.line);
-        let message = full.strip_prefix(&prefix).unwrap_or(&full);
-        CliError::usage(format!("{}:{}: {message}", show_path(path), e.line))
-    })
+    fdm_run::scenario::load_script(path, waiting).map_err(CliError::usage)
 }
 
 /// Creates the `--csv` file (registered with the signal thread).
@@ -225,16 +215,8 @@ pub fn prepare_model<M: Model>(
     }
     let dis = args.dis.resolve()?;
     let fg = match (&args.fg, mode) {
-        (Some(target), _) => Some(
-            target
-                .resolve()
-                .map_err(|e| CliError::usage(e.to_string()))?,
-        ),
-        (None, Mode::Interactive) => Some(
-            FgTarget::default()
-                .resolve()
-                .map_err(|e| CliError::usage(e.to_string()))?,
-        ),
+        (Some(target), _) => Some(target.resolve()?),
+        (None, Mode::Interactive) => Some(FgTarget::default().resolve()?),
         (None, Mode::Headless { .. }) => None,
     };
     // Created last, so that no earlier error leaves a truncated file behind.
@@ -389,23 +371,5 @@ mod tests {
             err.to_string().contains("not a non-negative number"),
             "{err}"
         );
-    }
-
-    #[test]
-    fn script_errors_name_file_and_line() {
-        let dir = std::env::temp_dir().join(format!("sim-cli-config-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("bad.txt");
-        std::fs::write(&path, "# ok\n1-5 thrust-up\n\n3-2 thrust-up\n").unwrap();
-        let err = load_script::<fdm_core::bourg::BourgAction>(&path).unwrap_err();
-        assert_eq!(err.exit_code(), 2);
-        assert_eq!(
-            err.to_string(),
-            format!("{}:4: range 3-2 ends before it starts", path.display())
-        );
-        let missing = dir.join("missing.txt");
-        let err = load_script::<fdm_core::bourg::BourgAction>(&missing).unwrap_err();
-        assert!(err.to_string().starts_with("cannot read script "), "{err}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

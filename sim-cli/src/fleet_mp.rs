@@ -108,9 +108,7 @@ pub fn run_show(args: &FleetArgs) -> Result<Option<String>, CliError> {
             "fleet --fg-mp needs --realtime (FlightGear shows multiplayer aircraft in real time)",
         ));
     }
-    let target = target
-        .resolve()
-        .map_err(|e| CliError::usage(e.to_string()))?;
+    let target = target.resolve()?;
     let report = args.model.with(ShowJob { args, target })?;
     Ok(Some(if args.json {
         serde_json::to_string(&report).context("encoding the report")?

@@ -4,7 +4,7 @@
 //! status 2), the note on stderr while a named pipe waits for its writer,
 //! and the number parsers of the options.
 
-pub use fdm_run::input::{clash, show_number, show_path, Echo, InputError, MAX_INPUT_BYTES};
+pub use fdm_run::input::{clash, show_number, show_path, Echo, InputError};
 
 use crate::error::CliError;
 

@@ -40,11 +40,10 @@ use crate::recording::{
 use crate::report::{RealtimeReport, Report};
 use crate::run::{link_warning, Flight};
 use fdm_core::fingerprint;
-use fdm_core::script::Script;
 use fdm_run::input::read_bytes;
 use fdm_run::links::LinkSettings;
 use fdm_run::replay::{replay, ReplayError, ReplayOptions, ReplayTarget};
-use fdm_run::Scenario;
+use fgnet::address::FgTarget;
 
 pub use fdm_run::replay::{check_fingerprint, Verdict};
 
@@ -123,14 +122,7 @@ impl WithModel for ReplayJob<'_> {
         // status (3) and the last stderr line say so.
         let (recording, cut) = Recording::<M>::parse_salvaging(self.bytes)
             .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
-        let fg = match &self.args.fg {
-            Some(target) => Some(
-                target
-                    .resolve()
-                    .map_err(|e| CliError::usage(e.to_string()))?,
-            ),
-            None => None,
-        };
+        let fg = self.args.fg.as_ref().map(FgTarget::resolve).transpose()?;
         let recording_file = Some(self.args.file.as_path());
         let csv = match &self.args.csv {
             Some(path) => {
@@ -179,17 +171,10 @@ impl WithModel for ReplayJob<'_> {
             record: None,
             acmi,
         };
-        let scenario = Scenario {
-            start: recording.start.clone(),
-            origin: recording.origin,
-            fps: recording.fps,
-            frames: 0,
-            script: Script::default(),
-        };
         // With --plot the flight is sampled as a run's --plot samples it (the
         // same output, fdm_plot::PlotOutput), so the two SVGs are the same
         // bytes.
-        let mut flight = ModelFlight::<M>::with_outputs(scenario, outputs, |_| Ok(()))?;
+        let mut flight = ModelFlight::<M>::with_outputs(recording.scenario(), outputs, |_| Ok(()))?;
         let mut progress = StderrProgress::new(recording.frames);
         let report = replay_flight(
             &mut flight,

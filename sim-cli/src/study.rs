@@ -29,7 +29,7 @@ use fdm_study::batch::{AloneError, Batch, BatchError};
 use fdm_study::table::{write_csv_header, write_csv_rows};
 use fdm_study::{FlyOptions, MeasureOutput, Study};
 
-use crate::args::{CommonArgs, FleetPrecision, StudyArgs};
+use crate::args::{CommonArgs, StudyArgs};
 use crate::error::CliError;
 use crate::models::{CliModel, ModelKind, WithModel};
 use crate::progress::StderrProgress;
@@ -55,10 +55,7 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
     if let Some(seed) = args.seed {
         study = study.with_seed(seed);
     }
-    let precision = match args.precision {
-        FleetPrecision::Exact => Precision::Exact,
-        FleetPrecision::Fast => Precision::Fast,
-    };
+    let precision = crate::fleet::precision(args.precision);
     let out_dir = match &args.out {
         Some(dir) => dir.clone(),
         None => args
