@@ -1097,6 +1097,32 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
     }
 }
 
+/// A recording's file, created before the run (locked against a second
+/// writer, [`crate::outfile::create_locked`]) so that an unwritable path is
+/// refused before anything flies.
+#[derive(Debug)]
+pub struct RecordFile {
+    /// The path, for messages.
+    pub path: std::path::PathBuf,
+    /// The file; its flushes (once a second of flight) also sync it to the
+    /// disk, at most every two seconds ([`SyncedFile`]).
+    pub out: SyncedFile,
+}
+
+impl RecordFile {
+    /// Creates (and locks) the file at `path`.
+    ///
+    /// # Errors
+    /// The OS error, or the file being written by another process
+    /// ([`crate::outfile::create_locked`]).
+    pub fn create(path: &std::path::Path) -> std::io::Result<Self> {
+        Ok(Self {
+            path: path.to_owned(),
+            out: SyncedFile::new(crate::outfile::create_locked(path)?),
+        })
+    }
+}
+
 /// A recording file whose `flush` (once a block, from [`RecordWriter`]) also
 /// asks the OS to put the data on the disk (`sync_data`), at most once per
 /// [`SyncedFile::SYNC_INTERVAL`] of wall-clock time and again when it is

@@ -2,7 +2,7 @@
 //! wrong with the input is found here, before anything runs, and reported as a
 //! usage error (exit status 2).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use fdm_core::model::Model;
 use fdm_core::script::{Script, ScriptAction};
@@ -69,16 +69,8 @@ pub struct ModelConfig<M: Model> {
     pub outputs: Outputs,
 }
 
-/// The `--record` output, created before the run (so an unwritable path is a
-/// usage error and nothing has run).
-#[derive(Debug)]
-pub struct RecordFile {
-    /// The path, for messages.
-    pub path: PathBuf,
-    /// The file; its flushes (once a second of flight) also sync it to the
-    /// disk, at most every two seconds ([`fdm_run::recording::SyncedFile`]).
-    pub out: fdm_run::recording::SyncedFile,
-}
+/// The `--record` output, created before the run: the run library's.
+pub use fdm_run::recording::RecordFile;
 
 /// Model `M`'s start from the initial-condition options
 /// ([`crate::start::start_for`]), printing a trim's result on stderr.
@@ -186,12 +178,9 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
             path.display()
         )));
     }
-    let file = fdm_run::outfile::create_locked(path)
-        .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
-    Ok(Some(RecordFile {
-        path: path.clone(),
-        out: fdm_run::recording::SyncedFile::new(file),
-    }))
+    RecordFile::create(path)
+        .map(Some)
+        .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))
 }
 
 /// Model `model`'s run from the options every flight shares: the mode, the

@@ -161,6 +161,7 @@ impl Default for FlightDisArgs {
     }
 }
 
+#[cfg(test)]
 impl Default for FleetDisArgs {
     /// No `--dis`, entity base 1.
     fn default() -> Self {

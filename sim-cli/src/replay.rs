@@ -38,7 +38,7 @@ use crate::recording::{
     recorded_model_name, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
 };
 use crate::report::{RealtimeReport, Report};
-use crate::run::{link_warning, Flight};
+use crate::run::{finish_report, link_warning, Flight};
 use fdm_core::fingerprint;
 use fdm_run::input::read_bytes;
 use fdm_run::links::LinkSettings;
@@ -186,14 +186,7 @@ impl WithModel for ReplayJob<'_> {
         );
         // The outputs (--csv, --acmi, --plot) are completed even when the
         // replay stopped early.
-        let finished = flight.finish();
-        let mut report = report?;
-        finished?;
-        let links = flight.links();
-        if self.args.fg.is_some() {
-            report.fg = links.fg_stats();
-        }
-        report.dis = links.dis_report();
+        let report = finish_report(&mut flight, report, self.args.fg.is_some())?;
         let text = if self.args.json {
             report.to_json().context("encoding the JSON report")?
         } else {

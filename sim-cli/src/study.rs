@@ -97,9 +97,7 @@ fn batch(
     args: &StudyArgs,
     out_dir: &Path,
 ) -> Result<(), CliError> {
-    let threads = args
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
+    let threads = args.threads.unwrap_or(FlyOptions::default().threads);
     let options = FlyOptions { threads, precision };
     let mut batch = Batch::new(study, options, fdm_plot::study::MAX_SCATTER_POINTS);
     let available = crate::memory::available_bytes();

@@ -17,6 +17,7 @@ use crate::error::CliError;
 use crate::keys::KeyAction;
 use crate::models::Details;
 use crate::progress::StderrProgress;
+use crate::report::Report;
 use crate::snapshot::Snapshot;
 
 pub mod headless;
@@ -83,6 +84,29 @@ pub(crate) fn link_warning(message: &str) -> String {
     format!("sim-cli: warning: {}", crate::error::one_line(message))
 }
 
+/// Finishes `flight`'s outputs (the CSV rows written so far flushed, the
+/// recording ended) also when the run stopped early (e.g. the model
+/// diverged on the next frame), and completes its `report` with the links'
+/// counters (the FlightGear link's when `fg`, a target was given).
+///
+/// # Errors
+/// The run's error first, else finishing's.
+pub(crate) fn finish_report<F: Flight>(
+    flight: &mut F,
+    report: Result<Report<F::Details>, CliError>,
+    fg: bool,
+) -> Result<Report<F::Details>, CliError> {
+    let finished = flight.finish();
+    let mut report = report?;
+    finished?;
+    let links = flight.links();
+    if fg {
+        report.fg = links.fg_stats();
+    }
+    report.dis = links.dis_report();
+    Ok(report)
+}
+
 /// Flies `flight` at `fps` in `mode` (`fg`: the FlightGear link's target,
 /// whose counters the report shows): headless (report on stdout: JSON with `--json`,
 /// else a short summary) or interactive (a one-line summary on stderr at the end).
@@ -106,14 +130,7 @@ pub fn fly<F: Flight>(
             // The outputs are finished (the CSV rows written so far flushed,
             // the recording ended) even when the run stopped early (e.g. the
             // model diverged on the next frame).
-            let finished = flight.finish();
-            let mut report = report?;
-            finished?;
-            let links = flight.links();
-            if fg.is_some() {
-                report.fg = links.fg_stats();
-            }
-            report.dis = links.dis_report();
+            let report = finish_report(&mut flight, report, fg.is_some())?;
             let text = if json {
                 report.to_json().context("encoding the JSON report")?
             } else {
