@@ -328,27 +328,18 @@ pub struct FgfsArgs {
     pub fg_mp: Option<u16>,
 }
 
-/// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`).
+/// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`);
+/// each variant's value (`view as u8`) is the view's index in FlightGear
+/// 2020.3's `defaults.xml` view list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[repr(u8)]
 pub enum FgView {
     /// From the pilot's seat (view 0).
-    Cockpit,
+    Cockpit = 0,
     /// From behind and above, turning with the aircraft's heading only (view 1).
-    Helicopter,
+    Helicopter = 1,
     /// From behind, following the aircraft (view 2).
-    Chase,
-}
-
-impl FgView {
-    /// The view's index in FlightGear 2020.3's `defaults.xml` view list.
-    #[must_use]
-    pub fn number(self) -> u8 {
-        match self {
-            Self::Cockpit => 0,
-            Self::Helicopter => 1,
-            Self::Chase => 2,
-        }
-    }
+    Chase = 2,
 }
 
 /// The frame rate `sim-cli fleet` flies at (and the one "could fly" refers to).

@@ -10,9 +10,9 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{clash, show_path, waiting};
-use crate::plot::PlotFile;
+use crate::input::{refuse_clash, show_path, waiting};
 use crate::signals::SignalSafeWriter;
+use fdm_plot::PlotFile;
 use fdm_run::links::LinkSettings;
 use fdm_run::Scenario;
 use fgnet::address::FgTarget;
@@ -73,7 +73,8 @@ pub struct ModelConfig<M: Model> {
 pub use fdm_run::recording::RecordFile;
 
 /// Model `M`'s start from the initial-condition options
-/// ([`crate::start::start_for`]), printing a trim's result on stderr.
+/// ([`crate::start::StartArgs::options`], refusals as
+/// [`crate::start::refused`] words them), printing a trim's result on stderr.
 ///
 /// # Errors
 /// [`CliError::Usage`] for options out of range or a trim that fails.
@@ -81,9 +82,11 @@ pub fn start_model<M: Model>(
     controls: M::Controls,
     args: &crate::start::StartArgs,
 ) -> Result<Start<M>, CliError> {
-    let (start, report) = crate::start::start_for::<M>(M::default_aircraft(), controls, args)?;
+    let (start, report) = (args.options())
+        .start::<M>(M::default_aircraft(), controls)
+        .map_err(crate::start::refused)?;
     if let Some(report) = report {
-        eprintln!("{}", crate::start::trim_line(M::NAME, &report));
+        eprintln!("sim-cli: {} trimmed: {report}", M::NAME);
     }
     Ok(start)
 }
@@ -172,12 +175,9 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
         (args.csv.as_deref(), "--csv"),
         (args.plot.as_deref(), "--plot"),
     ];
-    if let Some(name) = clash(path, &others) {
-        return Err(CliError::usage(format!(
-            "--record {} is also the {name} file",
-            path.display()
-        )));
-    }
+    refuse_clash(path, &others, |name| {
+        format!("--record {} is also the {name} file", path.display())
+    })?;
     RecordFile::create(path)
         .map(Some)
         .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))
@@ -195,10 +195,7 @@ pub fn prepare_model<M: Model>(
     start: Start<M>,
 ) -> Result<ModelConfig<M>, CliError> {
     let mode = resolve_mode(&args)?;
-    let loaded = match &args.script {
-        Some(path) => load_script(path)?,
-        None => Script::default(),
-    };
+    let loaded = args.script.as_deref().map(load_script).transpose()?;
     if mode == Mode::Interactive {
         crate::terminal::require_terminal()?;
     }
@@ -210,33 +207,23 @@ pub fn prepare_model<M: Model>(
     };
     // Created last, so that no earlier error leaves a truncated file behind.
     let script = args.script.as_deref();
-    let csv = match &args.csv {
-        Some(path) => {
-            if clash(path, &[(script, "--script")]).is_some() {
-                return Err(CliError::usage(format!(
-                    "--csv {} would overwrite the --script file",
-                    show_path(path)
-                )));
-            }
-            Some(create_csv(path)?)
-        }
-        None => None,
-    };
-    let plot = match &args.plot {
-        Some(path) => {
-            if let Some(name) = clash(
-                path,
-                &[(script, "--script"), (args.csv.as_deref(), "--csv")],
-            ) {
-                return Err(CliError::usage(format!(
-                    "--plot {} would overwrite the {name} file",
-                    path.display()
-                )));
-            }
-            Some(PlotFile::create(path)?)
-        }
-        None => None,
-    };
+    let others = [(script, "--script"), (args.csv.as_deref(), "--csv")];
+    let csv = (args.csv.as_deref())
+        .map(|path| {
+            refuse_clash(path, &others[..1], |name| {
+                format!("--csv {} would overwrite the {name} file", show_path(path))
+            })?;
+            create_csv(path)
+        })
+        .transpose()?;
+    let plot = (args.plot.as_deref())
+        .map(|path| {
+            refuse_clash(path, &others, |name| {
+                format!("--plot {} would overwrite the {name} file", path.display())
+            })?;
+            crate::plot::create(path)
+        })
+        .transpose()?;
     let record = create_record(&args)?;
     let acmi = crate::acmi::create(
         &args.acmi,
@@ -260,7 +247,7 @@ pub fn prepare_model<M: Model>(
             origin: args.origin,
             fps: args.fps,
             frames,
-            script: loaded,
+            script: loaded.unwrap_or_default(),
         },
         mode,
         outputs: Outputs {

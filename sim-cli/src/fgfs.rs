@@ -25,7 +25,7 @@ impl WithModel for Line<'_> {
             program: &args.fgfs,
             fps: args.fps,
             fg: args.fg.as_ref(),
-            view_number: args.view.number(),
+            view_number: args.view as u8,
         };
         command_line::<M>(&command, &args.origin, &args.start.options())
             .map_err(crate::start::refused)

@@ -8,7 +8,6 @@
 use std::net::{SocketAddr, SocketAddrV4};
 
 use anyhow::Context as _;
-use fdm_core::script::Script;
 use fdm_run::fleet::show::{watched_size, FleetShow, ShowScenario, StartPattern};
 pub use fdm_run::fleet::show::{ShowReport, DEFAULT_MP_AIRCRAFT};
 
@@ -27,10 +26,7 @@ use crate::models::{CliModel, WithModel};
 /// pool or the socket cannot be made.
 pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowReport, CliError> {
     watched_size::<M>(args.aircraft)?;
-    let script = match &args.show.script {
-        Some(path) => load_script(path)?,
-        None => Script::default(),
-    };
+    let script = args.show.script.as_deref().map(load_script).transpose()?;
     let scenario = ShowScenario {
         aircraft: args.aircraft,
         streamed: args.show.fg_mp_aircraft.unwrap_or(DEFAULT_MP_AIRCRAFT),
@@ -40,7 +36,7 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
             FleetPattern::V => StartPattern::V,
         },
         origin: args.show.origin.unwrap_or_default(),
-        script,
+        script: script.unwrap_or_default(),
         frames: args.frames,
         fps: FLEET_FPS,
         threads: args.threads,

@@ -15,6 +15,19 @@ impl From<InputError> for CliError {
     }
 }
 
+/// Refuses an output `path` that is one of `others` (a run's other files
+/// with their option names, [`clash`]): the usage error `message(name)`.
+///
+/// # Errors
+/// [`CliError::Usage`] when `path` clashes.
+pub fn refuse_clash(
+    path: &std::path::Path,
+    others: &[(Option<&std::path::Path>, &str)],
+    message: impl FnOnce(&str) -> String,
+) -> Result<(), CliError> {
+    clash(path, others).map_or(Ok(()), |name| Err(CliError::usage(message(name))))
+}
+
 /// Says on stderr what `sim-cli` is waiting for when opening a named pipe
 /// waits for its writer (Ctrl-C stops it, as any run), instead of hanging
 /// silently: the `waiting` of [`fdm_run::input::open_input`].

@@ -29,10 +29,9 @@ use crate::args::{ModelKind, ReplayArgs};
 use crate::config::{create_csv, Outputs};
 use crate::error::CliError;
 use crate::flight::ModelFlight;
-use crate::input::clash;
+use crate::input::refuse_clash;
 use crate::input::{show_path, waiting, Echo};
 use crate::models::{CliModel, WithModel};
-use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{
     recorded_model_name, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
@@ -124,35 +123,27 @@ impl WithModel for ReplayJob<'_> {
             .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
         let fg = self.args.fg.as_ref().map(FgTarget::resolve).transpose()?;
         let recording_file = Some(self.args.file.as_path());
-        let csv = match &self.args.csv {
-            Some(path) => {
-                if clash(path, &[(recording_file, "recording")]).is_some() {
-                    return Err(CliError::usage(format!(
-                        "--csv {} would overwrite the recording",
-                        show_path(path)
-                    )));
-                }
-                Some(create_csv(path)?)
-            }
-            None => None,
-        };
         let others = [
             (recording_file, "recording"),
             (self.args.csv.as_deref(), "--csv"),
             (self.args.plot.as_deref(), "--plot"),
         ];
-        let plot = match &self.args.plot {
-            Some(path) => {
-                if let Some(name) = clash(path, &others[..2]) {
-                    return Err(CliError::usage(format!(
-                        "--plot {} would overwrite the {name} file",
-                        show_path(path)
-                    )));
-                }
-                Some(PlotFile::create(path)?)
-            }
-            None => None,
-        };
+        let csv = (self.args.csv.as_deref())
+            .map(|path| {
+                refuse_clash(path, &others[..1], |_| {
+                    format!("--csv {} would overwrite the recording", show_path(path))
+                })?;
+                create_csv(path)
+            })
+            .transpose()?;
+        let plot = (self.args.plot.as_deref())
+            .map(|path| {
+                refuse_clash(path, &others[..2], |name| {
+                    format!("--plot {} would overwrite the {name} file", show_path(path))
+                })?;
+                crate::plot::create(path)
+            })
+            .transpose()?;
         let links = LinkSettings {
             fg,
             dis: self.args.dis.resolve()?,
@@ -217,19 +208,13 @@ impl WithModel for ReplayJob<'_> {
         let Some(text) = verdict.describe("sim-cli") else {
             return Ok(());
         };
-        match verdict {
-            Verdict::DifferentFlight { .. } => {
-                Err(CliError::DifferentFlight(format!("{file}: {text}")))
-            }
-            Verdict::Unchecked => {
-                progress.message(&format!("sim-cli: note: {file}: {text}"));
-                Ok(())
-            }
-            _ => {
-                progress.message(&format!("sim-cli: warning: {file}: {text}"));
-                Ok(())
-            }
+        if let Verdict::DifferentFlight { .. } = verdict {
+            return Err(CliError::DifferentFlight(format!("{file}: {text}")));
         }
+        let note = verdict == Verdict::Unchecked;
+        let kind = if note { "note" } else { "warning" };
+        progress.message(&format!("sim-cli: {kind}: {file}: {text}"));
+        Ok(())
     }
 }
 

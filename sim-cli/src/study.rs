@@ -20,13 +20,13 @@
 //! The file format, the measures and the guarantees: docs/studies.md.
 
 use std::io::{BufWriter, IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::Context as _;
 use fdm_fleet::Precision;
 use fdm_run::SharedOutput;
 use fdm_study::batch::{AloneError, Batch, BatchError};
-use fdm_study::table::{write_csv_header, write_csv_rows};
+use fdm_study::table::write_csv;
 use fdm_study::{FlyOptions, MeasureOutput, Study};
 
 use crate::args::{CommonArgs, StudyArgs};
@@ -56,13 +56,7 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
         study = study.with_seed(seed);
     }
     let precision = crate::fleet::precision(args.precision);
-    let out_dir = match &args.out {
-        Some(dir) => dir.clone(),
-        None => args
-            .file
-            .parent()
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
-    };
+    let out_dir = (args.out.clone()).unwrap_or_else(|| Study::default_out_dir(&args.file));
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| CliError::usage(format!("cannot create --out {}: {e}", out_dir.display())))?;
     match args.run {
@@ -152,13 +146,8 @@ fn batch(
     )?;
     let plot_path = out_dir.join("study.svg");
     std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
-    let completed = batch.completed();
-    let mut summary = batch.summary();
-    if completed < study.runs() {
-        // Only a stop ends the flying early (errors return above).
-        let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
-        summary = summary.stopped(by, study.runs());
-    }
+    let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
+    let summary = batch.summary_stopped_by(by);
     let json = serde_json::to_string_pretty(&summary).context("summary as JSON")?;
     let summary_path = out_dir.join("summary.json");
     std::fs::write(&summary_path, format!("{json}\n"))
@@ -252,8 +241,7 @@ impl WithModel for Alone<'_> {
         }
         let path = out_dir.join(format!("run-{run}.csv"));
         let mut text = Vec::new();
-        write_csv_header(&mut text, &table).context("run row")?;
-        write_csv_rows(&mut text, &table).context("run row")?;
+        write_csv(&mut text, &table).context("run row")?;
         std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
         Ok(())
     }
