@@ -465,6 +465,16 @@ pub enum FleetPrecision {
     Fast,
 }
 
+impl From<FleetPrecision> for fdm_fleet::Precision {
+    /// The run library's precision for `--precision`.
+    fn from(precision: FleetPrecision) -> Self {
+        match precision {
+            FleetPrecision::Exact => Self::Exact,
+            FleetPrecision::Fast => Self::Fast,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

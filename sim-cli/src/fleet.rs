@@ -13,10 +13,10 @@
 
 use anyhow::Context as _;
 use fdm_run::acmi::AcmiError;
+use fdm_run::fleet::Kernel;
 use fdm_run::fleet::{FleetDisConfig, FleetError, FleetReport, FleetRun, FleetScenario};
-use fdm_run::fleet::{Kernel, Precision};
 
-use crate::args::{FleetArgs, FleetKernel, FleetPrecision};
+use crate::args::{FleetArgs, FleetKernel};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
 use crate::progress::StderrProgress;
@@ -58,14 +58,6 @@ impl From<FleetError> for CliError {
     }
 }
 
-/// The run library's precision for `--precision`.
-pub(crate) fn precision(precision: FleetPrecision) -> Precision {
-    match precision {
-        FleetPrecision::Exact => Precision::Exact,
-        FleetPrecision::Fast => Precision::Fast,
-    }
-}
-
 /// [`measure`] for the model the arguments name.
 struct Measure<'a>(&'a FleetArgs);
 
@@ -80,7 +72,7 @@ impl WithModel for Measure<'_> {
             FleetKernel::Lanes => Kernel::Lanes,
             FleetKernel::Ecs => Kernel::Ecs,
         };
-        scenario.precision = precision(args.precision);
+        scenario.precision = args.precision.into();
         scenario.start = args.start.options();
         scenario.realtime = args.show.realtime;
         // The ECS kernel's precision is refused before the DIS target is resolved.
@@ -149,7 +141,7 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::args::ModelKind;
+    use crate::args::{FleetPrecision, ModelKind};
 
     #[test]
     fn a_small_fleet_reports_consistent_numbers() {

@@ -40,7 +40,7 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
         frames: args.frames,
         fps: FLEET_FPS,
         threads: args.threads,
-        precision: crate::fleet::precision(args.precision),
+        precision: args.precision.into(),
     };
     let mut show = FleetShow::<M>::new(scenario, SocketAddr::V4(target))?;
     show.run_to_end()?;

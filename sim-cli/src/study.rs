@@ -55,7 +55,7 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
     if let Some(seed) = args.seed {
         study = study.with_seed(seed);
     }
-    let precision = crate::fleet::precision(args.precision);
+    let precision: Precision = args.precision.into();
     let out_dir = (args.out.clone()).unwrap_or_else(|| Study::default_out_dir(&args.file));
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| CliError::usage(format!("cannot create --out {}: {e}", out_dir.display())))?;
