@@ -13,7 +13,8 @@
 //! studied. The flying, the streaming and the summary are the library's
 //! ([`fdm_study::batch`]: [`Batch`], [`fdm_study::batch::scenario_alone`]);
 //! here are the options, the output files (created locked, the CSV
-//! registered with the signal thread), the memory checks, `study.svg`
+//! registered with the signal thread), the memory checks' inputs (the
+//! check is [`fdm_study::MemoryEstimate::check`]), `study.svg`
 //! (drawn by `fdm_plot::study`), `summary.json`, the progress bar and the
 //! printing.
 //!
