@@ -689,6 +689,44 @@ pub fn render_svg(trace: &Trace) -> Result<String, PlotError> {
     Ok(svg)
 }
 
+/// A plot's SVG file, created (and locked against a second writer,
+/// [`fdm_run::outfile::create_locked`]) before the run, so that an
+/// unwritable path is refused before anything flies.
+#[derive(Debug)]
+pub struct PlotFile {
+    path: std::path::PathBuf,
+    file: std::fs::File,
+}
+
+impl PlotFile {
+    /// Creates (truncates) `path`, locked.
+    ///
+    /// # Errors
+    /// The OS error, or the file being written by another process.
+    pub fn create(path: &std::path::Path) -> std::io::Result<Self> {
+        Ok(Self {
+            path: path.to_owned(),
+            file: fdm_run::outfile::create_locked(path)?,
+        })
+    }
+
+    /// The file as a run's plot output ([`PlotOutput`], titled `title`,
+    /// errors naming the path).
+    #[must_use]
+    pub fn into_output(self, title: &str) -> PlotOutput<std::fs::File> {
+        PlotOutput::new(self.file, self.path.display().to_string(), title)
+    }
+
+    /// Draws `trace` into the file ([`write_svg`]).
+    ///
+    /// # Errors
+    /// [`PlotError`] naming the path.
+    pub fn write(mut self, trace: &Trace) -> Result<(), PlotError> {
+        let name = self.path.display().to_string();
+        write_svg(&mut self.file, &name, trace)
+    }
+}
+
 /// A run's plot as an [`Output`] of the run library: one [`PlotSample`] for
 /// frame 0 (when attached), after every flown frame and after every reset
 /// (a diverged frame, which the run stops on, is not sampled); at

@@ -17,8 +17,8 @@ pub mod flight;
 pub mod study;
 
 pub use flight::{
-    render_svg, write_svg, PlotOutput, PlotSample, Trace, TraceBuilder, DRAW_COLUMNS, KEEP_COLUMNS,
-    KEEP_SAMPLES, SVG_SIZE,
+    render_svg, write_svg, PlotFile, PlotOutput, PlotSample, Trace, TraceBuilder, DRAW_COLUMNS,
+    KEEP_COLUMNS, KEEP_SAMPLES, SVG_SIZE,
 };
 
 /// Why a plot was not drawn or written.

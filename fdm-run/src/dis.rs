@@ -52,6 +52,7 @@ use fdm_ecs::{Entity, World};
 use serde::{Deserialize, Serialize};
 
 use crate::output::{Event, Frame, Output, OutputError};
+use crate::values::{parse_whole, ValueError};
 use crate::{FleetModel, RunModel};
 
 /// Entity numbers DIS allows in one application (1 to 0xFFFD).
@@ -59,6 +60,53 @@ pub const ENTITIES_PER_APPLICATION: u64 = 0xFFFD;
 
 /// Largest site or application number (0xFFFF means "all").
 pub const MAX_SITE_OR_APPLICATION: u16 = 0xFFFE;
+
+/// A site or application number (`--dis-site`, `--dis-application`): 1 to
+/// [`MAX_SITE_OR_APPLICATION`].
+///
+/// # Errors
+/// [`ValueError::NotWhole`].
+pub fn parse_site_or_application(text: &str) -> Result<u16, ValueError> {
+    parse_whole(text, 1, u64::from(MAX_SITE_OR_APPLICATION), "a DIS number")
+}
+
+/// An entity number (`--dis-entity`, `--dis-entity-base`): 1 to
+/// [`ENTITIES_PER_APPLICATION`].
+///
+/// # Errors
+/// [`ValueError::NotWhole`].
+pub fn parse_entity(text: &str) -> Result<u16, ValueError> {
+    parse_whole(text, 1, ENTITIES_PER_APPLICATION, "a DIS entity number")
+}
+
+/// An exercise id (`--dis-exercise`): 1 to 255.
+///
+/// # Errors
+/// [`ValueError::NotWhole`].
+pub fn parse_exercise(text: &str) -> Result<u8, ValueError> {
+    parse_whole(text, 1, 255, "a DIS exercise id")
+}
+
+/// A protocol version (`--dis-version`): 6 or 7.
+///
+/// # Errors
+/// [`ValueError::NotWhole`].
+pub fn parse_version(text: &str) -> Result<u8, ValueError> {
+    parse_whole(text, 6, 7, "a DIS version")
+}
+
+/// A marking (`--dis-callsign`): what [`Marking::new`] accepts (at most 11
+/// printable ASCII characters).
+///
+/// # Errors
+/// [`ValueError::NotMarking`].
+pub fn parse_callsign(text: &str) -> Result<String, ValueError> {
+    Marking::new(text)
+        .map(|m| m.as_str().to_owned())
+        .map_err(|_| ValueError::NotMarking {
+            text: fdm_core::script::Echo::short(text).to_string(),
+        })
+}
 
 /// Why a DIS target `HOST:PORT` was refused ([`resolve_target`]). The
 /// text is quoted through [`fdm_core::script::Echo`] (control characters

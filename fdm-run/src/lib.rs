@@ -57,6 +57,9 @@
 //! | `dis` (feature `dis`) | DIS Entity State output: `dis::DisOutput` (one aircraft), `dis::FleetDis` (fleets), `dis::DisReport` |
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
 //! | [`fleet`] | fleet runs: [`fleet::FleetScenario`] → [`fleet::FleetRun`] (ECS or lanes kernel, [`fleet::FleetOutput`] plugins such as ACMI, DIS, [`fleet::FleetReport`]), a fleet watched in FlightGear ([`fleet::show`]) |
+//! | [`input`] | input files read safely (a regular file or a pipe, bounded: [`input::read_text`], [`input::InputError`]), the same-file check ([`input::clash`]), paths and numbers shown in messages |
+//! | [`outfile`] | output files locked against a second writer ([`outfile::create_locked`]) |
+//! | [`values`] | settings read from text (the options of `sim-cli`): frame rate, frames, durations, fleet sizes, start conditions, ports, each checked against its range ([`values::ValueError`]) |
 //! | [`memory`] | how much memory this process can still allocate, and the fleet's memory check |
 //! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]); one adapter module per model ([`model::palmer`], [`model::bourg`]) |
 //! | [`report`] | what a run reports at its end: [`Report`] (JSON and a human summary) from a [`Snapshot`] ([`Run::snapshot`]), each model's own fields ([`ReportModel`]) |
@@ -69,11 +72,13 @@ pub mod dis;
 pub mod fgfs;
 pub mod fleet;
 pub mod flightgear;
+pub mod input;
 pub mod links;
 pub mod memory;
 pub mod model;
 pub mod multiplayer;
 pub mod origin;
+pub mod outfile;
 pub mod output;
 pub mod pacer;
 pub mod recording;
@@ -82,6 +87,7 @@ pub mod report;
 pub mod run;
 pub mod scenario;
 mod shared;
+pub mod values;
 
 pub use model::{FleetModel, RunModel};
 pub use output::{Event, Frame, LinkStats, Output, OutputError, Placement};

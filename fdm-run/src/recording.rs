@@ -451,6 +451,20 @@ pub struct Recording<'a, M: RunModel> {
 }
 
 impl<'a, M: RunModel> Recording<'a, M> {
+    /// The scenario a replay starts from: the recorded start, origin and
+    /// frame rate, no frames or script of its own (the recorded events drive
+    /// it, [`crate::replay::replay`]).
+    #[must_use]
+    pub fn scenario(&self) -> crate::Scenario<M> {
+        crate::Scenario {
+            start: self.start.clone(),
+            origin: self.origin,
+            fps: self.fps,
+            frames: 0,
+            script: fdm_core::script::Script::default(),
+        }
+    }
+
     /// Parses and validates a whole recording: prefix, header (model `M`,
     /// fps, origin, aircraft, action names), every event, the end marker and
     /// its checksum, and that nothing follows it. A recording cut before its
@@ -1080,6 +1094,32 @@ impl<A: ScriptAction + PartialEq, W: Write> RecordWriter<A, W> {
     /// The underlying writer (finish first).
     pub fn into_inner(self) -> W {
         self.out
+    }
+}
+
+/// A recording's file, created before the run (locked against a second
+/// writer, [`crate::outfile::create_locked`]) so that an unwritable path is
+/// refused before anything flies.
+#[derive(Debug)]
+pub struct RecordFile {
+    /// The path, for messages.
+    pub path: std::path::PathBuf,
+    /// The file; its flushes (once a second of flight) also sync it to the
+    /// disk, at most every two seconds ([`SyncedFile`]).
+    pub out: SyncedFile,
+}
+
+impl RecordFile {
+    /// Creates (and locks) the file at `path`.
+    ///
+    /// # Errors
+    /// The OS error, or the file being written by another process
+    /// ([`crate::outfile::create_locked`]).
+    pub fn create(path: &std::path::Path) -> std::io::Result<Self> {
+        Ok(Self {
+            path: path.to_owned(),
+            out: SyncedFile::new(crate::outfile::create_locked(path)?),
+        })
     }
 }
 

@@ -1,11 +1,15 @@
 //! A scenario: what a run starts from and how long it lasts.
 
+use std::path::Path;
+
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::message::ShortNumber;
 use fdm_core::model::Model;
-use fdm_core::script::Script;
+use fdm_core::script::{Script, ScriptAction, ScriptError};
 use fdm_core::start::{InitialConditions, StartError, TrimReport};
 use fdm_core::units::{KNOTS_PER_MPS, METRES_PER_FOOT};
+
+use crate::input::{read_text, show_path, InputError, MAX_INPUT_BYTES};
 
 /// Highest frame rate a run accepts, frames per second. Far above any useful
 /// real-time rate; it only keeps dt = 1/N away from values where `f32`
@@ -358,6 +362,48 @@ impl<M: Model> Scenario<M> {
     }
 }
 
+/// A script file refused ([`load_script`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ScriptFileError {
+    /// The file cannot be read ([`crate::input::read_text`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// A bad line, shown as `FILE:LINE: message` (the convention of
+    /// compilers and editors).
+    #[error("{path}:{}: {}", .error.line, line_message(.error))]
+    Line {
+        /// The file, as shown ([`crate::input::show_path`]).
+        path: String,
+        /// The first bad line.
+        error: ScriptError,
+    },
+}
+
+/// A script error's message without its `line N: ` prefix.
+fn line_message(error: &ScriptError) -> String {
+    let full = error.to_string();
+    let prefix = format!("line {}: ", error.line);
+    full.strip_prefix(&prefix).unwrap_or(&full).to_owned()
+}
+
+/// Reads and parses a script file: a regular file or a pipe of at most
+/// [`MAX_INPUT_BYTES`] ([`crate::input::read_text`]; `waiting` as there).
+///
+/// # Errors
+/// [`ScriptFileError::Input`] for an unreadable, oversized or non-UTF-8
+/// file or a path that is not a regular file or pipe,
+/// [`ScriptFileError::Line`] for the first bad line.
+pub fn load_script<A: ScriptAction>(
+    path: &Path,
+    waiting: impl FnOnce(String) + Send + 'static,
+) -> Result<Script<A>, ScriptFileError> {
+    let text = read_text(path, "script", MAX_INPUT_BYTES, waiting)?;
+    Script::parse(&text).map_err(|error| ScriptFileError::Line {
+        path: show_path(path),
+        error,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use fdm_core::bourg::Bourg;
@@ -487,5 +533,22 @@ mod tests {
         assert_eq!(conditions.altitude_m.to_bits(), own.height_m().to_bits());
         assert_eq!(conditions.speed_mps.to_bits(), own.airspeed_mps.to_bits());
         assert_eq!(conditions.heading_deg, 90.0);
+    }
+
+    #[test]
+    fn script_errors_name_file_and_line() {
+        let dir = std::env::temp_dir().join(format!("fdm-run-script-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bad.txt");
+        std::fs::write(&path, "# ok\n1-5 thrust-up\n\n3-2 thrust-up\n").unwrap();
+        let err = super::load_script::<fdm_core::bourg::BourgAction>(&path, drop).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!("{}:4: range 3-2 ends before it starts", path.display())
+        );
+        let missing = dir.join("missing.txt");
+        let err = super::load_script::<fdm_core::bourg::BourgAction>(&missing, drop).unwrap_err();
+        assert!(err.to_string().starts_with("cannot read script "), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -217,10 +217,24 @@ impl<'a> Batch<'a> {
 
     /// The summary of the runs flown, with the study's seed (the caller
     /// marks it [`Summary::stopped`] when [`Self::completed`] is short of
-    /// the study's runs).
+    /// the study's runs, or calls [`Self::summary_stopped_by`]).
     #[must_use]
     pub fn summary(self) -> Summary {
         self.summary.finish().with_seed(self.study.seed())
+    }
+
+    /// [`Self::summary`], marked as stopped by `by` (e.g. `SIGTERM`) when
+    /// the batch ended before the study's last run (only a stop ends the
+    /// flying early: an error returns from [`Self::fly_chunk`]).
+    #[must_use]
+    pub fn summary_stopped_by(self, by: &str) -> Summary {
+        let (completed, runs) = (self.completed, self.study.runs());
+        let summary = self.summary();
+        if completed < runs {
+            summary.stopped(by, runs)
+        } else {
+            summary
+        }
     }
 }
 
@@ -298,8 +312,21 @@ mod tests {
         assert!(!batch.fly_chunk(&mut csv, &mut arrow, || true).unwrap());
         assert_eq!(batch.completed(), 0);
         assert_eq!(String::from_utf8(csv).unwrap().lines().count(), 1);
-        let summary = batch.summary();
+        let summary = batch.summary_stopped_by("SIGTERM");
         assert_eq!(summary.runs, 0);
+        assert_eq!(
+            summary.stopped.map(|s| (s.by, s.runs_planned)),
+            Some(("SIGTERM".to_owned(), 3))
+        );
+    }
+
+    #[test]
+    fn a_batch_flown_to_its_end_is_not_stopped() {
+        let study = study();
+        let mut batch = Batch::new(&study, FlyOptions::default(), 10);
+        let (mut csv, mut arrow) = (Vec::new(), batch.arrow_writer(Vec::new()).unwrap());
+        while batch.fly_chunk(&mut csv, &mut arrow, || false).unwrap() {}
+        assert_eq!(batch.summary_stopped_by("SIGTERM").stopped, None);
     }
 
     #[test]

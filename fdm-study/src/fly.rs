@@ -531,6 +531,75 @@ pub struct MemoryEstimate {
     pub total: u64,
 }
 
+/// A study refused before it flies because it would not fit in memory
+/// ([`MemoryEstimate::check`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MemoryRefused {
+    /// More than the caller's limit (`sim-cli study --memory-limit-mib`).
+    #[error(
+        "the study needs about {} MiB ({runs} runs × {} bytes kept + {} runs in flight × {} \
+         bytes), more than --memory-limit-mib {limit_mib}",
+        .estimate.total.div_ceil(1024 * 1024),
+        .estimate.kept_per_run,
+        .estimate.chunk_runs.min(*.runs),
+        .estimate.flying_per_run
+    )]
+    OverLimit {
+        /// The estimate.
+        estimate: MemoryEstimate,
+        /// The study's runs.
+        runs: u64,
+        /// The limit, MiB.
+        limit_mib: u64,
+    },
+    /// More than this process can still allocate.
+    #[error(
+        "the study needs about {} MiB; this process has {} MiB available (the machine's \
+         available memory, the address-space limit and the cgroup's memory limit)",
+        .estimate.total.div_ceil(1024 * 1024),
+        .available_bytes / (1024 * 1024)
+    )]
+    Unavailable {
+        /// The estimate.
+        estimate: MemoryEstimate,
+        /// What the process can still allocate
+        /// ([`fdm_run::memory::available_bytes`]), bytes.
+        available_bytes: u64,
+    },
+}
+
+impl MemoryEstimate {
+    /// Refuses a study of `runs` runs that needs more than `limit_mib` MiB,
+    /// or more than `available_bytes` (what the process can still allocate;
+    /// `None`: not known, not checked).
+    ///
+    /// # Errors
+    /// [`MemoryRefused`], with the numbers.
+    pub fn check(
+        self,
+        runs: u64,
+        limit_mib: u64,
+        available_bytes: Option<u64>,
+    ) -> Result<(), MemoryRefused> {
+        if self.total > limit_mib.saturating_mul(1024 * 1024) {
+            return Err(MemoryRefused::OverLimit {
+                estimate: self,
+                runs,
+                limit_mib,
+            });
+        }
+        match available_bytes {
+            Some(available_bytes) if self.total > available_bytes => {
+                Err(MemoryRefused::Unavailable {
+                    estimate: self,
+                    available_bytes,
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 impl Study {
     /// The memory a study of [`Study::runs`] runs flown in chunks of
     /// `chunk_runs` takes, by the sizes of its data structures (the
@@ -581,5 +650,35 @@ impl StudyJob for MemoryJob<'_> {
                 .saturating_mul(kept)
                 .saturating_add(self.chunk_runs.min(runs).saturating_mul(flying)),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_study_over_the_limit_or_the_available_memory_is_refused_with_its_numbers() {
+        let estimate = MemoryEstimate {
+            kept_per_run: 40,
+            flying_per_run: 1000,
+            chunk_runs: 4096,
+            total: 3 * 1024 * 1024 + 1,
+        };
+        assert_eq!(estimate.check(10, 4, None), Ok(()));
+        assert_eq!(
+            estimate.check(10, 3, None).unwrap_err().to_string(),
+            "the study needs about 4 MiB (10 runs × 40 bytes kept + 10 runs in flight × 1000 \
+             bytes), more than --memory-limit-mib 3"
+        );
+        assert_eq!(
+            estimate
+                .check(10, 4, Some(2 * 1024 * 1024))
+                .unwrap_err()
+                .to_string(),
+            "the study needs about 4 MiB; this process has 2 MiB available (the machine's \
+             available memory, the address-space limit and the cgroup's memory limit)"
+        );
+        assert_eq!(estimate.check(10, 4, Some(estimate.total)), Ok(()));
     }
 }

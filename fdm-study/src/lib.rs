@@ -85,7 +85,7 @@ pub mod summary;
 pub mod table;
 pub mod track;
 
-pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, BLOCK_RUNS};
+pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, MemoryRefused, BLOCK_RUNS};
 pub use measure::Measure;
 pub use model::{StudyEntry, StudyModel};
 pub use spec::{Distribution, Stop, Study, MAX_RUNS};

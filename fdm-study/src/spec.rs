@@ -255,6 +255,16 @@ pub(crate) struct RunSetup<M: Model> {
 }
 
 impl Study {
+    /// Where a study's files go unless told otherwise: the directory of
+    /// its file `path` (`.` for a bare file name).
+    #[must_use]
+    pub fn default_out_dir(path: &std::path::Path) -> std::path::PathBuf {
+        path.parent().map_or_else(
+            || std::path::PathBuf::from("."),
+            std::path::Path::to_path_buf,
+        )
+    }
+
     /// Parses and validates a study file's text; its model is one of the
     /// run library's registry ([`StudyEntry::registry`]).
     ///
@@ -1045,6 +1055,20 @@ mod tests {
 
     fn error(text: &str) -> String {
         Study::from_toml_str(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn the_files_go_beside_the_study_file_by_default() {
+        use std::path::{Path, PathBuf};
+        assert_eq!(
+            Study::default_out_dir(Path::new("studies/a.toml")),
+            PathBuf::from("studies")
+        );
+        assert_eq!(
+            Study::default_out_dir(Path::new("a.toml")),
+            PathBuf::from("")
+        );
+        assert_eq!(Study::default_out_dir(Path::new("/")), PathBuf::from("."));
     }
 
     #[test]

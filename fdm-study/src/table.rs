@@ -208,6 +208,16 @@ pub fn write_csv_header(out: &mut impl Write, columns: &RunTable) -> io::Result<
     writeln!(out, ",fingerprint")
 }
 
+/// Writes `table` as a whole `runs.csv`: the header ([`write_csv_header`])
+/// and the rows ([`write_csv_rows`]).
+///
+/// # Errors
+/// The writer's.
+pub fn write_csv(out: &mut impl Write, table: &RunTable) -> io::Result<()> {
+    write_csv_header(out, table)?;
+    write_csv_rows(out, table)
+}
+
 /// Writes `table`'s rows as `runs.csv` rows: the run, the status code, each
 /// measure as the shortest decimal that reads back to the same `f64` (so
 /// the text is the bits) or an empty cell where the measure does not apply,

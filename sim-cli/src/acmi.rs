@@ -29,12 +29,9 @@ pub fn create(
     let Some(path) = args.acmi.as_deref() else {
         return Ok(None);
     };
-    if let Some(name) = crate::input::clash(path, others) {
-        return Err(CliError::usage(format!(
-            "--acmi {} is also the {name} file",
-            show_path(path)
-        )));
-    }
+    crate::input::refuse_clash(path, others, |name| {
+        format!("--acmi {} is also the {name} file", show_path(path))
+    })?;
     let header = AcmiHeader {
         reference_time: args.acmi_reference_time.clone().unwrap_or_default(),
         title: title.to_owned(),

@@ -3,6 +3,7 @@
 //!
 //! Every value parser returns a one-line message so clap's error, which `main`
 //! squeezes onto one line, stays readable; clap exits usage errors with status 2.
+//! The parsers and their limits are the run library's ([`fdm_run::values`]).
 //!
 //! `fleet` (many aircraft: throughput, and their DIS, FlightGear multiplayer and
 //! ACMI outputs) has its own arguments, [`FleetArgs`], and its own module,
@@ -14,8 +15,12 @@ use std::path::PathBuf;
 use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 
 use crate::dis::{FleetDisArgs, FlightDisArgs};
-use crate::input::Echo;
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
+use fdm_run::values::{self, ValueError};
+use fdm_run::values::{
+    parse_duration, parse_fleet_frames, parse_fleet_size, parse_fps, parse_frames, parse_mp_port,
+    parse_threads,
+};
 use fgnet::address::{parse_fg_listen, parse_fg_target, FgTarget};
 
 /// Highest accepted `--fps` and longest accepted run in frames (`--frames`, or
@@ -319,60 +324,26 @@ pub struct FgfsArgs {
 
     /// Also show a fleet streamed with `sim-cli fleet --fg-mp HOST:PORT`: FlightGear's multiplayer
     /// input listens on PORT (all interfaces; 1..32766, see docs/cli.md)
-    #[arg(long, value_name = "PORT", value_parser = parse_fg_mp_port)]
+    #[arg(long, value_name = "PORT", value_parser = parse_mp_port)]
     pub fg_mp: Option<u16>,
 }
 
-/// Largest multiplayer input port FlightGear 2020.3 accepts
-/// ([`fdm_run::fgfs::MAX_MP_PORT`]).
-pub const MAX_FG_MP_PORT: u16 = fdm_run::fgfs::MAX_MP_PORT;
-
-/// A FlightGear multiplayer input port, 1 to [`MAX_FG_MP_PORT`].
-pub fn parse_fg_mp_port(text: &str) -> Result<u16, String> {
-    match text.trim().parse::<u16>() {
-        Ok(p) if (1..=MAX_FG_MP_PORT).contains(&p) => Ok(p),
-        Ok(p) if p > MAX_FG_MP_PORT => Err(format!(
-            "`{text}` is too large: FlightGear 2020.3 stores multiplayer ports as signed 16-bit \
-             numbers and ignores 32768 and above; use 1..{MAX_FG_MP_PORT} (e.g. 5000)"
-        )),
-        _ => Err(format!(
-            "`{text}` is not a port number (1..{MAX_FG_MP_PORT})"
-        )),
-    }
-}
-
-/// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`).
+/// FlightGear 2020.3's built-in views (`/sim/current-view/view-number`);
+/// each variant's value (`view as u8`) is the view's index in FlightGear
+/// 2020.3's `defaults.xml` view list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[repr(u8)]
 pub enum FgView {
     /// From the pilot's seat (view 0).
-    Cockpit,
+    Cockpit = 0,
     /// From behind and above, turning with the aircraft's heading only (view 1).
-    Helicopter,
+    Helicopter = 1,
     /// From behind, following the aircraft (view 2).
-    Chase,
-}
-
-impl FgView {
-    /// The view's index in FlightGear 2020.3's `defaults.xml` view list.
-    #[must_use]
-    pub fn number(self) -> u8 {
-        match self {
-            Self::Cockpit => 0,
-            Self::Helicopter => 1,
-            Self::Chase => 2,
-        }
-    }
+    Chase = 2,
 }
 
 /// The frame rate `sim-cli fleet` flies at (and the one "could fly" refers to).
 pub const FLEET_FPS: u32 = 30;
-
-/// Largest accepted `sim-cli fleet --aircraft` (a Palmer entity takes about
-/// 600 bytes with its display components, so this is some 6 GB).
-pub const MAX_FLEET: u64 = 10_000_000;
-
-/// Largest accepted `sim-cli fleet --threads`.
-pub const MAX_THREADS: usize = 1024;
 
 /// `sim-cli fleet`.
 #[derive(Debug, Clone, Args)]
@@ -472,8 +443,8 @@ pub enum FleetPattern {
 }
 
 /// `fleet --fg-mp-aircraft`: 1 to [`MAX_MP_AIRCRAFT`].
-pub fn parse_mp_aircraft(text: &str) -> Result<usize, String> {
-    parse_count(text, MAX_MP_AIRCRAFT as u64, "aircraft").map(|v| v as usize)
+pub fn parse_mp_aircraft(text: &str) -> Result<usize, ValueError> {
+    values::parse_whole(text, 1, MAX_MP_AIRCRAFT as u64, "a number of aircraft")
 }
 
 /// How `sim-cli fleet` steps its aircraft.
@@ -494,66 +465,13 @@ pub enum FleetPrecision {
     Fast,
 }
 
-/// A whole number in `1..=max`, with `what` naming it in the error.
-fn parse_count(text: &str, max: u64, what: &str) -> Result<u64, String> {
-    match text.trim().parse::<u64>() {
-        Ok(v) if (1..=max).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}` is not a number of {what} in 1..={max}",
-            Echo::short(text)
-        )),
-    }
-}
-
-/// `fleet --aircraft`: 1 to [`MAX_FLEET`].
-pub fn parse_fleet_size(text: &str) -> Result<u64, String> {
-    parse_count(text, MAX_FLEET, "aircraft")
-}
-
-/// `fleet --frames`: 1 to [`MAX_FRAMES`].
-pub fn parse_fleet_frames(text: &str) -> Result<u64, String> {
-    parse_count(text, MAX_FRAMES, "frames")
-}
-
-/// `fleet --threads`: 1 to [`MAX_THREADS`].
-pub fn parse_threads(text: &str) -> Result<usize, String> {
-    let max = u64::try_from(MAX_THREADS).unwrap_or(u64::MAX);
-    parse_count(text, max, "threads").map(|v| usize::try_from(v).unwrap_or(MAX_THREADS))
-}
-
-/// `--fps`: a whole number from 1 to [`MAX_FPS`]. Whole, because the frame rate is
-/// the ECS's `Resources::new(fps: u32)` and both models derive dt from it (docs/cli.md:
-/// dt = 1/N, `1.0f32 / N as f32` for Bourg).
-pub fn parse_fps(text: &str) -> Result<u32, String> {
-    match text.trim().parse::<u32>() {
-        Ok(v) if (1..=MAX_FPS).contains(&v) => Ok(v),
-        Ok(_) => Err(format!("must be a whole number from 1 to {MAX_FPS}")),
-        Err(_) => Err(format!(
-            "`{}` is not a whole number of frames per second (1..{MAX_FPS})",
-            Echo::short(text)
-        )),
-    }
-}
-
-/// `--frames`: a whole number from 0 to [`MAX_FRAMES`].
-pub fn parse_frames(text: &str) -> Result<u64, String> {
-    match text.trim().parse::<u64>() {
-        Ok(v) if v <= MAX_FRAMES => Ok(v),
-        Ok(_) => Err(format!("must be at most {MAX_FRAMES}")),
-        Err(_) => Err(format!(
-            "`{}` is not a whole number of frames (0..{MAX_FRAMES})",
-            Echo::short(text)
-        )),
-    }
-}
-
-/// `--duration`: finite seconds, >= 0. The frame limit is checked once the fps is known.
-pub fn parse_duration(text: &str) -> Result<f64, String> {
-    let v = crate::input::parse_finite(text)?;
-    if v >= 0.0 {
-        Ok(v)
-    } else {
-        Err("must not be negative".to_owned())
+impl From<FleetPrecision> for fdm_fleet::Precision {
+    /// The run library's precision for `--precision`.
+    fn from(precision: FleetPrecision) -> Self {
+        match precision {
+            FleetPrecision::Exact => Self::Exact,
+            FleetPrecision::Fast => Self::Fast,
+        }
     }
 }
 
@@ -611,21 +529,6 @@ mod tests {
 
     #[test]
     fn value_parsers() {
-        assert!(parse_fps("0").is_err());
-        assert!(parse_fps("-1").is_err());
-        assert!(parse_fps("NaN").is_err());
-        assert!(parse_fps("inf").is_err());
-        assert!(parse_fps("10001").is_err());
-        assert!(parse_fps("29.97").is_err());
-        assert!(parse_fps("1e9").is_err());
-        assert_eq!(parse_fps("1"), Ok(1));
-        assert_eq!(parse_fps("10000"), Ok(10_000));
-        assert!(parse_frames("-1").is_err());
-        assert!(parse_frames("1.5").is_err());
-        assert!(parse_frames("1000000001").is_err());
-        assert_eq!(parse_frames("0"), Ok(0));
-        assert!(parse_duration("-0.1").is_err());
-        assert!(parse_duration("nan").is_err());
         assert!(parse_throttle("1.01").is_err());
         assert!(parse_alpha("-16.5").is_err());
         assert_eq!(parse_alpha("20"), Ok(20.0));
@@ -658,13 +561,9 @@ mod tests {
     #[test]
     fn out_of_range_numbers_are_echoed_as_given() {
         assert_eq!(
-            parse_throttle("1e308"),
-            Err("`1e308` is outside 0..1 (fraction of full power)".to_owned())
+            parse_throttle("1e308").unwrap_err().to_string(),
+            "`1e308` is outside 0..1 (fraction of full power)"
         );
-        let err = parse_fps("\u{1b}[31mred").unwrap_err();
-        assert!(!err.chars().any(char::is_control), "{err}");
-        let long = "9".repeat(10_000);
-        assert!(parse_frames(&long).unwrap_err().len() < 200);
     }
 
     #[test]
@@ -746,13 +645,6 @@ pub struct StudyArgs {
     pub acmi: AcmiArgs,
 }
 
-fn parse_runs(text: &str) -> Result<u64, String> {
-    match text.trim().parse::<u64>() {
-        Ok(v) if (1..=fdm_study::MAX_RUNS).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}` is not a number of runs in 1..={}",
-            Echo::short(text),
-            fdm_study::MAX_RUNS
-        )),
-    }
+fn parse_runs(text: &str) -> Result<u64, ValueError> {
+    values::parse_whole(text, 1, fdm_study::MAX_RUNS, "a number of runs")
 }

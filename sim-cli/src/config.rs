@@ -2,7 +2,7 @@
 //! wrong with the input is found here, before anything runs, and reported as a
 //! usage error (exit status 2).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use fdm_core::model::Model;
 use fdm_core::script::{Script, ScriptAction};
@@ -10,9 +10,9 @@ use fdm_core::script::{Script, ScriptAction};
 use crate::args::CommonArgs;
 use crate::csv::CsvWriter;
 use crate::error::CliError;
-use crate::input::{clash, read_text, show_path, MAX_INPUT_BYTES};
-use crate::plot::PlotFile;
+use crate::input::{refuse_clash, show_path, waiting};
 use crate::signals::SignalSafeWriter;
+use fdm_plot::PlotFile;
 use fdm_run::links::LinkSettings;
 use fdm_run::Scenario;
 use fgnet::address::FgTarget;
@@ -69,19 +69,12 @@ pub struct ModelConfig<M: Model> {
     pub outputs: Outputs,
 }
 
-/// The `--record` output, created before the run (so an unwritable path is a
-/// usage error and nothing has run).
-#[derive(Debug)]
-pub struct RecordFile {
-    /// The path, for messages.
-    pub path: PathBuf,
-    /// The file; its flushes (once a second of flight) also sync it to the
-    /// disk, at most every two seconds ([`fdm_run::recording::SyncedFile`]).
-    pub out: fdm_run::recording::SyncedFile,
-}
+/// The `--record` output, created before the run: the run library's.
+pub use fdm_run::recording::RecordFile;
 
 /// Model `M`'s start from the initial-condition options
-/// ([`crate::start::start_for`]), printing a trim's result on stderr.
+/// ([`crate::start::StartArgs::options`], refusals as
+/// [`crate::start::refused`] words them), printing a trim's result on stderr.
 ///
 /// # Errors
 /// [`CliError::Usage`] for options out of range or a trim that fails.
@@ -89,9 +82,11 @@ pub fn start_model<M: Model>(
     controls: M::Controls,
     args: &crate::start::StartArgs,
 ) -> Result<Start<M>, CliError> {
-    let (start, report) = crate::start::start_for::<M>(M::default_aircraft(), controls, args)?;
+    let (start, report) = (args.options())
+        .start::<M>(M::default_aircraft(), controls)
+        .map_err(crate::start::refused)?;
     if let Some(report) = report {
-        eprintln!("{}", crate::start::trim_line(M::NAME, &report));
+        eprintln!("sim-cli: {} trimmed: {report}", M::NAME);
     }
     Ok(start)
 }
@@ -150,22 +145,13 @@ pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
         .map_err(|e| CliError::usage(format!("--duration {e}")))
 }
 
-/// Reads and parses a script; errors name the file and line as `FILE:LINE: message`.
-/// The file is read with [`read_text`]: a regular file or a pipe of at most
-/// [`MAX_INPUT_BYTES`].
+/// Reads and parses a script ([`fdm_run::scenario::load_script`]: errors
+/// name the file and line as `FILE:LINE: message`).
 ///
 /// # Errors
-/// [`CliError::Usage`] for an unreadable, oversized or non-UTF-8 file, a path that
-/// is not a regular file or pipe, or the first bad line.
+/// [`CliError::Usage`] for a file that cannot be read or its first bad line.
 pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> {
-    let text = read_text(path, "script", MAX_INPUT_BYTES)?;
-    Script::parse(&text).map_err(|e| {
-        // ScriptError displays as "line N: message"; the CLI convention is FILE:N: message.
-        let full = e.to_string();
-        let prefix = format!("line {}: ", e.line);
-        let message = full.strip_prefix(&prefix).unwrap_or(&full);
-        CliError::usage(format!("{}:{}: {message}", show_path(path), e.line))
-    })
+    fdm_run::scenario::load_script(path, waiting).map_err(CliError::usage)
 }
 
 /// Creates the `--csv` file (registered with the signal thread).
@@ -189,18 +175,12 @@ fn create_record(args: &CommonArgs) -> Result<Option<RecordFile>, CliError> {
         (args.csv.as_deref(), "--csv"),
         (args.plot.as_deref(), "--plot"),
     ];
-    if let Some(name) = clash(path, &others) {
-        return Err(CliError::usage(format!(
-            "--record {} is also the {name} file",
-            path.display()
-        )));
-    }
-    let file = crate::outfile::create_locked(path)
-        .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))?;
-    Ok(Some(RecordFile {
-        path: path.clone(),
-        out: fdm_run::recording::SyncedFile::new(file),
-    }))
+    refuse_clash(path, &others, |name| {
+        format!("--record {} is also the {name} file", path.display())
+    })?;
+    RecordFile::create(path)
+        .map(Some)
+        .map_err(|e| CliError::usage(format!("cannot create recording {}: {e}", path.display())))
 }
 
 /// Model `model`'s run from the options every flight shares: the mode, the
@@ -215,56 +195,35 @@ pub fn prepare_model<M: Model>(
     start: Start<M>,
 ) -> Result<ModelConfig<M>, CliError> {
     let mode = resolve_mode(&args)?;
-    let loaded = match &args.script {
-        Some(path) => load_script(path)?,
-        None => Script::default(),
-    };
+    let loaded = args.script.as_deref().map(load_script).transpose()?;
     if mode == Mode::Interactive {
         crate::terminal::require_terminal()?;
     }
     let dis = args.dis.resolve()?;
     let fg = match (&args.fg, mode) {
-        (Some(target), _) => Some(
-            target
-                .resolve()
-                .map_err(|e| CliError::usage(e.to_string()))?,
-        ),
-        (None, Mode::Interactive) => Some(
-            FgTarget::default()
-                .resolve()
-                .map_err(|e| CliError::usage(e.to_string()))?,
-        ),
+        (Some(target), _) => Some(target.resolve()?),
+        (None, Mode::Interactive) => Some(FgTarget::default().resolve()?),
         (None, Mode::Headless { .. }) => None,
     };
     // Created last, so that no earlier error leaves a truncated file behind.
     let script = args.script.as_deref();
-    let csv = match &args.csv {
-        Some(path) => {
-            if clash(path, &[(script, "--script")]).is_some() {
-                return Err(CliError::usage(format!(
-                    "--csv {} would overwrite the --script file",
-                    show_path(path)
-                )));
-            }
-            Some(create_csv(path)?)
-        }
-        None => None,
-    };
-    let plot = match &args.plot {
-        Some(path) => {
-            if let Some(name) = clash(
-                path,
-                &[(script, "--script"), (args.csv.as_deref(), "--csv")],
-            ) {
-                return Err(CliError::usage(format!(
-                    "--plot {} would overwrite the {name} file",
-                    path.display()
-                )));
-            }
-            Some(PlotFile::create(path)?)
-        }
-        None => None,
-    };
+    let others = [(script, "--script"), (args.csv.as_deref(), "--csv")];
+    let csv = (args.csv.as_deref())
+        .map(|path| {
+            refuse_clash(path, &others[..1], |name| {
+                format!("--csv {} would overwrite the {name} file", show_path(path))
+            })?;
+            create_csv(path)
+        })
+        .transpose()?;
+    let plot = (args.plot.as_deref())
+        .map(|path| {
+            refuse_clash(path, &others, |name| {
+                format!("--plot {} would overwrite the {name} file", path.display())
+            })?;
+            crate::plot::create(path)
+        })
+        .transpose()?;
     let record = create_record(&args)?;
     let acmi = crate::acmi::create(
         &args.acmi,
@@ -288,7 +247,7 @@ pub fn prepare_model<M: Model>(
             origin: args.origin,
             fps: args.fps,
             frames,
-            script: loaded,
+            script: loaded.unwrap_or_default(),
         },
         mode,
         outputs: Outputs {
@@ -388,23 +347,5 @@ mod tests {
             err.to_string().contains("not a non-negative number"),
             "{err}"
         );
-    }
-
-    #[test]
-    fn script_errors_name_file_and_line() {
-        let dir = std::env::temp_dir().join(format!("sim-cli-config-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("bad.txt");
-        std::fs::write(&path, "# ok\n1-5 thrust-up\n\n3-2 thrust-up\n").unwrap();
-        let err = load_script::<fdm_core::bourg::BourgAction>(&path).unwrap_err();
-        assert_eq!(err.exit_code(), 2);
-        assert_eq!(
-            err.to_string(),
-            format!("{}:4: range 3-2 ends before it starts", path.display())
-        );
-        let missing = dir.join("missing.txt");
-        let err = load_script::<fdm_core::bourg::BourgAction>(&missing).unwrap_err();
-        assert!(err.to_string().starts_with("cannot read script "), "{err}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -14,13 +14,13 @@
 use std::net::SocketAddr;
 
 use clap::{Args, ValueEnum};
-use fdm_dis::{DisVersion, DrAlgorithm, DrThresholds, Marking};
-use fdm_run::dis::{
-    DisError, DisSettings, FlightDis, ENTITIES_PER_APPLICATION, MAX_SITE_OR_APPLICATION,
-};
+use fdm_dis::{DisVersion, DrAlgorithm, DrThresholds};
+use fdm_run::dis::parse_version;
+use fdm_run::dis::{parse_callsign, parse_entity, parse_exercise, parse_site_or_application};
+use fdm_run::dis::{DisError, DisSettings, FlightDis};
+use fdm_run::values::parse_positive as parse_threshold;
 
 use crate::error::CliError;
-use crate::input::Echo;
 
 impl From<DisError> for CliError {
     /// A refused setting is a usage error (`--dis: ...`, exit 2), the socket
@@ -150,58 +150,6 @@ pub struct FleetDisArgs {
     pub entity_base: u16,
 }
 
-fn parse_number<T: TryFrom<u64>>(text: &str, lo: u64, hi: u64, what: &str) -> Result<T, String> {
-    text.trim()
-        .parse::<u64>()
-        .ok()
-        .filter(|v| (lo..=hi).contains(v))
-        .and_then(|v| T::try_from(v).ok())
-        .ok_or_else(|| format!("`{}` is not a {what} in {lo}..={hi}", Echo::short(text)))
-}
-
-/// `--dis-site`, `--dis-application`: 1 to 65534.
-pub fn parse_site_or_application(text: &str) -> Result<u16, String> {
-    parse_number(text, 1, u64::from(MAX_SITE_OR_APPLICATION), "DIS number")
-}
-
-/// `--dis-entity`, `--dis-entity-base`: 1 to 65533.
-pub fn parse_entity(text: &str) -> Result<u16, String> {
-    parse_number(text, 1, ENTITIES_PER_APPLICATION, "DIS entity number")
-}
-
-/// `--dis-exercise`: 1 to 255.
-pub fn parse_exercise(text: &str) -> Result<u8, String> {
-    parse_number(text, 1, 255, "DIS exercise id")
-}
-
-/// `--dis-version`: 6 or 7.
-pub fn parse_version(text: &str) -> Result<u8, String> {
-    parse_number(text, 6, 7, "DIS version")
-}
-
-/// Thresholds and heartbeat: positive, finite.
-pub fn parse_threshold(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!(
-            "`{}` is not a positive finite number",
-            Echo::short(text)
-        )),
-    }
-}
-
-/// `--dis-callsign`: what [`Marking::new`] accepts (at most 11 printable ASCII characters).
-pub fn parse_callsign(text: &str) -> Result<String, String> {
-    Marking::new(text)
-        .map(|m| m.as_str().to_owned())
-        .map_err(|_| {
-            format!(
-                "`{}` is not a DIS marking (at most 11 printable ASCII characters)",
-                Echo::short(text)
-            )
-        })
-}
-
 impl Default for FlightDisArgs {
     /// No `--dis`, entity 1, the model's callsign.
     fn default() -> Self {
@@ -213,6 +161,7 @@ impl Default for FlightDisArgs {
     }
 }
 
+#[cfg(test)]
 impl Default for FleetDisArgs {
     /// No `--dis`, entity base 1.
     fn default() -> Self {

@@ -11,7 +11,6 @@
 //! entities are counted as untracked and not stored. Here are the
 //! arguments, the messages and the printing.
 
-use std::io::{self, Write};
 use std::net::UdpSocket;
 
 use anyhow::Context as _;
@@ -23,6 +22,7 @@ pub use fdm_dis::listen::DEFAULT_MAX_ENTITIES;
 
 use crate::error::CliError;
 use crate::input::Echo;
+use fdm_run::values::ValueError;
 
 /// Most entities `--max-entities` accepts (some 3 GB of table).
 pub const MAX_MAX_ENTITIES: u64 = 10_000_000;
@@ -54,24 +54,12 @@ pub struct DisListenArgs {
     pub json: bool,
 }
 
-fn parse_seconds(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v > 0.0 && v <= MAX_SECONDS => Ok(v),
-        _ => Err(format!(
-            "`{}` is not a number of seconds in (0, {MAX_SECONDS}]",
-            Echo::short(text)
-        )),
-    }
+fn parse_seconds(text: &str) -> Result<f64, ValueError> {
+    fdm_run::values::parse_seconds(text, MAX_SECONDS)
 }
 
-fn parse_entities(text: &str) -> Result<u64, String> {
-    match text.trim().parse::<u64>() {
-        Ok(v) if (1..=MAX_MAX_ENTITIES).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}` is not a number of entities in 1..={MAX_MAX_ENTITIES}",
-            Echo::short(text)
-        )),
-    }
+fn parse_entities(text: &str) -> Result<u64, ValueError> {
+    fdm_run::values::parse_whole(text, 1, MAX_MAX_ENTITIES, "a number of entities")
 }
 
 /// A listening error as the CLI reports it: a bad address is a usage error
@@ -124,11 +112,7 @@ pub fn run(args: &DisListenArgs) -> Result<(), CliError> {
     } else {
         report.human()
     };
-    let mut out = io::stdout().lock();
-    writeln!(out, "{text}")
-        .and_then(|()| out.flush())
-        .context("writing to stdout")?;
-    Ok(())
+    crate::print_line(&text)
 }
 
 #[cfg(test)]

@@ -64,6 +64,13 @@ impl From<anyhow::Error> for CliError {
     }
 }
 
+impl From<fgnet::address::FgAddressError> for CliError {
+    /// A FlightGear address that does not resolve is a usage error.
+    fn from(e: fgnet::address::FgAddressError) -> Self {
+        Self::usage(e)
+    }
+}
+
 /// Joins the non-empty lines of `text` with single spaces.
 #[must_use]
 pub fn one_line(text: &str) -> String {

@@ -25,7 +25,7 @@ impl WithModel for Line<'_> {
             program: &args.fgfs,
             fps: args.fps,
             fg: args.fg.as_ref(),
-            view_number: args.view.number(),
+            view_number: args.view as u8,
         };
         command_line::<M>(&command, &args.origin, &args.start.options())
             .map_err(crate::start::refused)
@@ -104,12 +104,13 @@ mod tests {
             plain.len() - " --disable-ai-models".len() + added.len()
         );
         assert!(line(&["palmer", "--fg-mp", "32766"]).contains("out,10,127.0.0.1,32767 "));
-        assert_eq!(crate::args::parse_fg_mp_port("32766"), Ok(32766));
+        assert_eq!(fdm_run::values::parse_mp_port("32766"), Ok(32766));
         for bad in ["0", "32767", "35606", "65535", "x"] {
-            assert!(crate::args::parse_fg_mp_port(bad).is_err(), "{bad}");
+            assert!(fdm_run::values::parse_mp_port(bad).is_err(), "{bad}");
         }
-        assert!(crate::args::parse_fg_mp_port("35606")
+        assert!(fdm_run::values::parse_mp_port("35606")
             .unwrap_err()
+            .to_string()
             .contains("signed 16-bit"));
     }
 

@@ -11,14 +11,12 @@
 //! wall-clock time. `--fg-mp` streams the fleet to FlightGear instead
 //! ([`crate::fleet_mp`]).
 
-use std::io::Write;
-
 use anyhow::Context as _;
 use fdm_run::acmi::AcmiError;
+use fdm_run::fleet::Kernel;
 use fdm_run::fleet::{FleetDisConfig, FleetError, FleetReport, FleetRun, FleetScenario};
-use fdm_run::fleet::{Kernel, Precision};
 
-use crate::args::{FleetArgs, FleetKernel, FleetPrecision};
+use crate::args::{FleetArgs, FleetKernel};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
 use crate::progress::StderrProgress;
@@ -74,10 +72,7 @@ impl WithModel for Measure<'_> {
             FleetKernel::Lanes => Kernel::Lanes,
             FleetKernel::Ecs => Kernel::Ecs,
         };
-        scenario.precision = match args.precision {
-            FleetPrecision::Exact => Precision::Exact,
-            FleetPrecision::Fast => Precision::Fast,
-        };
+        scenario.precision = args.precision.into();
         scenario.start = args.start.options();
         scenario.realtime = args.show.realtime;
         // The ECS kernel's precision is refused before the DIS target is resolved.
@@ -132,7 +127,7 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
         ));
     }
     if let Some(text) = crate::fleet_mp::run_show(args)? {
-        return print_line(&text);
+        return crate::print_line(&text);
     }
     let report = measure(args)?;
     let text = if args.json {
@@ -140,22 +135,13 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
     } else {
         report.summary()
     };
-    print_line(&text)
-}
-
-/// `text` and a newline on stdout.
-fn print_line(text: &str) -> Result<(), CliError> {
-    let mut out = std::io::stdout().lock();
-    writeln!(out, "{text}")
-        .and_then(|()| out.flush())
-        .context("writing to stdout")?;
-    Ok(())
+    crate::print_line(&text)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::args::ModelKind;
+    use crate::args::{FleetPrecision, ModelKind};
 
     #[test]
     fn a_small_fleet_reports_consistent_numbers() {

@@ -8,12 +8,10 @@
 use std::net::{SocketAddr, SocketAddrV4};
 
 use anyhow::Context as _;
-use fdm_core::script::Script;
 use fdm_run::fleet::show::{watched_size, FleetShow, ShowScenario, StartPattern};
 pub use fdm_run::fleet::show::{ShowReport, DEFAULT_MP_AIRCRAFT};
-use fdm_run::fleet::Precision;
 
-use crate::args::{FleetArgs, FleetKernel, FleetPattern, FleetPrecision, FLEET_FPS};
+use crate::args::{FleetArgs, FleetKernel, FleetPattern, FLEET_FPS};
 use crate::config::load_script;
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
@@ -28,10 +26,7 @@ use crate::models::{CliModel, WithModel};
 /// pool or the socket cannot be made.
 pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowReport, CliError> {
     watched_size::<M>(args.aircraft)?;
-    let script = match &args.show.script {
-        Some(path) => load_script(path)?,
-        None => Script::default(),
-    };
+    let script = args.show.script.as_deref().map(load_script).transpose()?;
     let scenario = ShowScenario {
         aircraft: args.aircraft,
         streamed: args.show.fg_mp_aircraft.unwrap_or(DEFAULT_MP_AIRCRAFT),
@@ -41,14 +36,11 @@ pub fn show<M: CliModel>(args: &FleetArgs, target: SocketAddrV4) -> Result<ShowR
             FleetPattern::V => StartPattern::V,
         },
         origin: args.show.origin.unwrap_or_default(),
-        script,
+        script: script.unwrap_or_default(),
         frames: args.frames,
         fps: FLEET_FPS,
         threads: args.threads,
-        precision: match args.precision {
-            FleetPrecision::Exact => Precision::Exact,
-            FleetPrecision::Fast => Precision::Fast,
-        },
+        precision: args.precision.into(),
     };
     let mut show = FleetShow::<M>::new(scenario, SocketAddr::V4(target))?;
     show.run_to_end()?;
@@ -112,9 +104,7 @@ pub fn run_show(args: &FleetArgs) -> Result<Option<String>, CliError> {
             "fleet --fg-mp needs --realtime (FlightGear shows multiplayer aircraft in real time)",
         ));
     }
-    let target = target
-        .resolve()
-        .map_err(|e| CliError::usage(e.to_string()))?;
+    let target = target.resolve()?;
     let report = args.model.with(ShowJob { args, target })?;
     Ok(Some(if args.json {
         serde_json::to_string(&report).context("encoding the report")?

@@ -8,7 +8,8 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`args`] | clap definition and per-value validation |
+//! | [`args`] | clap definition; the values' parsers and limits are the run library's (`fdm_run::values`) |
+//! | `input` | input files (the run library's `fdm_run::input`) refused as usage errors, clashing outputs refused |
 //! | `config` | cross-option validation, script loading, the output files created → `config::ModelConfig` (the run library's scenario, the mode, the outputs) |
 //! | `models` | `models::CliModel`: per model, its keys, HUD line and starting controls from its subcommand's arguments (its report fields, CSV columns and FlightGear models are the run library's) |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
@@ -22,7 +23,7 @@
 //! | `recording`, `replay` | `--record FILE` flight logs and `sim-cli replay FILE` |
 //! | `acmi` | `--acmi FILE`: Tacview ACMI through the run library |
 //! | `plot` | `--plot FILE.svg` and `sim-cli plot`: the output file and the CSV read back; the drawing is `fdm_plot`'s |
-//! | `study` | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study), `--run I`, `study.svg` (drawn by `fdm_plot::study`) |
+//! | `study` | `sim-cli study FILE.toml`: Monte Carlo studies (fdm-study: flying, memory check, summary), `--run I`, `study.svg` (drawn by `fdm_plot::study`) |
 //! | `dis`, `dis_listen` | `--dis`: DIS Entity State PDUs for one aircraft or a fleet; `sim-cli dis-listen` |
 //!
 //! Public are only the modules the binary and the tests use ([`args`], [`error`], [`run`](mod@run),
@@ -46,7 +47,6 @@ mod keys;
 mod memory;
 mod models;
 mod origin;
-mod outfile;
 mod pacer;
 mod plot;
 pub mod progress;
@@ -79,15 +79,18 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Plot(args) => plot::run_plot(&args.csv, &args.output),
         Command::Study(args) => study::run(&args),
         Command::DisListen(args) => dis_listen::run(&args),
-        Command::FgfsCommand(args) => {
-            let line = fgfs::fgfs_command_line(&args)?;
-            let mut out = std::io::stdout().lock();
-            writeln!(out, "{line}")
-                .and_then(|()| out.flush())
-                .context("writing to stdout")?;
-            Ok(())
-        }
+        Command::FgfsCommand(args) => print_line(&fgfs::fgfs_command_line(&args)?),
     }
+}
+
+/// Writes `text` and a newline to stdout, turning a closed pipe into an error
+/// instead of the panic `println!` would raise.
+pub(crate) fn print_line(text: &str) -> Result<(), CliError> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{text}")
+        .and_then(|()| out.flush())
+        .context("writing to stdout")?;
+    Ok(())
 }
 
 /// clap's multi-paragraph error text reduced to one line: the error itself plus any

@@ -6,16 +6,13 @@
 //! [`fdm_plot::csv::read_trace_among`], which takes the model the CSV's
 //! first line names, `# model: NAME`, among the CLI's registry's models,
 //! [`ModelKind::csv_layouts`]; files written before that line by their
-//! header); here are the output file, created before the run
-//! ([`PlotFile`]), and the mapping of errors to exit statuses.
+//! header); here are the output file created before the run
+//! ([`fdm_plot::PlotFile`], [`create`]), and the mapping of errors to exit statuses.
 
-use std::fs::File;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use fdm_plot::csv::CsvReadError;
-use fdm_plot::{PlotError, PlotOutput};
-
-pub use fdm_plot::Trace;
+use fdm_plot::{PlotError, PlotFile};
 
 use crate::error::CliError;
 use crate::models::ModelKind;
@@ -36,45 +33,15 @@ impl From<CsvReadError> for CliError {
     }
 }
 
-/// The `--plot` output file, created before the run so that an unwritable path
-/// is a usage error (exit status 2) and nothing has been simulated.
-#[derive(Debug)]
-pub struct PlotFile {
-    path: PathBuf,
-    file: File,
-}
-
-impl PlotFile {
-    /// Creates (truncates) `path`.
-    ///
-    /// # Errors
-    /// [`CliError::Usage`] naming the path and the OS reason.
-    pub fn create(path: &Path) -> Result<Self, CliError> {
-        let file = crate::outfile::create_locked(path).map_err(|e| {
-            CliError::usage(format!("cannot create plot file {}: {e}", path.display()))
-        })?;
-        Ok(Self {
-            path: path.to_owned(),
-            file,
-        })
-    }
-
-    /// The plot of a run titled `title` as an output to attach to it: it
-    /// samples every frame and writes the SVG when the run finishes.
-    #[must_use]
-    pub fn into_output(self, title: &str) -> PlotOutput<File> {
-        PlotOutput::new(self.file, self.path.display().to_string(), title)
-    }
-
-    /// Draws `trace` and writes the SVG.
-    ///
-    /// # Errors
-    /// [`CliError::Runtime`] if drawing or writing fails.
-    pub fn write(mut self, trace: &Trace) -> Result<(), CliError> {
-        let name = self.path.display().to_string();
-        fdm_plot::write_svg(&mut self.file, &name, trace)?;
-        Ok(())
-    }
+/// Creates the `--plot` output file before the run ([`PlotFile::create`]),
+/// so that an unwritable path is a usage error (exit status 2) and nothing
+/// has been simulated.
+///
+/// # Errors
+/// [`CliError::Usage`] naming the path and the OS reason.
+pub fn create(path: &Path) -> Result<PlotFile, CliError> {
+    PlotFile::create(path)
+        .map_err(|e| CliError::usage(format!("cannot create plot file {}: {e}", path.display())))
 }
 
 /// `sim-cli plot FILE.csv -o FILE.svg`: the CSV is read as scripts and
@@ -84,14 +51,14 @@ impl PlotFile {
 /// [`CliError::Usage`] for an unreadable or malformed CSV or an uncreatable
 /// output; [`CliError::Runtime`] if drawing or writing fails.
 pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
-    let file = crate::input::open_input(csv, "CSV")?;
+    let file = fdm_run::input::open_input(csv, "CSV", crate::input::waiting)?;
     let name = csv.display().to_string();
     let models = ModelKind::csv_layouts();
     let read = fdm_plot::csv::read_trace_among(std::io::BufReader::new(file), &name, &models)?;
     if let Some(warning) = &read.torn_last_row {
         eprintln!("sim-cli: warning: {warning}");
     }
-    PlotFile::create(output)?.write(&read.trace)
+    Ok(create(output)?.write(&read.trace)?)
 }
 
 #[cfg(test)]

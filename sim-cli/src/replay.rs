@@ -23,29 +23,26 @@
 //! fingerprint (versions 1 and 2, a cut recording) a note that nothing was
 //! checked.
 
-use std::io::{self, Write};
-
 use anyhow::Context as _;
 
 use crate::args::{ModelKind, ReplayArgs};
 use crate::config::{create_csv, Outputs};
 use crate::error::CliError;
 use crate::flight::ModelFlight;
-use crate::input::clash;
-use crate::input::{read_bytes, show_path, Echo};
+use crate::input::refuse_clash;
+use crate::input::{show_path, waiting, Echo};
 use crate::models::{CliModel, WithModel};
-use crate::plot::PlotFile;
 use crate::progress::StderrProgress;
 use crate::recording::{
     recorded_model_name, Recording, RecordingError, Replayed, MAX_RECORDING_BYTES,
 };
 use crate::report::{RealtimeReport, Report};
-use crate::run::{link_warning, Flight};
+use crate::run::{finish_report, link_warning, Flight};
 use fdm_core::fingerprint;
-use fdm_core::script::Script;
+use fdm_run::input::read_bytes;
 use fdm_run::links::LinkSettings;
 use fdm_run::replay::{replay, ReplayError, ReplayOptions, ReplayTarget};
-use fdm_run::Scenario;
+use fgnet::address::FgTarget;
 
 pub use fdm_run::replay::{check_fingerprint, Verdict};
 
@@ -124,44 +121,29 @@ impl WithModel for ReplayJob<'_> {
         // status (3) and the last stderr line say so.
         let (recording, cut) = Recording::<M>::parse_salvaging(self.bytes)
             .map_err(|e| CliError::usage(format!("{file}: {e}")))?;
-        let fg = match &self.args.fg {
-            Some(target) => Some(
-                target
-                    .resolve()
-                    .map_err(|e| CliError::usage(e.to_string()))?,
-            ),
-            None => None,
-        };
+        let fg = self.args.fg.as_ref().map(FgTarget::resolve).transpose()?;
         let recording_file = Some(self.args.file.as_path());
-        let csv = match &self.args.csv {
-            Some(path) => {
-                if clash(path, &[(recording_file, "recording")]).is_some() {
-                    return Err(CliError::usage(format!(
-                        "--csv {} would overwrite the recording",
-                        show_path(path)
-                    )));
-                }
-                Some(create_csv(path)?)
-            }
-            None => None,
-        };
         let others = [
             (recording_file, "recording"),
             (self.args.csv.as_deref(), "--csv"),
             (self.args.plot.as_deref(), "--plot"),
         ];
-        let plot = match &self.args.plot {
-            Some(path) => {
-                if let Some(name) = clash(path, &others[..2]) {
-                    return Err(CliError::usage(format!(
-                        "--plot {} would overwrite the {name} file",
-                        show_path(path)
-                    )));
-                }
-                Some(PlotFile::create(path)?)
-            }
-            None => None,
-        };
+        let csv = (self.args.csv.as_deref())
+            .map(|path| {
+                refuse_clash(path, &others[..1], |_| {
+                    format!("--csv {} would overwrite the recording", show_path(path))
+                })?;
+                create_csv(path)
+            })
+            .transpose()?;
+        let plot = (self.args.plot.as_deref())
+            .map(|path| {
+                refuse_clash(path, &others[..2], |name| {
+                    format!("--plot {} would overwrite the {name} file", show_path(path))
+                })?;
+                crate::plot::create(path)
+            })
+            .transpose()?;
         let links = LinkSettings {
             fg,
             dis: self.args.dis.resolve()?,
@@ -180,17 +162,10 @@ impl WithModel for ReplayJob<'_> {
             record: None,
             acmi,
         };
-        let scenario = Scenario {
-            start: recording.start.clone(),
-            origin: recording.origin,
-            fps: recording.fps,
-            frames: 0,
-            script: Script::default(),
-        };
         // With --plot the flight is sampled as a run's --plot samples it (the
         // same output, fdm_plot::PlotOutput), so the two SVGs are the same
         // bytes.
-        let mut flight = ModelFlight::<M>::with_outputs(scenario, outputs, |_| Ok(()))?;
+        let mut flight = ModelFlight::<M>::with_outputs(recording.scenario(), outputs, |_| Ok(()))?;
         let mut progress = StderrProgress::new(recording.frames);
         let report = replay_flight(
             &mut flight,
@@ -202,14 +177,7 @@ impl WithModel for ReplayJob<'_> {
         );
         // The outputs (--csv, --acmi, --plot) are completed even when the
         // replay stopped early.
-        let finished = flight.finish();
-        let mut report = report?;
-        finished?;
-        let links = flight.links();
-        if self.args.fg.is_some() {
-            report.fg = links.fg_stats();
-        }
-        report.dis = links.dis_report();
+        let report = finish_report(&mut flight, report, self.args.fg.is_some())?;
         let text = if self.args.json {
             report.to_json().context("encoding the JSON report")?
         } else {
@@ -221,10 +189,7 @@ impl WithModel for ReplayJob<'_> {
                 recording.resets
             )
         };
-        let mut out = io::stdout().lock();
-        writeln!(out, "{text}")
-            .and_then(|()| out.flush())
-            .context("writing to stdout")?;
+        crate::print_line(&text)?;
         if let Some(cut) = cut {
             return Err(CliError::Incomplete(format!(
                 "{file}: {cut}; they were replayed (a cut recording has no fingerprint to check \
@@ -243,19 +208,13 @@ impl WithModel for ReplayJob<'_> {
         let Some(text) = verdict.describe("sim-cli") else {
             return Ok(());
         };
-        match verdict {
-            Verdict::DifferentFlight { .. } => {
-                Err(CliError::DifferentFlight(format!("{file}: {text}")))
-            }
-            Verdict::Unchecked => {
-                progress.message(&format!("sim-cli: note: {file}: {text}"));
-                Ok(())
-            }
-            _ => {
-                progress.message(&format!("sim-cli: warning: {file}: {text}"));
-                Ok(())
-            }
+        if let Verdict::DifferentFlight { .. } = verdict {
+            return Err(CliError::DifferentFlight(format!("{file}: {text}")));
         }
+        let note = verdict == Verdict::Unchecked;
+        let kind = if note { "note" } else { "warning" };
+        progress.message(&format!("sim-cli: {kind}: {file}: {text}"));
+        Ok(())
     }
 }
 
@@ -268,7 +227,7 @@ impl WithModel for ReplayJob<'_> {
 /// problem; [`CliError::Runtime`] for failures while replaying.
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
-    let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES)?;
+    let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES, waiting)?;
     let name = recorded_model_name(&bytes)
         .map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
     // The CLI's registry, which may have models the run library's does not.

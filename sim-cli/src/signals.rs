@@ -161,12 +161,12 @@ const MAX_TAIL: usize = 64 * 1024;
 
 impl SignalSafeWriter {
     /// Creates (truncates) `path`, locked against other writers
-    /// (`crate::outfile::create_locked`), with a 64 KiB buffer and registers it.
+    /// (`fdm_run::outfile::create_locked`), with a 64 KiB buffer and registers it.
     ///
     /// # Errors
     /// The OS error from creating the file.
     pub fn create(path: &Path) -> io::Result<Self> {
-        Ok(Self::register(crate::outfile::create_locked(path)?))
+        Ok(Self::register(fdm_run::outfile::create_locked(path)?))
     }
 
     /// Wraps an open file with a 64 KiB buffer and registers it.

@@ -1,22 +1,21 @@
 //! Starting in the air (docs/cli.md "Initial conditions and trim"):
 //! `--altitude-ft`, `--speed-kt`, `--heading-deg` and `--trim`
 //! ([`StartArgs`], shared by `palmer`, `bourg` and `fgfs-command`), turned
-//! into a model's start ([`start_for`]) through the library's
-//! [`Model::state_at`] and [`Model::trim`].
+//! into a model's start (`crate::config::start_model`, from
+//! [`StartArgs::options`]) through the library's
+//! [`Model::state_at`](fdm_core::model::Model::state_at) and [`Model::trim`](fdm_core::model::Model::trim).
 //!
 //! Without any of them the start is exactly the thesis's
-//! ([`Model::initial_state`]). With some of them, the missing ones come from
+//! ([`Model::initial_state`](fdm_core::model::Model::initial_state)). With some of them, the missing ones come from
 //! that start (Palmer: 0 ft, 0 kt, north; Bourg: 2000 ft, 60 ft/s, north).
 
 use clap::Args;
-use fdm_core::model::Model;
-use fdm_core::start::TrimReport;
 
 use crate::error::CliError;
 use crate::input::Echo;
-use fdm_run::{Start, StartOptions, StartRefused};
+use fdm_run::{StartOptions, StartRefused};
 
-pub use fdm_run::scenario::{MAX_ALTITUDE_FT, MAX_HEADING_DEG, MAX_SPEED_KT};
+use fdm_run::values::{parse_altitude_ft, parse_heading_deg, parse_speed_kt};
 
 /// Initial-condition options.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Args)]
@@ -38,45 +37,6 @@ pub struct StartArgs {
     pub trim: bool,
 }
 
-fn parse_number(text: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}` is not {what} in {lo}..{hi}",
-            Echo::short(text.trim())
-        )),
-    }
-}
-
-/// `--altitude-ft`: 0 to [`MAX_ALTITUDE_FT`].
-///
-/// # Errors
-/// A one-line message.
-pub fn parse_altitude_ft(text: &str) -> Result<f64, String> {
-    parse_number(text, 0.0, MAX_ALTITUDE_FT, "an altitude in feet")
-}
-
-/// `--speed-kt`: 0 to [`MAX_SPEED_KT`].
-///
-/// # Errors
-/// A one-line message.
-pub fn parse_speed_kt(text: &str) -> Result<f64, String> {
-    parse_number(text, 0.0, MAX_SPEED_KT, "a speed in knots")
-}
-
-/// `--heading-deg`: −360 to 360.
-///
-/// # Errors
-/// A one-line message.
-pub fn parse_heading_deg(text: &str) -> Result<f64, String> {
-    parse_number(
-        text,
-        -MAX_HEADING_DEG,
-        MAX_HEADING_DEG,
-        "a heading in degrees",
-    )
-}
-
 impl StartArgs {
     /// Whether the start is the thesis's (no option given).
     #[must_use]
@@ -96,24 +56,6 @@ impl StartArgs {
     }
 }
 
-/// Model `M`'s start ([`StartOptions::start`]): the thesis's state without
-/// options; else [`Model::state_at`] the conditions with `controls`, or with
-/// `--trim` [`Model::trim`]'s controls and state (and its report, for the
-/// caller to print).
-///
-/// # Errors
-/// [`CliError::Usage`] (exit 2) when the model cannot start there or the
-/// speed cannot be trimmed, with the reason.
-pub fn start_for<M: Model>(
-    aircraft: M::Aircraft,
-    controls: M::Controls,
-    args: &StartArgs,
-) -> Result<(Start<M>, Option<TrimReport>), CliError> {
-    args.options()
-        .start::<M>(aircraft, controls)
-        .map_err(refused)
-}
-
 /// Why a start was refused, as a usage error (exit 2) naming the option.
 #[must_use]
 pub fn refused(refused: StartRefused) -> CliError {
@@ -129,10 +71,4 @@ pub fn refused(refused: StartRefused) -> CliError {
             Echo::short(&value.to_string())
         ),
     })
-}
-
-/// The stderr line for a trim report.
-#[must_use]
-pub fn trim_line(model: &str, report: &TrimReport) -> String {
-    format!("sim-cli: {model} trimmed: {report}")
 }

@@ -13,23 +13,24 @@
 //! studied. The flying, the streaming and the summary are the library's
 //! ([`fdm_study::batch`]: [`Batch`], [`fdm_study::batch::scenario_alone`]);
 //! here are the options, the output files (created locked, the CSV
-//! registered with the signal thread), the memory checks, `study.svg`
+//! registered with the signal thread), the memory checks' inputs (the
+//! check is [`fdm_study::MemoryEstimate::check`]), `study.svg`
 //! (drawn by `fdm_plot::study`), `summary.json`, the progress bar and the
 //! printing.
 //!
 //! The file format, the measures and the guarantees: docs/studies.md.
 
 use std::io::{BufWriter, IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::Context as _;
 use fdm_fleet::Precision;
 use fdm_run::SharedOutput;
 use fdm_study::batch::{AloneError, Batch, BatchError};
-use fdm_study::table::{write_csv_header, write_csv_rows};
+use fdm_study::table::write_csv;
 use fdm_study::{FlyOptions, MeasureOutput, Study};
 
-use crate::args::{CommonArgs, FleetPrecision, StudyArgs};
+use crate::args::{CommonArgs, StudyArgs};
 use crate::error::CliError;
 use crate::models::{CliModel, ModelKind, WithModel};
 use crate::progress::StderrProgress;
@@ -55,17 +56,8 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
     if let Some(seed) = args.seed {
         study = study.with_seed(seed);
     }
-    let precision = match args.precision {
-        FleetPrecision::Exact => Precision::Exact,
-        FleetPrecision::Fast => Precision::Fast,
-    };
-    let out_dir = match &args.out {
-        Some(dir) => dir.clone(),
-        None => args
-            .file
-            .parent()
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
-    };
+    let precision: Precision = args.precision.into();
+    let out_dir = (args.out.clone()).unwrap_or_else(|| Study::default_out_dir(&args.file));
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| CliError::usage(format!("cannot create --out {}: {e}", out_dir.display())))?;
     match args.run {
@@ -100,33 +92,13 @@ fn batch(
     args: &StudyArgs,
     out_dir: &Path,
 ) -> Result<(), CliError> {
-    let threads = args
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
+    let threads = args.threads.unwrap_or(FlyOptions::default().threads);
     let options = FlyOptions { threads, precision };
     let mut batch = Batch::new(study, options, fdm_plot::study::MAX_SCATTER_POINTS);
-    let memory = batch.memory();
-    let limit = args.memory_limit_mib.saturating_mul(1024 * 1024);
-    if memory.total > limit {
-        return Err(CliError::usage(format!(
-            "the study needs about {} MiB ({} runs × {} bytes kept + {} runs in flight × {} bytes), \
-             more than --memory-limit-mib {}",
-            memory.total.div_ceil(1024 * 1024),
-            study.runs(),
-            memory.kept_per_run,
-            memory.chunk_runs.min(study.runs()),
-            memory.flying_per_run,
-            args.memory_limit_mib
-        )));
-    }
-    if let Some(have) = crate::memory::available_bytes().filter(|&have| memory.total > have) {
-        return Err(CliError::usage(format!(
-            "the study needs about {} MiB; this process has {} MiB available (the machine's \
-             available memory, the address-space limit and the cgroup's memory limit)",
-            memory.total.div_ceil(1024 * 1024),
-            have / (1024 * 1024)
-        )));
-    }
+    let available = crate::memory::available_bytes();
+    (batch.memory())
+        .check(study.runs(), args.memory_limit_mib, available)
+        .map_err(CliError::usage)?;
     let csv_path = out_dir.join("runs.csv");
     let arrow_path = out_dir.join("runs.arrow");
     // A write error with the file's path as its context (`writing PATH: REASON`).
@@ -142,13 +114,13 @@ fn batch(
     };
     // Locked as every output file of a run (docs/cli.md, "One writer per output
     // file"): two studies writing into one directory are refused, not spliced.
-    let file = crate::outfile::create_locked(&csv_path)
+    let file = fdm_run::outfile::create_locked(&csv_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", csv_path.display())))?;
     // Registered with the signal thread: if the process must end at once (a
     // second signal), the file still ends with a whole row.
     let mut csv = SignalSafeWriter::register(file);
     batch.write_csv_header(&mut csv).map_err(writing)?;
-    let arrow_file = crate::outfile::create_locked(&arrow_path)
+    let arrow_file = fdm_run::outfile::create_locked(&arrow_path)
         .map_err(|e| CliError::usage(format!("cannot create {}: {e}", arrow_path.display())))?;
     let mut arrow = batch
         .arrow_writer(BufWriter::with_capacity(1 << 16, arrow_file))
@@ -175,13 +147,8 @@ fn batch(
     )?;
     let plot_path = out_dir.join("study.svg");
     std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
-    let completed = batch.completed();
-    let mut summary = batch.summary();
-    if completed < study.runs() {
-        // Only a stop ends the flying early (errors return above).
-        let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
-        summary = summary.stopped(by, study.runs());
-    }
+    let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
+    let summary = batch.summary_stopped_by(by);
     let json = serde_json::to_string_pretty(&summary).context("summary as JSON")?;
     let summary_path = out_dir.join("summary.json");
     std::fs::write(&summary_path, format!("{json}\n"))
@@ -275,8 +242,7 @@ impl WithModel for Alone<'_> {
         }
         let path = out_dir.join(format!("run-{run}.csv"));
         let mut text = Vec::new();
-        write_csv_header(&mut text, &table).context("run row")?;
-        write_csv_rows(&mut text, &table).context("run row")?;
+        write_csv(&mut text, &table).context("run row")?;
         std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;
         Ok(())
     }

@@ -6,7 +6,7 @@ use fdm_core::model::Model;
 
 use super::{CliModel, Details};
 use crate::error::CliError;
-use crate::input::parse_in_range;
+use fdm_run::values::{parse_in_range, ValueError};
 use crate::keys::{letter, KeyAction};
 
 /// Bourg's 6-DoF aircraft, as the registry names it.
@@ -41,7 +41,7 @@ impl CliModel for Bourg {
 
 /// `--thrust-lb`: pounds in 0..3000, Bourg's thrust range (the model's
 /// [`MAX_THRUST_LB`](fdm_core::bourg::MAX_THRUST_LB)).
-pub fn parse_thrust_lb(text: &str) -> Result<f64, String> {
+pub fn parse_thrust_lb(text: &str) -> Result<f64, ValueError> {
     parse_in_range(text, 0.0, f64::from(fdm_core::bourg::MAX_THRUST_LB), " lb")
 }
 

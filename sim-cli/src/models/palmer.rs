@@ -6,7 +6,8 @@ use fdm_run::model::palmer::brakes_note;
 
 use super::{tenths, CliModel, Details};
 use crate::error::CliError;
-use crate::input::{parse_in_range, Echo};
+use crate::input::Echo;
+use fdm_run::values::{parse_in_range, ValueError};
 use crate::keys::{letter, KeyAction};
 
 /// Palmer's Cessna 172, as the registry names it.
@@ -61,20 +62,20 @@ impl CliModel for Palmer {
 }
 
 /// `--throttle`: fraction in 0..1.
-pub fn parse_throttle(text: &str) -> Result<f64, String> {
+pub fn parse_throttle(text: &str) -> Result<f64, ValueError> {
     parse_in_range(text, 0.0, 1.0, " (fraction of full power)")
 }
 
 /// `--alpha`: degrees in -16..20, the range the alpha keys clamp to (the
 /// model's [`ALPHA_MIN_DEG`](fdm_core::palmer::ALPHA_MIN_DEG)..[`ALPHA_MAX_DEG`](fdm_core::palmer::ALPHA_MAX_DEG)).
-pub fn parse_alpha(text: &str) -> Result<f64, String> {
+pub fn parse_alpha(text: &str) -> Result<f64, ValueError> {
     use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG};
     parse_in_range(text, ALPHA_MIN_DEG, ALPHA_MAX_DEG, " degrees")
 }
 
 /// `--bank`: degrees in -20..20, the range the bank keys clamp to (the
 /// model's [`BANK_LIMIT_DEG`](fdm_core::palmer::BANK_LIMIT_DEG) either side).
-pub fn parse_bank(text: &str) -> Result<f64, String> {
+pub fn parse_bank(text: &str) -> Result<f64, ValueError> {
     use fdm_core::palmer::BANK_LIMIT_DEG;
     parse_in_range(text, -BANK_LIMIT_DEG, BANK_LIMIT_DEG, " degrees")
 }

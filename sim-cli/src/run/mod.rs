@@ -8,7 +8,6 @@
 //! Everything here (JSON report, progress bar, terminal, keys, pacing, HUD)
 //! is model-agnostic and tested with a fake model.
 
-use std::io::{self, Write};
 use std::net::SocketAddrV4;
 
 use anyhow::Context as _;
@@ -18,6 +17,7 @@ use crate::error::CliError;
 use crate::keys::KeyAction;
 use crate::models::Details;
 use crate::progress::StderrProgress;
+use crate::report::Report;
 use crate::snapshot::Snapshot;
 
 pub mod headless;
@@ -84,14 +84,27 @@ pub(crate) fn link_warning(message: &str) -> String {
     format!("sim-cli: warning: {}", crate::error::one_line(message))
 }
 
-/// Writes `text` and a newline to stdout, turning a closed pipe into an error
-/// instead of the panic `println!` would raise.
-fn print_stdout(text: &str) -> Result<(), CliError> {
-    let mut out = io::stdout().lock();
-    writeln!(out, "{text}")
-        .and_then(|()| out.flush())
-        .context("writing to stdout")?;
-    Ok(())
+/// Finishes `flight`'s outputs (the CSV rows written so far flushed, the
+/// recording ended) also when the run stopped early (e.g. the model
+/// diverged on the next frame), and completes its `report` with the links'
+/// counters (the FlightGear link's when `fg`, a target was given).
+///
+/// # Errors
+/// The run's error first, else finishing's.
+pub(crate) fn finish_report<F: Flight>(
+    flight: &mut F,
+    report: Result<Report<F::Details>, CliError>,
+    fg: bool,
+) -> Result<Report<F::Details>, CliError> {
+    let finished = flight.finish();
+    let mut report = report?;
+    finished?;
+    let links = flight.links();
+    if fg {
+        report.fg = links.fg_stats();
+    }
+    report.dis = links.dis_report();
+    Ok(report)
 }
 
 /// Flies `flight` at `fps` in `mode` (`fg`: the FlightGear link's target,
@@ -117,20 +130,13 @@ pub fn fly<F: Flight>(
             // The outputs are finished (the CSV rows written so far flushed,
             // the recording ended) even when the run stopped early (e.g. the
             // model diverged on the next frame).
-            let finished = flight.finish();
-            let mut report = report?;
-            finished?;
-            let links = flight.links();
-            if fg.is_some() {
-                report.fg = links.fg_stats();
-            }
-            report.dis = links.dis_report();
+            let report = finish_report(&mut flight, report, fg.is_some())?;
             let text = if json {
                 report.to_json().context("encoding the JSON report")?
             } else {
                 report.human_summary()
             };
-            print_stdout(&text)
+            crate::print_line(&text)
         }
         Mode::Interactive => {
             let summary = run_interactive(&mut flight, fps, fg);

@@ -1,12 +1,13 @@
 //! Output files that two runs cannot write at once.
 //!
-//! Every file a run writes (`--csv`, `--record`, `--plot`, `sim-cli plot -o`)
-//! is opened with [`create_locked`]: opened without truncating, locked
-//! exclusively (an advisory `flock` lock, held until the file is closed, which
-//! the OS does for a killed process too), and only then emptied. A second run
-//! naming the same file, through any path or link, finds it locked before it
-//! has changed a byte of it, and is refused (exit status 2) with the process
-//! that holds it, read from `/proc/locks` where there is one. Before this, two
+//! Every file `sim-cli` writes for a run (`--csv`, `--record`, `--plot`,
+//! `sim-cli plot -o`, a study's `runs.csv`) is opened with [`create_locked`]:
+//! opened without truncating, locked exclusively (an advisory `flock` lock,
+//! held until the file is closed, which the OS does for a killed process
+//! too), and only then emptied. A second run naming the same file, through
+//! any path or link, finds it locked before it has changed a byte of it, and
+//! is refused (by `sim-cli` with exit status 2) with the process that holds
+//! it, read from `/proc/locks` where there is one. Before this, two
 //! runs writing the same `--csv` both exited 0 and spliced their rows into one
 //! file.
 
