@@ -226,6 +226,30 @@ impl<T: Copy, F: Fn(T, T) -> T> WithSimd for LaneOps<'_, T, F> {
     }
 }
 
+/// Benchmark `name`: one [`LaneOps`] pass of `op` over `a` and `b`
+/// (monomorphised per `op`, so the operation is inlined into the vector loop).
+fn lane_ops<T: Copy + Default, F: Fn(T, T) -> T + Copy>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    arch: Arch,
+    name: &str,
+    a: &[T],
+    b: &[T],
+    op: F,
+) {
+    let mut out = vec![T::default(); a.len()];
+    group.bench_function(name, |bench| {
+        bench.iter(|| {
+            arch.dispatch(LaneOps {
+                a: black_box(a),
+                b: black_box(b),
+                out: &mut out,
+                op,
+            });
+            black_box(&out);
+        });
+    });
+}
+
 fn bench_divider(c: &mut Criterion) {
     let arch = Arch::new();
     #[allow(clippy::cast_precision_loss)] // small integers, exact
@@ -237,54 +261,23 @@ fn bench_divider(c: &mut Criterion) {
         a.iter().map(|&x| x as f32).collect(),
         b.iter().map(|&x| x as f32).collect(),
     );
-    let mut out = vec![0.0_f64; DIVIDER_LANES];
-    let mut out32 = vec![0.0_f32; DIVIDER_LANES];
     let mut group = c.benchmark_group("divider");
     group.throughput(Throughput::Elements(DIVIDER_LANES as u64));
-    group.bench_function("f64_div", |bench| {
-        bench.iter(|| {
-            arch.dispatch(LaneOps {
-                a: black_box(&a),
-                b: black_box(&b),
-                out: &mut out,
-                op: |x: f64, y: f64| x / y,
-            });
-            black_box(&out);
-        });
+    lane_ops(&mut group, arch, "f64_div", &a, &b, |x: f64, y: f64| x / y);
+    lane_ops(&mut group, arch, "f64_sqrt", &a, &b, |x: f64, _: f64| {
+        x.sqrt()
     });
-    group.bench_function("f64_sqrt", |bench| {
-        bench.iter(|| {
-            arch.dispatch(LaneOps {
-                a: black_box(&a),
-                b: black_box(&b),
-                out: &mut out,
-                op: |x: f64, _: f64| x.sqrt(),
-            });
-            black_box(&out);
-        });
+    lane_ops(&mut group, arch, "f32_div", &a32, &b32, |x: f32, y: f32| {
+        x / y
     });
-    group.bench_function("f32_div", |bench| {
-        bench.iter(|| {
-            arch.dispatch(LaneOps {
-                a: black_box(&a32),
-                b: black_box(&b32),
-                out: &mut out32,
-                op: |x: f32, y: f32| x / y,
-            });
-            black_box(&out32);
-        });
-    });
-    group.bench_function("f32_sqrt", |bench| {
-        bench.iter(|| {
-            arch.dispatch(LaneOps {
-                a: black_box(&a32),
-                b: black_box(&b32),
-                out: &mut out32,
-                op: |x: f32, _: f32| x.sqrt(),
-            });
-            black_box(&out32);
-        });
-    });
+    lane_ops(
+        &mut group,
+        arch,
+        "f32_sqrt",
+        &a32,
+        &b32,
+        |x: f32, _: f32| x.sqrt(),
+    );
     group.finish();
 }
 
