@@ -2,8 +2,9 @@
 //! watch in FlightGear (docs/fleet-in-flightgear.md): the flags, checked and
 //! turned into the run library's [`ShowScenario`] ([`fdm_run::fleet::show`]:
 //! the fleet on the lanes kernel, its start patterns, the multiplayer
-//! messages and their pacing), and the line printed. The first `--fg-mp-aircraft` aircraft (default
-//! [`DEFAULT_MP_AIRCRAFT`]) are streamed, callsigns `fdm_run::multiplayer::callsign(i)`.
+//! messages and their pacing), and the line printed. The first
+//! `--fg-mp-aircraft` aircraft (default [`DEFAULT_MP_AIRCRAFT`]) are
+//! streamed, callsigns `fdm_run::multiplayer::callsign(i)`.
 
 use std::net::{SocketAddr, SocketAddrV4};
 

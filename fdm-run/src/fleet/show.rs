@@ -283,11 +283,7 @@ impl<M: FleetModel> FleetShow<M> {
             .map_err(FleetError::Kernel)?;
         let streamed = scenario.streamed.min(n).min(MAX_STREAMED);
         let shown = (0..streamed)
-            .map(|i| {
-                let (controls, state) = start_of::<M>(pattern, i);
-                let view = M::view(fleet.aircraft(), &controls, &state);
-                Some((Placement::of_finite(&view, &origin)?, view))
-            })
+            .map(|i| placed::<M>(&fleet, i, &origin))
             .collect();
         let sender = MultiplayerSender::open(target)?;
         let pacer = FramePacer::new(FramePacer::period_for(scenario.fps), Instant::now());
