@@ -33,7 +33,8 @@
 use std::io::{self, Write};
 
 use crate::arrow::ArrowWriter;
-use crate::fly::{FlyOptions, MemoryEstimate, BLOCK_RUNS};
+use crate::fly::{FlyOptions, BLOCK_RUNS};
+use crate::memory::MemoryEstimate;
 use crate::spec::Study;
 use crate::summary::{Summary, SummaryBuilder};
 use crate::table::{write_csv_header, write_csv_rows, RunTable};

@@ -12,8 +12,9 @@ use fdm_fleet::{Fleet, Precision};
 use fdm_run::{Event, Frame, Output, OutputError};
 
 use crate::measure::{needs_view, Measure, Tracker};
+use crate::memory::MemoryEstimate;
 use crate::model::{StudyJob, StudyModel};
-use crate::spec::{RunSetup, Stop, Study};
+use crate::spec::{FlyJob, MemoryJob, RunSetup, Stop, Study};
 use crate::table::{Row, RunStatus, RunTable};
 use crate::track::{GroundTrack, TrackPlan};
 use crate::StudyError;
@@ -171,7 +172,8 @@ impl Study {
         self.entry().fly(FlyJob {
             study: self,
             runs,
-            options: *options,
+            threads: options.threads,
+            precision: options.precision,
             stop: &stop,
             plan,
         })
@@ -356,18 +358,6 @@ impl Study {
 /// A block's (or a range's) rows and the ground tracks kept.
 type Flown = (RunTable, Vec<GroundTrack>);
 
-/// What flying a study's runs returns.
-pub(crate) type FlyResult = Result<Flown, StudyError>;
-
-/// Flying a study's runs with its model's type.
-pub(crate) struct FlyJob<'a> {
-    study: &'a Study,
-    runs: Range<u64>,
-    options: FlyOptions,
-    stop: &'a (dyn Fn() -> bool + Sync),
-    plan: &'a TrackPlan,
-}
-
 impl StudyJob for FlyJob<'_> {
     type Output = Result<(RunTable, Vec<GroundTrack>), StudyError>;
 
@@ -375,11 +365,12 @@ impl StudyJob for FlyJob<'_> {
         let FlyJob {
             study,
             runs,
-            options,
+            threads,
+            precision,
             stop,
             plan,
         } = self;
-        Fleet::<M>::check_precision(options.precision)?;
+        Fleet::<M>::check_precision(precision)?;
         // Latched: once the caller has asked to stop, every worker gives up
         // (even if the caller's answer would change back).
         let stopped = AtomicBool::new(false);
@@ -398,14 +389,13 @@ impl StudyJob for FlyJob<'_> {
             .collect();
         let results: Vec<Mutex<Option<Flown>>> = blocks.iter().map(|_| Mutex::new(None)).collect();
         let next = AtomicUsize::new(0);
-        let threads = options.threads.min(blocks.len()).max(1);
+        let threads = threads.min(blocks.len()).max(1);
         std::thread::scope(|scope| {
             for _ in 0..threads {
                 scope.spawn(|| loop {
                     let b = next.fetch_add(1, Ordering::Relaxed);
                     let Some(block) = blocks.get(b) else { break };
-                    let Some(table) =
-                        study.fly_block::<M>(block.clone(), options.precision, &halt, plan)
+                    let Some(table) = study.fly_block::<M>(block.clone(), precision, &halt, plan)
                     else {
                         break;
                     };
@@ -516,90 +506,6 @@ impl<M: StudyModel> Output<M> for MeasureOutput<M> {
     }
 }
 
-/// What a streamed study keeps in memory ([`Study::memory`]), bytes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MemoryEstimate {
-    /// Kept for the whole study per run: one `f64` per measure for the
-    /// summary's percentiles.
-    pub kept_per_run: u64,
-    /// Per run of the chunk being flown: its set-up (start, script), its
-    /// fleet lane, its tracker and its table row.
-    pub flying_per_run: u64,
-    /// Runs flown at once (one chunk).
-    pub chunk_runs: u64,
-    /// The total: `runs × kept_per_run + chunk_runs × flying_per_run`.
-    pub total: u64,
-}
-
-/// A study refused before it flies because it would not fit in memory
-/// ([`MemoryEstimate::check`]).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum MemoryRefused {
-    /// More than the caller's limit (`sim-cli study --memory-limit-mib`).
-    #[error(
-        "the study needs about {} MiB ({runs} runs × {} bytes kept + {} runs in flight × {} \
-         bytes), more than --memory-limit-mib {limit_mib}",
-        .estimate.total.div_ceil(1024 * 1024),
-        .estimate.kept_per_run,
-        .estimate.chunk_runs.min(*.runs),
-        .estimate.flying_per_run
-    )]
-    OverLimit {
-        /// The estimate.
-        estimate: MemoryEstimate,
-        /// The study's runs.
-        runs: u64,
-        /// The limit, MiB.
-        limit_mib: u64,
-    },
-    /// More than this process can still allocate.
-    #[error(
-        "the study needs about {} MiB; this process has {} MiB available (the machine's \
-         available memory, the address-space limit and the cgroup's memory limit)",
-        .estimate.total.div_ceil(1024 * 1024),
-        .available_bytes / (1024 * 1024)
-    )]
-    Unavailable {
-        /// The estimate.
-        estimate: MemoryEstimate,
-        /// What the process can still allocate
-        /// ([`fdm_run::memory::available_bytes`]), bytes.
-        available_bytes: u64,
-    },
-}
-
-impl MemoryEstimate {
-    /// Refuses a study of `runs` runs that needs more than `limit_mib` MiB,
-    /// or more than `available_bytes` (what the process can still allocate;
-    /// `None`: not known, not checked).
-    ///
-    /// # Errors
-    /// [`MemoryRefused`], with the numbers.
-    pub fn check(
-        self,
-        runs: u64,
-        limit_mib: u64,
-        available_bytes: Option<u64>,
-    ) -> Result<(), MemoryRefused> {
-        if self.total > limit_mib.saturating_mul(1024 * 1024) {
-            return Err(MemoryRefused::OverLimit {
-                estimate: self,
-                runs,
-                limit_mib,
-            });
-        }
-        match available_bytes {
-            Some(available_bytes) if self.total > available_bytes => {
-                Err(MemoryRefused::Unavailable {
-                    estimate: self,
-                    available_bytes,
-                })
-            }
-            _ => Ok(()),
-        }
-    }
-}
-
 impl Study {
     /// The memory a study of [`Study::runs`] runs flown in chunks of
     /// `chunk_runs` takes, by the sizes of its data structures (the
@@ -611,12 +517,6 @@ impl Study {
             chunk_runs,
         })
     }
-}
-
-/// A study's memory estimate with its model's type.
-pub(crate) struct MemoryJob<'a> {
-    study: &'a Study,
-    chunk_runs: u64,
 }
 
 impl StudyJob for MemoryJob<'_> {

@@ -61,9 +61,11 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`spec`] | the study file and [`Study`] |
+//! | [`spec`] | the study file, [`Study`] and the models it may name ([`StudyEntry`]) |
 //! | [`rng`] | Philox4x32-10 and the samplers' inversions |
+//! | [`model`] | what a study needs of a model ([`StudyModel`]) |
 //! | [`measure`] | the built-in [`Measure`]s and their [`measure::Tracker`] |
+//! | [`memory`] | what a streamed study keeps in memory ([`MemoryEstimate`]) |
 //! | [`fly`] | [`Study::fly_runs`] (and [`Study::fly_runs_until`], which can be stopped), [`RunTable`], [`MeasureOutput`] |
 //! | [`summary`] | [`summarize`], [`Summary`] |
 //! | [`table`] | `runs.csv` (measures, drawn inputs `input.KEY`, `fingerprint`) |
@@ -78,6 +80,7 @@ pub mod arrow;
 pub mod batch;
 pub mod fly;
 pub mod measure;
+pub mod memory;
 pub mod model;
 pub mod rng;
 pub mod spec;
@@ -85,10 +88,11 @@ pub mod summary;
 pub mod table;
 pub mod track;
 
-pub use fly::{FlyOptions, MeasureOutput, MemoryEstimate, MemoryRefused, BLOCK_RUNS};
+pub use fly::{FlyOptions, MeasureOutput, BLOCK_RUNS};
 pub use measure::Measure;
-pub use model::{StudyEntry, StudyModel};
-pub use spec::{Distribution, Stop, Study, MAX_RUNS};
+pub use memory::{MemoryEstimate, MemoryRefused};
+pub use model::StudyModel;
+pub use spec::{Distribution, Stop, Study, StudyEntry, MAX_RUNS};
 pub use summary::{summarize, MeasureSummary, StoppedEarly, Summary, SummaryBuilder};
 pub use table::{RunStatus, RunTable};
 pub use track::{GroundTrack, TrackPlan};

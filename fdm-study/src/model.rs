@@ -195,113 +195,25 @@ pub(crate) trait StudyJob {
     fn call<M: StudyModel>(self) -> Self::Output;
 }
 
-/// One model a study file may name (`model = "NAME"`): its name and the
-/// study's work done with its type, made by [`StudyEntry::of`]. The models
-/// a study may name are a list of these: the run library's registry
-/// ([`StudyEntry::registry`], what [`Study::from_toml_str`] reads with) or a
-/// program's own ([`Study::from_toml_str_among`]: `sim-cli`'s registry, whose
-/// `glider` feature adds a model outside the library crates). The study
-/// keeps its model's entry, so it flies it without looking it up again.
-///
-/// [`Study::from_toml_str`]: crate::Study::from_toml_str
-/// [`Study::from_toml_str_among`]: crate::Study::from_toml_str_among
-#[derive(Clone, Copy)]
-pub struct StudyEntry {
-    name: &'static str,
-    check: for<'a> fn(crate::spec::CheckModel<'a>) -> Result<(), crate::StudyError>,
-    fly: for<'a> fn(crate::fly::FlyJob<'a>) -> crate::fly::FlyResult,
-    memory: for<'a> fn(crate::fly::MemoryJob<'a>) -> crate::MemoryEstimate,
+/// Work done once with each model of the run library's registry, with its
+/// type: what the study's model list of the registry is made of.
+pub(crate) trait EachModel {
+    /// Does the work with model `M`.
+    fn model<M: StudyModel>(&mut self);
 }
 
-impl StudyEntry {
-    /// Model `M`'s entry.
-    #[must_use]
-    pub fn of<M: StudyModel>() -> Self {
-        Self {
-            name: <M as fdm_core::model::Model>::NAME,
-            check: |job| job.call::<M>(),
-            fly: |job| job.call::<M>(),
-            memory: |job| job.call::<M>(),
-        }
-    }
-
-    /// The run library's registry's models ([`fdm_run::model::MODELS`]:
-    /// Palmer, Bourg), in its order.
-    #[must_use]
-    pub fn registry() -> Vec<Self> {
-        let all = [Self::of::<Palmer>(), Self::of::<Bourg>()];
-        debug_assert!(all
-            .iter()
-            .map(|e| e.name)
-            .eq(fdm_run::model::MODELS.iter().copied()));
-        all.to_vec()
-    }
-
-    /// The model's name ([`fdm_core::model::Model::NAME`]).
-    #[must_use]
-    pub fn name(&self) -> &'static str {
-        self.name
-    }
-
-    pub(crate) fn check(self, job: crate::spec::CheckModel<'_>) -> Result<(), crate::StudyError> {
-        (self.check)(job)
-    }
-
-    pub(crate) fn fly(self, job: crate::fly::FlyJob<'_>) -> crate::fly::FlyResult {
-        (self.fly)(job)
-    }
-
-    pub(crate) fn memory(self, job: crate::fly::MemoryJob<'_>) -> crate::MemoryEstimate {
-        (self.memory)(job)
-    }
-}
-
-/// Entries are the same model's when their names are.
-impl PartialEq for StudyEntry {
-    fn eq(&self, other: &Self) -> bool {
-        self.name == other.name
-    }
-}
-
-impl std::fmt::Debug for StudyEntry {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_tuple("StudyEntry").field(&self.name).finish()
-    }
+/// Calls `each` with the run library's registry's models
+/// ([`fdm_run::model::MODELS`]: Palmer, Bourg), in its order. The one place
+/// of this crate that names them.
+pub(crate) fn registry_models(each: &mut impl EachModel) {
+    each.model::<Palmer>();
+    each.model::<Bourg>();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use fdm_core::model::Model;
-
-    /// A study's model is looked up in the list it is read with: the run
-    /// library's registry by default, a program's own list otherwise (the
-    /// error names that list's models).
-    #[test]
-    fn a_study_names_a_model_of_its_list() {
-        let names: Vec<&str> = StudyEntry::registry()
-            .iter()
-            .map(StudyEntry::name)
-            .collect();
-        assert_eq!(names, fdm_run::model::MODELS);
-        let text = "model = \"bourg\"\nruns = 2\nduration_s = 1.0\nmeasures = [\"final_x_m\"]\n";
-        let study = crate::Study::from_toml_str(text).unwrap();
-        assert_eq!(study.model(), "bourg");
-        assert_eq!(study.entry(), StudyEntry::of::<Bourg>());
-        let among = crate::Study::from_toml_str_among(text, &StudyEntry::registry()).unwrap();
-        assert_eq!(among, study);
-        let err = crate::Study::from_toml_str_among(text, &[StudyEntry::of::<Palmer>()])
-            .unwrap_err()
-            .to_string();
-        assert!(
-            err.contains("`model`") && err.contains("one of palmer, found \"bourg\""),
-            "{err}"
-        );
-        assert_eq!(
-            format!("{:?}", StudyEntry::of::<Palmer>()),
-            "StudyEntry(\"palmer\")"
-        );
-    }
 
     /// The cheap reads are the view's fields, bit for bit (exact equality:
     /// they must be the same expressions).

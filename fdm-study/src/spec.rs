@@ -8,13 +8,17 @@ use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::message::ShortNumber;
 use fdm_core::model::Model;
 use fdm_core::script::{Rule, Script};
+use fdm_fleet::Precision;
 use fdm_run::{Scenario, Start, StartOptions, StartRefused, MAX_FPS, MAX_FRAMES};
 use serde::Deserialize;
 use toml::Spanned;
 
 use crate::measure::Measure;
-use crate::model::{StudyEntry, StudyJob, StudyModel};
+use crate::memory::MemoryEstimate;
+use crate::model::{registry_models, EachModel, StudyJob, StudyModel};
 use crate::rng::{normal_cdf, normal_quantile, uniform};
+use crate::table::RunTable;
+use crate::track::{GroundTrack, TrackPlan};
 use crate::StudyError;
 
 /// Most runs one study may have (2^40, about 1.1e12): far beyond one
@@ -968,6 +972,107 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
     })
 }
 
+/// One model a study file may name (`model = "NAME"`): its name and the
+/// study's work done with its type, made by [`StudyEntry::of`]. The models
+/// a study may name are a list of these: the run library's registry
+/// ([`StudyEntry::registry`], what [`Study::from_toml_str`] reads with) or a
+/// program's own ([`Study::from_toml_str_among`]: `sim-cli`'s registry, whose
+/// `glider` feature adds a model outside the library crates). The study
+/// keeps its model's entry, so it flies it without looking it up again.
+///
+#[derive(Clone, Copy)]
+pub struct StudyEntry {
+    name: &'static str,
+    check: for<'a> fn(CheckModel<'a>) -> Result<(), StudyError>,
+    fly: for<'a> fn(FlyJob<'a>) -> FlyResult,
+    memory: for<'a> fn(MemoryJob<'a>) -> MemoryEstimate,
+}
+
+impl StudyEntry {
+    /// Model `M`'s entry.
+    #[must_use]
+    pub fn of<M: StudyModel>() -> Self {
+        Self {
+            name: <M as fdm_core::model::Model>::NAME,
+            check: |job| job.call::<M>(),
+            fly: |job| job.call::<M>(),
+            memory: |job| job.call::<M>(),
+        }
+    }
+
+    /// The run library's registry's models ([`fdm_run::model::MODELS`]:
+    /// Palmer, Bourg), in its order.
+    #[must_use]
+    pub fn registry() -> Vec<Self> {
+        struct Entries(Vec<StudyEntry>);
+        impl EachModel for Entries {
+            fn model<M: StudyModel>(&mut self) {
+                self.0.push(StudyEntry::of::<M>());
+            }
+        }
+        let mut all = Entries(Vec::new());
+        registry_models(&mut all);
+        debug_assert!(all
+            .0
+            .iter()
+            .map(|e| e.name)
+            .eq(fdm_run::model::MODELS.iter().copied()));
+        all.0
+    }
+
+    /// The model's name ([`fdm_core::model::Model::NAME`]).
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+
+    pub(crate) fn check(self, job: CheckModel<'_>) -> Result<(), StudyError> {
+        (self.check)(job)
+    }
+
+    pub(crate) fn fly(self, job: FlyJob<'_>) -> FlyResult {
+        (self.fly)(job)
+    }
+
+    pub(crate) fn memory(self, job: MemoryJob<'_>) -> MemoryEstimate {
+        (self.memory)(job)
+    }
+}
+
+/// Entries are the same model's when their names are.
+impl PartialEq for StudyEntry {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+impl std::fmt::Debug for StudyEntry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("StudyEntry").field(&self.name).finish()
+    }
+}
+
+/// What flying a study's runs returns: the runs' rows and the ground tracks
+/// kept.
+pub(crate) type FlyResult = Result<(RunTable, Vec<GroundTrack>), StudyError>;
+
+/// Flying a study's runs with its model's type (done in [`crate::fly`]).
+pub(crate) struct FlyJob<'a> {
+    pub(crate) study: &'a Study,
+    pub(crate) runs: Range<u64>,
+    pub(crate) threads: usize,
+    pub(crate) precision: Precision,
+    pub(crate) stop: &'a (dyn Fn() -> bool + Sync),
+    pub(crate) plan: &'a TrackPlan,
+}
+
+/// A study's memory estimate with its model's type (done in
+/// [`crate::fly`]).
+pub(crate) struct MemoryJob<'a> {
+    pub(crate) study: &'a Study,
+    pub(crate) chunk_runs: u64,
+}
+
 /// The model-specific checks of a study file.
 pub(crate) struct CheckModel<'a> {
     study: &'a Study,
@@ -1049,6 +1154,37 @@ impl StudyJob for CheckModel<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fdm_core::bourg::Bourg;
+    use fdm_core::palmer::Palmer;
+
+    /// A study's model is looked up in the list it is read with: the run
+    /// library's registry by default, a program's own list otherwise (the
+    /// error names that list's models).
+    #[test]
+    fn a_study_names_a_model_of_its_list() {
+        let names: Vec<&str> = StudyEntry::registry()
+            .iter()
+            .map(StudyEntry::name)
+            .collect();
+        assert_eq!(names, fdm_run::model::MODELS);
+        let text = "model = \"bourg\"\nruns = 2\nduration_s = 1.0\nmeasures = [\"final_x_m\"]\n";
+        let study = crate::Study::from_toml_str(text).unwrap();
+        assert_eq!(study.model(), "bourg");
+        assert_eq!(study.entry(), StudyEntry::of::<Bourg>());
+        let among = crate::Study::from_toml_str_among(text, &StudyEntry::registry()).unwrap();
+        assert_eq!(among, study);
+        let err = crate::Study::from_toml_str_among(text, &[StudyEntry::of::<Palmer>()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("`model`") && err.contains("one of palmer, found \"bourg\""),
+            "{err}"
+        );
+        assert_eq!(
+            format!("{:?}", StudyEntry::of::<Palmer>()),
+            "StudyEntry(\"palmer\")"
+        );
+    }
 
     const BASE: &str =
         "model = \"palmer\"\nruns = 10\nduration_s = 1.0\nmeasures = [\"max_height_m\"]\n";
