@@ -17,9 +17,7 @@ pub mod study;
 pub mod task;
 pub mod task_io;
 
-use fdm_core::bourg::Bourg;
-use fdm_core::model::{Model, ScriptAction};
-use fdm_core::palmer::Palmer;
+use fdm_core::model::ScriptAction;
 use fdm_fleet::Precision;
 use numpy::PyArray1;
 use pyo3::exceptions::PyValueError;
@@ -28,11 +26,8 @@ use pyo3::types::{PyDict, PyList};
 
 use fleet::{AnyFleet, Buffers};
 use flight::AnyFlight;
-use models::{status_code, BindModel};
+use models::{status_code, with_model, BindModel, ModelJob, MODELS};
 use start::StartSpec;
-
-/// The models this build knows, by name.
-const MODELS: [&str; 2] = [Palmer::NAME, Bourg::NAME];
 
 fn unknown_model(model: &str) -> PyErr {
     PyValueError::new_err(format!(
@@ -127,16 +122,34 @@ impl PyFlight {
             trim,
         };
         let controls = named_controls(controls)?;
-        if trim && model == Bourg::NAME && controls.iter().any(|(n, _)| n == "thrust_lb") {
-            return Err(PyValueError::new_err(
-                "thrust_lb: cannot be given with trim=True (the trim sets the thrust)",
-            ));
+        struct NewFlight<'a> {
+            fps: u32,
+            spec: &'a StartSpec,
+            controls: &'a [(String, f64)],
+            script: Option<&'a str>,
         }
-        let inner = match model {
-            "palmer" => flight::new_single::<Palmer>(fps, &spec, &controls, script)?,
-            "bourg" => flight::new_single::<Bourg>(fps, &spec, &controls, script)?,
-            other => return Err(unknown_model(other)),
+        impl ModelJob for NewFlight<'_> {
+            type Output = PyResult<Box<dyn AnyFlight>>;
+            fn call<M: BindModel>(self) -> Self::Output {
+                if self.spec.trim {
+                    for (name, what) in M::TRIM_SETS {
+                        if self.controls.iter().any(|(n, _)| n == name) {
+                            return Err(PyValueError::new_err(format!(
+                                "{name}: cannot be given with trim=True (the trim sets {what})"
+                            )));
+                        }
+                    }
+                }
+                flight::new_single::<M>(self.fps, self.spec, self.controls, self.script)
+            }
+        }
+        let job = NewFlight {
+            fps,
+            spec: &spec,
+            controls: &controls,
+            script,
         };
+        let inner = with_model(model, job).ok_or_else(|| unknown_model(model))??;
         Ok(Self { inner })
     }
 
@@ -480,27 +493,39 @@ impl PyFleet {
             ("speed_kt", speed_kt),
             ("heading_deg", heading_deg),
         ];
-        fn build<M: BindModel>(
+        struct NewFleet<'a, 'py> {
             n: usize,
             fps: f64,
             precision: Precision,
             parallel: bool,
-            start: [(&str, Option<&Bound<'_, PyAny>>); 3],
+            start: [(&'a str, Option<&'a Bound<'py, PyAny>>); 3],
             trim: bool,
-            controls: Option<&Bound<'_, PyDict>>,
-        ) -> PyResult<Box<dyn AnyFleet>>
-        where
-            M::Fleet: Sync,
-        {
-            let (s, c) =
-                fleet::read_arguments(M::CONTROL_FIELDS, M::NAME, n, start, trim, controls)?;
-            fleet::new_lanes::<M>(n, fps, precision, parallel, &s, &c)
+            controls: Option<&'a Bound<'py, PyDict>>,
         }
-        let inner = match model {
-            "palmer" => build::<Palmer>(n, fps, precision_value, parallel, start, trim, controls)?,
-            "bourg" => build::<Bourg>(n, fps, precision_value, parallel, start, trim, controls)?,
-            other => return Err(unknown_model(other)),
+        impl ModelJob for NewFleet<'_, '_> {
+            type Output = PyResult<Box<dyn AnyFleet>>;
+            fn call<M: BindModel>(self) -> Self::Output {
+                let (s, c) = fleet::read_arguments(
+                    M::CONTROL_FIELDS,
+                    M::NAME,
+                    self.n,
+                    self.start,
+                    self.trim,
+                    self.controls,
+                )?;
+                fleet::new_lanes::<M>(self.n, self.fps, self.precision, self.parallel, &s, &c)
+            }
+        }
+        let job = NewFleet {
+            n,
+            fps,
+            precision: precision_value,
+            parallel,
+            start,
+            trim,
+            controls,
         };
+        let inner = with_model(model, job).ok_or_else(|| unknown_model(model))??;
         let fields = inner.state_fields();
         let buffers = Buffers::new(py, fields.len(), n)?;
         buffers.with_mut(py, |c, s| inner.gather(c, s))?;
@@ -810,9 +835,17 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add_function(wrap_pyfunction!(study::summarize_columns, m)?)?;
     m.add("STATUS_CODES", study::status_codes().to_vec())?;
+    struct Describe<'a, 'py>(Python<'py>, &'a Bound<'py, PyDict>);
+    impl ModelJob for Describe<'_, '_> {
+        type Output = PyResult<()>;
+        fn call<M: BindModel>(self) -> PyResult<()> {
+            self.1.set_item(M::NAME, describe::<M>(self.0)?)
+        }
+    }
     let models = PyDict::new(py);
-    models.set_item(Palmer::NAME, describe::<Palmer>(py)?)?;
-    models.set_item(Bourg::NAME, describe::<Bourg>(py)?)?;
+    for name in MODELS {
+        with_model(name, Describe(py, &models)).ok_or_else(|| unknown_model(name))??;
+    }
     m.add("MODELS", models)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

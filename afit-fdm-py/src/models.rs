@@ -1,11 +1,14 @@
 //! What the binding needs to know of each model beyond `fdm_core::model::Model`:
 //! its state and controls as named numbers (units in the names), the controls'
-//! ranges, and its fleet kernel. One impl per model; everything else in the
-//! crate is generic over [`BindModel`].
+//! ranges, and its fleet kernel. One impl per model, and the registry that
+//! picks a model by name ([`MODELS`], [`with_model`]): the only file of the
+//! crate that names a model; everything else is generic over [`BindModel`].
 
-use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap};
-use fdm_core::model::FlightStatus;
-use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
+use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap, MAX_THRUST_LB};
+use fdm_core::model::{FlightStatus, Model};
+use fdm_core::palmer::{
+    Flaps, Palmer, PalmerControls, PalmerState, ALPHA_MAX_DEG, ALPHA_MIN_DEG, BANK_LIMIT_DEG,
+};
 use fdm_fleet::{Fleet, FleetError, FleetKernel, FleetPiece, Precision};
 
 use crate::task::{self, Kinematics, FT_PER_M};
@@ -14,10 +17,36 @@ use crate::task::{self, Kinematics, FT_PER_M};
 /// allowed values checked by [`BindModel::set_control`]).
 pub type ControlRange = (&'static str, f64, f64);
 
+/// The models this build knows, by name, in the run library's registry's
+/// order (`afit_fdm.MODELS`).
+pub const MODELS: [&str; 2] = [Palmer::NAME, Bourg::NAME];
+
+/// Work done with one model's type, picked by name ([`with_model`]).
+pub trait ModelJob {
+    /// What the work gives.
+    type Output;
+    /// Does the work with model `M`.
+    fn call<M: BindModel>(self) -> Self::Output;
+}
+
+/// Does `job` with the model named `name` (one of [`MODELS`]); `None` for
+/// a name that is not a model.
+pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
+    match name {
+        n if n == Palmer::NAME => Some(job.call::<Palmer>()),
+        n if n == Bourg::NAME => Some(job.call::<Bourg>()),
+        _ => None,
+    }
+}
+
 /// A model as the Python binding exposes it.
 pub trait BindModel: fdm_run::csv::CsvModel + FleetKernel {
     /// The model's fleet kernel behind the one adapter the binding uses.
-    type Fleet: FleetOps<Self>;
+    type Fleet: FleetOps<Self> + Sync;
+
+    /// Controls that cannot be given with `trim=True`, each with what the
+    /// trim sets instead (for the error message).
+    const TRIM_SETS: &'static [(&'static str, &'static str)];
 
     /// Names of [`state_values`](Self::state_values), units in the names.
     const STATE_FIELDS: &'static [&'static str];
@@ -142,12 +171,15 @@ pub const fn status_code(status: FlightStatus) -> u8 {
 impl BindModel for Palmer {
     type Fleet = Fleet<Palmer>;
 
+    // The trim's throttle and angle of attack replace the given ones.
+    const TRIM_SETS: &'static [(&'static str, &'static str)] = &[];
+
     const STATE_FIELDS: &'static [&'static str] =
         &["time_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
     const CONTROL_FIELDS: &'static [ControlRange] = &[
         ("throttle", 0.0, 1.0),
-        ("alpha_deg", -16.0, 20.0),
-        ("bank_deg", -20.0, 20.0),
+        ("alpha_deg", ALPHA_MIN_DEG, ALPHA_MAX_DEG),
+        ("bank_deg", -BANK_LIMIT_DEG, BANK_LIMIT_DEG),
         ("flaps_deg", 0.0, 40.0),
         ("brakes", 0.0, 1.0),
     ];
@@ -263,6 +295,8 @@ fn flap_from(value: f64) -> Result<Flap, String> {
 impl BindModel for Bourg {
     type Fleet = Fleet<Bourg>;
 
+    const TRIM_SETS: &'static [(&'static str, &'static str)] = &[("thrust_lb", "the thrust")];
+
     const STATE_FIELDS: &'static [&'static str] = &[
         "time_s",
         "x_ft",
@@ -290,7 +324,7 @@ impl BindModel for Bourg {
     // Surfaces: +1 is the action's direction (`elevator` +1 = pitch-up,
     // `aileron` +1 = roll-right, `rudder` +1 = yaw-right).
     const CONTROL_FIELDS: &'static [ControlRange] = &[
-        ("thrust_lb", 0.0, 3000.0),
+        ("thrust_lb", 0.0, MAX_THRUST_LB as f64),
         ("elevator", -1.0, 1.0),
         ("aileron", -1.0, 1.0),
         ("rudder", -1.0, 1.0),

@@ -22,10 +22,8 @@
 
 use std::io::Read;
 
-use fdm_core::bourg::Bourg;
 use fdm_core::fingerprint;
-use fdm_core::model::{FlightStatus, Model};
-use fdm_core::palmer::Palmer;
+use fdm_core::model::FlightStatus;
 use fdm_core::script::Script;
 use fdm_run::recording::{
     recorded_model, Cut, Recording, RecordingError as FormatError, Replayed, MAX_RECORDING_BYTES,
@@ -36,7 +34,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::flight::{AnyFlight, Single};
-use crate::models::{status_code, BindModel};
+use crate::models::{status_code, with_model, BindModel, ModelJob};
 use crate::PyFlight;
 
 pyo3::create_exception!(
@@ -268,10 +266,25 @@ pub fn replay(
 ) -> PyResult<PyReplay> {
     let (name, bytes) = read_source(py, source)?;
     let model = recorded_model(&bytes).map_err(|e| format_error(&e))?;
-    let outcome = py.detach(|| match model {
-        n if n == Palmer::NAME => replay_model::<Palmer>(&bytes, trajectory, salvage),
-        n if n == Bourg::NAME => replay_model::<Bourg>(&bytes, trajectory, salvage),
-        other => Err(format_error(&FormatError::UnknownModel(other.to_owned()))),
+    struct Replay<'a> {
+        bytes: &'a [u8],
+        trajectory: bool,
+        salvage: bool,
+    }
+    impl ModelJob for Replay<'_> {
+        type Output = Result<Result<Outcome, Cut>, PyErr>;
+        fn call<M: BindModel>(self) -> Self::Output {
+            replay_model::<M>(self.bytes, self.trajectory, self.salvage)
+        }
+    }
+    let job = Replay {
+        bytes: &bytes,
+        trajectory,
+        salvage,
+    };
+    let outcome = py.detach(|| {
+        with_model(model, job)
+            .unwrap_or_else(|| Err(format_error(&FormatError::UnknownModel(model.to_owned()))))
     })?;
     let outcome = outcome.map_err(|cut| cut_error(py, &name, cut))?;
     let diverged = outcome.diverged.clone();

@@ -65,9 +65,9 @@ use core::fmt;
 use core::str::FromStr;
 use std::sync::Arc;
 
-use fdm_core::bourg::Vector3;
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::real::{Exact, Fast, LaneModel, Lanes, Mask, Maths, Real};
+use nalgebra::Vector3;
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 

@@ -23,9 +23,9 @@
 //! bound: a point with every ECEF component below 1e21 m in magnitude is
 //! closer than that; any other goes to the scalar function.
 
-use fdm_core::bourg::Vector3;
 use fdm_core::geodesy::{ecef_to_geodetic, Geodetic, GeodeticOrigin, WGS84_A_M, WGS84_F};
 use fdm_core::math::{atan2, cbrt, hypot};
+use nalgebra::Vector3;
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
@@ -61,7 +61,7 @@ const NEAR_M: f64 = 1e21;
 /// ```
 /// use fdm_core::geodesy::GeodeticOrigin;
 /// use fdm_fleet::geodesy::BatchGeodesy;
-/// use fdm_core::bourg::Vector3;
+/// use nalgebra::Vector3;
 ///
 /// let origin = GeodeticOrigin::from_geodetic(GeodeticOrigin::WRIGHT_PATTERSON).unwrap();
 /// let batch = BatchGeodesy::new(origin);

@@ -126,7 +126,7 @@ pub trait LaneFleet: Sized + Send {
     /// (x north, y west, z up), in index order: the `position_m` of
     /// [`Model::view`], bit for bit, read straight from the fleet's arrays
     /// (for [`geodesy::BatchGeodesy`]).
-    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>);
+    fn positions_m(&self, out: &mut Vec<nalgebra::Vector3<f64>>);
 
     /// The instruction set the kernel dispatched to, e.g. `"x86-64-v3"`.
     fn instruction_set(&self) -> &'static str;
@@ -196,7 +196,7 @@ impl<M: FleetKernel> LaneFleet for Fleet<M> {
         self.status(index)
     }
 
-    fn positions_m(&self, out: &mut Vec<fdm_core::bourg::Vector3<f64>>) {
+    fn positions_m(&self, out: &mut Vec<nalgebra::Vector3<f64>>) {
         self.positions_m(out);
     }
 

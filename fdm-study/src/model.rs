@@ -1,9 +1,12 @@
 //! What a study needs of a model beyond flying it: the names of the controls
 //! and physical parameters a study file can set, and cheap reads of a state.
 
-use fdm_core::bourg::{Bourg, BourgAircraft, BourgControls, BourgState};
+use fdm_core::bourg::{Bourg, BourgAircraft, BourgControls, BourgState, MAX_THRUST_LB};
 use fdm_core::message::ShortNumber;
-use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_core::palmer::{
+    Palmer, PalmerAircraft, PalmerControls, PalmerState, ALPHA_MAX_DEG, ALPHA_MIN_DEG,
+    BANK_LIMIT_DEG,
+};
 use fdm_core::units::METRES_PER_FOOT;
 use fdm_fleet::FleetKernel;
 use fdm_run::RunModel;
@@ -81,8 +84,12 @@ impl StudyModel for Palmer {
         // The ranges of `sim-cli palmer --throttle/--alpha/--bank`.
         match key {
             "throttle" => controls.throttle = in_range(key, value, 0.0, 1.0)?,
-            "alpha_deg" => controls.alpha_deg = in_range(key, value, -16.0, 20.0)?,
-            "bank_deg" => controls.bank_deg = in_range(key, value, -20.0, 20.0)?,
+            "alpha_deg" => {
+                controls.alpha_deg = in_range(key, value, ALPHA_MIN_DEG, ALPHA_MAX_DEG)?;
+            }
+            "bank_deg" => {
+                controls.bank_deg = in_range(key, value, -BANK_LIMIT_DEG, BANK_LIMIT_DEG)?;
+            }
             _ => return Err(unknown("control", key, Self::CONTROL_KEYS)),
         }
         Ok(())
@@ -136,7 +143,9 @@ impl StudyModel for Bourg {
     fn set_control(controls: &mut BourgControls, key: &str, value: f64) -> Result<(), String> {
         match key {
             // The range of `sim-cli bourg --thrust-lb`; f32 as the model's.
-            "thrust_lb" => controls.thrust_lb = in_range(key, value, 0.0, 3000.0)? as f32,
+            "thrust_lb" => {
+                controls.thrust_lb = in_range(key, value, 0.0, f64::from(MAX_THRUST_LB))? as f32;
+            }
             _ => return Err(unknown("control", key, Self::CONTROL_KEYS)),
         }
         Ok(())
