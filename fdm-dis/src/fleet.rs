@@ -121,7 +121,9 @@ impl FleetPublisher {
     }
 
     /// [`FleetPublisher::publish_screened`] handing each exact update's
-    /// result to `send` instead of a socket.
+    /// result to `send` instead of a socket: the fleet in pieces of
+    /// [`FLEET_BATCH`] aircraft ([`FleetPublisher::screened_pieces`]) on the
+    /// current rayon pool, each piece's inputs read by `state`.
     fn screened<S: Copy + Send + Sync>(
         &mut self,
         placement: &Placement,
@@ -131,6 +133,33 @@ impl FleetPublisher {
         view: impl Fn(usize, &S) -> FlightView + Sync,
         send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync,
     ) -> Tally {
+        self.screened_pieces(placement, last, FLEET_BATCH)
+            .into_par_iter()
+            .map(|mut piece| {
+                let first = piece.first;
+                let states: Vec<Option<S>> = (first..first + piece.len()).map(&state).collect();
+                piece.run(&states, &rough, &view, &send)
+            })
+            .reduce(Tally::default, |mut a, b| {
+                a.merge(b);
+                a
+            })
+    }
+
+    /// The fleet as pieces of `piece` aircraft each (the last may have
+    /// fewer; at least one aircraft a piece), in order, for publishing
+    /// each piece screened ([`ScreenedPiece::publish`]) where and when its
+    /// aircraft's inputs are at hand, e.g. on the thread that has just
+    /// stepped them, while they are in its cache. Publishing every piece
+    /// once is one frame of [`FleetPublisher::publish_screened`]: the same
+    /// PDUs, bytes, counts and errors. `last` is as there (resized to the
+    /// fleet here).
+    pub fn screened_pieces<'a, S: Copy>(
+        &'a mut self,
+        placement: &'a Placement,
+        last: &'a mut Vec<Option<S>>,
+        piece: usize,
+    ) -> Vec<ScreenedPiece<'a, S>> {
         let n = self.trackers.len();
         last.resize(n, None);
         self.refs.resize(n, ScreenRef::default());
@@ -141,49 +170,21 @@ impl FleetPublisher {
             .first()
             .map(|t| t.publisher.reckoner().thresholds());
         let frame = ScreenFrame::new(placement, thresholds);
+        let per = piece.max(1);
         self.trackers
-            .par_chunks_mut(FLEET_BATCH)
-            .zip(self.refs.par_chunks_mut(FLEET_BATCH))
-            .zip(last.par_chunks_mut(FLEET_BATCH))
+            .chunks_mut(per)
+            .zip(self.refs.chunks_mut(per))
+            .zip(last.chunks_mut(per))
             .enumerate()
-            .map(|(c, ((trackers, refs), last))| {
-                let first = c * FLEET_BATCH;
-                let mut tally = Tally::default();
-                let states: Vec<Option<S>> = (first..first + trackers.len()).map(&state).collect();
-                let mut roughs = vec![None; states.len()];
-                rough(first, &states, &mut roughs);
-                for (k, (((tracker, screen), last), s)) in trackers
-                    .iter_mut()
-                    .zip(refs.iter_mut())
-                    .zip(last.iter_mut())
-                    .zip(&states)
-                    .enumerate()
-                {
-                    let Some(s) = s else { continue };
-                    if let Some(r) = roughs[k].as_ref().filter(|r| screen.quiet(r, &frame)) {
-                        screen.cleared(r.time_s);
-                    } else {
-                        let i = first + k;
-                        if screen.stale {
-                            match last {
-                                Some(l) => {
-                                    tracker.restore_previous(&view(i, l), placement, screen.pending)
-                                }
-                                // Not reached: a cleared frame's input is kept.
-                                None => tracker.publisher.count_quiet_frames(screen.pending),
-                            }
-                        }
-                        send(&mut tally, i, tracker.update(&view(i, s), placement));
-                        *screen = ScreenRef::refresh(tracker, placement, &frame);
-                    }
-                    *last = Some(*s);
-                }
-                tally
+            .map(|(c, ((trackers, refs), last))| ScreenedPiece {
+                first: c * per,
+                trackers,
+                refs,
+                last,
+                placement,
+                frame,
             })
-            .reduce(Tally::default, |mut a, b| {
-                a.merge(b);
-                a
-            })
+            .collect()
     }
 
     /// Aircraft `i`'s tracker's counts, with the quiet frames the screen
@@ -193,6 +194,99 @@ impl FleetPublisher {
         let mut counts = self.trackers.get(i)?.counts();
         counts.frames += self.refs.get(i).map_or(0, |r| r.pending);
         Some(counts)
+    }
+}
+
+/// A run of consecutive aircraft of a [`FleetPublisher`], borrowed for one
+/// screened frame ([`FleetPublisher::screened_pieces`]).
+#[derive(Debug)]
+pub struct ScreenedPiece<'a, S> {
+    /// The fleet index of the piece's first aircraft.
+    first: usize,
+    trackers: &'a mut [Tracker],
+    refs: &'a mut [ScreenRef],
+    last: &'a mut [Option<S>],
+    placement: &'a Placement,
+    frame: ScreenFrame,
+}
+
+impl<S: Copy> ScreenedPiece<'_, S> {
+    /// The fleet index of the piece's first aircraft.
+    #[must_use]
+    pub const fn first(&self) -> usize {
+        self.first
+    }
+
+    /// Aircraft in the piece.
+    #[must_use]
+    pub const fn len(&self) -> usize {
+        self.trackers.len()
+    }
+
+    /// Whether the piece has no aircraft.
+    #[must_use]
+    pub const fn is_empty(&self) -> bool {
+        self.trackers.is_empty()
+    }
+
+    /// Publishes this frame of the piece's aircraft, as
+    /// [`FleetPublisher::publish_screened`] publishes them, on this thread:
+    /// aircraft `first() + k`'s input is `states[k]` (`None`, or past the
+    /// end of `states`: not this frame); `rough` and `view` are as there
+    /// (`rough` is called once, for the whole piece). Due PDUs are sent
+    /// through `sender` as they are made. Returns the piece's counts.
+    pub fn publish(
+        &mut self,
+        sender: &UdpSender,
+        states: &[Option<S>],
+        rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]),
+        view: impl Fn(usize, &S) -> FlightView,
+    ) -> Tally {
+        self.run(states, rough, view, |tally, _, due| {
+            tally.publish(sender, due)
+        })
+    }
+
+    /// [`ScreenedPiece::publish`] handing each exact update's result to
+    /// `send`.
+    fn run(
+        &mut self,
+        states: &[Option<S>],
+        rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]),
+        view: impl Fn(usize, &S) -> FlightView,
+        send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>),
+    ) -> Tally {
+        let (first, placement, frame) = (self.first, self.placement, &self.frame);
+        let states = &states[..states.len().min(self.trackers.len())];
+        let mut tally = Tally::default();
+        let mut roughs = vec![None; states.len()];
+        rough(first, states, &mut roughs);
+        for (k, (((tracker, screen), last), s)) in self
+            .trackers
+            .iter_mut()
+            .zip(self.refs.iter_mut())
+            .zip(self.last.iter_mut())
+            .zip(states)
+            .enumerate()
+        {
+            let Some(s) = s else { continue };
+            if let Some(r) = roughs[k].as_ref().filter(|r| screen.quiet(r, frame)) {
+                screen.cleared(r.time_s);
+            } else {
+                let i = first + k;
+                if screen.stale {
+                    match last {
+                        Some(l) => tracker.restore_previous(&view(i, l), placement, screen.pending),
+                        // Not reached: a cleared frame's input is kept.
+                        None => tracker.publisher.count_quiet_frames(screen.pending),
+                    }
+                }
+                send(&mut tally, i, tracker.update(&view(i, s), placement));
+                *screen = ScreenRef::refresh(tracker, placement, frame);
+            }
+            *last = Some(*s);
+        }
+        tally
     }
 }
 
@@ -326,6 +420,116 @@ mod tests {
                 let most = n * FRAMES / if thresholds.heartbeat_s > 2.0 { 5 } else { 3 };
                 assert!(views < most, "{views} views for {thresholds:?}");
             }
+        }
+    }
+
+    /// Pieces of any size, published one after the other
+    /// ([`FleetPublisher::screened_pieces`], [`ScreenedPiece`]), are the
+    /// screened publisher's frame: the same PDUs in the same order per
+    /// aircraft, the same counts, with a diverged aircraft and inputs left
+    /// out (`None`, or a piece's inputs cut short).
+    #[test]
+    fn pieces_of_any_size_are_the_screened_frame() {
+        const FRAMES: usize = 120;
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = Palmer::default_aircraft();
+        let thresholds = DrThresholds {
+            position_m: 0.2,
+            orientation_deg: 1.0,
+            heartbeat_s: 2.0,
+        };
+        let n = 300;
+        let (controls, start): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
+        let rough = |first: usize,
+                     input: &[Option<fdm_core::palmer::PalmerState>],
+                     out: &mut [Option<Rough>]| {
+            for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
+                *o = s.filter(|_| !(first + k).is_multiple_of(11)).map(|s| {
+                    let v = Palmer::view(&aircraft, &controls[first + k], &s);
+                    Rough {
+                        time_s: v.time_s,
+                        position_m: v.position_m,
+                        velocity_mps: v.velocity_mps,
+                        body_to_ned: v.attitude.body_to_ned(),
+                    }
+                });
+            }
+        };
+        let view =
+            |i: usize, s: &fdm_core::palmer::PalmerState| Palmer::view(&aircraft, &controls[i], s);
+        type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
+        fn keep(
+            got: &std::sync::Mutex<Vec<Sent>>,
+        ) -> impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync + '_
+        {
+            move |tally, i, result| {
+                let kept = match &result {
+                    Ok(Some(d)) => Some((i, Ok((d.reason, d.bytes.to_vec())))),
+                    Ok(None) => None,
+                    Err(e) => Some((i, Err(e.to_string()))),
+                };
+                tally.publish_counts_only(&result);
+                got.lock().unwrap().extend(kept);
+            }
+        }
+        let trackers: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
+        for per in [1, 7, 64, n + 5] {
+            let mut whole = FleetPublisher::new(trackers.clone());
+            let mut pieces = FleetPublisher::new(trackers.clone());
+            let (mut last_whole, mut last_pieces) = (Vec::new(), Vec::new());
+            let mut states = start.clone();
+            let mut pieces_seen = 0;
+            for frame in 0..FRAMES {
+                for (s, c) in states.iter_mut().zip(&controls) {
+                    *s = Palmer::step(&aircraft, c, s, 1.0 / 30.0);
+                }
+                if frame == 50 {
+                    states[3].velocity_mps.y = f64::NAN;
+                }
+                let offered =
+                    |i: usize| (i % 5 != 2 || !(30..40).contains(&frame)).then(|| states[i]);
+                // The last aircraft of each piece of more than one aircraft
+                // is left out on frames 60..70 by cutting the piece's
+                // inputs short; the whole publisher is told `None`.
+                let cut = |len: usize| usize::from(len > 1 && (60..70).contains(&frame));
+                let last_of_piece = |i: usize| (i + 1).is_multiple_of(per) || i + 1 == n;
+                let piece_len = |i: usize| per.min(n - i / per * per);
+                let offered_whole =
+                    |i: usize| offered(i).filter(|_| !(last_of_piece(i) && cut(piece_len(i)) == 1));
+                let expected = std::sync::Mutex::new(Vec::new());
+                let want = whole.screened(
+                    &placement,
+                    &mut last_whole,
+                    offered_whole,
+                    rough,
+                    view,
+                    keep(&expected),
+                );
+                let got = std::sync::Mutex::new(Vec::new());
+                let mut tally = Tally::default();
+                for mut piece in pieces.screened_pieces(&placement, &mut last_pieces, per) {
+                    pieces_seen += 1;
+                    let first = piece.first();
+                    let end = first + piece.len() - cut(piece.len());
+                    let input: Vec<_> = (first..end).map(offered).collect();
+                    tally.merge(piece.run(&input, rough, view, keep(&got)));
+                }
+                let mut expected = expected.into_inner().unwrap();
+                let mut got = got.into_inner().unwrap();
+                expected.sort_by_key(|(i, _)| *i);
+                got.sort_by_key(|(i, _)| *i);
+                assert!(frame > 0 || got.len() == n);
+                assert_eq!(got, expected, "pieces of {per}, frame {frame}");
+                assert_eq!(
+                    format!("{tally:?}"),
+                    format!("{want:?}"),
+                    "pieces of {per}, frame {frame}"
+                );
+            }
+            assert_eq!(pieces_seen, FRAMES * n.div_ceil(per));
+            let a: Vec<_> = (0..n).map(|i| pieces.counts(i).unwrap()).collect();
+            let b: Vec<_> = (0..n).map(|i| whole.counts(i).unwrap()).collect();
+            assert_eq!(a, b, "pieces of {per}");
         }
     }
 

@@ -163,7 +163,7 @@ pub use entity::{
     DrAlgorithm, EntityConfig, EntityIdentity, Marking, WireState, ENTITY_STATE_PDU_LEN,
 };
 pub use error::DisOutputError;
-pub use fleet::{FleetPublisher, FLEET_BATCH};
+pub use fleet::{FleetPublisher, ScreenedPiece, FLEET_BATCH};
 pub use frames::{
     ecef_vector_to_ned, local_from_ecef, ned_to_ecef_rotation, rotation_angle_between,
     AircraftState, DisEuler, EcefState,

@@ -64,6 +64,7 @@
 use core::fmt;
 use core::str::FromStr;
 use std::sync::Arc;
+use std::time::Instant;
 
 use fdm_core::model::{FlightStatus, Model};
 use fdm_core::real::{Exact, Fast, LaneModel, Lanes, Mask, Maths, Real};
@@ -849,8 +850,92 @@ impl<M: FleetKernel> FleetPiece<'_, M> {
     }
 }
 
+/// One piece of a fleet right after its frame, as
+/// [`Fleet::par_fly_pieces_with`] (and [`crate::LaneFleet::par_fly_then`])
+/// hands it on: its aircraft's states and statuses, read from the kernel's
+/// arrays while they are in the cache, and how long its frame took.
+#[derive(Debug)]
+pub struct FlownPiece<'a, S> {
+    /// The fleet index of the piece's first aircraft: aircraft `first + k`
+    /// is at `k` below.
+    pub first: usize,
+    /// Each aircraft's state after the frame, every one `Some` (the
+    /// receiver may set to `None` those it leaves out, e.g. the diverged).
+    pub states: &'a mut [Option<S>],
+    /// Each aircraft's flight status after the frame.
+    pub statuses: &'a [FlightStatus],
+    /// Wall-clock seconds the piece's frame (step and flight status) took
+    /// on its thread, the reading of the states not included.
+    pub fly_seconds: f64,
+    /// When the piece's frame ended (the reading of the states began): the
+    /// receiver's own work on the piece is timed from here.
+    pub flown_at: Instant,
+}
+
 /// What needs the model's kernel: stepping and flying.
 impl<M: FleetKernel> Fleet<M> {
+    /// [`Fleet::par_fly_with`] in pieces of `piece_aircraft` aircraft
+    /// (rounded up to whole blocks, at least one; [`Fleet::pieces_mut`]),
+    /// each flown on one of the threads of rayon's current pool and at once,
+    /// on the same thread, given to `then` with the payload of the same rank
+    /// in `payloads` and its states and statuses ([`FlownPiece`]): whatever
+    /// `then` reads of the piece is still in that core's cache. A piece
+    /// without a payload is flown only; payloads beyond the last piece are
+    /// dropped. Returns `then`'s results in piece order. Every aircraft ends
+    /// as [`Fleet::par_fly_with`] leaves it, bit for bit (the same kernel on
+    /// the same blocks).
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`] (nothing is flown then).
+    pub fn par_fly_pieces_with<P: Send, T: Send>(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+        piece_aircraft: usize,
+        payloads: Vec<P>,
+        then: impl Fn(P, FlownPiece<'_, M::State>) -> T + Sync,
+    ) -> Result<Vec<T>, FleetError> {
+        Self::check_precision(precision)?;
+        let blocks = piece_aircraft.div_ceil(M::Lanes::LANES).max(1);
+        let mut payloads = payloads.into_iter();
+        let work: Vec<_> = self
+            .pieces_mut(blocks)
+            .into_iter()
+            .map(|piece| (piece, payloads.next()))
+            .collect();
+        let done: Result<Vec<Option<T>>, FleetError> = work
+            .into_par_iter()
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(states, statuses), (mut piece, payload)| {
+                    let start = Instant::now();
+                    piece.fly_with(dt, precision)?;
+                    let flown_at = Instant::now();
+                    let Some(payload) = payload else {
+                        return Ok(None);
+                    };
+                    states.clear();
+                    statuses.clear();
+                    piece.for_each(|_, state, status, _| {
+                        states.push(Some(*state));
+                        statuses.push(status);
+                    });
+                    Ok(Some(then(
+                        payload,
+                        FlownPiece {
+                            first: piece.first(),
+                            states,
+                            statuses,
+                            fly_seconds: (flown_at - start).as_secs_f64(),
+                            flown_at,
+                        },
+                    )))
+                },
+            )
+            .collect();
+        Ok(done?.into_iter().flatten().collect())
+    }
+
     /// Advances every aircraft by `dt` with one step of the model, on this
     /// thread, with the best instruction set of this CPU. Like
     /// [`Model::step`] it checks nothing: a non-finite `dt` makes every state

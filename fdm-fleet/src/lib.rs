@@ -40,7 +40,7 @@ pub mod palmer;
 
 pub use bourg::BourgFleet;
 pub use fdm_core::real::LaneModel;
-pub use fleet::{Fleet, FleetError, FleetKernel, FleetPiece, KernelRun, Precision};
+pub use fleet::{Fleet, FleetError, FleetKernel, FleetPiece, FlownPiece, KernelRun, Precision};
 pub use palmer::PalmerFleet;
 
 use fdm_core::model::{FlightStatus, Model};
@@ -119,6 +119,34 @@ pub trait LaneFleet: Sized + Send {
     /// As [`Self::check_precision`].
     fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError>;
 
+    /// The aircraft in each piece of [`Self::par_fly_then`] asked for
+    /// `requested` aircraft a piece: `requested` rounded up to whole blocks
+    /// of the kernel's lanes (at least one block; the fleet's last piece may
+    /// have fewer).
+    fn piece_aircraft(requested: usize) -> usize;
+
+    /// [`Self::par_fly`] in pieces, each piece's aircraft handed on right
+    /// after their frame: the fleet is cut into runs of
+    /// [`Self::piece_aircraft`]`(piece_aircraft)` aircraft, in order; each
+    /// piece is flown on one of the threads of rayon's current pool and then,
+    /// on the same thread while its aircraft are in that core's cache, given
+    /// to `then` with the payload of the same rank in `payloads` and its
+    /// aircraft's states and statuses ([`FlownPiece`]). A piece without a
+    /// payload is flown only; payloads beyond the last piece are dropped.
+    /// Returns `then`'s results in piece order. Every aircraft ends as
+    /// [`Self::par_fly`] leaves it, bit for bit.
+    ///
+    /// # Errors
+    /// As [`Self::check_precision`] (nothing is flown then).
+    fn par_fly_then<P: Send, T: Send>(
+        &mut self,
+        fps: f64,
+        precision: Precision,
+        piece_aircraft: usize,
+        payloads: Vec<P>,
+        then: impl Fn(P, FlownPiece<'_, <Self::Model as Model>::State>) -> T + Sync,
+    ) -> Result<Vec<T>, FleetError>;
+
     /// Aircraft `index`'s flight status.
     fn status(&self, index: usize) -> Option<FlightStatus>;
 
@@ -190,6 +218,28 @@ impl<M: FleetKernel> LaneFleet for Fleet<M> {
 
     fn par_fly(&mut self, fps: f64, precision: Precision) -> Result<(), FleetError> {
         self.par_fly_with(M::time_step(fps), precision)
+    }
+
+    fn piece_aircraft(requested: usize) -> usize {
+        let lanes = <M::Lanes as fdm_core::real::Real>::LANES;
+        requested.div_ceil(lanes).max(1) * lanes
+    }
+
+    fn par_fly_then<P: Send, T: Send>(
+        &mut self,
+        fps: f64,
+        precision: Precision,
+        piece_aircraft: usize,
+        payloads: Vec<P>,
+        then: impl Fn(P, FlownPiece<'_, M::State>) -> T + Sync,
+    ) -> Result<Vec<T>, FleetError> {
+        self.par_fly_pieces_with(
+            M::time_step(fps),
+            precision,
+            Self::piece_aircraft(piece_aircraft),
+            payloads,
+            then,
+        )
     }
 
     fn status(&self, index: usize) -> Option<FlightStatus> {

@@ -515,3 +515,112 @@ fn bourg_pieces_are_the_whole_fleet() {
         bourg_bits,
     );
 }
+
+/// A fleet flown by `LaneFleet::par_fly_then` (in pieces of several sizes on
+/// rayon's threads, each piece handed on after its frame) ends as the fleet
+/// flown whole, bit for bit, and each piece's hand-over shows its aircraft
+/// as they are after the frame, each aircraft in exactly one piece, in
+/// order, with its payload; a piece without a payload is flown all the same.
+fn flying_then_is_flying_whole<M, B: PartialEq + core::fmt::Debug + Send>(
+    members: &[(M::Controls, M::State, FlightStatus)],
+    bits: impl Fn(&M::State) -> B + Sync,
+) where
+    M: fdm_fleet::FleetKernel,
+    M::State: Sync,
+{
+    use fdm_fleet::LaneFleet as _;
+    let fps = 30.0;
+    let mut whole = fdm_fleet::Fleet::<M>::try_new(M::default_aircraft()).unwrap();
+    for (i, (c, s, status)) in members.iter().enumerate() {
+        whole.push(*s, *c);
+        whole.set_status(i, *status).unwrap();
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let n = members.len();
+    for asked in [1, 20, 64, 100_000] {
+        let per = fdm_fleet::Fleet::<M>::piece_aircraft(asked);
+        let pieces = n.div_ceil(per);
+        // The last piece gets no payload: it must be flown all the same.
+        let paid = pieces.saturating_sub(1).max(1);
+        let mut fleet = whole.clone();
+        let mut reference = whole.clone();
+        for frame in 0..30 {
+            pool.install(|| reference.par_fly(fps, Precision::Exact))
+                .unwrap();
+            let got = pool
+                .install(|| {
+                    fleet.par_fly_then(
+                        fps,
+                        Precision::Exact,
+                        asked,
+                        (0..paid).collect(),
+                        |rank, piece| {
+                            assert!(piece.fly_seconds >= 0.0);
+                            assert_eq!(piece.states.len(), piece.statuses.len());
+                            let read: Vec<_> = piece
+                                .states
+                                .iter()
+                                .zip(piece.statuses)
+                                .map(|(s, status)| (bits(&s.unwrap()), *status))
+                                .collect();
+                            (rank, piece.first, read)
+                        },
+                    )
+                })
+                .unwrap();
+            assert_eq!(got.len(), paid, "{asked} asked");
+            let mut next = 0;
+            for (k, (rank, first, read)) in got.into_iter().enumerate() {
+                assert_eq!((rank, first), (k, next), "{asked} asked, frame {frame}");
+                assert!(read.len() <= per && (read.len() == per || first + read.len() == n));
+                for (j, (b, status)) in read.into_iter().enumerate() {
+                    let i = first + j;
+                    let want = (
+                        bits(&reference.state(i).unwrap()),
+                        reference.status(i).unwrap(),
+                    );
+                    assert_eq!(
+                        (b, status),
+                        want,
+                        "{asked} asked, frame {frame}, aircraft {i}"
+                    );
+                }
+                next = first + per;
+            }
+            for i in 0..n {
+                assert_eq!(
+                    (bits(&fleet.state(i).unwrap()), fleet.status(i)),
+                    (bits(&reference.state(i).unwrap()), reference.status(i)),
+                    "{asked} asked, frame {frame}, aircraft {i}"
+                );
+            }
+        }
+    }
+    // A precision the kernel lacks flies nothing.
+    if !<M as fdm_core::real::LaneModel>::HAS_FAST {
+        let mut fleet = whole.clone();
+        let result = fleet.par_fly_then(fps, Precision::Fast, 8, vec![()], |(), _| ());
+        assert!(result.is_err());
+        for i in 0..n {
+            assert_eq!(
+                bits(&fleet.state(i).unwrap()),
+                bits(&whole.state(i).unwrap())
+            );
+        }
+    }
+}
+
+#[test]
+fn palmer_flying_then_is_flying_whole() {
+    let members = palmer_members(9, 301);
+    flying_then_is_flying_whole::<Palmer, _>(&members, palmer_bits);
+}
+
+#[test]
+fn bourg_flying_then_is_flying_whole() {
+    let members = bourg_members(10, 301);
+    flying_then_is_flying_whole::<Bourg, _>(&members, bourg_bits);
+}

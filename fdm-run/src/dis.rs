@@ -5,8 +5,10 @@
 //!   (`sim-cli palmer|bourg --dis`);
 //! * [`FleetDis`]: a whole fleet, flown in one ECS world
 //!   ([`FleetDis::attach`], [`FleetDis::publish`]) or by a lanes kernel
-//!   ([`FleetDis::for_lanes`], [`FleetDis::publish_lanes`]) (`sim-cli fleet
-//!   --dis`);
+//!   ([`FleetDis::for_lanes`]; [`FleetDis::fly_and_publish_lanes`] flies a
+//!   frame and publishes each piece of the fleet right after its step,
+//!   [`FleetDis::publish_lanes`] publishes a frame already flown)
+//!   (`sim-cli fleet --dis`);
 //! * [`DisSettings`]: what every entity of a run shares (target, site,
 //!   application, exercise, version, dead reckoning), and [`DisReport`], the
 //!   counters of the JSON report.
@@ -401,9 +403,24 @@ pub struct DisReport {
     /// `bytes / sim_seconds`.
     pub bytes_per_sim_s: Option<f64>,
     /// Fleets: wall-clock seconds spent in DIS output (placing, dead
-    /// reckoning, encoding, sending), separately from the steps.
+    /// reckoning, encoding, sending), separately from the steps. For a
+    /// lanes fleet, whose pieces are published right after their steps,
+    /// the share of the frames' wall clock that the threads spent
+    /// publishing ([`Self::publish_thread_seconds`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub publish_seconds: Option<f64>,
+    /// Lanes fleets, whose pieces are each published right after their
+    /// step: seconds the pool's threads spent stepping, summed over the
+    /// threads (each piece's step timed on its thread). The frames' wall
+    /// clock is split between `seconds` and [`Self::publish_seconds`] in
+    /// proportion to this and [`Self::publish_thread_seconds`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step_thread_seconds: Option<f64>,
+    /// Lanes fleets: seconds the pool's threads spent publishing (reading
+    /// each piece's states after its step, screening, placing, encoding,
+    /// sending), summed over the threads.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub publish_thread_seconds: Option<f64>,
 }
 
 impl DisReport {
@@ -501,6 +518,8 @@ impl DisLink {
             pdus_per_sim_s: per_s(self.tally.pdus),
             bytes_per_sim_s: per_s(self.tally.bytes),
             publish_seconds: None,
+            step_thread_seconds: None,
+            publish_thread_seconds: None,
         }
     }
 }
@@ -748,6 +767,10 @@ pub struct FleetDis {
     last: EntityIdentity,
     frames: u64,
     seconds: f64,
+    /// Fused frames ([`FleetDis::fly_and_publish_lanes`]): seconds the
+    /// pool's threads spent stepping and publishing, summed over the pieces.
+    step_thread_seconds: f64,
+    publish_thread_seconds: f64,
     /// The lanes kernel's trackers, aircraft `i` at index `i` (empty for ECS fleets).
     lanes: FleetPublisher,
 }
@@ -766,6 +789,8 @@ impl FleetDis {
             )?,
             frames: 0,
             seconds: 0.0,
+            step_thread_seconds: 0.0,
+            publish_thread_seconds: 0.0,
             lanes: FleetPublisher::default(),
         })
     }
@@ -863,6 +888,82 @@ impl FleetDis {
         self.seconds += start.elapsed().as_secs_f64();
     }
 
+    /// Flies one frame of a lanes-kernel fleet and publishes it, each piece
+    /// of the fleet right after its step: the fleet is cut into pieces of
+    /// [`fdm_dis::FLEET_BATCH`] aircraft (whole blocks,
+    /// [`fdm_fleet::LaneFleet::par_fly_then`]), and each piece, on the thread
+    /// of the current rayon pool that has just flown it and while its
+    /// aircraft are in that core's cache, is published as
+    /// [`FleetDis::publish_lanes`] publishes it ([`fdm_dis::ScreenedPiece`]):
+    /// the same PDUs, bytes, counts and per-aircraft order of datagrams. A
+    /// diverged aircraft is not sent.
+    ///
+    /// Returns the wall-clock seconds of the frame's steps; the rest of the
+    /// frame's wall clock is added to the publishing time. The two are one
+    /// pass on every thread, so the frame's wall clock is split between
+    /// them in proportion to the time the pool's threads spent in each
+    /// (each piece's step timed apart from its publishing, summed over the
+    /// pieces); those sums are reported too
+    /// ([`DisReport::step_thread_seconds`],
+    /// [`DisReport::publish_thread_seconds`]).
+    ///
+    /// # Errors
+    /// The kernel's (a precision it lacks; nothing is flown or sent then).
+    pub fn fly_and_publish_lanes<M: FleetModel>(
+        &mut self,
+        fleet: &mut M::Lanes,
+        fps: f64,
+        precision: fdm_fleet::Precision,
+        last: &mut Vec<Option<M::State>>,
+        origin: &GeodeticOrigin,
+    ) -> Result<f64, fdm_fleet::FleetError> {
+        use fdm_fleet::LaneFleet as _;
+        let start = Instant::now();
+        let placement = Placement::new(*origin);
+        let aircraft = M::default_aircraft();
+        let per = M::Lanes::piece_aircraft(fdm_dis::FLEET_BATCH);
+        let pieces = self.lanes.screened_pieces(&placement, last, per);
+        let sender = &self.link.sender;
+        let done = fleet.par_fly_then(fps, precision, per, pieces, |mut piece, flown| {
+            for (s, status) in flown.states.iter_mut().zip(flown.statuses) {
+                if *status == FlightStatus::Diverged {
+                    *s = None;
+                }
+            }
+            let tally = piece.publish(
+                sender,
+                flown.states,
+                |first, states, out| M::dis_rough(first, states, out),
+                |i, s| {
+                    let (controls, _) = M::fleet_member(i);
+                    M::view(&aircraft, &controls, s)
+                },
+            );
+            (
+                tally,
+                flown.fly_seconds,
+                flown.flown_at.elapsed().as_secs_f64(),
+            )
+        })?;
+        let wall = start.elapsed().as_secs_f64();
+        self.frames += 1;
+        let (mut step, mut publish) = (0.0, 0.0);
+        for (tally, fly_s, publish_s) in done {
+            self.link.tally.merge(tally);
+            step += fly_s;
+            publish += publish_s;
+        }
+        self.step_thread_seconds += step;
+        self.publish_thread_seconds += publish;
+        let step_share = if step + publish > 0.0 {
+            wall * step / (step + publish)
+        } else {
+            wall
+        };
+        self.seconds += wall - step_share;
+        Ok(step_share)
+    }
+
     /// Publishes one frame of every aircraft of model `M` in `world` with a
     /// [`Tracker`]: on this thread, or with `parallel` on the current rayon
     /// pool in batches of [`fdm_ecs::systems::PARALLEL_BATCH`] aircraft, each
@@ -926,6 +1027,10 @@ impl FleetDis {
             .link
             .report(self.entities, (self.first, self.last), self.frames, fps);
         r.publish_seconds = Some(self.seconds);
+        if self.step_thread_seconds + self.publish_thread_seconds > 0.0 {
+            r.step_thread_seconds = Some(self.step_thread_seconds);
+            r.publish_thread_seconds = Some(self.publish_thread_seconds);
+        }
         r
     }
 }

@@ -146,6 +146,82 @@ fn screened_fleet_against_the_old_path<M: FleetModel>() -> (u64, u64) {
     reasons
 }
 
+/// A fleet of several pieces (each published right after its step, on the
+/// thread that stepped it: `FleetDis::fly_and_publish_lanes`, pieces of
+/// 1 024 aircraft, the last one short) sends the old path's datagrams frame
+/// by frame, Palmer and Bourg, on two threads; the report splits the
+/// frames' time between the steps and DIS and says what each piece's
+/// thread spent on each.
+#[test]
+fn a_fleet_published_piece_by_piece_sends_the_old_paths_datagrams() {
+    fn check<M: FleetModel>() {
+        const N: usize = 2 * 1024 + 300;
+        const FRAMES: u64 = 75;
+        let new_sink = sink();
+        let old_sink = sink();
+        let settings = |target| DisSettings {
+            target,
+            site: 2,
+            application: 1,
+            exercise: 9,
+            version: DisVersion::V6,
+            dr: DrAlgorithm::Rvw,
+            thresholds: DrThresholds {
+                position_m: 0.1,
+                orientation_deg: 0.5,
+                heartbeat_s: 1.5,
+            },
+            every_frame: false,
+        };
+        let mut scenario = FleetScenario::new(N as u64, FRAMES);
+        scenario.threads = Some(2);
+        scenario.dis = Some(FleetDisConfig {
+            settings: settings(new_sink.local_addr().unwrap()),
+            entity_base: 1,
+        });
+        let mut run = FleetRun::<M>::new(scenario, &mut |_, _| {}).unwrap();
+        let old_settings = settings(old_sink.local_addr().unwrap());
+        let trackers = (0..N as u64)
+            .map(|i| {
+                let id = fleet_identity(2, 1, 1, i).unwrap();
+                old_settings
+                    .tracker::<M>(id, &callsign(M::CALLSIGN, 1 + i))
+                    .unwrap()
+            })
+            .collect();
+        let mut old = FleetPublisher::new(trackers);
+        let sender = UdpSender::new(old_sink.local_addr().unwrap(), false).unwrap();
+        let mut fleet = <M as FleetModel>::Lanes::demonstration(N).unwrap();
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = M::default_aircraft();
+        let mut sent = 0;
+        for frame in 0..FRAMES {
+            run.step_frame().unwrap();
+            LaneFleet::par_fly(&mut fleet, 30.0, Precision::Exact).unwrap();
+            old.publish(&sender, &placement, |i| {
+                let s = LaneFleet::state(&fleet, i)?;
+                Some(M::view(&aircraft, &M::fleet_member(i).0, &s))
+            });
+            let new = drain(&new_sink);
+            let expected = drain(&old_sink);
+            assert!(new == expected, "{}: frame {frame} differs", M::NAME);
+            sent += new.len();
+        }
+        let report = run.report();
+        let dis = report.dis.unwrap();
+        assert_eq!((dis.pdus as usize, dis.reasons.first), (sent, N as u64));
+        assert!(dis.reasons.position + dis.reasons.orientation + dis.reasons.heartbeat > 0);
+        let (step, publish) = (
+            dis.step_thread_seconds.unwrap(),
+            dis.publish_thread_seconds.unwrap(),
+        );
+        assert!(step > 0.0 && publish > 0.0, "{step} {publish}");
+        assert!(report.seconds > 0.0 && dis.publish_seconds.unwrap() > 0.0);
+    }
+    check::<Palmer>();
+    check::<Bourg>();
+}
+
 /// Palmer's rough body-to-NED matrices against the exact path's (the view's
 /// Euler angles made a matrix again): within 1e-11 in every element, a
 /// hundredth of the tolerance, over the demonstration fleet's controls and

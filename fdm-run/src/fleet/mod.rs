@@ -48,7 +48,12 @@
 //! get every aircraft's view and status, the DIS output
 //! (feature `dis`, `FleetScenario::dis`) publishes every aircraft as an
 //! entity (the time that takes is reported apart), then real-time pacing
-//! waits for the frame's end. Without outputs or pacing
+//! waits for the frame's end. On the lanes kernel DIS does not wait for
+//! the whole frame: each piece of the fleet is published right after its
+//! step, on the thread that stepped it, while its states are in that
+//! core's cache (`FleetDis::fly_and_publish_lanes`); the frame's wall clock
+//! is then split between the steps and DIS in proportion to the time the
+//! threads spent in each. Without outputs or pacing
 //! [`FleetRun::run_to_end`] flies in chunks of one second of flight, timing
 //! only the steps. Before spawning, a fleet that does not fit in this
 //! process's memory is refused ([`crate::memory`]).
@@ -273,7 +278,7 @@ enum Flyer<M: FleetModel> {
         /// The demonstration fleet's aircraft (the fleet's views).
         aircraft: M::Aircraft,
         /// Each aircraft's last state DIS published (its screen's memory:
-        /// [`crate::dis::FleetDis::publish_lanes`]).
+        /// [`crate::dis::FleetDis::fly_and_publish_lanes`]).
         #[cfg(feature = "dis")]
         dis_last: Vec<Option<M::State>>,
     },
@@ -511,7 +516,10 @@ impl<M: FleetModel> FleetRun<M> {
 
     /// Flies one frame (timed), then hands it to the outputs (the attached
     /// [`FleetOutput`]s, then DIS) and with real-time pacing waits for the
-    /// frame's end.
+    /// frame's end. A lanes fleet's DIS output publishes each piece of the
+    /// fleet right after its step instead, within the frame
+    /// ([`crate::dis::FleetDis::fly_and_publish_lanes`]), before the
+    /// attached outputs see it.
     ///
     /// # Errors
     /// [`FleetError::Kernel`] when the lanes kernel fails,
@@ -521,6 +529,26 @@ impl<M: FleetModel> FleetRun<M> {
         match &mut self.flyer {
             Flyer::Ecs { sim, execution, .. } => {
                 self.seconds += fly_frames::<M>(sim, 1, *execution, &self.pool);
+            }
+            #[cfg(feature = "dis")]
+            Flyer::Lanes {
+                fleet,
+                precision,
+                dis_last,
+                ..
+            } if self.dis.is_some() => {
+                // Each piece of the fleet is published right after its
+                // step, on the thread that stepped it, while its states
+                // are in that core's cache.
+                if let Some(dis) = self.dis.as_mut() {
+                    let origin = &self.origin;
+                    self.seconds += self
+                        .pool
+                        .install(|| {
+                            dis.fly_and_publish_lanes::<M>(fleet, fps, *precision, dis_last, origin)
+                        })
+                        .map_err(FleetError::Kernel)?;
+                }
             }
             Flyer::Lanes {
                 fleet, precision, ..
@@ -696,41 +724,22 @@ impl<M: FleetModel> FleetRun<M> {
         Ok(())
     }
 
-    /// The current frame to the DIS output, if there is one.
+    /// The current frame to the DIS output of an ECS fleet, if there is one
+    /// (a lanes fleet's is published with its steps, in
+    /// [`Self::step_frame`]).
     #[cfg(feature = "dis")]
     fn publish_dis(&mut self) {
         let Some(dis) = self.dis.as_mut() else {
             return;
         };
         let origin = &self.origin;
-        match &mut self.flyer {
-            Flyer::Ecs { sim, execution, .. } => {
-                let world = sim.world_mut();
-                match execution {
-                    Execution::Sequential => dis.publish::<M>(world, origin, false),
-                    Execution::Parallel => {
-                        self.pool.install(|| dis.publish::<M>(world, origin, true));
-                    }
+        if let Flyer::Ecs { sim, execution, .. } = &mut self.flyer {
+            let world = sim.world_mut();
+            match execution {
+                Execution::Sequential => dis.publish::<M>(world, origin, false),
+                Execution::Parallel => {
+                    self.pool.install(|| dis.publish::<M>(world, origin, true));
                 }
-            }
-            Flyer::Lanes {
-                fleet, dis_last, ..
-            } => {
-                // Each batch of the publisher reads its aircraft's states
-                // from the kernel's arrays on its own thread. A diverged
-                // aircraft is no longer sent, as with the ECS.
-                let fleet = &*fleet;
-                self.pool.install(|| {
-                    dis.publish_lanes::<M>(
-                        dis_last,
-                        |i| {
-                            fleet
-                                .state(i)
-                                .filter(|_| fleet.status(i) != Some(FlightStatus::Diverged))
-                        },
-                        origin,
-                    );
-                });
             }
         }
     }

@@ -24,7 +24,9 @@ pub struct FleetReport {
     /// Threads of the rayon pool (1: the ECS kernel's sequential system on
     /// the calling thread).
     pub threads: usize,
-    /// Wall-clock time of the frames, seconds (spawning and outputs excluded).
+    /// Wall-clock time of the frames, seconds (spawning and outputs
+    /// excluded; with DIS on the lanes kernel, the steps' share of the
+    /// frames, see `dis`).
     pub seconds: f64,
     /// `aircraft × frames / seconds`.
     pub aircraft_steps_per_s: f64,
@@ -44,7 +46,11 @@ pub struct FleetReport {
     /// How many aircraft end the run in each flight status.
     pub statuses: StatusCounts,
     /// DIS output (feature `dis`): every aircraft is published after every
-    /// frame; that time is in `dis.publish_seconds`, not in `seconds`.
+    /// frame; that time is in `dis.publish_seconds`, not in `seconds`. On
+    /// the lanes kernel each piece of the fleet is published right after
+    /// its step: the frames' wall clock is split between `seconds` and
+    /// `dis.publish_seconds` in proportion to the threads' time in each
+    /// (`dis.step_thread_seconds`, `dis.publish_thread_seconds`).
     #[cfg(feature = "dis")]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dis: Option<crate::dis::DisReport>,
