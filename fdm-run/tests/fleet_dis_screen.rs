@@ -17,8 +17,10 @@ use fdm_dis::{
     ROUGH_TOLERANCE,
 };
 use fdm_fleet::{LaneFleet, Precision};
-use fdm_run::dis::{bourg_rough, callsign, fleet_identity, palmer_rough, DisSettings};
+use fdm_run::dis::{callsign, fleet_identity, DisSettings};
 use fdm_run::fleet::{FleetDisConfig, FleetRun, FleetScenario};
+use fdm_run::model::bourg::bourg_rough;
+use fdm_run::model::palmer::palmer_rough;
 use fdm_run::FleetModel;
 use nalgebra::Vector3;
 

@@ -518,7 +518,7 @@ impl<M: FleetModel> FleetRun<M> {
     /// [`FleetOutput`]s, then DIS) and with real-time pacing waits for the
     /// frame's end. A lanes fleet's DIS output publishes each piece of the
     /// fleet right after its step instead, within the frame
-    /// ([`crate::dis::FleetDis::fly_and_publish_lanes`]), before the
+    /// (`dis::FleetDis::fly_and_publish_lanes`, feature `dis`), before the
     /// attached outputs see it.
     ///
     /// # Errors

@@ -84,10 +84,50 @@ impl FleetModel for Bourg {
 
     /// The view's frame without the rest of the view, its attitude matrix
     /// through the model's `f32` Euler angles as the view's
-    /// ([`crate::dis::bourg_rough`]).
+    /// ([`bourg_rough`]).
     #[cfg(feature = "dis")]
     fn dis_rough(_first: usize, states: &[Option<BourgState>], out: &mut [Option<fdm_dis::Rough>]) {
-        crate::dis::bourg_rough(states, out);
+        bourg_rough(states, out);
+    }
+}
+
+/// [`FleetModel::dis_rough`] for Bourg: each aircraft's view's time,
+/// position and velocity (feet widened to `f64`, times
+/// [`METRES_PER_FOOT`](fdm_core::units::METRES_PER_FOOT), the view's
+/// operations) and the view's own attitude matrix, bit for bit, without the
+/// rest of the view (the body velocity, alpha, sideslip, airspeed).
+///
+/// The matrix is not made from the quaternion alone: the exact path's
+/// attitude goes through the model's `f32` Euler angles
+/// ([`BourgState::euler_angles_deg`],
+/// `f32` products, an `asin` of a quaternion not quite of unit length, a
+/// gimbal-lock branch, angles rounded to `f32` radians and again to `f32`
+/// degrees), which move its matrix from the quaternion's by far more than
+/// [`fdm_dis::ROUGH_TOLERANCE`] (up to 1.4e-3 over the states of the test
+/// `bourg_rough_is_the_views_frame`, which asserts it is more than ten
+/// times the tolerance). So the angles are the model's and the matrix is
+/// [`fdm_core::geodesy::bourg_attitude`]'s `body_to_ned`, the exact path's
+/// operations: within 0 of it, gimbal lock included. What the screen saves
+/// for Bourg is the placement in ECEF and the dead-reckoning comparison of
+/// the aircraft it clears. A state with a non-finite number gets no rough
+/// frame (the exact path takes it).
+#[cfg(feature = "dis")]
+pub fn bourg_rough(states: &[Option<BourgState>], out: &mut [Option<fdm_dis::Rough>]) {
+    use fdm_core::units::METRES_PER_FOOT;
+    let widen = |v: nalgebra::Vector3<f32>| v.map(f64::from);
+    for (s, o) in states.iter().zip(out.iter_mut()) {
+        *o = s.filter(BourgState::is_finite).and_then(|s| {
+            let body_to_ned = fdm_core::geodesy::bourg_attitude(s.euler_angles_deg()).body_to_ned();
+            body_to_ned
+                .iter()
+                .all(|e| e.is_finite())
+                .then(|| fdm_dis::Rough {
+                    time_s: s.time_s,
+                    position_m: widen(s.position_ft) * METRES_PER_FOOT,
+                    velocity_mps: widen(s.velocity_ftps) * METRES_PER_FOOT,
+                    body_to_ned,
+                })
+        });
     }
 }
 

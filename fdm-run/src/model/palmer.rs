@@ -5,6 +5,8 @@
 //! report's fields ([`ReportModel`], [`PalmerDetails`]).
 
 use fdm_core::fingerprint;
+#[cfg(feature = "dis")]
+use fdm_core::model::Model;
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use serde::{Deserialize, Serialize};
 
@@ -62,11 +64,115 @@ impl FleetModel for Palmer {
     }
 
     /// The attitude matrix straight from the velocity and controls, without
-    /// the Euler angles ([`crate::dis::palmer_rough`]).
+    /// the Euler angles ([`palmer_rough`]).
     #[cfg(feature = "dis")]
     fn dis_rough(first: usize, states: &[Option<PalmerState>], out: &mut [Option<fdm_dis::Rough>]) {
-        crate::dis::palmer_rough(first, states, out);
+        palmer_rough(first, states, out);
     }
+}
+
+/// [`FleetModel::dis_rough`] for Palmer's demonstration fleet: aircraft
+/// `first + k` with state `states[k]` and the controls of
+/// [`Model::fleet_member`]`(first + k)`, its body-to-NED matrix made straight
+/// from the velocity and controls, eight aircraft at a time (the sines and
+/// cosines of the angle of attack and the bank by
+/// [`fdm_core::math::sin_cos_lanes`]).
+///
+/// [`fdm_core::geodesy::palmer_attitude`] makes the matrix
+/// `C = Rz(track) · Ry(climb) · Rx(bank) · Ry(alpha)` with `track` and
+/// `climb` from `atan2` and `hypot` of the velocity, then reads three Euler
+/// angles from it (three `atan2`, a `hypot`), which the DIS placement turns
+/// back into a matrix (three `sin_cos`). Here the sine and cosine of `track`
+/// and `climb` are the velocity's ratios (`vx / vh`, `-vy / vh`, `vh / v`,
+/// `vz / v`) and there are no angles: the same matrix up to rounding
+/// (1e-15 in each element) and to the Euler round trip, whose roll and
+/// heading lose about `1e-16 / cos(pitch)` each. So an aircraft gets a
+/// rough frame only when
+///
+/// * its velocity components are 0 or between 1e-100 and 1e100 m/s in
+///   magnitude, the horizontal ones both 0 or the larger of them in that
+///   range (no square under- or overflows beyond a relative 1e-100), and
+/// * `cos(pitch)² = C₀₀² + C₁₀² ≥ 1e-6` (at least 0.06° from the vertical),
+///
+/// which keeps every element within about 1e-12 of the exact path's, a
+/// thousandth of [`fdm_dis::ROUGH_TOLERANCE`] (the test
+/// `palmer_rough_is_within_the_tolerance` measures it on states near the
+/// limits); any other aircraft (and any non-finite result) takes the exact
+/// path.
+#[cfg(feature = "dis")]
+pub fn palmer_rough(
+    first: usize,
+    states: &[Option<PalmerState>],
+    out: &mut [Option<fdm_dis::Rough>],
+) {
+    const L: usize = 8;
+    for (c, (states, out)) in states.chunks(L).zip(out.chunks_mut(L)).enumerate() {
+        // Lanes past the end get an angle in sin_cos_lanes's kernel range.
+        let mut alpha = [0.1; L];
+        let mut bank = [0.1; L];
+        for (k, (a, b)) in alpha
+            .iter_mut()
+            .zip(&mut bank)
+            .take(states.len())
+            .enumerate()
+        {
+            let (controls, _) = Palmer::fleet_member(first + c * L + k);
+            *a = controls.alpha_deg.to_radians();
+            *b = controls.bank_deg.to_radians();
+        }
+        let (sin_alpha, cos_alpha) = fdm_core::math::sin_cos_lanes(alpha);
+        let (sin_bank, cos_bank) = fdm_core::math::sin_cos_lanes(bank);
+        for (k, (s, o)) in states.iter().zip(out.iter_mut()).enumerate() {
+            *o = s.and_then(|s| {
+                palmer_rough_one(&s, (sin_alpha[k], cos_alpha[k]), (sin_bank[k], cos_bank[k]))
+            });
+        }
+    }
+}
+
+/// One aircraft of [`palmer_rough`].
+#[cfg(feature = "dis")]
+fn palmer_rough_one(
+    s: &PalmerState,
+    (sa, ca): (f64, f64),
+    (sb, cb): (f64, f64),
+) -> Option<fdm_dis::Rough> {
+    let v = s.velocity_mps;
+    let in_range = |m: f64| m == 0.0 || (1e-100..1e100).contains(&m);
+    let horizontal = v.x.abs().max(v.y.abs());
+    if !(v.iter().all(|c| c.is_finite()) && in_range(horizontal) && in_range(v.z.abs())) {
+        return None;
+    }
+    let vh2 = v.x * v.x + v.y * v.y;
+    let vh = fdm_core::math::sqrt(vh2);
+    // The degenerate cases as palmer_attitude (and the model) take them.
+    // One division each (a rounding more than a quotient: within 1e-15).
+    let (ct, st) = if horizontal == 0.0 {
+        (1.0, 0.0)
+    } else {
+        let per_vh = 1.0 / vh;
+        (v.x * per_vh, -v.y * per_vh)
+    };
+    let (cc, sc) = if horizontal == 0.0 && v.z == 0.0 {
+        (1.0, 0.0)
+    } else {
+        let per_speed = 1.0 / fdm_core::math::sqrt(vh2 + v.z * v.z);
+        (vh * per_speed, v.z * per_speed)
+    };
+    // Rz(track) · Ry(climb) and Rx(bank) · Ry(alpha), written out.
+    let a = nalgebra::Matrix3::new(ct * cc, -st, ct * sc, st * cc, ct, st * sc, -sc, 0.0, cc);
+    let b = nalgebra::Matrix3::new(ca, 0.0, sa, sb * sa, cb, -sb * ca, -cb * sa, sb, cb * ca);
+    let c = a * b;
+    let cos_pitch_sq = c[(0, 0)] * c[(0, 0)] + c[(1, 0)] * c[(1, 0)];
+    if !(cos_pitch_sq >= 1e-6 && c.iter().all(|e| e.is_finite())) {
+        return None;
+    }
+    Some(fdm_dis::Rough {
+        time_s: s.time_s,
+        position_m: s.position_m,
+        velocity_mps: v,
+        body_to_ned: c,
+    })
 }
 
 impl CsvModel for Palmer {
