@@ -97,9 +97,11 @@ fn at_or_above<const T: usize, const N: usize>(
     (at_or_above, valid)
 }
 
-/// `column[i]` in each lane's interval `i` (see [`at_or_above`]), by
-/// selects: `column[0]`, replaced by `column[j]` in the lanes at or above
-/// `a[j]`, `j` rising. (`column[0]` in the lanes below the table.)
+/// `(column(i), column(i + 1))` in each lane's interval `i` (see
+/// [`at_or_above`]), by selects: `column(0)` (`column(1)`), replaced by
+/// `column(j)` (`column(j + 1)`) in the lanes at or above `a[j]`, `j` rising
+/// to the last interval. (Lanes outside the table get an interval's entries
+/// too; the look-ups discard them.)
 #[inline(always)]
 fn pick<const T: usize, const N: usize>(
     at_or_above: &[LaneMask<N>; T],
