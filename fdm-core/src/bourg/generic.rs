@@ -17,9 +17,9 @@
 //!
 //! The airfoil and rudder table look-ups are hooks of the number type
 //! ([`BourgReal::airfoil`], [`BourgReal::rudder`]): the scalar search and
-//! interpolation of [`super::airfoil`] for `f32`, a branchless interval count
-//! and gather with the same interpolation formula for lanes (the same bits:
-//! the unit tests of [`super::lanes`] compare them).
+//! interpolation of [`super::airfoil`] for `f32`, branchless comparisons and
+//! selects among the tables' constants with the same interpolation for lanes
+//! (the same bits: the unit tests of [`super::lanes`] compare them).
 //!
 //! What the step reads and writes:
 //!
@@ -44,7 +44,8 @@ use crate::real::{Mask, Maths, Real, V3};
 /// The number type of Bourg's step: a [`Real`] over `f32` with the model's
 /// table look-ups as hooks.
 pub trait BourgReal: Real<Scalar = f32> {
-    /// Which airfoil table each lane reads (a [`Flap`] for `f32`).
+    /// Which airfoil table each lane reads (a [`Flap`] for `f32`, one per
+    /// lane for lane vectors).
     type Table: Copy + core::fmt::Debug + Send + Sync + 'static;
     /// Every lane reading `flap`'s tables.
     fn table(flap: Flap) -> Self::Table;

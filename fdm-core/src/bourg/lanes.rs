@@ -8,11 +8,22 @@
 //!
 //! The airfoil and rudder look-ups ([`airfoil_coefficients`],
 //! [`rudder_coefficients`]) search the interval of the angle and interpolate.
-//! In lanes the search is a branchless count of the table entries `<=` the
-//! angle, over the three flap settings' tables of a coefficient laid end to
-//! end (a lane's table is an offset, its two entries a gather), and the
-//! interpolation is the scalar formula, lane-wise. The unit test below
-//! compares both with the scalar functions bit for bit.
+//! In lanes they read no memory by lane: the tables are nine (rudder: seven)
+//! constants, so each lane's two entries are picked by selects. The
+//! comparisons `a[j] <= angle` give one mask per abscissa; the entries
+//! `t[i]`, `t[i + 1]` and the abscissa `a[i]` of a lane's interval `i` start
+//! as entry 0 (1) and are replaced by entry `j` (`j + 1`) in the lanes at or
+//! above `a[j]`, `j` rising. A lane's flap (of three) picks its table's entry
+//! `j` by two more selects, before the interval's. The interpolation is the
+//! scalar formula, lane-wise, except that the division by `a[i] − a[i + 1]`,
+//! always −4 (checked at compile time), is the multiplication by −1/4: the
+//! same bits, as both round the same real number. The unit tests below
+//! compare every lane with the scalar functions bit for bit (every `f32`
+//! near the abscissae, a stride through −25..25 and random bit patterns, each
+//! flap in mixed and uniform blocks). Before, a lane's table was an offset
+//! into the three tables laid end to end and its entries gathers
+//! (`vgatherdps`, microcoded on the project's CPU; BENCHMARKS.md, "Bourg's
+//! look-ups without gathers").
 //!
 //! | fleet block | lanes | read by the step | written by the step |
 //! |---|---|---|---|
@@ -43,112 +54,122 @@ pub const LANES: usize = 16;
 /// The lane vector of a Bourg fleet.
 pub type BourgLanes = F32s<LANES>;
 
-/// Three tables of one coefficient one after the other, in the order of
-/// [`table_offset`].
-const fn concat(neutral: &[f32; 9], down: &[f32; 9], up: &[f32; 9]) -> [f32; 27] {
-    let mut out = [0.0; 27];
+/// Whether `a[i] − a[i + 1]`, computed in `f32` as the scalar look-up does,
+/// is exactly `−STEP_DEG` in every interval of the abscissae `a`: then the
+/// look-ups' division by it is the multiplication by [`INVERSE_STEP`].
+const fn evenly_spaced(a: &[f32]) -> bool {
     let mut i = 0;
-    while i < 9 {
-        out[i] = neutral[i];
-        out[9 + i] = down[i];
-        out[18 + i] = up[i];
+    while i + 1 < a.len() {
+        if a[i] - a[i + 1] != -STEP_DEG {
+            return false;
+        }
         i += 1;
     }
-    out
+    true
 }
 
-/// The airfoil lift tables, neutral, trailing edge down, trailing edge up.
-const CL_TABLES: [f32; 27] = concat(&CL_NEUTRAL, &CL_TRAILING_EDGE_DOWN, &CL_TRAILING_EDGE_UP);
-/// The airfoil drag tables, in the same order.
-const CD_TABLES: [f32; 27] = concat(&CD_NEUTRAL, &CD_TRAILING_EDGE_DOWN, &CD_TRAILING_EDGE_UP);
+/// The spacing of the airfoil and rudder abscissae, degrees.
+const STEP_DEG: f32 = 4.0;
+/// `1 / (a[i] − a[i + 1])`: `−1/4`, exact, so `x / (a[i] − a[i + 1])` and
+/// `x * INVERSE_STEP` round the same real number, to the same bits (a
+/// division by a power of two, for every `x` including subnormals, zeros,
+/// infinities and NaN).
+const INVERSE_STEP: f32 = -1.0 / STEP_DEG;
+const _: () = assert!(evenly_spaced(&AIRFOIL_ALPHA_DEG) && evenly_spaced(&RUDDER_ALPHA_DEG));
+const _: () = assert!(INVERSE_STEP * -STEP_DEG == 1.0);
 
-/// Where `flap`'s table starts in [`CL_TABLES`] and [`CD_TABLES`].
-const fn table_offset(flap: Flap) -> u32 {
-    match flap {
-        Flap::Neutral => 0,
-        Flap::TrailingEdgeDown => 9,
-        Flap::TrailingEdgeUp => 18,
-    }
-}
-
-/// `table[i]`, `i` clamped to the table (a no-op for the indexes the
-/// look-ups make; it lets the compiler drop the bounds check and gather).
+/// For each abscissa `a[j]`, the lanes with `a[j] <= angle` (none for NaN).
+/// The scalar look-up's interval `i` (the first with `a[i] <= angle <
+/// a[i + 1]`) is the last `j` set, as `a` increases strictly; it exists
+/// exactly when `a[0] <= angle < a[last]`, the returned mask.
 #[inline(always)]
-fn entry(table: &[f32], i: u32) -> f32 {
-    table[(i as usize).min(table.len() - 1)]
-}
-
-/// The scalar look-up's interval search, lane-wise: in a strictly increasing
-/// table `a`, the first `i` with `a[i] <= angle < a[i + 1]` is the number of
-/// entries `<= angle` minus one, and it exists exactly when
-/// `a[0] <= angle < a[last]` (false for NaN). Lanes without one get index 0
-/// and a cleared mask.
-#[inline(always)]
-fn interval_lanes<const T: usize, const N: usize>(
+fn at_or_above<const T: usize, const N: usize>(
     a: &[f32; T],
     angle: F32s<N>,
-) -> ([u32; N], LaneMask<N>) {
-    let mut count = [0_u32; N];
-    for &entry in a {
-        for (c, &x) in count.iter_mut().zip(&angle.0) {
-            *c += u32::from(entry <= x);
-        }
+) -> ([LaneMask<N>; T], LaneMask<N>) {
+    // A loop, not `core::array::from_fn`, which the compiler kept out of
+    // line here (a call per abscissa).
+    let mut at_or_above = [LaneMask([false; N]); T];
+    for (m, &x) in at_or_above.iter_mut().zip(a) {
+        *m = LaneMask(each_lane!(N, |l| x <= angle.0[l]));
     }
-    let valid = LaneMask(core::array::from_fn(|l| {
-        a[0] <= angle.0[l] && angle.0[l] < a[T - 1]
-    }));
-    let index = core::array::from_fn(|l| {
-        if valid.0[l] {
-            count[l].wrapping_sub(1)
-        } else {
-            0
-        }
-    });
-    (index, valid)
+    let valid = LaneMask(each_lane!(N, |l| a[0] <= angle.0[l] && angle.0[l] < a[T - 1]));
+    (at_or_above, valid)
 }
 
-/// The scalar `lerp` in each lane's interval:
-/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, lane `l`'s
-/// table `t` starting at `tables[offset[l]]`.
+/// `(column(i), column(i + 1))` in each lane's interval `i` (see
+/// [`at_or_above`]), by selects: `column(0)` (`column(1)`), replaced by
+/// `column(j)` (`column(j + 1)`) in the lanes at or above `a[j]`, `j` rising
+/// to the last interval. (Lanes outside the table get an interval's entries
+/// too; the look-ups discard them.)
+#[inline(always)]
+fn pick<const T: usize, const N: usize>(
+    at_or_above: &[LaneMask<N>; T],
+    column: impl Fn(usize) -> F32s<N>,
+) -> (F32s<N>, F32s<N>) {
+    let mut t0 = column(0);
+    let mut t1 = column(1);
+    for (j, &m) in at_or_above.iter().enumerate().take(T - 1).skip(1) {
+        t0 = F32s::select(m, column(j), t0);
+        t1 = F32s::select(m, column(j + 1), t1);
+    }
+    (t0, t1)
+}
+
+/// The scalar `lerp` in each lane's interval `i`:
+/// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, with
+/// `a[i]` given and the division the exact multiplication by
+/// [`INVERSE_STEP`]; `t[i]`, `t[i + 1]` picked from `column`, lane `l`'s
+/// table entry `j` being `column(j).0[l]`.
 #[inline(always)]
 fn lerp_lanes<const T: usize, const N: usize>(
-    a: &[f32; T],
-    tables: &[f32],
-    offset: &[u32; N],
-    index: &[u32; N],
+    at_or_above: &[LaneMask<N>; T],
+    a0: F32s<N>,
+    column: impl Fn(usize) -> F32s<N>,
     angle: F32s<N>,
 ) -> F32s<N> {
-    let a0 = F32s(core::array::from_fn(|l| entry(a, index[l])));
-    let a1 = F32s(core::array::from_fn(|l| entry(a, index[l] + 1)));
-    let t0 = F32s(core::array::from_fn(|l| {
-        entry(tables, offset[l] + index[l])
-    }));
-    let t1 = F32s(core::array::from_fn(|l| {
-        entry(tables, offset[l] + index[l] + 1)
-    }));
-    t0 - (a0 - angle) * (t0 - t1) / (a0 - a1)
+    let (t0, t1) = pick(at_or_above, column);
+    t0 - (a0 - angle) * (t0 - t1) * INVERSE_STEP
 }
 
 impl<const N: usize> BourgReal for F32s<N> {
-    /// Each lane's offset in the tables laid end to end (`table_offset`).
-    type Table = [u32; N];
+    /// Each lane's flap setting.
+    type Table = [Flap; N];
 
     #[inline(always)]
-    fn table(flap: Flap) -> [u32; N] {
-        [table_offset(flap); N]
+    fn table(flap: Flap) -> [Flap; N] {
+        [flap; N]
     }
 
     #[inline(always)]
-    fn set_table_lane(table: &mut [u32; N], i: usize, flap: Flap) {
-        table[i] = table_offset(flap);
+    fn set_table_lane(table: &mut [Flap; N], i: usize, flap: Flap) {
+        table[i] = flap;
     }
 
     #[inline(always)]
-    fn airfoil(angle: Self, offset: [u32; N]) -> (Self, Self) {
+    fn airfoil(angle: Self, flaps: [Flap; N]) -> (Self, Self) {
         let a = &AIRFOIL_ALPHA_DEG;
-        let (index, valid) = interval_lanes(a, angle);
-        let cl = lerp_lanes(a, &CL_TABLES, &offset, &index, angle);
-        let cd = lerp_lanes(a, &CD_TABLES, &offset, &index, angle);
+        let (at_or_above, valid) = at_or_above(a, angle);
+        let (a0, _) = pick(&at_or_above, |j| Self::splat(a[j]));
+        let down = LaneMask(each_lane!(N, |l| flaps[l] == Flap::TrailingEdgeDown));
+        let up = LaneMask(each_lane!(N, |l| flaps[l] == Flap::TrailingEdgeUp));
+        // Entry `j` of each lane's table of the three.
+        let column = |neutral: &[f32; 9], te_down: &[f32; 9], te_up: &[f32; 9], j: usize| {
+            let c = Self::select(up, Self::splat(te_up[j]), Self::splat(neutral[j]));
+            Self::select(down, Self::splat(te_down[j]), c)
+        };
+        let cl = lerp_lanes(
+            &at_or_above,
+            a0,
+            |j| column(&CL_NEUTRAL, &CL_TRAILING_EDGE_DOWN, &CL_TRAILING_EDGE_UP, j),
+            angle,
+        );
+        let cd = lerp_lanes(
+            &at_or_above,
+            a0,
+            |j| column(&CD_NEUTRAL, &CD_TRAILING_EDGE_DOWN, &CD_TRAILING_EDGE_UP, j),
+            angle,
+        );
         (
             Self::select(valid, cl, Self::splat(0.0)),
             Self::select(valid, cd, Self::splat(CD_OUTSIDE)),
@@ -159,11 +180,11 @@ impl<const N: usize> BourgReal for F32s<N> {
     fn rudder(angle: Self) -> (Self, Self) {
         let a = &RUDDER_ALPHA_DEG;
         let abs = angle.abs();
-        let (index, valid) = interval_lanes(a, abs);
-        let zero = [0; N];
-        let cl = lerp_lanes(a, &RUDDER_CL, &zero, &index, abs);
+        let (at_or_above, valid) = at_or_above(a, abs);
+        let (a0, _) = pick(&at_or_above, |j| Self::splat(a[j]));
+        let cl = lerp_lanes(&at_or_above, a0, |j| Self::splat(RUDDER_CL[j]), abs);
         let cl = Self::select(angle.lt(0.0), -cl, cl);
-        let cd = lerp_lanes(a, &RUDDER_CD, &zero, &index, abs);
+        let cd = lerp_lanes(&at_or_above, a0, |j| Self::splat(RUDDER_CD[j]), abs);
         (
             Self::select(valid, cl, Self::splat(0.0)),
             Self::select(valid, cd, Self::splat(CD_OUTSIDE)),
@@ -324,7 +345,42 @@ mod tests {
             f32::NEG_INFINITY,
             1e30,
             -1e30,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x8000_0001),
+            f32::MAX,
+            f32::MIN,
         ]);
+        // Every `f32` within 300 ulps of each abscissa (airfoil and rudder,
+        // both signs), where the interval and the interpolation's rounding
+        // change; then the bit patterns of -25..25 at a prime stride (about
+        // 140,000 values spread over every binade down to the subnormals);
+        // then random bit patterns (a fixed xorshift, NaN payloads and
+        // infinities included).
+        for t in AIRFOIL_ALPHA_DEG.iter().chain(&RUDDER_ALPHA_DEG) {
+            for x in [*t, -*t] {
+                let bits = x.to_bits();
+                for d in 0..=300 {
+                    v.push(f32::from_bits(bits.wrapping_add(d)));
+                    v.push(f32::from_bits(bits.wrapping_sub(d)));
+                }
+            }
+        }
+        for sign in [0, 0x8000_0000_u32] {
+            v.extend(
+                (0..=25.0_f32.to_bits())
+                    .step_by(15_013)
+                    .map(|b| f32::from_bits(b | sign)),
+            );
+        }
+        let mut x = 0x2545_f491_u32;
+        for _ in 0..20_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            v.push(f32::from_bits(x));
+        }
         v
     }
 
@@ -333,49 +389,45 @@ mod tests {
     }
 
     #[test]
-    fn an_entry_past_the_table_is_its_last() {
-        // `entry`: "`table[i]`, `i` clamped to the table". The look-ups never
-        // index past their tables, but a lane's table offset is a public
-        // number (`BourgTerms::tables`, `BourgReal::airfoil`), and one that
-        // is not one of the three tables' must still read inside them, not
-        // panic in a fleet's kernel.
-        let t = [1.0, 2.0, 3.0];
-        assert_eq!(entry(&t, 0).to_bits(), 1.0_f32.to_bits());
-        assert_eq!(entry(&t, 2).to_bits(), 3.0_f32.to_bits());
-        for i in [3, 4, 1000, u32::MAX] {
-            assert_eq!(entry(&t, i).to_bits(), 3.0_f32.to_bits(), "{i}");
-        }
-        // Through the hook: an offset past the tables reads their last
-        // entries (finite numbers) in that lane; the others are unchanged.
-        let angle = F32s([5.0_f32; LANES]);
-        let mut offsets = [table_offset(Flap::Neutral); LANES];
-        offsets[3] = 1000;
-        let (cl, cd) = BourgLanes::airfoil(angle, offsets);
-        let (scl, scd) = airfoil_coefficients(5.0, Flap::Neutral);
-        for l in 0..LANES {
-            if l == 3 {
-                assert!(cl.0[l].is_finite() && cd.0[l].is_finite());
-            } else {
-                assert!(same(cl.0[l], scl) && same(cd.0[l], scd), "lane {l}");
-            }
-        }
+    fn only_evenly_spaced_abscissae_divide_by_the_step() {
+        // `evenly_spaced`: each abscissa exactly `STEP_DEG` above the previous
+        // one; anything else must be refused (the compile-time check that
+        // lets the look-ups multiply by `INVERSE_STEP`).
+        assert!(evenly_spaced(&AIRFOIL_ALPHA_DEG));
+        assert!(evenly_spaced(&RUDDER_ALPHA_DEG));
+        assert!(evenly_spaced(&[3.0]));
+        assert!(!evenly_spaced(&[0.0, 4.0, 9.0]));
+        assert!(!evenly_spaced(&[0.0, -4.0]));
+        assert!(!evenly_spaced(&[0.0, 4.000_001]));
+        assert!(!evenly_spaced(&[0.0, 4.0, 8.0, 11.999_999]));
+        assert!(!evenly_spaced(&[f32::NAN, 4.0]));
     }
 
     #[test]
     fn table_lookups_are_the_scalar_ones() {
+        // Each angle in each flap's table: the lanes' flaps mixed (each
+        // lane's neighbours on other tables) and shared by the whole block.
         let flaps = [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp];
-        for chunk in angles().chunks(LANES) {
+        let assignments: Vec<[Flap; LANES]> = (0..3)
+            .map(|r| core::array::from_fn(|l| flaps[(l + r) % 3]))
+            .chain(flaps.map(|f| [f; LANES]))
+            .collect();
+        let angles = angles();
+        for (chunk, flap_lanes) in angles
+            .chunks(LANES)
+            .flat_map(|c| assignments.iter().map(move |f| (c, *f)))
+        {
             let mut lanes = [0.0; LANES];
             lanes[..chunk.len()].copy_from_slice(chunk);
-            let flap_lanes: [Flap; LANES] = core::array::from_fn(|l| flaps[l % 3]);
-            let (cl, cd) = BourgLanes::airfoil(F32s(lanes), flap_lanes.map(table_offset));
+            let (cl, cd) = BourgLanes::airfoil(F32s(lanes), flap_lanes);
             let (rl, rd) = BourgLanes::rudder(F32s(lanes));
             for l in 0..LANES {
                 let (scl, scd) = airfoil_coefficients(lanes[l], flap_lanes[l]);
                 assert!(
                     same(cl.0[l], scl) && same(cd.0[l], scd),
-                    "{} {:?}",
+                    "{} ({:#x}) {:?}",
                     lanes[l],
+                    lanes[l].to_bits(),
                     flap_lanes[l]
                 );
                 let (srl, srd) = rudder_coefficients(lanes[l]);
