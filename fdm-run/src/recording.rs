@@ -1214,6 +1214,60 @@ mod tests {
         );
     }
 
+    /// The blocks of a recording's body as docs/recording.md lays them out
+    /// (a `u32` little-endian length, that many bytes of events, a `u64`
+    /// checksum), from `body` (the first byte after the header) to the end:
+    /// each block's length.
+    fn block_lengths(bytes: &[u8], body: usize) -> Vec<usize> {
+        let mut lengths = Vec::new();
+        let mut at = body;
+        while at < bytes.len() {
+            let len = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+            lengths.push(len);
+            at += 4 + len + 8;
+        }
+        assert_eq!(at, bytes.len(), "the last block ends with the file");
+        lengths
+    }
+
+    /// docs/recording.md: the writer closes a block "every second of flight
+    /// (fps frames), and sooner when a block reaches 64 KiB"; and
+    /// `bytes_written` is the file's size. Frames of 100 actions (an event
+    /// of 103 bytes: variant, count 1, length 100, 100 one-byte indices;
+    /// bincode 2's variable-length integers) alternating between two lists,
+    /// so that no two neighbours are one run: a second of 30 of them
+    /// (3 090 bytes) is one block. Frames of 3 000 actions (3 005 bytes: the
+    /// length takes 3) fill 64 KiB after 22 events (66 110 bytes): that
+    /// block closes there and the second's other 8 frames make the next.
+    #[test]
+    fn blocks_close_every_second_or_at_64_kib() {
+        use fdm_core::palmer::PalmerAction::{AlphaDown, AlphaUp};
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        for (actions, seconds, expected) in [
+            (100, 2, vec![30 * 103, 30 * 103]),
+            (3000, 1, vec![22 * 3005, 8 * 3005]),
+        ] {
+            let mut writer =
+                RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+            let body = usize::try_from(writer.bytes_written()).unwrap();
+            let (up, down) = (vec![AlphaUp; actions], vec![AlphaDown; actions]);
+            for frame in 0..30 * seconds {
+                writer
+                    .frame(if frame % 2 == 0 { &up } else { &down })
+                    .unwrap();
+            }
+            writer.set_final_state(7);
+            writer.finish().unwrap();
+            let written = writer.bytes_written();
+            let bytes = writer.into_inner();
+            assert_eq!(written, bytes.len() as u64, "{actions} actions a frame");
+            let mut lengths = block_lengths(&bytes, body);
+            lengths.pop(); // the end block
+            assert_eq!(lengths, expected, "{actions} actions a frame");
+        }
+    }
+
     #[test]
     fn endless_recordings_are_refused() {
         let start = Start::<Palmer>::thesis();
