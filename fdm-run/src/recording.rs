@@ -1214,6 +1214,91 @@ mod tests {
         );
     }
 
+    /// docs/recording.md: anything that is not truncation is `corrupt
+    /// recording: ...` "in words" (its examples: `a name is not valid UTF-8
+    /// text`, `kind number 7 is not one this format has`), not bincode's
+    /// `Debug` form: every kind of decoding error has words of its own (none
+    /// is the catch-all's, no two the same), with the numbers it carries,
+    /// and no braces of a `Debug` form.
+    #[test]
+    fn every_decoding_error_is_said_in_its_own_words() {
+        use bincode::error::{AllowedEnumVariants, IntegerType};
+        let bytes = vec![b'a', 0xff];
+        let not_utf8 = std::str::from_utf8(&bytes).unwrap_err();
+        let catch_all = plain_decode_error(&DecodeError::EmptyEnum { type_name: "Event" });
+        let kinds: [(DecodeError, &[&str]); 12] = [
+            (DecodeError::UnexpectedEnd { additional: 3 }, &[]),
+            (DecodeError::LimitExceeded, &["67108864"]),
+            (
+                DecodeError::InvalidIntegerType {
+                    expected: IntegerType::U16,
+                    found: IntegerType::U64,
+                },
+                &[],
+            ),
+            (
+                DecodeError::NonZeroTypeIsZero {
+                    non_zero_type: IntegerType::U32,
+                },
+                &["0"],
+            ),
+            (
+                DecodeError::UnexpectedVariant {
+                    type_name: "Event",
+                    allowed: &AllowedEnumVariants::Range { min: 0, max: 3 },
+                    found: 7,
+                },
+                &["7"],
+            ),
+            (DecodeError::Utf8 { inner: not_utf8 }, &["UTF-8"]),
+            (
+                DecodeError::InvalidCharEncoding([0xff, 0, 0, 0]),
+                &["UTF-8"],
+            ),
+            (DecodeError::InvalidBooleanValue(9), &["9"]),
+            (
+                DecodeError::ArrayLengthMismatch {
+                    required: 3,
+                    found: 2,
+                },
+                &["3", "2"],
+            ),
+            (DecodeError::OutsideUsizeRange(1 << 40), &["1099511627776"]),
+            (
+                DecodeError::OtherString("invalid value: integer `9`".to_owned()),
+                &["invalid value: integer `9`"],
+            ),
+            (
+                DecodeError::Other("a message of its own"),
+                &["a message of its own"],
+            ),
+        ];
+        let mut seen = vec![catch_all.clone()];
+        for (error, numbers) in &kinds {
+            let words = plain_decode_error(error);
+            assert!(!seen.contains(&words), "{error:?}: {words:?} again");
+            assert!(
+                words.len() > 10 && !words.contains('{'),
+                "{error:?}: {words:?}"
+            );
+            for number in *numbers {
+                assert!(
+                    words.contains(number),
+                    "{error:?}: {words:?} without {number}"
+                );
+            }
+            seen.push(words);
+        }
+        assert_eq!(
+            plain_decode_error(&kinds[5].0),
+            "a name is not valid UTF-8 text"
+        );
+        assert_eq!(
+            plain_decode_error(&kinds[4].0),
+            "kind number 7 is not one this format has"
+        );
+    }
+
     /// The blocks of a recording's body as docs/recording.md lays them out
     /// (a `u32` little-endian length, that many bytes of events, a `u64`
     /// checksum), from `body` (the first byte after the header) to the end:
