@@ -1299,6 +1299,27 @@ mod tests {
         );
     }
 
+    /// A recording is read up to [`MAX_RECORDING_BYTES`] ("at most 64 MiB",
+    /// docs/recording.md): a file of exactly 64 MiB is read (this one then
+    /// refused for its version, 0), one byte more is too large, with its
+    /// size.
+    #[test]
+    fn sixty_four_mib_is_the_largest_recording_read() {
+        let mut bytes = vec![0_u8; usize::try_from(MAX_RECORDING_BYTES).unwrap()];
+        bytes[..MAGIC.len()].copy_from_slice(&MAGIC);
+        assert_eq!(
+            parse_recording(&bytes),
+            Err(RecordingError::WrongVersion { found: 0 })
+        );
+        bytes.push(0);
+        assert_eq!(
+            parse_recording(&bytes),
+            Err(RecordingError::TooLarge {
+                size: MAX_RECORDING_BYTES + 1
+            })
+        );
+    }
+
     /// The blocks of a recording's body as docs/recording.md lays them out
     /// (a `u32` little-endian length, that many bytes of events, a `u64`
     /// checksum), from `body` (the first byte after the header) to the end:
