@@ -1320,6 +1320,34 @@ mod tests {
         );
     }
 
+    /// A recording's file holds each second of flight once its block is
+    /// closed, while the writer is still open (docs/recording.md: every
+    /// second "it closes the block with a checksum and hands it to the
+    /// operating system"): 45 frames at 30 fps read back from the path are
+    /// the header and the first second, a cut of 30 frames; finished and
+    /// dropped, all 45.
+    #[test]
+    fn a_recording_file_holds_each_second_once_its_block_is_closed() {
+        let dir = std::env::temp_dir().join(format!("fdm-run-record-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("flight.rec");
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let file = RecordFile::create(&path).unwrap();
+        let mut writer = RecordWriter::new(file.out, 30, &origin, &start).unwrap();
+        for _ in 0..45 {
+            writer.frame(&[]).unwrap();
+        }
+        let bytes = std::fs::read(&path).unwrap();
+        let (recording, cut) = Recording::<Palmer>::parse_salvaging(&bytes).unwrap();
+        assert_eq!((recording.frames, cut.map(|c| c.frames)), (30, Some(30)));
+        writer.finish().unwrap();
+        drop(writer);
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(Recording::<Palmer>::parse(&bytes).unwrap().frames, 45);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// The blocks of a recording's body as docs/recording.md lays them out
     /// (a `u32` little-endian length, that many bytes of events, a `u64`
     /// checksum), from `body` (the first byte after the header) to the end:
