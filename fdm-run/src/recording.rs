@@ -1348,6 +1348,38 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// The writer's side of the 64 MiB limit (`RecordWriteError::TooLarge`:
+    /// "the recording would exceed 64 MiB, the most `sim-cli replay`
+    /// reads"): a recording that ends at exactly [`MAX_RECORDING_BYTES`] is
+    /// written, one that would end a byte past it is refused. (The bytes
+    /// before are counted, not written: `written` is set by hand, as in
+    /// `endless_recordings_are_refused`.)
+    #[test]
+    fn a_recording_may_reach_64_mib_and_not_one_byte_more() {
+        use fdm_core::palmer::PalmerAction::ThrottleUp;
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let writer = || {
+            let mut writer =
+                RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+            writer.frame(&[ThrottleUp]).unwrap();
+            writer.set_final_state(7);
+            writer
+        };
+        // What finishing adds: the frame's event, the end marker and their blocks.
+        let mut probe = writer();
+        let before = probe.bytes_written();
+        probe.finish().unwrap();
+        let added = probe.bytes_written() - before;
+        let mut exactly = writer();
+        exactly.written = MAX_RECORDING_BYTES - added;
+        exactly.finish().unwrap();
+        assert_eq!(exactly.bytes_written(), MAX_RECORDING_BYTES);
+        let mut over = writer();
+        over.written = MAX_RECORDING_BYTES - added + 1;
+        assert!(matches!(over.finish(), Err(RecordWriteError::TooLarge)));
+    }
+
     /// The blocks of a recording's body as docs/recording.md lays them out
     /// (a `u32` little-endian length, that many bytes of events, a `u64`
     /// checksum), from `body` (the first byte after the header) to the end:
