@@ -1380,6 +1380,36 @@ mod tests {
         assert!(matches!(over.finish(), Err(RecordWriteError::TooLarge)));
     }
 
+    /// docs/recording.md: "a file that ends, or turns to zeros, before its
+    /// end block is a cut", but "a block that fails its checksum while
+    /// intact data follows it is damage, not a cut", whatever its bytes: a
+    /// body none of whose bytes is zero (a whole block of 0x01 bytes, its
+    /// length 0x01010101 and its checksum wrong, then one more byte) is
+    /// refused, not salvaged.
+    #[test]
+    fn a_damaged_block_of_nonzero_bytes_is_not_a_cut() {
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let writer = RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+        let mut bytes = writer.into_inner();
+        let body = bytes.len();
+        let len = 0x0101_0101_usize;
+        bytes.resize(body + 4 + len + 8 + 1, 0x01);
+        let err = Recording::<Palmer>::parse_salvaging(&bytes).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "corrupt recording: the block at byte {body} does not match its checksum \
+                 (stored 0x0101010101010101, computed {:#018x})",
+                {
+                    let mut hash = Fnv64::new();
+                    hash.update(&bytes[..body + 4 + len]);
+                    hash.0
+                }
+            )
+        );
+    }
+
     /// The blocks of a recording's body as docs/recording.md lays them out
     /// (a `u32` little-endian length, that many bytes of events, a `u64`
     /// checksum), from `body` (the first byte after the header) to the end:
