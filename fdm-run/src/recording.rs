@@ -1197,7 +1197,7 @@ impl<M: RunModel, W: Write> Output<M> for RecordWriter<M::Action, W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fdm_core::palmer::Palmer;
+    use fdm_core::palmer::{Palmer, PalmerAction};
 
     /// A well-formed recording of more frames than any run may have (here
     /// 2^40, written by hand) is refused rather than replayed for ever.
@@ -1408,6 +1408,142 @@ mod tests {
                 }
             )
         );
+    }
+
+    /// A writer of a Palmer recording whose prefix says `version` (its
+    /// running checksum taken again over the patched bytes, so that every
+    /// block it closes is intact), with the file offset of its body.
+    fn writer_of_version(version: u16) -> (RecordWriter<PalmerAction, Vec<u8>>, usize) {
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let mut writer = RecordWriter::new(Vec::new(), 30, &origin, &start).unwrap();
+        writer.out[MAGIC.len()..PREFIX_LEN].copy_from_slice(&version.to_le_bytes());
+        writer.hash = Fnv64::new();
+        writer.hash.update(&writer.out);
+        let body = writer.out.len();
+        (writer, body)
+    }
+
+    /// docs/recording.md's checks of the events of intact blocks: "count ≥
+    /// 1; indices below the number of header actions", each refused naming
+    /// the event's byte offset in the file (here the second event of the
+    /// first block: after the block's 4-byte length and a first event of 3
+    /// bytes).
+    #[test]
+    fn intact_events_with_no_frames_or_unknown_actions_are_refused_at_their_byte() {
+        for (event, problem) in [
+            (
+                Event::Frames {
+                    count: 0,
+                    actions: vec![],
+                },
+                "a run of 0 frames".to_owned(),
+            ),
+            (
+                Event::Frames {
+                    count: 1,
+                    actions: vec![1, 10],
+                },
+                format!(
+                    "action index 10 is not below the header's {} actions",
+                    PalmerAction::ALL.len()
+                ),
+            ),
+        ] {
+            let (mut writer, body) = writer_of_version(FORMAT_VERSION);
+            let first = Event::Frames {
+                count: 1,
+                actions: vec![],
+            };
+            writer.put_event(&first).unwrap();
+            writer.put_event(&event).unwrap();
+            writer.close_block().unwrap();
+            writer.set_final_state(7);
+            writer.finish().unwrap();
+            let err = Recording::<Palmer>::parse(&writer.into_inner()).unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "corrupt recording: event at byte {}: {problem}",
+                    body + 4 + 3
+                )
+            );
+        }
+    }
+
+    /// The end block holds the end marker alone (docs/recording.md: "end
+    /// block: a block holding one event"), and version 3's end marker, with
+    /// the fingerprint, is refused in a version 2 recording.
+    #[test]
+    fn the_end_marker_is_alone_in_its_block_and_sealed_only_in_version_3() {
+        let frame = Event::Frames {
+            count: 1,
+            actions: vec![],
+        };
+        let sealed = |writer: &RecordWriter<PalmerAction, Vec<u8>>, frames| Event::Sealed {
+            frames,
+            checksum: writer.hash.0,
+            state: 7,
+            maths: 8,
+        };
+        // [end marker, frame] and [frame, end marker] in the end block.
+        for marker_first in [true, false] {
+            let (mut writer, _) = writer_of_version(FORMAT_VERSION);
+            writer.put_event(&frame).unwrap();
+            writer.close_block().unwrap();
+            let end = sealed(&writer, 2);
+            if marker_first {
+                writer.put_event(&end).unwrap();
+                writer.put_event(&frame).unwrap();
+            } else {
+                writer.put_event(&frame).unwrap();
+                writer.put_event(&end).unwrap();
+            }
+            writer.close_block().unwrap();
+            let err = Recording::<Palmer>::parse(&writer.into_inner()).unwrap_err();
+            assert!(
+                err.to_string().ends_with("the end marker shares its block"),
+                "{err}"
+            );
+        }
+        for version in [2, 3] {
+            let (mut writer, _) = writer_of_version(version);
+            writer.frame(&[]).unwrap();
+            writer.set_final_state(7);
+            writer.finish().unwrap();
+            let bytes = writer.into_inner();
+            let parsed = Recording::<Palmer>::parse(&bytes);
+            if version == 3 {
+                assert_eq!(parsed.unwrap().frames, 1);
+            } else {
+                assert!(parsed
+                    .unwrap_err()
+                    .to_string()
+                    .ends_with("a version 3 end marker in a version 2 recording"),);
+            }
+        }
+    }
+
+    /// At most 10^9 frames, "as any run" (docs/recording.md's checks of the
+    /// end marker, [`MAX_FRAMES`]): a recording of exactly that many is
+    /// read, one more is refused.
+    #[test]
+    fn a_recording_may_hold_as_many_frames_as_a_run() {
+        for (frames, readable) in [(MAX_FRAMES, true), (MAX_FRAMES + 1, false)] {
+            let (mut writer, _) = writer_of_version(FORMAT_VERSION);
+            writer.run_count = frames;
+            writer.frames = frames;
+            writer.finish().unwrap();
+            let parsed = parse_recording(&writer.into_inner());
+            if readable {
+                assert_eq!(parsed.unwrap().frames, MAX_FRAMES);
+            } else {
+                assert!(parsed
+                    .unwrap_err()
+                    .to_string()
+                    .ends_with("1000000001 frames, more than the 1000000000 a run can have"),);
+            }
+        }
     }
 
     /// The blocks of a recording's body as docs/recording.md lays them out
