@@ -161,6 +161,48 @@ mod tests {
         assert_eq!(p.overruns(), 0);
     }
 
+    /// `pace` waits until each frame's deadline ([`FramePacer::finish_frame`]
+    /// at the wall clock, then sleeping), bounded on both sides as
+    /// sim-cli's pacing tests are: 40 frames of no work at 50 ms take at
+    /// least their 2 s (a frame ends at its deadline or later, never
+    /// earlier: each is checked against its own) and at most 2 s plus one
+    /// second on a loaded machine (the absolute schedule absorbs a late
+    /// wake-up), with at most a quarter of the frames overruns. Planted by
+    /// hand: a `pace` that does not sleep fails frame 1's bound; a schedule
+    /// at half the rate (each deadline two periods on) took 3.9 s; a `pace`
+    /// that sleeps a period too long made 20 overruns.
+    #[test]
+    fn pace_waits_for_each_deadline_and_no_longer() {
+        let period = 50 * MS;
+        let frames = 40_u32;
+        let start = Instant::now();
+        let mut p = FramePacer::new(period, start);
+        for frame in 1..=frames {
+            p.pace();
+            let now = Instant::now();
+            assert!(
+                now >= start + period * frame,
+                "frame {frame} ended {:?} after the start, before its deadline",
+                now - start
+            );
+        }
+        let elapsed = start.elapsed();
+        let paced = period * frames;
+        assert!(
+            elapsed <= paced + Duration::from_secs(1),
+            "{frames} frames of {period:?} took {elapsed:?}"
+        );
+        // A frame of no work is an overrun only when the machine wakes the
+        // thread more than a period (50 ms) late; a pacer that oversleeps
+        // by a period keeps the rate (every other frame is an overrun,
+        // re-anchored without a sleep) but not this count.
+        assert!(
+            p.overruns() <= u64::from(frames / 4),
+            "{} overruns in {frames} frames",
+            p.overruns()
+        );
+    }
+
     #[test]
     fn period_for_fps() {
         assert_eq!(FramePacer::period_for(10), 100 * MS);

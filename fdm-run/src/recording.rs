@@ -1197,7 +1197,7 @@ impl<M: RunModel, W: Write> Output<M> for RecordWriter<M::Action, W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fdm_core::palmer::Palmer;
+    use fdm_core::palmer::{Palmer, PalmerAction};
 
     /// A well-formed recording of more frames than any run may have (here
     /// 2^40, written by hand) is refused rather than replayed for ever.
@@ -1212,6 +1212,392 @@ mod tests {
             "recorded with model `glider`, which the run library's registry does not have \
              (palmer, bourg)"
         );
+    }
+
+    /// docs/recording.md: anything that is not truncation is `corrupt
+    /// recording: ...` "in words" (its examples: `a name is not valid UTF-8
+    /// text`, `kind number 7 is not one this format has`), not bincode's
+    /// `Debug` form: every kind of decoding error has words of its own (none
+    /// is the catch-all's, no two the same), with the numbers it carries,
+    /// and no braces of a `Debug` form.
+    #[test]
+    fn every_decoding_error_is_said_in_its_own_words() {
+        use bincode::error::{AllowedEnumVariants, IntegerType};
+        let bytes = vec![b'a', 0xff];
+        let not_utf8 = std::str::from_utf8(&bytes).unwrap_err();
+        let catch_all = plain_decode_error(&DecodeError::EmptyEnum { type_name: "Event" });
+        let kinds: [(DecodeError, &[&str]); 12] = [
+            (DecodeError::UnexpectedEnd { additional: 3 }, &[]),
+            (DecodeError::LimitExceeded, &["67108864"]),
+            (
+                DecodeError::InvalidIntegerType {
+                    expected: IntegerType::U16,
+                    found: IntegerType::U64,
+                },
+                &[],
+            ),
+            (
+                DecodeError::NonZeroTypeIsZero {
+                    non_zero_type: IntegerType::U32,
+                },
+                &["0"],
+            ),
+            (
+                DecodeError::UnexpectedVariant {
+                    type_name: "Event",
+                    allowed: &AllowedEnumVariants::Range { min: 0, max: 3 },
+                    found: 7,
+                },
+                &["7"],
+            ),
+            (DecodeError::Utf8 { inner: not_utf8 }, &["UTF-8"]),
+            (
+                DecodeError::InvalidCharEncoding([0xff, 0, 0, 0]),
+                &["UTF-8"],
+            ),
+            (DecodeError::InvalidBooleanValue(9), &["9"]),
+            (
+                DecodeError::ArrayLengthMismatch {
+                    required: 3,
+                    found: 2,
+                },
+                &["3", "2"],
+            ),
+            (DecodeError::OutsideUsizeRange(1 << 40), &["1099511627776"]),
+            (
+                DecodeError::OtherString("invalid value: integer `9`".to_owned()),
+                &["invalid value: integer `9`"],
+            ),
+            (
+                DecodeError::Other("a message of its own"),
+                &["a message of its own"],
+            ),
+        ];
+        let mut seen = vec![catch_all.clone()];
+        for (error, numbers) in &kinds {
+            let words = plain_decode_error(error);
+            assert!(!seen.contains(&words), "{error:?}: {words:?} again");
+            assert!(
+                words.len() > 10 && !words.contains('{'),
+                "{error:?}: {words:?}"
+            );
+            for number in *numbers {
+                assert!(
+                    words.contains(number),
+                    "{error:?}: {words:?} without {number}"
+                );
+            }
+            seen.push(words);
+        }
+        assert_eq!(
+            plain_decode_error(&kinds[5].0),
+            "a name is not valid UTF-8 text"
+        );
+        assert_eq!(
+            plain_decode_error(&kinds[4].0),
+            "kind number 7 is not one this format has"
+        );
+    }
+
+    /// A recording is read up to [`MAX_RECORDING_BYTES`] ("at most 64 MiB",
+    /// docs/recording.md): a file of exactly 64 MiB is read (this one then
+    /// refused for its version, 0), one byte more is too large, with its
+    /// size.
+    #[test]
+    fn sixty_four_mib_is_the_largest_recording_read() {
+        let mut bytes = vec![0_u8; usize::try_from(MAX_RECORDING_BYTES).unwrap()];
+        bytes[..MAGIC.len()].copy_from_slice(&MAGIC);
+        assert_eq!(
+            parse_recording(&bytes),
+            Err(RecordingError::WrongVersion { found: 0 })
+        );
+        bytes.push(0);
+        assert_eq!(
+            parse_recording(&bytes),
+            Err(RecordingError::TooLarge {
+                size: MAX_RECORDING_BYTES + 1
+            })
+        );
+    }
+
+    /// A recording's file holds each second of flight once its block is
+    /// closed, while the writer is still open (docs/recording.md: every
+    /// second "it closes the block with a checksum and hands it to the
+    /// operating system"): 45 frames at 30 fps read back from the path are
+    /// the header and the first second, a cut of 30 frames; finished and
+    /// dropped, all 45.
+    #[test]
+    fn a_recording_file_holds_each_second_once_its_block_is_closed() {
+        let dir = std::env::temp_dir().join(format!("fdm-run-record-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("flight.rec");
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let file = RecordFile::create(&path).unwrap();
+        let mut writer = RecordWriter::new(file.out, 30, &origin, &start).unwrap();
+        for _ in 0..45 {
+            writer.frame(&[]).unwrap();
+        }
+        let bytes = std::fs::read(&path).unwrap();
+        let (recording, cut) = Recording::<Palmer>::parse_salvaging(&bytes).unwrap();
+        assert_eq!((recording.frames, cut.map(|c| c.frames)), (30, Some(30)));
+        writer.finish().unwrap();
+        drop(writer);
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(Recording::<Palmer>::parse(&bytes).unwrap().frames, 45);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The writer's side of the 64 MiB limit (`RecordWriteError::TooLarge`:
+    /// "the recording would exceed 64 MiB, the most `sim-cli replay`
+    /// reads"): a recording that ends at exactly [`MAX_RECORDING_BYTES`] is
+    /// written, one that would end a byte past it is refused. (The bytes
+    /// before are counted, not written: `written` is set by hand, as in
+    /// `endless_recordings_are_refused`.)
+    #[test]
+    fn a_recording_may_reach_64_mib_and_not_one_byte_more() {
+        use fdm_core::palmer::PalmerAction::ThrottleUp;
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let writer = || {
+            let mut writer =
+                RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+            writer.frame(&[ThrottleUp]).unwrap();
+            writer.set_final_state(7);
+            writer
+        };
+        // What finishing adds: the frame's event, the end marker and their blocks.
+        let mut probe = writer();
+        let before = probe.bytes_written();
+        probe.finish().unwrap();
+        let added = probe.bytes_written() - before;
+        let mut exactly = writer();
+        exactly.written = MAX_RECORDING_BYTES - added;
+        exactly.finish().unwrap();
+        assert_eq!(exactly.bytes_written(), MAX_RECORDING_BYTES);
+        let mut over = writer();
+        over.written = MAX_RECORDING_BYTES - added + 1;
+        assert!(matches!(over.finish(), Err(RecordWriteError::TooLarge)));
+    }
+
+    /// docs/recording.md: "a file that ends, or turns to zeros, before its
+    /// end block is a cut", but "a block that fails its checksum while
+    /// intact data follows it is damage, not a cut", whatever its bytes: a
+    /// body none of whose bytes is zero (a whole block of 0x01 bytes, its
+    /// length 0x01010101 and its checksum wrong, then one more byte) is
+    /// refused, not salvaged.
+    #[test]
+    fn a_damaged_block_of_nonzero_bytes_is_not_a_cut() {
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let writer = RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+        let mut bytes = writer.into_inner();
+        let body = bytes.len();
+        let len = 0x0101_0101_usize;
+        bytes.resize(body + 4 + len + 8 + 1, 0x01);
+        let err = Recording::<Palmer>::parse_salvaging(&bytes).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "corrupt recording: the block at byte {body} does not match its checksum \
+                 (stored 0x0101010101010101, computed {:#018x})",
+                {
+                    let mut hash = Fnv64::new();
+                    hash.update(&bytes[..body + 4 + len]);
+                    hash.0
+                }
+            )
+        );
+    }
+
+    /// A writer of a Palmer recording whose prefix says `version` (its
+    /// running checksum taken again over the patched bytes, so that every
+    /// block it closes is intact), with the file offset of its body.
+    fn writer_of_version(version: u16) -> (RecordWriter<PalmerAction, Vec<u8>>, usize) {
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let mut writer = RecordWriter::new(Vec::new(), 30, &origin, &start).unwrap();
+        writer.out[MAGIC.len()..PREFIX_LEN].copy_from_slice(&version.to_le_bytes());
+        writer.hash = Fnv64::new();
+        writer.hash.update(&writer.out);
+        let body = writer.out.len();
+        (writer, body)
+    }
+
+    /// docs/recording.md's checks of the events of intact blocks: "count ≥
+    /// 1; indices below the number of header actions", each refused naming
+    /// the event's byte offset in the file (here the second event of the
+    /// first block: after the block's 4-byte length and a first event of 3
+    /// bytes).
+    #[test]
+    fn intact_events_with_no_frames_or_unknown_actions_are_refused_at_their_byte() {
+        for (event, problem) in [
+            (
+                Event::Frames {
+                    count: 0,
+                    actions: vec![],
+                },
+                "a run of 0 frames".to_owned(),
+            ),
+            (
+                Event::Frames {
+                    count: 1,
+                    actions: vec![1, 10],
+                },
+                format!(
+                    "action index 10 is not below the header's {} actions",
+                    PalmerAction::ALL.len()
+                ),
+            ),
+        ] {
+            let (mut writer, body) = writer_of_version(FORMAT_VERSION);
+            let first = Event::Frames {
+                count: 1,
+                actions: vec![],
+            };
+            writer.put_event(&first).unwrap();
+            writer.put_event(&event).unwrap();
+            writer.close_block().unwrap();
+            writer.set_final_state(7);
+            writer.finish().unwrap();
+            let err = Recording::<Palmer>::parse(&writer.into_inner()).unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "corrupt recording: event at byte {}: {problem}",
+                    body + 4 + 3
+                )
+            );
+        }
+    }
+
+    /// The end block holds the end marker alone (docs/recording.md: "end
+    /// block: a block holding one event"), and version 3's end marker, with
+    /// the fingerprint, is refused in a version 2 recording.
+    #[test]
+    fn the_end_marker_is_alone_in_its_block_and_sealed_only_in_version_3() {
+        let frame = Event::Frames {
+            count: 1,
+            actions: vec![],
+        };
+        let sealed = |writer: &RecordWriter<PalmerAction, Vec<u8>>, frames| Event::Sealed {
+            frames,
+            checksum: writer.hash.0,
+            state: 7,
+            maths: 8,
+        };
+        // [end marker, frame] and [frame, end marker] in the end block.
+        for marker_first in [true, false] {
+            let (mut writer, _) = writer_of_version(FORMAT_VERSION);
+            writer.put_event(&frame).unwrap();
+            writer.close_block().unwrap();
+            let end = sealed(&writer, 2);
+            if marker_first {
+                writer.put_event(&end).unwrap();
+                writer.put_event(&frame).unwrap();
+            } else {
+                writer.put_event(&frame).unwrap();
+                writer.put_event(&end).unwrap();
+            }
+            writer.close_block().unwrap();
+            let err = Recording::<Palmer>::parse(&writer.into_inner()).unwrap_err();
+            assert!(
+                err.to_string().ends_with("the end marker shares its block"),
+                "{err}"
+            );
+        }
+        for version in [2, 3] {
+            let (mut writer, _) = writer_of_version(version);
+            writer.frame(&[]).unwrap();
+            writer.set_final_state(7);
+            writer.finish().unwrap();
+            let bytes = writer.into_inner();
+            let parsed = Recording::<Palmer>::parse(&bytes);
+            if version == 3 {
+                assert_eq!(parsed.unwrap().frames, 1);
+            } else {
+                assert!(parsed
+                    .unwrap_err()
+                    .to_string()
+                    .ends_with("a version 3 end marker in a version 2 recording"),);
+            }
+        }
+    }
+
+    /// At most 10^9 frames, "as any run" (docs/recording.md's checks of the
+    /// end marker, [`MAX_FRAMES`]): a recording of exactly that many is
+    /// read, one more is refused.
+    #[test]
+    fn a_recording_may_hold_as_many_frames_as_a_run() {
+        for (frames, readable) in [(MAX_FRAMES, true), (MAX_FRAMES + 1, false)] {
+            let (mut writer, _) = writer_of_version(FORMAT_VERSION);
+            writer.run_count = frames;
+            writer.frames = frames;
+            writer.finish().unwrap();
+            let parsed = parse_recording(&writer.into_inner());
+            if readable {
+                assert_eq!(parsed.unwrap().frames, MAX_FRAMES);
+            } else {
+                assert!(parsed
+                    .unwrap_err()
+                    .to_string()
+                    .ends_with("1000000001 frames, more than the 1000000000 a run can have"),);
+            }
+        }
+    }
+
+    /// The blocks of a recording's body as docs/recording.md lays them out
+    /// (a `u32` little-endian length, that many bytes of events, a `u64`
+    /// checksum), from `body` (the first byte after the header) to the end:
+    /// each block's length.
+    fn block_lengths(bytes: &[u8], body: usize) -> Vec<usize> {
+        let mut lengths = Vec::new();
+        let mut at = body;
+        while at < bytes.len() {
+            let len = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+            lengths.push(len);
+            at += 4 + len + 8;
+        }
+        assert_eq!(at, bytes.len(), "the last block ends with the file");
+        lengths
+    }
+
+    /// docs/recording.md: the writer closes a block "every second of flight
+    /// (fps frames), and sooner when a block reaches 64 KiB"; and
+    /// `bytes_written` is the file's size. Frames of 100 actions (an event
+    /// of 103 bytes: variant, count 1, length 100, 100 one-byte indices;
+    /// bincode 2's variable-length integers) alternating between two lists,
+    /// so that no two neighbours are one run: a second of 30 of them
+    /// (3 090 bytes) is one block. Frames of 3 000 actions (3 005 bytes: the
+    /// length takes 3) fill 64 KiB after 22 events (66 110 bytes): that
+    /// block closes there and the second's other 8 frames make the next.
+    #[test]
+    fn blocks_close_every_second_or_at_64_kib() {
+        use fdm_core::palmer::PalmerAction::{AlphaDown, AlphaUp};
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        for (actions, seconds, expected) in [
+            (100, 2, vec![30 * 103, 30 * 103]),
+            (3000, 1, vec![22 * 3005, 8 * 3005]),
+        ] {
+            let mut writer =
+                RecordWriter::<_, Vec<u8>>::new(Vec::new(), 30, &origin, &start).unwrap();
+            let body = usize::try_from(writer.bytes_written()).unwrap();
+            let (up, down) = (vec![AlphaUp; actions], vec![AlphaDown; actions]);
+            for frame in 0..30 * seconds {
+                writer
+                    .frame(if frame % 2 == 0 { &up } else { &down })
+                    .unwrap();
+            }
+            writer.set_final_state(7);
+            writer.finish().unwrap();
+            let written = writer.bytes_written();
+            let bytes = writer.into_inner();
+            assert_eq!(written, bytes.len() as u64, "{actions} actions a frame");
+            let mut lengths = block_lengths(&bytes, body);
+            lengths.pop(); // the end block
+            assert_eq!(lengths, expected, "{actions} actions a frame");
+        }
     }
 
     #[test]

@@ -134,6 +134,81 @@ fn a_short_pipe_is_a_script() {
     assert_eq!(piped, from_file);
 }
 
+/// A script from a named FIFO that no program writes to yet waits for one
+/// and says so on stderr (docs/cli.md: "opening a FIFO that no program writes
+/// to yet waits for one, and says so on stderr after a second"), then flies
+/// the script once a writer comes: the same report as from a file.
+#[cfg(unix)]
+#[test]
+fn a_script_fifo_without_a_writer_is_waited_for_out_loud() {
+    use std::io::Write as _;
+    let dir = scratch("script-fifo");
+    let fifo = dir.join("script.txt");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo")
+        .success());
+    let mut child = Command::new(BIN)
+        .args([
+            "palmer",
+            "--headless",
+            "--json",
+            "--frames",
+            "3",
+            "--script",
+        ])
+        .arg(&fifo)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sim-cli");
+    // The note's line comes before anything is written to the pipe. (Read
+    // by a thread: without the note the writer still comes, after 20 s, so
+    // that the run ends and the test fails instead of hanging.)
+    let mut stderr = child.stderr.take().expect("stderr");
+    let (first_line, note) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut all = Vec::new();
+        let mut byte = [0_u8; 1];
+        while stderr.read(&mut byte).expect("read stderr") == 1 {
+            all.push(byte[0]);
+            if byte[0] == b'\n' {
+                let _ = first_line.send(String::from_utf8_lossy(&all).into_owned());
+            }
+        }
+        String::from_utf8_lossy(&all).into_owned()
+    });
+    let note = note.recv_timeout(Duration::from_secs(20));
+    let mut writer = std::fs::OpenOptions::new()
+        .write(true)
+        .open(&fifo)
+        .expect("open the FIFO");
+    writer.write_all(b"1-3 throttle-up\n").expect("write");
+    drop(writer);
+    let out = child.wait_with_output().expect("wait");
+    let stderr = reader.join().expect("stderr reader");
+    assert!(
+        note.as_deref()
+            .is_ok_and(|line| line.starts_with("sim-cli: waiting for a program to open the pipe ")),
+        "no note before the writer came: {note:?}; stderr {stderr}"
+    );
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let piped: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let path = write_file(&dir, "s.txt", "1-3 throttle-up\n");
+    let from_file = report(&[
+        "palmer",
+        "--headless",
+        "--json",
+        "--frames",
+        "3",
+        "--script",
+        &path,
+    ]);
+    assert_eq!(piped, from_file);
+}
+
 #[test]
 fn a_file_over_16_mib_is_refused_before_reading() {
     let dir = scratch("big");

@@ -276,6 +276,71 @@ fn ecs_kernel_refuses_fast_precision() {
     }
 }
 
+/// The ECS kernel's refusal of `--precision fast` comes before the `--dis`
+/// target is looked up (`sim-cli fleet`'s comment: "The ECS kernel's
+/// precision is refused before the DIS target is resolved"; a host name's
+/// lookup can wait on the network): with both wrong, the one line names the
+/// precision, not the target. The same target alone is refused naming it.
+#[test]
+fn the_ecs_kernels_precision_is_refused_before_the_dis_target() {
+    let fleet = [
+        "fleet",
+        "--model",
+        "palmer",
+        "--aircraft",
+        "3",
+        "--frames",
+        "1",
+        "--kernel",
+        "ecs",
+    ];
+    let both = sim(&[&fleet[..], &["--precision", "fast", "--dis", "127.0.0.1:0"]].concat());
+    let err = text(&both.stderr);
+    assert_eq!(both.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--precision fast") && !err.contains("127.0.0.1:0"),
+        "{err}"
+    );
+    let target = sim(&[&fleet[..], &["--dis", "127.0.0.1:0"]].concat());
+    let err = text(&target.stderr);
+    assert_eq!(target.status.code(), Some(2), "{err}");
+    assert!(err.contains("127.0.0.1:0"), "{err}");
+}
+
+/// `--acmi FILE` writes a fleet's tracks with either kernel, but not with
+/// `--fg-mp` (docs/cli.md, `fleet`): the two together exit 2 with one line
+/// naming both, before anything is flown or written; `--acmi` alone flies
+/// and writes the file.
+#[test]
+fn acmi_is_refused_with_fg_mp_only() {
+    let dir = support::scratch("fleet-acmi");
+    let file = dir.join("fleet.acmi");
+    let acmi = file.to_str().unwrap();
+    let fleet = [
+        "fleet",
+        "--model",
+        "palmer",
+        "--aircraft",
+        "3",
+        "--frames",
+        "2",
+    ];
+    let with_mp = sim(&[
+        &fleet[..],
+        &["--acmi", acmi, "--fg-mp", "127.0.0.1:5000", "--realtime"],
+    ]
+    .concat());
+    let err = text(&with_mp.stderr);
+    assert_eq!(with_mp.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("--acmi") && err.contains("--fg-mp"), "{err}");
+    assert!(!file.exists());
+    let alone = sim(&[&fleet[..], &["--acmi", acmi]].concat());
+    assert_eq!(alone.status.code(), Some(0), "{}", text(&alone.stderr));
+    assert!(std::fs::read(&file).unwrap().len() > 100);
+}
+
 /// The memory check's estimate against the binary's own measurement (the
 /// growth of the resident set while 200 000 aircraft are spawned), two-sided:
 /// the estimate (components plus hecs's per-entity bookkeeping, docs/cli.md)
