@@ -299,6 +299,26 @@ mod tests {
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
 
+    /// An aircraft's decision as the tests compare it: its index and the
+    /// datagram's reason and bytes, or the error in words.
+    type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
+
+    /// A publish callback that counts as the publisher does and keeps each
+    /// aircraft's decision in `got`.
+    fn keep(
+        got: &std::sync::Mutex<Vec<Sent>>,
+    ) -> impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync + '_ {
+        move |tally, i, result| {
+            let kept = match &result {
+                Ok(Some(d)) => Some((i, Ok((d.reason, d.bytes.to_vec())))),
+                Ok(None) => None,
+                Err(e) => Some((i, Err(e.to_string()))),
+            };
+            tally.publish_counts_only(&result);
+            got.lock().unwrap().extend(kept);
+        }
+    }
+
     /// The screened fleet publisher against the whole computation, aircraft
     /// by aircraft and frame by frame: the same PDUs (reason and bytes), the
     /// same errors, the same counts. The rough orientations are the exact
@@ -377,7 +397,6 @@ mod tests {
                         });
                     }
                 };
-                type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
                 let got = Mutex::new(Vec::<Sent>::new());
                 let tally = screened.screened(
                     &placement,
@@ -385,15 +404,7 @@ mod tests {
                     |i| offered(i).map(|i| states[i]),
                     rough,
                     view,
-                    |tally, i, result| {
-                        let kept = match &result {
-                            Ok(Some(d)) => Some((i, Ok((d.reason, d.bytes.to_vec())))),
-                            Ok(None) => None,
-                            Err(e) => Some((i, Err(e.to_string()))),
-                        };
-                        tally.publish_counts_only(&result);
-                        got.lock().unwrap().extend(kept);
-                    },
+                    keep(&got),
                 );
                 let mut got = got.into_inner().unwrap();
                 got.sort_by_key(|(i, _)| *i);
@@ -457,21 +468,6 @@ mod tests {
         };
         let view =
             |i: usize, s: &fdm_core::palmer::PalmerState| Palmer::view(&aircraft, &controls[i], s);
-        type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
-        fn keep(
-            got: &std::sync::Mutex<Vec<Sent>>,
-        ) -> impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync + '_
-        {
-            move |tally, i, result| {
-                let kept = match &result {
-                    Ok(Some(d)) => Some((i, Ok((d.reason, d.bytes.to_vec())))),
-                    Ok(None) => None,
-                    Err(e) => Some((i, Err(e.to_string()))),
-                };
-                tally.publish_counts_only(&result);
-                got.lock().unwrap().extend(kept);
-            }
-        }
         let trackers: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
         for per in [1, 7, 64, n + 5] {
             let mut whole = FleetPublisher::new(trackers.clone());
