@@ -11,9 +11,12 @@
 //! for bit with and without `std` and on every target (docs/determinism.md);
 //! [`fingerprint`] hashes a state and the maths in use.
 //!
-//! [`script`] parses the `START-END action` control scripts shared by the tests
+//!
+//! `script` parses the `START-END action` control scripts shared by the tests
 //! and the `sim-cli` binary (needs the `alloc` feature).
 #![cfg_attr(not(feature = "std"), no_std)]
+// The link only where the module is (a build without `alloc` has no `script`).
+#![cfg_attr(feature = "alloc", doc = "See [`script`].")]
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
