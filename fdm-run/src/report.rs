@@ -354,15 +354,20 @@ impl<D: Details> Snapshot<D> {
     }
 }
 
-/// Sample snapshots for tests of the modules built on [`Snapshot`].
-#[cfg(test)]
-pub(crate) mod samples {
-    use super::*;
-    use crate::model::bourg::BourgDetails;
-    use crate::model::palmer::{PalmerControlsReport, PalmerDetails};
-
-    fn common() -> CommonState {
-        CommonState {
+impl CommonState {
+    /// A fixed state (the same in every call): 60 s into a flight, 98.76
+    /// units up and sinking at 0.25 units/s, near Dayton, banked 5° right and
+    /// pitched 2.5° up. For tests and examples of code that shows or
+    /// formats a state (a HUD, a summary); each model's details have one too
+    /// (e.g. [`PalmerDetails::sample_snapshot`](crate::model::palmer::PalmerDetails::sample_snapshot)).
+    ///
+    /// ```
+    /// let s = fdm_run::report::CommonState::sample();
+    /// assert_eq!(s.position[2], 98.76);
+    /// ```
+    #[must_use]
+    pub fn sample() -> Self {
+        Self {
             time_s: 60.000000000000746,
             position: [1234.5678901234567, -0.1, 98.76],
             velocity: [55.5, 1e-20, -0.25],
@@ -378,44 +383,21 @@ pub(crate) mod samples {
             },
         }
     }
+}
+
+/// Sample snapshots for tests of the modules built on [`Snapshot`].
+#[cfg(test)]
+pub(crate) mod samples {
+    use super::Snapshot;
+    use crate::model::bourg::BourgDetails;
+    use crate::model::palmer::PalmerDetails;
 
     pub(crate) fn palmer() -> Snapshot<PalmerDetails> {
-        Snapshot {
-            common: common(),
-            details: PalmerDetails {
-                airspeed: 55.6,
-                controls: PalmerControlsReport {
-                    throttle: 0.75,
-                    alpha_deg: 4.0,
-                    bank_deg: 5.0,
-                    flaps_deg: 20.0,
-                    brakes: false,
-                },
-                climb_angle_deg: 3.1,
-                climb_rate: 2.9,
-                heading_deg: 0.5,
-            },
-            status: FlightStatus::Airborne,
-            stalling: false,
-            airspeed_mps: 55.6,
-        }
+        PalmerDetails::sample_snapshot()
     }
 
     pub(crate) fn bourg() -> Snapshot<BourgDetails> {
-        Snapshot {
-            common: common(),
-            details: BourgDetails {
-                speed: f64::from(183.123_46_f32),
-                euler_deg: [0.1_f32, -2.5, -0.3].map(f64::from),
-                thrust_lb: 3000.0,
-                flaps: true,
-                stalling: false,
-                pitch_trim: 0.0,
-            },
-            status: FlightStatus::Airborne,
-            stalling: false,
-            airspeed_mps: f64::from(183.123_46_f32) * 0.3048,
-        }
+        BourgDetails::sample_snapshot()
     }
 }
 

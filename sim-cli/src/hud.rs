@@ -368,7 +368,6 @@ impl HudWriter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::snapshot::samples;
     use fdm_core::bourg::Bourg;
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
@@ -377,7 +376,7 @@ mod tests {
     fn palmer_hud() -> HudData {
         HudData::from_snapshot(
             Palmer::TITLE,
-            &samples::palmer(),
+            &crate::models::palmer::PalmerDetails::sample_snapshot(),
             Some(SocketAddrV4::new(Ipv4Addr::LOCALHOST, 5500)),
             Some(LinkStats {
                 sent: 369,
@@ -414,7 +413,7 @@ mod tests {
 
     #[test]
     fn bourg_text_paused_without_fg() {
-        let mut snapshot = samples::bourg();
+        let mut snapshot = crate::models::bourg::BourgDetails::sample_snapshot();
         snapshot.stalling = true;
         let d = HudData::from_snapshot(
             Bourg::TITLE,

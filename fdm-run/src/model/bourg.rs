@@ -7,10 +7,11 @@
 
 use fdm_core::bourg::{Airframe, Bourg, BourgAircraft, BourgControls, BourgState};
 use fdm_core::fingerprint;
+use fdm_core::model::FlightStatus;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvModel;
-use crate::report::{Details, ReportModel};
+use crate::report::{CommonState, Details, ReportModel, Snapshot};
 use crate::{FleetModel, RunModel};
 
 /// Bourg's aircraft as a recording stores it: the airframe (from which
@@ -207,6 +208,30 @@ pub struct BourgDetails {
     /// unless trimmed or moved with T/G). Absent in older reports.
     #[serde(default)]
     pub pitch_trim: f64,
+}
+
+impl BourgDetails {
+    /// A fixed snapshot (the same in every call) of Bourg's aircraft at
+    /// 183.12346 ft/s (an `f32`), 3000 lb of thrust, flaps down, on
+    /// [`CommonState::sample`](crate::report::CommonState::sample): for
+    /// tests and examples of code that shows a snapshot.
+    #[must_use]
+    pub fn sample_snapshot() -> Snapshot<Self> {
+        Snapshot {
+            common: CommonState::sample(),
+            details: Self {
+                speed: f64::from(183.123_46_f32),
+                euler_deg: [0.1_f32, -2.5, -0.3].map(f64::from),
+                thrust_lb: 3000.0,
+                flaps: true,
+                stalling: false,
+                pitch_trim: 0.0,
+            },
+            status: FlightStatus::Airborne,
+            stalling: false,
+            airspeed_mps: f64::from(183.123_46_f32) * 0.3048,
+        }
+    }
 }
 
 impl Details for BourgDetails {

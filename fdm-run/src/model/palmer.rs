@@ -6,12 +6,12 @@
 
 use fdm_core::fingerprint;
 #[cfg(feature = "dis")]
-use fdm_core::model::Model;
+use fdm_core::model::{FlightStatus, Model};
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvModel;
-use crate::report::{Details, ReportModel};
+use crate::report::{CommonState, Details, ReportModel, Snapshot};
 use crate::{FleetModel, RunModel};
 
 impl RunModel for Palmer {
@@ -282,6 +282,35 @@ pub struct PalmerDetails {
     /// The model's heading angle, degrees in [0, 360), measured from +x toward +y
     /// (i.e. toward the west; not a compass heading, see `attitude_deg.heading`).
     pub heading_deg: f64,
+}
+
+impl PalmerDetails {
+    /// A fixed snapshot (the same in every call) of a Cessna at 55.6 m/s,
+    /// 75 % throttle, 4° of attack, banked 5°, 20° of flaps, on
+    /// [`CommonState::sample`](crate::report::CommonState::sample): for
+    /// tests and examples of code that shows a snapshot.
+    #[must_use]
+    pub fn sample_snapshot() -> Snapshot<Self> {
+        Snapshot {
+            common: CommonState::sample(),
+            details: Self {
+                airspeed: 55.6,
+                controls: PalmerControlsReport {
+                    throttle: 0.75,
+                    alpha_deg: 4.0,
+                    bank_deg: 5.0,
+                    flaps_deg: 20.0,
+                    brakes: false,
+                },
+                climb_angle_deg: 3.1,
+                climb_rate: 2.9,
+                heading_deg: 0.5,
+            },
+            status: FlightStatus::Airborne,
+            stalling: false,
+            airspeed_mps: 55.6,
+        }
+    }
 }
 
 impl Details for PalmerDetails {

@@ -194,7 +194,6 @@ mod tests {
     use super::*;
     use crate::keys::{AppCommand, Input};
     use crate::models::palmer::PalmerDetails;
-    use crate::snapshot::samples;
     use fdm_core::palmer::PalmerAction;
     use fdm_core::script::Script;
 
@@ -234,7 +233,7 @@ mod tests {
         }
 
         fn snapshot(&self) -> Snapshot<PalmerDetails> {
-            let mut s = samples::palmer();
+            let mut s = PalmerDetails::sample_snapshot();
             s.common.time_s = self.steps.len() as f64 * 0.1;
             s.common.position = [self.steps.len() as f64, 0.0, 0.0];
             s.details.controls.throttle = self.steps.iter().flatten().count() as f64;
