@@ -1,7 +1,7 @@
 //! A third model flown from `sim-cli` (cargo feature `glider`: `cargo test -p
 //! afit-fdm-cli --features glider --test cli_glider`): the point-mass glider of
 //! `fdm-ecs/examples/third_model.rs`, added by one module
-//! (`sim-cli/src/models/glider.rs`) and one line of the model registry
+//! (`sim-cli/src/models/glider/`) and one line of the model registry
 //! (`sim-cli/src/models/mod.rs`). Through the built binary: its subcommand
 //! and help are there, derived from the registry; it flies headless with
 //! the options every model shares; its report, CSV and recording name it;
