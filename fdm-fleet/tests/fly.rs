@@ -13,6 +13,7 @@ use fdm_core::model::{fly, FlightStatus, LandingState, Model};
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
 use fdm_fleet::bourg::BourgFleet;
 use fdm_fleet::palmer::{PalmerFleet, Precision, LANES};
+use fdm_fleet::Fleet;
 
 /// SplitMix64.
 struct Rng(u64);
@@ -205,18 +206,42 @@ impl Seen {
     }
 }
 
-#[test]
-fn palmer_fleet_frames_are_fly_bit_for_bit() {
-    let aircraft = Palmer::default_aircraft();
-    let dt = Palmer::time_step(30.0);
+/// One aircraft of a test fleet: controls, state, status.
+type Member<M> = (<M as Model>::Controls, <M as Model>::State, FlightStatus);
+
+/// A fleet's three ways of flying a frame, as the test calls them.
+struct FlyWays<M: fdm_fleet::FleetKernel> {
+    dispatched: fn(&mut Fleet<M>, M::TimeStep),
+    baseline: fn(&mut Fleet<M>, M::TimeStep),
+    parallel: fn(&mut Fleet<M>, M::TimeStep),
+}
+
+/// Every aircraft of fleets of 1, a block less one, a block and three, and
+/// 301 members (from `members(seed, n)`), flown 120 frames dispatched, on
+/// the baseline instruction set and on two threads, against the scalar
+/// `fly` after every frame, bit for bit (`bits`); every landing class,
+/// airborne and divergence in flight must have been seen.
+fn fleet_frames_are_fly<M, B>(
+    mut fleet_of: impl FnMut() -> Fleet<M>,
+    lanes: usize,
+    members: fn(u64, usize) -> Vec<Member<M>>,
+    bits: fn(&M::State) -> B,
+    ways: &FlyWays<M>,
+) where
+    M: fdm_fleet::FleetKernel,
+    M::State: std::fmt::Debug,
+    B: PartialEq + std::fmt::Debug,
+{
+    let aircraft = M::default_aircraft();
+    let dt = M::time_step(30.0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .unwrap();
     let mut seen = Seen::default();
-    for (seed, n) in [(1_u64, 1), (2, LANES - 1), (3, LANES + 3), (4, 301)] {
-        let mut members = palmer_members(seed, n);
-        let mut fleet = PalmerFleet::new(aircraft).unwrap();
+    for (seed, n) in [(1_u64, 1), (2, lanes - 1), (3, lanes + 3), (4, 301)] {
+        let mut members = members(seed, n);
+        let mut fleet = fleet_of();
         for (i, (c, s, status)) in members.iter().enumerate() {
             fleet.push(*s, *c);
             fleet.set_status(i, *status).unwrap();
@@ -224,12 +249,12 @@ fn palmer_fleet_frames_are_fly_bit_for_bit() {
         let mut baseline = fleet.clone();
         let mut parallel = fleet.clone();
         for frame in 1..=120 {
-            fleet.fly(dt, Precision::Exact);
-            baseline.fly_baseline(dt, Precision::Exact);
-            pool.install(|| parallel.par_fly(dt, Precision::Exact));
+            (ways.dispatched)(&mut fleet, dt);
+            (ways.baseline)(&mut baseline, dt);
+            pool.install(|| (ways.parallel)(&mut parallel, dt));
             for (i, m) in members.iter_mut().enumerate() {
                 let before = m.2;
-                (m.1, m.2) = fly::<Palmer>(&aircraft, &m.0, m.2, &m.1, dt);
+                (m.1, m.2) = fly::<M>(&aircraft, &m.0, m.2, &m.1, dt);
                 seen.note(before, m.2);
                 for (what, f) in [
                     ("dispatched", &fleet),
@@ -238,8 +263,8 @@ fn palmer_fleet_frames_are_fly_bit_for_bit() {
                 ] {
                     let got = f.state(i).unwrap();
                     assert_eq!(
-                        (palmer_bits(&got), f.status(i)),
-                        (palmer_bits(&m.1), Some(m.2)),
+                        (bits(&got), f.status(i)),
+                        (bits(&m.1), Some(m.2)),
                         "seed {seed}, frame {frame}, aircraft {i}, {what}: {got:?} != {:?}",
                         m.1
                     );
@@ -252,50 +277,33 @@ fn palmer_fleet_frames_are_fly_bit_for_bit() {
 }
 
 #[test]
+fn palmer_fleet_frames_are_fly_bit_for_bit() {
+    fleet_frames_are_fly(
+        || PalmerFleet::new(Palmer::default_aircraft()).unwrap(),
+        LANES,
+        palmer_members,
+        palmer_bits,
+        &FlyWays {
+            dispatched: |f: &mut PalmerFleet, dt| f.fly(dt, Precision::Exact),
+            baseline: |f: &mut PalmerFleet, dt| f.fly_baseline(dt, Precision::Exact),
+            parallel: |f: &mut PalmerFleet, dt| f.par_fly(dt, Precision::Exact),
+        },
+    );
+}
+
+#[test]
 fn bourg_fleet_frames_are_fly_bit_for_bit() {
-    let aircraft = Bourg::default_aircraft();
-    let dt = Bourg::time_step(30.0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
-    let mut seen = Seen::default();
-    let lanes = fdm_fleet::bourg::LANES;
-    for (seed, n) in [(1_u64, 1), (2, lanes - 1), (3, lanes + 3), (4, 301)] {
-        let mut members = bourg_members(seed, n);
-        let mut fleet = BourgFleet::new(aircraft);
-        for (i, (c, s, status)) in members.iter().enumerate() {
-            fleet.push(*s, *c);
-            fleet.set_status(i, *status).unwrap();
-        }
-        let mut baseline = fleet.clone();
-        let mut parallel = fleet.clone();
-        for frame in 1..=120 {
-            fleet.fly(dt);
-            baseline.fly_baseline(dt);
-            pool.install(|| parallel.par_fly(dt));
-            for (i, m) in members.iter_mut().enumerate() {
-                let before = m.2;
-                (m.1, m.2) = fly::<Bourg>(&aircraft, &m.0, m.2, &m.1, dt);
-                seen.note(before, m.2);
-                for (what, f) in [
-                    ("dispatched", &fleet),
-                    ("baseline", &baseline),
-                    ("par_fly", &parallel),
-                ] {
-                    let got = f.state(i).unwrap();
-                    assert_eq!(
-                        (bourg_bits(&got), f.status(i)),
-                        (bourg_bits(&m.1), Some(m.2)),
-                        "seed {seed}, frame {frame}, aircraft {i}, {what}: {got:?} != {:?}",
-                        m.1
-                    );
-                }
-            }
-        }
-        assert_eq!(fleet.statuses().count(), n);
-    }
-    assert!(seen.all(), "not every case was flown");
+    fleet_frames_are_fly(
+        || BourgFleet::new(Bourg::default_aircraft()),
+        fdm_fleet::bourg::LANES,
+        bourg_members,
+        bourg_bits,
+        &FlyWays {
+            dispatched: |f: &mut BourgFleet, dt| f.fly(dt),
+            baseline: |f: &mut BourgFleet, dt| f.fly_baseline(dt),
+            parallel: |f: &mut BourgFleet, dt| f.par_fly(dt),
+        },
+    );
 }
 
 /// Above the ground and airborne, `fly` is the bare step: the demonstration
