@@ -42,6 +42,68 @@ fn sink() -> UdpSocket {
     socket
 }
 
+/// A `FleetRun` of `n` aircraft of `M`'s demonstration fleet publishing DIS
+/// with `settings` (entities from `entity_base`), against the old path (the
+/// same fleet flown beside it, every aircraft's full view published by a
+/// `FleetPublisher`), for `frames` frames: every frame's datagrams the same,
+/// byte for byte, and as many as the old path counted. Returns the run's
+/// report and the datagrams sent.
+fn against_the_old_path<M: FleetModel>(
+    n: usize,
+    frames: u64,
+    settings: impl Fn(std::net::SocketAddr) -> DisSettings,
+    entity_base: u16,
+) -> (fdm_run::fleet::FleetReport, usize) {
+    let new_sink = sink();
+    let old_sink = sink();
+    let mut scenario = FleetScenario::new(n as u64, frames);
+    scenario.threads = Some(2);
+    scenario.dis = Some(FleetDisConfig {
+        settings: settings(new_sink.local_addr().unwrap()),
+        entity_base,
+    });
+    let mut run = FleetRun::<M>::new(scenario, &mut |_, _| {}).unwrap();
+
+    // The old path: the same fleet, every aircraft's full view.
+    let old_settings = settings(old_sink.local_addr().unwrap());
+    let trackers = (0..n as u64)
+        .map(|i| {
+            let id = fleet_identity(old_settings.site, old_settings.application, entity_base, i)
+                .unwrap();
+            old_settings
+                .tracker::<M>(id, &callsign(M::CALLSIGN, u64::from(entity_base) + i))
+                .unwrap()
+        })
+        .collect();
+    let mut old = FleetPublisher::new(trackers);
+    let sender = UdpSender::new(old_sink.local_addr().unwrap(), false).unwrap();
+    let mut fleet = <M as FleetModel>::Lanes::demonstration(n).unwrap();
+    let placement = Placement::new(GeodeticOrigin::default());
+    let aircraft = M::default_aircraft();
+
+    let mut sent = 0;
+    for frame in 0..frames {
+        run.step_frame().unwrap();
+        LaneFleet::par_fly(&mut fleet, 30.0, Precision::Exact).unwrap();
+        let tally = old.publish(&sender, &placement, |i| {
+            let s = LaneFleet::state(&fleet, i)?;
+            Some(M::view(&aircraft, &M::fleet_member(i).0, &s))
+        });
+        let new = drain(&new_sink);
+        let expected = drain(&old_sink);
+        assert_eq!(new.len() as u64, tally.pdus, "{}: frame {frame}", M::NAME);
+        assert!(
+            new == expected,
+            "{} {:?} {:?}: frame {frame} differs",
+            M::NAME,
+            old_settings.dr,
+            old_settings.thresholds
+        );
+        sent += new.len();
+    }
+    (run.report(), sent)
+}
+
 /// 200 aircraft of the demonstration fleet for 11 s (330 frames: the first
 /// PDUs, position and orientation errors, heartbeats), with DRM(R,V,W)
 /// and DRM(F,P,W) and a tight threshold set: every frame's datagrams are
@@ -83,8 +145,6 @@ fn screened_fleet_against_the_old_path<M: FleetModel>() -> (u64, u64) {
             },
         ),
     ] {
-        let new_sink = sink();
-        let old_sink = sink();
         let settings = |target| DisSettings {
             target,
             site: 3,
@@ -95,49 +155,7 @@ fn screened_fleet_against_the_old_path<M: FleetModel>() -> (u64, u64) {
             thresholds,
             every_frame: false,
         };
-        let mut scenario = FleetScenario::new(N as u64, FRAMES);
-        scenario.threads = Some(2);
-        scenario.dis = Some(FleetDisConfig {
-            settings: settings(new_sink.local_addr().unwrap()),
-            entity_base: 11,
-        });
-        let mut run = FleetRun::<M>::new(scenario, &mut |_, _| {}).unwrap();
-
-        // The old path: the same fleet, every aircraft's full view.
-        let old_settings = settings(old_sink.local_addr().unwrap());
-        let trackers = (0..N as u64)
-            .map(|i| {
-                let id = fleet_identity(3, 4, 11, i).unwrap();
-                old_settings
-                    .tracker::<M>(id, &callsign(M::CALLSIGN, 11 + i))
-                    .unwrap()
-            })
-            .collect();
-        let mut old = FleetPublisher::new(trackers);
-        let sender = UdpSender::new(old_sink.local_addr().unwrap(), false).unwrap();
-        let mut fleet = <M as FleetModel>::Lanes::demonstration(N).unwrap();
-        let placement = Placement::new(GeodeticOrigin::default());
-        let aircraft = M::default_aircraft();
-
-        let mut sent = 0;
-        for frame in 0..FRAMES {
-            run.step_frame().unwrap();
-            LaneFleet::par_fly(&mut fleet, 30.0, Precision::Exact).unwrap();
-            let tally = old.publish(&sender, &placement, |i| {
-                let s = LaneFleet::state(&fleet, i)?;
-                Some(M::view(&aircraft, &M::fleet_member(i).0, &s))
-            });
-            let new = drain(&new_sink);
-            let expected = drain(&old_sink);
-            assert_eq!(new.len() as u64, tally.pdus, "{dr:?} frame {frame}");
-            assert!(
-                new == expected,
-                "{} {dr:?} {thresholds:?}: frame {frame} differs",
-                M::NAME
-            );
-            sent += new.len();
-        }
-        let report = run.report();
+        let (report, sent) = against_the_old_path::<M>(N, FRAMES, settings, 11);
         let dis = report.dis.unwrap();
         assert_eq!(dis.pdus as usize, sent);
         assert_eq!(dis.reasons.first, N as u64);
@@ -159,8 +177,6 @@ fn a_fleet_published_piece_by_piece_sends_the_old_paths_datagrams() {
     fn check<M: FleetModel>() {
         const N: usize = 2 * 1024 + 300;
         const FRAMES: u64 = 75;
-        let new_sink = sink();
-        let old_sink = sink();
         let settings = |target| DisSettings {
             target,
             site: 2,
@@ -175,41 +191,7 @@ fn a_fleet_published_piece_by_piece_sends_the_old_paths_datagrams() {
             },
             every_frame: false,
         };
-        let mut scenario = FleetScenario::new(N as u64, FRAMES);
-        scenario.threads = Some(2);
-        scenario.dis = Some(FleetDisConfig {
-            settings: settings(new_sink.local_addr().unwrap()),
-            entity_base: 1,
-        });
-        let mut run = FleetRun::<M>::new(scenario, &mut |_, _| {}).unwrap();
-        let old_settings = settings(old_sink.local_addr().unwrap());
-        let trackers = (0..N as u64)
-            .map(|i| {
-                let id = fleet_identity(2, 1, 1, i).unwrap();
-                old_settings
-                    .tracker::<M>(id, &callsign(M::CALLSIGN, 1 + i))
-                    .unwrap()
-            })
-            .collect();
-        let mut old = FleetPublisher::new(trackers);
-        let sender = UdpSender::new(old_sink.local_addr().unwrap(), false).unwrap();
-        let mut fleet = <M as FleetModel>::Lanes::demonstration(N).unwrap();
-        let placement = Placement::new(GeodeticOrigin::default());
-        let aircraft = M::default_aircraft();
-        let mut sent = 0;
-        for frame in 0..FRAMES {
-            run.step_frame().unwrap();
-            LaneFleet::par_fly(&mut fleet, 30.0, Precision::Exact).unwrap();
-            old.publish(&sender, &placement, |i| {
-                let s = LaneFleet::state(&fleet, i)?;
-                Some(M::view(&aircraft, &M::fleet_member(i).0, &s))
-            });
-            let new = drain(&new_sink);
-            let expected = drain(&old_sink);
-            assert!(new == expected, "{}: frame {frame} differs", M::NAME);
-            sent += new.len();
-        }
-        let report = run.report();
+        let (report, sent) = against_the_old_path::<M>(N, FRAMES, settings, 1);
         let dis = report.dis.unwrap();
         assert_eq!((dis.pdus as usize, dis.reasons.first), (sent, N as u64));
         assert!(dis.reasons.position + dis.reasons.orientation + dis.reasons.heartbeat > 0);
