@@ -46,7 +46,7 @@ fn state(t: f64) -> AircraftState {
 fn config() -> EntityConfig {
     EntityConfig::new(
         EntityIdentity::new(1, 1, 1).unwrap(),
-        AircraftKind::Cessna172,
+        AircraftKind::CESSNA_172_SKYHAWK,
         Marking::new("N172SP").unwrap(),
     )
 }

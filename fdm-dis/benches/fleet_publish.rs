@@ -59,7 +59,7 @@ fn bench(c: &mut Criterion) {
                     .expect("valid");
                 let config = EntityConfig::new(
                     id,
-                    AircraftKind::Cessna172,
+                    AircraftKind::CESSNA_172_SKYHAWK,
                     Marking::new("C172").expect("valid"),
                 );
                 Tracker::new(config, DrThresholds::default()).expect("valid")

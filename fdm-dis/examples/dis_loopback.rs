@@ -89,8 +89,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut pubs = Vec::new();
     for (n, kind, marking) in [
-        (1, AircraftKind::Cessna172, "N172SP"),
-        (2, AircraftKind::BourgGeneric, "BOURG"),
+        (1, AircraftKind::CESSNA_172_SKYHAWK, "N172SP"),
+        (2, AircraftKind::SMALL_CIVIL_FIXED_WING, "BOURG"),
     ] {
         let mut c = EntityConfig::new(
             EntityIdentity::new(10, 20, n)?,

@@ -29,16 +29,17 @@ pub const SUBCATEGORY_SINGLE_PISTON: u8 = 11;
 pub const SPECIFIC_CESSNA_172_SKYHAWK: u8 = 1;
 
 /// An aircraft's DIS entity type (SISO-REF-010's seven numbers), a value:
-/// a model states its own, and a new model needs no change here. The
-/// project's two models have theirs as constants.
+/// a model states its own, and a new model needs no change here. Two
+/// common ones are constants, named for what they are in DIS (the project's
+/// models pick theirs in the run library).
 ///
 /// Values from SISO-REF-010 (the DIS enumerations; dis-rs 0.14 is generated
 /// from version 35 of that document):
 ///
-/// | model | kind | domain | country | category | subcategory | specific | extra |
+/// | constant (model) | kind | domain | country | category | subcategory | specific | extra |
 /// | --- | --- | --- | --- | --- | --- | --- | --- |
-/// | Palmer's Cessna 172 | 1 Platform | 2 Air | 225 USA | 85 Civilian fixed wing, small | 11 Single piston engine | 1 Cessna 172 Skyhawk | 0 |
-/// | Bourg's generic aircraft | 1 Platform | 2 Air | 0 Other | 85 Civilian fixed wing, small | 0 Other | 0 | 0 |
+/// | `CESSNA_172_SKYHAWK` (Palmer's Cessna 172) | 1 Platform | 2 Air | 225 USA | 85 Civilian fixed wing, small | 11 Single piston engine | 1 Cessna 172 Skyhawk | 0 |
+/// | `SMALL_CIVIL_FIXED_WING` (Bourg's generic aircraft) | 1 Platform | 2 Air | 0 Other | 85 Civilian fixed wing, small | 0 Other | 0 | 0 |
 ///
 /// SISO-REF-010 also lists a Cessna 172 as USA / 40 "Trainer" / 1 (the
 /// military T-41 Mescalero); the civil entry is the one for a civil Skyhawk.
@@ -63,11 +64,9 @@ pub struct AircraftKind {
     pub extra: u8,
 }
 
-// The constants keep the names of the enum variants they replace.
-#[allow(non_upper_case_globals)]
 impl AircraftKind {
-    /// Palmer's Cessna 172: 1.2.225.85.11.1.0.
-    pub const Cessna172: Self = Self {
+    /// A Cessna 172 Skyhawk: 1.2.225.85.11.1.0 (Palmer's model flies as one).
+    pub const CESSNA_172_SKYHAWK: Self = Self {
         kind: 1,
         domain: 2,
         country: COUNTRY_USA,
@@ -77,8 +76,10 @@ impl AircraftKind {
         extra: 0,
     };
 
-    /// Bourg's generic aircraft: 1.2.0.85.0.0.0.
-    pub const BourgGeneric: Self = Self {
+    /// A small civil fixed-wing aircraft of no stated country or type:
+    /// 1.2.0.85.0.0.0 (Bourg's model, and the run library's default for a
+    /// model that states none).
+    pub const SMALL_CIVIL_FIXED_WING: Self = Self {
         kind: 1,
         domain: 2,
         country: 0,
@@ -104,7 +105,7 @@ impl AircraftKind {
 
 /// `kind.domain.country.category.subcategory.specific.extra` of a DIS entity
 /// type, as `sim-cli`'s reports and `dis-listen` print it (e.g.
-/// `1.2.225.85.11.1.0` for [`AircraftKind::Cessna172`]).
+/// `1.2.225.85.11.1.0` for [`AircraftKind::CESSNA_172_SKYHAWK`]).
 #[must_use]
 pub fn type_label(t: &EntityType) -> String {
     format!(

@@ -17,7 +17,7 @@
 //!
 //! let config = EntityConfig::new(
 //!     EntityIdentity::new(1, 1, 1)?,        // site, application, entity
-//!     AircraftKind::Cessna172,              // entity type 1.2.225.85.11.1.0
+//!     AircraftKind::CESSNA_172_SKYHAWK,              // entity type 1.2.225.85.11.1.0
 //!     Marking::new("N172SP")?,              // callsign, ≤ 11 ASCII characters
 //! );                                        // DIS 7, DRM(R,V,W), Friendly, exercise 1
 //! let mut out = EntityPublisher::new(config, DrThresholds::default())?;

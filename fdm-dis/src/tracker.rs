@@ -486,7 +486,7 @@ pub(crate) mod tests {
     pub(crate) fn tracker(thresholds: DrThresholds) -> Tracker {
         let config = EntityConfig::new(
             EntityIdentity::new(1, 1, 1).unwrap(),
-            AircraftKind::Cessna172,
+            AircraftKind::CESSNA_172_SKYHAWK,
             Marking::new("T").unwrap(),
         );
         Tracker::new(config, thresholds).unwrap()

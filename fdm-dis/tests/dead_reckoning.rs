@@ -118,7 +118,7 @@ impl Turn {
 fn publisher(algorithm: DrAlgorithm, thresholds: DrThresholds) -> EntityPublisher {
     let mut config = EntityConfig::new(
         EntityIdentity::new(1, 1, 1).unwrap(),
-        AircraftKind::Cessna172,
+        AircraftKind::CESSNA_172_SKYHAWK,
         Marking::new("N172SP").unwrap(),
     );
     config.dr_algorithm = algorithm;

@@ -66,8 +66,14 @@ fn config(kind: AircraftKind, alg: DrAlgorithm, version: DisVersion) -> EntityCo
 fn bytes_at_the_standard_offsets() {
     let e = sample_state().to_ecef().unwrap();
     for (kind, type_bytes) in [
-        (AircraftKind::Cessna172, [1u8, 2, 0, 225, 85, 11, 1, 0]),
-        (AircraftKind::BourgGeneric, [1u8, 2, 0, 0, 85, 0, 0, 0]),
+        (
+            AircraftKind::CESSNA_172_SKYHAWK,
+            [1u8, 2, 0, 225, 85, 11, 1, 0],
+        ),
+        (
+            AircraftKind::SMALL_CIVIL_FIXED_WING,
+            [1u8, 2, 0, 0, 85, 0, 0, 0],
+        ),
     ] {
         for (alg, code) in [
             (DrAlgorithm::Fpw, 2u8),
@@ -129,7 +135,11 @@ fn bytes_at_the_standard_offsets() {
 #[test]
 fn dis_rs_parses_what_it_wrote() {
     let e = sample_state().to_ecef().unwrap();
-    let cfg = config(AircraftKind::Cessna172, DrAlgorithm::Rvw, DisVersion::V7);
+    let cfg = config(
+        AircraftKind::CESSNA_172_SKYHAWK,
+        DrAlgorithm::Rvw,
+        DisVersion::V7,
+    );
     let wire = WireState::new(&e, cfg.dr_algorithm);
     let mut buf = BytesMut::new();
     encode_entity_state(&cfg, &wire, &mut buf).unwrap();
@@ -138,7 +148,10 @@ fn dis_rs_parses_what_it_wrote() {
     let PduBody::EntityState(es) = &pdus[0].body else {
         panic!("not an entity state: {:?}", pdus[0].body)
     };
-    assert_eq!(es.entity_type, AircraftKind::Cessna172.entity_type());
+    assert_eq!(
+        es.entity_type,
+        AircraftKind::CESSNA_172_SKYHAWK.entity_type()
+    );
     assert_eq!(es.force_id, ForceId::Neutral);
     assert_eq!(es.entity_marking.marking_string, "N172SP");
     assert_eq!(es.entity_location.x_coordinate, wire.location_m.x);
@@ -206,7 +219,7 @@ fn update_ecef_is_update_for_the_same_ecef_state() {
     use fdm_dis::{DrThresholds, EcefState, EntityPublisher};
     let config = EntityConfig::new(
         EntityIdentity::new(1, 2, 3).unwrap(),
-        AircraftKind::Cessna172,
+        AircraftKind::CESSNA_172_SKYHAWK,
         Marking::new("N172SP").unwrap(),
     );
     let mut a = EntityPublisher::new(config.clone(), DrThresholds::default()).unwrap();

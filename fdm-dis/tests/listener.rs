@@ -65,8 +65,18 @@ fn assert_close(rec: &fdm_dis::EntityRecord, s: &AircraftState) {
 
 #[test]
 fn counts_entities_and_reads_back_geodetic() {
-    let mut cessna = publisher(1, AircraftKind::Cessna172, "CESSNA1", DisVersion::V7);
-    let mut bourg = publisher(2, AircraftKind::BourgGeneric, "BOURG2", DisVersion::V6);
+    let mut cessna = publisher(
+        1,
+        AircraftKind::CESSNA_172_SKYHAWK,
+        "CESSNA1",
+        DisVersion::V7,
+    );
+    let mut bourg = publisher(
+        2,
+        AircraftKind::SMALL_CIVIL_FIXED_WING,
+        "BOURG2",
+        DisVersion::V6,
+    );
     let s1 = state(0.0, 39.8, -84.0, 10.0);
     let s2 = state(0.0, -33.9, 151.2, 200.0);
     let d1 = one_pdu(&mut cessna, &s1);
@@ -99,7 +109,10 @@ fn counts_entities_and_reads_back_geodetic() {
         (r1.updates, r1.protocol_version, r1.marking.as_str()),
         (2, 7, "CESSNA1")
     );
-    assert_eq!(r1.entity_type, AircraftKind::Cessna172.entity_type());
+    assert_eq!(
+        r1.entity_type,
+        AircraftKind::CESSNA_172_SKYHAWK.entity_type()
+    );
     assert!(r1.marking_is_ascii);
     assert_close(r1, &s1b);
     let r2 = l.entity(&EntityIdentity::new(1, 2, 2).unwrap()).unwrap();
@@ -107,7 +120,10 @@ fn counts_entities_and_reads_back_geodetic() {
         (r2.updates, r2.protocol_version, r2.marking.as_str()),
         (2, 6, "BOURG2")
     );
-    assert_eq!(r2.entity_type, AircraftKind::BourgGeneric.entity_type());
+    assert_eq!(
+        r2.entity_type,
+        AircraftKind::SMALL_CIVIL_FIXED_WING.entity_type()
+    );
     assert_close(r2, &s2b);
     let ids: Vec<_> = l.entities().map(|r| r.id.entity).collect();
     assert_eq!(ids, [1, 2]);
@@ -119,11 +135,16 @@ fn a_bounded_listener_keeps_its_first_entities_and_counts_the_rest() {
     assert_eq!(l.max_entities(), Some(2));
     let s = state(0.0, 39.8, -84.0, 10.0);
     for entity in 1..=5 {
-        let mut p = publisher(entity, AircraftKind::Cessna172, "C172", DisVersion::V7);
+        let mut p = publisher(
+            entity,
+            AircraftKind::CESSNA_172_SKYHAWK,
+            "C172",
+            DisVersion::V7,
+        );
         assert_eq!(l.ingest(&one_pdu(&mut p, &s)), Ok(1));
     }
     // Entity 1 again: it is kept, so it is updated.
-    let mut p = publisher(1, AircraftKind::Cessna172, "C172", DisVersion::V7);
+    let mut p = publisher(1, AircraftKind::CESSNA_172_SKYHAWK, "C172", DisVersion::V7);
     l.ingest(&one_pdu(&mut p, &state(1.0, 39.9, -84.0, 10.0)))
         .unwrap();
     let ids: Vec<_> = l.entities().map(|r| r.id.entity).collect();
@@ -139,7 +160,7 @@ fn a_bounded_listener_keeps_its_first_entities_and_counts_the_rest() {
 
 #[test]
 fn malformed_datagrams_are_counted_and_skipped() {
-    let mut p = publisher(9, AircraftKind::Cessna172, "X", DisVersion::V7);
+    let mut p = publisher(9, AircraftKind::CESSNA_172_SKYHAWK, "X", DisVersion::V7);
     let good = one_pdu(&mut p, &state(0.0, 10.0, 10.0, 0.0));
     let mut l = Listener::new();
 
@@ -189,7 +210,14 @@ fn over_udp_loopback() {
     rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     let tx = UdpSender::new(rx.local_addr().unwrap(), false).unwrap();
     let mut pubs: Vec<EntityPublisher> = (1..=3)
-        .map(|i| publisher(i, AircraftKind::Cessna172, &format!("N{i}"), DisVersion::V7))
+        .map(|i| {
+            publisher(
+                i,
+                AircraftKind::CESSNA_172_SKYHAWK,
+                &format!("N{i}"),
+                DisVersion::V7,
+            )
+        })
         .collect();
     let mut sent = 0;
     let mut last = Vec::new();
@@ -270,7 +298,7 @@ fn dis_rs_signal_pdu_panic_is_caught() {
         assert_eq!(l.stats().malformed_datagrams, i as u64 + 1);
     }
     // Still usable.
-    let mut p = publisher(3, AircraftKind::Cessna172, "AFTER", DisVersion::V7);
+    let mut p = publisher(3, AircraftKind::CESSNA_172_SKYHAWK, "AFTER", DisVersion::V7);
     assert_eq!(
         l.ingest(&one_pdu(&mut p, &state(0.0, 1.0, 2.0, 3.0))),
         Ok(1)
@@ -299,7 +327,7 @@ proptest! {
         edits in proptest::collection::vec((0usize..144, any::<u8>()), 1..8),
         cut in 0usize..=144,
     ) {
-        let mut p = publisher(5, AircraftKind::BourgGeneric, "FUZZ", DisVersion::V7);
+        let mut p = publisher(5, AircraftKind::SMALL_CIVIL_FIXED_WING, "FUZZ", DisVersion::V7);
         let mut d = one_pdu(&mut p, &state(1.0, 45.0, 7.0, 90.0));
         for (i, b) in edits {
             d[i] = b;

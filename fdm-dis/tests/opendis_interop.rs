@@ -191,8 +191,16 @@ impl MaxErr {
 fn our_pdus_decoded_by_opendis() {
     let states = test_states();
     let variants = [
-        (AircraftKind::Cessna172, DisVersion::V7, DrAlgorithm::Rvw),
-        (AircraftKind::BourgGeneric, DisVersion::V6, DrAlgorithm::Fpw),
+        (
+            AircraftKind::CESSNA_172_SKYHAWK,
+            DisVersion::V7,
+            DrAlgorithm::Rvw,
+        ),
+        (
+            AircraftKind::SMALL_CIVIL_FIXED_WING,
+            DisVersion::V6,
+            DrAlgorithm::Fpw,
+        ),
     ];
     let total = states.len() * variants.len();
     let mut script = Script::start(
@@ -323,7 +331,10 @@ fn opendis_pdus_decoded_by_our_listener() {
         let id = EntityIdentity::new(5, 6, u16::try_from(i + 1).unwrap()).unwrap();
         let rec = listener.entity(&id).expect("entity recorded");
         assert_eq!(rec.marking, format!("OD{i}"));
-        assert_eq!(rec.entity_type, AircraftKind::Cessna172.entity_type());
+        assert_eq!(
+            rec.entity_type,
+            AircraftKind::CESSNA_172_SKYHAWK.entity_type()
+        );
         assert_eq!(rec.dr_algorithm, Some(DrAlgorithm::Fpw));
         let p = rec.position;
         let a = rec.attitude;

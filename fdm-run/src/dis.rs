@@ -1115,7 +1115,10 @@ mod tests {
         let record = listener.entities().next().unwrap();
         assert_eq!(record.id.to_string(), "1:1:7");
         assert_eq!(record.marking, "C172-7");
-        assert_eq!(record.entity_type, AircraftKind::Cessna172.entity_type());
+        assert_eq!(
+            record.entity_type,
+            AircraftKind::CESSNA_172_SKYHAWK.entity_type()
+        );
         let last = last.unwrap();
         assert!((record.position.lat_deg - last.lat_deg).abs() < 1e-7);
         assert!((record.position.lon_deg - last.lon_deg).abs() < 1e-7);

@@ -56,7 +56,7 @@ pub trait RunModel:
     /// registry: SISO-REF-010's seven numbers. The default is a small civil
     /// fixed-wing aircraft of no stated country or type (1.2.0.85.0.0.0).
     #[cfg(feature = "dis")]
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::SMALL_CIVIL_FIXED_WING;
 
     /// FlightGear's aircraft for this model (`fgfs --aircraft=...`,
     /// [`crate::fgfs`]).

@@ -85,7 +85,10 @@ fn palmer_headless_publishes_what_the_report_counts() {
     let e = listener.entity(&id).expect("the aircraft");
     assert_eq!(listener.entity_count(), 1);
     assert_eq!(e.marking, "C172-56");
-    assert_eq!(e.entity_type, AircraftKind::Cessna172.entity_type());
+    assert_eq!(
+        e.entity_type,
+        AircraftKind::CESSNA_172_SKYHAWK.entity_type()
+    );
     assert_eq!(e.protocol_version, 7);
     // The last PDU is at most 5 s old, so the aircraft is near (not at) the
     // report's final position: within 5 s × 60 m/s.
@@ -124,7 +127,10 @@ fn bourg_every_frame_dis6_ends_on_the_reports_state() {
         .unwrap();
     assert_eq!(e.protocol_version, 6);
     assert_eq!(e.marking, "UFO 7");
-    assert_eq!(e.entity_type, AircraftKind::BourgGeneric.entity_type());
+    assert_eq!(
+        e.entity_type,
+        AircraftKind::SMALL_CIVIL_FIXED_WING.entity_type()
+    );
     let g = &r["geodetic"];
     assert!((e.position.lat_deg - num(&g["lat_deg"])).abs() < 1e-9);
     assert!((e.position.lon_deg - num(&g["lon_deg"])).abs() < 1e-9);

@@ -32,7 +32,7 @@ impl RunModel for Bourg {
     const ACMI_NAME: &'static str = "Bourg 6-DoF";
     const CALLSIGN: &'static str = "BRG";
     #[cfg(feature = "dis")]
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::BourgGeneric;
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::SMALL_CIVIL_FIXED_WING;
     /// The thesis showed Bourg's aircraft as the UFO.
     const FG_AIRCRAFT: &'static str = "ufo";
     /// The UFO's `Models/ufo.xml` draws the model only when `/sim/flight-model` is

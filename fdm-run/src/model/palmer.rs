@@ -20,7 +20,7 @@ impl RunModel for Palmer {
     const ACMI_NAME: &'static str = "C172";
     const CALLSIGN: &'static str = "C172";
     #[cfg(feature = "dis")]
-    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::Cessna172;
+    const DIS_KIND: fdm_dis::AircraftKind = fdm_dis::AircraftKind::CESSNA_172_SKYHAWK;
     const FG_AIRCRAFT: &'static str = "c172p";
     /// The c172p's Nasal `engine.nas` pops up "Out of fuel!" whenever the engine
     /// runs while its selected tanks (0 and 1 without JSBSim) hold 0 gallons, which
