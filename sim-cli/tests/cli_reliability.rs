@@ -121,8 +121,15 @@ fn a_short_pipe_is_a_script() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let piped: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     let dir = scratch("pipe");
-    let path = write_file(&dir, "s.txt", "1-3 throttle-up\n");
-    let from_file = report(&[
+    assert_eq!(piped, script_file_report(&dir));
+}
+
+/// The report of `palmer --headless --json --frames 3` flying the script
+/// `1-3 throttle-up` from a file in `dir`: what a script from a pipe or a
+/// FIFO must give.
+fn script_file_report(dir: &std::path::Path) -> serde_json::Value {
+    let path = write_file(dir, "s.txt", "1-3 throttle-up\n");
+    report(&[
         "palmer",
         "--headless",
         "--json",
@@ -130,8 +137,7 @@ fn a_short_pipe_is_a_script() {
         "3",
         "--script",
         &path,
-    ]);
-    assert_eq!(piped, from_file);
+    ])
 }
 
 /// A script from a named FIFO that no program writes to yet waits for one
@@ -196,17 +202,7 @@ fn a_script_fifo_without_a_writer_is_waited_for_out_loud() {
     );
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     let piped: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
-    let path = write_file(&dir, "s.txt", "1-3 throttle-up\n");
-    let from_file = report(&[
-        "palmer",
-        "--headless",
-        "--json",
-        "--frames",
-        "3",
-        "--script",
-        &path,
-    ]);
-    assert_eq!(piped, from_file);
+    assert_eq!(piped, script_file_report(&dir));
 }
 
 #[test]
