@@ -5,8 +5,9 @@
 //! report's fields ([`ReportModel`], [`PalmerDetails`]).
 
 use fdm_core::fingerprint;
+use fdm_core::model::FlightStatus;
 #[cfg(feature = "dis")]
-use fdm_core::model::{FlightStatus, Model};
+use fdm_core::model::Model;
 use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use serde::{Deserialize, Serialize};
 
