@@ -246,3 +246,77 @@ fn update_ecef_is_update_for_the_same_ecef_state() {
     let from_ecef = b.update_ecef(&rebuilt).unwrap().unwrap().bytes.to_vec();
     assert_eq!(from_geodetic, from_ecef);
 }
+
+/// `type_label` prints the seven numbers of an entity type with dots, in the
+/// order kind, domain, country, category, subcategory, specific, extra (the
+/// documented `1.2.225.85.11.1.0` of the Cessna 172 Skyhawk), each field in
+/// its place: a type whose seven numbers all differ, and the country's full
+/// 16 bits.
+#[test]
+fn type_labels_are_the_seven_numbers_in_order() {
+    use fdm_dis::type_label;
+    assert_eq!(
+        type_label(&AircraftKind::CESSNA_172_SKYHAWK.entity_type()),
+        "1.2.225.85.11.1.0"
+    );
+    assert_eq!(
+        type_label(&AircraftKind::SMALL_CIVIL_FIXED_WING.entity_type()),
+        "1.2.0.85.0.0.0"
+    );
+    let all_different = AircraftKind {
+        kind: 1,
+        domain: 2,
+        country: 260,
+        category: 4,
+        subcategory: 5,
+        specific: 6,
+        extra: 7,
+    };
+    assert_eq!(type_label(&all_different.entity_type()), "1.2.260.4.5.6.7");
+}
+
+/// An entity identifier reads `site:application:entity`.
+#[test]
+fn entity_identities_read_site_application_entity() {
+    let id = EntityIdentity::new(1, 2, 3).unwrap();
+    assert_eq!(id.to_string(), "1:2:3");
+    assert_eq!(
+        EntityIdentity::new(65534, 400, 9).unwrap().to_string(),
+        "65534:400:9"
+    );
+}
+
+/// The four world-frame dead-reckoning models: their standard names, their
+/// codes on the wire (2 to 5, as the type's documentation lists them), and
+/// back from a decoded field; any other algorithm (static, the body-frame
+/// models) is none of them.
+#[test]
+fn dead_reckoning_models_have_their_names_and_codes() {
+    use fdm_dis::dis_rs::enumerations::DeadReckoningAlgorithm;
+    for (model, label, code) in [
+        (DrAlgorithm::Fpw, "DRM(F,P,W)", 2_u8),
+        (DrAlgorithm::Rpw, "DRM(R,P,W)", 3),
+        (DrAlgorithm::Rvw, "DRM(R,V,W)", 4),
+        (DrAlgorithm::Fvw, "DRM(F,V,W)", 5),
+    ] {
+        assert_eq!(model.label(), label);
+        assert_eq!(u8::from(model.to_dis()), code, "{label}");
+        assert_eq!(
+            DrAlgorithm::from_dis(model.to_dis()),
+            Some(model),
+            "{label}"
+        );
+        assert_eq!(
+            DrAlgorithm::from_dis(DeadReckoningAlgorithm::from(code)),
+            Some(model),
+            "{label}"
+        );
+    }
+    for other in [0_u8, 1, 6, 7, 8, 9] {
+        assert_eq!(
+            DrAlgorithm::from_dis(DeadReckoningAlgorithm::from(other)),
+            None,
+            "code {other}"
+        );
+    }
+}
