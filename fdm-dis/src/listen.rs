@@ -130,19 +130,26 @@ pub fn listen(
             Ok((n, _)) => {
                 let _ = listener.ingest(&buf[..n]);
             }
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    io::ErrorKind::WouldBlock
-                        | io::ErrorKind::TimedOut
-                        | io::ErrorKind::Interrupted
-                        | io::ErrorKind::ConnectionRefused
-                        | io::ErrorKind::ConnectionReset
-                ) => {}
+            Err(e) if goes_on_after(e.kind()) => {}
             Err(e) => return Err(ListenError::Receive(e)),
         }
     }
     Ok(start.elapsed().as_secs_f64())
+}
+
+/// Whether [`listen`] goes on after a receive that failed with `kind`: the
+/// read timeout ran out (`WouldBlock` or `TimedOut`, by platform), a signal
+/// interrupted the call, or the socket got an ICMP refusal or reset for an
+/// earlier send. Anything else is the socket failing: listening stops.
+fn goes_on_after(kind: io::ErrorKind) -> bool {
+    matches!(
+        kind,
+        io::ErrorKind::WouldBlock
+            | io::ErrorKind::TimedOut
+            | io::ErrorKind::Interrupted
+            | io::ErrorKind::ConnectionRefused
+            | io::ErrorKind::ConnectionReset
+    )
 }
 
 /// One entity of a [`ListenReport`]: its last Entity State PDU, converted
@@ -423,6 +430,63 @@ mod tests {
         let err = bind("nonsense").unwrap_err();
         assert!(err.is_bad_address(), "{err:?}");
         assert!(err.to_string().starts_with("not a HOST:PORT address ("));
+    }
+
+    /// An address that resolves but cannot be bound (a port already taken)
+    /// is not the caller's address mistake: `is_bad_address` is false for
+    /// the OS's refusals, true only for addresses that do not resolve.
+    #[test]
+    fn a_taken_port_is_not_a_bad_address() {
+        let taken = bind("127.0.0.1:0").unwrap();
+        let err = bind(&taken.local_addr().unwrap().to_string()).unwrap_err();
+        assert!(matches!(err, ListenError::Bind { .. }), "{err:?}");
+        assert!(!err.is_bad_address(), "{err:?}");
+        assert!(ListenError::NoAddress.is_bad_address());
+        for other in [
+            ListenError::LocalAddress(io::Error::other("x")),
+            ListenError::Timeout(io::Error::other("x")),
+            ListenError::Receive(io::Error::other("x")),
+        ] {
+            assert!(!other.is_bad_address(), "{other:?}");
+        }
+    }
+
+    /// The receive errors listening goes on after (a timeout, a signal, an
+    /// ICMP refusal or reset for an earlier send) and some it stops on.
+    #[test]
+    fn listening_goes_on_only_after_timeouts_signals_and_icmp() {
+        use io::ErrorKind as K;
+        for kind in [
+            K::WouldBlock,
+            K::TimedOut,
+            K::Interrupted,
+            K::ConnectionRefused,
+            K::ConnectionReset,
+        ] {
+            assert!(goes_on_after(kind), "{kind:?}");
+        }
+        for kind in [
+            K::PermissionDenied,
+            K::InvalidInput,
+            K::NotConnected,
+            K::OutOfMemory,
+            K::Other,
+        ] {
+            assert!(!goes_on_after(kind), "{kind:?}");
+        }
+    }
+
+    /// Listening for `seconds` with nothing arriving returns when they have
+    /// passed, not a whole wait later: the last wait is cut to what is
+    /// left (0.25 s is one 200 ms wait and one of about 50 ms; a last wait
+    /// of a full 200 ms would end near 0.4 s). Bounded on both sides, with
+    /// room for a loaded machine's late wake-ups.
+    #[test]
+    fn listening_ends_when_the_time_is_up() {
+        let socket = bind("127.0.0.1:0").unwrap();
+        let mut listener = Listener::new();
+        let secs = listen(&socket, &mut listener, 0.25, None, || false).unwrap();
+        assert!((0.25..0.36).contains(&secs), "{secs}");
     }
 
     #[test]
