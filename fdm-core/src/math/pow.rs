@@ -106,8 +106,10 @@ fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
         let scale = d(sbits.wrapping_sub(1009 << 52));
         return pow2(1009) * fma(scale, tmp, scale);
     }
-    // k < 0: care in the subnormal range.
-    let scale = d(sbits.wrapping_add(1022 << 52));
+    // k < 0: care in the subnormal range. The rescaled bits carry the
+    // result's sign (the unscaled exponent may have wrapped into bit 63).
+    let sbits = sbits.wrapping_add(1022 << 52);
+    let scale = d(sbits);
     let mut y = fma(scale, tmp, scale);
     if y.abs() < 1.0 {
         let one = if y < 0.0 { -1.0 } else { 1.0 };
@@ -116,6 +118,7 @@ fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
         let lo = one - hi + y + lo;
         y = (hi + lo) - one;
         if y == 0.0 {
+            // A result that rounds to zero keeps the result's sign.
             y = d(sbits & 0x8000_0000_0000_0000);
         }
     }
