@@ -256,6 +256,40 @@ fn pow_has_glibcs_bits_on_its_special_cases_and_edges() {
             check(10.0, y * core::f64::consts::LOG10_2);
         }
     }
+    // Results in the subnormal range, rounded once to its grid (not twice):
+    // bases that are not powers of two, both signs (negative bases with odd
+    // and even integer exponents), over every exponent from just above the
+    // smallest normal number to below the smallest subnormal one.
+    for base in [3.0, 10.0, 1.1, 7.5, 1.0001, 0.9, 0.3] {
+        let lowest = -1077.0 * core::f64::consts::LN_2 / f64::ln(base);
+        let highest = -1021.0 * core::f64::consts::LN_2 / f64::ln(base);
+        let (from, to) = (lowest.min(highest).floor(), lowest.max(highest).ceil());
+        let step = ((to - from) / 400.0).max(1.0).floor();
+        let mut y = from;
+        while y <= to {
+            check(base, y);
+            check(-base, y);
+            check(-base, y + 1.0);
+            check(base, y + 0.5);
+            y += step;
+        }
+    }
+    // Pairs whose last bit depends on the logarithm's tail (the low part of
+    // its double-double result): y log x far from 0, mostly x near 1 with a
+    // large y. Found by comparing, on 2 million samples, a `pow` whose tail
+    // was computed wrongly with glibc's; glibc's bits, by their bits.
+    for (x, y) in [
+        (0x3fef_fbf9_982d_e422_u64, 0x411c_011b_4d5d_33ed_u64),
+        (0x3fef_fcdf_63ce_2d7c, 0x4124_dda2_f0c0_999c),
+        (0x4051_8c05_b709_d1ad, 0x4023_d8e9_cb45_1274),
+        (0x3ff0_0121_e673_a673, 0x40fd_1f4f_b00e_4bba),
+        (0x3ff0_0135_ad83_9635, 0xc125_12c3_660d_920b),
+        (0x404b_63c8_a0c4_71a4, 0x4033_1b94_5c12_0112),
+        (0x3fef_fd61_a550_8dd3, 0x4123_8e43_36da_e840),
+        (0x3ff0_00e6_abc4_e15c, 0xc10a_66e6_3d34_b2b9),
+    ] {
+        check(f64::from_bits(x), f64::from_bits(y));
+    }
     // Random pairs: x over every exponent (either sign: the negative ones
     // with integer exponents and without), y over ±2^-70..±2^70.
     let mut s = 3_u64;
