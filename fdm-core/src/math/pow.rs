@@ -379,6 +379,39 @@ pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
 mod tests {
     use super::*;
 
+    /// `square_error` is its doc's "`r*r - q` exactly" over its whole range
+    /// (`|r|` from 2^-62 to 2^-6, every significand, both signs): the same
+    /// number as the fused multiply-add's `fma(r, r, -q)`, including for `|r|`
+    /// below 2^-26, where a wrong split of `r` would still make most of the
+    /// products exact, and at the range's ends.
+    #[test]
+    fn square_error_is_the_exact_error_of_the_square() {
+        let mut next = crate::math::test_bits(0x5eed_5e11);
+        let check = |r: f64| {
+            let q = r * r;
+            assert_eq!(
+                square_error(r, q).to_bits(),
+                fma(r, r, -q).to_bits(),
+                "r = {r:e} [{:#x}]",
+                r.to_bits()
+            );
+        };
+        for _ in 0..200_000 {
+            let bits = next();
+            // Exponents 2^-62 ..= 2^-7 (biased 961 ..= 1016), any significand.
+            let exponent = 961 + (bits >> 52) % 56;
+            let r = f64::from_bits((exponent << 52) | (bits & 0x000f_ffff_ffff_ffff));
+            check(r);
+            check(-r);
+        }
+        for r in [pow2(-62), pow2(-26), pow2(-6)] {
+            for bits in r.to_bits() - 3..=r.to_bits() + 3 {
+                check(f64::from_bits(bits));
+            }
+        }
+        check(0.0);
+    }
+
     /// `log_inline`'s product error from a fused multiply-add and from
     /// Dekker's product are the same exact number, so `pow` has the same bits
     /// whichever it takes: on 2^20 random positive `x` over every exponent
