@@ -119,6 +119,32 @@ fn attitude_matrix_round_trip_and_gimbal_lock() {
     assert!((b.body_to_ned() - up.body_to_ned()).norm() < 1e-7, "{b:?}");
 }
 
+/// `from_body_to_ned`'s gimbal-lock band (its doc): a nose whose horizontal
+/// part, `cos(pitch)`, is at most 1e-12 reports roll 0 and puts the rotation
+/// about the vertical into the heading; just above 1e-12, roll and heading
+/// are taken apart again. Either way the angles give back the matrix.
+#[test]
+fn gimbal_lock_starts_where_cos_pitch_is_1e_12() {
+    // Ry(pitch) · Rx(30°) with cos(pitch) given exactly and sin(pitch) = 1
+    // (1 - cos² rounds to 1 for these cosines): the nose a hair below
+    // straight up, rolled 30°.
+    let (sr, cr) = 30.0_f64.to_radians().sin_cos();
+    let matrix = |cp: f64| Matrix3::new(cp, sr, cr, 0.0, cr, -sr, -1.0, cp * sr, cp * cr);
+    let locked = matrix(1e-12);
+    let a = Attitude::from_body_to_ned(&locked);
+    assert_eq!(a.roll_deg, 0.0, "{a:?}");
+    assert!((a.heading_deg - 330.0).abs() < 1e-9, "{a:?}");
+    assert!((a.pitch_deg - 90.0).abs() < 1e-9, "{a:?}");
+    assert!((a.body_to_ned() - locked).norm() < 1e-11, "{a:?}");
+
+    let free = matrix(f64::from_bits(1e-12_f64.to_bits() + 1));
+    let b = Attitude::from_body_to_ned(&free);
+    assert!((b.roll_deg - 30.0).abs() < 1e-9, "{b:?}");
+    assert_eq!(b.heading_deg, 0.0, "{b:?}");
+    assert!((b.pitch_deg - 90.0).abs() < 1e-9, "{b:?}");
+    assert!((b.body_to_ned() - free).norm() < 1e-11, "{b:?}");
+}
+
 // ---------------------------------------------------------------- Bourg
 
 /// Bourg's `MakeQFromEulerAngles` (docs/bourg-model.md: x roll, y pitch, z yaw, degrees),
@@ -319,6 +345,33 @@ fn palmer_banked_attitude_matches_the_models_lift_vector() {
         }
     }
     assert_eq!(count, 12 * 3 * 5 * 5);
+}
+
+/// Straight up or straight down (no horizontal speed): the model's own
+/// conventions, track 0 (`cos T = 1, sin T = 0`) and the flight-path angle
+/// `atan2(vz, 0)`, ±90° (docs/palmer-model.md, step 10), as in the lift-vector
+/// airframe; wings level, the nose is `climb + alpha`.
+#[test]
+fn palmer_vertical_flight_climbs_at_90_degrees() {
+    for vz in [30.0, -30.0] {
+        for bank in [-20.0, 0.0, 5.0, 20.0] {
+            for alpha in [-16.0, -5.0, 0.0, 4.0, 10.0] {
+                let v = Vector3::new(0.0, 0.0, vz);
+                let a = palmer_attitude(v, alpha, bank);
+                let expected = palmer_body_from_lift_vector(v, alpha, bank);
+                assert!(
+                    (a.body_to_ned() - expected).norm() < 1e-12,
+                    "v {v} alpha {alpha} bank {bank}: {a:?}"
+                );
+            }
+        }
+    }
+    let up = palmer_attitude(Vector3::new(0.0, 0.0, 30.0), -10.0, 0.0);
+    assert!((up.pitch_deg - 80.0).abs() < 1e-12, "{up:?}");
+    assert!(up.roll_deg == 0.0 && up.heading_deg == 0.0, "{up:?}");
+    let down = palmer_attitude(Vector3::new(0.0, 0.0, -30.0), 10.0, 0.0);
+    assert!((down.pitch_deg + 80.0).abs() < 1e-12, "{down:?}");
+    assert!(down.roll_deg == 0.0 && down.heading_deg == 0.0, "{down:?}");
 }
 
 #[test]

@@ -164,6 +164,31 @@ fn validation_accepts_the_closed_ranges_and_rejects_the_rest() {
     }
 }
 
+/// `from_geodetic` is `new` on the three fields: the same origin for every
+/// valid position (not only the default), the same error for an invalid one.
+#[test]
+fn from_geodetic_is_new_on_the_three_fields() {
+    for origin in origins() {
+        let g = origin.geodetic();
+        assert_eq!(GeodeticOrigin::from_geodetic(g), Ok(origin), "{g}");
+    }
+    for (lat_deg, lon_deg, alt_m) in [
+        (91.0, 0.0, 0.0),
+        (0.0, -181.0, 0.0),
+        (0.0, 0.0, 200_000.0),
+        (f64::NAN, 0.0, 0.0),
+    ] {
+        let g = Geodetic {
+            lat_deg,
+            lon_deg,
+            alt_m,
+        };
+        let err = GeodeticOrigin::from_geodetic(g).unwrap_err();
+        let expected = GeodeticOrigin::new(lat_deg, lon_deg, alt_m).unwrap_err();
+        assert_eq!(err.to_string(), expected.to_string(), "{g}");
+    }
+}
+
 #[test]
 fn parses_the_cli_origin() {
     let o: GeodeticOrigin = "39.8264,-84.0483,251".parse().unwrap();

@@ -169,10 +169,81 @@ fn centre_and_equatorial_plane_inside_the_evolute() {
             assert!(g.lat_deg.is_finite() && g.alt_m.is_finite(), "{p} -> {g:?}");
             assert!(ecef_round_trip_error_m(p) < 1e-6, "{p} -> {g:?}");
         }
-        // Tiny negative z picks the southern solution.
-        let g = ecef_to_geodetic(Vector3::new(x, 0.0, -1e-300));
+        // Tiny negative z picks the southern solution: the mirror image of
+        // the northern one (the ellipsoid is symmetric about the equator),
+        // and it maps back to the same point too.
+        let south = Vector3::new(x, 0.0, -1e-300);
+        let g = ecef_to_geodetic(south);
         assert!(g.lat_deg <= 0.0, "{g:?}");
+        let north = ecef_to_geodetic(Vector3::new(x, 0.0, 0.0));
+        assert_eq!(g.lat_deg, -north.lat_deg, "{g:?} {north:?}");
+        assert_eq!(g.alt_m, north.alt_m, "{g:?} {north:?}");
+        assert!(ecef_round_trip_error_m(south) < 1e-6, "{g:?}");
     }
+}
+
+/// The closed form holds out to `2a/ε` (5.7e22 m, GeographicLib's bound):
+/// on the equator and the polar axis the height is the distance less `a` or
+/// `b`, within an ulp of the distance (the ulp is 4 to 8 million metres
+/// there, so the radius still shows). Beyond it the Earth is a point (the
+/// function's doc): the height is the distance and latitude and longitude
+/// are the direction from the centre, out to 1.7e308 m without overflow.
+#[test]
+fn far_space_up_to_and_beyond_the_point_earth_bound() {
+    let bound = 2.0 * WGS84_A_M / f64::EPSILON;
+    let ulp = |x: f64| f64::from_bits(x.to_bits() + 1) - x;
+    for d in [3e22, 4e22, bound] {
+        let equator = ecef_to_geodetic(Vector3::new(d, 0.0, 0.0));
+        let pole = ecef_to_geodetic(Vector3::new(0.0, 0.0, -d));
+        for (g, radius) in [(equator, WGS84_A_M), (pole, WGS84_B_M)] {
+            assert!(
+                g.alt_m < d && (g.alt_m - (d - radius)).abs() <= ulp(d),
+                "{d:e}: {g:?}"
+            );
+        }
+        assert_eq!((equator.lat_deg, pole.lat_deg), (0.0, -90.0));
+    }
+    let past = f64::from_bits(bound.to_bits() + 1);
+    for d in [past, 1e23, 1e100, 1e300, 1e308, 1.7e308] {
+        for (lat_deg, lon_deg) in [(35.0, 20.0), (-60.0, 135.0), (10.0, -100.0), (-5.0, -170.0)] {
+            let (sin_lat, cos_lat) = f64::to_radians(lat_deg).sin_cos();
+            let (sin_lon, cos_lon) = f64::to_radians(lon_deg).sin_cos();
+            let p = Vector3::new(d * cos_lat * cos_lon, d * cos_lat * sin_lon, d * sin_lat);
+            let g = ecef_to_geodetic(p);
+            assert!((g.lat_deg - lat_deg).abs() < 1e-12, "{p} -> {g:?}");
+            assert!((g.lon_deg - lon_deg).abs() < 1e-12, "{p} -> {g:?}");
+            assert!((g.alt_m - d).abs() <= 2.0 * ulp(d), "{p} -> {g:?}");
+        }
+    }
+}
+
+/// Within `a·e²` (42.7 km) of the centre, off the equatorial plane, the
+/// quartic's cubic resolvent has a negative `r` and, near the axis, three real
+/// roots; the root is taken free of cancellation there too, so these points
+/// round trip as closely as any other.
+#[test]
+fn near_the_centre_off_the_equatorial_plane() {
+    let e2 = WGS84_F * (2.0 - WGS84_F);
+    let mut worst = 0.0_f64;
+    for i in -8..=8 {
+        let x = WGS84_A_M * e2 * f64::from(i) / 8.0;
+        for j in 1..=8 {
+            for z in [
+                f64::from(j) * 5_000.0,
+                1e-3 * f64::from(j),
+                -f64::from(j) * 4_000.0,
+            ] {
+                for p in [Vector3::new(x, 0.0, z), Vector3::new(0.6 * x, 0.8 * x, z)] {
+                    let g = ecef_to_geodetic(p);
+                    assert!(g.lat_deg.is_finite() && g.alt_m.is_finite(), "{p} -> {g:?}");
+                    assert_eq!(g.lat_deg > 0.0, z > 0.0, "{p} -> {g:?}");
+                    let err = ecef_round_trip_error_m(p);
+                    worst = worst.max(err);
+                }
+            }
+        }
+    }
+    assert!(worst < 1e-8, "worst {worst:e} m");
 }
 
 #[test]

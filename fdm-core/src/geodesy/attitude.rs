@@ -44,12 +44,16 @@ impl Attitude {
     }
 
     /// The Euler angles of a body-to-NED rotation matrix (the inverse of
-    /// [`Attitude::body_to_ned`] for pitch in `(-90, 90)`).
+    /// [`Attitude::body_to_ned`] for pitch in `(-90, 90)`, outside the
+    /// gimbal-lock band below).
     ///
     /// At pitch ±90° (gimbal lock, nose straight up or down) roll and heading
     /// are not separable: roll is reported as 0 and the whole rotation about
-    /// the vertical goes into the heading. NaN entries give NaN angles; never
-    /// panics.
+    /// the vertical goes into the heading. The same goes for a nose within
+    /// 1e-12 rad (6e-11°) of vertical, i.e. `cos(pitch) = hypot(c[(0, 0)],
+    /// c[(1, 0)])` at most 1e-12: the entries roll and heading would be taken
+    /// from are that small too, and their rounding errors would show in the
+    /// angles. NaN entries give NaN angles; never panics.
     #[must_use]
     pub fn from_body_to_ned(c: &Matrix3<f64>) -> Self {
         let cos_pitch = hypot(c[(0, 0)], c[(1, 0)]);

@@ -62,6 +62,11 @@ pub fn geodetic_to_ecef(geodetic: Geodetic) -> Vector3<f64> {
 /// degrees in angle for heights from -6 000 km to +1e9 m (see
 /// `tests/geodesy_wgs84.rs`).
 ///
+/// Beyond `2a/ε` (5.7e22 m, `ε` = [`f64::EPSILON`]) from the centre, as in
+/// GeographicLib, the Earth is taken as a point: latitude and longitude are
+/// the direction from the centre and the height is the distance from it (the
+/// radius left out is below an ulp of the distance there).
+///
 /// Longitude is in `[-180, 180]`, latitude in `[-90, 90]`. On the polar axis
 /// (x = y = 0) the longitude is 0. Any non-finite component gives a
 /// [`Geodetic`] whose three fields are NaN. Finite input always gives finite

@@ -106,8 +106,10 @@ fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
         let scale = d(sbits.wrapping_sub(1009 << 52));
         return pow2(1009) * fma(scale, tmp, scale);
     }
-    // k < 0: care in the subnormal range.
-    let scale = d(sbits.wrapping_add(1022 << 52));
+    // k < 0: care in the subnormal range. The rescaled bits carry the
+    // result's sign (the unscaled exponent may have wrapped into bit 63).
+    let sbits = sbits.wrapping_add(1022 << 52);
+    let scale = d(sbits);
     let mut y = fma(scale, tmp, scale);
     if y.abs() < 1.0 {
         let one = if y < 0.0 { -1.0 } else { 1.0 };
@@ -116,6 +118,7 @@ fn special_case(tmp: f64, sbits: u64, ki: u64) -> f64 {
         let lo = one - hi + y + lo;
         y = (hi + lo) - one;
         if y == 0.0 {
+            // A result that rounds to zero keeps the result's sign.
             y = d(sbits & 0x8000_0000_0000_0000);
         }
     }
@@ -375,6 +378,39 @@ pub(crate) fn pow_lanes<const N: usize>(x: [f64; N], y: f64) -> [f64; N] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `square_error` is its doc's "`r*r - q` exactly" over its whole range
+    /// (`|r|` from 2^-62 to 2^-6, every significand, both signs): the same
+    /// number as the fused multiply-add's `fma(r, r, -q)`, including for `|r|`
+    /// below 2^-26, where a wrong split of `r` would still make most of the
+    /// products exact, and at the range's ends.
+    #[test]
+    fn square_error_is_the_exact_error_of_the_square() {
+        let mut next = crate::math::test_bits(0x5eed_5e11);
+        let check = |r: f64| {
+            let q = r * r;
+            assert_eq!(
+                square_error(r, q).to_bits(),
+                fma(r, r, -q).to_bits(),
+                "r = {r:e} [{:#x}]",
+                r.to_bits()
+            );
+        };
+        for _ in 0..200_000 {
+            let bits = next();
+            // Exponents 2^-62 ..= 2^-7 (biased 961 ..= 1016), any significand.
+            let exponent = 961 + (bits >> 52) % 56;
+            let r = f64::from_bits((exponent << 52) | (bits & 0x000f_ffff_ffff_ffff));
+            check(r);
+            check(-r);
+        }
+        for r in [pow2(-62), pow2(-26), pow2(-6)] {
+            for bits in r.to_bits() - 3..=r.to_bits() + 3 {
+                check(f64::from_bits(bits));
+            }
+        }
+        check(0.0);
+    }
 
     /// `log_inline`'s product error from a fused multiply-add and from
     /// Dekker's product are the same exact number, so `pow` has the same bits

@@ -260,4 +260,23 @@ mod tests {
         let c = F32s([1.0f32, -2.0]);
         assert_eq!(c.abs(), F32s([1.0, 2.0]));
     }
+
+    /// `Mask::lane` reads lane `i` and `Mask::set_lane` writes it alone
+    /// (their docs), for every lane of a mask with both values in it.
+    #[test]
+    fn a_masks_lanes_are_read_and_written_one_by_one() {
+        let pattern = [true, false, false, true, false, true];
+        let mut m = LaneMask(pattern);
+        for (i, &b) in pattern.iter().enumerate() {
+            assert_eq!(Mask::lane(m, i), b, "lane {i}");
+        }
+        for i in 0..pattern.len() {
+            let mut expected = m.0;
+            expected[i] = !expected[i];
+            m.set_lane(i, !Mask::lane(m, i));
+            assert_eq!(m.0, expected, "lane {i}");
+        }
+        assert!(Mask::lane(LaneMask::<3>::splat(true), 2));
+        assert!(!Mask::lane(LaneMask::<3>::splat(false), 1));
+    }
 }
