@@ -274,10 +274,12 @@ impl ListenReport {
         }
     }
 
-    /// The human form: a summary line, then a table of one line per entity
-    /// (markings escaped and cut to 11 characters; numbers with fixed
-    /// decimals, or in the short scientific form when that would exceed 24
-    /// characters).
+    /// The human form: a summary line (which says, when the entity table
+    /// was full, its size and how many PDUs of further entities were not
+    /// kept), then, if any entity arrived, a header line and a table of one
+    /// line per entity (markings escaped and cut to 11 characters; numbers
+    /// with fixed decimals, or in the short scientific form when that would
+    /// exceed 24 characters).
     #[must_use]
     pub fn human(&self) -> String {
         let mut s = format!(
@@ -416,6 +418,76 @@ mod tests {
         for cell in ["-1e300", "7.2500000", "1e308", "90.00", "0.00"] {
             assert!(row.split_whitespace().any(|c| c == cell), "{cell}: {row}");
         }
+    }
+
+    /// The summary line alone without entities; with them, a header line
+    /// and one line each; the full table's note only when PDUs of further
+    /// entities were not kept.
+    #[test]
+    fn the_human_form_has_a_table_only_with_entities_and_a_note_only_when_full() {
+        let entity = EntityReport {
+            id: "1:2:3".into(),
+            site: 1,
+            application: 2,
+            entity: 3,
+            marking: "N172".into(),
+            entity_type: "1.2.225.85.11.1.0".into(),
+            protocol_version: 7,
+            exercise: 1,
+            updates: 4,
+            lat_deg: 39.8,
+            lon_deg: -84.0,
+            alt_m: 300.0,
+            heading_deg: 90.0,
+            pitch_deg: 1.0,
+            roll_deg: -2.0,
+            velocity_ned_m_s: [50.0, 0.0, 0.0],
+        };
+        let empty = ListenReport {
+            address: "127.0.0.1:3000".into(),
+            seconds: 2.0,
+            datagrams: 0,
+            bytes: 0,
+            pdus: 0,
+            entity_state_pdus: 0,
+            malformed_datagrams: 0,
+            decoder_panics: 0,
+            untracked_entity_pdus: 0,
+            entity_count: 0,
+            max_entities: 1,
+            entities: vec![],
+        };
+        let human = empty.human();
+        assert_eq!(human.lines().count(), 1, "{human}");
+        assert!(!human.contains("table full"), "{human}");
+
+        let two = ListenReport {
+            entities: vec![entity.clone(), entity],
+            entity_count: 2,
+            max_entities: 2,
+            ..empty.clone()
+        };
+        let human = two.human();
+        let lines: Vec<&str> = human.lines().collect();
+        assert_eq!(lines.len(), 4, "{human}");
+        assert!(lines[1].starts_with("ENTITY"), "{human}");
+        assert!(lines[2].starts_with("1:2:3") && lines[3].starts_with("1:2:3"));
+        assert!(!human.contains("table full"), "{human}");
+
+        let full = ListenReport {
+            untracked_entity_pdus: 5,
+            ..two
+        };
+        let human = full.human();
+        assert_eq!(human.lines().count(), 4, "{human}");
+        assert!(
+            human
+                .lines()
+                .next()
+                .unwrap()
+                .ends_with(" (table full at 2: 5 PDUs of further entities not kept)"),
+            "{human}"
+        );
     }
 
     #[test]
