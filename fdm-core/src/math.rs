@@ -589,15 +589,6 @@ pub fn atan2_lanes<const N: usize>(y: [f64; N], x: [f64; N]) -> [f64; N] {
     ];
     const PI: f64 = f64::from_bits(0x4009_21fb_5444_2d18);
     const PI_LO: f64 = f64::from_bits(0x3ca1_a626_3314_5c07);
-    // Reduction constants (p, q, r, s) by interval: none (|t| < 7/16),
-    // (2t − 1)/(2 + t), (t − 1)/(1 + t), (t − 1.5)/(1 + 1.5t), −1/t.
-    const REDUCE: [[f64; 4]; 5] = [
-        [1.0, 0.0, 1.0, 0.0],
-        [2.0, 1.0, 2.0, 1.0],
-        [1.0, 1.0, 1.0, 1.0],
-        [1.0, 1.5, 1.0, 1.5],
-        [0.0, 1.0, 0.0, 1.0],
-    ];
     let mut out = [0.0; N];
     let mut main = [true; N];
     for l in 0..N {
@@ -617,23 +608,43 @@ pub fn atan2_lanes<const N: usize>(y: [f64; N], x: [f64; N]) -> [f64; N] {
             && ix.wrapping_add(64 << 20) >= iy
             && !(x_negative && iy.wrapping_add(64 << 20) < ix)
             && (0x3e40_0000..0x4410_0000).contains(&it);
-        // atan(t): the interval and its reduction.
-        let id = usize::from(it >= 0x3fdc_0000)
-            + usize::from(it >= 0x3fe6_0000)
-            + usize::from(it >= 0x3ff3_0000)
-            + usize::from(it >= 0x4003_8000);
-        let [p, q, r, s] = REDUCE[id];
+        // atan(t): the interval (by selects, not a table, so that the lanes
+        // stay in vector registers) and its reduction's constants (p, q, r,
+        // s): none below 7/16 (1, 0, 1, 0), (2t − 1)/(2 + t), (t − 1)/(1 + t),
+        // (t − 1.5)/(1 + 1.5t), −1/t (0, 1, 0, 1).
+        let (small, i0, i1, i2) = (
+            it < 0x3fdc_0000,
+            it < 0x3fe6_0000,
+            it < 0x3ff3_0000,
+            it < 0x4003_8000,
+        );
+        let pick = |v: [f64; 5]| {
+            if small {
+                v[0]
+            } else if i0 {
+                v[1]
+            } else if i1 {
+                v[2]
+            } else if i2 {
+                v[3]
+            } else {
+                v[4]
+            }
+        };
+        let (p, q) = (
+            pick([1.0, 2.0, 1.0, 1.0, 0.0]),
+            pick([0.0, 1.0, 1.0, 1.5, 1.0]),
+        );
+        let (r, s) = (p, q);
         let tr = (p * t - q) / (r + s * t);
         let z = tr * tr;
         let w = z * z;
         let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
         let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
-        let k = id.saturating_sub(1);
-        let atan = if id == 0 {
-            tr - tr * (s1 + s2)
-        } else {
-            ATANHI[k] - (tr * (s1 + s2) - ATANLO[k] - tr)
-        };
+        let hi = pick([0.0, ATANHI[0], ATANHI[1], ATANHI[2], ATANHI[3]]);
+        let lo = pick([0.0, ATANLO[0], ATANLO[1], ATANLO[2], ATANLO[3]]);
+        let reduced = hi - (tr * (s1 + s2) - lo - tr);
+        let atan = if small { tr - tr * (s1 + s2) } else { reduced };
         let y_negative = yl.to_bits() >> 63 == 1;
         out[l] = match (x_negative, y_negative) {
             (false, false) => atan,
