@@ -9,6 +9,7 @@
 //! arrays are lane blocks (8 or 16 aircraft, field by field) that `fdm-fleet`
 //! keeps private, so the refresh is one gather per `step` call, not per frame.
 
+use std::marker::PhantomData;
 use std::sync::OnceLock;
 use std::time::Instant;
 
@@ -22,6 +23,7 @@ use pyo3::prelude::*;
 use crate::flight::to_py;
 use crate::models::{status_code, BindModel, ControlRange, FleetOps};
 use crate::start::StartSpec;
+use crate::task;
 
 /// A per-aircraft argument: one number for every aircraft, or one each.
 #[derive(Debug, Clone)]
@@ -205,7 +207,7 @@ pub trait AnyFleet: Send + Sync {
     /// parallel), sets every aircraft's controls from them as
     /// `afit_fdm.gym` did in NumPy, flies `frames` frames, counts `steps`
     /// up by one and, with `observe`, refreshes the buffers and fills the
-    /// task's outputs ([`crate::task::observe`]): what setting the
+    /// task's outputs ([`crate::task::observe_block`]): what setting the
     /// controls, [`Self::step`] without the refresh and
     /// [`Self::task_observe`] give one after the other, bit for bit (the
     /// aircraft are independent), with each run of blocks read once while
@@ -223,7 +225,7 @@ pub trait AnyFleet: Send + Sync {
         observe: Option<(&TaskArgs<'_>, TaskOut<'_>)>,
     ) -> Result<(), String>;
     /// Refreshes the buffers and fills the task's outputs
-    /// ([`crate::task::observe`]) in one pass over the aircraft, with each
+    /// ([`crate::task::observe_block`]) in one pass over the aircraft, with each
     /// aircraft's step count from `steps`.
     fn task_observe(&self, args: &TaskArgs<'_>, steps: &[i64], out: TaskOut<'_>);
 }
@@ -293,6 +295,27 @@ where
         }
         M::task_apply(c, &clipped[..k])
     });
+}
+
+/// [`act_piece`] with the instruction set pulp picked (the Palmer block's
+/// bank sines and cosines and the other control terms in its vector
+/// registers; every operation correctly rounded and none fused, so the
+/// same bits).
+struct ActPiece<'x, 'f, M: BindModel> {
+    piece: &'x mut FleetPiece<'f, M>,
+    actions: ActionValues<'x>,
+}
+
+impl<M: BindModel> pulp::WithSimd for ActPiece<'_, '_, M> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        match self.actions {
+            ActionValues::F32(v) => act_piece(self.piece, v, M::TASK_ACTIONS),
+            ActionValues::F64(v) => act_piece(self.piece, v, M::TASK_ACTIONS),
+        }
+    }
 }
 
 /// The task's per-aircraft inputs.
@@ -504,7 +527,7 @@ where
         if n == 0 {
             return Ok(());
         }
-        let (k, dt, precision) = (M::TASK_ACTIONS, M::time_step(self.fps), self.precision);
+        let (dt, precision) = (M::time_step(self.fps), self.precision);
         let (chunk, n_obs, parallel) = (self.chunk(), self.task_observations(), self.parallel);
         let mut fleet_pieces = self.fleet.pieces_mut(chunk / M::Fleet::lanes());
         let (args, mut outs): (_, Vec<Option<Piece<'_>>>) = match observe {
@@ -517,14 +540,12 @@ where
             ),
             None => (None, (0..fleet_pieces.len()).map(|_| None).collect()),
         };
+        let arch = pulp::Arch::new();
         let work = |((piece, steps), out): (
             (&mut FleetPiece<'_, M>, &mut [i64]),
             &mut Option<Piece<'_>>,
         )| {
-            match actions {
-                ActionValues::F32(v) => act_piece(piece, v, k),
-                ActionValues::F64(v) => act_piece(piece, v, k),
-            }
+            arch.dispatch(ActPiece { piece, actions });
             for _ in 0..frames {
                 // The precision was checked above: flying cannot fail.
                 let _ = piece.fly_with(dt, precision);
@@ -533,10 +554,11 @@ where
                 *s = s.saturating_add(1);
             }
             if let (Some(args), Some(out)) = (args, out) {
-                let first = piece.first();
+                let mut observer = Observer::<M>::new(args, out);
                 piece.for_each(|j, state, status, c| {
-                    observe_one::<M>(args, first + j, j, steps[j], state, status, c, out);
+                    observer.push(j, steps[j], state, status, c);
                 });
+                observer.flush();
             }
         };
         if parallel && fleet_pieces.len() > 1 {
@@ -562,8 +584,10 @@ where
         let chunk = self.chunk();
         let mut pieces = split(out, chunk, M::STATE_FIELDS.len(), self.task_observations());
         let work = |piece: &mut Piece<'_>| {
-            for j in 0..piece.status.len() {
-                let i = piece.first + j;
+            let first = piece.first;
+            let mut observer = Observer::<M>::new(args, piece);
+            for j in 0..observer.piece.status.len() {
+                let i = first + j;
                 let (Some(state), Some(status), Some(c)) = (
                     self.fleet.state_at(i),
                     self.fleet.status_at(i),
@@ -571,8 +595,9 @@ where
                 ) else {
                     continue;
                 };
-                observe_one::<M>(args, i, j, steps[i], &state, status, &c, piece);
+                observer.push(j, steps[i], &state, status, &c);
             }
+            observer.flush();
         };
         if self.parallel && pieces.len() > 1 {
             use rayon::prelude::*;
@@ -683,49 +708,168 @@ struct Piece<'a> {
     truncated: &'a mut [bool],
 }
 
-/// Aircraft `i` (`j` in `piece`), `steps` into its episode: its state
-/// columns and status code refreshed, its observation, reward and flags
-/// filled ([`crate::task::observe`]).
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn observe_one<M: BindModel>(
-    args: &TaskArgs<'_>,
-    i: usize,
-    j: usize,
-    steps: i64,
-    state: &M::State,
-    flight_status: FlightStatus,
-    c: &M::Controls,
-    piece: &mut Piece<'_>,
-) {
-    const MAX_FIELDS: usize = 32;
-    const MAX_CONTROLS: usize = 8;
-    let n_obs = crate::task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
-    let mut values = [0.0; MAX_FIELDS];
-    let values = &mut values[..M::STATE_FIELDS.len()];
-    let mut controls = [0.0; MAX_CONTROLS];
-    let controls = &mut controls[..M::CONTROL_FIELDS.len()];
-    let mut observed = [0.0; MAX_CONTROLS];
-    let observed = &mut observed[..M::TASK_CONTROL_OBS];
-    M::state_values(state, values);
-    for (column, v) in piece.columns.iter_mut().zip(values.iter()) {
-        column[j] = *v;
+/// The observation half of a task pass over a piece: each aircraft's state
+/// columns and status code written as it comes ([`Self::push`]), and its
+/// observation, reward and flags ([`crate::task::observe_block`]) a block of
+/// [`task::BLOCK`] consecutive aircraft at a time.
+struct Observer<'p, 'a, M: BindModel> {
+    args: &'p TaskArgs<'p>,
+    piece: &'p mut Piece<'a>,
+    block: task::Block<{ task::BLOCK }>,
+    /// Each lane's state, for [`BindModel::block_fields`] (only with some).
+    states: [M::State; task::BLOCK],
+    /// The instruction set of the block's observation.
+    arch: pulp::Arch,
+    /// Each lane's step count.
+    steps: [i64; task::BLOCK],
+    /// The piece index of lane 0.
+    first: usize,
+    /// Lanes filled.
+    len: usize,
+    model: PhantomData<M>,
+}
+
+impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
+    fn new(args: &'p TaskArgs<'p>, piece: &'p mut Piece<'a>) -> Self {
+        Self {
+            args,
+            piece,
+            block: task::Block::default(),
+            states: [M::initial_state(); task::BLOCK],
+            arch: pulp::Arch::new(),
+            steps: [0; task::BLOCK],
+            first: 0,
+            len: 0,
+            model: PhantomData,
+        }
     }
-    piece.status[j] = status_code(flight_status);
-    M::control_values(c, controls);
-    M::task_control_obs(controls, observed);
-    let (reward, ended) = crate::task::observe(
-        args.task,
-        &M::task_kinematics(values),
-        args.target_alt_ft[i],
-        args.target_heading_deg[i],
-        observed,
-        flight_status == FlightStatus::Airborne,
-        &mut piece.obs[j * n_obs..(j + 1) * n_obs],
-    );
-    piece.reward[j] = reward;
-    piece.terminated[j] = ended;
-    piece.truncated[j] = steps >= args.max_steps && !ended;
+
+    /// Aircraft `j` of the piece, `steps` into its episode: its state
+    /// columns and status code written, it joins the block.
+    #[inline(always)]
+    fn push(
+        &mut self,
+        j: usize,
+        steps: i64,
+        state: &M::State,
+        flight_status: FlightStatus,
+        c: &M::Controls,
+    ) {
+        const MAX_FIELDS: usize = 32;
+        const MAX_CONTROLS: usize = 8;
+        if self.len > 0 && j != self.first + self.len {
+            self.flush();
+        }
+        if self.len == 0 {
+            self.first = j;
+        }
+        let mut values = [0.0; MAX_FIELDS];
+        let values = &mut values[..M::STATE_FIELDS.len()];
+        let mut controls = [0.0; MAX_CONTROLS];
+        let controls = &mut controls[..M::CONTROL_FIELDS.len()];
+        let mut observed = [0.0; MAX_CONTROLS];
+        let observed = &mut observed[..M::TASK_CONTROL_OBS];
+        M::state_values_head(state, values);
+        let piece = &mut *self.piece;
+        let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
+        for (column, v) in piece.columns.iter_mut().zip(values.iter()).take(head) {
+            column[j] = *v;
+        }
+        piece.status[j] = status_code(flight_status);
+        M::control_values(c, controls);
+        M::task_control_obs(controls, observed);
+        let (l, i) = (self.len, piece.first + j);
+        let block = &mut self.block;
+        M::task_kinematics(values, block, l);
+        block.target_alt_ft[l] = self.args.target_alt_ft[i];
+        block.target_heading_deg[l] = self.args.target_heading_deg[i];
+        for (row, v) in block.observed.iter_mut().zip(observed.iter()) {
+            row[l] = *v;
+        }
+        block.airborne[l] = flight_status == FlightStatus::Airborne;
+        if M::BLOCK_FIELDS > 0 {
+            self.states[l] = *state;
+        }
+        self.steps[l] = steps;
+        self.len += 1;
+        if self.len == task::BLOCK {
+            self.flush();
+        }
+    }
+
+    /// The block's outputs (the lanes past `len` hold earlier aircraft or
+    /// the default block: computed along, never written).
+    #[inline(always)]
+    fn flush(&mut self) {
+        let (j0, len, args) = (self.first, self.len, self.args);
+        if len == 0 {
+            return;
+        }
+        let n_obs = task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
+        let piece = &mut *self.piece;
+        let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
+        let (columns, ended) = (
+            &mut piece.columns[head..],
+            &mut piece.terminated[j0..j0 + len],
+        );
+        self.arch.dispatch(FlushBlock::<M> {
+            task: args.task,
+            block: &self.block,
+            states: &self.states,
+            columns,
+            first: j0,
+            out: task::BlockOut {
+                obs: &mut piece.obs[j0 * n_obs..(j0 + len) * n_obs],
+                reward: &mut piece.reward[j0..j0 + len],
+                ended,
+            },
+        });
+        for ((truncated, ended), steps) in piece.truncated[j0..j0 + len]
+            .iter_mut()
+            .zip(&piece.terminated[j0..j0 + len])
+            .zip(&self.steps)
+        {
+            *truncated = *steps >= args.max_steps && !ended;
+        }
+        self.len = 0;
+    }
+}
+
+/// One block's numbers, computed with the instruction set pulp picked:
+/// the model's [`BindModel::block_fields`] written into their columns
+/// (rows `first..` of each), and [`crate::task::observe_block`]. Every
+/// operation is correctly rounded and none is fused, so the instruction
+/// set cannot change a bit (as fdm-fleet's kernels).
+struct FlushBlock<'x, 'c, M: BindModel> {
+    task: task::Task,
+    block: &'x task::Block<{ task::BLOCK }>,
+    states: &'x [M::State; task::BLOCK],
+    columns: &'x mut [&'c mut [f64]],
+    first: usize,
+    out: task::BlockOut<'x>,
+}
+
+impl<M: BindModel> pulp::WithSimd for FlushBlock<'_, '_, M> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let len = self.out.reward.len();
+        if M::BLOCK_FIELDS > 0 {
+            let mut fields = [[0.0; task::BLOCK]; crate::models::MAX_BLOCK_FIELDS];
+            M::block_fields(self.states, &mut fields);
+            for (column, values) in self.columns.iter_mut().zip(&fields) {
+                column[self.first..self.first + len].copy_from_slice(&values[..len]);
+            }
+        }
+        task::observe_block(
+            self.task,
+            M::GROUND_MPS_PER_SPEED,
+            self.block,
+            M::TASK_CONTROL_OBS,
+            self.out,
+        );
+    }
 }
 
 /// The start and control keyword arguments of `Fleet(...)` and

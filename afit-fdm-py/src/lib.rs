@@ -834,6 +834,8 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
         py.get_type::<replay::ReplayDivergedError>(),
     )?;
     m.add_function(wrap_pyfunction!(study::summarize_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(task_io::math_atan2, m)?)?;
+    m.add_function(wrap_pyfunction!(task_io::math_hypot, m)?)?;
     m.add("STATUS_CODES", study::status_codes().to_vec())?;
     struct Describe<'a, 'py>(Python<'py>, &'a Bound<'py, PyDict>);
     impl ModelJob for Describe<'_, '_> {

@@ -11,7 +11,7 @@ use fdm_core::palmer::{
 };
 use fdm_fleet::{Fleet, FleetError, FleetKernel, FleetPiece, Precision};
 
-use crate::task::{self, Kinematics, FT_PER_M};
+use crate::task::{self, Block, FT_PER_M};
 
 /// A control's name and its accepted range (inclusive; `None` for a set of
 /// allowed values checked by [`BindModel::set_control`]).
@@ -20,6 +20,9 @@ pub type ControlRange = (&'static str, f64, f64);
 /// The models this build knows, by name, in the run library's registry's
 /// order (`afit_fdm.MODELS`).
 pub const MODELS: [&str; 2] = [Palmer::NAME, Bourg::NAME];
+
+/// Most fields [`BindModel::block_fields`] computes.
+pub const MAX_BLOCK_FIELDS: usize = 4;
 
 /// Work done with one model's type, picked by name ([`with_model`]).
 pub trait ModelJob {
@@ -78,9 +81,38 @@ pub trait BindModel: fdm_run::csv::CsvModel + FleetKernel {
     /// Observed controls per aircraft of the tasks.
     const TASK_CONTROL_OBS: usize;
 
-    /// What the tasks read of the state, from
+    /// How many of the last [`STATE_FIELDS`](Self::STATE_FIELDS) (at most
+    /// [`MAX_BLOCK_FIELDS`]) a task pass computes a block of aircraft at a
+    /// time ([`block_fields`](Self::block_fields): Bourg's speed and three
+    /// Euler angles); the others come from
+    /// [`state_values_head`](Self::state_values_head).
+    const BLOCK_FIELDS: usize = 0;
+
+    /// [`state_values`](Self::state_values) without the last
+    /// [`BLOCK_FIELDS`](Self::BLOCK_FIELDS) (which stay as they are).
+    #[inline(always)]
+    fn state_values_head(state: &Self::State, out: &mut [f64]) {
+        Self::state_values(state, out);
+    }
+
+    /// The last [`BLOCK_FIELDS`](Self::BLOCK_FIELDS) values of
+    /// [`state_values`](Self::state_values) of each of `states`, bit for
+    /// bit: `out[field][lane]`.
+    #[inline(always)]
+    fn block_fields<const N: usize>(
+        _states: &[Self::State; N],
+        _out: &mut [[f64; N]; MAX_BLOCK_FIELDS],
+    ) {
+    }
+
+    /// The horizontal speed in the velocity's units times this is the
+    /// ground speed in m/s (Palmer 1, Bourg 0.3048).
+    const GROUND_MPS_PER_SPEED: f64;
+
+    /// Lane `lane` of `block` becomes what the tasks read of the state
+    /// (altitude, climb rate, velocity), from
     /// [`state_values`](Self::state_values).
-    fn task_kinematics(values: &[f64]) -> Kinematics;
+    fn task_kinematics<const N: usize>(values: &[f64], block: &mut Block<N>, lane: usize);
 
     /// `out` becomes the observed controls, from
     /// [`control_values`](Self::control_values).
@@ -235,16 +267,15 @@ impl BindModel for Palmer {
     const TASK_ACTIONS: usize = 4;
     const TASK_CONTROL_OBS: usize = 4;
 
-    fn task_kinematics(v: &[f64]) -> Kinematics {
-        let speed = v[4].hypot(v[5]);
-        Kinematics {
-            alt_ft: v[3] * FT_PER_M,
-            vz_fps: v[6] * FT_PER_M,
-            vx: v[4],
-            vy: v[5],
-            speed,
-            ground_mps: speed,
-        }
+    // `speed * 1.0` is `speed`, bit for bit.
+    const GROUND_MPS_PER_SPEED: f64 = 1.0;
+
+    #[inline(always)]
+    fn task_kinematics<const N: usize>(v: &[f64], block: &mut Block<N>, lane: usize) {
+        block.alt_ft[lane] = v[3] * FT_PER_M;
+        block.vz_fps[lane] = v[6] * FT_PER_M;
+        block.vx[lane] = v[4];
+        block.vy[lane] = v[5];
     }
 
     fn task_control_obs(c: &[f64], out: &mut [f64]) {
@@ -361,6 +392,54 @@ impl BindModel for Bourg {
         ]);
     }
 
+    const BLOCK_FIELDS: usize = 4;
+
+    #[inline(always)]
+    fn state_values_head(s: &BourgState, out: &mut [f64]) {
+        let w = f64::from;
+        out[..18].copy_from_slice(&[
+            s.time_s,
+            w(s.position_ft.x),
+            w(s.position_ft.y),
+            w(s.position_ft.z),
+            w(s.velocity_ftps.x),
+            w(s.velocity_ftps.y),
+            w(s.velocity_ftps.z),
+            w(s.velocity_body_ftps.x),
+            w(s.velocity_body_ftps.y),
+            w(s.velocity_body_ftps.z),
+            w(s.angular_velocity_radps.x),
+            w(s.angular_velocity_radps.y),
+            w(s.angular_velocity_radps.z),
+            w(s.orientation.w),
+            w(s.orientation.i),
+            w(s.orientation.j),
+            w(s.orientation.k),
+            if s.stalling { 1.0 } else { 0.0 },
+        ]);
+    }
+
+    /// The speed of [`BourgState::speed_ftps`] (the same operations, lane
+    /// by lane) and the Euler angles of [`BourgState::euler_angles_deg`]
+    /// ([`fdm_core::bourg::ops::euler_deg_from_quat_lanes`]), a block at a
+    /// time.
+    #[inline(always)]
+    fn block_fields<const N: usize>(
+        states: &[BourgState; N],
+        out: &mut [[f64; N]; MAX_BLOCK_FIELDS],
+    ) {
+        for (o, s) in out[0].iter_mut().zip(states) {
+            *o = f64::from(fdm_core::bourg::ops::magnitude(&s.velocity_ftps));
+        }
+        let q: [_; N] = core::array::from_fn(|l| states[l].orientation);
+        let e = fdm_core::bourg::ops::euler_deg_from_quat_lanes(&q);
+        for (l, e) in e.iter().enumerate() {
+            out[1][l] = f64::from(e.x);
+            out[2][l] = f64::from(e.y);
+            out[3][l] = f64::from(e.z);
+        }
+    }
+
     fn control_values(c: &BourgControls, out: &mut [f64]) {
         let rudder = if c.rudder_deg > 0.0 {
             -1.0
@@ -417,16 +496,14 @@ impl BindModel for Bourg {
     const TASK_ACTIONS: usize = 5;
     const TASK_CONTROL_OBS: usize = 5;
 
-    fn task_kinematics(v: &[f64]) -> Kinematics {
-        let speed = v[4].hypot(v[5]);
-        Kinematics {
-            alt_ft: v[3],
-            vz_fps: v[6],
-            vx: v[4],
-            vy: v[5],
-            speed,
-            ground_mps: speed * 0.3048,
-        }
+    const GROUND_MPS_PER_SPEED: f64 = 0.3048;
+
+    #[inline(always)]
+    fn task_kinematics<const N: usize>(v: &[f64], block: &mut Block<N>, lane: usize) {
+        block.alt_ft[lane] = v[3];
+        block.vz_fps[lane] = v[6];
+        block.vx[lane] = v[4];
+        block.vy[lane] = v[5];
     }
 
     fn task_control_obs(c: &[f64], out: &mut [f64]) {

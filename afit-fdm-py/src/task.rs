@@ -7,11 +7,26 @@
 //! bit for bit), written with the same operations in the same order:
 //! NumPy's `%` is [`np_remainder`] (Python's floor modulo), `np.minimum` and
 //! `np.clip` propagate NaN ([`np_minimum`], [`np_clip`]), `np.degrees` is
-//! `x * (180 / π)` ([`f64::to_degrees`]), `np.hypot` is the C library's
-//! `hypot` ([`f64::hypot`]). One function differs by machine: NumPy's
-//! `arctan2` runs its own SIMD kernel on CPUs with AVX-512 (within 1 ulp of
-//! the C library's `atan2`, which it calls elsewhere); this module calls the
-//! C library's `atan2` ([`f64::atan2`]) on every machine.
+//! `x * (180 / π)` ([`f64::to_degrees`]).
+//!
+//! Two functions are not NumPy's: the track's `atan2` and the horizontal
+//! speed's `hypot` are `fdm_core::math`'s ([`atan2_lanes`], [`hypot_lanes`]:
+//! fdlibm's `atan2` and musl's `hypot`, pure Rust, several aircraft at once
+//! with the scalar functions' bits), so the observations are the same bits
+//! on every machine, as the models' states are. NumPy's `arctan2` and
+//! `hypot` are not: they call the platform's C library (and `arctan2` runs
+//! NumPy's own SIMD kernel on CPUs with AVX-512), which differs between
+//! machines in the last bit. The oracle computes those two functions with
+//! the same `fdm_core::math` functions (`afit_fdm._afit_fdm._math_atan2`
+//! and `_math_hypot`, one argument pair at a time) and every other
+//! operation with NumPy.
+//!
+//! [`observe_block`] computes a block of aircraft stage by stage over the
+//! block's lanes (every operation correctly rounded and none fused, so a
+//! lane's bits do not depend on the lanes beside it): the divisions, float32
+//! roundings and clips of eight aircraft can share vector instructions.
+
+use fdm_core::math::{atan2_lanes, hypot_lanes};
 
 /// Feet per metre, as `afit_fdm.gym` computes it (`1.0 / 0.3048`).
 pub const FT_PER_M: f64 = 1.0 / 0.3048;
@@ -113,80 +128,179 @@ pub fn np_clip_f32(x: f32) -> f32 {
     x.clamp(-OBS_LIMIT, OBS_LIMIT)
 }
 
-/// What the tasks read of an aircraft's state, in the units of
-/// `afit_fdm.gym`'s `_kinematics`.
+/// Aircraft per block of [`observe_block`].
+pub const BLOCK: usize = 8;
+/// Most observed controls per aircraft (Bourg's five).
+pub const MAX_CONTROL_OBS: usize = 5;
+
+/// What the tasks read of a block of aircraft (lane `l` is one aircraft),
+/// in the units of `afit_fdm.gym`'s `_kinematics`.
 #[derive(Debug, Clone, Copy)]
-pub struct Kinematics {
+pub struct Block<const N: usize> {
     /// Altitude, ft.
-    pub alt_ft: f64,
+    pub alt_ft: [f64; N],
     /// Climb rate, ft/s.
-    pub vz_fps: f64,
+    pub vz_fps: [f64; N],
     /// The model's north velocity (Palmer m/s, Bourg ft/s).
-    pub vx: f64,
+    pub vx: [f64; N],
     /// The model's west velocity (Palmer m/s, Bourg ft/s).
-    pub vy: f64,
-    /// Horizontal speed in the velocity's own units, `vx.hypot(vy)`.
-    pub speed: f64,
-    /// Ground speed, m/s.
-    pub ground_mps: f64,
+    pub vy: [f64; N],
+    /// Target altitude, ft.
+    pub target_alt_ft: [f64; N],
+    /// Target heading, degrees.
+    pub target_heading_deg: [f64; N],
+    /// Observed controls (`observed[c][l]`), the first `controls` rows.
+    pub observed: [[f64; N]; MAX_CONTROL_OBS],
+    /// Whether the aircraft is airborne.
+    pub airborne: [bool; N],
 }
 
-/// One aircraft's observation (`obs`, the kinematic part and then
-/// `controls`), reward and whether its episode ended by status, as
-/// `_Task.observe` computed them.
-#[allow(clippy::too_many_arguments)]
-pub fn observe(
-    task: Task,
-    k: &Kinematics,
-    target_alt_ft: f64,
-    target_heading_deg: f64,
-    controls: &[f64],
-    airborne: bool,
-    obs: &mut [f32],
-) -> (f64, bool) {
-    let ground_kt = k.ground_mps * KT_PER_MPS;
-    // y points west: the track is clockwise from north toward east (-y).
-    let track_deg = np_remainder((-k.vy).atan2(k.vx).to_degrees(), 360.0);
-    let alt_err = target_alt_ft - k.alt_ft;
-    let hdg_err = np_remainder(target_heading_deg - track_deg + 180.0, 360.0) - 180.0;
-    let moving = k.ground_mps > 0.0;
-    // The track's sine and cosine divide the velocity by the horizontal
-    // speed in the velocity's own units (Bourg's ft/s, not the m/s of
-    // `ground_mps`): a unit vector for both models.
-    let safe = if moving { k.speed } else { 1.0 };
-    #[allow(clippy::cast_possible_truncation)] // float32 observations, as NumPy casts
-    {
-        let kinematic = [
-            alt_err / 1000.0,
-            hdg_err / 180.0,
-            k.vz_fps / 20.0,
-            ground_kt / 200.0,
-            if moving { -k.vy / safe } else { 0.0 },
-            if moving { k.vx / safe } else { 1.0 },
-        ];
-        for (o, v) in obs.iter_mut().zip(kinematic.iter().chain(controls)) {
-            *o = np_clip_f32(*v as f32);
+impl<const N: usize> Default for Block<N> {
+    /// A level aircraft flying north at 1 unit/s (what unused lanes hold).
+    fn default() -> Self {
+        Self {
+            alt_ft: [0.0; N],
+            vz_fps: [0.0; N],
+            vx: [1.0; N],
+            vy: [0.0; N],
+            target_alt_ft: [0.0; N],
+            target_heading_deg: [0.0; N],
+            observed: [[0.0; N]; MAX_CONTROL_OBS],
+            airborne: [true; N],
         }
     }
-    let (a_err, h_err) = (alt_err.abs(), hdg_err.abs());
-    let reward = match task {
-        Task::HeadingAltitude => {
-            1.0 - 0.5 * np_minimum(a_err / 500.0, 1.0) - 0.5 * np_minimum(h_err / 45.0, 1.0)
+}
+
+/// The outputs of the first `count` aircraft of a block: `obs` (`count`
+/// rows of [`KINEMATIC_OBS`] + `controls` values), `reward` and `ended`
+/// (whether the episode ended by status).
+#[derive(Debug)]
+pub struct BlockOut<'a> {
+    /// Observations, row by row.
+    pub obs: &'a mut [f32],
+    /// Rewards.
+    pub reward: &'a mut [f64],
+    /// Ended by status.
+    pub ended: &'a mut [bool],
+}
+
+/// The observations (`obs`: the kinematic part and then the observed
+/// controls), rewards and whether each episode ended by status of the first
+/// `out.reward.len()` aircraft of block `b`, as `_Task.observe` computed
+/// them: `ground_mps_per_speed` turns the horizontal speed in the
+/// velocity's units into m/s (Palmer 1, Bourg 0.3048); `controls` observed
+/// controls per aircraft.
+#[inline(always)]
+#[allow(clippy::cast_possible_truncation)] // float32 observations, as NumPy casts
+pub fn observe_block<const N: usize>(
+    task: Task,
+    ground_mps_per_speed: f64,
+    b: &Block<N>,
+    controls: usize,
+    out: BlockOut<'_>,
+) {
+    let n_obs = KINEMATIC_OBS + controls;
+    let speed = hypot_lanes(b.vx, b.vy);
+    // y points west: the track is clockwise from north toward east (-y).
+    let track_rad = atan2_lanes(b.vy.map(|vy| -vy), b.vx);
+    let track_deg = remainder_lanes(track_rad.map(f64::to_degrees), 360.0);
+    let mut turn = [0.0; N];
+    for (t, (target, track)) in turn
+        .iter_mut()
+        .zip(b.target_heading_deg.iter().zip(&track_deg))
+    {
+        *t = target - track + 180.0;
+    }
+    let turn = remainder_lanes(turn, 360.0);
+    let mut kinematic = [[0.0; N]; KINEMATIC_OBS];
+    let mut alt_err = [0.0; N];
+    let mut hdg_err = [0.0; N];
+    for l in 0..N {
+        let ground_mps = speed[l] * ground_mps_per_speed;
+        let ground_kt = ground_mps * KT_PER_MPS;
+        alt_err[l] = b.target_alt_ft[l] - b.alt_ft[l];
+        hdg_err[l] = turn[l] - 180.0;
+        let moving = ground_mps > 0.0;
+        // The track's sine and cosine divide the velocity by the horizontal
+        // speed in the velocity's own units (Bourg's ft/s, not the m/s of
+        // `ground_mps`): a unit vector for both models.
+        let safe = if moving { speed[l] } else { 1.0 };
+        kinematic[0][l] = alt_err[l] / 1000.0;
+        kinematic[1][l] = hdg_err[l] / 180.0;
+        kinematic[2][l] = b.vz_fps[l] / 20.0;
+        kinematic[3][l] = ground_kt / 200.0;
+        kinematic[4][l] = if moving { -b.vy[l] / safe } else { 0.0 };
+        kinematic[5][l] = if moving { b.vx[l] / safe } else { 1.0 };
+    }
+    for (l, row) in out.obs.chunks_exact_mut(n_obs).enumerate().take(N) {
+        let columns = kinematic.iter().chain(&b.observed[..controls]);
+        for (o, column) in row.iter_mut().zip(columns) {
+            *o = np_clip_f32(column[l] as f32);
         }
-        Task::Climb => {
-            let near = 1.0
-                - 0.7 * np_minimum(a_err / 1000.0, 1.0)
-                - 0.3 * np_minimum(k.vz_fps.abs() / 10.0, 1.0);
-            let far = 0.3 * (1.0 - np_minimum(a_err / 2000.0, 1.0));
-            if a_err <= 200.0 {
-                near
-            } else {
-                far
+    }
+    let mut reward = [0.0; N];
+    match task {
+        Task::HeadingAltitude => {
+            for (r, (a, h)) in reward.iter_mut().zip(alt_err.iter().zip(&hdg_err)) {
+                let (a_err, h_err) = (a.abs(), h.abs());
+                *r = 1.0
+                    - 0.5 * np_minimum(a_err / 500.0, 1.0)
+                    - 0.5 * np_minimum(h_err / 45.0, 1.0);
             }
         }
-    };
-    let ended = !airborne;
-    (if ended { 0.0 } else { reward }, ended)
+        Task::Climb => {
+            for (r, (a, vz)) in reward.iter_mut().zip(alt_err.iter().zip(&b.vz_fps)) {
+                let a_err = a.abs();
+                let near = 1.0
+                    - 0.7 * np_minimum(a_err / 1000.0, 1.0)
+                    - 0.3 * np_minimum(vz.abs() / 10.0, 1.0);
+                let far = 0.3 * (1.0 - np_minimum(a_err / 2000.0, 1.0));
+                *r = if a_err <= 200.0 { near } else { far };
+            }
+        }
+    }
+    for (l, (r, ended)) in out.reward.iter_mut().zip(out.ended.iter_mut()).enumerate() {
+        *ended = !b.airborne[l];
+        *r = if *ended { 0.0 } else { reward[l] };
+    }
+}
+
+/// [`np_remainder`]`(a, b)` of every lane for `b > 0`: branch-free (selects
+/// the compiler can put in vector registers) where `|a| < 2b` (the tasks'
+/// angles always), [`np_remainder`] itself in any other lane (and NaN).
+#[inline(always)]
+fn remainder_lanes<const N: usize>(a: [f64; N], b: f64) -> [f64; N] {
+    let mut out = [0.0; N];
+    let mut near = [true; N];
+    for ((o, n), &x) in out.iter_mut().zip(near.iter_mut()).zip(&a) {
+        let size = x.abs();
+        *n = size < 2.0 * b;
+        // `fmod` as [`fmod`] computes it for `|a| < 2b` ...
+        let below = x + b;
+        let m = if size < b {
+            x
+        } else if x > 0.0 {
+            x - b
+        } else if below == 0.0 {
+            -0.0
+        } else {
+            below
+        };
+        // ... moved into the divisor's sign as [`np_remainder`] does.
+        *o = if m == 0.0 {
+            0.0
+        } else if m < 0.0 {
+            m + b
+        } else {
+            m
+        };
+    }
+    for ((o, n), &x) in out.iter_mut().zip(&near).zip(&a) {
+        if !n {
+            *o = np_remainder(x, b);
+        }
+    }
+    out
 }
 
 /// Bourg's all-or-nothing surfaces from an action: +1 above 1/3, -1 below

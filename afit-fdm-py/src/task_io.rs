@@ -245,3 +245,55 @@ impl<'py> Outs<'py> {
         })
     }
 }
+
+/// `fdm_core::math`'s function `f` of each pair of `a` and `b` (float64,
+/// shape `(n,)` each), one pair at a time: the tasks' deterministic maths
+/// for the NumPy oracle of `tests/test_task_kernel.py`.
+fn pairwise<'py>(
+    py: Python<'py>,
+    name: &str,
+    a: &PyReadonlyArray1<'py, f64>,
+    b: &PyReadonlyArray1<'py, f64>,
+    f: fn(f64, f64) -> f64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (a, b) = (a.as_array(), b.as_array());
+    if a.len() != b.len() {
+        return Err(PyValueError::new_err(format!(
+            "{name}: the arrays' lengths differ ({} and {})",
+            a.len(),
+            b.len()
+        )));
+    }
+    let out: Vec<f64> = a.iter().zip(b.iter()).map(|(&x, &y)| f(x, y)).collect();
+    Ok(PyArray1::from_vec(py, out))
+}
+
+/// `_math_atan2(y, x)`: `fdm_core::math::atan2` elementwise (fdlibm's,
+/// pure Rust), the function the tasks' track uses.
+///
+/// # Errors
+/// Arrays of different lengths.
+#[pyfunction]
+#[pyo3(name = "_math_atan2")]
+pub fn math_atan2<'py>(
+    py: Python<'py>,
+    y: PyReadonlyArray1<'py, f64>,
+    x: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    pairwise(py, "_math_atan2", &y, &x, fdm_core::math::atan2)
+}
+
+/// `_math_hypot(x, y)`: `fdm_core::math::hypot` elementwise (musl's, pure
+/// Rust), the function the tasks' horizontal speed uses.
+///
+/// # Errors
+/// Arrays of different lengths.
+#[pyfunction]
+#[pyo3(name = "_math_hypot")]
+pub fn math_hypot<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    pairwise(py, "_math_hypot", &x, &y, fdm_core::math::hypot)
+}

@@ -1,22 +1,26 @@
 """The Gymnasium tasks' step in Rust (``Fleet.task_step``) against the NumPy
 code it replaced, kept here as the oracle (``OldTask``: ``afit_fdm.gym``'s
 ``_Task.act`` and ``_Task.observe`` as they were, verbatim but for the
-``arctan2`` they call).
+``arctan2`` and ``hypot`` they call).
 
 Bit for bit, on random actions (Hypothesis), both models and both tasks,
-with the oracle's ``np.arctan2`` replaced by the C library's ``atan2``
-(``math.atan2``). That one replacement is needed because NumPy's
-``arctan2`` is not the same function on every machine: on CPUs with AVX-512
-it runs NumPy's own SIMD kernel, which differs from the C library's in the
-last bit on about 7 % of inputs (measured on this project's machine; on
-others NumPy calls the C library). The Rust step calls the C library's on
-every machine. A second test runs the oracle with NumPy's own ``arctan2``
-and bounds the difference that remains (see there).
+with the oracle's ``np.arctan2`` and ``np.hypot`` replaced by the
+deterministic functions the Rust step uses: ``fdm_core::math``'s ``atan2``
+(fdlibm's) and ``hypot`` (musl's), pure Rust, the same bits on every machine
+(``_afit_fdm._math_atan2`` and ``_math_hypot`` compute them one pair at a
+time; the Rust step computes eight aircraft at once with lane forms proven
+bit for bit against them in ``fdm-core``, which these tests check again on
+the fleets' own velocities). NumPy's two functions are not the same on every
+machine: both call the platform's C library, and ``arctan2`` runs NumPy's own
+SIMD kernel on CPUs with AVX-512 (it differs from the C library's in the
+last bit on about 7 % of inputs on this project's machine). Every other
+operation is NumPy's. A second test runs the oracle with NumPy's own
+``arctan2`` and ``hypot`` and bounds the difference that remains (see
+there).
 """
 
 from __future__ import annotations
 
-import math
 from typing import Callable, Tuple
 
 import numpy as np
@@ -25,17 +29,20 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from afit_fdm import Fleet, Status
+from afit_fdm import Fleet, Status, _afit_fdm
 from afit_fdm.gym import FT_PER_M, KT_PER_MPS, OBS_LIMIT, _Task
 
 AIRBORNE = int(Status.AIRBORNE)
-_c_atan2 = np.frompyfunc(math.atan2, 2, 1)
 
 
-def c_arctan2(y: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """The C library's ``atan2`` elementwise (``math.atan2`` calls it for
-    finite arguments; the velocities are always finite)."""
-    return _c_atan2(y, x).astype(np.float64)
+def math_arctan2(y: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``fdm_core::math::atan2`` elementwise (the Rust step's track)."""
+    return _afit_fdm._math_atan2(np.ascontiguousarray(y, dtype=np.float64), np.ascontiguousarray(x, dtype=np.float64))
+
+
+def math_hypot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``fdm_core::math::hypot`` elementwise (the Rust step's horizontal speed)."""
+    return _afit_fdm._math_hypot(np.ascontiguousarray(x, dtype=np.float64), np.ascontiguousarray(y, dtype=np.float64))
 
 
 def _surface(a: np.ndarray) -> np.ndarray:
@@ -46,9 +53,11 @@ class OldTask:
     """``_Task`` as it computed actions, observations and rewards in NumPy
     before the step moved into Rust (commit 46ec60a), on a fleet of its own."""
 
-    def __init__(self, model: str, task: str, n: int, arctan2: Callable = np.arctan2) -> None:
+    def __init__(
+        self, model: str, task: str, n: int, arctan2: Callable = np.arctan2, hypot: Callable = np.hypot
+    ) -> None:
         self.model, self.task, self.n = model, task, n
-        self.arctan2 = arctan2
+        self.arctan2, self.hypot = arctan2, hypot
         self.fleet = Fleet(model, n, fps=30, parallel=False, altitude_ft=2000.0, speed_kt=100.0, trim=True)
         self.target_alt_ft = np.zeros(n)
         self.target_heading_deg = np.zeros(n)
@@ -78,11 +87,11 @@ class OldTask:
         if self.model == "palmer":
             alt_ft = f["z_m"] * FT_PER_M
             vx, vy, vz_fps = f["vx_mps"], f["vy_mps"], f["vz_mps"] * FT_PER_M
-            ground_mps = np.hypot(vx, vy)
+            ground_mps = self.hypot(vx, vy)
         else:
             alt_ft = np.array(f["z_ft"])
             vx, vy, vz_fps = f["vx_ftps"], f["vy_ftps"], np.array(f["vz_ftps"])
-            ground_mps = np.hypot(vx, vy) * 0.3048
+            ground_mps = self.hypot(vx, vy) * 0.3048
         track_deg = np.degrees(self.arctan2(-vy, vx)) % 360.0
         return alt_ft, vz_fps, ground_mps * KT_PER_MPS, track_deg, vx, vy, ground_mps
 
@@ -96,7 +105,7 @@ class OldTask:
         else:
             ctl = [c["thrust_lb"] / 3000.0, c["elevator"], c["aileron"], c["rudder"], c["pitch_trim"]]
         moving = ground > 0.0
-        safe = np.where(moving, np.hypot(vx, vy), 1.0)  # the velocity's own units
+        safe = np.where(moving, self.hypot(vx, vy), 1.0)  # the velocity's own units
         obs = np.empty((self.n, self.n_obs), dtype=np.float32)
         columns = [alt_err / 1000.0, hdg_err / 180.0, vz_fps / 20.0, ground_kt / 200.0,
                    np.where(moving, -vy / safe, 0.0), np.where(moving, vx / safe, 1.0), *ctl]
@@ -117,12 +126,20 @@ class OldTask:
         return obs, reward, ended
 
 
-def pair(model: str, task: str, n: int, seed: int, parallel: bool, arctan2: Callable = c_arctan2):
+def pair(
+    model: str,
+    task: str,
+    n: int,
+    seed: int,
+    parallel: bool,
+    arctan2: Callable = math_arctan2,
+    hypot: Callable = math_hypot,
+):
     """The new task and the oracle, from the same starts and targets."""
     new = _Task(model, task, n, 30, 1, parallel)
     rngs = [np.random.default_rng(seed + i) for i in range(n)]
     new.reset(rngs, np.ones(n, dtype=bool))
-    old = OldTask(model, task, n, arctan2)
+    old = OldTask(model, task, n, arctan2, hypot)
     rngs = [np.random.default_rng(seed + i) for i in range(n)]
     d = new.draw(rngs, np.arange(n))
     old.fleet.reset(None, altitude_ft=d["altitude_ft"], speed_kt=d["speed_kt"], heading_deg=d["heading_deg"], trim=True)
@@ -204,16 +221,20 @@ def test_a_large_fleet_in_parallel_pieces_is_the_old_step_bit_for_bit() -> None:
 
 
 def test_against_numpys_own_arctan2_only_the_heading_error_differs_within_bounds() -> None:
-    """The oracle with NumPy's ``arctan2`` as it runs here (its AVX-512 SIMD
-    kernel on such a CPU): every observation column but the heading error
-    (column 1) is identical bits; the heading error within 1 float32 ulp
-    (an f64 atan2 1 ulp apart moves ``hdg_err / 180`` by at most about
-    2e-16, which changes the float32 rounding only when it straddles a
-    rounding boundary); rewards within 1e-14 (``0.5 / 45`` times the
-    heading error's difference, under 1e-13 degrees)."""
+    """The oracle with NumPy's own ``arctan2`` and ``hypot`` as they run here
+    (the AVX-512 SIMD ``arctan2`` on such a CPU, the C library's ``hypot``):
+    every observation column but the heading error (column 1) is identical
+    bits (glibc's ``hypot`` and musl's differ in the last bit of about 13 %
+    of velocities, which moves a float32 observation only where the two
+    straddle a float32 rounding boundary: none of these 40,000 aircraft);
+    the heading error within 1 float32 ulp (f64 track angles a few ulp
+    apart move ``hdg_err / 180`` by about 1e-16, which changes the float32
+    rounding only when it straddles a rounding boundary); rewards within
+    1e-14 (``0.5 / 45`` times the heading error's difference, under 1e-13
+    degrees)."""
     n = 20_000
     for model in ("palmer", "bourg"):
-        new, old = pair(model, "heading-altitude", n, 11, True, arctan2=np.arctan2)
+        new, old = pair(model, "heading-altitude", n, 11, True, arctan2=np.arctan2, hypot=np.hypot)
         k = 4 if model == "palmer" else 5
         rng = np.random.default_rng(5)
         steps = np.zeros(n, dtype=np.int64)

@@ -19,6 +19,10 @@
 //! | [`sin`], [`cos`], [`atan`], [`atan2`], [`asin`], [`hypot`], [`atan2f`] | the `libm` crate (fdlibm) | on the reference cases' inputs; not everywhere (fdlibm and glibc both miss correct rounding at times) |
 //! | [`acos`], [`tan`] (outputs only: FlightGear multiplayer, DIS) | the `libm` crate (fdlibm) | not needed: no reference case calls them |
 //!
+//! [`atan2_lanes`], [`hypot_lanes`] and [`sin_cos_lanes`] are those functions for several
+//! arguments at once, bit for bit (the same operations in the same order, lane by lane, and
+//! the scalar function for any lane off their main path).
+//!
 //! docs/determinism.md has the study behind this table (exhaustive over `f32`,
 //! dense samples for `f64`) and the targets on which it is proven.
 
@@ -538,6 +542,172 @@ pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
     (sin, cos)
 }
 
+/// The high 32 bits of `x`'s pattern, as fdlibm reads them.
+#[inline(always)]
+#[allow(clippy::cast_possible_truncation)] // the high word
+const fn high_word(x: f64) -> u32 {
+    (x.to_bits() >> 32) as u32
+}
+
+/// [`atan2`] of every lane, bit for bit. A lane whose arguments take
+/// fdlibm's main path (both finite and non-zero, `x` not 1, `|y / x|` from
+/// 2^-27 to 2^66 by the high word and neither of `atan2`'s `2^±64`
+/// shortcuts) is evaluated with `atan`'s operations in the same order, its
+/// interval's reduction `(p·t − q) / (r + s·t)` with the interval's
+/// constants (each form's operations exactly: `1·t`, `0·t` and the `± 0`
+/// are exact), which the compiler may put in vector registers (every
+/// operation is correctly rounded, none is fused); any other lane goes
+/// through [`atan2`].
+#[inline(always)]
+#[must_use]
+pub fn atan2_lanes<const N: usize>(y: [f64; N], x: [f64; N]) -> [f64; N] {
+    // fdlibm's constants (s_atan.c, e_atan2.c), by their bits.
+    const ATANHI: [f64; 4] = [
+        f64::from_bits(0x3fdd_ac67_0561_bb4f),
+        f64::from_bits(0x3fe9_21fb_5444_2d18),
+        f64::from_bits(0x3fef_730b_d281_f69b),
+        f64::from_bits(0x3ff9_21fb_5444_2d18),
+    ];
+    const ATANLO: [f64; 4] = [
+        f64::from_bits(0x3c7a_2b7f_222f_65e2),
+        f64::from_bits(0x3c81_a626_3314_5c07),
+        f64::from_bits(0x3c70_0788_7af0_cbbd),
+        f64::from_bits(0x3c91_a626_3314_5c07),
+    ];
+    const AT: [f64; 11] = [
+        f64::from_bits(0x3fd5_5555_5555_550d),
+        f64::from_bits(0xbfc9_9999_9998_ebc4),
+        f64::from_bits(0x3fc2_4924_9200_83ff),
+        f64::from_bits(0xbfbc_71c6_fe23_1671),
+        f64::from_bits(0x3fb7_45cd_c54c_206e),
+        f64::from_bits(0xbfb3_b0f2_af74_9a6d),
+        f64::from_bits(0x3fb1_0d66_a0d0_3d51),
+        f64::from_bits(0xbfad_de2d_52de_fd9a),
+        f64::from_bits(0x3fa9_7b4b_2476_0deb),
+        f64::from_bits(0xbfa2_b444_2c6a_6c2f),
+        f64::from_bits(0x3f90_ad3a_e322_da11),
+    ];
+    const PI: f64 = f64::from_bits(0x4009_21fb_5444_2d18);
+    const PI_LO: f64 = f64::from_bits(0x3ca1_a626_3314_5c07);
+    let mut out = [0.0; N];
+    let mut main = [true; N];
+    for l in 0..N {
+        let (yl, xl) = (y[l], x[l]);
+        let t = (yl / xl).abs();
+        let (ix, iy, it) = (
+            high_word(xl) & 0x7fff_ffff,
+            high_word(yl) & 0x7fff_ffff,
+            high_word(t),
+        );
+        let x_negative = xl.to_bits() >> 63 == 1;
+        main[l] = ix < 0x7ff0_0000
+            && iy < 0x7ff0_0000
+            && xl != 0.0
+            && yl != 0.0
+            && xl != 1.0
+            && ix.wrapping_add(64 << 20) >= iy
+            && !(x_negative && iy.wrapping_add(64 << 20) < ix)
+            && (0x3e40_0000..0x4410_0000).contains(&it);
+        // atan(t): the interval (by selects, not a table, so that the lanes
+        // stay in vector registers) and its reduction's constants (p, q, r,
+        // s): none below 7/16 (1, 0, 1, 0), (2t − 1)/(2 + t), (t − 1)/(1 + t),
+        // (t − 1.5)/(1 + 1.5t), −1/t (0, 1, 0, 1).
+        let (small, i0, i1, i2) = (
+            it < 0x3fdc_0000,
+            it < 0x3fe6_0000,
+            it < 0x3ff3_0000,
+            it < 0x4003_8000,
+        );
+        let pick = |v: [f64; 5]| {
+            if small {
+                v[0]
+            } else if i0 {
+                v[1]
+            } else if i1 {
+                v[2]
+            } else if i2 {
+                v[3]
+            } else {
+                v[4]
+            }
+        };
+        let (p, q) = (
+            pick([1.0, 2.0, 1.0, 1.0, 0.0]),
+            pick([0.0, 1.0, 1.0, 1.5, 1.0]),
+        );
+        let (r, s) = (p, q);
+        let tr = (p * t - q) / (r + s * t);
+        let z = tr * tr;
+        let w = z * z;
+        let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
+        let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
+        let hi = pick([0.0, ATANHI[0], ATANHI[1], ATANHI[2], ATANHI[3]]);
+        let lo = pick([0.0, ATANLO[0], ATANLO[1], ATANLO[2], ATANLO[3]]);
+        let reduced = hi - (tr * (s1 + s2) - lo - tr);
+        let atan = if small { tr - tr * (s1 + s2) } else { reduced };
+        let y_negative = yl.to_bits() >> 63 == 1;
+        out[l] = match (x_negative, y_negative) {
+            (false, false) => atan,
+            (false, true) => -atan,
+            (true, false) => PI - (atan - PI_LO),
+            (true, true) => (atan - PI_LO) - PI,
+        };
+    }
+    for l in 0..N {
+        if !main[l] {
+            out[l] = atan2(y[l], x[l]);
+        }
+    }
+    out
+}
+
+/// [`hypot`] of every lane, bit for bit. A lane whose larger magnitude is
+/// finite and at most 2^511, whose smaller is non-zero and at least 2^-450,
+/// and whose exponents are at most 64 apart (the `libm` crate's unscaled
+/// path) is evaluated with the same operations in the same order (the
+/// squares split exactly, their four parts summed, the square root), which
+/// the compiler may put in vector registers; any other lane goes through
+/// [`hypot`].
+#[inline(always)]
+#[must_use]
+pub fn hypot_lanes<const N: usize>(x: [f64; N], y: [f64; N]) -> [f64; N] {
+    const SPLIT: f64 = 134_217_728.0 + 1.0;
+    /// `x²` as `hi + lo` (Dekker's splitting), as the `libm` crate's `sq`.
+    #[inline(always)]
+    fn sq(x: f64) -> (f64, f64) {
+        let xc = x * SPLIT;
+        let xh = x - xc + xc;
+        let xl = x - xh;
+        let hi = x * x;
+        let lo = xh * xh - hi + 2. * xh * xl + xl * xl;
+        (hi, lo)
+    }
+    let mut out = [0.0; N];
+    let mut main = [true; N];
+    for l in 0..N {
+        let (a, b) = (x[l].abs(), y[l].abs());
+        // The larger first, by the bit patterns (the values' order for
+        // anything but NaN, which takes the scalar path).
+        let (big, small) = if a.to_bits() < b.to_bits() {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        #[allow(clippy::cast_possible_wrap)] // 11-bit exponents
+        let (ex, ey) = ((big.to_bits() >> 52) as i64, (small.to_bits() >> 52) as i64);
+        main[l] = ex <= 0x3ff + 510 && ey >= 0x3ff - 450 && ex - ey <= 64;
+        let (hx, lx) = sq(big);
+        let (hy, ly) = sq(small);
+        out[l] = sqrt(ly + lx + hy + hx);
+    }
+    for l in 0..N {
+        if !main[l] {
+            out[l] = hypot(x[l], y[l]);
+        }
+    }
+    out
+}
+
 /// `x * x`, which is what `x.powi(2)` computes (exactly one rounding).
 #[inline(always)]
 #[must_use]
@@ -656,6 +826,144 @@ mod tests {
                 let mut x: [f64; 8] = core::array::from_fn(|_| next());
                 x[lane] = odd;
                 check(x);
+            }
+        }
+    }
+
+    /// Random `f64` with random sign and an exponent in `-exp..exp`
+    /// (powers of two), from `bits`.
+    fn spread(bits: &mut impl FnMut() -> u64, exp: i32) -> f64 {
+        let r = bits();
+        #[allow(clippy::cast_precision_loss, clippy::cast_possible_truncation)]
+        // 52 bits; small range
+        let (mantissa, e) = (
+            1.0 + (r >> 12) as f64 / (1_u64 << 52) as f64,
+            (r % (2 * exp as u64)) as i32 - exp,
+        );
+        let v = mantissa * 2f64.powi(e);
+        if r & 0x800 == 0 {
+            v
+        } else {
+            -v
+        }
+    }
+
+    /// Special values for the lane functions' scalar paths.
+    const ODD: [f64; 16] = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        f64::MIN_POSITIVE,
+        5e-324,
+        1e-300,
+        1e-20,
+        1e20,
+        1e160,
+        1e300,
+        f64::MAX,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+        -f64::NAN,
+    ];
+
+    /// The lane `atan2` is [`atan2`] bit for bit: vectors of velocities
+    /// (every quadrant, magnitudes 2^-8..2^8: the tasks' track), of
+    /// arguments of any size (2^-80..2^80 each, so ratios past `atan2`'s
+    /// 2^±64 shortcuts and `atan`'s 2^-27 and 2^66 edges), each `atan`
+    /// interval's edges, and vectors with special values in one lane.
+    #[test]
+    fn atan2_lanes_is_atan2() {
+        let check = |y: [f64; 8], x: [f64; 8]| {
+            let a = atan2_lanes(y, x);
+            for l in 0..8 {
+                let want = atan2(y[l], x[l]);
+                assert!(
+                    a[l].to_bits() == want.to_bits() || (a[l].is_nan() && want.is_nan()),
+                    "atan2_lanes({:e}, {:e}) = {:e}, atan2 {:e}",
+                    y[l],
+                    x[l],
+                    a[l],
+                    want
+                );
+            }
+        };
+        let mut bits = test_bits(0xa7a2_1a2e);
+        for exp in [8, 80] {
+            for _ in 0..200_000 {
+                let y = core::array::from_fn(|_| spread(&mut bits, exp));
+                let x = core::array::from_fn(|_| spread(&mut bits, exp));
+                check(y, x);
+            }
+        }
+        // atan's interval edges and atan2's shortcuts, by the ratio's high
+        // word, each side of the edge.
+        for high in [
+            0x3e40_0000_u64,
+            0x3fdc_0000,
+            0x3fe6_0000,
+            0x3ff3_0000,
+            0x4003_8000,
+            0x4410_0000,
+        ] {
+            for t in [f64::from_bits(high << 32), f64::from_bits((high << 32) - 1)] {
+                for x in [1.5, -1.5, 3.0, -0.75] {
+                    check([t * x; 8], [x; 8]);
+                    check([-t * x; 8], [x; 8]);
+                }
+            }
+        }
+        for odd in ODD {
+            for lane in 0..8 {
+                let mut y: [f64; 8] = core::array::from_fn(|_| spread(&mut bits, 8));
+                let mut x: [f64; 8] = core::array::from_fn(|_| spread(&mut bits, 8));
+                y[lane] = odd;
+                check(y, x);
+                x[lane] = odd;
+                check(y, x);
+                y[lane] = 2.0;
+                check(y, x);
+                check(x, y);
+            }
+        }
+    }
+
+    /// The lane `hypot` is [`hypot`] bit for bit: vectors of velocities
+    /// (2^-8..2^8), of arguments of any size (2^-600..2^600, past the
+    /// scaled paths' thresholds and the 2^64 ratio), and vectors with
+    /// special values in one lane.
+    #[test]
+    fn hypot_lanes_is_hypot() {
+        let check = |x: [f64; 8], y: [f64; 8]| {
+            let h = hypot_lanes(x, y);
+            for l in 0..8 {
+                let want = hypot(x[l], y[l]);
+                assert!(
+                    h[l].to_bits() == want.to_bits() || (h[l].is_nan() && want.is_nan()),
+                    "hypot_lanes({:e}, {:e}) = {:e}, hypot {:e}",
+                    x[l],
+                    y[l],
+                    h[l],
+                    want
+                );
+            }
+        };
+        let mut bits = test_bits(0x4790_7ba5);
+        for exp in [8, 80, 600] {
+            for _ in 0..200_000 {
+                let x = core::array::from_fn(|_| spread(&mut bits, exp));
+                let y = core::array::from_fn(|_| spread(&mut bits, exp));
+                check(x, y);
+            }
+        }
+        for odd in ODD {
+            for lane in 0..8 {
+                let mut x: [f64; 8] = core::array::from_fn(|_| spread(&mut bits, 8));
+                let y: [f64; 8] = core::array::from_fn(|_| spread(&mut bits, 8));
+                x[lane] = odd;
+                check(x, y);
+                check(y, x);
             }
         }
     }

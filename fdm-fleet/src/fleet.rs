@@ -797,7 +797,10 @@ impl<M: LaneModel> FleetPiece<'_, M> {
     /// Replaces each of the piece's aircraft's controls with `f(fleet
     /// index, current controls)`, in index order, and recomputes their
     /// control terms a block at a time ([`LaneModel::set_controls_lanes`]):
-    /// what [`Fleet::update_controls`] does to them, bit for bit.
+    /// what [`Fleet::update_controls`] does to them, bit for bit. Always
+    /// inlined, so that a caller running it with a wider instruction set
+    /// (pulp's dispatch) compiles the block's terms with that set too.
+    #[inline(always)]
     pub fn update_controls(&mut self, mut f: impl FnMut(usize, M::Controls) -> M::Controls) {
         let (aircraft, shared, len, first) = (self.aircraft, self.shared, self.len, self.first);
         let lanes = M::Lanes::LANES;

@@ -516,6 +516,15 @@ class _Study:
         signal whose handler raises (Ctrl-C's ``KeyboardInterrupt``) stops the
         fly and is raised from here (the runs flown so far are dropped)."""
 
+def _math_atan2(y: npt.NDArray[np.float64], x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """``fdm_core::math::atan2`` (fdlibm's, pure Rust: the same bits on every
+    machine) of each pair, as a new array: the function of the Gymnasium
+    tasks' track, for the tests' NumPy oracle."""
+
+def _math_hypot(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """``fdm_core::math::hypot`` (musl's, pure Rust) of each pair, as a new
+    array: the function of the Gymnasium tasks' horizontal speed."""
+
 def summarize_columns(
     run: npt.NDArray[np.uint64],
     status_code: npt.NDArray[np.uint8],

@@ -10,10 +10,14 @@ the same seeds (tested). An env step is one call into Rust
 the action array validated and applied, the frames flown, and the
 observations, rewards and flags below computed; the starts and targets are
 drawn here in Python. Those numbers are the ones the NumPy code that computed
-them before gave (``tests/test_task_kernel.py`` keeps it as the oracle), with
-one difference by machine: the track uses the C library's ``atan2``, which
-NumPy's ``arctan2`` calls too except on CPUs with AVX-512, where NumPy's own
-kernel differs in the last bit on some inputs.
+them before gave (``tests/test_task_kernel.py`` keeps it as the oracle),
+except for two functions: the track's ``atan2`` and the horizontal speed's
+``hypot`` are the project's deterministic ones (fdlibm's and musl's, pure Rust
+in ``fdm_core::math``), so an observation is the same bits on every machine,
+as the fleet's states are. NumPy's ``arctan2`` and ``hypot`` call the
+platform's C library (and ``arctan2`` its own SIMD kernel on CPUs with
+AVX-512): they differ from these in the last bit of some float64 values,
+which moves a float32 observation by at most one unit in its last place.
 
 Registered ids (``gymnasium.make`` / ``gymnasium.make_vec``)::
 

@@ -298,6 +298,44 @@ pub fn euler_deg_from_quat(q: &Quaternion<f32>) -> Vector3<f32> {
     )
 }
 
+/// [`euler_deg_from_quat`] of every lane, bit for bit: the same operations,
+/// with the two `atan2` of a block at once ([`crate::math::atan2_lanes`]);
+/// a lane at the pitch singularity (`|r31| > 0.999999`) goes through
+/// [`euler_deg_from_quat`].
+#[inline(always)]
+#[must_use]
+#[allow(clippy::cast_possible_truncation)] // as euler_deg_from_quat: f32 angles
+pub fn euler_deg_from_quat_lanes<const N: usize>(q: &[Quaternion<f32>; N]) -> [Vector3<f32>; N] {
+    use crate::math::{asin, atan2_lanes};
+    let (mut r11, mut r21, mut r31, mut r32, mut r33) =
+        ([0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N]);
+    for l in 0..N {
+        let (n, x, y, z) = (q[l].coords.w, q[l].coords.x, q[l].coords.y, q[l].coords.z);
+        let q00 = f64::from(n * n);
+        let q11 = f64::from(x * x);
+        let q22 = f64::from(y * y);
+        let q33 = f64::from(z * z);
+        r11[l] = q00 + q11 - q22 - q33;
+        r21[l] = f64::from(2.0 * (x * y + n * z));
+        r31[l] = f64::from(2.0 * (x * z - n * y));
+        r32[l] = f64::from(2.0 * (y * z + n * x));
+        r33[l] = q00 - q11 - q22 + q33;
+    }
+    let roll = atan2_lanes(r32, r33);
+    let yaw = atan2_lanes(r21, r11);
+    core::array::from_fn(|l| {
+        if abs_f64(r31[l]) > 0.999_999 {
+            euler_deg_from_quat(&q[l])
+        } else {
+            Vector3::new(
+                radians_to_degrees(roll[l] as f32),
+                radians_to_degrees(asin(-r31[l]) as f32),
+                radians_to_degrees(yaw[l] as f32),
+            )
+        }
+    })
+}
+
 #[inline(always)]
 fn abs_f64(x: f64) -> f64 {
     f64::from_bits(x.to_bits() & (u64::MAX >> 1))
@@ -307,4 +345,68 @@ fn abs_f64(x: f64) -> f64 {
 #[inline(always)]
 pub(crate) fn abs(x: f32) -> f32 {
     f32::from_bits(x.to_bits() & 0x7fff_ffff)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lane Euler angles are [`euler_deg_from_quat`] bit for bit: random
+    /// orientations (unit quaternions of every attitude, and unnormalised
+    /// ones), orientations at and near the pitch singularity (the scalar
+    /// path), and special components (zero, NaN, infinity) in one lane.
+    #[test]
+    fn euler_lanes_are_euler_deg_from_quat() {
+        let check = |q: [Quaternion<f32>; 16]| {
+            let lanes = euler_deg_from_quat_lanes(&q);
+            for (l, got) in lanes.iter().enumerate() {
+                let want = euler_deg_from_quat(&q[l]);
+                for k in 0..3 {
+                    assert!(
+                        got[k].to_bits() == want[k].to_bits()
+                            || (got[k].is_nan() && want[k].is_nan()),
+                        "{:?}: lanes {got:?}, scalar {want:?}",
+                        q[l]
+                    );
+                }
+            }
+        };
+        let mut bits = crate::math::test_bits(0xe01e_7a11);
+        #[allow(clippy::cast_precision_loss, clippy::cast_possible_truncation)]
+        let mut unit = move || ((bits() >> 11) as f64 / (1_u64 << 53) as f64) as f32;
+        let mut random = |normalise: bool| {
+            let mut q = Quaternion::new(
+                unit() * 2.0 - 1.0,
+                unit() * 2.0 - 1.0,
+                unit() * 2.0 - 1.0,
+                unit() * 2.0 - 1.0,
+            );
+            if normalise {
+                let m = sqrtf(q.coords.norm_squared());
+                q = Quaternion::new(q.w / m, q.i / m, q.j / m, q.k / m);
+            }
+            q
+        };
+        for _ in 0..100_000 {
+            check(core::array::from_fn(|_| random(true)));
+            check(core::array::from_fn(|_| random(false)));
+        }
+        // Pitch ±90 degrees and near it (r31 about ±1).
+        for pitch in [89.9, 89.99, 89.999, 90.0, -90.0, -89.95, 45.0] {
+            for l in 0..16 {
+                let mut q: [Quaternion<f32>; 16] = core::array::from_fn(|_| random(true));
+                q[l] = quat_from_euler_deg(&Vector3::new(10.0, pitch, 30.0));
+                check(q);
+            }
+        }
+        for odd in [0.0, -0.0, f32::NAN, f32::INFINITY, 1e-30, 1e30] {
+            for l in 0..16 {
+                let mut q: [Quaternion<f32>; 16] = core::array::from_fn(|_| random(true));
+                q[l].coords.y = odd;
+                check(q);
+                q[l] = Quaternion::new(odd, 0.0, 0.0, 0.0);
+                check(q);
+            }
+        }
+    }
 }

@@ -77,7 +77,8 @@ impl LaneModel for Palmer {
 
     /// A whole block's bank sines and cosines at once
     /// ([`crate::math::sin_cos_lanes`], the bits of the scalar `sin_cos`).
-    #[inline]
+    /// Always inlined (into a caller with a wider instruction set too).
+    #[inline(always)]
     fn set_controls_lanes(
         terms: &mut Self::Terms,
         count: usize,
