@@ -320,3 +320,68 @@ fn dead_reckoning_models_have_their_names_and_codes() {
         );
     }
 }
+
+/// An entity publisher counts its frames and each PDU under its reason
+/// (`PublisherCounts`): an aircraft at rest sends its first PDU, then one
+/// for a 10 m jump (position threshold 1 m), one for a 10° turn (3°), one
+/// when the 5 s heartbeat falls due, and one when the clock goes back; the
+/// frames in between send nothing and are counted as frames only.
+#[test]
+fn each_pdu_is_counted_under_its_reason() {
+    use fdm_dis::{DrThresholds, EcefState, EntityPublisher, PublisherCounts, SendReason};
+    use nalgebra::Rotation3;
+    let config = EntityConfig::new(
+        EntityIdentity::new(1, 2, 3).unwrap(),
+        AircraftKind::CESSNA_172_SKYHAWK,
+        Marking::new("N172SP").unwrap(),
+    );
+    let mut publisher = EntityPublisher::new(config, DrThresholds::default()).unwrap();
+    let base = sample_state().to_ecef().unwrap();
+    let at_rest = |time_s: f64, location_m: Vector3<f64>, turn_deg: f64| {
+        EcefState::new(
+            time_s,
+            location_m,
+            base.body_to_ecef
+                * Rotation3::from_axis_angle(&Vector3::z_axis(), turn_deg.to_radians()).matrix(),
+            Vector3::zeros(),
+            Vector3::zeros(),
+            Vector3::zeros(),
+        )
+    };
+    let moved = base.location_m + Vector3::new(10.0, 0.0, 0.0);
+    let mut reasons = Vec::new();
+    for state in [
+        at_rest(0.0, base.location_m, 0.0),
+        at_rest(0.1, base.location_m, 0.0),
+        at_rest(0.2, moved, 0.0),
+        at_rest(0.3, moved, 10.0),
+        at_rest(0.4, moved, 10.0),
+        at_rest(6.0, moved, 10.0),
+        at_rest(1.0, moved, 10.0),
+    ] {
+        reasons.push(publisher.update_ecef(&state).unwrap().map(|d| d.reason));
+    }
+    assert_eq!(
+        reasons,
+        [
+            Some(SendReason::First),
+            None,
+            Some(SendReason::PositionError),
+            Some(SendReason::OrientationError),
+            None,
+            Some(SendReason::Heartbeat),
+            Some(SendReason::ClockReset),
+        ]
+    );
+    assert_eq!(
+        publisher.counts(),
+        PublisherCounts {
+            frames: 7,
+            sent: 5,
+            first_or_reset: 2,
+            position: 1,
+            orientation: 1,
+            heartbeat: 1,
+        }
+    );
+}
