@@ -105,6 +105,36 @@ pub fn listen(
     listener: &mut Listener,
     seconds: f64,
     until_entities: Option<u64>,
+    stop: impl FnMut() -> bool,
+) -> Result<f64, ListenError> {
+    listen_from(socket, listener, seconds, until_entities, stop)
+}
+
+/// Where [`listen`] receives datagrams: a UDP socket, or in the tests a
+/// source whose receive fails as a socket rarely can on demand.
+trait DatagramSource {
+    /// Waits at most `wait` in the next [`Self::receive`].
+    fn set_wait(&self, wait: Duration) -> io::Result<()>;
+    /// One datagram into `buf`: its length.
+    fn receive(&self, buf: &mut [u8]) -> io::Result<usize>;
+}
+
+impl DatagramSource for UdpSocket {
+    fn set_wait(&self, wait: Duration) -> io::Result<()> {
+        self.set_read_timeout(Some(wait))
+    }
+
+    fn receive(&self, buf: &mut [u8]) -> io::Result<usize> {
+        self.recv_from(buf).map(|(n, _)| n)
+    }
+}
+
+/// [`listen`] on any [`DatagramSource`].
+fn listen_from(
+    source: &impl DatagramSource,
+    listener: &mut Listener,
+    seconds: f64,
+    until_entities: Option<u64>,
     mut stop: impl FnMut() -> bool,
 ) -> Result<f64, ListenError> {
     let start = Instant::now();
@@ -122,12 +152,10 @@ pub fn listen(
             break;
         }
         let wait = (limit - elapsed).clamp(Duration::from_millis(1), Duration::from_millis(200));
-        socket
-            .set_read_timeout(Some(wait))
-            .map_err(ListenError::Timeout)?;
-        match socket.recv_from(&mut buf) {
+        source.set_wait(wait).map_err(ListenError::Timeout)?;
+        match source.receive(&mut buf) {
             // A malformed datagram is counted by the listener and skipped.
-            Ok((n, _)) => {
+            Ok(n) => {
                 let _ = listener.ingest(&buf[..n]);
             }
             Err(e) if goes_on_after(e.kind()) => {}
@@ -546,6 +574,46 @@ mod tests {
         ] {
             assert!(!goes_on_after(kind), "{kind:?}");
         }
+    }
+
+    /// A receive that fails with an error other than a timeout, a signal or
+    /// an ICMP refusal or reset ends the listening with that error at once
+    /// (not after the time is up); one that fails with those goes on.
+    #[test]
+    fn a_failing_socket_ends_the_listening_with_its_error() {
+        use std::cell::Cell;
+        struct Failing {
+            kind: io::ErrorKind,
+            receives: Cell<u32>,
+        }
+        impl DatagramSource for Failing {
+            fn set_wait(&self, _: Duration) -> io::Result<()> {
+                Ok(())
+            }
+            fn receive(&self, _: &mut [u8]) -> io::Result<usize> {
+                self.receives.set(self.receives.get() + 1);
+                std::thread::sleep(Duration::from_millis(1));
+                Err(io::Error::new(self.kind, "planted"))
+            }
+        }
+        let failing = Failing {
+            kind: io::ErrorKind::PermissionDenied,
+            receives: Cell::new(0),
+        };
+        let mut listener = Listener::new();
+        let err = listen_from(&failing, &mut listener, 10.0, None, || false).unwrap_err();
+        assert!(
+            matches!(&err, ListenError::Receive(e) if e.kind() == io::ErrorKind::PermissionDenied),
+            "{err:?}"
+        );
+        assert_eq!(failing.receives.get(), 1);
+
+        let refused = Failing {
+            kind: io::ErrorKind::ConnectionRefused,
+            receives: Cell::new(0),
+        };
+        let secs = listen_from(&refused, &mut listener, 0.05, None, || false).unwrap();
+        assert!(secs >= 0.05 && refused.receives.get() > 1, "{secs}");
     }
 
     /// Listening for `seconds` with nothing arriving returns when they have
