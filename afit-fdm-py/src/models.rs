@@ -364,32 +364,11 @@ impl BindModel for Bourg {
     ];
 
     fn state_values(s: &BourgState, out: &mut [f64]) {
+        // The state's own fields, then the four derived ones (speed, Euler angles).
+        Self::state_values_head(s, out);
         let e = s.euler_angles_deg();
         let w = f64::from;
-        out.copy_from_slice(&[
-            s.time_s,
-            w(s.position_ft.x),
-            w(s.position_ft.y),
-            w(s.position_ft.z),
-            w(s.velocity_ftps.x),
-            w(s.velocity_ftps.y),
-            w(s.velocity_ftps.z),
-            w(s.velocity_body_ftps.x),
-            w(s.velocity_body_ftps.y),
-            w(s.velocity_body_ftps.z),
-            w(s.angular_velocity_radps.x),
-            w(s.angular_velocity_radps.y),
-            w(s.angular_velocity_radps.z),
-            w(s.orientation.w),
-            w(s.orientation.i),
-            w(s.orientation.j),
-            w(s.orientation.k),
-            if s.stalling { 1.0 } else { 0.0 },
-            w(s.speed_ftps()),
-            w(e.x),
-            w(e.y),
-            w(e.z),
-        ]);
+        out[18..].copy_from_slice(&[w(s.speed_ftps()), w(e.x), w(e.y), w(e.z)]);
     }
 
     const BLOCK_FIELDS: usize = 4;
