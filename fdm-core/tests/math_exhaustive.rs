@@ -20,6 +20,19 @@ use fdm_core::real::{F32s, F64s, Real};
 /// `asinf`.
 const GLIBC_ASINF_HASH: u64 = 0x9f8f_a575_5e07_d9ed;
 
+/// SplitMix64 from `seed`: the samples' bit patterns, the same sequence on
+/// every machine.
+fn splitmix64(seed: u64) -> impl FnMut() -> u64 {
+    let mut s = seed;
+    move || {
+        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+}
+
 const GLIBC_X86_64: bool = cfg!(all(
     target_arch = "x86_64",
     target_os = "linux",
@@ -92,15 +105,8 @@ fn pow_has_glibcs_bits_on_20_million_samples() {
     if !GLIBC_X86_64 {
         return;
     }
-    let mut s = 1_u64;
-    let mut uniform = || {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1_u64 << 53) as f64
-    };
+    let mut bits = splitmix64(1);
+    let mut uniform = || (bits() >> 11) as f64 / (1_u64 << 53) as f64;
     for i in 0..20_000_000 {
         let (x, y) = if i % 2 == 0 {
             (0.5 + 0.55 * uniform(), 5.25)
@@ -123,14 +129,7 @@ fn pow_has_glibcs_bits_on_20_million_samples() {
 #[test]
 #[ignore = "40 million samples: run with --release --ignored"]
 fn pow_lanes_have_the_scalar_bits_on_40_million_samples() {
-    let mut s = 7_u64;
-    let mut bits = || {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    };
+    let mut bits = splitmix64(7);
     let unit = |b: u64| (b >> 11) as f64 / (1_u64 << 53) as f64;
     for block in 0..5_000_000 {
         let (x, y) = match block % 3 {
@@ -292,14 +291,7 @@ fn pow_has_glibcs_bits_on_its_special_cases_and_edges() {
     }
     // Random pairs: x over every exponent (either sign: the negative ones
     // with integer exponents and without), y over ±2^-70..±2^70.
-    let mut s = 3_u64;
-    let mut bits = || {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    };
+    let mut bits = splitmix64(3);
     for _ in 0..100_000 {
         let x = f64::from_bits(bits() & 0x7fef_ffff_ffff_ffff);
         let y = f64::from_bits((bits() & 0x800f_ffff_ffff_ffff) | ((0x3b9 + bits() % 140) << 52));
