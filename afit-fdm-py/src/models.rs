@@ -11,7 +11,7 @@ use fdm_core::palmer::{
 };
 use fdm_fleet::{Fleet, FleetError, FleetKernel, FleetPiece, Precision};
 
-use crate::task::{self, Block, FT_PER_M};
+use crate::task::{Block, FT_PER_M};
 
 /// A control's name and its accepted range (inclusive; `None` for a set of
 /// allowed values checked by [`BindModel::set_control`]).
@@ -283,13 +283,13 @@ impl BindModel for Palmer {
     }
 
     fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
-        let [p0, p1, p2, p3] = task::palmer_controls(a);
+        let [p0, p1, p2, p3] = palmer_controls(a);
         ([p0, p1, p2, p3, (0, 0.0)], 4)
     }
 
     #[inline]
     fn task_apply(mut c: PalmerControls, a: &[f64]) -> PalmerControls {
-        let [(_, throttle), (_, alpha_deg), (_, bank_deg), (_, flaps)] = task::palmer_controls(a);
+        let [(_, throttle), (_, alpha_deg), (_, bank_deg), (_, flaps)] = palmer_controls(a);
         c.throttle = throttle;
         c.alpha_deg = alpha_deg;
         c.bank_deg = bank_deg;
@@ -303,6 +303,51 @@ impl BindModel for Palmer {
         };
         c
     }
+}
+
+/// Bourg's all-or-nothing surfaces from an action: +1 above 1/3, -1 below
+/// -1/3, else 0 (NaN too), as `_surface`.
+#[must_use]
+fn surface(a: f64) -> f64 {
+    if a > 1.0 / 3.0 {
+        1.0
+    } else if a < -1.0 / 3.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Palmer's controls from one aircraft's clipped actions: throttle,
+/// alpha_deg, bank_deg, flaps_deg (control indices 0..4).
+#[must_use]
+fn palmer_controls(a: &[f64]) -> [(usize, f64); 4] {
+    let flaps = if a[3] < -1.0 / 3.0 {
+        0.0
+    } else if a[3] <= 1.0 / 3.0 {
+        20.0
+    } else {
+        40.0
+    };
+    [
+        (0, (a[0] + 1.0) * 0.5),
+        (1, 2.0 + 18.0 * a[1]),
+        (2, 20.0 * a[2]),
+        (3, flaps),
+    ]
+}
+
+/// Bourg's controls from one aircraft's clipped actions: thrust_lb,
+/// elevator, aileron, rudder, pitch_trim (control indices 0, 1, 2, 3, 5).
+#[must_use]
+fn bourg_controls(a: &[f64]) -> [(usize, f64); 5] {
+    [
+        (0, 1500.0 * (a[0] + 1.0)),
+        (1, surface(a[1])),
+        (2, surface(a[2])),
+        (3, surface(a[3])),
+        (5, a[4]),
+    ]
 }
 
 /// A Bourg surface as a number: −1, 0 or +1.
@@ -490,14 +535,13 @@ impl BindModel for Bourg {
     }
 
     fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
-        (task::bourg_controls(a), 5)
+        (bourg_controls(a), 5)
     }
 
     #[inline]
     #[allow(clippy::cast_possible_truncation)] // as set_control: f32 is the model's type
     fn task_apply(mut c: BourgControls, a: &[f64]) -> BourgControls {
-        let [(_, thrust), (_, elevator), (_, aileron), (_, rudder), (_, trim)] =
-            task::bourg_controls(a);
+        let [(_, thrust), (_, elevator), (_, aileron), (_, rudder), (_, trim)] = bourg_controls(a);
         // `surface` gives exactly -1, 0 or +1 (never -0).
         let flap = |v: f64| flap_from(v).unwrap_or(Flap::Neutral);
         c.thrust_lb = thrust as f32;

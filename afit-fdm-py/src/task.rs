@@ -1,6 +1,7 @@
 //! The Gymnasium tasks' per-step numbers (`afit_fdm.gym`), computed in Rust:
-//! the action array scaled to the controls, and the observations, rewards
-//! and termination flags of every aircraft.
+//! the observations, rewards and termination flags of every aircraft. (How
+//! each model's controls follow from an action is the model's:
+//! `crate::models`, the crate's one file that names a model.)
 //!
 //! Each formula is the one `afit_fdm.gym` computed with NumPy before
 //! (`tests/test_task_kernel.py` keeps that code as the oracle and compares
@@ -301,49 +302,4 @@ fn remainder_lanes<const N: usize>(a: [f64; N], b: f64) -> [f64; N] {
         }
     }
     out
-}
-
-/// Bourg's all-or-nothing surfaces from an action: +1 above 1/3, -1 below
-/// -1/3, else 0 (NaN too), as `_surface`.
-#[must_use]
-pub fn surface(a: f64) -> f64 {
-    if a > 1.0 / 3.0 {
-        1.0
-    } else if a < -1.0 / 3.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
-
-/// Palmer's controls from one aircraft's clipped actions: throttle,
-/// alpha_deg, bank_deg, flaps_deg (control indices 0..4).
-#[must_use]
-pub fn palmer_controls(a: &[f64]) -> [(usize, f64); 4] {
-    let flaps = if a[3] < -1.0 / 3.0 {
-        0.0
-    } else if a[3] <= 1.0 / 3.0 {
-        20.0
-    } else {
-        40.0
-    };
-    [
-        (0, (a[0] + 1.0) * 0.5),
-        (1, 2.0 + 18.0 * a[1]),
-        (2, 20.0 * a[2]),
-        (3, flaps),
-    ]
-}
-
-/// Bourg's controls from one aircraft's clipped actions: thrust_lb,
-/// elevator, aileron, rudder, pitch_trim (control indices 0, 1, 2, 3, 5).
-#[must_use]
-pub fn bourg_controls(a: &[f64]) -> [(usize, f64); 5] {
-    [
-        (0, 1500.0 * (a[0] + 1.0)),
-        (1, surface(a[1])),
-        (2, surface(a[2])),
-        (3, surface(a[3])),
-        (5, a[4]),
-    ]
 }
