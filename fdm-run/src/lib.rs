@@ -89,7 +89,7 @@ pub mod scenario;
 mod shared;
 pub mod values;
 
-pub use model::{FleetModel, RunModel};
+pub use model::{FleetModel, NamedInputs, RegisteredModel, RunModel};
 pub use output::{Event, Frame, LinkStats, Output, OutputError, Placement};
 pub use report::{Report, ReportModel, Snapshot};
 pub use run::{End, Run, RunError};

@@ -16,9 +16,15 @@
 //! model's structure-of-arrays kernel, how to move a start for a formation,
 //! and the model FlightGear draws for it as a multiplayer aircraft.
 //!
+//! [`NamedInputs`] is what a program setting a model up by name needs (a
+//! study file's `[controls]` and `[aircraft]`, `fdm_study`): its controls
+//! and physical parameters by name, with their ranges checked, and cheap
+//! reads of a state.
+//!
 //! Each model's implementations of these traits (and of
 //! [`ReportModel`](crate::report::ReportModel), its report's fields) are in
-//! one adapter module per model: [`palmer`], [`bourg`].
+//! one adapter module per model: [`palmer`], [`bourg`]. A model of the
+//! registry implements them all ([`RegisteredModel`]).
 
 use std::fmt::Debug;
 
@@ -26,8 +32,10 @@ pub mod bourg;
 pub mod palmer;
 
 use fdm_core::bourg::Bourg;
+use fdm_core::message::ShortNumber;
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
+use fdm_fleet::FleetKernel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -154,14 +162,79 @@ pub trait FleetModel: RunModel {
     }
 }
 
+/// A model's controls and physical parameters by name, as a study file
+/// gives them (`[controls]`, `[aircraft]`, dispersions `controls.NAME` and
+/// `aircraft.NAME`: docs/studies.md), and cheap reads of a state.
+pub trait NamedInputs: RunModel {
+    /// The control settings that can be given by name, with their units in
+    /// the names.
+    const CONTROL_KEYS: &'static [&'static str];
+    /// The physical parameters that can be given by name.
+    const AIRCRAFT_KEYS: &'static [&'static str];
+
+    /// Sets control `key` (one of [`Self::CONTROL_KEYS`]) to `value`.
+    ///
+    /// # Errors
+    /// An unknown key or a value out of the control's range, in words.
+    fn set_control(controls: &mut Self::Controls, key: &str, value: f64) -> Result<(), String>;
+
+    /// The model's default aircraft with the parameters `values` (keys of
+    /// [`Self::AIRCRAFT_KEYS`]) set, in order, then checked.
+    ///
+    /// # Errors
+    /// An unknown key, or parameters the model cannot fly, in words.
+    fn aircraft_with(values: &[(&str, f64)]) -> Result<Self::Aircraft, String>;
+
+    /// Velocity in the earth frame, m/s: the view's `velocity_mps`, bit for bit.
+    fn velocity_mps(state: &Self::State) -> [f64; 3];
+
+    /// The state's clock, s.
+    fn time_s(state: &Self::State) -> f64;
+}
+
+/// The message for a name that is not one of `keys` (`kind`: "control",
+/// "aircraft parameter").
+pub(crate) fn unknown_key(kind: &str, key: &str, keys: &[&str]) -> String {
+    format!(
+        "unknown {kind} `{key}`; expected one of {}",
+        keys.join(", ")
+    )
+}
+
+/// `value` if it is finite and in `low..=high`, else the message naming
+/// `key` and the range.
+pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64, String> {
+    if value.is_finite() && (low..=high).contains(&value) {
+        Ok(value)
+    } else {
+        Err(format!(
+            "{key} = {}: expected a number from {low} to {high}",
+            ShortNumber(value)
+        ))
+    }
+}
+
+/// Everything the run library and the crates above it know of a model of the
+/// registry: it records and writes the flight CSV and the report
+/// ([`ReportModel`](crate::report::ReportModel), [`CsvModel`],
+/// [`RunModel`]), flies in fleets ([`FleetModel`], [`FleetKernel`]) and is
+/// set up by name ([`NamedInputs`]). Implemented for every model that
+/// implements those.
+pub trait RegisteredModel:
+    crate::report::ReportModel + FleetModel + NamedInputs + FleetKernel
+{
+}
+
+impl<M: crate::report::ReportModel + FleetModel + NamedInputs + FleetKernel> RegisteredModel for M {}
+
 /// Something to do with a model type chosen at run time by name
 /// ([`with_model`]).
 pub trait ModelJob {
     /// What it returns.
     type Output;
-    /// Does it for model `M` (every model of the registry writes the
-    /// flight CSV, so the job may use [`CsvModel`] as well as [`RunModel`]).
-    fn call<M: CsvModel>(self) -> Self::Output;
+    /// Does it for model `M`, with all a model of the registry implements
+    /// ([`RegisteredModel`]).
+    fn call<M: RegisteredModel>(self) -> Self::Output;
 }
 
 /// The models of the registry, by [`Model::NAME`], in the order help texts
@@ -176,5 +249,49 @@ pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
         n if n == Palmer::NAME => Some(job.call::<Palmer>()),
         n if n == Bourg::NAME => Some(job.call::<Bourg>()),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::bourg::BourgAircraft;
+
+    /// The cheap reads are the view's fields, bit for bit (exact equality:
+    /// they must be the same expressions).
+    #[test]
+    fn reads_match_the_view() {
+        fn check<M: RegisteredModel>() {
+            let (controls, state) = M::fleet_member(5);
+            let aircraft = M::default_aircraft();
+            let view = M::view(&aircraft, &controls, &state);
+            assert_eq!(
+                <M as fdm_fleet::LaneModel>::position_m(&state),
+                view.position_m
+            );
+            assert_eq!(M::velocity_mps(&state), <[f64; 3]>::from(view.velocity_mps));
+            assert_eq!(M::time_s(&state), view.time_s);
+        }
+        check::<Palmer>();
+        check::<Bourg>();
+    }
+
+    #[test]
+    fn parameters_are_set_and_checked() {
+        let a = Palmer::aircraft_with(&[("mass_kg", 1000.0)]).unwrap();
+        assert_eq!(a.mass_kg, 1000.0);
+        assert!(Palmer::aircraft_with(&[("mass_kg", -1.0)]).is_err());
+        assert!(Palmer::aircraft_with(&[("mass", 1.0)])
+            .unwrap_err()
+            .contains("mass_kg"));
+        let b = Bourg::aircraft_with(&[("mass_scale", 1.1)]).unwrap();
+        assert!(
+            b.mass_properties().mass_slug
+                > BourgAircraft::bourg_default().mass_properties().mass_slug
+        );
+        let mut c = Palmer::initial_controls();
+        assert!(Palmer::set_control(&mut c, "throttle", 2.0).is_err());
+        Palmer::set_control(&mut c, "throttle", 0.5).unwrap();
+        assert_eq!(c.throttle, 0.5);
     }
 }

@@ -3,7 +3,8 @@
 //! limits ([`BourgAircraftRecord`], [`RunModel`]); fleets fly it in
 //! `fdm_fleet::Fleet<Bourg>` and FlightGear draws the UFO ([`FleetModel`]);
 //! the flight CSV's columns ([`CsvModel`]) and the report's fields
-//! ([`ReportModel`], [`BourgDetails`]).
+//! ([`ReportModel`], [`BourgDetails`]); the controls and parameters a study
+//! file sets by name ([`NamedInputs`]).
 
 use fdm_core::bourg::{Airframe, Bourg, BourgAircraft, BourgControls, BourgState};
 use fdm_core::fingerprint;
@@ -11,8 +12,11 @@ use fdm_core::model::FlightStatus;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvModel;
+use crate::model::{in_range, unknown_key, NamedInputs};
 use crate::report::{CommonState, Details, ReportModel, Snapshot};
 use crate::{FleetModel, RunModel};
+use fdm_core::bourg::MAX_THRUST_LB;
+use fdm_core::units::METRES_PER_FOOT;
 
 /// Bourg's aircraft as a recording stores it: the airframe (from which
 /// [`BourgAircraft::new`] derives the mass properties) and the thrust limits.
@@ -247,5 +251,73 @@ impl Details for BourgDetails {
             if self.stalling { "yes" } else { "no" },
             self.pitch_trim,
         )
+    }
+}
+
+/// What a study file can set of the model by name, and its cheap reads.
+impl NamedInputs for Bourg {
+    const CONTROL_KEYS: &'static [&'static str] = &["thrust_lb"];
+    const AIRCRAFT_KEYS: &'static [&'static str] = &[
+        "mass_scale",
+        "area_scale",
+        "max_thrust_lb",
+        "delta_thrust_lb",
+    ];
+
+    fn set_control(controls: &mut BourgControls, key: &str, value: f64) -> Result<(), String> {
+        match key {
+            // The range of `sim-cli bourg --thrust-lb`; f32 as the model's.
+            "thrust_lb" => {
+                controls.thrust_lb = in_range(key, value, 0.0, f64::from(MAX_THRUST_LB))? as f32;
+            }
+            _ => return Err(unknown_key("control", key, Self::CONTROL_KEYS)),
+        }
+        Ok(())
+    }
+
+    fn aircraft_with(values: &[(&str, f64)]) -> Result<BourgAircraft, String> {
+        let default = BourgAircraft::bourg_default();
+        let mut airframe = *default.airframe();
+        let mut max_thrust_lb = default.max_thrust_lb;
+        let mut delta_thrust_lb = default.delta_thrust_lb;
+        for &(key, value) in values {
+            let scale = || in_range(key, value, 0.01, 100.0).map(|v| v as f32);
+            match key {
+                // Every element's mass times the factor: the mass properties
+                // (total, centre of gravity, inertia) follow in `new`.
+                "mass_scale" => {
+                    let s = scale()?;
+                    for e in &mut airframe.elements {
+                        e.mass_slug *= s;
+                    }
+                }
+                // Every element's area times the factor.
+                "area_scale" => {
+                    let s = scale()?;
+                    for e in &mut airframe.elements {
+                        e.area_ft2 *= s;
+                    }
+                }
+                "max_thrust_lb" => max_thrust_lb = in_range(key, value, 0.0, 1e6)? as f32,
+                "delta_thrust_lb" => delta_thrust_lb = in_range(key, value, 0.0, 1e6)? as f32,
+                _ => return Err(unknown_key("aircraft parameter", key, Self::AIRCRAFT_KEYS)),
+            }
+        }
+        let mut aircraft = BourgAircraft::new(airframe).map_err(|e| e.to_string())?;
+        aircraft.max_thrust_lb = max_thrust_lb;
+        aircraft.delta_thrust_lb = delta_thrust_lb;
+        Ok(aircraft)
+    }
+
+    fn velocity_mps(state: &BourgState) -> [f64; 3] {
+        state
+            .velocity_ftps
+            .map(f64::from)
+            .scale(METRES_PER_FOOT)
+            .into()
+    }
+
+    fn time_s(state: &BourgState) -> f64 {
+        state.time_s
     }
 }

@@ -2,7 +2,8 @@
 //! it in one place. A recording keeps its aircraft as is ([`RunModel`]);
 //! fleets fly it in `fdm_fleet::Fleet<Palmer>` and FlightGear draws the
 //! c172p ([`FleetModel`]); the flight CSV's columns ([`CsvModel`]) and the
-//! report's fields ([`ReportModel`], [`PalmerDetails`]).
+//! report's fields ([`ReportModel`], [`PalmerDetails`]); the controls and
+//! parameters a study file sets by name ([`NamedInputs`]).
 
 use fdm_core::fingerprint;
 use fdm_core::model::FlightStatus;
@@ -12,8 +13,10 @@ use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvModel;
+use crate::model::{in_range, unknown_key, NamedInputs};
 use crate::report::{CommonState, Details, ReportModel, Snapshot};
 use crate::{FleetModel, RunModel};
+use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG, BANK_LIMIT_DEG};
 
 impl RunModel for Palmer {
     type AircraftRecord = PalmerAircraft;
@@ -330,5 +333,77 @@ impl Details for PalmerDetails {
             self.controls.flaps_deg,
             brakes_note(self.controls.brakes),
         )
+    }
+}
+
+/// What a study file can set of the model by name, and its cheap reads.
+impl NamedInputs for Palmer {
+    const CONTROL_KEYS: &'static [&'static str] = &["throttle", "alpha_deg", "bank_deg"];
+    const AIRCRAFT_KEYS: &'static [&'static str] = &[
+        "wing_area_m2",
+        "wing_span_m",
+        "cl_slope0_per_deg",
+        "cl0",
+        "cl_slope1_per_deg",
+        "cl1",
+        "alpha_cl_max_deg",
+        "cdp",
+        "eff",
+        "mass_kg",
+        "engine_power_w",
+        "engine_rps",
+        "prop_diameter_m",
+        "prop_a",
+        "prop_b",
+    ];
+
+    fn set_control(controls: &mut PalmerControls, key: &str, value: f64) -> Result<(), String> {
+        // The ranges of `sim-cli palmer --throttle/--alpha/--bank`.
+        match key {
+            "throttle" => controls.throttle = in_range(key, value, 0.0, 1.0)?,
+            "alpha_deg" => {
+                controls.alpha_deg = in_range(key, value, ALPHA_MIN_DEG, ALPHA_MAX_DEG)?;
+            }
+            "bank_deg" => {
+                controls.bank_deg = in_range(key, value, -BANK_LIMIT_DEG, BANK_LIMIT_DEG)?;
+            }
+            _ => return Err(unknown_key("control", key, Self::CONTROL_KEYS)),
+        }
+        Ok(())
+    }
+
+    fn aircraft_with(values: &[(&str, f64)]) -> Result<PalmerAircraft, String> {
+        let mut a = PalmerAircraft::cessna_172();
+        for &(key, value) in values {
+            let field = match key {
+                "wing_area_m2" => &mut a.wing_area_m2,
+                "wing_span_m" => &mut a.wing_span_m,
+                "cl_slope0_per_deg" => &mut a.cl_slope0_per_deg,
+                "cl0" => &mut a.cl0,
+                "cl_slope1_per_deg" => &mut a.cl_slope1_per_deg,
+                "cl1" => &mut a.cl1,
+                "alpha_cl_max_deg" => &mut a.alpha_cl_max_deg,
+                "cdp" => &mut a.cdp,
+                "eff" => &mut a.eff,
+                "mass_kg" => &mut a.mass_kg,
+                "engine_power_w" => &mut a.engine_power_w,
+                "engine_rps" => &mut a.engine_rps,
+                "prop_diameter_m" => &mut a.prop_diameter_m,
+                "prop_a" => &mut a.prop_a,
+                "prop_b" => &mut a.prop_b,
+                _ => return Err(unknown_key("aircraft parameter", key, Self::AIRCRAFT_KEYS)),
+            };
+            *field = value;
+        }
+        a.validate().map_err(|e| e.to_string())?;
+        Ok(a)
+    }
+
+    fn velocity_mps(state: &PalmerState) -> [f64; 3] {
+        state.velocity_mps.into()
+    }
+
+    fn time_s(state: &PalmerState) -> f64 {
+        state.time_s
     }
 }

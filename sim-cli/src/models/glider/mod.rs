@@ -15,7 +15,7 @@ use fdm_core::fingerprint::Hasher;
 use fdm_core::model::Model;
 use fdm_run::report::{Details as ReportDetails, ReportModel};
 use fdm_run::{csv::CsvModel, FleetModel, RunModel};
-use fdm_study::StudyModel;
+use fdm_run::NamedInputs;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -150,7 +150,7 @@ impl ReportModel for Glider {
     }
 }
 
-impl StudyModel for Glider {
+impl NamedInputs for Glider {
     const CONTROL_KEYS: &'static [&'static str] = &["lift_coefficient", "bank_deg"];
     const AIRCRAFT_KEYS: &'static [&'static str] = &[
         "mass_kg",
