@@ -279,4 +279,39 @@ mod tests {
         assert_eq!(angle_axis([1.0, 0.0, 0.0, 0.0]), [0.0; 3]);
         assert_eq!(angle_axis([-1.0, 0.0, 0.0, 0.0]), [0.0; 3]);
     }
+
+    /// SimGear's `getEulerRad` takes `atan2` of each angle's numerator and
+    /// denominator unless both are zero (or subnormal): a half turn about a
+    /// body axis, whose numerator is exactly 0 and denominator -1, is that
+    /// angle at π; a quarter turn, whose denominator is exactly 0, is π/2.
+    #[test]
+    fn euler_angles_where_a_numerator_or_denominator_is_exactly_zero() {
+        let h = 0.5_f64.sqrt();
+        // Half and quarter turns about x (roll), then about z (yaw).
+        assert_eq!(euler_rad([0.0, 1.0, 0.0, 0.0]), (0.0, -0.0, PI));
+        let (yaw, _, roll) = euler_rad([h, h, 0.0, 0.0]);
+        assert_eq!((yaw, roll), (0.0, 0.5 * PI));
+        let (yaw, _, roll) = euler_rad([0.0, 0.0, 0.0, 1.0]);
+        assert_eq!((yaw, roll), (PI, 0.0));
+        let (yaw, _, roll) = euler_rad([h, 0.0, 0.0, h]);
+        assert_eq!((yaw, roll), (0.5 * PI, 0.0));
+        // Both zero (no rotation about that axis can be read): 0.
+        assert_eq!(euler_rad([0.0; 4]), (0.0, -0.0, 0.0));
+    }
+
+    /// `getAngleAxis` normalises the quaternion first (the angle is
+    /// `2·acos(w/|q|)`): a quaternion and any positive multiple of it give
+    /// the same rotation vector.
+    #[test]
+    fn angle_axis_normalises_the_quaternion() {
+        let h = 0.5_f64.sqrt();
+        let unit = angle_axis([h, h, 0.0, 0.0]);
+        assert!((unit[0] - 0.5 * PI).abs() < 1e-15, "{unit:?}");
+        for scale in [1e-3, 2.0_f64.sqrt(), 7.0, 1e6] {
+            let v = angle_axis([h * scale, h * scale, 0.0, 0.0]);
+            for i in 0..3 {
+                assert!((v[i] - unit[i]).abs() < 1e-14, "{scale}: {v:?} {unit:?}");
+            }
+        }
+    }
 }
