@@ -214,18 +214,17 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
     }
 }
 
-/// Everything the run library and the crates above it know of a model of the
-/// registry: it records and writes the flight CSV and the report
-/// ([`ReportModel`](crate::report::ReportModel), [`CsvModel`],
-/// [`RunModel`]), flies in fleets ([`FleetModel`], [`FleetKernel`]) and is
-/// set up by name ([`NamedInputs`]). Implemented for every model that
-/// implements those.
-pub trait RegisteredModel:
-    crate::report::ReportModel + FleetModel + NamedInputs + FleetKernel
-{
-}
+/// What the registry's jobs ([`ModelJob`]) may use of a model: it records
+/// and writes the flight CSV ([`RunModel`], [`CsvModel`]), flies in fleets
+/// ([`FleetModel`], [`FleetKernel`]) and is set up by name
+/// ([`NamedInputs`]). Implemented for every model that implements those.
+/// (Every model of the registry also has a report,
+/// [`ReportModel`](crate::report::ReportModel); it is not required here so
+/// that this module does not import the report's, which imports the DIS
+/// settings', which import the fgfs command line's, which imports this one.)
+pub trait RegisteredModel: CsvModel + FleetModel + NamedInputs + FleetKernel {}
 
-impl<M: crate::report::ReportModel + FleetModel + NamedInputs + FleetKernel> RegisteredModel for M {}
+impl<M: CsvModel + FleetModel + NamedInputs + FleetKernel> RegisteredModel for M {}
 
 /// Something to do with a model type chosen at run time by name
 /// ([`with_model`]).
