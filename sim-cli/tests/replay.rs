@@ -164,10 +164,11 @@ fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
     let mut v9 = good.clone();
     v9[8] = 9;
     refused(&["replay", &write("v9.rec", &v9)], "format version 9");
-    let mut glider = good.clone();
+    // A model no registry has (not `glider`: the `glider` feature adds one).
+    let mut unknown = good.clone();
     let at = good.windows(6).position(|w| w == b"palmer").unwrap();
-    glider[at..at + 6].copy_from_slice(b"glider");
-    refused(&["replay", &write("glider.rec", &glider)], "model `glider`");
+    unknown[at..at + 6].copy_from_slice(b"nosuch");
+    refused(&["replay", &write("nosuch.rec", &unknown)], "model `nosuch`");
     refused(
         &["replay", &write("text.rec", b"1-5 thrust-up\n")],
         "not a sim-cli recording",

@@ -134,7 +134,8 @@ fn bad_input_exits_2_with_the_line_and_key() {
     let cases = [
         (STUDY.replace("sd = 3.0", "sd = 0.0"), "dispersion.sd"),
         (STUDY.replace("runs = 6", "runs = 0"), "runs"),
-        (STUDY.replace("\"palmer\"", "\"glider\""), "model"),
+        // A model no registry has (not `glider`: the `glider` feature adds one).
+        (STUDY.replace("\"palmer\"", "\"nosuch\""), "model"),
         (format!("{STUDY}\nwings = 2\n"), "wings"),
     ];
     for (content, key) in cases {
