@@ -168,7 +168,10 @@ fn bad_recordings_are_refused_with_status_2_and_cut_ones_replayed_with_3() {
     let mut unknown = good.clone();
     let at = good.windows(6).position(|w| w == b"palmer").unwrap();
     unknown[at..at + 6].copy_from_slice(b"nosuch");
-    refused(&["replay", &write("nosuch.rec", &unknown)], "model `nosuch`");
+    refused(
+        &["replay", &write("nosuch.rec", &unknown)],
+        "model `nosuch`",
+    );
     refused(
         &["replay", &write("text.rec", b"1-5 thrust-up\n")],
         "not a sim-cli recording",
