@@ -43,7 +43,8 @@ fn same_geodetic(a: &Geodetic, b: &Geodetic) -> bool {
 /// Positions within 1,000 km of the origin at -500 m to 20 km, plus the
 /// special cases: the origin, far out, near the Earth's centre (its own
 /// branch of the closed form), on the polar axis and the equatorial plane
-/// (when the origin puts them there), huge and non-finite components.
+/// (when the origin puts them there), beyond the point-Earth distance along
+/// an axis, huge and non-finite components.
 fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
     let mut v: Vec<Vector3<f64>> = (0..n)
         .map(|_| {
@@ -62,6 +63,13 @@ fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
         Vector3::new(1e22, 0.0, 0.0),
         Vector3::new(0.0, 5e21, 1.0),
         Vector3::new(1e300, 1e300, 1e300),
+        // Beyond the point-Earth distance (`2a/ε`, 5.7e22 m) along one axis
+        // of the model frame: at the origins on the equator and the poles
+        // the other ECEF components are small, so only the bound on every
+        // component keeps these from the common lane-wise path.
+        Vector3::new(1e23, 0.0, 0.0),
+        Vector3::new(0.0, -6e22, 0.0),
+        Vector3::new(0.0, 0.0, 1e25),
         Vector3::new(f64::NAN, 0.0, 0.0),
         Vector3::new(0.0, f64::INFINITY, 0.0),
         Vector3::new(0.0, 0.0, f64::NEG_INFINITY),
