@@ -59,6 +59,9 @@ fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
         Vector3::zeros(),
         Vector3::new(0.0, 0.0, -6.3e6),
         Vector3::new(10.0, -20.0, -6.37e6),
+        // On the equatorial plane inside the evolute (`a e²`, 42.7 km from
+        // the centre) when the origin is on the equator.
+        Vector3::new(0.0, 25_000.0, -6.35e6),
         Vector3::new(0.0, 0.0, 4.0e7),
         Vector3::new(1e22, 0.0, 0.0),
         Vector3::new(0.0, 5e21, 1.0),
