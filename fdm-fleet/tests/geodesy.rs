@@ -43,7 +43,7 @@ fn same_geodetic(a: &Geodetic, b: &Geodetic) -> bool {
 /// Positions within 1,000 km of the origin at -500 m to 20 km, plus the
 /// special cases: the origin, far out, near the Earth's centre (its own
 /// branch of the closed form), on the polar axis and the equatorial plane
-/// (when the origin puts them there), beyond the point-Earth distance along
+/// (when the origin puts them there exactly), beyond the point-Earth distance along
 /// an axis, huge and non-finite components.
 fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
     let mut v: Vec<Vector3<f64>> = (0..n)
@@ -73,6 +73,13 @@ fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
         Vector3::new(1e23, 0.0, 0.0),
         Vector3::new(0.0, -6e22, 0.0),
         Vector3::new(0.0, 0.0, 1e25),
+        Vector3::new(0.0, 0.0, 1e23),
+        Vector3::new(1e6, 3e5, 8e22),
+        // Exactly on the polar axis (ECEF x = y = 0) when the origin is at
+        // latitude 0, longitude 0: straight down by `a`, then north, inside
+        // the Earth and beyond the pole.
+        Vector3::new(1e6, 0.0, -6_378_137.0),
+        Vector3::new(7e6, 0.0, -6_378_137.0),
         Vector3::new(f64::NAN, 0.0, 0.0),
         Vector3::new(0.0, f64::INFINITY, 0.0),
         Vector3::new(0.0, 0.0, f64::NEG_INFINITY),
