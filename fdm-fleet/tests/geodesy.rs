@@ -80,6 +80,10 @@ fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
         // the Earth and beyond the pole.
         Vector3::new(1e6, 0.0, -6_378_137.0),
         Vector3::new(7e6, 0.0, -6_378_137.0),
+        // 1e-160 m off that axis, 1 km north of the centre: `p` underflows to
+        // 0, so the cubic's `s` and `disc` are 0 with `r` negative, and the
+        // closed form's `u` is negative (its other branch for `u + v`).
+        Vector3::new(1000.0, -1e-160, -6_378_137.0),
         Vector3::new(f64::NAN, 0.0, 0.0),
         Vector3::new(0.0, f64::INFINITY, 0.0),
         Vector3::new(0.0, 0.0, f64::NEG_INFINITY),
