@@ -493,3 +493,62 @@ fn bourg_terms_splat_into_every_lane_fly_as_the_scalar_step() {
         }
     }
 }
+
+/// `LaneModel::set_controls_lanes`'s contract, for a model of each width:
+/// the terms of `controls[lane]` in each of the first `count` lanes, as
+/// `set_controls` writes them one by one (Bourg keeps the trait's provided
+/// body; Palmer computes the lanes together), and the other lanes'
+/// untouched. Shown by flying both blocks from the same states.
+fn check_set_controls_lanes<M: LaneModel, B: PartialEq + std::fmt::Debug>(
+    members: &[(M::Controls, M::State)],
+    bits: fn(&M::State) -> B,
+) {
+    use fdm_core::real::{Lanes, Real};
+    let aircraft = M::default_aircraft();
+    let shared = M::shared(&aircraft);
+    let dt = M::time_step(30.0);
+    let width = <M::Lanes as Real>::LANES;
+    assert_eq!(members.len(), width);
+    let controls = <M::Lanes as Lanes>::array(|lane| members[lane].0);
+    for count in [width, width / 2 + 1, 1, 0] {
+        let (mut vars, mut together) = M::idle(&aircraft);
+        let mut one_by_one = together;
+        M::set_controls_lanes(&mut together, count, &aircraft, &shared, &controls);
+        for (lane, (c, s)) in members.iter().enumerate() {
+            M::set_state(&mut vars, lane, s);
+            if lane < count {
+                M::set_controls(&mut one_by_one, lane, &aircraft, &shared, c);
+            }
+        }
+        let (mut a, mut b) = (vars, vars);
+        for n in 1..=10 {
+            a = M::step_lanes::<Exact>(&aircraft, &shared, &together, &a, dt);
+            b = M::step_lanes::<Exact>(&aircraft, &shared, &one_by_one, &b, dt);
+            for lane in 0..width {
+                assert_eq!(
+                    bits(&M::state(&a, 0.0, lane)),
+                    bits(&M::state(&b, 0.0, lane)),
+                    "{}: {count} lanes set, lane {lane} after step {n}",
+                    M::NAME
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn set_controls_lanes_sets_the_first_count_lanes_as_set_controls_does() {
+    check_set_controls_lanes::<Palmer, _>(&palmer_members(), palmer_bits);
+    check_set_controls_lanes::<Bourg, _>(&bourg_members(), bourg_bits);
+    // The members' controls are not all the idle ones, so an unset lane
+    // would show: the idle block flies differently in some lane.
+    let aircraft = Bourg::default_aircraft();
+    let members = bourg_members();
+    let dt = Bourg::time_step(30.0);
+    let set = fly_lanes::<Bourg>(&aircraft, &members, true, dt, 10);
+    let idle = fly_lanes::<Bourg>(&aircraft, &members, false, dt, 10);
+    assert_ne!(
+        set[9].iter().map(bourg_bits).collect::<Vec<_>>(),
+        idle[9].iter().map(bourg_bits).collect::<Vec<_>>()
+    );
+}

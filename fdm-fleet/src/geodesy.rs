@@ -19,7 +19,7 @@
 //! aircraft get the scalar function itself.
 //!
 //! The one `hypot` the scalar code uses only to detect points beyond about
-//! 3e22 m (where it treats the Earth as a point) is replaced by a lane-wise
+//! 5.7e22 m (where it treats the Earth as a point) is replaced by a lane-wise
 //! bound: a point with every ECEF component below 1e21 m in magnitude is
 //! closer than that; any other goes to the scalar function.
 
@@ -52,7 +52,7 @@ const E2M: f64 = (1.0 - WGS84_F) * (1.0 - WGS84_F);
 /// `e⁴`.
 const E4: f64 = E2 * E2;
 /// Below this magnitude in every ECEF component a point is nearer than the
-/// scalar code's "the Earth is a point" distance (`2a/ε`, about 2.9e22 m).
+/// scalar code's "the Earth is a point" distance (`2a/ε`, about 5.7e22 m).
 const NEAR_M: f64 = 1e21;
 
 /// The model frame of one [`GeodeticOrigin`] placed on WGS-84, for batches of

@@ -43,7 +43,8 @@ fn same_geodetic(a: &Geodetic, b: &Geodetic) -> bool {
 /// Positions within 1,000 km of the origin at -500 m to 20 km, plus the
 /// special cases: the origin, far out, near the Earth's centre (its own
 /// branch of the closed form), on the polar axis and the equatorial plane
-/// (when the origin puts them there), huge and non-finite components.
+/// (when the origin puts them there exactly), beyond the point-Earth distance along
+/// an axis, huge and non-finite components.
 fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
     let mut v: Vec<Vector3<f64>> = (0..n)
         .map(|_| {
@@ -58,10 +59,31 @@ fn positions(rng: &mut Rng, n: usize) -> Vec<Vector3<f64>> {
         Vector3::zeros(),
         Vector3::new(0.0, 0.0, -6.3e6),
         Vector3::new(10.0, -20.0, -6.37e6),
+        // On the equatorial plane inside the evolute (`a e²`, 42.7 km from
+        // the centre) when the origin is on the equator.
+        Vector3::new(0.0, 25_000.0, -6.35e6),
         Vector3::new(0.0, 0.0, 4.0e7),
         Vector3::new(1e22, 0.0, 0.0),
         Vector3::new(0.0, 5e21, 1.0),
         Vector3::new(1e300, 1e300, 1e300),
+        // Beyond the point-Earth distance (`2a/ε`, 5.7e22 m) along one axis
+        // of the model frame: at the origins on the equator and the poles
+        // the other ECEF components are small, so only the bound on every
+        // component keeps these from the common lane-wise path.
+        Vector3::new(1e23, 0.0, 0.0),
+        Vector3::new(0.0, -6e22, 0.0),
+        Vector3::new(0.0, 0.0, 1e25),
+        Vector3::new(0.0, 0.0, 1e23),
+        Vector3::new(1e6, 3e5, 8e22),
+        // Exactly on the polar axis (ECEF x = y = 0) when the origin is at
+        // latitude 0, longitude 0: straight down by `a`, then north, inside
+        // the Earth and beyond the pole.
+        Vector3::new(1e6, 0.0, -6_378_137.0),
+        Vector3::new(7e6, 0.0, -6_378_137.0),
+        // 1e-160 m off that axis, 1 km north of the centre: `p` underflows to
+        // 0, so the cubic's `s` and `disc` are 0 with `r` negative, and the
+        // closed form's `u` is negative (its other branch for `u + v`).
+        Vector3::new(1000.0, -1e-160, -6_378_137.0),
         Vector3::new(f64::NAN, 0.0, 0.0),
         Vector3::new(0.0, f64::INFINITY, 0.0),
         Vector3::new(0.0, 0.0, f64::NEG_INFINITY),

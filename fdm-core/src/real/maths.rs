@@ -177,7 +177,11 @@ pub mod fast {
         fast_two_sum(p, e + (a.0 * b.1 + a.1 * b.0))
     }
 
-    #[cfg(all(test, feature = "std"))]
+    // Two attributes, not `cfg(all(test, feature = "std"))`: cargo-mutants
+    // recognises a test module by its plain `#[cfg(test)]` and would
+    // otherwise mutate these tests' helpers as if they were the library.
+    #[cfg(test)]
+    #[cfg(feature = "std")]
     mod tests {
         use super::*;
         use crate::real::F64s;
@@ -219,6 +223,32 @@ pub mod fast {
             let (worst, differ) = max_ulps(0.55, 1.03, 2_000_000);
             println!("pow_5_25: at most {worst} ulp from glibc's pow, {differ} of 2e6 differ");
             assert!(worst <= 1, "{worst} ulp");
+            // And the same bits for all but 0.1 % of them (the docs above;
+            // 1,599 of these 2e6 differ, each by 1 ulp).
+            assert!(differ <= 2_000, "{differ} of 2e6 differ");
+        }
+
+        #[test]
+        fn up_to_and_beyond_overflow_as_pow() {
+            // Overflow is one of the special values that take the plain form
+            // (docs above): where `pow(x, 5.25)` overflows (x beyond about
+            // 4.6e58) the result is +∞ as `pow`'s, and just below the
+            // threshold it is still the double-double power, within 1 ulp.
+            let mut overflowed = 0;
+            for i in 0..=20_000_u32 {
+                let x = 10_f64.powf(50.0 + 20.0 * f64::from(i) / 20_000.0);
+                let (ours, glibc) = (pow_5_25::<f64, false>(x), x.powf(5.25));
+                if glibc.is_infinite() {
+                    overflowed += 1;
+                    assert_eq!(ours.to_bits(), glibc.to_bits(), "{x}");
+                } else {
+                    assert!(ours.to_bits().abs_diff(glibc.to_bits()) <= 1, "{x}");
+                }
+            }
+            assert!(overflowed > 0 && overflowed < 20_000, "{overflowed}");
+            for x in [1e100, 1e300, f64::MAX] {
+                assert_eq!(pow_5_25::<f64, true>(x), f64::INFINITY, "{x}");
+            }
         }
 
         #[test]
@@ -234,5 +264,102 @@ pub mod fast {
             assert!(pow_5_25::<f64, false>(f64::NEG_INFINITY).is_nan());
             assert_eq!(f64::NEG_INFINITY.powf(5.25), f64::INFINITY);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{fast, Exact, Fast, Maths};
+    use crate::real::{F32s, F64s};
+
+    /// Bases for the pressure power: Palmer's `1 - 0.0065 z / 288.15` over the
+    /// atmosphere (about 0.55 to 1.03), and a few others.
+    const BASES: [f64; 8] = [0.55, 0.7, 0.812_345, 0.9, 0.999_9, 1.0, 1.03, 2.5];
+
+    /// Arc-sine arguments: the interior, the ends, both signs.
+    const SINES: [f32; 8] = [0.0, -0.25, 0.3, -0.5, 0.7, -0.9, 0.999, -1.0];
+
+    /// A `Maths` that keeps every provided method: the trait's own defaults,
+    /// which its docs say are the [`Exact`] functions.
+    #[derive(Debug, Clone, Copy, Default)]
+    struct Defaults;
+
+    impl Maths for Defaults {
+        const VECTORISED: bool = false;
+    }
+
+    fn same_pow<M: Maths>(exponent: f64) -> bool {
+        BASES.iter().all(|&x| {
+            let want = crate::math::pow(x, exponent).to_bits();
+            let lanes = M::pow(F64s([x, 0.5 * x]), exponent);
+            M::pow(x, exponent).to_bits() == want
+                && lanes.0[0].to_bits() == want
+                && lanes.0[1].to_bits() == crate::math::pow(0.5 * x, exponent).to_bits()
+        })
+    }
+
+    fn same_asinf<M: Maths>() -> bool {
+        let want = SINES.map(crate::math::asinf);
+        let one_by_one = SINES.map(M::asinf);
+        let eight = M::asinf_8(SINES);
+        let lanes = M::asinf_8(SINES.map(|s| F32s([s, -s])));
+        (0..8).all(|i| {
+            one_by_one[i].to_bits() == want[i].to_bits()
+                && eight[i].to_bits() == want[i].to_bits()
+                && lanes[i].0[0].to_bits() == want[i].to_bits()
+                && lanes[i].0[1].to_bits() == crate::math::asinf(-SINES[i]).to_bits()
+        })
+    }
+
+    /// The trait's docs: its defaults, and `Exact`, are `crate::math`'s
+    /// functions with their bits in every lane, `asinf_8` each value's
+    /// `asinf`.
+    #[test]
+    fn the_defaults_and_exact_are_the_scalar_functions_bits() {
+        for exponent in [5.25, 2.0, 0.190_263, -1.5] {
+            assert!(
+                same_pow::<Defaults>(exponent),
+                "defaults, pow(x, {exponent})"
+            );
+            assert!(same_pow::<Exact>(exponent), "Exact, pow(x, {exponent})");
+        }
+        assert!(same_asinf::<Defaults>(), "defaults, asinf");
+        assert!(same_asinf::<Exact>(), "Exact, asinf");
+    }
+
+    /// `Fast`'s docs: `pow(x, 5.25)` is `fast::pow_5_25`, other exponents
+    /// the exact `pow`; `asinf` the exact one.
+    #[test]
+    fn fast_replaces_only_the_power_5_25() {
+        // A base where `pow_5_25` (within 1 ulp of `pow`, the same bits for
+        // all but about 0.1 % of the bases) and `pow` differ, so that taking
+        // one for the other shows.
+        let differs = (0..200_000_u32)
+            .map(|i| 0.55 + 0.48 * f64::from(i) / 200_000.0)
+            .find(|&x| {
+                fast::pow_5_25::<f64, true>(x).to_bits() != crate::math::pow(x, 5.25).to_bits()
+            })
+            .expect("pow_5_25 has pow's bits everywhere sampled");
+        fn check<const FMA: bool>(differs: f64) {
+            for x in BASES.into_iter().chain([differs]) {
+                let lanes = F64s([x, 0.5 * x]);
+                assert_eq!(
+                    Fast::<FMA>::pow(x, 5.25).to_bits(),
+                    fast::pow_5_25::<f64, FMA>(x).to_bits(),
+                    "{x}^5.25"
+                );
+                assert_eq!(
+                    Fast::<FMA>::pow(lanes, 5.25),
+                    fast::pow_5_25::<F64s<2>, FMA>(lanes),
+                    "{x}^5.25 in lanes"
+                );
+            }
+            for exponent in [2.0, 5.0, 5.5, -1.5] {
+                assert!(same_pow::<Fast<FMA>>(exponent), "pow(x, {exponent})");
+            }
+            assert!(same_asinf::<Fast<FMA>>(), "asinf");
+        }
+        check::<true>(differs);
+        check::<false>(differs);
     }
 }

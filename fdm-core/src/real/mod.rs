@@ -546,3 +546,28 @@ pub trait LaneModel: Model {
     /// the `position_m` of [`Model::view`], bit for bit.
     fn position_m(state: &Self::State) -> nalgebra::Vector3<f64>;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scalar step's mask is a `bool`, one lane: every method of [`Mask`]
+    /// is the trait's lane-wise operation on that lane (the scalar
+    /// instantiation of a step is the hand-written scalar code).
+    #[test]
+    fn a_bool_is_a_mask_of_one_lane() {
+        for a in [false, true] {
+            assert_eq!(<bool as Mask>::splat(a), a);
+            assert_eq!(Mask::not(a), !a);
+            assert_eq!(Mask::any(a), a, "any lane set");
+            assert_eq!(Mask::lane(a, 0), a, "lane 0 is the bool");
+            for b in [false, true] {
+                assert_eq!(Mask::and(a, b), a && b, "{a} and {b}");
+                assert_eq!(Mask::or(a, b), a || b, "{a} or {b}");
+                let mut m = a;
+                m.set_lane(0, b);
+                assert_eq!(m, b, "lane 0 of {a} set to {b}");
+            }
+        }
+    }
+}
