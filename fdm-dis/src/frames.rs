@@ -164,7 +164,10 @@ impl DisEuler {
     /// `φ = atan2(c₂₁, c₂₂)`. At θ = ±90° (body x along ECEF ±z: for example
     /// a level aircraft heading north on the equator) ψ and φ are not
     /// separable; φ is then 0 and the whole rotation about z goes into ψ,
-    /// which describes the same rotation. Never panics.
+    /// `ψ = atan2(-c₀₁, c₁₁)`, which describes the same rotation. That is
+    /// taken wherever cos θ = √(c₀₀² + c₁₀²) is 1e-12 or less, where the
+    /// general formulas would divide rounding errors by each other. Never
+    /// panics.
     #[must_use]
     pub fn from_body_to_ecef(c: &Matrix3<f64>) -> Self {
         let cos_theta = math::hypot(c[(0, 0)], c[(1, 0)]);

@@ -80,9 +80,13 @@ pub enum DecodeError {
 /// The first piece that does not decode.
 pub fn decode_datagram(datagram: &[u8]) -> Result<Vec<Pdu>, DecodeError> {
     let mut pdus = Vec::new();
-    let mut offset = 0;
-    while offset < datagram.len() {
-        let rest = &datagram[offset..];
+    // The bytes not split off yet. Each turn splits off at least a header,
+    // so the loop ends whatever the lengths say (with a running offset
+    // added to instead, one wrong step, `offset *= declared` for one, would
+    // loop for ever, appending PDUs until memory runs out).
+    let mut rest = datagram;
+    while !rest.is_empty() {
+        let offset = datagram.len() - rest.len();
         if rest.len() < PDU_HEADER_LEN {
             return Err(DecodeError::ShortHeader {
                 offset,
@@ -97,7 +101,7 @@ pub fn decode_datagram(datagram: &[u8]) -> Result<Vec<Pdu>, DecodeError> {
                 left: rest.len(),
             });
         }
-        let piece = &rest[..declared];
+        let (piece, after) = rest.split_at(declared);
         let parsed = std::panic::catch_unwind(|| dis_rs::parse(piece))
             .map_err(|_| DecodeError::DecoderPanic { offset })?;
         let mut got = parsed.map_err(|e| DecodeError::Parse {
@@ -113,7 +117,7 @@ pub fn decode_datagram(datagram: &[u8]) -> Result<Vec<Pdu>, DecodeError> {
             });
         }
         pdus.append(&mut got);
-        offset += declared;
+        rest = after;
     }
     if pdus.is_empty() {
         return Err(DecodeError::ShortHeader { offset: 0, left: 0 });

@@ -141,6 +141,70 @@ fn orientation_hand_cases() {
     }
 }
 
+/// At θ = ±90° (gimbal lock), as documented: φ is 0 and the whole
+/// rotation about z goes into ψ, the same rotation. The orientations
+/// `Rz(ψ) Ry(±90°) Rx(φ)` for several ψ and φ (only ψ ∓ φ matters) come
+/// back with θ = ±90° and φ = 0, and their angles make the same matrix.
+/// The limit is exact: cos θ = 1e-12 exactly is gimbal lock (φ = 0, the
+/// roll in ψ), 2e-12 is not (φ read as atan2(c₂₁, c₂₂)).
+#[test]
+fn gimbal_lock_puts_the_whole_turn_about_z_in_psi() {
+    for theta_deg in [90.0_f64, -90.0] {
+        for (psi_deg, phi_deg) in [
+            (30.0_f64, 0.0_f64),
+            (-70.0, 25.0),
+            (0.0, 40.0),
+            (120.0, -150.0),
+        ] {
+            let e = DisEuler {
+                psi_rad: psi_deg.to_radians(),
+                theta_rad: theta_deg.to_radians(),
+                phi_rad: phi_deg.to_radians(),
+            };
+            let c = e.body_to_ecef();
+            let back = DisEuler::from_body_to_ecef(&c);
+            let what = format!("({psi_deg}, {theta_deg}, {phi_deg})");
+            assert_eq!(back.phi_rad, 0.0, "{what}");
+            assert!(
+                (back.theta_rad - theta_deg.to_radians()).abs() < 1e-7,
+                "{what}: {back:?}"
+            );
+            assert!((back.body_to_ecef() - c).amax() < 1e-12, "{what}: {back:?}");
+            // Nose up, ψ - φ; nose down, ψ + φ (Ry(±90°) Rx(φ) = Rz(∓φ) Ry(±90°)).
+            let psi = if theta_deg > 0.0 {
+                psi_deg - phi_deg
+            } else {
+                psi_deg + phi_deg
+            };
+            assert_euler(back, psi, theta_deg, 0.0, &what);
+        }
+    }
+    // Ry(θ) Rx(30°) with cos θ = 1e-12 and 2e-12 exactly (sin θ rounds to 1).
+    let (s, c) = 30.0_f64.to_radians().sin_cos();
+    let tilted = |cos_theta: f64| {
+        nalgebra::Matrix3::new(
+            cos_theta,
+            s,
+            c,
+            0.0,
+            c,
+            -s,
+            -1.0,
+            cos_theta * s,
+            cos_theta * c,
+        )
+    };
+    let at = DisEuler::from_body_to_ecef(&tilted(1e-12));
+    assert_eq!(at.phi_rad, 0.0, "{at:?}");
+    assert!((at.psi_rad + 30.0_f64.to_radians()).abs() < 1e-12, "{at:?}");
+    let above = DisEuler::from_body_to_ecef(&tilted(2e-12));
+    assert!(
+        (above.phi_rad - 30.0_f64.to_radians()).abs() < 1e-12,
+        "{above:?}"
+    );
+    assert_eq!(above.psi_rad, 0.0, "{above:?}");
+}
+
 #[test]
 fn body_axes_at_the_equator_heading_north() {
     // Body x (nose) = ECEF +z, body y (right wing) = ECEF +y, body z (down) = ECEF -x.

@@ -203,6 +203,90 @@ fn malformed_datagrams_are_counted_and_skipped() {
     assert_eq!(l.stats().decoder_panics, 0);
 }
 
+/// `DecodeError`'s cases at their limits, as documented: fewer bytes left
+/// than a header (12) is `ShortHeader`, exactly a header's worth is not; a
+/// declared length below a header or beyond what is left is `BadLength`,
+/// exactly a header or exactly what is left is not (the piece goes to
+/// dis-rs). Each error names the offset of its piece in the datagram: here
+/// the second piece, after a good 144-byte PDU.
+#[test]
+fn decode_errors_at_their_limits_name_the_pieces_offset() {
+    let mut p = publisher(
+        4,
+        AircraftKind::CESSNA_172_SKYHAWK,
+        "LIMITS",
+        DisVersion::V7,
+    );
+    let good = one_pdu(&mut p, &state(0.0, 20.0, 30.0, 45.0));
+    assert_eq!(good.len(), 144);
+    let after_good = |tail: &[u8]| {
+        let mut d = good.clone();
+        d.extend_from_slice(tail);
+        decode_datagram(&d)
+    };
+    // The good PDU's header with another declared length.
+    let header = |declared: u16| {
+        let mut h = good[..12].to_vec();
+        h[8..10].copy_from_slice(&declared.to_be_bytes());
+        h
+    };
+
+    assert_eq!(
+        after_good(&good[..11]),
+        Err(DecodeError::ShortHeader {
+            offset: 144,
+            left: 11
+        })
+    );
+    // Twelve bytes left are a header: its length is read and checked.
+    assert_eq!(
+        after_good(&header(13)),
+        Err(DecodeError::BadLength {
+            offset: 144,
+            declared: 13,
+            left: 12
+        })
+    );
+    let mut short = header(11);
+    short.extend_from_slice(&[0; 20]);
+    assert_eq!(
+        after_good(&short),
+        Err(DecodeError::BadLength {
+            offset: 144,
+            declared: 11,
+            left: 32
+        })
+    );
+    // A declared length of exactly a header is within the limits: the
+    // piece is dis-rs's to parse (a header alone is no Entity State PDU).
+    let r = after_good(&header(12));
+    assert!(
+        matches!(r, Ok(_) | Err(DecodeError::Parse { offset: 144, .. })),
+        "{r:?}"
+    );
+    // Exactly what is left, and one byte beyond.
+    assert_eq!(after_good(&good).map(|p| p.len()), Ok(2));
+    let mut beyond = good.clone();
+    beyond[8..10].copy_from_slice(&145u16.to_be_bytes());
+    assert_eq!(
+        after_good(&beyond),
+        Err(DecodeError::BadLength {
+            offset: 144,
+            declared: 145,
+            left: 144
+        })
+    );
+    // A piece that dis-rs rejects (an Entity State PDU cut to 100 bytes,
+    // its declared length too) names its offset too.
+    let mut cut = good[..100].to_vec();
+    cut[8..10].copy_from_slice(&100u16.to_be_bytes());
+    let r = after_good(&cut);
+    assert!(
+        matches!(r, Err(DecodeError::Parse { offset: 144, .. })),
+        "{r:?}"
+    );
+}
+
 #[test]
 fn over_udp_loopback() {
     const RATE_DEG_S: f64 = 1.7;

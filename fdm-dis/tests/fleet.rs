@@ -1,0 +1,321 @@
+//! The fleet publisher through its public API (`fdm_dis::fleet`,
+//! docs/dis.md): [`FleetPublisher::publish`], `publish_screened` and the
+//! pieces of [`FleetPublisher::screened_pieces`] send, over UDP on
+//! 127.0.0.1, exactly the datagrams that each aircraft's own [`Tracker`]
+//! gives for its views, one aircraft after the other; their counts are the
+//! trackers' counts. The fleet is more than one batch of [`FLEET_BATCH`]
+//! aircraft, and the aircraft offered sit on both sides of the batch
+//! boundary, so that an aircraft given another's view, or a batch's
+//! aircraft numbered from the wrong place, shows in the bytes (each PDU
+//! carries its tracker's entity id and its view's position).
+
+use std::net::UdpSocket;
+use std::time::Duration;
+
+use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::model::{FlightView, Model};
+use fdm_core::palmer::Palmer;
+use fdm_dis::{
+    AircraftKind, DrThresholds, EntityIdentity, FleetPublisher, Marking, Placement,
+    PublisherCounts, ReasonCounts, Rough, SendReason, Tally, Tracker, UdpSender, FLEET_BATCH,
+};
+use fdm_dis::{EntityConfig, ScreenedPiece};
+
+/// Aircraft in the fleet: one full batch and six more.
+const N: usize = FLEET_BATCH + 6;
+/// The aircraft given a view: both ends of the first batch, the first
+/// aircraft of the second and its last. Every other aircraft is never
+/// offered (`None`), so a frame sends few datagrams (none is dropped by a
+/// full receive buffer).
+const OFFERED: [usize; 10] = [0, 1, 2, 3, 500, 1022, 1023, 1024, 1025, N - 1];
+/// Frames flown, 30 per second.
+const FRAMES: usize = 150;
+
+/// Aircraft `i`'s tracker: entity `i + 1`, so its PDUs name it.
+fn trackers() -> Vec<Tracker> {
+    (0..N)
+        .map(|i| {
+            let config = EntityConfig::new(
+                EntityIdentity::new(1, 1, u16::try_from(i + 1).unwrap()).unwrap(),
+                AircraftKind::CESSNA_172_SKYHAWK,
+                Marking::new(&format!("F{i}")).unwrap(),
+            );
+            Tracker::new(config, DrThresholds::default()).unwrap()
+        })
+        .collect()
+}
+
+/// Each frame's views of the offered aircraft (Palmer's fleet members,
+/// each flying its own turn): `views[frame][i]`, `None` for an aircraft not
+/// offered that frame. Aircraft 2 is left out on frames 30 to 39; aircraft
+/// 1025 diverges (NaN) at frame 100.
+fn views() -> Vec<Vec<Option<FlightView>>> {
+    let aircraft = Palmer::default_aircraft();
+    let mut members: Vec<_> = OFFERED
+        .iter()
+        .map(|&i| (i, Palmer::fleet_member(i)))
+        .collect();
+    (0..FRAMES)
+        .map(|frame| {
+            let mut row = vec![None; N];
+            for (i, (controls, state)) in &mut members {
+                *state = Palmer::step(&aircraft, controls, state, 1.0 / 30.0);
+                if *i == 1025 && frame == 100 {
+                    state.position_m.x = f64::NAN;
+                }
+                let offered = *i != 2 || !(30..40).contains(&frame);
+                row[*i] = offered.then(|| Palmer::view(&aircraft, controls, state));
+            }
+            row
+        })
+        .collect()
+}
+
+/// What a frame must send and count: each offered aircraft's own tracker
+/// updated alone, in fleet order.
+struct Expected {
+    datagrams: Vec<Vec<u8>>,
+    reasons: ReasonCounts,
+    invalid: u64,
+}
+
+fn expected_frame(
+    trackers: &mut [Tracker],
+    row: &[Option<FlightView>],
+    placement: &Placement,
+) -> Expected {
+    let mut e = Expected {
+        datagrams: Vec::new(),
+        reasons: ReasonCounts::default(),
+        invalid: 0,
+    };
+    for (t, v) in trackers.iter_mut().zip(row) {
+        let Some(v) = v else { continue };
+        match t.update(v, placement) {
+            Ok(Some(d)) => {
+                match d.reason {
+                    SendReason::First | SendReason::ClockReset => e.reasons.first += 1,
+                    SendReason::PositionError => e.reasons.position += 1,
+                    SendReason::OrientationError => e.reasons.orientation += 1,
+                    SendReason::Heartbeat => e.reasons.heartbeat += 1,
+                }
+                e.datagrams.push(d.bytes.to_vec());
+            }
+            Ok(None) => {}
+            Err(_) => e.invalid += 1,
+        }
+    }
+    e.datagrams.sort();
+    e
+}
+
+/// A receiver on 127.0.0.1 and a sender to it.
+fn link() -> (UdpSocket, UdpSender) {
+    let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+    rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let tx = UdpSender::new(rx.local_addr().unwrap(), false).unwrap();
+    (rx, tx)
+}
+
+/// The `count` datagrams waiting at `rx` (sorted), and then no more.
+fn received(rx: &UdpSocket, count: usize) -> Vec<Vec<u8>> {
+    let mut buf = [0u8; 2048];
+    let mut got: Vec<Vec<u8>> = (0..count)
+        .map(|_| {
+            let n = rx.recv(&mut buf).expect("a datagram on loopback");
+            buf[..n].to_vec()
+        })
+        .collect();
+    // Loopback delivers a datagram before its send returns: anything more
+    // is already there.
+    rx.set_nonblocking(true).unwrap();
+    let extra = rx.recv(&mut buf);
+    assert!(extra.is_err(), "a datagram more than due: {extra:?}");
+    rx.set_nonblocking(false).unwrap();
+    got.sort();
+    got
+}
+
+fn assert_tally(tally: &Tally, e: &Expected, what: &str) {
+    let bytes: usize = e.datagrams.iter().map(Vec::len).sum();
+    assert_eq!(tally.pdus, e.datagrams.len() as u64, "{what}: PDUs");
+    assert_eq!(tally.bytes, bytes as u64, "{what}: bytes");
+    assert_eq!(tally.reasons, e.reasons, "{what}: reasons");
+    assert_eq!(
+        (tally.failed, tally.invalid),
+        (0, e.invalid),
+        "{what}: failed, invalid"
+    );
+    assert_eq!(
+        tally.first_failure.is_some(),
+        e.invalid > 0,
+        "{what}: {tally:?}"
+    );
+}
+
+/// The rough frame of a view: its own numbers (well within the tolerance);
+/// none for a non-finite view (no rough frame can be made for it).
+fn rough_of(v: &FlightView) -> Option<Rough> {
+    let r = Rough {
+        time_s: v.time_s,
+        position_m: v.position_m,
+        velocity_mps: v.velocity_mps,
+        body_to_ned: v.attitude.body_to_ned(),
+    };
+    (r.position_m
+        .iter()
+        .chain(&r.velocity_mps)
+        .chain(r.body_to_ned.iter())
+        .all(|x| x.is_finite()))
+    .then_some(r)
+}
+
+/// A screened input: the aircraft's index (checked against the index
+/// `rough` and `view` are told) and its view.
+type Input = (usize, FlightView);
+
+/// `rough` as the screened publishers document it: `out[k]` for aircraft
+/// `first + k`, whose input is `states[k]`.
+fn rough(first: usize, states: &[Option<Input>], out: &mut [Option<Rough>]) {
+    assert_eq!(states.len(), out.len());
+    for (k, (s, o)) in states.iter().zip(out.iter_mut()).enumerate() {
+        *o = s.and_then(|(i, v)| {
+            assert_eq!(
+                i,
+                first + k,
+                "aircraft {}'s input for aircraft {i}",
+                first + k
+            );
+            rough_of(&v)
+        });
+    }
+}
+
+/// `view(i, s)`: the exact view of aircraft `i` with input `s`.
+fn view(i: usize, s: &Input) -> FlightView {
+    assert_eq!(i, s.0, "aircraft {}'s input given as aircraft {i}'s", s.0);
+    s.1
+}
+
+#[test]
+fn len_and_is_empty_count_the_trackers() {
+    let fleet = FleetPublisher::new(trackers());
+    assert_eq!(fleet.len(), N);
+    assert!(!fleet.is_empty());
+    let one = FleetPublisher::new(trackers().into_iter().skip(N - 1).collect());
+    assert_eq!((one.len(), one.is_empty()), (1, false));
+    for empty in [FleetPublisher::new(Vec::new()), FleetPublisher::default()] {
+        assert_eq!((empty.len(), empty.is_empty()), (0, true));
+    }
+}
+
+/// `publish`, `publish_screened` and the pieces of `screened_pieces`
+/// (published one after the other, seven aircraft a piece) send each frame
+/// the datagrams of the trackers updated alone, count them in their tally,
+/// and leave each aircraft's counts as its tracker's (an aircraft never
+/// offered: no frame at all).
+#[test]
+fn every_way_of_publishing_sends_what_each_tracker_sends_alone() {
+    let placement = Placement::new(GeodeticOrigin::default());
+    let views = views();
+    let mut alone = trackers();
+    let mut whole = FleetPublisher::new(trackers());
+    let mut screened = FleetPublisher::new(trackers());
+    let mut pieces = FleetPublisher::new(trackers());
+    let (rx_whole, tx_whole) = link();
+    let (rx_screened, tx_screened) = link();
+    let (rx_pieces, tx_pieces) = link();
+    let (mut last_screened, mut last_pieces) = (Vec::new(), Vec::new());
+    let mut sent = 0;
+    for (frame, row) in views.iter().enumerate() {
+        let e = expected_frame(&mut alone, row, &placement);
+        sent += e.datagrams.len();
+        let input = |i: usize| row[i].map(|v| (i, v));
+
+        let tally = whole.publish(&tx_whole, &placement, |i| row[i]);
+        assert_eq!(
+            received(&rx_whole, e.datagrams.len()),
+            e.datagrams,
+            "publish, frame {frame}"
+        );
+        assert_tally(&tally, &e, &format!("publish, frame {frame}"));
+
+        let tally = screened.publish_screened(
+            &tx_screened,
+            &placement,
+            &mut last_screened,
+            input,
+            rough,
+            view,
+        );
+        assert_eq!(
+            received(&rx_screened, e.datagrams.len()),
+            e.datagrams,
+            "publish_screened, frame {frame}"
+        );
+        assert_tally(&tally, &e, &format!("publish_screened, frame {frame}"));
+
+        let mut tally = Tally::default();
+        for mut piece in pieces.screened_pieces(&placement, &mut last_pieces, 7) {
+            let states: Vec<_> = (piece.first()..piece.first() + piece.len())
+                .map(input)
+                .collect();
+            tally.merge(piece.publish(&tx_pieces, &states, rough, view));
+        }
+        assert_eq!(
+            received(&rx_pieces, e.datagrams.len()),
+            e.datagrams,
+            "pieces, frame {frame}"
+        );
+        assert_tally(&tally, &e, &format!("pieces, frame {frame}"));
+    }
+    // Every offered aircraft sent its first PDU, and the turns sent more.
+    assert!(sent > 2 * OFFERED.len(), "{sent} PDUs");
+    for (i, tracker) in alone.iter().enumerate() {
+        let own = tracker.counts();
+        if !OFFERED.contains(&i) {
+            assert_eq!(own, PublisherCounts::default(), "aircraft {i}");
+        }
+        assert_eq!(whole.counts(i), Some(own), "publish: aircraft {i}");
+        assert_eq!(
+            screened.counts(i),
+            Some(own),
+            "publish_screened: aircraft {i}"
+        );
+        assert_eq!(pieces.counts(i), Some(own), "pieces: aircraft {i}");
+    }
+    // The screen cleared most frames: counted, though no tracker saw them.
+    let quiet = alone[0].counts();
+    assert!(quiet.frames > 4 * quiet.sent, "{quiet:?}");
+    assert_eq!(whole.counts(N), None);
+    assert_eq!(screened.counts(N), None);
+}
+
+/// The pieces: `piece` aircraft each in fleet order, the last with the
+/// rest, at least one aircraft a piece; a piece's `first`, `len` and
+/// `is_empty`.
+#[test]
+fn screened_pieces_cut_the_fleet_in_order() {
+    let placement = Placement::new(GeodeticOrigin::default());
+    let mut fleet = FleetPublisher::new(trackers());
+    let mut last: Vec<Option<Input>> = Vec::new();
+    for per in [1, 7, FLEET_BATCH, N, N + 1] {
+        let pieces = fleet.screened_pieces(&placement, &mut last, per);
+        assert_eq!(pieces.len(), N.div_ceil(per), "pieces of {per}");
+        for (c, p) in pieces.iter().enumerate() {
+            let want = per.min(N - c * per);
+            assert_eq!(
+                (p.first(), p.len(), p.is_empty()),
+                (c * per, want, false),
+                "pieces of {per}, {c}"
+            );
+        }
+        drop(pieces);
+        assert_eq!(last.len(), N, "`last` is resized to the fleet");
+    }
+    let pieces: Vec<ScreenedPiece<'_, Input>> = fleet.screened_pieces(&placement, &mut last, 0);
+    assert_eq!(pieces.len(), N, "a piece of 0 is a piece of 1");
+    assert_eq!((pieces[N - 1].first(), pieces[N - 1].len()), (N - 1, 1));
+    let mut empty = FleetPublisher::new(Vec::new());
+    assert!(empty.screened_pieces(&placement, &mut last, 7).is_empty());
+}
