@@ -98,7 +98,7 @@ impl FleetModel for Bourg {
 
 /// [`FleetModel::dis_rough`] for Bourg: each aircraft's view's time,
 /// position and velocity (feet widened to `f64`, times
-/// [`METRES_PER_FOOT`](fdm_core::units::METRES_PER_FOOT), the view's
+/// [`METRES_PER_FOOT`], the view's
 /// operations) and the view's own attitude matrix, bit for bit, without the
 /// rest of the view (the body velocity, alpha, sideslip, airspeed).
 ///
