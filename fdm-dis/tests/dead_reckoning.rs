@@ -446,3 +446,98 @@ fn rotating_models_turn_about_the_sent_rate_vector() {
     let c0 = still.orientation().body_to_ecef();
     assert_eq!(fdm_dis::extrapolate(DrAlgorithm::Rvw, &still, 2.0).1, c0);
 }
+
+/// What a reckoner says of itself (docs of `DeadReckoner`): the model and
+/// thresholds it was made with (neither the defaults), nothing sent and no
+/// error before the first PDU, then the PDU recorded, and the error of a
+/// truth whose distance from the extrapolation is known exactly: a DRM(F,P,W)
+/// receiver puts the aircraft at `P₀ + V₀ Δt` with the orientation held, so
+/// a truth 2 s later that far along plus (3, 4, 0) m, same orientation, is
+/// 5 m and 0° off after 2 s. (Every number is exact in binary and in the
+/// PDU's f32 fields, so the comparisons are exact.)
+#[test]
+fn a_reckoner_reports_its_model_its_thresholds_its_last_pdu_and_its_error() {
+    use fdm_dis::{EcefState, WireState};
+    use nalgebra::Matrix3;
+    let thresholds = DrThresholds {
+        position_m: 2.5,
+        orientation_deg: 7.0,
+        heartbeat_s: 9.0,
+    };
+    let mut reckoner = DeadReckoner::new(DrAlgorithm::Fpw, thresholds).unwrap();
+    assert_eq!(reckoner.algorithm(), DrAlgorithm::Fpw);
+    assert_eq!(reckoner.thresholds(), thresholds);
+    assert!(reckoner.last_sent().is_none());
+
+    let location_m = Vector3::new(WGS84_A_M, 0.0, 0.0);
+    let velocity_m_s = Vector3::new(100.0, -50.0, 25.0);
+    let state = |time_s: f64, location_m: Vector3<f64>| {
+        EcefState::new(
+            time_s,
+            location_m,
+            Matrix3::identity(),
+            velocity_m_s,
+            Vector3::zeros(),
+            Vector3::zeros(),
+        )
+    };
+    let sent = state(10.0, location_m);
+    assert_eq!(reckoner.error(&sent), None);
+    let wire = WireState::new(&sent, DrAlgorithm::Fpw);
+    reckoner.record_sent(wire);
+    assert_eq!(reckoner.last_sent(), Some(&wire));
+
+    let truth = state(
+        12.0,
+        location_m + velocity_m_s * 2.0 + Vector3::new(3.0, 4.0, 0.0),
+    );
+    let error = reckoner.error(&truth).unwrap();
+    assert_eq!(error.elapsed_s, 2.0);
+    assert_eq!(error.position_m, 5.0);
+    assert_eq!(error.orientation_deg, 0.0);
+    // 5 m is above the 2.5 m threshold: due, for its position.
+    assert_eq!(reckoner.check(&truth), Some(SendReason::PositionError));
+
+    // Each threshold landed on exactly ("more than the threshold" is due,
+    // the threshold itself is not): the same time as the PDU is not a clock
+    // that went back; 2.5 m off is not due; an orientation off by exactly the
+    // threshold is not due. One step beyond each is.
+    assert_eq!(reckoner.check(&sent), None);
+    assert_eq!(
+        reckoner.check(&state(10.0 - 1.0 / 64.0, location_m)),
+        Some(SendReason::ClockReset)
+    );
+    let along = location_m + velocity_m_s * 2.0;
+    assert_eq!(
+        reckoner.check(&state(12.0, along + Vector3::new(1.5, 2.0, 0.0))),
+        None
+    );
+    assert_eq!(
+        reckoner.check(&state(12.0, along + Vector3::new(1.5, 2.0 + 1e-9, 0.0))),
+        Some(SendReason::PositionError)
+    );
+    let turned = nalgebra::Rotation3::from_scaled_axis(Vector3::new(0.0, 0.0, 0.1)).into_inner();
+    let angle_deg = fdm_dis::rotation_angle_between(&Matrix3::identity(), &turned).to_degrees();
+    let at_threshold = DeadReckoner::new(
+        DrAlgorithm::Fpw,
+        DrThresholds {
+            orientation_deg: angle_deg,
+            ..thresholds
+        },
+    );
+    let mut at_threshold = at_threshold.unwrap();
+    at_threshold.record_sent(wire);
+    let mut truth = state(12.0, along);
+    truth.body_to_ecef = turned;
+    assert_eq!(at_threshold.check(&truth), None);
+    let just_below = DeadReckoner::new(
+        DrAlgorithm::Fpw,
+        DrThresholds {
+            orientation_deg: angle_deg * (1.0 - 1e-12),
+            ..thresholds
+        },
+    );
+    let mut just_below = just_below.unwrap();
+    just_below.record_sent(wire);
+    assert_eq!(just_below.check(&truth), Some(SendReason::OrientationError));
+}
