@@ -12,7 +12,7 @@
 use std::net::UdpSocket;
 use std::time::Duration;
 
-use fdm_core::geodesy::GeodeticOrigin;
+use fdm_core::geodesy::{Attitude, GeodeticOrigin};
 use fdm_core::model::{FlightView, Model};
 use fdm_core::palmer::Palmer;
 use fdm_dis::{
@@ -20,6 +20,7 @@ use fdm_dis::{
     PublisherCounts, ReasonCounts, Rough, SendReason, Tally, Tracker, UdpSender, FLEET_BATCH,
 };
 use fdm_dis::{EntityConfig, ScreenedPiece};
+use nalgebra::Vector3;
 
 /// Aircraft in the fleet: one full batch and six more.
 const N: usize = FLEET_BATCH + 6;
@@ -318,4 +319,154 @@ fn screened_pieces_cut_the_fleet_in_order() {
     assert_eq!((pieces[N - 1].first(), pieces[N - 1].len()), (N - 1, 1));
     let mut empty = FleetPublisher::new(Vec::new());
     assert!(empty.screened_pieces(&placement, &mut last, 7).is_empty());
+}
+
+/// Aircraft whose attitude steps or whose turn stops: the frames where the
+/// receivers' extrapolation (which turns the last PDU's orientation by its
+/// angular velocity) and the truth part ways without the truth leaving the
+/// last PDU's orientation. Aircraft `k` flies at 50 m/s; the odd ones turn
+/// at 6°/s and then stop; at its step frame each rolls by its own step
+/// (2° to 20°, both ways), and one holds wings level all along. The step
+/// makes a PDU whose angular velocity is the step over one frame (up to
+/// 10 rad/s, under the screen's half-radian turn a frame), and the truth
+/// then holds still: a screen that compared the truth with the PDU's
+/// orientation unturned (or turned wrongly) would see nothing and clear the
+/// frames where the tracker sends. `views[frame][k]`, 300 frames at 30 Hz.
+fn stepping_views() -> Vec<Vec<Option<FlightView>>> {
+    let aircraft = Palmer::default_aircraft();
+    let (controls, state) = Palmer::fleet_member(0);
+    let base = Palmer::view(&aircraft, &controls, &state);
+    let roll_steps_deg = [2.0, 5.0, 10.0, 20.0, -8.0, 15.0, 0.0, -12.0];
+    let dt = 1.0 / 30.0;
+    let mut position: Vec<Vector3<f64>> = (0..roll_steps_deg.len())
+        .map(|k| Vector3::new(100.0 * k as f64, 0.0, 300.0))
+        .collect();
+    (0..300)
+        .map(|frame| {
+            roll_steps_deg
+                .iter()
+                .enumerate()
+                .map(|(k, step)| {
+                    let step_frame = 30 + 20 * k;
+                    let stepped = frame >= step_frame;
+                    let turning = k % 2 == 1 && !stepped;
+                    let heading_deg = 10.0 * k as f64
+                        + if k % 2 == 1 {
+                            0.2 * frame.min(step_frame) as f64
+                        } else {
+                            0.0
+                        };
+                    let h = heading_deg.to_radians();
+                    let velocity = Vector3::new(50.0 * h.cos(), -50.0 * h.sin(), 0.0);
+                    position[k] += velocity * dt;
+                    let roll_deg =
+                        if turning { 25.0 } else { 0.0 } + if stepped { *step } else { 0.0 };
+                    Some(FlightView {
+                        time_s: frame as f64 * dt,
+                        position_m: position[k],
+                        velocity_mps: velocity,
+                        attitude: Attitude {
+                            roll_deg,
+                            pitch_deg: 2.0,
+                            heading_deg,
+                        },
+                        ..base
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Aircraft whose rotation speeds up: aircraft `k` rolls with an angular
+/// acceleration of its own (3°/s² to 40°/s², both ways) and turns with
+/// another, flying straight at 50 m/s (so that only the orientation makes
+/// PDUs due). The receivers turn the last PDU's orientation by its angular
+/// velocity, which falls behind: the error grows with the square of the
+/// time since the PDU until it passes the threshold, on frames whose
+/// extrapolated turn is up to a few tenths of a radian, where the screen's
+/// series for `sin θ/θ` and `(1 − cos θ)/θ²` must hold. Each crossing lands
+/// at its own distance above the threshold (up to a third of a degree), so
+/// a screen whose estimate of the angle is off by more than that clears a
+/// frame that is due. `views[frame][k]`, 300 frames at 30 Hz.
+fn spinning_views() -> Vec<Vec<Option<FlightView>>> {
+    let aircraft = Palmer::default_aircraft();
+    let (controls, state) = Palmer::fleet_member(0);
+    let base = Palmer::view(&aircraft, &controls, &state);
+    let roll_accelerations_deg_s2 = [3.0, -7.0, 12.0, -18.0, 25.0, -31.0, 40.0, 9.5];
+    let dt = 1.0 / 30.0;
+    (0..300)
+        .map(|frame| {
+            let t = f64::from(frame) * dt;
+            roll_accelerations_deg_s2
+                .iter()
+                .enumerate()
+                .map(|(k, alpha)| {
+                    let h0 = (40.0 * k as f64).to_radians();
+                    let velocity = Vector3::new(50.0 * h0.cos(), -50.0 * h0.sin(), 0.0);
+                    let turn_deg_s2 = 2.0 + 1.5 * k as f64;
+                    Some(FlightView {
+                        time_s: t,
+                        position_m: Vector3::new(0.0, 100.0 * k as f64, 500.0) + velocity * t,
+                        velocity_mps: velocity,
+                        attitude: Attitude {
+                            roll_deg: (0.5 * alpha * t * t + 180.0).rem_euclid(360.0) - 180.0,
+                            pitch_deg: 3.0,
+                            heading_deg: (40.0 * k as f64 + 0.5 * turn_deg_s2 * t * t)
+                                .rem_euclid(360.0),
+                        },
+                        ..base
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The screen clears a frame only when the tracker would send nothing: on
+/// [`stepping_views`] and [`spinning_views`], `publish_screened` sends each
+/// frame exactly the datagrams of the trackers updated alone, and the
+/// trackers send for their orientation many times (so the screen was asked
+/// about frames that are due), while the screen still clears most frames.
+#[test]
+fn the_screen_clears_no_frame_whose_orientation_is_due() {
+    let placement = Placement::new(GeodeticOrigin::default());
+    for (name, views) in [
+        ("stepping", stepping_views()),
+        ("spinning", spinning_views()),
+    ] {
+        let n = views[0].len();
+        let fleet_trackers = || trackers().into_iter().take(n).collect::<Vec<_>>();
+        let mut alone = fleet_trackers();
+        let mut screened = FleetPublisher::new(fleet_trackers());
+        let (rx, tx) = link();
+        let mut last = Vec::new();
+        let mut orientation = 0;
+        for (frame, row) in views.iter().enumerate() {
+            let e = expected_frame(&mut alone, row, &placement);
+            orientation += e.reasons.orientation;
+            let tally = screened.publish_screened(
+                &tx,
+                &placement,
+                &mut last,
+                |i| row[i].map(|v| (i, v)),
+                rough,
+                view,
+            );
+            let what = format!("{name}, frame {frame}");
+            assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
+            assert_tally(&tally, &e, &what);
+        }
+        assert!(orientation >= 7, "{name}: {orientation} orientation PDUs");
+        for (k, tracker) in alone.iter().enumerate() {
+            assert_eq!(
+                screened.counts(k),
+                Some(tracker.counts()),
+                "{name}: aircraft {k}"
+            );
+        }
+        // Most frames were cleared by the screen.
+        let counts = alone[0].counts();
+        assert!(counts.frames > 4 * counts.sent, "{name}: {counts:?}");
+    }
 }
