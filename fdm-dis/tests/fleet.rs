@@ -470,3 +470,48 @@ fn the_screen_clears_no_frame_whose_orientation_is_due() {
         assert!(counts.frames > 4 * counts.sent, "{name}: {counts:?}");
     }
 }
+
+/// The screen clears the frames where nothing is due (docs of
+/// `publish_screened`: the exact view is made only for the aircraft the
+/// screen cannot show to have nothing due; its margins are a micrometre
+/// and 1e-7 in the cosine of the orientation error, so a frame of a steady
+/// turn that is not due is cleared). On the fleet's steady turns, the exact
+/// view is asked for at most twice per due PDU (the due frame, and the last
+/// cleared frame before it, placed exactly for the rates) and once per
+/// frame of an aircraft the screen cannot read (the diverged one, the first
+/// frame, a frame after a gap in the input).
+#[test]
+fn the_screen_clears_the_frames_where_nothing_is_due() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let placement = Placement::new(GeodeticOrigin::default());
+    let views = views();
+    let mut alone = trackers();
+    let mut screened = FleetPublisher::new(trackers());
+    let (rx, tx) = link();
+    let mut last = Vec::new();
+    let (mut due, mut frames) = (0, 0);
+    let exact_views = AtomicUsize::new(0);
+    for row in &views {
+        let e = expected_frame(&mut alone, row, &placement);
+        due += e.datagrams.len() + usize::try_from(e.invalid).unwrap();
+        frames += row.iter().filter(|v| v.is_some()).count();
+        screened.publish_screened(
+            &tx,
+            &placement,
+            &mut last,
+            |i| row[i].map(|v| (i, v)),
+            rough,
+            |i, s| {
+                exact_views.fetch_add(1, Ordering::Relaxed);
+                view(i, s)
+            },
+        );
+        assert_eq!(received(&rx, e.datagrams.len()), e.datagrams);
+    }
+    let exact_views = exact_views.into_inner();
+    assert!(frames > 10 * due, "{due} due of {frames}");
+    assert!(
+        exact_views <= 2 * due + 3 * OFFERED.len(),
+        "{exact_views} exact views for {due} due frames of {frames}"
+    );
+}
