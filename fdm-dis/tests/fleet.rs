@@ -19,6 +19,7 @@ use fdm_dis::{
     AircraftKind, DrThresholds, EntityIdentity, FleetPublisher, Marking, Placement,
     PublisherCounts, ReasonCounts, Rough, SendReason, Tally, Tracker, UdpSender, FLEET_BATCH,
 };
+use fdm_dis::{DeadReckoner, DrAlgorithm, WireState};
 use fdm_dis::{EntityConfig, ScreenedPiece};
 use nalgebra::Vector3;
 
@@ -514,4 +515,113 @@ fn the_screen_clears_the_frames_where_nothing_is_due() {
         exact_views <= 2 * due + 3 * OFFERED.len(),
         "{exact_views} exact views for {due} due frames of {frames}"
     );
+}
+
+/// The smallest time after a PDU at time 0 at which the heartbeat (5 s,
+/// less the dead-reckoning rule's slack) is due, found through the public
+/// rule itself ([`DeadReckoner::check`] of a parked aircraft, bisected over
+/// the `f64`s between 4.9 and 5 s), so that a frame can land on it exactly.
+fn first_heartbeat_time_s(view: &FlightView, placement: &Placement) -> f64 {
+    let algorithm = DrAlgorithm::default();
+    let mut reckoner = DeadReckoner::new(algorithm, DrThresholds::default()).unwrap();
+    let at = |time_s: f64| placement.place(&FlightView { time_s, ..*view });
+    reckoner.record_sent(WireState::new(&at(0.0), algorithm));
+    let (mut quiet, mut due) = (4.9f64, 5.0f64);
+    assert_eq!(reckoner.check(&at(quiet)), None);
+    assert_eq!(reckoner.check(&at(due)), Some(SendReason::Heartbeat));
+    while f64::from_bits(quiet.to_bits() + 1) < due {
+        let mid = f64::from_bits((quiet.to_bits() + due.to_bits()) / 2);
+        if reckoner.check(&at(mid)).is_some() {
+            due = mid;
+        } else {
+            quiet = mid;
+        }
+    }
+    due
+}
+
+/// The screen at its edges, each frame against the trackers alone (same
+/// datagrams, same tally, invalid frames included):
+/// * aircraft 0 flies straight at 50 m/s and reports 1e308 m/s for one
+///   frame, where the last PDU's dead reckoning puts it: the exact path
+///   refuses that frame and the next (their change of velocity overflows),
+///   and the screen must not clear them for their position and orientation;
+/// * aircraft 1 turns with thresholds of its own (0.05 m, 0.2°, 1 s), which
+///   the screen, made for the fleet's, must not use to clear its frames;
+/// * aircraft 2 is parked, and one of its frames lands exactly on the first
+///   time the heartbeat is due, which the screen must not clear.
+#[test]
+fn the_screen_clears_nothing_at_its_edges() {
+    let placement = Placement::new(GeodeticOrigin::default());
+    let aircraft = Palmer::default_aircraft();
+    let (controls, mut turning) = Palmer::fleet_member(3);
+    let (parked_controls, parked_state) = Palmer::fleet_member(0);
+    let parked = FlightView {
+        time_s: 0.0,
+        velocity_mps: Vector3::zeros(),
+        ..Palmer::view(&aircraft, &parked_controls, &parked_state)
+    };
+    let heartbeat_s = first_heartbeat_time_s(&parked, &placement);
+    let straight = |time_s: f64, velocity_mps: Vector3<f64>| FlightView {
+        time_s,
+        position_m: Vector3::new(0.0, 0.0, 300.0) + Vector3::new(50.0, 0.0, 0.0) * time_s,
+        velocity_mps,
+        ..parked
+    };
+    let mut trackers = trackers().into_iter().take(3).collect::<Vec<_>>();
+    let tight = DrThresholds {
+        position_m: 0.05,
+        orientation_deg: 0.2,
+        heartbeat_s: 1.0,
+    };
+    trackers[1] = Tracker::new(trackers[1].config().clone(), tight).unwrap();
+    let mut alone = trackers.clone();
+    let mut screened = FleetPublisher::new(trackers);
+    let (rx, tx) = link();
+    let mut last = Vec::new();
+    let mut invalid = 0;
+    let mut heartbeat_sent = false;
+    for frame in 0..200u32 {
+        let t = f64::from(frame) / 32.0;
+        turning = Palmer::step(&aircraft, &controls, &turning, 1.0 / 32.0);
+        let velocity = if frame == 60 {
+            Vector3::new(1e308, 0.0, 0.0)
+        } else {
+            Vector3::new(50.0, 0.0, 0.0)
+        };
+        let parked_t = if frame == 160 { heartbeat_s } else { t };
+        let row = [
+            Some(straight(t, velocity)),
+            Some(Palmer::view(&aircraft, &controls, &turning)),
+            Some(FlightView {
+                time_s: parked_t,
+                ..parked
+            }),
+        ];
+        let e = expected_frame(&mut alone, &row, &placement);
+        invalid += e.invalid;
+        if frame == 160 {
+            heartbeat_sent = e.reasons.heartbeat > 0;
+        }
+        let tally = screened.publish_screened(
+            &tx,
+            &placement,
+            &mut last,
+            |i| row[i].map(|v| (i, v)),
+            rough,
+            view,
+        );
+        let what = format!("frame {frame}");
+        assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
+        assert_tally(&tally, &e, &what);
+    }
+    assert_eq!(invalid, 2, "the 1e308 m/s frame and the next");
+    assert!(
+        heartbeat_sent,
+        "the parked aircraft's heartbeat at {heartbeat_s} s"
+    );
+    for (k, tracker) in alone.iter().enumerate() {
+        assert_eq!(screened.counts(k), Some(tracker.counts()), "aircraft {k}");
+    }
+    assert!(alone[1].counts().sent > 10, "{:?}", alone[1].counts());
 }
