@@ -257,3 +257,50 @@ fn updated_controls_are_set_controls() {
     check::<Palmer>();
     check::<Bourg>();
 }
+
+/// `FleetError`'s equality as documented: equal variants with equal fields,
+/// two `InvalidAircraft` equal when their reasons read the same (two
+/// allocations of the same message), and nothing equal across variants or
+/// with any field changed.
+#[test]
+fn fleet_errors_are_equal_when_their_variant_and_fields_are() {
+    use fdm_fleet::{FleetError, Precision};
+    use std::sync::Arc;
+    let invalid = |reason: &str| {
+        FleetError::InvalidAircraft(Arc::new(std::io::Error::other(reason.to_owned())))
+    };
+    let errors = [
+        invalid("wing area must be positive"),
+        invalid("mass must be positive"),
+        FleetError::OutOfRange { index: 3, len: 2 },
+        FleetError::OutOfRange { index: 4, len: 2 },
+        FleetError::OutOfRange { index: 3, len: 1 },
+        FleetError::UnknownPrecision("quick".to_owned()),
+        FleetError::UnknownPrecision("rough".to_owned()),
+        FleetError::PrecisionUnavailable {
+            model: "bourg",
+            precision: Precision::Fast,
+        },
+        FleetError::PrecisionUnavailable {
+            model: "palmer",
+            precision: Precision::Fast,
+        },
+        FleetError::PrecisionUnavailable {
+            model: "bourg",
+            precision: Precision::Exact,
+        },
+    ];
+    for (i, a) in errors.iter().enumerate() {
+        for (j, b) in errors.iter().enumerate() {
+            assert_eq!(a == b, i == j, "{a:?} == {b:?}");
+        }
+    }
+    assert_eq!(
+        invalid("wing area must be positive"),
+        invalid("wing area must be positive")
+    );
+    assert_eq!(
+        FleetError::UnknownPrecision("quick".to_owned()),
+        FleetError::UnknownPrecision(String::from("quick"))
+    );
+}
