@@ -123,6 +123,9 @@ fn palmer_members(seed: u64, n: usize) -> Vec<(PalmerControls, PalmerState, Flig
                 7 => controls.throttle = f64::NAN,
                 13 => state.velocity_mps.x = 1e154,
                 19 => state.velocity_mps.y = 9e153,
+                // A clock that is not finite: the state is not finite, so
+                // the fleet must fly the scalar frame (which says diverged).
+                23 => state.time_s = f64::INFINITY,
                 _ => {}
             }
             let status = start_status(&mut rng, state.position_m.z);

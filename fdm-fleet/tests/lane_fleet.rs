@@ -304,3 +304,37 @@ fn fleet_errors_are_equal_when_their_variant_and_fields_are() {
         FleetError::UnknownPrecision(String::from("quick"))
     );
 }
+
+/// `len` and `is_empty` count the aircraft pushed: none in a new fleet,
+/// then one more per push (the index `push` returns).
+#[test]
+fn len_and_is_empty_count_the_aircraft() {
+    use fdm_core::model::Model;
+    let mut fleet = Fleet::<Palmer>::try_new(Palmer::default_aircraft()).unwrap();
+    assert_eq!((fleet.len(), fleet.is_empty()), (0, true));
+    for i in 0..9 {
+        let (controls, state) = Palmer::fleet_member(i);
+        assert_eq!(fleet.push(state, controls), i);
+        assert_eq!((fleet.len(), fleet.is_empty()), (i + 1, false));
+    }
+}
+
+/// The instruction set is the one pulp detects on this CPU (the fleet's
+/// dispatcher), under the documented names: AVX-512 `"x86-64-v4"`, AVX2
+/// and FMA `"x86-64-v3"`, anything else `"baseline"`.
+#[test]
+fn instruction_set_is_the_detected_one() {
+    #[allow(unreachable_patterns)] // `Arch` is non-exhaustive; other targets
+    let detected = match pulp::Arch::new() {
+        #[cfg(target_arch = "x86_64")]
+        pulp::Arch::V4(_) => "x86-64-v4",
+        #[cfg(target_arch = "x86_64")]
+        pulp::Arch::V3(_) => "x86-64-v3",
+        _ => "baseline",
+    };
+    use fdm_core::model::Model;
+    let fleet = Fleet::<Palmer>::try_new(Palmer::default_aircraft()).unwrap();
+    assert_eq!(fleet.instruction_set(), detected);
+    let fleet = Fleet::<Bourg>::try_new(Bourg::default_aircraft()).unwrap();
+    assert_eq!(fleet.instruction_set(), detected);
+}
