@@ -626,11 +626,12 @@ fn the_screen_clears_nothing_at_its_edges() {
     assert!(alone[1].counts().sent > 10, "{:?}", alone[1].counts());
 }
 
-/// A frame just beyond the position threshold: an aircraft flying straight
-/// (where the first PDU's dead reckoning puts it) is moved at frame 20 by
-/// the smallest offset north at which the rule calls its position due (found
-/// through [`DeadReckoner::check`], bisected over the `f64`s between 0.5 and
-/// 1.5 m), an error a few ulps above the 1 m threshold. The exact path sends
+/// A frame just beyond the position threshold (1 m, the default, and 0.25 m
+/// for a whole fleet): an aircraft flying straight (where the first PDU's
+/// dead reckoning puts it) is moved at frame 20 by the smallest offset north
+/// at which the rule calls its position due (found through
+/// [`DeadReckoner::check`], bisected over the `f64`s between half and one
+/// and a half thresholds), an error a few ulps above the threshold. The exact path sends
 /// it; a screen whose position margin (a micrometre and 1e-13 of the
 /// coordinates' size) were gone or of the wrong sign would clear it.
 #[test]
@@ -649,42 +650,48 @@ fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
             ..base
         }
     };
-    let algorithm = DrAlgorithm::default();
-    let mut reckoner = DeadReckoner::new(algorithm, DrThresholds::default()).unwrap();
-    reckoner.record_sent(WireState::new(&placement.place(&at(0, 0.0)), algorithm));
-    let due = |offset_m: f64| reckoner.check(&placement.place(&at(20, offset_m)));
-    let (mut quiet, mut beyond) = (0.5f64, 1.5f64);
-    assert_eq!(due(quiet), None);
-    assert_eq!(due(beyond), Some(SendReason::PositionError));
-    while f64::from_bits(quiet.to_bits() + 1) < beyond {
-        let mid = f64::from_bits((quiet.to_bits() + beyond.to_bits()) / 2);
-        if due(mid).is_some() {
-            beyond = mid;
-        } else {
-            quiet = mid;
+    for position_m in [1.0, 0.25] {
+        let thresholds = DrThresholds {
+            position_m,
+            ..DrThresholds::default()
+        };
+        let algorithm = DrAlgorithm::default();
+        let mut reckoner = DeadReckoner::new(algorithm, thresholds).unwrap();
+        reckoner.record_sent(WireState::new(&placement.place(&at(0, 0.0)), algorithm));
+        let due = |offset_m: f64| reckoner.check(&placement.place(&at(20, offset_m)));
+        let (mut quiet, mut beyond) = (0.5 * position_m, 1.5 * position_m);
+        assert_eq!(due(quiet), None);
+        assert_eq!(due(beyond), Some(SendReason::PositionError));
+        while f64::from_bits(quiet.to_bits() + 1) < beyond {
+            let mid = f64::from_bits((quiet.to_bits() + beyond.to_bits()) / 2);
+            if due(mid).is_some() {
+                beyond = mid;
+            } else {
+                quiet = mid;
+            }
         }
+        let mut alone = vec![Tracker::new(trackers()[0].config().clone(), thresholds).unwrap()];
+        let mut screened = FleetPublisher::new(alone.clone());
+        let (rx, tx) = link();
+        let mut last = Vec::new();
+        let mut position = 0;
+        for frame in 0..40 {
+            let row = [Some(at(frame, if frame == 20 { beyond } else { 0.0 }))];
+            let e = expected_frame(&mut alone, &row, &placement);
+            position += e.reasons.position;
+            let tally = screened.publish_screened(
+                &tx,
+                &placement,
+                &mut last,
+                |i| row[i].map(|v| (i, v)),
+                rough,
+                view,
+            );
+            let what = format!("{position_m} m, frame {frame}");
+            assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
+            assert_tally(&tally, &e, &what);
+        }
+        assert!(position >= 1, "the frame {beyond} m off is due");
+        assert_eq!(screened.counts(0), Some(alone[0].counts()));
     }
-    let mut alone = trackers().into_iter().take(1).collect::<Vec<_>>();
-    let mut screened = FleetPublisher::new(alone.clone());
-    let (rx, tx) = link();
-    let mut last = Vec::new();
-    let mut position = 0;
-    for frame in 0..40 {
-        let row = [Some(at(frame, if frame == 20 { beyond } else { 0.0 }))];
-        let e = expected_frame(&mut alone, &row, &placement);
-        position += e.reasons.position;
-        let tally = screened.publish_screened(
-            &tx,
-            &placement,
-            &mut last,
-            |i| row[i].map(|v| (i, v)),
-            rough,
-            view,
-        );
-        let what = format!("frame {frame}");
-        assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
-        assert_tally(&tally, &e, &what);
-    }
-    assert!(position >= 1, "the frame {beyond} m off is due");
-    assert_eq!(screened.counts(0), Some(alone[0].counts()));
 }
