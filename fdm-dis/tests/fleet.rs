@@ -695,3 +695,65 @@ fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
         assert_eq!(screened.counts(0), Some(alone[0].counts()));
     }
 }
+
+/// A steady acceleration in a straight line (30 m/s, speeding up at
+/// 3 m/s²) is what DRM(R,V,W) extrapolates exactly (`P₀ + V₀ Δt + ½ A₀ Δt²`
+/// with the acceleration the tracker derives from the frames): after its
+/// first PDU (which has no acceleration: the tracker has no frame before it)
+/// and the one position PDU that follows, the aircraft sends its heartbeats
+/// only, and the screen,
+/// which extrapolates the same way, clears every other frame (the exact view
+/// is asked for at most twice per PDU: the due frame, and the last cleared
+/// one before it).
+#[test]
+fn the_screen_clears_a_steady_acceleration() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let placement = Placement::new(GeodeticOrigin::default());
+    let aircraft = Palmer::default_aircraft();
+    let (controls, state) = Palmer::fleet_member(0);
+    let base = Palmer::view(&aircraft, &controls, &state);
+    let direction = Vector3::new(0.6, -0.8, 0.0);
+    let mut alone = trackers().into_iter().take(1).collect::<Vec<_>>();
+    let mut screened = FleetPublisher::new(alone.clone());
+    let (rx, tx) = link();
+    let mut last = Vec::new();
+    let (mut due, mut frames, mut position) = (0, 0, 0);
+    let exact_views = AtomicUsize::new(0);
+    for frame in 0..300 {
+        let t = f64::from(frame) / 30.0;
+        let row = [Some(FlightView {
+            time_s: t,
+            position_m: Vector3::new(0.0, 0.0, 300.0) + direction * (30.0 * t + 1.5 * t * t),
+            velocity_mps: direction * (30.0 + 3.0 * t),
+            ..base
+        })];
+        let e = expected_frame(&mut alone, &row, &placement);
+        assert_eq!(e.reasons.orientation, 0, "frame {frame}");
+        position += e.reasons.position;
+        due += e.datagrams.len();
+        frames += 1;
+        screened.publish_screened(
+            &tx,
+            &placement,
+            &mut last,
+            |i| row[i].map(|v| (i, v)),
+            rough,
+            |i, s| {
+                exact_views.fetch_add(1, Ordering::Relaxed);
+                view(i, s)
+            },
+        );
+        assert_eq!(
+            received(&rx, e.datagrams.len()),
+            e.datagrams,
+            "frame {frame}"
+        );
+    }
+    let exact_views = exact_views.into_inner();
+    assert_eq!(position, 1);
+    assert!(due <= 4, "{due} PDUs");
+    assert!(
+        exact_views <= 2 * due + 1,
+        "{exact_views} exact views for {due} PDUs in {frames} frames"
+    );
+}
