@@ -627,30 +627,56 @@ fn the_screen_clears_nothing_at_its_edges() {
 }
 
 /// A frame just beyond the position threshold (1 m, the default, and 0.25 m
-/// for a whole fleet): an aircraft flying straight (where the first PDU's
-/// dead reckoning puts it) is moved at frame 20 by the smallest offset north
-/// at which the rule calls its position due (found through
+/// for a whole fleet; at the default origin and on the equator at the prime
+/// meridian, where the ECEF coordinates, and so the rounding the margin
+/// covers, are largest; in five directions): an aircraft flying straight
+/// (where the first PDU's dead reckoning puts it) is moved at frame 20 by the
+/// smallest offset at which the rule calls its position due (found through
 /// [`DeadReckoner::check`], bisected over the `f64`s between half and one
-/// and a half thresholds), an error a few ulps above the threshold. The exact path sends
+/// and a half thresholds), an error a rounding above the threshold, which
+/// the exact path computes in ECEF metres and the screen relative to the
+/// origin. The exact path sends
 /// it; a screen whose position margin (a micrometre and 1e-13 of the
 /// coordinates' size) were gone or of the wrong sign would clear it.
 #[test]
 fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
-    let placement = Placement::new(GeodeticOrigin::default());
     let aircraft = Palmer::default_aircraft();
     let (controls, state) = Palmer::fleet_member(0);
     let base = Palmer::view(&aircraft, &controls, &state);
     let velocity = Vector3::new(40.0, -30.0, 0.0);
-    let at = |frame: u32, offset_m: f64| {
-        let t = f64::from(frame) / 32.0;
-        FlightView {
-            time_s: t,
-            position_m: Vector3::new(offset_m, 0.0, 300.0) + velocity * t,
-            velocity_mps: velocity,
-            ..base
+    let origins = [
+        GeodeticOrigin::default(),
+        GeodeticOrigin::new(0.0, 0.0, 0.0).unwrap(),
+    ];
+    let directions = [
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::new(0.0, 1.0, 0.0),
+        Vector3::new(0.0, 0.0, 1.0),
+        Vector3::new(-0.6, 0.8, 0.0),
+        Vector3::new(1.0, 1.0, 1.0).normalize(),
+    ];
+    let starts = [Vector3::new(0.0, 0.0, 300.0)];
+    let mut cases = Vec::new();
+    for origin in origins {
+        for start in starts {
+            for position_m in [1.0, 0.25] {
+                for direction in directions {
+                    cases.push((origin, start, position_m, direction));
+                }
+            }
         }
-    };
-    for position_m in [1.0, 0.25] {
+    }
+    for (origin, start, position_m, direction) in cases {
+        let placement = Placement::new(origin);
+        let at = |frame: u32, offset_m: f64| {
+            let t = f64::from(frame) / 32.0;
+            FlightView {
+                time_s: t,
+                position_m: start + direction * offset_m + velocity * t,
+                velocity_mps: velocity,
+                ..base
+            }
+        };
         let thresholds = DrThresholds {
             position_m,
             ..DrThresholds::default()
@@ -687,7 +713,7 @@ fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
                 rough,
                 view,
             );
-            let what = format!("{position_m} m, frame {frame}");
+            let what = format!("{origin:?}, {start}, {position_m} m, {direction}, frame {frame}");
             assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
             assert_tally(&tally, &e, &what);
         }
