@@ -424,6 +424,87 @@ fn spinning_views() -> Vec<Vec<Option<FlightView>>> {
         .collect()
 }
 
+/// What [`screened_like_alone`] saw: each frame's sends as the trackers
+/// updated alone made them, and how many exact views the screen asked for.
+struct Screened {
+    frames: Vec<Expected>,
+    exact_views: usize,
+    /// The trackers updated alone, after the last frame.
+    alone: Vec<Tracker>,
+}
+
+/// Publishes `rows` (each frame's views, aircraft by aircraft) with
+/// `publish_screened` on a fleet of `trackers`, and updates the same
+/// trackers alone: every frame must send exactly the trackers' datagrams and
+/// count them in its tally (invalid frames included), and at the end every
+/// aircraft's counts must be its tracker's.
+fn screened_like_alone(
+    trackers: Vec<Tracker>,
+    placement: &Placement,
+    rows: &[Vec<Option<FlightView>>],
+    name: &str,
+) -> Screened {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let mut alone = trackers.clone();
+    let mut screened = FleetPublisher::new(trackers);
+    let (rx, tx) = link();
+    let mut last = Vec::new();
+    let exact_views = AtomicUsize::new(0);
+    let mut frames = Vec::new();
+    for (frame, row) in rows.iter().enumerate() {
+        let e = expected_frame(&mut alone, row, placement);
+        let tally = screened.publish_screened(
+            &tx,
+            placement,
+            &mut last,
+            |i| row[i].map(|v| (i, v)),
+            rough,
+            |i, s| {
+                exact_views.fetch_add(1, Ordering::Relaxed);
+                view(i, s)
+            },
+        );
+        let what = format!("{name}, frame {frame}");
+        assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
+        assert_tally(&tally, &e, &what);
+        frames.push(e);
+    }
+    for (k, tracker) in alone.iter().enumerate() {
+        assert_eq!(
+            screened.counts(k),
+            Some(tracker.counts()),
+            "{name}: aircraft {k}"
+        );
+    }
+    Screened {
+        frames,
+        exact_views: exact_views.into_inner(),
+        alone,
+    }
+}
+
+impl Screened {
+    /// The PDUs sent for each reason over all frames.
+    fn reasons(&self) -> ReasonCounts {
+        let mut r = ReasonCounts::default();
+        for e in &self.frames {
+            r.first += e.reasons.first;
+            r.position += e.reasons.position;
+            r.orientation += e.reasons.orientation;
+            r.heartbeat += e.reasons.heartbeat;
+        }
+        r
+    }
+
+    /// The frames that sent a PDU or were refused.
+    fn due(&self) -> usize {
+        self.frames
+            .iter()
+            .map(|e| e.datagrams.len() + usize::try_from(e.invalid).unwrap())
+            .sum()
+    }
+}
+
 /// The screen clears a frame only when the tracker would send nothing: on
 /// [`stepping_views`] and [`spinning_views`], `publish_screened` sends each
 /// frame exactly the datagrams of the trackers updated alone, and the
@@ -436,38 +517,12 @@ fn the_screen_clears_no_frame_whose_orientation_is_due() {
         ("stepping", stepping_views()),
         ("spinning", spinning_views()),
     ] {
-        let n = views[0].len();
-        let fleet_trackers = || trackers().into_iter().take(n).collect::<Vec<_>>();
-        let mut alone = fleet_trackers();
-        let mut screened = FleetPublisher::new(fleet_trackers());
-        let (rx, tx) = link();
-        let mut last = Vec::new();
-        let mut orientation = 0;
-        for (frame, row) in views.iter().enumerate() {
-            let e = expected_frame(&mut alone, row, &placement);
-            orientation += e.reasons.orientation;
-            let tally = screened.publish_screened(
-                &tx,
-                &placement,
-                &mut last,
-                |i| row[i].map(|v| (i, v)),
-                rough,
-                view,
-            );
-            let what = format!("{name}, frame {frame}");
-            assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
-            assert_tally(&tally, &e, &what);
-        }
+        let fleet = trackers().into_iter().take(views[0].len()).collect();
+        let run = screened_like_alone(fleet, &placement, &views, name);
+        let orientation = run.reasons().orientation;
         assert!(orientation >= 7, "{name}: {orientation} orientation PDUs");
-        for (k, tracker) in alone.iter().enumerate() {
-            assert_eq!(
-                screened.counts(k),
-                Some(tracker.counts()),
-                "{name}: aircraft {k}"
-            );
-        }
         // Most frames were cleared by the screen.
-        let counts = alone[0].counts();
+        let counts = run.alone[0].counts();
         assert!(counts.frames > 4 * counts.sent, "{name}: {counts:?}");
     }
 }
@@ -483,33 +538,11 @@ fn the_screen_clears_no_frame_whose_orientation_is_due() {
 /// frame, a frame after a gap in the input).
 #[test]
 fn the_screen_clears_the_frames_where_nothing_is_due() {
-    use std::sync::atomic::{AtomicUsize, Ordering};
     let placement = Placement::new(GeodeticOrigin::default());
     let views = views();
-    let mut alone = trackers();
-    let mut screened = FleetPublisher::new(trackers());
-    let (rx, tx) = link();
-    let mut last = Vec::new();
-    let (mut due, mut frames) = (0, 0);
-    let exact_views = AtomicUsize::new(0);
-    for row in &views {
-        let e = expected_frame(&mut alone, row, &placement);
-        due += e.datagrams.len() + usize::try_from(e.invalid).unwrap();
-        frames += row.iter().filter(|v| v.is_some()).count();
-        screened.publish_screened(
-            &tx,
-            &placement,
-            &mut last,
-            |i| row[i].map(|v| (i, v)),
-            rough,
-            |i, s| {
-                exact_views.fetch_add(1, Ordering::Relaxed);
-                view(i, s)
-            },
-        );
-        assert_eq!(received(&rx, e.datagrams.len()), e.datagrams);
-    }
-    let exact_views = exact_views.into_inner();
+    let frames: usize = views.iter().flatten().filter(|v| v.is_some()).count();
+    let run = screened_like_alone(trackers(), &placement, &views, "steady turns");
+    let (due, exact_views) = (run.due(), run.exact_views);
     assert!(frames > 10 * due, "{due} due of {frames}");
     assert!(
         exact_views <= 2 * due + 3 * OFFERED.len(),
@@ -575,55 +608,38 @@ fn the_screen_clears_nothing_at_its_edges() {
         heartbeat_s: 1.0,
     };
     trackers[1] = Tracker::new(trackers[1].config().clone(), tight).unwrap();
-    let mut alone = trackers.clone();
-    let mut screened = FleetPublisher::new(trackers);
-    let (rx, tx) = link();
-    let mut last = Vec::new();
-    let mut invalid = 0;
-    let mut heartbeat_sent = false;
-    for frame in 0..200u32 {
-        let t = f64::from(frame) / 32.0;
-        turning = Palmer::step(&aircraft, &controls, &turning, 1.0 / 32.0);
-        let velocity = if frame == 60 {
-            Vector3::new(1e308, 0.0, 0.0)
-        } else {
-            Vector3::new(50.0, 0.0, 0.0)
-        };
-        let parked_t = if frame == 160 { heartbeat_s } else { t };
-        let row = [
-            Some(straight(t, velocity)),
-            Some(Palmer::view(&aircraft, &controls, &turning)),
-            Some(FlightView {
-                time_s: parked_t,
-                ..parked
-            }),
-        ];
-        let e = expected_frame(&mut alone, &row, &placement);
-        invalid += e.invalid;
-        if frame == 160 {
-            heartbeat_sent = e.reasons.heartbeat > 0;
-        }
-        let tally = screened.publish_screened(
-            &tx,
-            &placement,
-            &mut last,
-            |i| row[i].map(|v| (i, v)),
-            rough,
-            view,
-        );
-        let what = format!("frame {frame}");
-        assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
-        assert_tally(&tally, &e, &what);
-    }
+    let rows: Vec<Vec<Option<FlightView>>> = (0..200u32)
+        .map(|frame| {
+            let t = f64::from(frame) / 32.0;
+            turning = Palmer::step(&aircraft, &controls, &turning, 1.0 / 32.0);
+            let velocity = if frame == 60 {
+                Vector3::new(1e308, 0.0, 0.0)
+            } else {
+                Vector3::new(50.0, 0.0, 0.0)
+            };
+            let parked_t = if frame == 160 { heartbeat_s } else { t };
+            vec![
+                Some(straight(t, velocity)),
+                Some(Palmer::view(&aircraft, &controls, &turning)),
+                Some(FlightView {
+                    time_s: parked_t,
+                    ..parked
+                }),
+            ]
+        })
+        .collect();
+    let run = screened_like_alone(trackers, &placement, &rows, "edges");
+    let invalid: u64 = run.frames.iter().map(|e| e.invalid).sum();
     assert_eq!(invalid, 2, "the 1e308 m/s frame and the next");
     assert!(
-        heartbeat_sent,
+        run.frames[160].reasons.heartbeat > 0,
         "the parked aircraft's heartbeat at {heartbeat_s} s"
     );
-    for (k, tracker) in alone.iter().enumerate() {
-        assert_eq!(screened.counts(k), Some(tracker.counts()), "aircraft {k}");
-    }
-    assert!(alone[1].counts().sent > 10, "{:?}", alone[1].counts());
+    assert!(
+        run.alone[1].counts().sent > 10,
+        "{:?}",
+        run.alone[1].counts()
+    );
 }
 
 /// A frame just beyond the position threshold (1 m, the default, and 0.25 m
@@ -696,29 +712,16 @@ fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
                 quiet = mid;
             }
         }
-        let mut alone = vec![Tracker::new(trackers()[0].config().clone(), thresholds).unwrap()];
-        let mut screened = FleetPublisher::new(alone.clone());
-        let (rx, tx) = link();
-        let mut last = Vec::new();
-        let mut position = 0;
-        for frame in 0..40 {
-            let row = [Some(at(frame, if frame == 20 { beyond } else { 0.0 }))];
-            let e = expected_frame(&mut alone, &row, &placement);
-            position += e.reasons.position;
-            let tally = screened.publish_screened(
-                &tx,
-                &placement,
-                &mut last,
-                |i| row[i].map(|v| (i, v)),
-                rough,
-                view,
-            );
-            let what = format!("{origin:?}, {start}, {position_m} m, {direction}, frame {frame}");
-            assert_eq!(received(&rx, e.datagrams.len()), e.datagrams, "{what}");
-            assert_tally(&tally, &e, &what);
-        }
-        assert!(position >= 1, "the frame {beyond} m off is due");
-        assert_eq!(screened.counts(0), Some(alone[0].counts()));
+        let fleet = vec![Tracker::new(trackers()[0].config().clone(), thresholds).unwrap()];
+        let rows: Vec<_> = (0..40)
+            .map(|frame| vec![Some(at(frame, if frame == 20 { beyond } else { 0.0 }))])
+            .collect();
+        let name = format!("{origin:?}, {start}, {position_m} m, {direction}");
+        let run = screened_like_alone(fleet, &placement, &rows, &name);
+        assert!(
+            run.frames[20].reasons.position >= 1,
+            "the frame {beyond} m off is due"
+        );
     }
 }
 
@@ -733,53 +736,31 @@ fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
 /// one before it).
 #[test]
 fn the_screen_clears_a_steady_acceleration() {
-    use std::sync::atomic::{AtomicUsize, Ordering};
     let placement = Placement::new(GeodeticOrigin::default());
     let aircraft = Palmer::default_aircraft();
     let (controls, state) = Palmer::fleet_member(0);
     let base = Palmer::view(&aircraft, &controls, &state);
     let direction = Vector3::new(0.6, -0.8, 0.0);
-    let mut alone = trackers().into_iter().take(1).collect::<Vec<_>>();
-    let mut screened = FleetPublisher::new(alone.clone());
-    let (rx, tx) = link();
-    let mut last = Vec::new();
-    let (mut due, mut frames, mut position) = (0, 0, 0);
-    let exact_views = AtomicUsize::new(0);
-    for frame in 0..300 {
-        let t = f64::from(frame) / 30.0;
-        let row = [Some(FlightView {
-            time_s: t,
-            position_m: Vector3::new(0.0, 0.0, 300.0) + direction * (30.0 * t + 1.5 * t * t),
-            velocity_mps: direction * (30.0 + 3.0 * t),
-            ..base
-        })];
-        let e = expected_frame(&mut alone, &row, &placement);
-        assert_eq!(e.reasons.orientation, 0, "frame {frame}");
-        position += e.reasons.position;
-        due += e.datagrams.len();
-        frames += 1;
-        screened.publish_screened(
-            &tx,
-            &placement,
-            &mut last,
-            |i| row[i].map(|v| (i, v)),
-            rough,
-            |i, s| {
-                exact_views.fetch_add(1, Ordering::Relaxed);
-                view(i, s)
-            },
-        );
-        assert_eq!(
-            received(&rx, e.datagrams.len()),
-            e.datagrams,
-            "frame {frame}"
-        );
-    }
-    let exact_views = exact_views.into_inner();
-    assert_eq!(position, 1);
+    let rows: Vec<_> = (0..300)
+        .map(|frame| {
+            let t = f64::from(frame) / 30.0;
+            vec![Some(FlightView {
+                time_s: t,
+                position_m: Vector3::new(0.0, 0.0, 300.0) + direction * (30.0 * t + 1.5 * t * t),
+                velocity_mps: direction * (30.0 + 3.0 * t),
+                ..base
+            })]
+        })
+        .collect();
+    let fleet = trackers().into_iter().take(1).collect();
+    let run = screened_like_alone(fleet, &placement, &rows, "accelerating");
+    let reasons = run.reasons();
+    assert_eq!((reasons.position, reasons.orientation), (1, 0));
+    let (due, exact_views) = (run.due(), run.exact_views);
     assert!(due <= 4, "{due} PDUs");
     assert!(
         exact_views <= 2 * due + 1,
-        "{exact_views} exact views for {due} PDUs in {frames} frames"
+        "{exact_views} exact views for {due} PDUs in {} frames",
+        rows.len()
     );
 }
