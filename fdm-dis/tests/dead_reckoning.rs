@@ -518,26 +518,22 @@ fn a_reckoner_reports_its_model_its_thresholds_its_last_pdu_and_its_error() {
     );
     let turned = nalgebra::Rotation3::from_scaled_axis(Vector3::new(0.0, 0.0, 0.1)).into_inner();
     let angle_deg = fdm_dis::rotation_angle_between(&Matrix3::identity(), &turned).to_degrees();
-    let at_threshold = DeadReckoner::new(
-        DrAlgorithm::Fpw,
-        DrThresholds {
-            orientation_deg: angle_deg,
+    // A reckoner whose orientation threshold is `orientation_deg`, with the
+    // same PDU.
+    let reckoner_at = |orientation_deg: f64| {
+        let thresholds = DrThresholds {
+            orientation_deg,
             ..thresholds
-        },
-    );
-    let mut at_threshold = at_threshold.unwrap();
-    at_threshold.record_sent(wire);
+        };
+        let mut r = DeadReckoner::new(DrAlgorithm::Fpw, thresholds).unwrap();
+        r.record_sent(wire);
+        r
+    };
     let mut truth = state(12.0, along);
     truth.body_to_ecef = turned;
-    assert_eq!(at_threshold.check(&truth), None);
-    let just_below = DeadReckoner::new(
-        DrAlgorithm::Fpw,
-        DrThresholds {
-            orientation_deg: angle_deg * (1.0 - 1e-12),
-            ..thresholds
-        },
+    assert_eq!(reckoner_at(angle_deg).check(&truth), None);
+    assert_eq!(
+        reckoner_at(angle_deg * (1.0 - 1e-12)).check(&truth),
+        Some(SendReason::OrientationError)
     );
-    let mut just_below = just_below.unwrap();
-    just_below.record_sent(wire);
-    assert_eq!(just_below.check(&truth), Some(SendReason::OrientationError));
 }
