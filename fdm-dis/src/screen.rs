@@ -344,13 +344,7 @@ mod tests {
     /// rotations up to 10°, at two origins; `θ²` is `|w Δt|²`.
     #[test]
     fn the_orientation_cosine_is_the_exact_paths() {
-        let mut x: u64 = 0x5EED_0F5C_4EE7_1234;
-        let mut unit = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut unit = crate::tracker::tests::unit_xorshift(0x5EED_0F5C_4EE7_1234);
         let mut worst = 0.0f64;
         for origin in [
             GeodeticOrigin::default(),

@@ -483,6 +483,17 @@ pub(crate) mod tests {
         assert!(rotation_vector(&over).iter().all(|c| c.is_finite()));
     }
 
+    /// Uniform numbers in [0, 1) (53 bits each) from xorshift64 seeded with
+    /// `x`, for the screens' random tests.
+    pub(crate) fn unit_xorshift(mut x: u64) -> impl FnMut() -> f64 {
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     pub(crate) fn tracker(thresholds: DrThresholds) -> Tracker {
         let config = EntityConfig::new(
             EntityIdentity::new(1, 1, 1).unwrap(),
@@ -548,13 +559,7 @@ pub(crate) mod tests {
         use nalgebra::Rotation3;
         for threshold_deg in [0.1, 3.0, 45.0, 80.0] {
             let screen = crate::dead_reckoning::screen_for_tests(threshold_deg);
-            let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-            let mut next = || {
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
-                (x >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut next = unit_xorshift(0x9E37_79B9_7F4A_7C15);
             for _ in 0..20_000 {
                 let a = Rotation3::from_scaled_axis(Vector3::new(next(), next(), next()) * 3.0)
                     .into_inner();
