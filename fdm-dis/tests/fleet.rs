@@ -322,6 +322,13 @@ fn screened_pieces_cut_the_fleet_in_order() {
     assert!(empty.screened_pieces(&placement, &mut last, 7).is_empty());
 }
 
+/// Palmer's fleet member 0 as it starts: the view the synthetic flights
+/// below edit (their time, position, velocity and attitude).
+fn member_zero_view() -> FlightView {
+    let (controls, state) = Palmer::fleet_member(0);
+    Palmer::view(&Palmer::default_aircraft(), &controls, &state)
+}
+
 /// Aircraft whose attitude steps or whose turn stops: the frames where the
 /// receivers' extrapolation (which turns the last PDU's orientation by its
 /// angular velocity) and the truth part ways without the truth leaving the
@@ -334,9 +341,7 @@ fn screened_pieces_cut_the_fleet_in_order() {
 /// orientation unturned (or turned wrongly) would see nothing and clear the
 /// frames where the tracker sends. `views[frame][k]`, 300 frames at 30 Hz.
 fn stepping_views() -> Vec<Vec<Option<FlightView>>> {
-    let aircraft = Palmer::default_aircraft();
-    let (controls, state) = Palmer::fleet_member(0);
-    let base = Palmer::view(&aircraft, &controls, &state);
+    let base = member_zero_view();
     let roll_steps_deg = [2.0, 5.0, 10.0, 20.0, -8.0, 15.0, 0.0, -12.0];
     let dt = 1.0 / 30.0;
     let mut position: Vec<Vector3<f64>> = (0..roll_steps_deg.len())
@@ -391,9 +396,7 @@ fn stepping_views() -> Vec<Vec<Option<FlightView>>> {
 /// a screen whose estimate of the angle is off by more than that clears a
 /// frame that is due. `views[frame][k]`, 300 frames at 30 Hz.
 fn spinning_views() -> Vec<Vec<Option<FlightView>>> {
-    let aircraft = Palmer::default_aircraft();
-    let (controls, state) = Palmer::fleet_member(0);
-    let base = Palmer::view(&aircraft, &controls, &state);
+    let base = member_zero_view();
     let roll_accelerations_deg_s2 = [3.0, -7.0, 12.0, -18.0, 25.0, -31.0, 40.0, 9.5];
     let dt = 1.0 / 30.0;
     (0..300)
@@ -588,11 +591,10 @@ fn the_screen_clears_nothing_at_its_edges() {
     let placement = Placement::new(GeodeticOrigin::default());
     let aircraft = Palmer::default_aircraft();
     let (controls, mut turning) = Palmer::fleet_member(3);
-    let (parked_controls, parked_state) = Palmer::fleet_member(0);
     let parked = FlightView {
         time_s: 0.0,
         velocity_mps: Vector3::zeros(),
-        ..Palmer::view(&aircraft, &parked_controls, &parked_state)
+        ..member_zero_view()
     };
     let heartbeat_s = first_heartbeat_time_s(&parked, &placement);
     let straight = |time_s: f64, velocity_mps: Vector3<f64>| FlightView {
@@ -656,9 +658,7 @@ fn the_screen_clears_nothing_at_its_edges() {
 /// coordinates' size) were gone or of the wrong sign would clear it.
 #[test]
 fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
-    let aircraft = Palmer::default_aircraft();
-    let (controls, state) = Palmer::fleet_member(0);
-    let base = Palmer::view(&aircraft, &controls, &state);
+    let base = member_zero_view();
     let velocity = Vector3::new(40.0, -30.0, 0.0);
     let origins = [
         GeodeticOrigin::default(),
@@ -728,16 +728,13 @@ fn the_screen_does_not_clear_a_frame_just_beyond_the_position_threshold() {
 /// with the acceleration the tracker derives from the frames): after its
 /// first PDU (which has no acceleration: the tracker has no frame before it)
 /// and the one position PDU that follows, the aircraft sends its heartbeats
-/// only, and the screen,
-/// which extrapolates the same way, clears every other frame (the exact view
-/// is asked for at most twice per PDU: the due frame, and the last cleared
-/// one before it).
+/// only, and the screen, which extrapolates the same way, clears every other
+/// frame (the exact view is asked for at most twice per PDU: the due frame,
+/// and the last cleared one before it).
 #[test]
 fn the_screen_clears_a_steady_acceleration() {
     let placement = Placement::new(GeodeticOrigin::default());
-    let aircraft = Palmer::default_aircraft();
-    let (controls, state) = Palmer::fleet_member(0);
-    let base = Palmer::view(&aircraft, &controls, &state);
+    let base = member_zero_view();
     let direction = Vector3::new(0.6, -0.8, 0.0);
     let rows: Vec<_> = (0..300)
         .map(|frame| {
