@@ -1180,3 +1180,38 @@ pub trait FleetKernel: LaneModel + Sized {
         run.apply_to_piece(piece);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::bourg::Bourg;
+    use fdm_core::palmer::Palmer;
+
+    /// A kernel run prints what it runs: the instruction set, the time step
+    /// in seconds (Bourg's `f32` step widened), the maths and the two flags.
+    #[test]
+    fn a_kernel_run_prints_its_fields() {
+        let palmer = KernelRun::<Palmer> {
+            arch: Arch::Scalar,
+            dt: 0.5,
+            precision: Precision::Fast,
+            fly: true,
+            parallel: false,
+        };
+        assert_eq!(
+            format!("{palmer:?}"),
+            "KernelRun { arch: Scalar, dt_s: 0.5, precision: Fast, fly: true, parallel: false }"
+        );
+        let bourg = KernelRun::<Bourg> {
+            arch: Arch::Scalar,
+            dt: 0.25_f32,
+            precision: Precision::Exact,
+            fly: false,
+            parallel: true,
+        };
+        assert_eq!(
+            format!("{bourg:?}"),
+            "KernelRun { arch: Scalar, dt_s: 0.25, precision: Exact, fly: false, parallel: true }"
+        );
+    }
+}

@@ -423,7 +423,8 @@ fn par_update_controls_is_set_controls_for_each_index() {
 /// sizes, on rayon's threads) is the fleet flown whole, bit for bit:
 /// states, statuses and controls (compared as printed: some members' are
 /// NaN), for members that land, crash and
-/// diverge too.
+/// diverge too. Every piece holds aircraft (`is_empty` is false: at least
+/// one block each).
 fn pieces_are_the_whole_fleet<M, B: PartialEq + core::fmt::Debug + Clone + Send>(
     members: &[(M::Controls, M::State, FlightStatus)],
     change: impl Fn(usize, usize, M::Controls) -> M::Controls + Sync,
@@ -468,6 +469,8 @@ fn pieces_are_the_whole_fleet<M, B: PartialEq + core::fmt::Debug + Clone + Send>
                             out.push((first + j, bits(s), status, format!("{c:?}")))
                         });
                         assert_eq!(out.len(), piece.len());
+                        // At least one block each: a piece is never empty.
+                        assert!(!piece.is_empty(), "an empty piece at {first}");
                         out
                     })
                     .collect();
