@@ -809,6 +809,16 @@ mod tests {
         for e in edges {
             check([e, -e, e, -e, e, -e, e, -e]);
         }
+        // Every lane the same argument, of every size and both signs: the
+        // kernels only when that argument is in their range (a vector of 10.0
+        // is not: each lane through `sin_cos`).
+        for e in -60..=60 {
+            for m in [1.0, 1.37, 1.9] {
+                let v = m * 2f64.powi(e);
+                check([v; 8]);
+                check([-v; 8]);
+            }
+        }
         for odd in [
             0.0,
             -0.0,
@@ -914,6 +924,19 @@ mod tests {
                 }
             }
         }
+        // Ratios whose high word is exactly an interval's edge, with any low
+        // word (2^32 ratios per edge, which random ratios almost never hit):
+        // `atan`'s intervals are chosen by the high word alone. y = 2t and
+        // x = 2 keep the ratio exactly t; every quadrant.
+        for high in [0x3fdc_0000_u64, 0x3fe6_0000, 0x3ff3_0000, 0x4003_8000] {
+            for _ in 0..512 {
+                let t: [f64; 8] =
+                    core::array::from_fn(|_| f64::from_bits(high << 32 | (bits() >> 32)));
+                for (sy, sx) in [(2.0, 2.0), (-2.0, 2.0), (2.0, -2.0), (-2.0, -2.0)] {
+                    check(t.map(|t| sy * t), [sx; 8]);
+                }
+            }
+        }
         for odd in ODD {
             for lane in 0..8 {
                 let mut y: [f64; 8] = core::array::from_fn(|_| spread(&mut bits, 8));
@@ -966,6 +989,27 @@ mod tests {
                 check(y, x);
             }
         }
+    }
+
+    /// `square` is `x * x`, one rounding, which is what `powi(2)` computes
+    /// (WGS-84's conversions call it for the original's `pow(v, 2)`): the
+    /// same bits on samples of every size and sign, and on special values.
+    #[test]
+    fn square_is_x_times_x() {
+        let mut bits = test_bits(0x5a0a_2e00);
+        for exp in [8, 600] {
+            for _ in 0..10_000 {
+                let x = spread(&mut bits, exp);
+                assert_eq!(square(x).to_bits(), (x * x).to_bits(), "{x:e}");
+                assert_eq!(square(x).to_bits(), x.powi(2).to_bits(), "{x:e}");
+            }
+        }
+        assert_eq!(square(3.0), 9.0);
+        assert_eq!(square(-0.5), 0.25);
+        assert_eq!(square(-0.0).to_bits(), 0.0_f64.to_bits());
+        assert_eq!(square(f64::NEG_INFINITY), f64::INFINITY);
+        assert_eq!(square(1e200), f64::INFINITY);
+        assert!(square(f64::NAN).is_nan());
     }
 
     #[test]
