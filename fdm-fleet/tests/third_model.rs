@@ -61,17 +61,26 @@ fn printed(fleet: &Fleet<Glider>) -> Vec<String> {
 
 type Method = fn(&mut Fleet<Glider>, f64, Precision) -> Result<(), FleetError>;
 
+/// The fleet's stepping methods (its statuses neither read nor changed).
+const STEPS: [(&str, Method); 3] = [
+    ("step_with", Fleet::step_with),
+    ("par_step_with", Fleet::par_step_with),
+    ("step_baseline_with", Fleet::step_baseline_with),
+];
+
+/// The fleet's flying methods (whole frames with the flight statuses).
+const FLIGHTS: [(&str, Method); 3] = [
+    ("fly_with", Fleet::fly_with),
+    ("par_fly_with", Fleet::par_fly_with),
+    ("fly_baseline_with", Fleet::fly_baseline_with),
+];
+
 #[test]
 fn the_provided_kernel_steps_each_aircraft_as_its_model() {
     let members = members();
     let aircraft = Glider::default_aircraft();
     let dt = Glider::time_step(30.0);
-    let steps: [(&str, Method); 3] = [
-        ("step_with", Fleet::step_with),
-        ("par_step_with", Fleet::par_step_with),
-        ("step_baseline_with", Fleet::step_baseline_with),
-    ];
-    for (name, step) in steps {
+    for (name, step) in STEPS {
         let mut fleet = fleet_of(&members);
         let mut alone = members.clone();
         for frame in 0..45 {
@@ -101,12 +110,7 @@ fn the_provided_kernel_flies_each_aircraft_as_fly_does() {
     let members = members();
     let aircraft = Glider::default_aircraft();
     let dt = Glider::time_step(30.0);
-    let flights: [(&str, Method); 3] = [
-        ("fly_with", Fleet::fly_with),
-        ("par_fly_with", Fleet::par_fly_with),
-        ("fly_baseline_with", Fleet::fly_baseline_with),
-    ];
-    for (name, flight) in flights {
+    for (name, flight) in FLIGHTS {
         let mut fleet = fleet_of(&members);
         let mut alone: Vec<_> = members
             .iter()
@@ -172,15 +176,7 @@ fn a_fast_step_of_a_model_without_fast_maths_is_refused_with_nothing_flown() {
         model: Glider::NAME,
         precision: Precision::Fast,
     };
-    let methods: [(&str, Method); 6] = [
-        ("step_with", Fleet::step_with),
-        ("par_step_with", Fleet::par_step_with),
-        ("step_baseline_with", Fleet::step_baseline_with),
-        ("fly_with", Fleet::fly_with),
-        ("par_fly_with", Fleet::par_fly_with),
-        ("fly_baseline_with", Fleet::fly_baseline_with),
-    ];
-    for (name, method) in methods {
+    for (name, method) in STEPS.into_iter().chain(FLIGHTS) {
         let mut fleet = fleet_of(&members);
         let refused = method(&mut fleet, dt, Precision::Fast).unwrap_err();
         assert_eq!(refused, unavailable, "{name}");
