@@ -21,6 +21,11 @@
 //! and physical parameters by name, with their ranges checked, and cheap
 //! reads of a state.
 //!
+//! [`pilot::PilotModel`] is what a front end flying a model by hand needs
+//! (`sim-cli`): what it flies, its start options as a table and the controls
+//! at frame 0 from their values, its keys, its head-up display's controls
+//! line.
+//!
 //! Each model's implementations of these traits (and of
 //! [`ReportModel`](crate::report::ReportModel), its report's fields) are in
 //! one adapter module per model: [`palmer`], [`bourg`]. A model of the
@@ -30,6 +35,7 @@ use std::fmt::Debug;
 
 pub mod bourg;
 pub mod palmer;
+pub mod pilot;
 
 use fdm_core::bourg::Bourg;
 use fdm_core::message::ShortNumber;
@@ -216,15 +222,20 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
 
 /// What the registry's jobs ([`ModelJob`]) may use of a model: it records
 /// and writes the flight CSV ([`RunModel`], [`CsvModel`]), flies in fleets
-/// ([`FleetModel`], [`FleetKernel`]) and is set up by name
-/// ([`NamedInputs`]). Implemented for every model that implements those.
-/// (Every model of the registry also has a report,
-/// [`ReportModel`](crate::report::ReportModel); it is not required here so
-/// that this module does not import the report's, which imports the DIS
-/// settings', which import the fgfs command line's, which imports this one.)
-pub trait RegisteredModel: CsvModel + FleetModel + NamedInputs + FleetKernel {}
+/// ([`FleetModel`], [`FleetKernel`]), is set up by name ([`NamedInputs`])
+/// and flown by hand from a front end, with its report
+/// ([`PilotModel`](pilot::PilotModel), a
+/// [`ReportModel`](crate::report::ReportModel)). Implemented for every model
+/// that implements those.
+pub trait RegisteredModel:
+    CsvModel + FleetModel + NamedInputs + FleetKernel + pilot::PilotModel
+{
+}
 
-impl<M: CsvModel + FleetModel + NamedInputs + FleetKernel> RegisteredModel for M {}
+impl<M: CsvModel + FleetModel + NamedInputs + FleetKernel + pilot::PilotModel> RegisteredModel
+    for M
+{
+}
 
 /// Something to do with a model type chosen at run time by name
 /// ([`with_model`]).

@@ -321,3 +321,74 @@ impl NamedInputs for Bourg {
         state.time_s
     }
 }
+
+// --- Flown by hand from a front end (`sim-cli bourg`): start options, keys, HUD line.
+
+use crate::model::pilot::{
+    ControlsLine, Key, KeyBindings, NumberRange, OptionValue, PilotModel, RangeNote, StartOption,
+};
+use fdm_core::bourg::BourgAction;
+use fdm_core::model::Model;
+
+/// `--thrust-lb`: pounds in 0..[`MAX_THRUST_LB`], Bourg's thrust range; not
+/// with `--trim`, which sets the thrust itself.
+impl PilotModel for Bourg {
+    const AIRCRAFT: &'static str = "Bourg's 6-DoF aircraft";
+    const ABOUT: &'static str =
+        "Fly David Bourg's 6-DoF aircraft (rigid body, Euler, f32; feet, ft/s, lb)";
+    const START_OPTIONS: &'static [StartOption] = &[StartOption::number(
+        "thrust-lb",
+        "LB",
+        "Thrust at frame 0, lb (0..3000) [default: 500, the model's start]",
+        NumberRange {
+            low: 0.0,
+            high: MAX_THRUST_LB as f64,
+            note: RangeNote::Unit(" lb"),
+        },
+        None,
+    )
+    .conflicting(&["trim"])];
+
+    /// The model's start, with `--thrust-lb`.
+    fn start_controls(values: &[OptionValue]) -> Result<BourgControls, String> {
+        let mut controls = Bourg::initial_controls();
+        match values {
+            [OptionValue::Absent] => {}
+            // In 0..3000 (checked by its range): exact enough in f32 for any typed value.
+            #[allow(clippy::cast_possible_truncation)]
+            &[OptionValue::Number(thrust_lb)] => controls.thrust_lb = thrust_lb as f32,
+            _ => return Err(crate::model::pilot::unexpected_values(values)),
+        }
+        Ok(controls)
+    }
+}
+
+impl KeyBindings for BourgAction {
+    const KEYS: &'static [(Key, Self)] = &[
+        (Key::Char('e'), Self::ThrustUp),
+        (Key::Char('d'), Self::ThrustDown),
+        (Key::Down, Self::PitchUp),
+        (Key::Up, Self::PitchDown),
+        (Key::Left, Self::RollLeft),
+        (Key::Right, Self::RollRight),
+        (Key::Char('n'), Self::YawLeft),
+        (Key::Char('m'), Self::YawRight),
+        (Key::Char('k'), Self::FlapsDown),
+        (Key::Char('l'), Self::FlapsUp),
+        (Key::Char('t'), Self::TrimNoseUp),
+        (Key::Char('g'), Self::TrimNoseDown),
+    ];
+    const KEY_HELP: &'static str =
+        "E/D thrust  Down/Up pitch up/down  T/G trim nose up/down  Left/Right roll  N/M yaw  K/L flaps down/up";
+}
+
+impl ControlsLine for BourgDetails {
+    fn controls_line(&self) -> String {
+        format!(
+            "THRUST {:4.0} lb   FLAPS {}   TRIM {:+.2}",
+            self.thrust_lb,
+            if self.flaps { "down" } else { "up" },
+            self.pitch_trim
+        )
+    }
+}

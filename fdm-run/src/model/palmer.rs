@@ -407,3 +407,120 @@ impl NamedInputs for Palmer {
         state.time_s
     }
 }
+
+// --- Flown by hand from a front end (`sim-cli palmer`): start options, keys, HUD line.
+
+use crate::model::pilot::{
+    tenths, Choices, ControlsLine, Key, KeyBindings, NumberRange, OptionValue, PilotModel,
+    RangeNote, StartOption,
+};
+use fdm_core::palmer::{Flaps, PalmerAction};
+
+/// `--throttle`, `--alpha`, `--bank`, `--flaps`, `--brakes`: the ranges the
+/// keys clamp to ([`ALPHA_MIN_DEG`]..[`ALPHA_MAX_DEG`], [`BANK_LIMIT_DEG`]
+/// either side), the model's three flap notches.
+impl PilotModel for Palmer {
+    const AIRCRAFT: &'static str = "Palmer's Cessna 172";
+    const ABOUT: &'static str = "Fly Grant Palmer's Cessna 172 (point mass, RK4, f64; metres, m/s)";
+    const START_OPTIONS: &'static [StartOption] = &[
+        StartOption::number(
+            "throttle",
+            "FRACTION",
+            "Throttle at frame 0, as a fraction of full power (0..1)",
+            NumberRange {
+                low: 0.0,
+                high: 1.0,
+                note: RangeNote::Unit(" (fraction of full power)"),
+            },
+            Some("0"),
+        ),
+        StartOption::number(
+            "alpha",
+            "DEG",
+            "Angle of attack at frame 0, degrees (-16..20)",
+            NumberRange {
+                low: ALPHA_MIN_DEG,
+                high: ALPHA_MAX_DEG,
+                note: RangeNote::Unit(" degrees"),
+            },
+            Some("0"),
+        ),
+        StartOption::number(
+            "bank",
+            "DEG",
+            "Bank angle at frame 0, degrees, positive banks right (-20..20)",
+            NumberRange {
+                low: -BANK_LIMIT_DEG,
+                high: BANK_LIMIT_DEG,
+                note: RangeNote::Unit(" degrees"),
+            },
+            Some("0"),
+        ),
+        StartOption::choice(
+            "flaps",
+            "0|20|40",
+            "Flap setting at frame 0, degrees (0, 20 or 40)",
+            Choices {
+                values: &["0", "20", "40"],
+                what: "a flap setting (0, 20 or 40)",
+            },
+            "0",
+        ),
+        StartOption::flag(
+            "brakes",
+            "Wheel brakes set at frame 0 (our extension; keys B/V, script actions brakes-on/brakes-off)",
+        ),
+    ];
+
+    fn start_controls(values: &[OptionValue]) -> Result<PalmerControls, String> {
+        use OptionValue::{Choice, Flag, Number};
+        let &[Number(throttle), Number(alpha_deg), Number(bank_deg), Choice(flaps), Flag(brakes)] =
+            values
+        else {
+            return Err(crate::model::pilot::unexpected_values(values));
+        };
+        let flaps = flaps
+            .parse()
+            .ok()
+            .and_then(Flaps::from_degrees)
+            .ok_or_else(|| format!("--flaps {flaps}: not a flap setting (0, 20 or 40)"))?;
+        Ok(PalmerControls {
+            throttle,
+            alpha_deg,
+            bank_deg,
+            flaps,
+            brakes,
+        })
+    }
+}
+
+impl KeyBindings for PalmerAction {
+    const KEYS: &'static [(Key, Self)] = &[
+        (Key::Char('e'), Self::ThrottleUp),
+        (Key::Char('d'), Self::ThrottleDown),
+        (Key::Down, Self::AlphaUp),
+        (Key::Up, Self::AlphaDown),
+        (Key::Left, Self::BankLeft),
+        (Key::Right, Self::BankRight),
+        (Key::Char('k'), Self::FlapsDown),
+        (Key::Char('l'), Self::FlapsUp),
+        (Key::Char('b'), Self::BrakesOn),
+        (Key::Char('v'), Self::BrakesOff),
+    ];
+    const KEY_HELP: &'static str =
+        "E/D throttle  Down/Up alpha +/-  Left/Right bank  K flaps down  L flaps up  B/V brakes on/off";
+}
+
+impl ControlsLine for PalmerDetails {
+    fn controls_line(&self) -> String {
+        let c = &self.controls;
+        format!(
+            "THROTTLE {:3.0} %   ALPHA {:+5.1} deg   BANK {:+5.1} deg   FLAPS {:.0} deg{}",
+            c.throttle * 100.0,
+            tenths(c.alpha_deg),
+            tenths(c.bank_deg),
+            c.flaps_deg,
+            brakes_note(c.brakes),
+        )
+    }
+}
