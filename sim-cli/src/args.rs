@@ -12,10 +12,13 @@
 
 use std::path::PathBuf;
 
-use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
+use clap::{
+    Arg, ArgAction, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum,
+};
 
 use crate::dis::{FleetDisArgs, FlightDisArgs};
 use crate::origin::{parse_origin, GeodeticOrigin, DEFAULT_ORIGIN};
+use fdm_run::model::pilot::{OptionKind, OptionValue, StartOption};
 use fdm_run::values::{self, ValueError};
 use fdm_run::values::{
     parse_duration, parse_fleet_frames, parse_fleet_size, parse_fps, parse_frames, parse_mp_port,
@@ -40,7 +43,8 @@ struct Spec {
 
 /// `sim-cli`: fly the registry's models (`crate::models`). Its subcommands
 /// are the registry's models' (their arguments are [`CommonArgs`] and the
-/// model's `CliModel::Args`, their help `CliModel::ABOUT`), then
+/// model's start options, `PilotModel::START_OPTIONS`, their help
+/// `PilotModel::ABOUT`), then
 /// [`Command`]'s.
 #[derive(Debug)]
 pub struct Cli {
@@ -86,7 +90,8 @@ impl CommandFactory for Cli {
 }
 
 /// A model's subcommand (`sim-cli palmer`): the options every model shares
-/// ([`CommonArgs`]), then the model's own ([`CliModel::Args`]), and its help line.
+/// ([`CommonArgs`]), then the model's own (its table,
+/// `PilotModel::START_OPTIONS`), and its help line.
 struct ModelSubcommand;
 
 impl WithModel for ModelSubcommand {
@@ -94,10 +99,69 @@ impl WithModel for ModelSubcommand {
 
     fn call<M: CliModel>(self) -> clap::Command {
         let command = CommonArgs::augment_args(clap::Command::new(M::NAME));
-        M::Args::augment_args(command)
+        M::START_OPTIONS
+            .iter()
+            .fold(command, |command, option| command.arg(start_arg(option)))
             .about(M::ABOUT)
             .long_about(None)
     }
+}
+
+/// A model's start option as a clap argument, as clap's derive made it
+/// (the option's long name is its id).
+fn start_arg(option: &StartOption) -> Arg {
+    let arg = Arg::new(option.long)
+        .long(option.long)
+        .help(option.help)
+        .conflicts_with_all(option.conflicts_with);
+    match option.kind {
+        OptionKind::Number {
+            value_name,
+            range,
+            default,
+        } => arg
+            .value_name(value_name)
+            .default_value(default)
+            .value_parser(move |text: &str| range.parse(text)),
+        OptionKind::Choice {
+            value_name,
+            choices,
+            default,
+        } => arg
+            .value_name(value_name)
+            .default_value(default)
+            .value_parser(move |text: &str| choices.parse(text)),
+        OptionKind::Flag => return arg.action(ArgAction::SetTrue),
+    }
+    .action(ArgAction::Set)
+    .allow_hyphen_values(true)
+}
+
+/// The values of a model's start options (`options`, its table) in a
+/// subcommand's `matches`, in the table's order.
+///
+/// # Errors
+/// A value not of its option's kind (not the user's mistake).
+pub fn start_values(
+    matches: &ArgMatches,
+    options: &[StartOption],
+) -> Result<Vec<OptionValue>, clap::parser::MatchesError> {
+    options
+        .iter()
+        .map(|option| {
+            Ok(match option.kind {
+                OptionKind::Number { .. } => matches
+                    .try_get_one::<f64>(option.long)?
+                    .map_or(OptionValue::Absent, |&v| OptionValue::Number(v)),
+                OptionKind::Choice { .. } => matches
+                    .try_get_one::<&'static str>(option.long)?
+                    .map_or(OptionValue::Absent, |&v| OptionValue::Choice(v)),
+                OptionKind::Flag => {
+                    OptionValue::Flag(matches.try_get_one::<bool>(option.long)? == Some(&true))
+                }
+            })
+        })
+        .collect()
 }
 
 impl FromArgMatches for Cli {
@@ -124,7 +188,7 @@ impl FromArgMatches for Cli {
 impl Parser for Cli {}
 
 /// `sim-cli <model> ...`: the model and its subcommand's arguments, parsed
-/// (read as [`CommonArgs`] and the model's `CliModel::Args`).
+/// (read as [`CommonArgs`] and the model's start options, [`start_values`]).
 #[derive(Debug, Clone)]
 pub struct Fly {
     /// The model.
@@ -478,14 +542,68 @@ impl From<FleetPrecision> for fdm_fleet::Precision {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::palmer::{parse_alpha, parse_bank, parse_flaps, parse_throttle, PalmerArgs};
+    use fdm_core::palmer::Palmer;
+    use fdm_run::model::pilot::PilotModel;
+
+    /// Palmer's own options, read from its table ([`start_values`]).
+    struct PalmerArgs {
+        throttle: f64,
+        alpha: f64,
+        bank: f64,
+        flaps: u8,
+    }
 
     /// The options of `sim-cli palmer ...`: the shared ones and Palmer's.
     fn palmer(args: &ArgMatches) -> (CommonArgs, PalmerArgs) {
+        use OptionValue::{Choice, Flag, Number};
+        let values = start_values(args, Palmer::START_OPTIONS).unwrap();
+        let [Number(throttle), Number(alpha), Number(bank), Choice(flaps), Flag(_)] = values[..]
+        else {
+            panic!("not Palmer's options: {values:?}")
+        };
+        let flaps = flaps.parse().unwrap();
         (
             CommonArgs::from_arg_matches(args).unwrap(),
-            PalmerArgs::from_arg_matches(args).unwrap(),
+            PalmerArgs {
+                throttle,
+                alpha,
+                bank,
+                flaps,
+            },
         )
+    }
+
+    /// Palmer's option `--LONG`, from its table.
+    fn option(long: &str) -> OptionKind {
+        let option = Palmer::START_OPTIONS.iter().find(|o| o.long == long);
+        option.unwrap().kind
+    }
+
+    /// The value parser of Palmer's number option `--LONG`.
+    fn parse_number(long: &str, text: &str) -> Result<f64, ValueError> {
+        let OptionKind::Number { range, .. } = option(long) else {
+            panic!("--{long} is not a number")
+        };
+        range.parse(text)
+    }
+
+    fn parse_throttle(text: &str) -> Result<f64, ValueError> {
+        parse_number("throttle", text)
+    }
+
+    fn parse_alpha(text: &str) -> Result<f64, ValueError> {
+        parse_number("alpha", text)
+    }
+
+    fn parse_bank(text: &str) -> Result<f64, ValueError> {
+        parse_number("bank", text)
+    }
+
+    fn parse_flaps(text: &str) -> Result<u8, String> {
+        let OptionKind::Choice { choices, .. } = option("flaps") else {
+            panic!("--flaps is not a choice")
+        };
+        choices.parse(text).map(|flaps| flaps.parse().unwrap())
     }
 
     #[test]

@@ -146,10 +146,10 @@ mod tests {
     #[test]
     fn a_small_fleet_reports_consistent_numbers() {
         for (model, threads, kernel) in [
-            (ModelKind::Palmer, 2, FleetKernel::Ecs),
-            (ModelKind::Bourg, 1, FleetKernel::Ecs),
-            (ModelKind::Palmer, 2, FleetKernel::Lanes),
-            (ModelKind::Bourg, 1, FleetKernel::Lanes),
+            (ModelKind::named("palmer").unwrap(), 2, FleetKernel::Ecs),
+            (ModelKind::named("bourg").unwrap(), 1, FleetKernel::Ecs),
+            (ModelKind::named("palmer").unwrap(), 2, FleetKernel::Lanes),
+            (ModelKind::named("bourg").unwrap(), 1, FleetKernel::Lanes),
         ] {
             let args = FleetArgs {
                 model,

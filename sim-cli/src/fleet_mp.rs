@@ -169,7 +169,8 @@ mod tests {
             panic!("not fleet")
         };
         let start = Instant::now();
-        let report = ModelKind::Palmer
+        let report = ModelKind::named("palmer")
+            .unwrap()
             .with(ShowJob {
                 args: &args,
                 target: args.show.fg_mp.as_ref().unwrap().resolve().unwrap(),

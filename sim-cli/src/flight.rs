@@ -30,7 +30,7 @@ use fdm_run::{Output, Run, RunError, Scenario};
 
 use clap::{ArgMatches, FromArgMatches};
 
-use crate::args::{CommonArgs, Fly};
+use crate::args::{start_values, CommonArgs, Fly};
 use crate::config::{prepare_model, start_model, ModelConfig, Outputs};
 use crate::error::CliError;
 use crate::models::{CliModel, WithModel};
@@ -210,8 +210,9 @@ impl WithModel for FlyJob<'_> {
     fn call<M: CliModel>(self) -> Self::Output {
         let parsed = |e: clap::Error| CliError::usage(e.to_string());
         let common = CommonArgs::from_arg_matches(self.0).map_err(parsed)?;
-        let own = M::Args::from_arg_matches(self.0).map_err(parsed)?;
-        let start = start_model::<M>(M::controls(&own)?, &common.start)?;
+        let own = start_values(self.0, M::START_OPTIONS).map_err(CliError::usage)?;
+        let controls = M::start_controls(&own).map_err(CliError::usage)?;
+        let start = start_model::<M>(controls, &common.start)?;
         run_model(prepare_model(common, start)?)
     }
 }

@@ -376,7 +376,7 @@ mod tests {
     fn palmer_hud() -> HudData {
         HudData::from_snapshot(
             Palmer::TITLE,
-            &crate::models::palmer::PalmerDetails::sample_snapshot(),
+            &fdm_run::model::palmer::PalmerDetails::sample_snapshot(),
             Some(SocketAddrV4::new(Ipv4Addr::LOCALHOST, 5500)),
             Some(LinkStats {
                 sent: 369,
@@ -413,7 +413,7 @@ mod tests {
 
     #[test]
     fn bourg_text_paused_without_fg() {
-        let mut snapshot = crate::models::bourg::BourgDetails::sample_snapshot();
+        let mut snapshot = fdm_run::model::bourg::BourgDetails::sample_snapshot();
         snapshot.stalling = true;
         let d = HudData::from_snapshot(
             Bourg::TITLE,
@@ -551,11 +551,11 @@ mod tests {
     #[test]
     fn readme_hud_samples_are_what_the_hud_draws() {
         use crate::keys::KeyAction;
-        use crate::models::bourg::BourgDetails;
-        use crate::models::palmer::{PalmerControlsReport, PalmerDetails};
         use crate::models::Details;
         use fdm_core::bourg::BourgAction;
         use fdm_core::palmer::PalmerAction;
+        use fdm_run::model::bourg::BourgDetails;
+        use fdm_run::model::palmer::{PalmerControlsReport, PalmerDetails};
 
         let readme = include_str!("../../README.md");
         let section = &readme[readme

@@ -1,6 +1,7 @@
-//! Keyboard → controls (thesis appendix B; each model's key table is in its
-//! module under [`crate::models`]), plus the application keys Q/Esc (quit),
-//! P (pause), R (reset).
+//! Keyboard → controls (thesis appendix B; each model's key table is the
+//! run library's, `fdm_run::model::pilot::KeyBindings`, here read from
+//! crossterm's keys), plus the application keys Q/Esc (quit), P (pause),
+//! R (reset).
 //!
 //! One key event is one press. Terminals report a held key as repeated press
 //! events; with the kitty keyboard protocol crossterm may report `Repeat` kinds
@@ -8,6 +9,7 @@
 
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use fdm_core::script::ScriptAction;
+use fdm_run::model::pilot::{Key, KeyBindings};
 
 /// What the application does with a key that is not a model control.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,6 +37,23 @@ pub trait KeyAction: ScriptAction {
     const KEY_HELP: &'static str;
     /// The action a key (without modifiers; letters case-insensitive) stands for.
     fn from_key(code: KeyCode) -> Option<Self>;
+}
+
+/// The run library's key table ([`KeyBindings`]) read from crossterm's keys.
+impl<A: KeyBindings> KeyAction for A {
+    const KEY_HELP: &'static str = <A as KeyBindings>::KEY_HELP;
+
+    fn from_key(code: KeyCode) -> Option<Self> {
+        let key = match (code, letter(code)) {
+            (_, Some(c)) => Key::Char(c),
+            (KeyCode::Up, _) => Key::Up,
+            (KeyCode::Down, _) => Key::Down,
+            (KeyCode::Left, _) => Key::Left,
+            (KeyCode::Right, _) => Key::Right,
+            _ => return None,
+        };
+        A::for_key(key)
+    }
 }
 
 /// The lower-case letter of a character key (keys are case-insensitive).

@@ -3,15 +3,17 @@
 //!
 //! The binary (`main.rs`) only maps [`run()`]'s result to an exit status; everything
 //! else lives in this library so it can be unit-tested. Everything is generic over
-//! the model (`models::CliModel`); what differs per model sits in one module per
-//! model under `models`.
+//! the model (`models::CliModel`); what differs per model is the run library's
+//! (`fdm_run::model`: its adapter modules, and what a front end needs of a model,
+//! `fdm_run::model::pilot`), or, for a model outside the library crates (the
+//! `glider` feature's), one module under `models`.
 //!
 //! | module | what |
 //! |---|---|
 //! | [`args`] | clap definition; the values' parsers and limits are the run library's (`fdm_run::values`) |
 //! | `input` | input files (the run library's `fdm_run::input`) refused as usage errors, clashing outputs refused |
 //! | `config` | cross-option validation, script loading, the output files created → `config::ModelConfig` (the run library's scenario, the mode, the outputs) |
-//! | `models` | `models::CliModel`: per model, its keys, HUD line and starting controls from its subcommand's arguments (its report fields, CSV columns and FlightGear models are the run library's) |
+//! | `models` | the registry (the run library's models, then the CLI's own: the `glider` feature's module) and `models::CliModel`, what the CLI flies: the run library's `PilotModel` (start options, keys, HUD line), `FleetModel` and `StudyModel` |
 //! | [`run`](mod@run) | the [`run::Flight`] seam, [`run::headless`] and [`run::interactive`] loops, [`run::fly`] |
 //! | `flight` | `flight::ModelFlight`: one aircraft of any model flown by an `fdm_run::Run` with its outputs; `flight::run_model` |
 //! | `snapshot`, `report` | the aircraft's state at one instant ([`snapshot::Snapshot`]), the JSON [`report::Report`] and the human summary: the run library's ([`fdm_run::report`]) |

@@ -1,56 +1,96 @@
-//! What differs between the models in the CLI, one module per model: its
-//! subcommand's own options and help, its controls at frame 0 from them,
-//! its keys and the HUD's control line ([`CliModel`]). What the run library
-//! needs of a model (its recording, CSV columns, report fields, FlightGear
-//! models, fleet kernel) is its adapter module in `fdm_run::model` (or, for a
-//! model outside the library crates such as the `glider` feature's, its
-//! module here). Everything else in `sim-cli` is generic over [`CliModel`].
+//! The models `sim-cli` flies: the run library's registry
+//! (`fdm_run::model::MODELS`, `with_model`), then `sim-cli`'s own models,
+//! outside the library crates (the `glider` feature's), one module and one
+//! registry line each. What the CLI needs of a model is the run library's
+//! data ([`PilotModel`]: what it flies, its start options as a table, its
+//! keys, its HUD line): its subcommand is built from the table
+//! (`crate::args`), its keys mapped by `crate::keys`. Everything in
+//! `sim-cli` is generic over [`CliModel`] and names no model.
 //!
-//! A new model joins the CLI with one more module here and one more line in
-//! the registry below: its subcommand (after the options every model shares,
+//! A new model of the run library joins the CLI by itself; a model of the
+//! CLI's own with one more module here and one more line in the registry
+//! below: its subcommand (after the options every model shares,
 //! `crate::args::CommonArgs`), its help, the `--model` and `fgfs-command`
 //! values and the models a recording may name follow from it.
 
 use clap::builder::PossibleValue;
-use clap::{Args, FromArgMatches, ValueEnum};
-use fdm_run::{FleetModel, ReportModel};
+use clap::ValueEnum;
+use fdm_run::model::pilot::{ControlsLine, PilotModel};
+use fdm_run::model::{ModelJob, RegisteredModel, MODELS};
+use fdm_run::FleetModel;
 use fdm_study::StudyModel;
 
-use crate::error::CliError;
-use crate::keys::KeyAction;
+pub use fdm_run::model::pilot::tenths;
 
-/// The registry: one line per model, its module (`models/<name>.rs`) and its
-/// model type. The subcommands, their help, the `--model` values and the
-/// models a recording may name all come from it.
-macro_rules! registry {
+/// The registry of `sim-cli`'s own models: one line per model, its module
+/// (`models/<name>/`) and its model type, after the run library's models.
+macro_rules! own_models {
     ($($(#[$cfg:meta])* $module:ident :: $model:ident,)*) => {
         $($(#[$cfg])* pub mod $module;)*
 
-        /// Which model: one of the registry's.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        pub enum ModelKind {
-            $($(#[$cfg])* #[doc = concat!("`", stringify!($module), "`")] $model,)*
-        }
+        /// The names of `sim-cli`'s own models, in registry order.
+        const OWN: &[&str] = &[$($(#[$cfg])* <$module::$model as fdm_core::model::Model>::NAME,)*];
 
-        impl ModelKind {
-            /// Every model of the registry, in the order help texts list them.
-            pub const ALL: &[Self] = &[$($(#[$cfg])* Self::$model,)*];
-
-            /// Runs `job` with this kind's model type.
-            pub fn with<W: WithModel>(self, job: W) -> W::Output {
-                match self {
-                    $($(#[$cfg])* Self::$model => job.call::<$module::$model>(),)*
-                }
-            }
+        /// Runs `job` with the own model named `name`, or gives it back.
+        fn with_own<W: WithModel>(name: &str, job: W) -> Result<W::Output, W> {
+            $($(#[$cfg])* if name == <$module::$model as fdm_core::model::Model>::NAME {
+                return Ok(job.call::<$module::$model>());
+            })*
+            let _ = name; // Without own models (a default build), nothing to compare.
+            Err(job)
         }
     };
 }
 
-registry! {
-    palmer::Palmer,
-    bourg::Bourg,
+own_models! {
     #[cfg(feature = "glider")]
     glider::Glider,
+}
+
+/// Which model: one of the registry's, by its name
+/// ([`Model::NAME`](fdm_core::model::Model::NAME)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModelKind(&'static str);
+
+/// How many models the registry has.
+const COUNT: usize = OWN.len() + MODELS.len();
+
+/// The run library's models, then `sim-cli`'s own.
+const fn all_kinds() -> [ModelKind; COUNT] {
+    let mut all = [ModelKind(""); COUNT];
+    let mut i = 0;
+    let mut lists: &[&[&'static str]] = &[MODELS, OWN];
+    while let [names, more @ ..] = lists {
+        let mut names = *names;
+        while let [name, rest @ ..] = names {
+            all[i] = ModelKind(name);
+            i += 1;
+            names = rest;
+        }
+        lists = more;
+    }
+    all
+}
+
+impl ModelKind {
+    /// Every model of the registry, in the order help texts list them.
+    pub const ALL: &[Self] = &all_kinds();
+
+    /// Runs `job` with this kind's model type.
+    pub fn with<W: WithModel>(self, job: W) -> W::Output {
+        /// A job for the run library's registry.
+        struct Library<W>(W);
+        impl<W: WithModel> ModelJob for Library<W> {
+            type Output = W::Output;
+            fn call<M: RegisteredModel>(self) -> W::Output {
+                self.0.call::<M>()
+            }
+        }
+        with_own(self.0, job).unwrap_or_else(|job| {
+            fdm_run::model::with_model(self.0, Library(job))
+                .expect("every kind is a model of the run library's registry or sim-cli's own")
+        })
+    }
 }
 
 /// Something to do with a model type chosen at run time: the one place that
@@ -63,27 +103,25 @@ pub trait WithModel {
     fn call<M: CliModel>(self) -> Self::Output;
 }
 
-/// A model's name and what it flies, as a [`WithModel`] job.
-struct Name;
-impl WithModel for Name {
-    type Output = (&'static str, &'static str);
-    fn call<M: CliModel>(self) -> Self::Output {
-        (M::NAME, M::AIRCRAFT)
-    }
-}
-
 impl ModelKind {
     /// The lowercase name used on the command line and in the JSON report
     /// ([`fdm_core::model::Model::NAME`]).
     #[must_use]
     pub fn name(self) -> &'static str {
-        self.with(Name).0
+        self.0
     }
 
-    /// What the model flies, for help texts (`CliModel::AIRCRAFT`).
+    /// What the model flies, for help texts ([`PilotModel::AIRCRAFT`]).
     #[must_use]
     pub fn aircraft(self) -> &'static str {
-        self.with(Name).1
+        struct Aircraft;
+        impl WithModel for Aircraft {
+            type Output = &'static str;
+            fn call<M: CliModel>(self) -> Self::Output {
+                M::AIRCRAFT
+            }
+        }
+        self.with(Aircraft)
     }
 
     /// The kind of the model named `name` (its [`fdm_core::model::Model::NAME`]).
@@ -144,46 +182,28 @@ impl ValueEnum for ModelKind {
     }
 }
 
-/// A model as `sim-cli` flies it: a [`ReportModel`] (what the run library
-/// needs to fly, record, replay and report it, and its CSV columns), a
+/// A model as `sim-cli` flies it: a [`PilotModel`] (what the run library
+/// needs to fly, record, replay and report it, its CSV columns, and what a
+/// pilot's front end needs: its start options, keys and HUD line), a
 /// [`FleetModel`] (its fleet kernel, formations and multiplayer model) and a
 /// [`StudyModel`] (its studies' drawn inputs and measures, so `sim-cli study
-/// --run I` picks it through [`ModelKind::with`]) with the CLI's own parts:
-/// its subcommand's options and help, its keys and its report fields' HUD
-/// line ([`Details`]).
-pub trait CliModel:
-    ReportModel<Action: KeyAction, Details: Details> + FleetModel + StudyModel
-{
-    /// What the model flies, in a few words for help texts: `Palmer's Cessna 172`.
-    const AIRCRAFT: &'static str;
-    /// Its subcommand's help line.
-    const ABOUT: &'static str;
-    /// Its subcommand's own options, after those every model shares
-    /// (`crate::args::CommonArgs`).
-    type Args: Args + FromArgMatches;
+/// --run I` picks it through [`ModelKind::with`]). Every model of the run
+/// library's registry is one.
+pub trait CliModel: PilotModel + FleetModel + StudyModel {}
 
-    /// The controls at frame 0 from the model's own options.
-    ///
-    /// # Errors
-    /// [`CliError::Usage`] for options the model refuses.
-    fn controls(args: &Self::Args) -> Result<Self::Controls, CliError>;
-}
+impl<M: PilotModel + FleetModel + StudyModel> CliModel for M {}
 
 /// A model's own report fields ([`fdm_run::report::Details`]: the JSON
-/// fields and the summary line) and the HUD's control line made from them.
+/// fields and the summary line) and the HUD's control line made from them
+/// ([`ControlsLine`]).
 pub trait Details: fdm_run::report::Details {
     /// The HUD's control line.
     fn hud_controls(&self) -> String;
 }
 
-/// `x` for a display with one decimal, except that values that show as zero are
-/// +0.0, so a tiny negative roll does not flicker as "-0.0".
-#[must_use]
-pub fn tenths(x: f64) -> f64 {
-    if (x * 10.0).round() == 0.0 {
-        0.0
-    } else {
-        x
+impl<D: fdm_run::report::Details + ControlsLine> Details for D {
+    fn hud_controls(&self) -> String {
+        self.controls_line()
     }
 }
 

@@ -193,9 +193,9 @@ impl<F: Flight> Flight for &mut F {
 mod tests {
     use super::*;
     use crate::keys::{AppCommand, Input};
-    use crate::models::palmer::PalmerDetails;
     use fdm_core::palmer::PalmerAction;
     use fdm_core::script::Script;
+    use fdm_run::model::palmer::PalmerDetails;
 
     /// A stand-in model: records the actions of every step (its script's
     /// rules for the frame since the last reset, then the keys, as

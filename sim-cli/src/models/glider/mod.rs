@@ -10,23 +10,20 @@
 //! and studies of `model = "glider"` too. FlightGear shows it as the UFO.
 //! `sim-cli-tests`' `cli_glider` flies it end to end.
 
-use crossterm::event::KeyCode;
 use fdm_core::fingerprint::Hasher;
 use fdm_core::model::Model;
+use fdm_run::model::pilot::{
+    tenths, ControlsLine, Key, KeyBindings, NumberRange, OptionValue, PilotModel, RangeNote,
+    StartOption,
+};
 use fdm_run::report::{Details as ReportDetails, ReportModel};
-use fdm_run::{csv::CsvModel, FleetModel, RunModel};
 use fdm_run::NamedInputs;
+use fdm_run::{csv::CsvModel, FleetModel, RunModel};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 mod model;
 pub use model::*;
-
-use super::{tenths, CliModel, Details};
-use crate::error::CliError;
-use crate::input::Echo;
-use crate::keys::{letter, KeyAction};
-
 
 impl RunModel for Glider {
     type AircraftRecord = GliderAircraft;
@@ -128,8 +125,8 @@ impl ReportDetails for GliderDetails {
     }
 }
 
-impl Details for GliderDetails {
-    fn hud_controls(&self) -> String {
+impl ControlsLine for GliderDetails {
+    fn controls_line(&self) -> String {
         format!(
             "CL {:4.2}   BANK {:+5.1} deg",
             self.lift_coefficient,
@@ -167,7 +164,9 @@ impl NamedInputs for Glider {
             _ => return Err(format!("unknown control `{key}`")),
         };
         if !(value.is_finite() && (low..=high).contains(&value)) {
-            return Err(format!("{key} = {value}: expected a number from {low} to {high}"));
+            return Err(format!(
+                "{key} = {value}: expected a number from {low} to {high}"
+            ));
         }
         *field = value;
         Ok(())
@@ -203,50 +202,41 @@ const MAX_CL: f64 = 1.4;
 /// The bank's range, ± this, degrees (the model's clamp).
 const MAX_BANK_DEG: f64 = 45.0;
 
-impl KeyAction for GliderAction {
+impl KeyBindings for GliderAction {
+    const KEYS: &'static [(Key, Self)] = &[
+        (Key::Down, Self::PitchUp),
+        (Key::Up, Self::PitchDown),
+        (Key::Left, Self::BankLeft),
+        (Key::Right, Self::BankRight),
+    ];
     const KEY_HELP: &'static str = "Down/Up pitch up/down  Left/Right bank";
-
-    fn from_key(code: KeyCode) -> Option<Self> {
-        Some(match (code, letter(code)) {
-            (KeyCode::Down, _) => Self::PitchUp,
-            (KeyCode::Up, _) => Self::PitchDown,
-            (KeyCode::Left, _) => Self::BankLeft,
-            (KeyCode::Right, _) => Self::BankRight,
-            _ => return None,
-        })
-    }
 }
 
-/// `sim-cli glider`'s own options (after the options every model shares).
-#[derive(Debug, Clone, clap::Args)]
-pub struct GliderArgs {
-    /// Lift coefficient at frame 0 (0..1.4) [default: 0.6, the model's start]
-    #[arg(long, value_name = "CL", value_parser = parse_cl, allow_hyphen_values = true)]
-    pub lift_coefficient: Option<f64>,
-}
-
-/// `--lift-coefficient`: 0 to [`MAX_CL`].
-fn parse_cl(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && (0.0..=MAX_CL).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}` is not a lift coefficient in 0..{MAX_CL}",
-            Echo::short(text.trim())
-        )),
-    }
-}
-
-impl CliModel for Glider {
+/// `sim-cli glider`'s own option (after the options every model shares):
+/// `--lift-coefficient`, 0 to [`MAX_CL`].
+impl PilotModel for Glider {
     const AIRCRAFT: &'static str = "a point-mass glider";
     const ABOUT: &'static str =
         "Fly a point-mass glider (the third model: semi-implicit Euler, f64; metres, m/s)";
-    type Args = GliderArgs;
+    const START_OPTIONS: &'static [StartOption] = &[StartOption::number(
+        "lift-coefficient",
+        "CL",
+        "Lift coefficient at frame 0 (0..1.4) [default: 0.6, the model's start]",
+        NumberRange {
+            low: 0.0,
+            high: MAX_CL,
+            note: RangeNote::What("a lift coefficient"),
+        },
+        None,
+    )];
 
     /// The model's start, with `--lift-coefficient`.
-    fn controls(args: &GliderArgs) -> Result<GliderControls, CliError> {
+    fn start_controls(values: &[OptionValue]) -> Result<GliderControls, String> {
         let mut controls = Glider::initial_controls();
-        if let Some(cl) = args.lift_coefficient {
-            controls.lift_coefficient = cl;
+        match *values {
+            [OptionValue::Absent] => {}
+            [OptionValue::Number(cl)] => controls.lift_coefficient = cl,
+            _ => return Err(fdm_run::model::pilot::unexpected_values(values)),
         }
         Ok(controls)
     }
