@@ -58,12 +58,9 @@ pub const FT_PER_M: f64 = 3.280_839_895_013_123_4;
 /// is given (the thesis's 5500).
 pub const DEFAULT_FG_PORT: u16 = 5500;
 
-/// Largest multiplayer input port FlightGear 2020.3 accepts: it keeps the
-/// receive and send ports in signed 16-bit integers, so 32768 and above read
-/// as negative and it logs "Cannot enable multiplayer mode: No receiver port
-/// specified." (measured live, docs/flightgear-check.md). [`with_multiplayer`]
-/// sends FlightGear's own multiplayer output to PORT + 1, which must fit too.
-pub const MAX_MP_PORT: u16 = 32_766;
+/// Largest multiplayer input port FlightGear 2020.3 accepts (defined with
+/// the port's parser, [`crate::values::parse_mp_port`]).
+pub use crate::values::MAX_MP_PORT;
 
 /// The viewer's own multiplayer callsign: FlightGear drops datagrams carrying
 /// its own, so it must differ from every fleet callsign (`SIM...`).

@@ -4,15 +4,21 @@
 //! command line's error stays readable. The limits are the run library's
 //! ([`MAX_FPS`], [`MAX_FRAMES`], [`MAX_FLEET`], [`MAX_THREADS`], the start's
 //! [`MAX_ALTITUDE_FT`], [`MAX_SPEED_KT`], [`MAX_HEADING_DEG`], FlightGear's
-//! [`MAX_MP_PORT`]).
+//! [`MAX_MP_PORT`], defined here).
 //!
 //! The DIS numbers and markings are `dis`'s (feature `dis`).
 
 use fdm_core::script::Echo;
 
-use crate::fgfs::MAX_MP_PORT;
 use crate::scenario::{MAX_ALTITUDE_FT, MAX_HEADING_DEG, MAX_SPEED_KT};
 use crate::{MAX_FPS, MAX_FRAMES};
+
+/// Largest multiplayer input port FlightGear 2020.3 accepts: it keeps the
+/// receive and send ports in signed 16-bit integers, so 32768 and above read
+/// as negative and it logs "Cannot enable multiplayer mode: No receiver port
+/// specified." (measured live, docs/flightgear-check.md). `fgfs::with_multiplayer`
+/// sends FlightGear's own multiplayer output to PORT + 1, which must fit too.
+pub const MAX_MP_PORT: u16 = 32_766;
 
 /// Largest accepted fleet (a Palmer entity takes about 600 bytes with its
 /// display components, so this is some 6 GB).
