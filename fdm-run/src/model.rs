@@ -21,6 +21,11 @@
 //! and physical parameters by name, with their ranges checked, and cheap
 //! reads of a state.
 //!
+//! [`ColumnModel`] is a model's state and controls as named columns of
+//! numbers, and [`AgentModel`] how a learning agent's actions set its
+//! controls and what the agent's tasks observe (what the Python bindings
+//! show and the Gymnasium tasks compute, so that they name no model).
+//!
 //! Each model's implementations of these traits (and of
 //! [`ReportModel`](crate::report::ReportModel), its report's fields) are in
 //! one adapter module per model: [`palmer`], [`bourg`]. A model of the
@@ -28,7 +33,9 @@
 
 use std::fmt::Debug;
 
+pub mod agent;
 pub mod bourg;
+pub mod columns;
 pub mod palmer;
 
 use fdm_core::bourg::Bourg;
@@ -39,7 +46,9 @@ use fdm_fleet::FleetKernel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
+pub use agent::AgentModel;
 pub use bourg::BourgAircraftRecord;
+pub use columns::ColumnModel;
 
 /// A model a run can fly, record and replay.
 pub trait RunModel:
@@ -216,15 +225,23 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
 
 /// What the registry's jobs ([`ModelJob`]) may use of a model: it records
 /// and writes the flight CSV ([`RunModel`], [`CsvModel`]), flies in fleets
-/// ([`FleetModel`], [`FleetKernel`]) and is set up by name
-/// ([`NamedInputs`]). Implemented for every model that implements those.
+/// ([`FleetModel`], [`FleetKernel`]), is set up by name
+/// ([`NamedInputs`]), and is shown as columns of numbers and driven by an
+/// agent ([`ColumnModel`], [`AgentModel`]). Implemented for every model
+/// that implements those.
 /// (Every model of the registry also has a report,
 /// [`ReportModel`](crate::report::ReportModel); it is not required here so
 /// that this module does not import the report's, which imports the DIS
 /// settings', which import the fgfs command line's, which imports this one.)
-pub trait RegisteredModel: CsvModel + FleetModel + NamedInputs + FleetKernel {}
+pub trait RegisteredModel:
+    CsvModel + FleetModel + NamedInputs + FleetKernel + ColumnModel + AgentModel
+{
+}
 
-impl<M: CsvModel + FleetModel + NamedInputs + FleetKernel> RegisteredModel for M {}
+impl<M: CsvModel + FleetModel + NamedInputs + FleetKernel + ColumnModel + AgentModel>
+    RegisteredModel for M
+{
+}
 
 /// Something to do with a model type chosen at run time by name
 /// ([`with_model`]).
