@@ -372,7 +372,7 @@ fn start_of<M: BindModel>(
 ) -> PyResult<(M::Controls, M::State)> {
     let mut c = M::initial_controls();
     for (index, column) in controls {
-        c = M::set_control(c, *index, column.get(i)).map_err(|e| {
+        c = M::with_control(c, *index, column.get(i)).map_err(|e| {
             PyValueError::new_err(format!("{}[{i}]: {e}", M::CONTROL_FIELDS[*index].0))
         })?;
     }
@@ -458,7 +458,7 @@ where
             }
             let mut c = self.fleet.controls(i).unwrap_or_else(M::initial_controls);
             for (index, column) in controls {
-                c = M::set_control(c, *index, column.get(i)).map_err(|e| {
+                c = M::with_control(c, *index, column.get(i)).map_err(|e| {
                     PyValueError::new_err(format!("{}[{i}]: {e}", M::CONTROL_FIELDS[*index].0))
                 })?;
             }
@@ -780,7 +780,11 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         M::task_control_obs(controls, observed);
         let (l, i) = (self.len, piece.first + j);
         let block = &mut self.block;
-        M::task_kinematics(values, block, l);
+        let kinematics = M::task_kinematics(values);
+        block.alt_ft[l] = kinematics.altitude_ft;
+        block.vz_fps[l] = kinematics.climb_ftps;
+        block.vx[l] = kinematics.vx;
+        block.vy[l] = kinematics.vy;
         block.target_alt_ft[l] = self.args.target_alt_ft[i];
         block.target_heading_deg[l] = self.args.target_heading_deg[i];
         for (row, v) in block.observed.iter_mut().zip(observed.iter()) {

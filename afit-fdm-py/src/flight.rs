@@ -383,8 +383,8 @@ pub fn apply_named<M: BindModel>(
         if !value.is_finite() || !(lo..=hi).contains(value) {
             return Err((false, format!("{name}: {value} is not in {lo}..{hi}")));
         }
-        controls =
-            M::set_control(controls, index, *value).map_err(|e| (false, format!("{name}: {e}")))?;
+        controls = M::with_control(controls, index, *value)
+            .map_err(|e| (false, format!("{name}: {e}")))?;
     }
     Ok(controls)
 }

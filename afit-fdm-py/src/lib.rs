@@ -26,7 +26,7 @@ use pyo3::types::{PyDict, PyList};
 
 use fleet::{AnyFleet, Buffers};
 use flight::AnyFlight;
-use models::{status_code, with_model, BindModel, ModelJob, MODELS};
+use models::{status_code, with_model, BindModel, ModelJob, RegisteredModel, MODELS};
 use start::StartSpec;
 
 fn unknown_model(model: &str) -> PyErr {
@@ -130,7 +130,7 @@ impl PyFlight {
         }
         impl ModelJob for NewFlight<'_> {
             type Output = PyResult<Box<dyn AnyFlight>>;
-            fn call<M: BindModel>(self) -> Self::Output {
+            fn call<M: RegisteredModel>(self) -> Self::Output {
                 if self.spec.trim {
                     for (name, what) in M::TRIM_SETS {
                         if self.controls.iter().any(|(n, _)| n == name) {
@@ -504,7 +504,7 @@ impl PyFleet {
         }
         impl ModelJob for NewFleet<'_, '_> {
             type Output = PyResult<Box<dyn AnyFleet>>;
-            fn call<M: BindModel>(self) -> Self::Output {
+            fn call<M: RegisteredModel>(self) -> Self::Output {
                 let (s, c) = fleet::read_arguments(
                     M::CONTROL_FIELDS,
                     M::NAME,
@@ -840,7 +840,7 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     struct Describe<'a, 'py>(Python<'py>, &'a Bound<'py, PyDict>);
     impl ModelJob for Describe<'_, '_> {
         type Output = PyResult<()>;
-        fn call<M: BindModel>(self) -> PyResult<()> {
+        fn call<M: RegisteredModel>(self) -> PyResult<()> {
             self.1.set_item(M::NAME, describe::<M>(self.0)?)
         }
     }

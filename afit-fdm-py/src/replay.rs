@@ -34,7 +34,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::flight::{AnyFlight, Single};
-use crate::models::{status_code, with_model, BindModel, ModelJob};
+use crate::models::{status_code, with_model, BindModel, ModelJob, RegisteredModel};
 use crate::PyFlight;
 
 pyo3::create_exception!(
@@ -273,7 +273,7 @@ pub fn replay(
     }
     impl ModelJob for Replay<'_> {
         type Output = Result<Result<Outcome, Cut>, PyErr>;
-        fn call<M: BindModel>(self) -> Self::Output {
+        fn call<M: RegisteredModel>(self) -> Self::Output {
             replay_model::<M>(self.bytes, self.trajectory, self.salvage)
         }
     }

@@ -1,7 +1,7 @@
 //! The Gymnasium tasks' per-step numbers (`afit_fdm.gym`), computed in Rust:
 //! the observations, rewards and termination flags of every aircraft. (How
-//! each model's controls follow from an action is the model's:
-//! `crate::models`, the crate's one file that names a model.)
+//! each model's controls follow from an action, and what the tasks read of
+//! its state, are the model's: `fdm_run::model::AgentModel`.)
 //!
 //! Each formula is the one `afit_fdm.gym` computed with NumPy before
 //! (`tests/test_task_kernel.py` keeps that code as the oracle and compares
@@ -29,8 +29,6 @@
 
 use fdm_core::math::{atan2_lanes, hypot_lanes};
 
-/// Feet per metre, as `afit_fdm.gym` computes it (`1.0 / 0.3048`).
-pub const FT_PER_M: f64 = 1.0 / 0.3048;
 /// Knots per metre per second (`3600.0 / 1852.0`).
 pub const KT_PER_MPS: f64 = 3600.0 / 1852.0;
 /// Observations are clipped to `-OBS_LIMIT..=OBS_LIMIT`.

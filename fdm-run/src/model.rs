@@ -26,6 +26,11 @@
 //! at frame 0 from their values, its keys, its head-up display's controls
 //! line.
 //!
+//! [`ColumnModel`] is a model's state and controls as named columns of
+//! numbers, and [`AgentModel`] how a learning agent's actions set its
+//! controls and what the agent's tasks observe (what the Python bindings
+//! show and the Gymnasium tasks compute, so that they name no model).
+//!
 //! Each model's implementations of these traits (and of
 //! [`ReportModel`](crate::report::ReportModel), its report's fields) are in
 //! one adapter module per model: [`palmer`], [`bourg`]. A model of the
@@ -33,7 +38,9 @@
 
 use std::fmt::Debug;
 
+pub mod agent;
 pub mod bourg;
+pub mod columns;
 pub mod palmer;
 pub mod pilot;
 
@@ -45,7 +52,9 @@ use fdm_fleet::FleetKernel;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
+pub use agent::AgentModel;
 pub use bourg::BourgAircraftRecord;
+pub use columns::ColumnModel;
 
 /// A model a run can fly, record and replay.
 pub trait RunModel:
@@ -222,18 +231,26 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
 
 /// What the registry's jobs ([`ModelJob`]) may use of a model: it records
 /// and writes the flight CSV ([`RunModel`], [`CsvModel`]), flies in fleets
-/// ([`FleetModel`], [`FleetKernel`]), is set up by name ([`NamedInputs`])
-/// and flown by hand from a front end, with its report
+/// ([`FleetModel`], [`FleetKernel`]), is set up by name ([`NamedInputs`]),
+/// is shown as columns of numbers and driven by an agent ([`ColumnModel`],
+/// [`AgentModel`]) and is flown by hand from a front end, with its report
 /// ([`PilotModel`](pilot::PilotModel), a
 /// [`ReportModel`](crate::report::ReportModel)). Implemented for every model
 /// that implements those.
 pub trait RegisteredModel:
-    CsvModel + FleetModel + NamedInputs + FleetKernel + pilot::PilotModel
+    CsvModel + FleetModel + NamedInputs + FleetKernel + ColumnModel + AgentModel + pilot::PilotModel
 {
 }
 
-impl<M: CsvModel + FleetModel + NamedInputs + FleetKernel + pilot::PilotModel> RegisteredModel
-    for M
+impl<
+        M: CsvModel
+            + FleetModel
+            + NamedInputs
+            + FleetKernel
+            + ColumnModel
+            + AgentModel
+            + pilot::PilotModel,
+    > RegisteredModel for M
 {
 }
 

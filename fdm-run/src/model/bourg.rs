@@ -392,3 +392,258 @@ impl ControlsLine for BourgDetails {
         )
     }
 }
+
+// --- Named columns and the agent's tasks (`ColumnModel`, `AgentModel`: the
+// Python bindings' state and control columns and Gymnasium tasks).
+
+use super::agent::{AgentModel, Kinematics};
+use super::columns::{ColumnModel, ControlRange, MAX_BLOCK_FIELDS};
+use fdm_core::bourg::Flap;
+
+/// A Bourg surface as a number: −1, 0 or +1.
+#[inline]
+fn flap_code(f: Flap) -> f64 {
+    match f {
+        Flap::TrailingEdgeDown => -1.0,
+        Flap::Neutral => 0.0,
+        Flap::TrailingEdgeUp => 1.0,
+    }
+}
+
+/// The surface position of a number: −1, 0 or +1, else a message.
+#[inline]
+fn flap_from(value: f64) -> Result<Flap, String> {
+    match value {
+        -1.0 => Ok(Flap::TrailingEdgeDown),
+        0.0 => Ok(Flap::Neutral),
+        1.0 => Ok(Flap::TrailingEdgeUp),
+        v => Err(format!("{v} is not -1, 0 or 1")),
+    }
+}
+
+impl ColumnModel for Bourg {
+    const STATE_FIELDS: &'static [&'static str] = &[
+        "time_s",
+        "x_ft",
+        "y_ft",
+        "z_ft",
+        "vx_ftps",
+        "vy_ftps",
+        "vz_ftps",
+        "u_ftps",
+        "v_ftps",
+        "w_ftps",
+        "p_radps",
+        "q_radps",
+        "r_radps",
+        "qw",
+        "qx",
+        "qy",
+        "qz",
+        "stalling",
+        "speed_ftps",
+        "euler_x_deg",
+        "euler_y_deg",
+        "euler_z_deg",
+    ];
+    // Surfaces: +1 is the action's direction (`elevator` +1 = pitch-up,
+    // `aileron` +1 = roll-right, `rudder` +1 = yaw-right).
+    const CONTROL_FIELDS: &'static [ControlRange] = &[
+        ("thrust_lb", 0.0, MAX_THRUST_LB as f64),
+        ("elevator", -1.0, 1.0),
+        ("aileron", -1.0, 1.0),
+        ("rudder", -1.0, 1.0),
+        ("landing_flaps", 0.0, 1.0),
+        ("pitch_trim", -1.0, 1.0),
+    ];
+
+    const TRIM_SETS: &'static [(&'static str, &'static str)] = &[("thrust_lb", "the thrust")];
+
+    #[inline]
+    fn state_values(s: &BourgState, out: &mut [f64]) {
+        // The state's own fields, then the four derived ones (speed, Euler angles).
+        Self::state_values_head(s, out);
+        let e = s.euler_angles_deg();
+        let w = f64::from;
+        out[18..].copy_from_slice(&[w(s.speed_ftps()), w(e.x), w(e.y), w(e.z)]);
+    }
+
+    const BLOCK_FIELDS: usize = 4;
+
+    #[inline(always)]
+    fn state_values_head(s: &BourgState, out: &mut [f64]) {
+        let w = f64::from;
+        out[..18].copy_from_slice(&[
+            s.time_s,
+            w(s.position_ft.x),
+            w(s.position_ft.y),
+            w(s.position_ft.z),
+            w(s.velocity_ftps.x),
+            w(s.velocity_ftps.y),
+            w(s.velocity_ftps.z),
+            w(s.velocity_body_ftps.x),
+            w(s.velocity_body_ftps.y),
+            w(s.velocity_body_ftps.z),
+            w(s.angular_velocity_radps.x),
+            w(s.angular_velocity_radps.y),
+            w(s.angular_velocity_radps.z),
+            w(s.orientation.w),
+            w(s.orientation.i),
+            w(s.orientation.j),
+            w(s.orientation.k),
+            if s.stalling { 1.0 } else { 0.0 },
+        ]);
+    }
+
+    /// The speed of [`BourgState::speed_ftps`] (the same operations, lane
+    /// by lane) and the Euler angles of [`BourgState::euler_angles_deg`]
+    /// ([`fdm_core::bourg::ops::euler_deg_from_quat_lanes`]), a block at a
+    /// time.
+    #[inline(always)]
+    fn block_fields<const N: usize>(
+        states: &[BourgState; N],
+        out: &mut [[f64; N]; MAX_BLOCK_FIELDS],
+    ) {
+        for (o, s) in out[0].iter_mut().zip(states) {
+            *o = f64::from(fdm_core::bourg::ops::magnitude(&s.velocity_ftps));
+        }
+        let q: [_; N] = core::array::from_fn(|l| states[l].orientation);
+        let e = fdm_core::bourg::ops::euler_deg_from_quat_lanes(&q);
+        for (l, e) in e.iter().enumerate() {
+            out[1][l] = f64::from(e.x);
+            out[2][l] = f64::from(e.y);
+            out[3][l] = f64::from(e.z);
+        }
+    }
+
+    #[inline]
+    fn control_values(c: &BourgControls, out: &mut [f64]) {
+        let rudder = if c.rudder_deg > 0.0 {
+            -1.0
+        } else if c.rudder_deg < 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+        out.copy_from_slice(&[
+            f64::from(c.thrust_lb),
+            flap_code(c.elevators),
+            // roll-right: port trailing edge down (−1): aileron +1. No −0.0
+            // for neutral.
+            0.0 - flap_code(c.port_aileron),
+            rudder,
+            if c.landing_flaps { 1.0 } else { 0.0 },
+            f64::from(c.pitch_trim),
+        ]);
+    }
+
+    #[inline]
+    #[allow(clippy::cast_possible_truncation)] // checked ranges; f32 is the model's type
+    fn with_control(
+        mut c: BourgControls,
+        index: usize,
+        value: f64,
+    ) -> Result<BourgControls, String> {
+        match index {
+            0 => c.thrust_lb = value as f32,
+            1 => c.elevators = flap_from(value)?,
+            2 => {
+                c.port_aileron = flap_from(-value)?;
+                c.starboard_aileron = flap_from(value)?;
+            }
+            3 => {
+                c.rudder_deg = match value {
+                    1.0 => -fdm_core::bourg::RUDDER_DEFLECTION_DEG,
+                    -1.0 => fdm_core::bourg::RUDDER_DEFLECTION_DEG,
+                    0.0 => 0.0,
+                    v => return Err(format!("{v} is not -1, 0 or 1")),
+                }
+            }
+            4 => {
+                c.landing_flaps = match value {
+                    1.0 => true,
+                    0.0 => false,
+                    v => return Err(format!("{v} is not 0 or 1")),
+                }
+            }
+            _ => c.pitch_trim = value as f32,
+        }
+        Ok(c)
+    }
+}
+
+/// Bourg's all-or-nothing surfaces from an action: +1 above 1/3, -1 below
+/// -1/3, else 0 (NaN too), as `_surface`.
+#[inline]
+#[must_use]
+fn surface(a: f64) -> f64 {
+    if a > 1.0 / 3.0 {
+        1.0
+    } else if a < -1.0 / 3.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Bourg's controls from one aircraft's clipped actions: thrust_lb,
+/// elevator, aileron, rudder, pitch_trim (control indices 0, 1, 2, 3, 5).
+#[inline]
+#[must_use]
+fn bourg_controls(a: &[f64]) -> [(usize, f64); 5] {
+    [
+        (0, 1500.0 * (a[0] + 1.0)),
+        (1, surface(a[1])),
+        (2, surface(a[2])),
+        (3, surface(a[3])),
+        (5, a[4]),
+    ]
+}
+
+impl AgentModel for Bourg {
+    const TASK_ACTIONS: usize = 5;
+    const TASK_CONTROL_OBS: usize = 5;
+
+    const GROUND_MPS_PER_SPEED: f64 = 0.3048;
+
+    #[inline(always)]
+    fn task_kinematics(v: &[f64]) -> Kinematics {
+        Kinematics {
+            altitude_ft: v[3],
+            climb_ftps: v[6],
+            vx: v[4],
+            vy: v[5],
+        }
+    }
+
+    #[inline]
+    fn task_control_obs(c: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&[c[0] / 3000.0, c[1], c[2], c[3], c[5]]);
+    }
+
+    #[inline]
+    fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
+        (bourg_controls(a), 5)
+    }
+
+    #[inline]
+    #[allow(clippy::cast_possible_truncation)] // as with_control: f32 is the model's type
+    fn task_apply(mut c: BourgControls, a: &[f64]) -> BourgControls {
+        let [(_, thrust), (_, elevator), (_, aileron), (_, rudder), (_, trim)] = bourg_controls(a);
+        // `surface` gives exactly -1, 0 or +1 (never -0).
+        let flap = |v: f64| flap_from(v).unwrap_or(Flap::Neutral);
+        c.thrust_lb = thrust as f32;
+        c.elevators = flap(elevator);
+        c.port_aileron = flap(-aileron);
+        c.starboard_aileron = flap(aileron);
+        c.rudder_deg = if rudder == 1.0 {
+            -fdm_core::bourg::RUDDER_DEFLECTION_DEG
+        } else if rudder == -1.0 {
+            fdm_core::bourg::RUDDER_DEFLECTION_DEG
+        } else {
+            0.0
+        };
+        c.pitch_trim = trim as f32;
+        c
+    }
+}

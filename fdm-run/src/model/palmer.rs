@@ -524,3 +524,141 @@ impl ControlsLine for PalmerDetails {
         )
     }
 }
+
+// --- Named columns and the agent's tasks (`ColumnModel`, `AgentModel`: the
+// Python bindings' state and control columns and Gymnasium tasks).
+
+use super::agent::{AgentModel, Kinematics, FT_PER_M};
+use super::columns::{ColumnModel, ControlRange};
+
+impl ColumnModel for Palmer {
+    const STATE_FIELDS: &'static [&'static str] =
+        &["time_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
+    const CONTROL_FIELDS: &'static [ControlRange] = &[
+        ("throttle", 0.0, 1.0),
+        ("alpha_deg", ALPHA_MIN_DEG, ALPHA_MAX_DEG),
+        ("bank_deg", -BANK_LIMIT_DEG, BANK_LIMIT_DEG),
+        ("flaps_deg", 0.0, 40.0),
+        ("brakes", 0.0, 1.0),
+    ];
+
+    // The trim's throttle and angle of attack replace the given ones.
+    const TRIM_SETS: &'static [(&'static str, &'static str)] = &[];
+
+    #[inline]
+    fn state_values(s: &PalmerState, out: &mut [f64]) {
+        out.copy_from_slice(&[
+            s.time_s,
+            s.position_m.x,
+            s.position_m.y,
+            s.position_m.z,
+            s.velocity_mps.x,
+            s.velocity_mps.y,
+            s.velocity_mps.z,
+        ]);
+    }
+
+    #[inline]
+    fn control_values(c: &PalmerControls, out: &mut [f64]) {
+        out.copy_from_slice(&[
+            c.throttle,
+            c.alpha_deg,
+            c.bank_deg,
+            c.flaps.degrees(),
+            if c.brakes { 1.0 } else { 0.0 },
+        ]);
+    }
+
+    #[inline]
+    fn with_control(
+        mut c: PalmerControls,
+        index: usize,
+        value: f64,
+    ) -> Result<PalmerControls, String> {
+        match index {
+            0 => c.throttle = value,
+            1 => c.alpha_deg = value,
+            2 => c.bank_deg = value,
+            3 => {
+                c.flaps = [Flaps::Up, Flaps::Deg20, Flaps::Deg40]
+                    .into_iter()
+                    .find(|f| f.degrees() == value)
+                    .ok_or_else(|| format!("{value} is not 0, 20 or 40"))?;
+            }
+            _ => {
+                c.brakes = match value {
+                    1.0 => true,
+                    0.0 => false,
+                    v => return Err(format!("{v} is not 0 or 1")),
+                }
+            }
+        }
+        Ok(c)
+    }
+}
+
+/// Palmer's controls from one aircraft's clipped actions: throttle,
+/// alpha_deg, bank_deg, flaps_deg (control indices 0..4).
+#[inline]
+#[must_use]
+fn palmer_controls(a: &[f64]) -> [(usize, f64); 4] {
+    let flaps = if a[3] < -1.0 / 3.0 {
+        0.0
+    } else if a[3] <= 1.0 / 3.0 {
+        20.0
+    } else {
+        40.0
+    };
+    [
+        (0, (a[0] + 1.0) * 0.5),
+        (1, 2.0 + 18.0 * a[1]),
+        (2, 20.0 * a[2]),
+        (3, flaps),
+    ]
+}
+
+impl AgentModel for Palmer {
+    const TASK_ACTIONS: usize = 4;
+    const TASK_CONTROL_OBS: usize = 4;
+
+    // `speed * 1.0` is `speed`, bit for bit.
+    const GROUND_MPS_PER_SPEED: f64 = 1.0;
+
+    #[inline(always)]
+    fn task_kinematics(v: &[f64]) -> Kinematics {
+        Kinematics {
+            altitude_ft: v[3] * FT_PER_M,
+            climb_ftps: v[6] * FT_PER_M,
+            vx: v[4],
+            vy: v[5],
+        }
+    }
+
+    #[inline]
+    fn task_control_obs(c: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&[c[0], c[1] / 20.0, c[2] / 20.0, c[3] / 40.0]);
+    }
+
+    #[inline]
+    fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
+        let [p0, p1, p2, p3] = palmer_controls(a);
+        ([p0, p1, p2, p3, (0, 0.0)], 4)
+    }
+
+    #[inline]
+    fn task_apply(mut c: PalmerControls, a: &[f64]) -> PalmerControls {
+        let [(_, throttle), (_, alpha_deg), (_, bank_deg), (_, flaps)] = palmer_controls(a);
+        c.throttle = throttle;
+        c.alpha_deg = alpha_deg;
+        c.bank_deg = bank_deg;
+        // `palmer_controls` gives exactly 0, 20 or 40.
+        c.flaps = if flaps == 0.0 {
+            Flaps::Up
+        } else if flaps == 20.0 {
+            Flaps::Deg20
+        } else {
+            Flaps::Deg40
+        };
+        c
+    }
+}
