@@ -61,7 +61,7 @@
 //! | [`outfile`] | output files locked against a second writer ([`outfile::create_locked`]) |
 //! | [`values`] | settings read from text (the options of `sim-cli`): frame rate, frames, durations, fleet sizes, start conditions, ports, each checked against its range ([`values::ValueError`]) |
 //! | [`memory`] | how much memory this process can still allocate, and the fleet's memory check |
-//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]); what a front end flying a model by hand needs of it ([`model::pilot`]); one adapter module per model ([`model::palmer`], [`model::bourg`]) |
+//! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]); what a front end flying a model by hand needs of it ([`model::pilot`]); its state and controls as named columns ([`model::ColumnModel`]) and what a learning agent's tasks need of it ([`model::AgentModel`]); one adapter module per model ([`model::palmer`], [`model::bourg`]) |
 //! | [`report`] | what a run reports at its end: [`Report`] (JSON and a human summary) from a [`Snapshot`] ([`Run::snapshot`]), each model's own fields ([`ReportModel`]) |
 //! | [`pacer`] | [`pacer::FramePacer`]: real-time pacing |
 
