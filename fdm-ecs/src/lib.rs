@@ -30,7 +30,7 @@
 //! | (socket opened in SendPacket) | `fdm_run::flightgear::FlightGearOutput`, an output of the run |
 //! | `DeltaTime` | [`Resources::time_step`] |
 //! | `MaxThrust`, `DeltaThrust` | Bourg's aircraft parameters (`max_thrust_lb`, `delta_thrust_lb`) |
-//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::flight_status`], [`systems::place`] in [`Schedule::thesis`]; the packet is made and sent by `fdm_run::flightgear::FlightGearOutput` |
+//! | FlightControl → EquationsOfMotion → MakePacket → SendPacket | [`systems::flight_control`], [`systems::equations_of_motion`], [`systems::flight_status`], [`systems::place`] in each model's [`Schedule::with_model`]; the packet is made and sent by `fdm_run::flightgear::FlightGearOutput` |
 //!
 //! # Example: two aircraft, one per model
 //!

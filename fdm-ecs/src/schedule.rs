@@ -4,14 +4,22 @@
 //! systems in a different order from frame to frame; here the order is a list
 //! run front to back, every frame. Each model in the world adds its
 //! instantiation of the generic systems to their phase
-//! ([`Schedule::with_model`]); a caller's own systems go anywhere in the list
-//! ([`Schedule::insert_after`], [`Schedule::push`]).
+//! ([`Schedule::with_model`], which
+//! [`Simulation::spawn`](crate::Simulation::spawn) calls on a model's first
+//! aircraft); a caller's own systems go anywhere in the list
+//! ([`Schedule::insert_after`], [`Schedule::push`]). The crate names no
+//! model: a schedule starts empty ([`Schedule::for_no_model`]).
+//!
+//! Within a phase the models' systems run in the order the models joined.
+//! That order cannot change a result: every system of model `M` queries only
+//! entities with `M`'s parameters ([`Params<M>`](crate::components::Params),
+//! which `spawn::<M>` gives an aircraft of `M` alone), so the systems of two
+//! models touch disjoint entities, and every system reads the resources
+//! without writing them.
 
 use std::any::TypeId;
 
-use fdm_core::bourg::Bourg;
 use fdm_core::model::Model;
-use fdm_core::palmer::Palmer;
 use hecs::World;
 
 use crate::resources::Resources;
@@ -52,21 +60,11 @@ impl Schedule {
         Self::PLACE,
     ];
 
-    /// The thesis's order, FlightControl → EquationsOfMotion → FlightStatus →
-    /// Place (the thesis's MakePacket and SendPacket are outputs of the run
-    /// library now: `fdm_run::flightgear`), for the two models of this workspace
-    /// ([`Palmer`], then [`Bourg`]). Other models join with
-    /// [`with_model`](Self::with_model) (which
-    /// [`Simulation::spawn`](crate::Simulation::spawn) calls for you).
-    #[must_use]
-    pub fn thesis() -> Self {
-        Self::for_no_model()
-            .with_model::<Palmer>()
-            .with_model::<Bourg>()
-    }
-
     /// The thesis's phases with no model yet: no system (every phase is
-    /// per model).
+    /// per model). Models join with [`with_model`](Self::with_model), each
+    /// adding its FlightControl → EquationsOfMotion → FlightStatus → Place
+    /// (the thesis's order; its MakePacket and SendPacket are outputs of the
+    /// run library now: `fdm_run::flightgear`).
     #[must_use]
     pub fn for_no_model() -> Self {
         Self {
@@ -188,8 +186,8 @@ impl Schedule {
 }
 
 impl Default for Schedule {
-    /// [`Schedule::thesis`].
+    /// [`Schedule::for_no_model`].
     fn default() -> Self {
-        Self::thesis()
+        Self::for_no_model()
     }
 }

@@ -93,13 +93,15 @@ impl std::fmt::Debug for Simulation {
 }
 
 impl Simulation {
-    /// An empty world with these resources and [`Schedule::thesis`].
+    /// An empty world with these resources and a schedule without models
+    /// ([`Schedule::for_no_model`]): each model's systems join it with the
+    /// model's first aircraft ([`Simulation::spawn`]).
     #[must_use]
     pub fn new(resources: Resources) -> Self {
         Self {
             world: World::new(),
             resources,
-            schedule: Schedule::thesis(),
+            schedule: Schedule::for_no_model(),
         }
     }
 

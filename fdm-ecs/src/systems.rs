@@ -1,6 +1,6 @@
 //! The systems of the thesis's flight simulators (its figures 11 and 12), as
 //! plain functions over the world and the [`Resources`], generic over the
-//! [`Model`]. [`Schedule::thesis`](crate::Schedule::thesis) runs them every
+//! [`Model`]. The [`Schedule`](crate::Schedule) runs them every
 //! frame in this order, each phase once per model in the world:
 //!
 //! 1. [`flight_control`]: the frame's input actions → controls;

@@ -24,6 +24,14 @@ use fdm_ecs::components::{FrameInput, Params};
 use fdm_ecs::{Execution, FleetOutputs, Resources, Schedule, Simulation, System, World};
 use nalgebra::Vector3;
 
+/// The schedule of a world with a Palmer and a Bourg aircraft, Palmer's
+/// first (what `Schedule::thesis` was before fdm-ecs stopped naming models).
+fn thesis() -> Schedule {
+    Schedule::for_no_model()
+        .with_model::<Palmer>()
+        .with_model::<Bourg>()
+}
+
 #[test]
 fn params_are_equal_when_their_aircraft_data_are() {
     let aircraft = Palmer::default_aircraft();
@@ -86,7 +94,7 @@ fn schedule_knows_its_models() {
     assert!(!none.has_model::<Palmer>() && !none.has_model::<Bourg>());
     let palmer = Schedule::for_no_model().with_model::<Palmer>();
     assert!(palmer.has_model::<Palmer>() && !palmer.has_model::<Bourg>());
-    let thesis = Schedule::thesis();
+    let thesis = thesis();
     assert!(thesis.has_model::<Palmer>() && thesis.has_model::<Bourg>());
 }
 
@@ -99,7 +107,7 @@ fn count_frames(world: &mut World, _: &Resources) {
 
 #[test]
 fn pushed_system_runs_last() {
-    let mut schedule = Schedule::thesis();
+    let mut schedule = thesis();
     let before = schedule.systems().len();
     schedule.push(System {
         name: "Counter",
@@ -119,7 +127,7 @@ fn pushed_system_runs_last() {
 
 #[test]
 fn insert_after_goes_after_the_last_system_of_that_name() {
-    let mut schedule = Schedule::thesis();
+    let mut schedule = thesis();
     let names = |s: &Schedule| s.systems().iter().map(|s| s.name).collect::<Vec<_>>();
     let before = names(&schedule);
     // FlightStatus appears once per model; the new system follows the last.

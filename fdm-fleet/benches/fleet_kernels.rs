@@ -1,6 +1,6 @@
 //! Aircraft-steps per second of fleets: the scalar step in a loop over an array
-//! of (state, controls) against `PalmerFleet` in `exact` and `fast` precision
-//! (group `palmer_fleet`) and against `BourgFleet` (group `bourg_fleet`, 1/30 s
+//! of (state, controls) against `Fleet<Palmer>` in `exact` and `fast` precision
+//! (group `palmer_fleet`) and against `Fleet<Bourg>` (group `bourg_fleet`, 1/30 s
 //! steps), at 1,000 / 100,000 / 1,000,000 aircraft, on 1 and 2 threads.
 //!
 //! Every benchmark steps the whole fleet once per iteration (throughput in
@@ -26,10 +26,9 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
-use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
-use fdm_fleet::bourg::BourgFleet;
-use fdm_fleet::palmer::{PalmerFleet, Precision};
+use fdm_core::bourg::{self, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::palmer::{step, Flaps, Palmer, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_fleet::{Fleet, Precision};
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
@@ -135,7 +134,7 @@ fn bench_bourg(c: &mut Criterion) {
                 }
                 black_box(&scalar);
             });
-            let mut fleet = BourgFleet::new(aircraft);
+            let mut fleet = Fleet::<Bourg>::new(aircraft).expect("fleet");
             for (s, c) in &members {
                 fleet.push(*s, *c);
             }
@@ -185,12 +184,15 @@ fn bench(c: &mut Criterion) {
 
             for precision in [Precision::Exact, Precision::Fast] {
                 let mut fleet =
-                    PalmerFleet::from_states(CESSNA, members.iter().copied()).expect("fleet");
+                    Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).expect("fleet");
                 group.bench_function(id(precision.name()), |b| {
                     if threads == 1 {
-                        b.iter(|| fleet.step(DT, precision));
+                        b.iter(|| fleet.step_with(DT, precision).expect("precision"));
                     } else {
-                        b.iter(|| pool.install(|| fleet.par_step(DT, precision)));
+                        b.iter(|| {
+                            pool.install(|| fleet.par_step_with(DT, precision))
+                                .expect("precision");
+                        });
                     }
                 });
                 let finite = fleet.states().filter(PalmerState::is_finite).count();

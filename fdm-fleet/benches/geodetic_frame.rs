@@ -22,12 +22,12 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use fdm_core::bourg::{BourgState, Vector3};
+use fdm_core::bourg::{Bourg, BourgState, Vector3};
 use fdm_core::geodesy::{Geodetic, GeodeticOrigin, METRES_PER_FOOT};
 use fdm_core::model::{fly, FlightStatus, Model};
-use fdm_core::palmer::PalmerState;
+use fdm_core::palmer::{Palmer, PalmerState};
 use fdm_fleet::geodesy::BatchGeodesy;
-use fdm_fleet::{BourgFleet, LaneFleet, PalmerFleet, Precision};
+use fdm_fleet::{Fleet, LaneFleet, Precision};
 use rayon::prelude::*;
 
 const N: usize = 100_000;
@@ -146,7 +146,7 @@ fn bench_model<F: LaneFleet>(
 }
 
 fn bench(c: &mut Criterion) {
-    bench_model::<PalmerFleet>(
+    bench_model::<Fleet<Palmer>>(
         c,
         palmer_position,
         &[
@@ -154,7 +154,7 @@ fn bench(c: &mut Criterion) {
             ("lanes_fast", Precision::Fast),
         ],
     );
-    bench_model::<BourgFleet>(c, bourg_position, &[("lanes", Precision::Exact)]);
+    bench_model::<Fleet<Bourg>>(c, bourg_position, &[("lanes", Precision::Exact)]);
 }
 
 criterion_group!(benches, bench);

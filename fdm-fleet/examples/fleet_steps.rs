@@ -14,11 +14,9 @@
 //! kernels). Prints the instruction set and
 //! a checksum of the final positions (so the work cannot be optimised away).
 
-use fdm_core::bourg::{self, BourgAction, BourgAircraft, BourgControls, BourgState};
-use fdm_core::palmer::{step, PalmerAircraft, PalmerControls, PalmerState};
-use fdm_fleet::bourg::BourgFleet;
-use fdm_fleet::palmer::{PalmerFleet, Precision};
-use fdm_fleet::LaneFleet;
+use fdm_core::bourg::{self, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
+use fdm_core::palmer::{step, Palmer, PalmerAircraft, PalmerControls, PalmerState};
+use fdm_fleet::{Fleet, LaneFleet, Precision};
 
 /// Time this thread has spent on a CPU, ns (Linux's `/proc/thread-self/schedstat`):
 /// unlike the wall clock, not inflated when other processes take the core.
@@ -43,7 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     start.position_m.z = 500.0;
     start.velocity_mps.x = 40.0;
     let checksum: f64 = if what == "bourg-demo" || what == "bourg-demo-2t" {
-        let mut fleet = <BourgFleet as LaneFleet>::demonstration(n)?;
+        let mut fleet = <Fleet<Bourg> as LaneFleet>::demonstration(n)?;
         println!("instruction set: {}", fleet.instruction_set());
         let dt = 1.0_f32 / 30.0;
         let threads = if what == "bourg-demo" { 1 } else { 2 };
@@ -51,7 +49,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .num_threads(threads)
             .build()?;
         let fly = args.get(3).is_some_and(|a| a == "fly");
-        let run = |fleet: &mut BourgFleet| match (threads, fly) {
+        let run = |fleet: &mut Fleet<Bourg>| match (threads, fly) {
             (1, false) => fleet.step(dt),
             (1, true) => fleet.fly(dt),
             (_, false) => pool.install(|| fleet.par_step(dt)),
@@ -94,7 +92,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             states
         } else {
-            let mut fleet = BourgFleet::new(aircraft);
+            let mut fleet = Fleet::<Bourg>::new(aircraft)?;
             for _ in 0..n {
                 fleet.push(BourgState::initial(), controls);
             }
@@ -120,16 +118,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "fast-baseline" => (Precision::Fast, true),
             other => return Err(format!("unknown kernel `{other}`").into()),
         };
-        let mut fleet = PalmerFleet::from_states(cessna, vec![(start, controls); n])?;
+        let mut fleet = Fleet::<Palmer>::from_states(cessna, vec![(start, controls); n])?;
         println!("instruction set: {}", fleet.instruction_set());
         let fly = args.get(3).is_some_and(|a| a == "fly");
         let cpu = on_cpu_ns();
         for _ in 0..steps {
             match (baseline, fly) {
-                (true, false) => fleet.step_baseline(0.1, precision),
-                (true, true) => fleet.fly_baseline(0.1, precision),
-                (false, false) => fleet.step(0.1, precision),
-                (false, true) => fleet.fly(0.1, precision),
+                (true, false) => fleet.step_baseline_with(0.1, precision)?,
+                (true, true) => fleet.fly_baseline_with(0.1, precision)?,
+                (false, false) => fleet.step_with(0.1, precision)?,
+                (false, true) => fleet.fly_with(0.1, precision)?,
             }
         }
         if let Some((after, before)) = on_cpu_ns().zip(cpu) {

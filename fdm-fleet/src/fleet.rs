@@ -18,6 +18,23 @@
 //! controls are set, with the scalar step's own functions: the same bits, and
 //! off the per-step path.
 //!
+//! # The models of `fdm-core`
+//!
+//! * `Fleet<Palmer>`: Palmer's one RK4 step, written over the number type
+//!   (`fdm_core`'s `palmer/dynamics.rs` and `palmer/lanes.rs` say what a
+//!   block's lanes read and write): `fdm_core::palmer::LANES` (8) `f64`
+//!   aircraft per block, 136 bytes per aircraft, every aircraft
+//!   bit-identical to `fdm_core::palmer::step` in [`Precision::Exact`] and
+//!   within 1e-9 m and 1e-9 m/s of it after 1,800 steps in
+//!   [`Precision::Fast`].
+//! * `Fleet<Bourg>`: Bourg's one loads-and-Euler step, written over the
+//!   number type with the table look-ups as hooks of the number type
+//!   (`bourg/generic.rs` and `bourg/lanes.rs`): `fdm_core::bourg::LANES` (16)
+//!   `f32` aircraft per block, every aircraft bit-identical to
+//!   `fdm_core::bourg::step`; only `Exact` (its step's one transcendental
+//!   function, `asinf`, is evaluated lane-wise with the scalar bits already,
+//!   and has no faster inexact form).
+//!
 //! # Precisions
 //!
 //! * [`Precision::Exact`]: the step with [`Exact`] maths: every aircraft
@@ -429,8 +446,6 @@ fn dispatch<M: LaneModel>(arch: Arch, op: StepBlocks<'_, M, ()>) {
 /// A fleet of one [`LaneModel`]'s aircraft sharing one aircraft type, each
 /// with its own state, controls and flight status, stepped as
 /// structure-of-arrays (see the [module docs](self)).
-/// [`PalmerFleet`](crate::PalmerFleet) and [`BourgFleet`](crate::BourgFleet)
-/// are this type for the two models.
 ///
 /// ```
 /// use fdm_core::model::Model;
@@ -468,18 +483,22 @@ impl<M: LaneModel> Fleet<M> {
     /// [`FleetError::InvalidAircraft`] if the aircraft cannot be flown.
     pub fn try_new(aircraft: M::Aircraft) -> Result<Self, FleetError> {
         M::check_aircraft(&aircraft).map_err(|e| FleetError::InvalidAircraft(Arc::new(e)))?;
-        Ok(Self::unchecked(aircraft))
-    }
-
-    /// An empty fleet of an aircraft already known to be valid.
-    pub(crate) fn unchecked(aircraft: M::Aircraft) -> Self {
-        Self {
+        Ok(Self {
             shared: M::shared(&aircraft),
             aircraft,
             blocks: Vec::new(),
             len: 0,
             arch: Arch::new(),
-        }
+        })
+    }
+
+    /// [`Fleet::try_new`], under the name every model's fleet has always
+    /// had.
+    ///
+    /// # Errors
+    /// [`FleetError::InvalidAircraft`] if the aircraft cannot be flown.
+    pub fn new(aircraft: M::Aircraft) -> Result<Self, FleetError> {
+        Self::try_new(aircraft)
     }
 
     /// A fleet of `aircraft` flying the given states and controls, in order.
@@ -555,11 +574,6 @@ impl<M: LaneModel> Fleet<M> {
     #[must_use]
     pub const fn aircraft(&self) -> &M::Aircraft {
         &self.aircraft
-    }
-
-    /// The instruction set detected at construction.
-    pub(crate) const fn arch(&self) -> Arch {
-        self.arch
     }
 
     /// Block and lane of aircraft `index`.
@@ -875,8 +889,43 @@ pub struct FlownPiece<'a, S> {
     pub flown_at: Instant,
 }
 
-/// What needs the model's kernel: stepping and flying.
+/// What needs the model's kernel: stepping and flying. The short names
+/// (`step`, `par_step`, `step_baseline`, `fly`, `par_fly`, `fly_baseline`)
+/// are [`Precision::Exact`], which every model has, so they cannot fail; the
+/// `_with` forms take the precision and refuse one the model lacks.
 impl<M: FleetKernel> Fleet<M> {
+    /// [`Fleet::step_with`] in [`Precision::Exact`]: one step of every
+    /// aircraft, each with the bits of [`Model::step`].
+    pub fn step(&mut self, dt: M::TimeStep) {
+        self.run(self.arch, dt, Precision::Exact, false, false);
+    }
+
+    /// [`Fleet::par_step_with`] in [`Precision::Exact`].
+    pub fn par_step(&mut self, dt: M::TimeStep) {
+        self.run(self.arch, dt, Precision::Exact, false, true);
+    }
+
+    /// [`Fleet::step_baseline_with`] in [`Precision::Exact`].
+    pub fn step_baseline(&mut self, dt: M::TimeStep) {
+        self.run(Arch::Scalar, dt, Precision::Exact, false, false);
+    }
+
+    /// [`Fleet::fly_with`] in [`Precision::Exact`]: one whole frame of every
+    /// aircraft with its flight status.
+    pub fn fly(&mut self, dt: M::TimeStep) {
+        self.run(self.arch, dt, Precision::Exact, true, false);
+    }
+
+    /// [`Fleet::par_fly_with`] in [`Precision::Exact`].
+    pub fn par_fly(&mut self, dt: M::TimeStep) {
+        self.run(self.arch, dt, Precision::Exact, true, true);
+    }
+
+    /// [`Fleet::fly_baseline_with`] in [`Precision::Exact`].
+    pub fn fly_baseline(&mut self, dt: M::TimeStep) {
+        self.run(Arch::Scalar, dt, Precision::Exact, true, false);
+    }
+
     /// [`Fleet::par_fly_with`] in pieces of `piece_aircraft` aircraft
     /// (rounded up to whole blocks, at least one; [`Fleet::pieces_mut`]),
     /// each flown on one of the threads of rayon's current pool and at once,
@@ -1036,7 +1085,7 @@ impl<M: FleetKernel> Fleet<M> {
     /// The kernel over every block with `arch`'s instruction set
     /// (`precision` already checked, or `Exact`), through the model's
     /// [`FleetKernel::run_kernel`].
-    pub(crate) fn run(
+    fn run(
         &mut self,
         arch: Arch,
         dt: M::TimeStep,
@@ -1153,9 +1202,10 @@ impl<M: LaneModel> fmt::Debug for KernelRun<M> {
 /// `sim-cli` and the Python extension each compiled both models' kernels
 /// again: five to seven minutes each in a release build on two cores. A
 /// non-generic function is compiled once, in its own crate. So the kernel is
-/// reached through this trait's method: Palmer and Bourg implement it here,
-/// in `fdm-fleet`, with the provided body; every other crate calls those
-/// compiled functions.
+/// reached through this trait's method: the models of `fdm-core` implement
+/// it in this crate (its private `compiled.rs`, which says what a blanket
+/// implementation costs), with the provided body; every other crate calls
+/// those compiled functions.
 ///
 /// A third model needs only an empty implementation (the provided body,
 /// compiled in the crates that fly it):

@@ -10,7 +10,7 @@
 //! (the tangent plane to ECEF, then Vermeille's closed form in
 //! [`ecef_to_geodetic`]) runs lane-wise with the same operands in the same
 //! order (correctly rounded in SIMD as in scalar code, never fused; see
-//! [`crate::palmer`]). What still goes lane by lane, through the same
+//! [`crate::fleet`]). What still goes lane by lane, through the same
 //! `fdm_core::math` functions the scalar code calls (glibc with `std`), is
 //! the transcendental part: `hypot` (three calls per aircraft), `cbrt` (one)
 //! and `atan2` (two). The scalar code's rare branches (a point on the polar

@@ -7,19 +7,20 @@
 //!   pool, the instruction-set dispatch, the [`Precision`] and the
 //!   [`FleetError`]s. No physics: each model's step is its own, one source
 //!   for one aircraft and for lanes.
-//! * [`PalmerFleet`] (`Fleet<Palmer>`): Palmer's Cessna 172 (RK4, f64) in
-//!   lanes of [`palmer::LANES`] aircraft, in two precisions:
-//!   [`Precision::Exact`] (every aircraft bit-identical to
-//!   [`fdm_core::palmer::step`]) and [`Precision::Fast`] (a vectorised `pow`,
-//!   within 1e-9 m and 1e-9 m/s of `Exact` after 1,800 steps).
-//! * [`BourgFleet`] (`Fleet<Bourg>`): Bourg's 6-DoF aircraft (Euler, f32) in
-//!   lanes of [`bourg::LANES`] aircraft, every aircraft bit-identical to
-//!   [`fdm_core::bourg::step`].
+//! * For the models of `fdm-core`, `Fleet<Palmer>` flies Palmer's Cessna 172
+//!   (RK4, f64) in two precisions: [`Precision::Exact`] (every aircraft
+//!   bit-identical to `fdm_core::palmer::step`) and [`Precision::Fast`] (a
+//!   vectorised `pow`, within 1e-9 m and 1e-9 m/s of `Exact` after 1,800
+//!   steps); `Fleet<Bourg>` flies Bourg's 6-DoF aircraft (Euler, f32), every
+//!   aircraft bit-identical to `fdm_core::bourg::step` (see the
+//!   [`fleet`] module for each model's lanes and bytes per aircraft).
 //!
 //! A third model gets a fleet by implementing [`LaneModel`] (its step over
 //! the number type, and the moves of one aircraft in and out of a block) and,
 //! with an empty `impl`, [`FleetKernel`] (which crate compiles its kernel):
-//! `fdm-ecs/examples/third_model.rs` flies a glider that way.
+//! `fdm-ecs/examples/third_model.rs` flies a glider that way. The crate names
+//! no model but in its private list of the kernels it compiles once for
+//! every crate that flies them (`compiled.rs`, an optimisation only).
 //!
 //! Every fleet keeps a [`FlightStatus`] per aircraft: its `fly` frames are
 //! [`fdm_core::model::fly`] per aircraft (ground contact, touchdown, crash,
@@ -33,15 +34,12 @@
 //! The per-entity ECS path (`fdm-ecs`) stays the one for mixed and interactive
 //! worlds; a fleet is for many aircraft of one type flown together.
 
-pub mod bourg;
+mod compiled;
 pub mod fleet;
 pub mod geodesy;
-pub mod palmer;
 
-pub use bourg::BourgFleet;
 pub use fdm_core::real::LaneModel;
 pub use fleet::{Fleet, FleetError, FleetKernel, FleetPiece, FlownPiece, KernelRun, Precision};
-pub use palmer::PalmerFleet;
 
 use fdm_core::model::{FlightStatus, Model};
 

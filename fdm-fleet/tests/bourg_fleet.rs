@@ -1,13 +1,14 @@
-//! `BourgFleet` against the scalar `fdm_core::bourg::step`.
+//! `Fleet<Bourg>` against the scalar `fdm_core::bourg::step`.
 //!
 //! Tolerance: none. Every aircraft must have the bits of the scalar step after
 //! every frame: the kernel performs the same f32 operations in the same order
 //! and calls the same `asinf` and table look-ups (see the module docs).
 
-use fdm_core::bourg::{step, BourgAction, BourgAircraft, BourgControls, BourgState, Flap};
+use fdm_core::bourg::{
+    step, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState, Flap, LANES,
+};
 use fdm_core::script::Script;
-use fdm_fleet::bourg::{BourgFleet, LANES};
-use fdm_fleet::FleetError;
+use fdm_fleet::{Fleet, FleetError};
 use serde_json::Value;
 
 const DT: f32 = 1.0 / 30.0;
@@ -50,7 +51,7 @@ fn bits(s: &BourgState) -> Vec<u64> {
     v
 }
 
-fn assert_bits(fleet: &BourgFleet, expected: &[BourgState], context: &str) {
+fn assert_bits(fleet: &Fleet<Bourg>, expected: &[BourgState], context: &str) {
     assert_eq!(fleet.len(), expected.len());
     for (i, (got, want)) in fleet.states().zip(expected).enumerate() {
         assert_eq!(
@@ -116,7 +117,7 @@ fn bit_identical_on_the_reference_scenarios_with_their_scripts() {
         .chain(cases.iter().take(1))
         .map(|c| &c.1)
         .collect();
-    let mut fleet = BourgFleet::new(aircraft);
+    let mut fleet = Fleet::<Bourg>::new(aircraft).unwrap();
     let mut scalar = Vec::new();
     for _ in &scripts {
         fleet.push(BourgState::initial(), BourgControls::initial());
@@ -206,7 +207,7 @@ fn bit_identical_on_random_fleets_of_any_size_and_on_every_instruction_set() {
         let mut members: Vec<(BourgControls, BourgState)> = (0..n)
             .map(|_| (random_controls(&mut rng), random_state(&mut rng)))
             .collect();
-        let mut dispatched = BourgFleet::new(aircraft);
+        let mut dispatched = Fleet::<Bourg>::new(aircraft).unwrap();
         for (c, s) in &members {
             dispatched.push(*s, *c);
         }
@@ -239,7 +240,7 @@ fn bit_identical_on_random_fleets_of_any_size_and_on_every_instruction_set() {
 #[test]
 fn accessors_and_memory() {
     let aircraft = BourgAircraft::bourg_default();
-    let mut fleet = BourgFleet::new(aircraft);
+    let mut fleet = Fleet::<Bourg>::new(aircraft).unwrap();
     assert!(fleet.is_empty());
     fleet.step(DT);
     let c = BourgControls::initial().apply(BourgAction::ThrustUp);
@@ -253,7 +254,7 @@ fn accessors_and_memory() {
         Err(FleetError::OutOfRange { index: 1, len: 1 })
     );
     assert!(fleet.set_controls(1, c).is_err());
-    let per = BourgFleet::bytes_per_aircraft();
+    let per = Fleet::<Bourg>::bytes_per_aircraft();
     println!("{per} bytes per Bourg aircraft");
     assert!(per <= 300, "{per}");
 }
@@ -282,7 +283,7 @@ fn bit_identical_with_pitch_trim() {
         })
         .collect();
     assert!(members.iter().any(|m| m.0.pitch_trim > 1.0));
-    let mut fleet = BourgFleet::new(aircraft);
+    let mut fleet = Fleet::<Bourg>::new(aircraft).unwrap();
     for (c, s) in &members {
         fleet.push(*s, *c);
     }

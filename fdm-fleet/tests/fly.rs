@@ -1,5 +1,5 @@
-//! The fleets' whole frames with a flight status (`PalmerFleet::fly` in
-//! `Exact`, `BourgFleet::fly`) against the scalar `fdm_core::model::fly`, one
+//! The fleets' whole frames with a flight status (`Fleet<Palmer>::fly` in
+//! `Exact`, `Fleet<Bourg>::fly`) against the scalar `fdm_core::model::fly`, one
 //! aircraft at a time.
 //!
 //! Tolerance: none. After every frame each aircraft's state and status must
@@ -10,10 +10,9 @@
 
 use fdm_core::bourg::{Bourg, BourgControls, BourgState, Flap, Quaternion};
 use fdm_core::model::{fly, FlightStatus, LandingState, Model};
+use fdm_core::palmer::LANES;
 use fdm_core::palmer::{Flaps, Palmer, PalmerControls, PalmerState};
-use fdm_fleet::bourg::BourgFleet;
-use fdm_fleet::palmer::{PalmerFleet, Precision, LANES};
-use fdm_fleet::Fleet;
+use fdm_fleet::{Fleet, Precision};
 
 /// SplitMix64.
 struct Rng(u64);
@@ -282,14 +281,14 @@ fn fleet_frames_are_fly<M, B>(
 #[test]
 fn palmer_fleet_frames_are_fly_bit_for_bit() {
     fleet_frames_are_fly(
-        || PalmerFleet::new(Palmer::default_aircraft()).unwrap(),
+        || Fleet::<Palmer>::new(Palmer::default_aircraft()).unwrap(),
         LANES,
         palmer_members,
         palmer_bits,
         &FlyWays {
-            dispatched: |f: &mut PalmerFleet, dt| f.fly(dt, Precision::Exact),
-            baseline: |f: &mut PalmerFleet, dt| f.fly_baseline(dt, Precision::Exact),
-            parallel: |f: &mut PalmerFleet, dt| f.par_fly(dt, Precision::Exact),
+            dispatched: |f: &mut Fleet<Palmer>, dt| f.fly(dt),
+            baseline: |f: &mut Fleet<Palmer>, dt| f.fly_baseline(dt),
+            parallel: |f: &mut Fleet<Palmer>, dt| f.par_fly(dt),
         },
     );
 }
@@ -297,14 +296,14 @@ fn palmer_fleet_frames_are_fly_bit_for_bit() {
 #[test]
 fn bourg_fleet_frames_are_fly_bit_for_bit() {
     fleet_frames_are_fly(
-        || BourgFleet::new(Bourg::default_aircraft()),
-        fdm_fleet::bourg::LANES,
+        || Fleet::<Bourg>::new(Bourg::default_aircraft()).unwrap(),
+        fdm_core::bourg::LANES,
         bourg_members,
         bourg_bits,
         &FlyWays {
-            dispatched: |f: &mut BourgFleet, dt| f.fly(dt),
-            baseline: |f: &mut BourgFleet, dt| f.fly_baseline(dt),
-            parallel: |f: &mut BourgFleet, dt| f.par_fly(dt),
+            dispatched: |f: &mut Fleet<Bourg>, dt| f.fly(dt),
+            baseline: |f: &mut Fleet<Bourg>, dt| f.fly_baseline(dt),
+            parallel: |f: &mut Fleet<Bourg>, dt| f.par_fly(dt),
         },
     );
 }
@@ -315,7 +314,7 @@ fn bourg_fleet_frames_are_fly_bit_for_bit() {
 #[test]
 fn airborne_frames_are_the_bare_steps() {
     use fdm_fleet::LaneFleet;
-    let mut flown = <BourgFleet as LaneFleet>::demonstration(100).unwrap();
+    let mut flown = <Fleet<Bourg> as LaneFleet>::demonstration(100).unwrap();
     let mut stepped = flown.clone();
     for _ in 0..30 {
         flown.fly(Bourg::time_step(30.0));
@@ -325,11 +324,15 @@ fn airborne_frames_are_the_bare_steps() {
         assert_eq!(bourg_bits(&a), bourg_bits(&b));
     }
     assert!(flown.statuses().all(|s| s == FlightStatus::Airborne));
-    let mut flown = <PalmerFleet as LaneFleet>::demonstration(100).unwrap();
+    let mut flown = <Fleet<Palmer> as LaneFleet>::demonstration(100).unwrap();
     let mut stepped = flown.clone();
     for _ in 0..30 {
-        flown.fly(Palmer::time_step(30.0), Precision::Fast);
-        stepped.step(Palmer::time_step(30.0), Precision::Fast);
+        flown
+            .fly_with(Palmer::time_step(30.0), Precision::Fast)
+            .unwrap();
+        stepped
+            .step_with(Palmer::time_step(30.0), Precision::Fast)
+            .unwrap();
     }
     for (a, b) in flown.states().zip(stepped.states()) {
         assert_eq!(palmer_bits(&a), palmer_bits(&b));
@@ -562,7 +565,7 @@ fn flying_then_is_flying_whole<M, B: PartialEq + core::fmt::Debug + Send>(
         let mut fleet = whole.clone();
         let mut reference = whole.clone();
         for frame in 0..30 {
-            pool.install(|| reference.par_fly(fps, Precision::Exact))
+            pool.install(|| fdm_fleet::LaneFleet::par_fly(&mut reference, fps, Precision::Exact))
                 .unwrap();
             let got = pool
                 .install(|| {

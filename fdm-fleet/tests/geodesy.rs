@@ -11,7 +11,7 @@ use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
 use fdm_core::model::Model;
 use fdm_core::palmer::Palmer;
 use fdm_fleet::geodesy::BatchGeodesy;
-use fdm_fleet::{BourgFleet, LaneFleet, PalmerFleet};
+use fdm_fleet::{Fleet, LaneFleet};
 
 /// SplitMix64.
 struct Rng(u64);
@@ -174,9 +174,9 @@ fn fleet_positions_are_the_views_positions() {
             assert_eq!(*p, view.position_m, "{} #{i}", F::Model::NAME);
         }
     }
-    check::<PalmerFleet>();
-    check::<BourgFleet>();
+    check::<Fleet<Palmer>>();
+    check::<Fleet<Bourg>>();
     // The models are the ones named.
-    assert_eq!(<PalmerFleet as LaneFleet>::Model::NAME, Palmer::NAME);
-    assert_eq!(<BourgFleet as LaneFleet>::Model::NAME, Bourg::NAME);
+    assert_eq!(<Fleet<Palmer> as LaneFleet>::Model::NAME, Palmer::NAME);
+    assert_eq!(<Fleet<Bourg> as LaneFleet>::Model::NAME, Bourg::NAME);
 }

@@ -1,4 +1,4 @@
-//! `PalmerFleet` against the scalar `fdm_core::palmer::step`.
+//! `Fleet<Palmer>` against the scalar `fdm_core::palmer::step`.
 //!
 //! Tolerances:
 //! * `Precision::Exact`: none. Every aircraft must have the bits of the scalar
@@ -10,8 +10,8 @@
 //!   by as little, and the smooth, damped point-mass dynamics carry that to
 //!   about 1e-11 m after 1,800 steps (the measured maximum is printed).
 
-use fdm_core::palmer::{step, Flaps, PalmerAircraft, PalmerControls, PalmerState};
-use fdm_fleet::palmer::{FleetError, PalmerFleet, Precision, LANES};
+use fdm_core::palmer::{step, Flaps, Palmer, PalmerAircraft, PalmerControls, PalmerState, LANES};
+use fdm_fleet::{Fleet, FleetError, Precision};
 use serde_json::Value;
 
 const CESSNA: PalmerAircraft = PalmerAircraft::cessna_172();
@@ -183,7 +183,7 @@ fn mixed_members(seed: u64, extra: usize) -> Vec<(PalmerState, PalmerControls)> 
 /// compiler picks, which differ between the scalar step and the lane kernel
 /// (and changed for the scalar step when `pow` got its FMA dispatch). A
 /// number in place of a NaN, or a NaN in place of a number, still fails.
-fn assert_bits(fleet: &PalmerFleet, expected: &[PalmerState], context: &str) {
+fn assert_bits(fleet: &Fleet<Palmer>, expected: &[PalmerState], context: &str) {
     assert_eq!(fleet.len(), expected.len());
     for (i, (got, want)) in fleet.states().zip(expected).enumerate() {
         let bits = |s: &PalmerState| {
@@ -218,10 +218,10 @@ fn exact_matches_scalar(
     members: &[(PalmerState, PalmerControls)],
     steps: usize,
     dt: f64,
-    stepper: impl Fn(&mut PalmerFleet),
+    stepper: impl Fn(&mut Fleet<Palmer>),
     context: &str,
 ) {
-    let mut fleet = PalmerFleet::from_states(CESSNA, members.iter().copied()).unwrap();
+    let mut fleet = Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).unwrap();
     let mut scalar: Vec<PalmerState> = members.iter().map(|m| m.0).collect();
     for n in 0..steps {
         stepper(&mut fleet);
@@ -237,13 +237,13 @@ fn reference_scenarios_are_the_original_programs() {
     // 1e-9 m, as tests/palmer_reference.rs: the scalar step reproduces the C
     // program's final positions; the fleet has the scalar step's bits.
     let (cases, frames, dt) = scenarios();
-    let mut fleet = PalmerFleet::from_states(
+    let mut fleet = Fleet::<Palmer>::from_states(
         CESSNA,
         cases.iter().map(|c| (PalmerState::at_rest(), c.controls)),
     )
     .unwrap();
     for _ in 0..frames {
-        fleet.step(dt, Precision::Exact);
+        fleet.step(dt);
     }
     for (i, case) in cases.iter().enumerate() {
         let s = fleet.state(i).unwrap();
@@ -267,7 +267,7 @@ fn exact_is_bit_identical_on_the_reference_scenarios_for_1800_steps() {
     let members: Vec<_> = (0..3)
         .flat_map(|_| cases.iter().map(|c| (PalmerState::at_rest(), c.controls)))
         .collect();
-    exact_matches_scalar(&members, 1800, dt, |f| f.step(dt, Precision::Exact), "step");
+    exact_matches_scalar(&members, 1800, dt, |f| f.step(dt), "step");
 }
 
 #[test]
@@ -278,20 +278,14 @@ fn exact_is_bit_identical_on_random_fleets_of_any_size() {
             &members,
             300,
             0.1,
-            |f| f.step(0.1, Precision::Exact),
+            |f| f.step(0.1),
             &format!("seed {seed}, {n} aircraft"),
         );
     }
     // Other time steps, including the thesis' 30 and 100 FPS.
     for dt in [1.0 / 30.0, 0.01, 0.5] {
         let members = random_members(9, 29);
-        exact_matches_scalar(
-            &members,
-            100,
-            dt,
-            |f| f.step(dt, Precision::Exact),
-            &format!("dt {dt}"),
-        );
+        exact_matches_scalar(&members, 100, dt, |f| f.step(dt), &format!("dt {dt}"));
     }
 }
 
@@ -339,14 +333,14 @@ fn braked_lanes_are_bit_identical_to_the_scalar_step() {
             &members,
             200,
             dt,
-            |f| f.step(dt, Precision::Exact),
+            |f| f.step(dt),
             &format!("braked, seed {seed}"),
         );
         exact_matches_scalar(
             &members,
             50,
             dt,
-            |f| f.step_baseline(dt, Precision::Exact),
+            |f| f.step_baseline(dt),
             &format!("braked baseline, seed {seed}"),
         );
     }
@@ -357,25 +351,13 @@ fn exact_on_the_baseline_and_in_parallel_has_the_same_bits() {
     // The SSE2 baseline copy of the kernel, and rayon on 2 threads over a
     // fleet large enough to be split in several tasks.
     let members = mixed_members(11, 700);
-    exact_matches_scalar(
-        &members,
-        60,
-        0.1,
-        |f| f.step_baseline(0.1, Precision::Exact),
-        "baseline",
-    );
+    exact_matches_scalar(&members, 60, 0.1, |f| f.step_baseline(0.1), "baseline");
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .unwrap();
     pool.install(|| {
-        exact_matches_scalar(
-            &members,
-            60,
-            0.1,
-            |f| f.par_step(0.1, Precision::Exact),
-            "par_step",
-        );
+        exact_matches_scalar(&members, 60, 0.1, |f| f.par_step(0.1), "par_step");
     });
 }
 
@@ -383,7 +365,7 @@ fn exact_on_the_baseline_and_in_parallel_has_the_same_bits() {
 fn controls_changed_in_flight_match_the_scalar_step() {
     let mut rng = Rng(21);
     let members = random_members(22, 19);
-    let mut fleet = PalmerFleet::from_states(CESSNA, members.iter().copied()).unwrap();
+    let mut fleet = Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).unwrap();
     let mut scalar = members.clone();
     for n in 0..400 {
         if n % 50 == 25 {
@@ -394,7 +376,7 @@ fn controls_changed_in_flight_match_the_scalar_step() {
                 }
             }
         }
-        fleet.step(0.1, Precision::Exact);
+        fleet.step(0.1);
         for m in &mut scalar {
             m.0 = step(&CESSNA, &m.1, &m.0, 0.1);
         }
@@ -409,7 +391,7 @@ fn controls_changed_in_flight_match_the_scalar_step() {
 #[test]
 fn fast_stays_within_1e_9_of_exact_after_1800_steps() {
     let members = mixed_members(31, 200);
-    let mut exact = PalmerFleet::from_states(CESSNA, members.iter().copied()).unwrap();
+    let mut exact = Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).unwrap();
     let mut fast = exact.clone();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
@@ -417,8 +399,8 @@ fn fast_stays_within_1e_9_of_exact_after_1800_steps() {
         .unwrap();
     pool.install(|| {
         for _ in 0..1800 {
-            exact.par_step(0.1, Precision::Exact);
-            fast.par_step(0.1, Precision::Fast);
+            exact.par_step(0.1);
+            fast.par_step_with(0.1, Precision::Fast).unwrap();
         }
     });
     let (mut max_pos, mut max_vel, mut differing) = (0.0_f64, 0.0_f64, 0);
@@ -447,11 +429,11 @@ fn fast_on_the_baseline_has_the_dispatched_bits() {
     // The fast kernel is all IEEE operations too, so it is as deterministic
     // across instruction sets as `exact`.
     let members = random_members(41, 37);
-    let mut a = PalmerFleet::from_states(CESSNA, members.iter().copied()).unwrap();
+    let mut a = Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).unwrap();
     let mut b = a.clone();
     for _ in 0..200 {
-        a.step(0.1, Precision::Fast);
-        b.step_baseline(0.1, Precision::Fast);
+        a.step_with(0.1, Precision::Fast).unwrap();
+        b.step_baseline_with(0.1, Precision::Fast).unwrap();
     }
     let b_states: Vec<_> = b.states().collect();
     assert_bits(&a, &b_states, "fast, dispatched vs baseline");
@@ -463,10 +445,10 @@ fn a_non_finite_aircraft_does_not_touch_its_neighbours() {
     members[3].0.position_m.z = f64::NAN;
     members[5].1.throttle = f64::INFINITY;
     for precision in [Precision::Exact, Precision::Fast] {
-        let mut fleet = PalmerFleet::from_states(CESSNA, members.iter().copied()).unwrap();
+        let mut fleet = Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).unwrap();
         let mut scalar: Vec<_> = members.iter().map(|m| m.0).collect();
         for _ in 0..20 {
-            fleet.step(0.1, precision);
+            fleet.step_with(0.1, precision).unwrap();
             for (s, m) in scalar.iter_mut().zip(&members) {
                 *s = step(&CESSNA, &m.1, s, 0.1);
             }
@@ -487,10 +469,10 @@ fn a_non_finite_aircraft_does_not_touch_its_neighbours() {
 
 #[test]
 fn memory_per_aircraft_is_within_300_bytes() {
-    let per = PalmerFleet::bytes_per_aircraft();
+    let per = Fleet::<Palmer>::bytes_per_aircraft();
     println!("{per} bytes per aircraft ({LANES} lanes per block)");
     assert!(per <= 300, "{per} bytes");
-    let fleet = PalmerFleet::from_states(CESSNA, random_members(61, 1000)).unwrap();
+    let fleet = Fleet::<Palmer>::from_states(CESSNA, random_members(61, 1000)).unwrap();
     // 1000 aircraft in whole blocks.
     assert_eq!(fleet.bytes(), 1000_usize.div_ceil(LANES) * LANES * per);
 }
@@ -499,15 +481,15 @@ fn memory_per_aircraft_is_within_300_bytes() {
 fn accessors_and_errors() {
     let mut heavy = CESSNA;
     heavy.mass_kg = 0.0;
-    let err = PalmerFleet::new(heavy).unwrap_err();
+    let err = Fleet::<Palmer>::new(heavy).unwrap_err();
     assert!(matches!(err, FleetError::InvalidAircraft(_)), "{err}");
     assert!(std::error::Error::source(&err).is_some());
 
-    let mut fleet = PalmerFleet::new(CESSNA).unwrap();
+    let mut fleet = Fleet::<Palmer>::new(CESSNA).unwrap();
     assert!(fleet.is_empty());
     // Stepping an empty fleet is fine.
-    fleet.step(0.1, Precision::Exact);
-    fleet.par_step(0.1, Precision::Fast);
+    fleet.step(0.1);
+    fleet.par_step_with(0.1, Precision::Fast).unwrap();
     let members = random_members(71, 3);
     for m in &members {
         fleet.push(m.0, m.1);
@@ -587,10 +569,10 @@ fn the_bound_needs_a_well_conditioned_flight() {
 #[test]
 fn one_fast_step_has_exacts_bits_for_almost_every_aircraft() {
     let members = random_members(61, 20_000);
-    let mut exact = PalmerFleet::from_states(CESSNA, members.iter().copied()).unwrap();
+    let mut exact = Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).unwrap();
     let mut fast = exact.clone();
-    exact.step(0.1, Precision::Exact);
-    fast.step(0.1, Precision::Fast);
+    exact.step(0.1);
+    fast.step_with(0.1, Precision::Fast).unwrap();
     let differing = exact
         .states()
         .zip(fast.states())
