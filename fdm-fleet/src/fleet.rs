@@ -76,17 +76,22 @@
 //! alone does not finish (not airborne above the ground plane, or with a
 //! component at or beyond [`LaneModel::SUSPECT`], too large to be sure the
 //! state is finite), and only those go through the scalar rule of
-//! `finish_lane`.
+//! `fdm_core::real::kernel`'s `finish_lane`.
 
 use core::fmt;
 use core::str::FromStr;
 use std::sync::Arc;
 use std::time::Instant;
 
-use fdm_core::model::{FlightStatus, Model};
-use fdm_core::real::{Exact, Fast, LaneModel, Lanes, Mask, Maths, Real};
+use fdm_core::model::FlightStatus;
+#[cfg(doc)]
+use fdm_core::model::Model;
+use fdm_core::real::kernel::Block;
+#[cfg(doc)]
+use fdm_core::real::{Exact, Fast};
+use fdm_core::real::{LaneModel, Real};
 use nalgebra::Vector3;
-use pulp::{Arch, Simd, WithSimd};
+use pulp::Arch;
 use rayon::prelude::*;
 
 /// Blocks per rayon task in the parallel methods: large enough that
@@ -215,232 +220,6 @@ impl std::error::Error for FleetError {
             _ => None,
         }
     }
-}
-
-/// The lane arrays of model `M`'s blocks.
-type Array<M, T> = <<M as LaneModel>::Lanes as Lanes>::Array<T>;
-
-/// `LANES` aircraft of model `M`, field by field.
-#[derive(Debug, Clone, Copy)]
-struct Block<M: LaneModel> {
-    /// Each lane's clock, s.
-    time: Array<M, f64>,
-    /// Each lane's integrated state.
-    vars: M::Vars,
-    /// Each lane's control terms.
-    terms: M::Terms,
-    /// The controls as set (read back by [`Fleet::controls`]; the kernel
-    /// reads the terms).
-    controls: Array<M, M::Controls>,
-    /// Each aircraft's flight status ([`Fleet::fly_with`]).
-    status: Array<M, FlightStatus>,
-}
-
-impl<M: LaneModel> Block<M> {
-    /// A block of idle aircraft.
-    fn idle(aircraft: &M::Aircraft) -> Self {
-        let (vars, terms) = M::idle(aircraft);
-        Self {
-            time: M::Lanes::array(|_| 0.0),
-            vars,
-            terms,
-            controls: M::Lanes::array(|_| M::initial_controls()),
-            status: M::Lanes::array(|_| FlightStatus::initial(M::height_m(&M::initial_state()))),
-        }
-    }
-
-    fn state(&self, lane: usize) -> M::State {
-        M::state(&self.vars, self.time.as_ref()[lane], lane)
-    }
-
-    fn set_state(&mut self, lane: usize, state: &M::State) {
-        self.time.as_mut()[lane] = M::set_state(&mut self.vars, lane, state);
-    }
-
-    /// One step of every lane with the maths `F`.
-    #[inline(always)]
-    fn step<F: Maths>(&mut self, aircraft: &M::Aircraft, shared: &M::Shared, dt: M::TimeStep) {
-        self.vars = M::step_lanes::<F>(aircraft, shared, &self.terms, &self.vars, dt);
-        let dt_s: f64 = dt.into();
-        for t in self.time.as_mut() {
-            *t += dt_s;
-        }
-    }
-
-    /// The flight-status half of [`Fleet::fly_with`] for a block the kernel
-    /// has just stepped from `time` and `vars`: every lane ends as
-    /// [`fdm_core::model::fly`] would have left it.
-    #[inline(always)]
-    fn settle(
-        &mut self,
-        time: &Array<M, f64>,
-        vars: &M::Vars,
-        aircraft: &M::Aircraft,
-        dt: M::TimeStep,
-    ) {
-        // Whether any lane needs more than the step (usually none).
-        let mut suspect = <M::Lanes as Real>::Mask::splat(false);
-        M::for_each_component(&self.vars, |x| {
-            suspect = suspect.or(x.abs().lt(M::SUSPECT).not());
-        });
-        let mut unfinished = M::above_ground(&self.vars).not();
-        for (l, (t, s)) in self
-            .time
-            .as_ref()
-            .iter()
-            .zip(self.status.as_ref())
-            .enumerate()
-        {
-            if !t.is_finite() {
-                suspect.set_lane(l, true);
-            }
-            if *s != FlightStatus::Airborne {
-                unfinished.set_lane(l, true);
-            }
-        }
-        let unfinished = unfinished.or(suspect);
-        if unfinished.any() {
-            self.settle_lanes(unfinished, suspect, time, vars, aircraft, dt);
-        }
-    }
-
-    /// The scalar part of [`Self::settle`], for the lanes `unfinished`
-    /// (rare: out of the hot loop).
-    #[cold]
-    #[inline(never)]
-    fn settle_lanes(
-        &mut self,
-        unfinished: <M::Lanes as Real>::Mask,
-        suspect: <M::Lanes as Real>::Mask,
-        time: &Array<M, f64>,
-        vars: &M::Vars,
-        aircraft: &M::Aircraft,
-        dt: M::TimeStep,
-    ) {
-        for lane in 0..M::Lanes::LANES {
-            if !unfinished.lane(lane) {
-                continue;
-            }
-            let (state, status) = finish_lane::<M>(
-                aircraft,
-                &self.controls.as_ref()[lane],
-                self.status.as_ref()[lane],
-                suspect.lane(lane),
-                || M::state(vars, time.as_ref()[lane], lane),
-                || self.state(lane),
-                dt,
-            );
-            self.set_state(lane, &state);
-            self.status.as_mut()[lane] = status;
-        }
-    }
-}
-
-/// The frame of one lane that the kernel's step alone does not finish (not
-/// airborne above the ground plane, or `suspect`: a component too large to be
-/// sure the step is finite), as [`fdm_core::model::fly`] would end it: a
-/// crashed, diverged or suspect aircraft flies the scalar frame again from
-/// its state `before` the step; any other keeps the kernel's step (`after`,
-/// `step`'s bits) and only settles its status and ground contact.
-pub(crate) fn finish_lane<M: Model>(
-    aircraft: &M::Aircraft,
-    controls: &M::Controls,
-    status: FlightStatus,
-    suspect: bool,
-    before: impl FnOnce() -> M::State,
-    after: impl FnOnce() -> M::State,
-    dt: M::TimeStep,
-) -> (M::State, FlightStatus) {
-    if suspect || status.is_final() {
-        fdm_core::model::fly::<M>(aircraft, controls, status, &before(), dt)
-    } else {
-        fdm_core::model::settle::<M>(aircraft, status, &after())
-    }
-}
-
-/// The stepping loop over some blocks, generic over the instruction set pulp
-/// picked: `with_simd` and everything it calls are inlined into pulp's
-/// `#[target_feature]` function, so the lane loops compile to that set.
-/// `FastMaths` is the [`Fast`] maths of that instruction set (see
-/// [`dispatch`]).
-struct StepBlocks<'a, M: LaneModel, FastMaths> {
-    blocks: &'a mut [Block<M>],
-    aircraft: &'a M::Aircraft,
-    shared: &'a M::Shared,
-    dt: M::TimeStep,
-    precision: Precision,
-    /// Whole frames with the flight status rather than bare steps.
-    fly: bool,
-    fast: core::marker::PhantomData<FastMaths>,
-}
-
-impl<M: LaneModel, FastMaths: Maths> WithSimd for StepBlocks<'_, M, FastMaths> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: Simd>(self, _simd: S) {
-        match self.precision {
-            Precision::Fast if M::HAS_FAST => self.each::<FastMaths>(),
-            _ => self.each::<Exact>(),
-        }
-    }
-}
-
-impl<'a, M: LaneModel, FastMaths> StepBlocks<'a, M, FastMaths> {
-    /// The same loop with the fast maths `F`.
-    #[inline(always)]
-    fn with_fast<F>(self) -> StepBlocks<'a, M, F> {
-        StepBlocks {
-            blocks: self.blocks,
-            aircraft: self.aircraft,
-            shared: self.shared,
-            dt: self.dt,
-            precision: self.precision,
-            fly: self.fly,
-            fast: core::marker::PhantomData,
-        }
-    }
-
-    /// The kernel on every block, each followed by its flight status with
-    /// [`Self::fly`].
-    #[inline(always)]
-    fn each<F: Maths>(self) {
-        let (aircraft, shared, dt) = (self.aircraft, self.shared, self.dt);
-        if self.fly {
-            for b in self.blocks {
-                let (time, vars) = (b.time, b.vars);
-                b.step::<F>(aircraft, shared, dt);
-                b.settle(&time, &vars, aircraft, dt);
-            }
-        } else {
-            for b in self.blocks {
-                b.step::<F>(aircraft, shared, dt);
-            }
-        }
-    }
-}
-
-/// Runs `op` with `arch`'s instruction set: pulp's `Arch::dispatch`, with
-/// the fast maths chosen by the instruction set itself rather than by a flag
-/// inside the kernel. `Fast<true>` (the `mul_add` of the FMA instruction)
-/// for x86-64-v3 and v4, which have FMA; `Fast<false>` (Dekker's splitting)
-/// for the baseline and other architectures, treated as not having FMA
-/// (always correct, only slower). Each instruction set's copy of the kernel
-/// is thereby compiled with the one fast maths it can run: a flag would
-/// compile both into every copy (a third more code in `fdm-fleet`'s release
-/// build, whose time is mostly these copies).
-#[inline(always)]
-fn dispatch<M: LaneModel>(arch: Arch, op: StepBlocks<'_, M, ()>) {
-    #[cfg(target_arch = "x86_64")]
-    match arch {
-        Arch::V4(simd) => Simd::vectorize(simd, op.with_fast::<Fast<true>>()),
-        Arch::V3(simd) => Simd::vectorize(simd, op.with_fast::<Fast<true>>()),
-        // The baseline, and any instruction set a later pulp adds (`Arch`
-        // is non-exhaustive): the scalar copy is correct on every CPU.
-        _ => Simd::vectorize(pulp::Scalar::new(), op.with_fast::<Fast<false>>()),
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    arch.dispatch(op.with_fast::<Fast<false>>());
 }
 
 /// A fleet of one [`LaneModel`]'s aircraft sharing one aircraft type, each
@@ -1118,9 +897,10 @@ pub struct KernelRun<M: LaneModel> {
 }
 
 impl<M: LaneModel> KernelRun<M> {
-    /// Runs the kernel over every block of `fleet` (the body of
-    /// [`FleetKernel::run_kernel`]). Generic, so compiled in the crate that
-    /// names it for a model (see [`FleetKernel`]).
+    /// Runs the kernel over every block of `fleet`, in runs of blocks on
+    /// rayon's pool if `parallel`: each run through the model's
+    /// [`LaneModel::run_blocks`] (compiled in the model's crate, see
+    /// [`FleetKernel`]). The body of [`FleetKernel::run_kernel`].
     pub fn apply(self, fleet: &mut Fleet<M>) {
         let Self {
             arch,
@@ -1130,27 +910,17 @@ impl<M: LaneModel> KernelRun<M> {
             parallel,
         } = self;
         let (aircraft, shared) = (&fleet.aircraft, &fleet.shared);
-        let op = |blocks| StepBlocks::<M, ()> {
-            blocks,
-            aircraft,
-            shared,
-            dt,
-            precision,
-            fly,
-            fast: core::marker::PhantomData,
+        let fast = precision == Precision::Fast;
+        let run = |blocks: &mut [Block<M>]| {
+            M::run_blocks(blocks, aircraft, shared, dt, arch, fast, fly);
         };
         if parallel {
-            fleet
-                .blocks
-                .par_chunks_mut(BLOCKS_PER_TASK)
-                .for_each(|blocks| dispatch(arch, op(blocks)));
+            fleet.blocks.par_chunks_mut(BLOCKS_PER_TASK).for_each(run);
         } else {
-            dispatch(arch, op(&mut fleet.blocks));
+            run(&mut fleet.blocks);
         }
     }
-}
 
-impl<M: LaneModel> KernelRun<M> {
     /// Runs the kernel over the blocks of `piece`, on this thread (the body
     /// of [`FleetKernel::run_kernel_piece`]): the same compiled kernel as
     /// [`KernelRun::apply`] over a fleet.
@@ -1162,17 +932,14 @@ impl<M: LaneModel> KernelRun<M> {
             fly,
             parallel: _,
         } = self;
-        dispatch(
+        M::run_blocks(
+            piece.blocks,
+            piece.aircraft,
+            piece.shared,
+            dt,
             arch,
-            StepBlocks::<M, ()> {
-                blocks: piece.blocks,
-                aircraft: piece.aircraft,
-                shared: piece.shared,
-                dt,
-                precision,
-                fly,
-                fast: core::marker::PhantomData,
-            },
+            precision == Precision::Fast,
+            fly,
         );
     }
 }
@@ -1190,46 +957,35 @@ impl<M: LaneModel> fmt::Debug for KernelRun<M> {
     }
 }
 
-/// A [`LaneModel`] a [`Fleet`] can step, and the crate its kernel is compiled
-/// in.
+/// A [`LaneModel`] a [`Fleet`] can step: every one, through this blanket
+/// implementation.
 ///
-/// A fleet's kernel is the model's whole step inlined into one copy per
-/// instruction set, maths and loop (twelve copies of Palmer's RK4 step on
-/// x86-64: three instruction sets, exact and fast, steps and whole frames).
-/// A generic function is compiled again in every crate that uses it for a
-/// given model (optimised builds do not share generic code between crates),
-/// so when the kernel was reached only through generic methods, `fdm-study`,
-/// `sim-cli` and the Python extension each compiled both models' kernels
-/// again: five to seven minutes each in a release build on two cores. A
-/// non-generic function is compiled once, in its own crate. So the kernel is
-/// reached through this trait's method: the models of `fdm-core` implement
-/// it in this crate (its private `compiled.rs`, which says what a blanket
-/// implementation costs), with the provided body; every other crate calls
-/// those compiled functions.
-///
-/// A third model needs only an empty implementation (the provided body,
-/// compiled in the crates that fly it):
-///
-/// ```ignore
-/// impl fdm_fleet::FleetKernel for Glider {}
-/// ```
+/// The kernel itself is [`LaneModel::run_blocks`], compiled in the model's
+/// own crate when the model writes out its provided body, as Palmer and
+/// Bourg do in `fdm-core` (`fdm_core::real::kernel` says why: a generic
+/// kernel would be compiled again in every crate that flies a fleet, since
+/// optimised builds do not share generic code between crates; measured, the
+/// release build of `sim-cli` took 9 min 03 s of CPU instead of 3 min
+/// 55 s). This crate's part (the runs of blocks on rayon's threads) is
+/// small and generic. A model outside `fdm-core` needs nothing more than
+/// its `LaneModel` implementation: the provided `run_blocks`, compiled in
+/// the crates that fly it.
 pub trait FleetKernel: LaneModel + Sized {
     /// Runs `run` over every block of `fleet`: the kernel, then (for whole
-    /// frames) each aircraft's flight status. An implementation that
-    /// overrides it has the provided body, `run.apply(fleet)`: overriding
-    /// only chooses the crate it is compiled in.
+    /// frames) each aircraft's flight status (`run.apply(fleet)`).
     fn run_kernel(fleet: &mut Fleet<Self>, run: KernelRun<Self>) {
         run.apply(fleet);
     }
 
     /// Runs `run` over the blocks of one piece of a fleet
-    /// ([`FleetPiece::fly_with`]), on this thread. As for
-    /// [`Self::run_kernel`], an override has the provided body,
-    /// `run.apply_to_piece(piece)`.
+    /// ([`FleetPiece::fly_with`]), on this thread
+    /// (`run.apply_to_piece(piece)`).
     fn run_kernel_piece(piece: &mut FleetPiece<'_, Self>, run: KernelRun<Self>) {
         run.apply_to_piece(piece);
     }
 }
+
+impl<M: LaneModel> FleetKernel for M {}
 
 #[cfg(test)]
 mod tests {

@@ -16,11 +16,11 @@
 //!   [`fleet`] module for each model's lanes and bytes per aircraft).
 //!
 //! A third model gets a fleet by implementing [`LaneModel`] (its step over
-//! the number type, and the moves of one aircraft in and out of a block) and,
-//! with an empty `impl`, [`FleetKernel`] (which crate compiles its kernel):
+//! the number type, and the moves of one aircraft in and out of a block):
 //! `fdm-ecs/examples/third_model.rs` flies a glider that way. The crate names
-//! no model but in its private list of the kernels it compiles once for
-//! every crate that flies them (`compiled.rs`, an optimisation only).
+//! no model: the kernel's block loop is `fdm_core::real::kernel`, compiled
+//! once for each of `fdm-core`'s models in `fdm-core` ([`FleetKernel`] says
+//! why).
 //!
 //! Every fleet keeps a [`FlightStatus`] per aircraft: its `fly` frames are
 //! [`fdm_core::model::fly`] per aircraft (ground contact, touchdown, crash,
@@ -34,7 +34,6 @@
 //! The per-entity ECS path (`fdm-ecs`) stays the one for mixed and interactive
 //! worlds; a fleet is for many aircraft of one type flown together.
 
-mod compiled;
 pub mod fleet;
 pub mod geodesy;
 

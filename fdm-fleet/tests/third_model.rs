@@ -1,9 +1,8 @@
-//! A model from outside this crate with the provided `fdm_fleet::FleetKernel` bodies:
-//! the glider `sim-cli glider` flies (its one model file, included here as
-//! the fdm-ecs example `third_model.rs` includes it), whose kernel is the
-//! empty implementation the trait's docs say a third model needs. Palmer and
-//! Bourg override both methods (to compile their kernels in this crate), so
-//! only such a model runs the provided bodies.
+//! A model from outside `fdm-core` with the provided `LaneModel::run_blocks`
+//! body: the glider `sim-cli glider` flies (its one model file, included here
+//! as the fdm-ecs example `third_model.rs` includes it), whose kernel is the
+//! provided one. Palmer and Bourg override it (to compile their kernels in
+//! `fdm-core`), so only such a model runs the provided body.
 //!
 //! Its fleet must do what the fleet's docs say of any model: every stepping
 //! method (on this thread, on rayon's pool, on the SSE2 baseline) gives each

@@ -127,19 +127,10 @@ fn above_fdm_core_only_the_registry_and_each_models_module_name_a_model() {
         "fdm-run/src/model/palmer.rs",
         "fdm-run/src/model/bourg.rs",
     ];
-    // The one exception, not yet removed: fdm-fleet compiles the two
-    // models' SIMD kernels once, in its private `compiled.rs` (one macro
-    // line). A blanket implementation would compile them again in every
-    // crate that flies a fleet (no generic code is shared between crates
-    // in release builds): measured, the release build of `sim-cli` took
-    // 9 min 03 s of CPU instead of 3 min 55 s. Neither fdm-core (which
-    // cannot see fdm-fleet) nor the run library (orphan rule) can hold the
-    // implementation; moving the kernel's block loop into fdm-core would.
-    let compiled_once = "fdm-fleet/src/compiled.rs";
     let naming = files_naming_a_model();
     let others: Vec<&String> = naming
         .iter()
-        .filter(|f| !allowed.contains(&f.as_str()) && f.as_str() != compiled_once)
+        .filter(|f| !allowed.contains(&f.as_str()))
         .collect();
     assert!(
         others.is_empty(),

@@ -127,6 +127,22 @@ impl LaneModel for Palmer {
     fn position_m(state: &PalmerState) -> Vector3<f64> {
         state.position_m
     }
+
+    /// The provided body, written out (and not inlined) so that this
+    /// model's fleet kernel is compiled once, in this crate
+    /// ([`crate::real::kernel`]).
+    #[cfg(feature = "std")]
+    fn run_blocks(
+        blocks: &mut [crate::real::kernel::Block<Self>],
+        aircraft: &Self::Aircraft,
+        shared: &Self::Shared,
+        dt: Self::TimeStep,
+        arch: pulp::Arch,
+        fast: bool,
+        fly: bool,
+    ) {
+        crate::real::kernel::run_blocks::<Self>(blocks, aircraft, shared, dt, arch, fast, fly);
+    }
 }
 
 #[cfg(test)]

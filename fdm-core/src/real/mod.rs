@@ -35,6 +35,8 @@
 //! branch not taken may compute a NaN (a division by zero) that the blend
 //! drops, which changes no kept value.
 
+#[cfg(feature = "std")]
+pub mod kernel;
 mod lanes;
 mod maths;
 
@@ -545,6 +547,26 @@ pub trait LaneModel: Model {
     /// `state`'s position in the model frame, metres (x north, y west, z up):
     /// the `position_m` of [`Model::view`], bit for bit.
     fn position_m(state: &Self::State) -> nalgebra::Vector3<f64>;
+
+    /// The fleet kernel over `blocks` on this thread: [`kernel::run_blocks`]
+    /// (the provided body; see there for `arch`, `fast` and `fly`). An
+    /// implementation that overrides it has the provided body, written out:
+    /// overriding only chooses the crate the kernel is compiled in (the
+    /// models of this crate override it so that their kernels are compiled
+    /// once, here, and not again in every crate that flies a fleet: see
+    /// [`kernel`]).
+    #[cfg(feature = "std")]
+    fn run_blocks(
+        blocks: &mut [kernel::Block<Self>],
+        aircraft: &Self::Aircraft,
+        shared: &Self::Shared,
+        dt: Self::TimeStep,
+        arch: pulp::Arch,
+        fast: bool,
+        fly: bool,
+    ) {
+        kernel::run_blocks::<Self>(blocks, aircraft, shared, dt, arch, fast, fly);
+    }
 }
 
 #[cfg(test)]

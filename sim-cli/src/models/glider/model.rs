@@ -10,7 +10,6 @@
 use fdm_core::geodesy::Attitude;
 use fdm_core::model::{FlightView, Model, ScriptAction};
 use fdm_core::real::{F64s, LaneMask, LaneModel, Maths, Real, V3};
-use fdm_fleet::FleetKernel;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -382,6 +381,3 @@ impl LaneModel for Glider {
         state.position_m
     }
 }
-
-/// The glider's fleet kernel: the provided one, compiled here.
-impl FleetKernel for Glider {}
