@@ -94,19 +94,24 @@ fn names_a_model(line: &str) -> bool {
 /// as paths relative to the workspace.
 fn files_naming_a_model() -> Vec<String> {
     let root = workspace();
-    // Every workspace crate but fdm-core itself and the test and bench
-    // support crates (`tests/`, `benches/`), whose code is not production.
-    let crates = [
-        "fdm-ecs",
-        "fdm-fleet",
-        "fgnet",
-        "fdm-dis",
-        "fdm-run",
-        "fdm-study",
-        "fdm-plot",
-        "sim-cli",
-        "afit-fdm-py",
-    ];
+    // Every workspace member (the root manifest's `members`) but fdm-core
+    // itself and the test and bench support crates (`tests/`, `benches/`),
+    // whose code is not production: a crate added later is checked too.
+    let manifest = fs::read_to_string(root.join("Cargo.toml")).expect("the root manifest");
+    let members = manifest
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("members = ["))
+        .and_then(|l| l.strip_suffix(']'))
+        .expect("a one-line `members = [...]` in the root Cargo.toml");
+    let crates: Vec<&str> = members
+        .split(',')
+        .map(|m| m.trim().trim_matches('"'))
+        .filter(|m| !["fdm-core", "tests", "benches"].contains(m))
+        .collect();
+    assert!(
+        crates.contains(&"sim-cli") && crates.contains(&"afit-fdm-py"),
+        "{crates:?}"
+    );
     let mut naming = Vec::new();
     for krate in crates {
         for file in rust_files(&root.join(krate).join("src")) {
