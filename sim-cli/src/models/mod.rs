@@ -22,12 +22,17 @@ use fdm_study::StudyModel;
 
 pub use fdm_run::model::pilot::tenths;
 
+// The own models' modules, declared here rather than by `own_models!` so that
+// `cargo fmt` (which does not follow modules declared inside a macro) formats
+// and checks them.
+#[cfg(feature = "glider")]
+pub mod glider;
+
 /// The registry of `sim-cli`'s own models: one line per model, its module
-/// (`models/<name>/`) and its model type, after the run library's models.
+/// (`models/<name>/`, declared above) and its model type, after the run
+/// library's models.
 macro_rules! own_models {
     ($($(#[$cfg:meta])* $module:ident :: $model:ident,)*) => {
-        $($(#[$cfg])* pub mod $module;)*
-
         /// The names of `sim-cli`'s own models, in registry order.
         const OWN: &[&str] = &[$($(#[$cfg])* <$module::$model as fdm_core::model::Model>::NAME,)*];
 
