@@ -42,7 +42,7 @@ pub const FLEET_BATCH: usize = 1024;
 
 /// A fleet's DIS output: a [`Tracker`] per aircraft, aircraft `i` at index
 /// `i`, published on the current rayon pool.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct FleetPublisher {
     trackers: Vec<Tracker>,
     /// The screen's copy of each tracker ([`FleetPublisher::publish_screened`]),
@@ -52,6 +52,13 @@ pub struct FleetPublisher {
     refs: Vec<ScreenLanes>,
     /// The piece size the blocks are laid out for ([`layout_for`]).
     layout: usize,
+}
+
+impl Default for FleetPublisher {
+    /// A publisher of no aircraft.
+    fn default() -> Self {
+        Self::new(Vec::new())
+    }
 }
 
 impl FleetPublisher {
@@ -690,6 +697,78 @@ mod tests {
             let b: Vec<_> = (0..n).map(|i| whole.counts(i).unwrap()).collect();
             assert_eq!(a, b, "pieces of {per}");
         }
+    }
+
+    /// The screen's blocks are laid out for the pieces asked for
+    /// (`FleetPublisher::lay_out`): a publisher cut into pieces of a
+    /// different size every frame (7, 1024, 5, 64, 1, …: blocks laid out
+    /// again each time, every aircraft's copy, stale flag and pending
+    /// count kept) publishes what one cut the same way every frame
+    /// publishes, aircraft by aircraft, with the same counts; and a
+    /// default publisher has no aircraft.
+    #[test]
+    fn pieces_of_changing_sizes_keep_the_screens_copies() {
+        const FRAMES: usize = 90;
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = Palmer::default_aircraft();
+        let thresholds = DrThresholds {
+            position_m: 0.3,
+            orientation_deg: 1.0,
+            heartbeat_s: 1.5,
+        };
+        let n = 150;
+        let (controls, start): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
+        let rough = |first: usize,
+                     input: &[Option<fdm_core::palmer::PalmerState>],
+                     out: &mut [Option<Rough>]| {
+            for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
+                *o = s.map(|s| {
+                    let v = Palmer::view(&aircraft, &controls[first + k], &s);
+                    Rough {
+                        time_s: v.time_s,
+                        position_m: v.position_m,
+                        velocity_mps: v.velocity_mps,
+                        body_to_ned: v.attitude.body_to_ned(),
+                    }
+                });
+            }
+        };
+        let view =
+            |i: usize, s: &fdm_core::palmer::PalmerState| Palmer::view(&aircraft, &controls[i], s);
+        let trackers: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
+        let mut fixed = FleetPublisher::new(trackers.clone());
+        let mut changing = FleetPublisher::new(trackers);
+        let (mut last_fixed, mut last_changing) = (Vec::new(), Vec::new());
+        let mut states = start;
+        let mut quiet = 0;
+        for frame in 0..FRAMES {
+            for (s, c) in states.iter_mut().zip(&controls) {
+                *s = Palmer::step(&aircraft, c, s, 1.0 / 30.0);
+            }
+            let offered = |i: usize| (i % 7 != 3 || frame % 4 != 1).then(|| states[i]);
+            let frame_of = |publisher: &mut FleetPublisher, last: &mut Vec<_>, per: usize| {
+                let got = std::sync::Mutex::new(Vec::new());
+                for mut piece in publisher.screened_pieces(&placement, last, per) {
+                    let first = piece.first();
+                    let input: Vec<_> = (first..first + piece.len()).map(offered).collect();
+                    piece.run(&input, rough, view, keep(&got));
+                }
+                let mut got = got.into_inner().unwrap();
+                got.sort_by_key(|(i, _)| *i);
+                got
+            };
+            let want = frame_of(&mut fixed, &mut last_fixed, 7);
+            let per = [7, FLEET_BATCH, 5, 64, 1, 8, 150][frame % 7];
+            let got = frame_of(&mut changing, &mut last_changing, per);
+            assert_eq!(got, want, "frame {frame}, pieces of {per}");
+            quiet += n - want.len();
+        }
+        let a: Vec<_> = (0..n).map(|i| changing.counts(i).unwrap()).collect();
+        let b: Vec<_> = (0..n).map(|i| fixed.counts(i).unwrap()).collect();
+        assert_eq!(a, b);
+        assert!(quiet > n * FRAMES / 2, "{quiet}");
+        let none = FleetPublisher::default();
+        assert!(none.is_empty() && none.counts(0).is_none());
     }
 
     /// Frames far shorter than the tracker's lazy-rates bound (a clock
