@@ -512,3 +512,101 @@ fn palmer_rough_lanes_is_palmer_rough() {
         }
     }
 }
+
+/// Bourg's rough frames made lane by lane (`bourg_rough_lanes`, the Euler
+/// angles' `atan2`s eight at a time, what the fleet's screen runs through
+/// `FleetModel::dis_rough_lanes`) are `bourg_rough`'s, bit for bit in every
+/// field, and `None` exactly where it makes none: random orientations
+/// (normalised or off by up to 4e-6), banked, inverted, near and at the
+/// vertical (the Euler angles' gimbal-lock branch, which each lane takes on
+/// its own), states that are not finite and aircraft without a state, in
+/// groups of eight and shorter.
+#[test]
+fn bourg_rough_lanes_is_bourg_rough() {
+    let mut x: u64 = 0x5eed_b0b0_1234_abcd;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut orientations: Vec<Quaternion<f32>> = Vec::new();
+    for k in 0..12_000 {
+        let q = Quaternion::new(next() as f32, next() as f32, next() as f32, next() as f32);
+        let n = q.norm();
+        let scale = if k % 2 == 0 {
+            1.0
+        } else {
+            1.0 + 4e-6 * next() as f32
+        };
+        orientations.push(Quaternion::from_vector(q.coords.map(|c| c / n * scale)));
+    }
+    for k in 0..4_000 {
+        let pitch = match k % 4 {
+            0 => 90.0 - 10f64.powi(-(k % 9)) * next().abs(),
+            1 => -90.0 + 10f64.powi(-(k % 9)) * next().abs(),
+            2 => 89.0 * next(),
+            _ => 90.0 * next().signum(),
+        };
+        let euler = nalgebra::Vector3::new(180.0 * next(), pitch, 180.0 * next()).map(|c| c as f32);
+        orientations.push(ops::quat_from_euler_deg(&euler));
+    }
+    let states: Vec<Option<BourgState>> = orientations
+        .iter()
+        .enumerate()
+        .map(|(i, q)| {
+            (i % 13 != 5).then(|| {
+                let mut s = BourgState::initial();
+                s.time_s = i as f64 / 30.0;
+                s.position_ft =
+                    nalgebra::Vector3::new(i as f32 * 1.7, -3.3, 2000.0 + next() as f32);
+                s.velocity_ftps =
+                    nalgebra::Vector3::new(next(), next(), next()).map(|c| (c * 300.0) as f32);
+                s.orientation = *q;
+                match i % 101 {
+                    7 => s.position_ft.x = f32::NAN,
+                    8 => s.angular_velocity_radps.y = f32::INFINITY,
+                    9 => s.orientation.coords.z = f32::NAN,
+                    _ => {}
+                }
+                s
+            })
+        })
+        .collect();
+    let bits = |r: &Rough| {
+        let mut b = vec![r.time_s.to_bits()];
+        b.extend(r.position_m.iter().map(|x| x.to_bits()));
+        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
+        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
+        b
+    };
+    let mut want = vec![None; states.len()];
+    bourg_rough(&states, &mut want);
+    let (mut made, mut none) = (0, 0);
+    for (g, group) in states.chunks(fdm_dis::ROUGH_LANES).enumerate() {
+        let at = g * fdm_dis::ROUGH_LANES;
+        let mut lanes = fdm_dis::RoughLanes::default();
+        Bourg::dis_rough_lanes(at, group, &mut lanes);
+        for k in 0..fdm_dis::ROUGH_LANES {
+            let want = want.get(at + k).copied().flatten();
+            match (lanes.get(k), want) {
+                (Some(g), Some(w)) => {
+                    assert_eq!(bits(&g), bits(&w), "aircraft {}", at + k);
+                    made += 1;
+                }
+                (None, None) => none += 1,
+                (got, want) => panic!("aircraft {}: {got:?} against {want:?}", at + k),
+            }
+        }
+    }
+    let mut lanes = fdm_dis::RoughLanes::default();
+    Bourg::dis_rough_lanes(3, &states[3..6], &mut lanes);
+    for k in 0..3 {
+        assert_eq!(
+            lanes.get(k).map(|r| bits(&r)),
+            want[3 + k].map(|r| bits(&r))
+        );
+    }
+    assert!((3..8).all(|k| !lanes.ok[k]));
+    assert!(made > 14_000 && none > 1_000, "{made} made, {none} none");
+}
