@@ -8,12 +8,32 @@
 //! either way.
 
 use fdm_core::model::FlightView;
+use pulp::{Simd, WithSimd};
 use rayon::prelude::*;
 
 use crate::error::DisOutputError;
 use crate::publisher::{Due, PublisherCounts, UdpSender};
-use crate::screen::{Frame as ScreenFrame, ScreenRef};
+use crate::screen::{
+    Frame as ScreenFrame, RoughFrames, RoughLanes, ScreenLanes, ScreenRef, ROUGH_LANES,
+};
 use crate::tracker::{Placement, Rough, Tally, Tracker};
+
+/// Where aircraft `i`'s copy is in the screen's blocks laid out for pieces
+/// of `layout` aircraft (see `FleetPublisher::refs`): its block and lane.
+const fn slot(i: usize, layout: usize) -> (usize, usize) {
+    let k = (i / layout) * layout.div_ceil(ROUGH_LANES) * ROUGH_LANES + i % layout;
+    (k / ROUGH_LANES, k % ROUGH_LANES)
+}
+
+/// The layout of the screen's blocks for pieces of `piece` aircraft: any
+/// whole number of blocks a piece is the fleet's order, eight to a block.
+const fn layout_for(piece: usize) -> usize {
+    if piece.is_multiple_of(ROUGH_LANES) {
+        ROUGH_LANES
+    } else {
+        piece
+    }
+}
 
 /// Aircraft per rayon task of [`FleetPublisher::publish`]: large enough that
 /// a task's overhead vanishes next to its aircraft, small enough that two
@@ -22,11 +42,23 @@ pub const FLEET_BATCH: usize = 1024;
 
 /// A fleet's DIS output: a [`Tracker`] per aircraft, aircraft `i` at index
 /// `i`, published on the current rayon pool.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct FleetPublisher {
     trackers: Vec<Tracker>,
-    /// The screen's copy of each tracker ([`FleetPublisher::publish_screened`]).
-    refs: Vec<ScreenRef>,
+    /// The screen's copy of each tracker ([`FleetPublisher::publish_screened`]),
+    /// [`ROUGH_LANES`] to a block, laid out so that each piece of `layout`
+    /// aircraft ([`FleetPublisher::screened_pieces`]) has whole blocks of
+    /// its own: aircraft `i` at [`slot`]`(i, layout)`.
+    refs: Vec<ScreenLanes>,
+    /// The piece size the blocks are laid out for ([`layout_for`]).
+    layout: usize,
+}
+
+impl Default for FleetPublisher {
+    /// A publisher of no aircraft.
+    fn default() -> Self {
+        Self::new(Vec::new())
+    }
 }
 
 impl FleetPublisher {
@@ -36,6 +68,7 @@ impl FleetPublisher {
         Self {
             trackers,
             refs: Vec::new(),
+            layout: ROUGH_LANES,
         }
     }
 
@@ -162,7 +195,8 @@ impl FleetPublisher {
     ) -> Vec<ScreenedPiece<'a, S>> {
         let n = self.trackers.len();
         last.resize(n, None);
-        self.refs.resize(n, ScreenRef::default());
+        let per = piece.max(1);
+        self.lay_out(layout_for(per));
         // The thresholds screened for: the first tracker's (a fleet's are
         // one setting; a tracker with others is never cleared).
         let thresholds = self
@@ -170,10 +204,9 @@ impl FleetPublisher {
             .first()
             .map(|t| t.publisher.reckoner().thresholds());
         let frame = ScreenFrame::new(placement, thresholds);
-        let per = piece.max(1);
         self.trackers
             .chunks_mut(per)
-            .zip(self.refs.chunks_mut(per))
+            .zip(self.refs.chunks_mut(per.div_ceil(ROUGH_LANES)))
             .zip(last.chunks_mut(per))
             .enumerate()
             .map(|(c, ((trackers, refs), last))| ScreenedPiece {
@@ -192,8 +225,30 @@ impl FleetPublisher {
     #[must_use]
     pub fn counts(&self, i: usize) -> Option<PublisherCounts> {
         let mut counts = self.trackers.get(i)?.counts();
-        counts.frames += self.refs.get(i).map_or(0, |r| r.pending);
+        let (b, k) = slot(i, self.layout);
+        counts.frames += self.refs.get(b).map_or(0, |r| r.pending[k]);
         Some(counts)
+    }
+
+    /// Lays the screen's blocks out for pieces of `layout` aircraft
+    /// ([`layout_for`]), one block more for each piece's partial block,
+    /// keeping every aircraft's copy.
+    fn lay_out(&mut self, layout: usize) {
+        let n = self.trackers.len();
+        let blocks = n.div_ceil(layout) * layout.div_ceil(ROUGH_LANES);
+        if layout == self.layout && self.refs.len() == blocks {
+            return;
+        }
+        let mut refs = vec![ScreenLanes::default(); blocks];
+        if !self.refs.is_empty() {
+            for i in 0..n {
+                let (b, k) = slot(i, self.layout);
+                let (nb, nk) = slot(i, layout);
+                refs[nb].set(nk, &self.refs[b].get(k));
+            }
+        }
+        self.refs = refs;
+        self.layout = layout;
     }
 }
 
@@ -204,7 +259,9 @@ pub struct ScreenedPiece<'a, S> {
     /// The fleet index of the piece's first aircraft.
     first: usize,
     trackers: &'a mut [Tracker],
-    refs: &'a mut [ScreenRef],
+    /// The piece's blocks of the screen's copies: aircraft `first + k` at
+    /// block `k / ROUGH_LANES`, lane `k % ROUGH_LANES`.
+    refs: &'a mut [ScreenLanes],
     last: &'a mut [Option<S>],
     placement: &'a Placement,
     frame: ScreenFrame,
@@ -247,8 +304,32 @@ impl<S: Copy> ScreenedPiece<'_, S> {
         })
     }
 
+    /// [`ScreenedPiece::publish`] with the rough frames made
+    /// [`ROUGH_LANES`] aircraft at a time, field by field, by `rough`
+    /// ([`RoughFrames`]: `out.ok[k]` false where an aircraft has no rough
+    /// frame or the model cannot make one). The screen
+    /// then reads the lanes as they are, eight aircraft per instruction,
+    /// without a [`Rough`] per aircraft. The same PDUs, bytes, counts and
+    /// errors as [`ScreenedPiece::publish`] with the same rough frames.
+    ///
+    /// The piece runs with the widest instruction set pulp finds on this
+    /// CPU (as the fleets' kernels do); `rough`, when the compiler inlines
+    /// it (see [`RoughFrames`]), is compiled with it too.
+    pub fn publish_lanes(
+        &mut self,
+        sender: &UdpSender,
+        states: &[Option<S>],
+        rough: impl RoughFrames<S>,
+        view: impl Fn(usize, &S) -> FlightView,
+    ) -> Tally {
+        self.run_lanes(states, rough, view, |tally, _, due| {
+            tally.publish(sender, due);
+        })
+    }
+
     /// [`ScreenedPiece::publish`] handing each exact update's result to
-    /// `send`.
+    /// `send`: the rough frames of the whole piece made by `rough`, then
+    /// screened eight at a time ([`ScreenedPiece::run_lanes`]).
     fn run(
         &mut self,
         states: &[Option<S>],
@@ -256,37 +337,126 @@ impl<S: Copy> ScreenedPiece<'_, S> {
         view: impl Fn(usize, &S) -> FlightView,
         send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>),
     ) -> Tally {
+        let first = self.first;
+        let states = &states[..states.len().min(self.trackers.len())];
+        let mut roughs = vec![None; states.len()];
+        rough(first, states, &mut roughs);
+        self.run_lanes(
+            states,
+            |at: usize, group: &[Option<S>], out: &mut RoughLanes| {
+                let k0 = at - first;
+                for (k, r) in roughs[k0..k0 + group.len()].iter().enumerate() {
+                    out.set(k, r.as_ref());
+                }
+            },
+            view,
+            send,
+        )
+    }
+
+    /// [`ScreenedPiece::publish_lanes`] handing each exact update's result
+    /// to `send`, with pulp's widest instruction set ([`PieceRun`]).
+    fn run_lanes(
+        &mut self,
+        states: &[Option<S>],
+        rough: impl RoughFrames<S>,
+        view: impl Fn(usize, &S) -> FlightView,
+        send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>),
+    ) -> Tally {
+        pulp::Arch::new().dispatch(PieceRun {
+            piece: self,
+            states,
+            rough,
+            view,
+            send,
+        })
+    }
+
+    /// The piece's frame, [`ROUGH_LANES`] aircraft at a time: their rough
+    /// frames, the screen's decision for all of them at once, the cleared
+    /// ones taken together, the others through the exact path one by one
+    /// (as before the screen: their last cleared frame placed exactly, then
+    /// [`Tracker::update`], then the screen's copy refreshed), and each
+    /// aircraft's input kept for its next exact update. Always inlined
+    /// into [`PieceRun`]'s instruction set.
+    #[inline(always)]
+    fn run_groups(
+        &mut self,
+        states: &[Option<S>],
+        mut rough: impl RoughFrames<S>,
+        view: impl Fn(usize, &S) -> FlightView,
+        send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>),
+    ) -> Tally {
         let (first, placement, frame) = (self.first, self.placement, &self.frame);
         let states = &states[..states.len().min(self.trackers.len())];
         let mut tally = Tally::default();
-        let mut roughs = vec![None; states.len()];
-        rough(first, states, &mut roughs);
-        for (k, (((tracker, screen), last), s)) in self
-            .trackers
-            .iter_mut()
+        let mut lanes = RoughLanes::default();
+        for (g, ((group, refs), (trackers, last))) in states
+            .chunks(ROUGH_LANES)
             .zip(self.refs.iter_mut())
-            .zip(self.last.iter_mut())
-            .zip(states)
+            .zip(
+                self.trackers
+                    .chunks_mut(ROUGH_LANES)
+                    .zip(self.last.chunks_mut(ROUGH_LANES)),
+            )
             .enumerate()
         {
-            let Some(s) = s else { continue };
-            if let Some(r) = roughs[k].as_ref().filter(|r| screen.quiet(r, frame)) {
-                screen.cleared(r.time_s);
-            } else {
-                let i = first + k;
-                if screen.stale {
-                    match last {
-                        Some(l) => tracker.restore_previous(&view(i, l), placement, screen.pending),
-                        // Not reached: a cleared frame's input is kept.
-                        None => tracker.publisher.count_quiet_frames(screen.pending),
-                    }
-                }
-                send(&mut tally, i, tracker.update(&view(i, s), placement));
-                *screen = ScreenRef::refresh(tracker, placement, frame);
+            let at = first + g * ROUGH_LANES;
+            lanes.ok = [false; ROUGH_LANES];
+            rough.rough_lanes(at, group, &mut lanes);
+            let quiet = refs.quiet_lanes(&lanes, frame);
+            let mut cleared = [false; ROUGH_LANES];
+            for (k, s) in group.iter().enumerate() {
+                cleared[k] = quiet[k] & s.is_some();
             }
-            *last = Some(*s);
+            refs.cleared(&cleared, &lanes.time_s);
+            for (k, ((s, tracker), last)) in group.iter().zip(trackers).zip(last).enumerate() {
+                let Some(s) = s else { continue };
+                if !cleared[k] {
+                    let i = at + k;
+                    if refs.stale[k] {
+                        let pending = refs.pending[k];
+                        match last {
+                            Some(l) => tracker.restore_previous(&view(i, l), placement, pending),
+                            // Not reached: a cleared frame's input is kept.
+                            None => tracker.publisher.count_quiet_frames(pending),
+                        }
+                    }
+                    send(&mut tally, i, tracker.update(&view(i, s), placement));
+                    refs.set(k, &ScreenRef::refresh(tracker, placement, frame));
+                }
+                *last = Some(*s);
+            }
         }
         tally
+    }
+}
+
+/// One piece's frame ([`ScreenedPiece::run_groups`]) as a pulp operation,
+/// run by [`pulp::Arch::dispatch`] with the widest instruction set the CPU
+/// has (AVX-512 on x86-64-v4), as the fleets' kernels are: the screen's
+/// lanes then fill vector registers.
+struct PieceRun<'p, 'a, S, R, V, F> {
+    piece: &'p mut ScreenedPiece<'a, S>,
+    states: &'p [Option<S>],
+    rough: R,
+    view: V,
+    send: F,
+}
+
+impl<S, R, V, F> WithSimd for PieceRun<'_, '_, S, R, V, F>
+where
+    S: Copy,
+    R: RoughFrames<S>,
+    V: Fn(usize, &S) -> FlightView,
+    F: Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>),
+{
+    type Output = Tally;
+
+    #[inline(always)]
+    fn with_simd<Sd: Simd>(self, _simd: Sd) -> Tally {
+        self.piece
+            .run_groups(self.states, self.rough, self.view, self.send)
     }
 }
 
@@ -527,6 +697,78 @@ mod tests {
             let b: Vec<_> = (0..n).map(|i| whole.counts(i).unwrap()).collect();
             assert_eq!(a, b, "pieces of {per}");
         }
+    }
+
+    /// The screen's blocks are laid out for the pieces asked for
+    /// (`FleetPublisher::lay_out`): a publisher cut into pieces of a
+    /// different size every frame (7, 1024, 5, 64, 1, …: blocks laid out
+    /// again each time, every aircraft's copy, stale flag and pending
+    /// count kept) publishes what one cut the same way every frame
+    /// publishes, aircraft by aircraft, with the same counts; and a
+    /// default publisher has no aircraft.
+    #[test]
+    fn pieces_of_changing_sizes_keep_the_screens_copies() {
+        const FRAMES: usize = 90;
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = Palmer::default_aircraft();
+        let thresholds = DrThresholds {
+            position_m: 0.3,
+            orientation_deg: 1.0,
+            heartbeat_s: 1.5,
+        };
+        let n = 150;
+        let (controls, start): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
+        let rough = |first: usize,
+                     input: &[Option<fdm_core::palmer::PalmerState>],
+                     out: &mut [Option<Rough>]| {
+            for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
+                *o = s.map(|s| {
+                    let v = Palmer::view(&aircraft, &controls[first + k], &s);
+                    Rough {
+                        time_s: v.time_s,
+                        position_m: v.position_m,
+                        velocity_mps: v.velocity_mps,
+                        body_to_ned: v.attitude.body_to_ned(),
+                    }
+                });
+            }
+        };
+        let view =
+            |i: usize, s: &fdm_core::palmer::PalmerState| Palmer::view(&aircraft, &controls[i], s);
+        let trackers: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
+        let mut fixed = FleetPublisher::new(trackers.clone());
+        let mut changing = FleetPublisher::new(trackers);
+        let (mut last_fixed, mut last_changing) = (Vec::new(), Vec::new());
+        let mut states = start;
+        let mut quiet = 0;
+        for frame in 0..FRAMES {
+            for (s, c) in states.iter_mut().zip(&controls) {
+                *s = Palmer::step(&aircraft, c, s, 1.0 / 30.0);
+            }
+            let offered = |i: usize| (i % 7 != 3 || frame % 4 != 1).then(|| states[i]);
+            let frame_of = |publisher: &mut FleetPublisher, last: &mut Vec<_>, per: usize| {
+                let got = std::sync::Mutex::new(Vec::new());
+                for mut piece in publisher.screened_pieces(&placement, last, per) {
+                    let first = piece.first();
+                    let input: Vec<_> = (first..first + piece.len()).map(offered).collect();
+                    piece.run(&input, rough, view, keep(&got));
+                }
+                let mut got = got.into_inner().unwrap();
+                got.sort_by_key(|(i, _)| *i);
+                got
+            };
+            let want = frame_of(&mut fixed, &mut last_fixed, 7);
+            let per = [7, FLEET_BATCH, 5, 64, 1, 8, 150][frame % 7];
+            let got = frame_of(&mut changing, &mut last_changing, per);
+            assert_eq!(got, want, "frame {frame}, pieces of {per}");
+            quiet += n - want.len();
+        }
+        let a: Vec<_> = (0..n).map(|i| changing.counts(i).unwrap()).collect();
+        let b: Vec<_> = (0..n).map(|i| fixed.counts(i).unwrap()).collect();
+        assert_eq!(a, b);
+        assert!(quiet > n * FRAMES / 2, "{quiet}");
+        let none = FleetPublisher::default();
+        assert!(none.is_empty() && none.counts(0).is_none());
     }
 
     /// Frames far shorter than the tracker's lazy-rates bound (a clock

@@ -170,7 +170,7 @@ pub use frames::{
 };
 pub use listener::{decode_datagram, DecodeError, EntityRecord, Listener, ListenerStats};
 pub use publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
-pub use screen::ROUGH_TOLERANCE;
+pub use screen::{RoughFrames, RoughLanes, ROUGH_LANES, ROUGH_TOLERANCE};
 pub use tracker::{rotation_vector, Placed, Placement, ReasonCounts, Rough, Tally, Tracker};
 
 /// The dis-rs crate, for its enumerations (`ForceId`, `Country`, …) and PDU

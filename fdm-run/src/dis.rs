@@ -612,6 +612,25 @@ impl<M: Model> Output<M> for DisOutput {
     }
 }
 
+/// Model `M`'s [`FleetModel::dis_rough_lanes`] as the fleet screen's
+/// [`fdm_dis::RoughFrames`]: always inlined, so that a model's lanes
+/// (Palmer's) are compiled into the screen's loop with its instruction set
+/// (a closure or the function passed by name was called out of line, in the
+/// baseline instruction set).
+struct ModelRough<M>(core::marker::PhantomData<M>);
+
+impl<M: FleetModel> fdm_dis::RoughFrames<M::State> for ModelRough<M> {
+    #[inline(always)]
+    fn rough_lanes(
+        &mut self,
+        first: usize,
+        states: &[Option<M::State>],
+        out: &mut fdm_dis::RoughLanes,
+    ) {
+        M::dis_rough_lanes(first, states, out);
+    }
+}
+
 /// A fleet's DIS output: a [`Tracker`] per aircraft (an ECS component of
 /// each aircraft's entity, or for a lanes kernel a [`FleetPublisher`] beside
 /// the fleet's arrays), one socket.
@@ -750,8 +769,11 @@ impl FleetDis {
     /// [`fdm_fleet::LaneFleet::par_fly_then`]), and each piece, on the thread
     /// of the current rayon pool that has just flown it and while its
     /// aircraft are in that core's cache, is published as
-    /// [`FleetDis::publish_lanes`] publishes it ([`fdm_dis::ScreenedPiece`]):
-    /// the same PDUs, bytes, counts and per-aircraft order of datagrams. A
+    /// [`FleetDis::publish_lanes`] publishes it
+    /// ([`fdm_dis::ScreenedPiece::publish_lanes`], the model's rough frames
+    /// made eight at a time by [`FleetModel::dis_rough_lanes`] and screened
+    /// as they are made): the same PDUs, bytes, counts and per-aircraft
+    /// order of datagrams. A
     /// diverged aircraft is not sent.
     ///
     /// Returns the wall-clock seconds of the frame's steps; the rest of the
@@ -786,10 +808,10 @@ impl FleetDis {
                     *s = None;
                 }
             }
-            let tally = piece.publish(
+            let tally = piece.publish_lanes(
                 sender,
                 flown.states,
-                |first, states, out| M::dis_rough(first, states, out),
+                ModelRough::<M>(core::marker::PhantomData),
                 |i, s| {
                     let (controls, _) = M::fleet_member(i);
                     M::view(&aircraft, &controls, s)

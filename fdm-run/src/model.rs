@@ -175,6 +175,29 @@ pub trait FleetModel: RunModel {
     fn dis_rough(first: usize, states: &[Option<Self::State>], out: &mut [Option<fdm_dis::Rough>]) {
         let _ = (first, states, out);
     }
+
+    /// DIS (feature `dis`): [`FleetModel::dis_rough`] for up to
+    /// [`fdm_dis::ROUGH_LANES`] aircraft (`first..first + states.len()`),
+    /// into the lanes of `out` (every `ok` false on entry), as the fleet
+    /// publisher's screen reads them
+    /// ([`fdm_dis::ScreenedPiece::publish_lanes`]): the same rough frames,
+    /// bit for bit. The default makes them with [`FleetModel::dis_rough`]
+    /// and puts them in the lanes; a model can make them lane by lane
+    /// instead, without a [`fdm_dis::Rough`] per aircraft (Palmer's does).
+    #[cfg(feature = "dis")]
+    #[inline]
+    fn dis_rough_lanes(
+        first: usize,
+        states: &[Option<Self::State>],
+        out: &mut fdm_dis::RoughLanes,
+    ) {
+        let n = states.len().min(fdm_dis::ROUGH_LANES);
+        let mut roughs = [None; fdm_dis::ROUGH_LANES];
+        Self::dis_rough(first, &states[..n], &mut roughs[..n]);
+        for (k, r) in roughs[..n].iter().enumerate() {
+            out.set(k, r.as_ref());
+        }
+    }
 }
 
 /// A model's controls and physical parameters by name, as a study file

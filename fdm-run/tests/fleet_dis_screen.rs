@@ -399,3 +399,214 @@ fn bourg_rough_is_the_views_frame() {
     bourg_rough(&[None], &mut out);
     assert!(out[0].is_none());
 }
+
+/// Palmer's rough frames made lane by lane (`palmer_rough_lanes`, what the
+/// fleet's screen runs, through `FleetModel::dis_rough_lanes`) are
+/// `palmer_rough`'s, bit for bit, in every field, and `None` exactly where
+/// `palmer_rough` makes none: velocities in every direction, near the
+/// vertical, at and past the range's limits, zero, not finite, aircraft
+/// without a state, groups of fewer than eight, at several fleet indices
+/// (so every control of the demonstration fleet). Bourg's default lanes
+/// (its `bourg_rough` put in the lanes) likewise.
+#[test]
+fn palmer_rough_lanes_is_palmer_rough() {
+    let mut x: u64 = 0x0bad_cafe_1234_5678;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut velocities: Vec<Vector3<f64>> = (0..20_000)
+        .map(|_| Vector3::new(next(), next(), next()) * 80.0)
+        .collect();
+    for k in 0..2_000 {
+        let small = 10f64.powi(-(k % 12)) * next();
+        velocities.push(Vector3::new(small, small * next(), 50.0 * next().signum()));
+    }
+    for m in [1e-99, 1e-100, 2e-100, 1e-101, 1e99, 1e100, 5e99, 1e101] {
+        velocities.push(Vector3::new(m, -m, m));
+        velocities.push(Vector3::new(m, 0.0, 0.0));
+        velocities.push(Vector3::new(0.0, -m, 0.0));
+        velocities.push(Vector3::new(0.0, 0.0, m));
+    }
+    for v in [
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(-0.0, 0.0, -0.0),
+        Vector3::new(f64::NAN, 1.0, 0.0),
+        Vector3::new(40.0, f64::INFINITY, 0.0),
+        Vector3::new(40.0, 1.0, f64::NEG_INFINITY),
+        Vector3::new(0.0, 0.0, -30.0),
+    ] {
+        velocities.push(v);
+    }
+    let states: Vec<Option<PalmerState>> = velocities
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            (i % 17 != 3).then(|| PalmerState {
+                time_s: i as f64 * 0.25,
+                position_m: Vector3::new(i as f64, -3.0, 400.0 + next()),
+                velocity_mps: *v,
+            })
+        })
+        .collect();
+    let bits = |r: &Rough| {
+        let mut b = vec![r.time_s.to_bits()];
+        b.extend(r.position_m.iter().map(|x| x.to_bits()));
+        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
+        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
+        b
+    };
+    let (mut made, mut none) = (0, 0);
+    for first in [0usize, 3, 1000, 123_457] {
+        let mut want = vec![None; states.len()];
+        palmer_rough(first, &states, &mut want);
+        // Groups of eight, and a last group of fewer.
+        for (g, group) in states.chunks(fdm_dis::ROUGH_LANES).enumerate() {
+            let at = g * fdm_dis::ROUGH_LANES;
+            let mut lanes = fdm_dis::RoughLanes::default();
+            Palmer::dis_rough_lanes(first + at, group, &mut lanes);
+            for k in 0..fdm_dis::ROUGH_LANES {
+                let got = lanes.get(k);
+                let want = want.get(at + k).copied().flatten();
+                match (&got, &want) {
+                    (Some(g), Some(w)) => {
+                        assert_eq!(bits(g), bits(w), "aircraft {}", first + at + k);
+                        made += 1;
+                    }
+                    (None, None) => none += 1,
+                    _ => panic!("aircraft {}: {got:?} against {want:?}", first + at + k),
+                }
+            }
+        }
+        // A short group on its own.
+        let mut lanes = fdm_dis::RoughLanes::default();
+        Palmer::dis_rough_lanes(first + 8, &states[8..11], &mut lanes);
+        for k in 0..3 {
+            assert_eq!(
+                lanes.get(k).map(|r| bits(&r)),
+                want[8 + k].map(|r| bits(&r))
+            );
+        }
+        assert!((3..8).all(|k| !lanes.ok[k]));
+    }
+    assert!(made > 80_000 && none > 5_000, "{made} made, {none} none");
+
+    // Bourg's lanes: its rough frames as they are.
+    let bourg: Vec<Option<BourgState>> = (0..21)
+        .map(|i| (i % 5 != 1).then(|| Bourg::fleet_member(i).1))
+        .collect();
+    let mut want = vec![None; bourg.len()];
+    bourg_rough(&bourg, &mut want);
+    for (g, group) in bourg.chunks(fdm_dis::ROUGH_LANES).enumerate() {
+        let mut lanes = fdm_dis::RoughLanes::default();
+        Bourg::dis_rough_lanes(g * 8, group, &mut lanes);
+        for k in 0..group.len() {
+            assert_eq!(
+                lanes.get(k),
+                want[g * 8 + k],
+                "Bourg aircraft {}",
+                g * 8 + k
+            );
+        }
+    }
+}
+
+/// Bourg's rough frames made lane by lane (`bourg_rough_lanes`, the Euler
+/// angles' `atan2`s eight at a time, what the fleet's screen runs through
+/// `FleetModel::dis_rough_lanes`) are `bourg_rough`'s, bit for bit in every
+/// field, and `None` exactly where it makes none: random orientations
+/// (normalised or off by up to 4e-6), banked, inverted, near and at the
+/// vertical (the Euler angles' gimbal-lock branch, which each lane takes on
+/// its own), states that are not finite and aircraft without a state, in
+/// groups of eight and shorter.
+#[test]
+fn bourg_rough_lanes_is_bourg_rough() {
+    let mut x: u64 = 0x5eed_b0b0_1234_abcd;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut orientations: Vec<Quaternion<f32>> = Vec::new();
+    for k in 0..12_000 {
+        let q = Quaternion::new(next() as f32, next() as f32, next() as f32, next() as f32);
+        let n = q.norm();
+        let scale = if k % 2 == 0 {
+            1.0
+        } else {
+            1.0 + 4e-6 * next() as f32
+        };
+        orientations.push(Quaternion::from_vector(q.coords.map(|c| c / n * scale)));
+    }
+    for k in 0..4_000 {
+        let pitch = match k % 4 {
+            0 => 90.0 - 10f64.powi(-(k % 9)) * next().abs(),
+            1 => -90.0 + 10f64.powi(-(k % 9)) * next().abs(),
+            2 => 89.0 * next(),
+            _ => 90.0 * next().signum(),
+        };
+        let euler = nalgebra::Vector3::new(180.0 * next(), pitch, 180.0 * next()).map(|c| c as f32);
+        orientations.push(ops::quat_from_euler_deg(&euler));
+    }
+    let states: Vec<Option<BourgState>> = orientations
+        .iter()
+        .enumerate()
+        .map(|(i, q)| {
+            (i % 13 != 5).then(|| {
+                let mut s = BourgState::initial();
+                s.time_s = i as f64 / 30.0;
+                s.position_ft =
+                    nalgebra::Vector3::new(i as f32 * 1.7, -3.3, 2000.0 + next() as f32);
+                s.velocity_ftps =
+                    nalgebra::Vector3::new(next(), next(), next()).map(|c| (c * 300.0) as f32);
+                s.orientation = *q;
+                match i % 101 {
+                    7 => s.position_ft.x = f32::NAN,
+                    8 => s.angular_velocity_radps.y = f32::INFINITY,
+                    9 => s.orientation.coords.z = f32::NAN,
+                    _ => {}
+                }
+                s
+            })
+        })
+        .collect();
+    let bits = |r: &Rough| {
+        let mut b = vec![r.time_s.to_bits()];
+        b.extend(r.position_m.iter().map(|x| x.to_bits()));
+        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
+        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
+        b
+    };
+    let mut want = vec![None; states.len()];
+    bourg_rough(&states, &mut want);
+    let (mut made, mut none) = (0, 0);
+    for (g, group) in states.chunks(fdm_dis::ROUGH_LANES).enumerate() {
+        let at = g * fdm_dis::ROUGH_LANES;
+        let mut lanes = fdm_dis::RoughLanes::default();
+        Bourg::dis_rough_lanes(at, group, &mut lanes);
+        for k in 0..fdm_dis::ROUGH_LANES {
+            let want = want.get(at + k).copied().flatten();
+            match (lanes.get(k), want) {
+                (Some(g), Some(w)) => {
+                    assert_eq!(bits(&g), bits(&w), "aircraft {}", at + k);
+                    made += 1;
+                }
+                (None, None) => none += 1,
+                (got, want) => panic!("aircraft {}: {got:?} against {want:?}", at + k),
+            }
+        }
+    }
+    let mut lanes = fdm_dis::RoughLanes::default();
+    Bourg::dis_rough_lanes(3, &states[3..6], &mut lanes);
+    for k in 0..3 {
+        assert_eq!(
+            lanes.get(k).map(|r| bits(&r)),
+            want[3 + k].map(|r| bits(&r))
+        );
+    }
+    assert!((3..8).all(|k| !lanes.ok[k]));
+    assert!(made > 14_000 && none > 1_000, "{made} made, {none} none");
+}

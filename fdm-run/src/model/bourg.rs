@@ -94,6 +94,18 @@ impl FleetModel for Bourg {
     fn dis_rough(_first: usize, states: &[Option<BourgState>], out: &mut [Option<fdm_dis::Rough>]) {
         bourg_rough(states, out);
     }
+
+    /// [`bourg_rough_lanes`]: the same frames, the Euler angles' `atan2`s
+    /// eight at a time.
+    #[cfg(feature = "dis")]
+    #[inline(always)]
+    fn dis_rough_lanes(
+        _first: usize,
+        states: &[Option<BourgState>],
+        out: &mut fdm_dis::RoughLanes,
+    ) {
+        bourg_rough_lanes(states, out);
+    }
 }
 
 /// [`FleetModel::dis_rough`] for Bourg: each aircraft's view's time,
@@ -133,6 +145,47 @@ pub fn bourg_rough(states: &[Option<BourgState>], out: &mut [Option<fdm_dis::Rou
                     body_to_ned,
                 })
         });
+    }
+}
+
+/// [`bourg_rough`] for up to [`fdm_dis::ROUGH_LANES`] aircraft, into
+/// `out`'s lanes (`ok[k]` false where [`bourg_rough`] makes none), bit for
+/// bit (the test `bourg_rough_lanes_is_bourg_rough`): the Euler angles of
+/// all the lanes at once ([`fdm_core::bourg::ops::euler_deg_from_quat_lanes`],
+/// bit for bit [`BourgState::euler_angles_deg`], its two `atan2` eight at a
+/// time), then each lane's matrix as [`bourg_rough`] makes it. Always
+/// inlined, so that the fleet screen's instruction set compiles it too.
+#[cfg(feature = "dis")]
+#[inline(always)]
+pub fn bourg_rough_lanes(states: &[Option<BourgState>], out: &mut fdm_dis::RoughLanes) {
+    use fdm_core::units::METRES_PER_FOOT;
+    const L: usize = fdm_dis::ROUGH_LANES;
+    let mut finite = [false; L];
+    // Lanes without a finite state get the identity (never read).
+    let mut q = [fdm_core::bourg::Quaternion::new(1.0, 0.0, 0.0, 0.0); L];
+    for (k, s) in states.iter().take(L).enumerate() {
+        if let Some(s) = s.filter(BourgState::is_finite) {
+            finite[k] = true;
+            q[k] = s.orientation;
+            out.time_s[k] = s.time_s;
+            for c in 0..3 {
+                out.position_m[c][k] = f64::from(s.position_ft[c]) * METRES_PER_FOOT;
+                out.velocity_mps[c][k] = f64::from(s.velocity_ftps[c]) * METRES_PER_FOOT;
+            }
+        }
+    }
+    let euler = fdm_core::bourg::ops::euler_deg_from_quat_lanes(&q);
+    for (k, e) in euler.iter().enumerate() {
+        out.ok[k] = false;
+        if finite[k] {
+            let m = fdm_core::geodesy::bourg_attitude(*e).body_to_ned();
+            if m.iter().all(|x| x.is_finite()) {
+                out.ok[k] = true;
+                for (i, b) in out.body_to_ned.iter_mut().enumerate() {
+                    b[k] = m[(i / 3, i % 3)];
+                }
+            }
+        }
     }
 }
 

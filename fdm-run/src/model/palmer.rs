@@ -73,6 +73,17 @@ impl FleetModel for Palmer {
     fn dis_rough(first: usize, states: &[Option<PalmerState>], out: &mut [Option<fdm_dis::Rough>]) {
         palmer_rough(first, states, out);
     }
+
+    /// [`palmer_rough_lanes`]: the same frames lane by lane.
+    #[cfg(feature = "dis")]
+    #[inline(always)]
+    fn dis_rough_lanes(
+        first: usize,
+        states: &[Option<PalmerState>],
+        out: &mut fdm_dis::RoughLanes,
+    ) {
+        palmer_rough_lanes(first, states, out);
+    }
 }
 
 /// [`FleetModel::dis_rough`] for Palmer's demonstration fleet: aircraft
@@ -131,6 +142,110 @@ pub fn palmer_rough(
                 palmer_rough_one(&s, (sin_alpha[k], cos_alpha[k]), (sin_bank[k], cos_bank[k]))
             });
         }
+    }
+}
+
+/// [`palmer_rough`] for up to [`fdm_dis::ROUGH_LANES`] aircraft, lane by
+/// lane (`out`'s lanes `k < states.len()`; `ok[k]` false where
+/// [`palmer_rough`] makes none): the same operations in the same order as
+/// [`palmer_rough`]'s for each aircraft, so the same bits (the test
+/// `palmer_rough_lanes_is_palmer_rough`), with its branches made selects, in
+/// one loop over the lanes that the compiler puts in vector registers.
+/// Always inlined, so that the fleet screen's instruction set (pulp's
+/// dispatch around it) compiles it too.
+#[cfg(feature = "dis")]
+#[inline(always)]
+// The lane index reads several arrays at once: range loops say so.
+#[allow(
+    clippy::similar_names,
+    clippy::many_single_char_names,
+    clippy::needless_range_loop
+)]
+pub fn palmer_rough_lanes(
+    first: usize,
+    states: &[Option<PalmerState>],
+    out: &mut fdm_dis::RoughLanes,
+) {
+    const L: usize = fdm_dis::ROUGH_LANES;
+    // Lanes past the end get an angle in sin_cos_lanes's kernel range.
+    let mut alpha = [0.1; L];
+    let mut bank = [0.1; L];
+    let mut has = [false; L];
+    let mut v = [[0.0; L]; 3];
+    for (k, s) in states.iter().take(L).enumerate() {
+        let (controls, _) = Palmer::fleet_member(first + k);
+        alpha[k] = controls.alpha_deg.to_radians();
+        bank[k] = controls.bank_deg.to_radians();
+        if let Some(s) = s {
+            has[k] = true;
+            out.time_s[k] = s.time_s;
+            for c in 0..3 {
+                out.position_m[c][k] = s.position_m[c];
+                v[c][k] = s.velocity_mps[c];
+            }
+        }
+    }
+    out.velocity_mps = v;
+    // A zero angle (the fleet's wings-level aircraft) is outside
+    // sin_cos_lanes's kernel range, which would send all eight lanes through
+    // the scalar `sin_cos`: such a lane gets an angle in the range, and then
+    // `sin_cos`'s own result for ±0, (±0, 1) (fdlibm returns the argument
+    // and 1 below 2⁻²⁷), is put back.
+    let zero = |x: [f64; L]| x.map(|x| x == 0.0);
+    let (alpha_zero, bank_zero) = (zero(alpha), zero(bank));
+    let in_kernel = |x: [f64; L]| x.map(|x| if x == 0.0 { 0.1 } else { x });
+    let (mut sin_alpha, mut cos_alpha) = fdm_core::math::sin_cos_lanes(in_kernel(alpha));
+    let (mut sin_bank, mut cos_bank) = fdm_core::math::sin_cos_lanes(in_kernel(bank));
+    for k in 0..L {
+        if alpha_zero[k] {
+            (sin_alpha[k], cos_alpha[k]) = (alpha[k], 1.0);
+        }
+        if bank_zero[k] {
+            (sin_bank[k], cos_bank[k]) = (bank[k], 1.0);
+        }
+    }
+    for k in 0..L {
+        let (vx, vy, vz) = (v[0][k], v[1][k], v[2][k]);
+        let (sa, ca, sb, cb) = (sin_alpha[k], cos_alpha[k], sin_bank[k], cos_bank[k]);
+        let in_range = |m: f64| (m == 0.0) | (1e-100..1e100).contains(&m);
+        let horizontal = vx.abs().max(vy.abs());
+        let usable = has[k]
+            & vx.is_finite()
+            & vy.is_finite()
+            & vz.is_finite()
+            & in_range(horizontal)
+            & in_range(vz.abs());
+        let vh2 = vx * vx + vy * vy;
+        let vh = fdm_core::math::sqrt(vh2);
+        let level = horizontal == 0.0;
+        let per_vh = 1.0 / vh;
+        let (ct, st) = (
+            if level { 1.0 } else { vx * per_vh },
+            if level { 0.0 } else { -vy * per_vh },
+        );
+        let still = level & (vz == 0.0);
+        let per_speed = 1.0 / fdm_core::math::sqrt(vh2 + vz * vz);
+        let (cc, sc) = (
+            if still { 1.0 } else { vh * per_speed },
+            if still { 0.0 } else { vz * per_speed },
+        );
+        // Rz(track) · Ry(climb) and Rx(bank) · Ry(alpha), row by row, and
+        // their product as nalgebra's 3 × 3 product makes it.
+        let a = [ct * cc, -st, ct * sc, st * cc, ct, st * sc, -sc, 0.0, cc];
+        let b = [ca, 0.0, sa, sb * sa, cb, -sb * ca, -cb * sa, sb, cb * ca];
+        let c: [f64; 9] = core::array::from_fn(|e| {
+            let (i, j) = (e / 3, e % 3);
+            a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j]
+        });
+        let cos_pitch_sq = c[0] * c[0] + c[3] * c[3];
+        let finite = c.iter().fold(true, |all, e| all & e.is_finite());
+        out.ok[k] = usable & (cos_pitch_sq >= 1e-6) & finite;
+        for (e, x) in c.iter().enumerate() {
+            out.body_to_ned[e][k] = *x;
+        }
+    }
+    for ok in out.ok.iter_mut().skip(states.len()) {
+        *ok = false;
     }
 }
 
