@@ -14,7 +14,9 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use fdm_core::model::{FlightStatus, Model};
-use fdm_fleet::{FleetError, FleetPiece, Precision};
+use fdm_core::real::kernel::{Array, Block};
+use fdm_fleet::{ControlBlocks, FleetError, FleetPiece, Precision};
+use fdm_run::model::agent::{MAX_ACTIONS, MAX_CONTROL_OBS, MAX_STATE_FIELDS};
 use numpy::ndarray::ArrayView1;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -281,20 +283,59 @@ where
     crate::task::np_clip(f64::from(v), -1.0, 1.0)
 }
 
-/// Sets the controls of `piece`'s aircraft from their rows of `values`
-/// (`k` per aircraft), clipped ([`BindModel::task_apply`]).
+/// The first `count` of `from` into `to`: a copy of the fixed length
+/// `whole` (a constant where it is called) when `count` is `whole` (inline
+/// moves, not a call of `memcpy` for eight numbers).
+#[inline(always)]
+fn copy_lanes(to: &mut [f64], from: &[f64], count: usize, whole: usize) {
+    if count == whole {
+        to[..whole].copy_from_slice(&from[..whole]);
+    } else {
+        to[..count].copy_from_slice(&from[..count]);
+    }
+}
+
+/// A lane array of a block of model `M`, every lane 0.
+#[inline(always)]
+fn zeros<M: BindModel>() -> Array<M, f64> {
+    <<M as fdm_core::real::LaneModel>::Lanes as fdm_core::real::Lanes>::array(|_| 0.0)
+}
+
+/// Sets the controls of a piece's aircraft from their rows of `values`
+/// (`k` per aircraft), clipped ([`BindModel::task_apply`]), one aircraft at
+/// a time (reading a row and writing a lane: a transposition of the
+/// actions into lane arrays measured slower), the control terms a block at
+/// a time ([`FleetPiece::update_control_blocks`]).
+struct ActBlocks<'v, T> {
+    values: &'v [T],
+    k: usize,
+}
+
+impl<M: BindModel, T: Copy> ControlBlocks<M> for ActBlocks<'_, T>
+where
+    f64: From<T>,
+{
+    #[inline(always)]
+    fn update(&mut self, first: usize, count: usize, controls: &mut Array<M, M::Controls>) {
+        let k = self.k;
+        let rows = &self.values[first * k..(first + count) * k];
+        for (c, row) in controls.as_mut().iter_mut().zip(rows.chunks_exact(k)) {
+            let mut clipped = [0.0; MAX_ACTIONS];
+            for (a, v) in clipped.iter_mut().zip(row) {
+                *a = clip(*v);
+            }
+            *c = M::task_apply(*c, &clipped[..k]);
+        }
+    }
+}
+
+/// [`ActBlocks`] over `piece`.
 #[inline(always)]
 fn act_piece<M: BindModel, T: Copy>(piece: &mut FleetPiece<'_, M>, values: &[T], k: usize)
 where
     f64: From<T>,
 {
-    piece.update_controls(|i, c| {
-        let mut clipped = [0.0; 8];
-        for (a, v) in clipped.iter_mut().zip(&values[i * k..(i + 1) * k]) {
-            *a = clip(*v);
-        }
-        M::task_apply(c, &clipped[..k])
-    });
+    piece.update_control_blocks(&mut ActBlocks { values, k });
 }
 
 /// [`act_piece`] with the instruction set pulp picked (the Palmer block's
@@ -554,11 +595,11 @@ where
                 *s = s.saturating_add(1);
             }
             if let (Some(args), Some(out)) = (args, out) {
-                let mut observer = Observer::<M>::new(args, out);
-                piece.for_each(|j, state, status, c| {
-                    observer.push(j, steps[j], state, status, c);
+                arch.dispatch(ObservePiece {
+                    observer: Observer::<M>::new(args, out),
+                    piece,
+                    steps,
                 });
-                observer.flush();
             }
         };
         if parallel && fleet_pieces.len() > 1 {
@@ -726,6 +767,10 @@ struct Observer<'p, 'a, M: BindModel> {
     first: usize,
     /// Lanes filled.
     len: usize,
+    /// Scratch of [`Self::push_block`]: a fleet block's state columns.
+    columns: [Array<M, f64>; MAX_STATE_FIELDS],
+    /// Scratch of [`Self::push_block`]: a fleet block's observed controls.
+    observed: [Array<M, f64>; MAX_CONTROL_OBS],
     model: PhantomData<M>,
 }
 
@@ -740,12 +785,15 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
             steps: [0; task::BLOCK],
             first: 0,
             len: 0,
+            columns: core::array::from_fn(|_| zeros::<M>()),
+            observed: core::array::from_fn(|_| zeros::<M>()),
             model: PhantomData,
         }
     }
 
     /// Aircraft `j` of the piece, `steps` into its episode: its state
-    /// columns and status code written, it joins the block.
+    /// columns and status code written, it joins the block (flushed with
+    /// the instruction set pulp picks).
     #[inline(always)]
     fn push(
         &mut self,
@@ -755,10 +803,40 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         flight_status: FlightStatus,
         c: &M::Controls,
     ) {
+        let arch = self.arch;
+        self.push_by(Dispatch(arch), j, steps, state, flight_status, c);
+    }
+
+    /// [`Self::push`] inside a function already compiled for `simd`'s
+    /// instruction set.
+    #[inline(always)]
+    fn push_with<S: pulp::Simd>(
+        &mut self,
+        simd: S,
+        j: usize,
+        steps: i64,
+        state: &M::State,
+        flight_status: FlightStatus,
+        c: &M::Controls,
+    ) {
+        self.push_by(WithSimd(simd), j, steps, state, flight_status, c);
+    }
+
+    /// [`Self::push`], the blocks' numbers computed by `run`.
+    #[inline(always)]
+    fn push_by(
+        &mut self,
+        run: impl RunFlush + Copy,
+        j: usize,
+        steps: i64,
+        state: &M::State,
+        flight_status: FlightStatus,
+        c: &M::Controls,
+    ) {
         const MAX_FIELDS: usize = 32;
         const MAX_CONTROLS: usize = 8;
         if self.len > 0 && j != self.first + self.len {
-            self.flush();
+            self.flush_by(run);
         }
         if self.len == 0 {
             self.first = j;
@@ -797,14 +875,103 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         self.steps[l] = steps;
         self.len += 1;
         if self.len == task::BLOCK {
-            self.flush();
+            self.flush_by(run);
+        }
+    }
+
+    /// The piece's aircraft `j0..j0 + count`, lanes `0..count` of a block
+    /// of the fleet (`steps` the piece's step counts), read a block at a
+    /// time ([`fdm_run::model::agent::LaneAgent`]): their state columns and status codes written,
+    /// and their observations, rewards and flags, [`task::BLOCK`] lanes at
+    /// a time ([`Self::flush_with`], with `simd`): what [`Self::push`] of
+    /// each and [`Self::flush`] give, bit for bit.
+    #[inline(always)]
+    fn push_block<S: pulp::Simd>(
+        &mut self,
+        simd: S,
+        j0: usize,
+        count: usize,
+        block: &Block<M>,
+        steps: &[i64],
+    ) {
+        self.flush_with(simd);
+        let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
+        let (columns, observed) = (&mut self.columns, &mut self.observed);
+        M::block_state_values(block, count, &mut columns[..head]);
+        M::block_control_obs(&block.controls, count, observed);
+        let piece = &mut *self.piece;
+        for (column, values) in piece.columns.iter_mut().zip(&columns[..head]) {
+            copy_lanes(&mut column[j0..], values.as_ref(), count, M::Fleet::lanes());
+        }
+        let statuses = &block.status.as_ref()[..count];
+        for (code, status) in piece.status[j0..j0 + count].iter_mut().zip(statuses) {
+            *code = status_code(*status);
+        }
+        let mut kinematics: [Array<M, f64>; 4] = core::array::from_fn(|_| zeros::<M>());
+        M::block_kinematics(&self.columns[..head], &mut kinematics);
+        for start in (0..count).step_by(task::BLOCK) {
+            let len = (count - start).min(task::BLOCK);
+            let (first, i) = (j0 + start, self.piece.first + j0 + start);
+            let b = &mut self.block;
+            // Every lane of the sub-block (it is within the fleet's block:
+            // `task::BLOCK` divides the lanes), whole arrays (lanes past
+            // `len` computed along and never written).
+            let lanes = |a: &Array<M, f64>| -> [f64; task::BLOCK] {
+                core::array::from_fn(|l| a.as_ref()[start + l])
+            };
+            b.alt_ft = lanes(&kinematics[0]);
+            b.vz_fps = lanes(&kinematics[1]);
+            b.vx = lanes(&kinematics[2]);
+            b.vy = lanes(&kinematics[3]);
+            for (row, column) in b.observed.iter_mut().zip(&self.observed) {
+                *row = lanes(column);
+            }
+            b.airborne = core::array::from_fn(|l| {
+                block.status.as_ref()[start + l] == FlightStatus::Airborne
+            });
+            copy_lanes(
+                &mut b.target_alt_ft,
+                &self.args.target_alt_ft[i..],
+                len,
+                task::BLOCK,
+            );
+            copy_lanes(
+                &mut b.target_heading_deg,
+                &self.args.target_heading_deg[i..],
+                len,
+                task::BLOCK,
+            );
+            if M::BLOCK_FIELDS > 0 {
+                for (l, state) in self.states.iter_mut().enumerate().take(len) {
+                    *state = block.state(start + l);
+                }
+            }
+            self.steps[..len].copy_from_slice(&steps[first..first + len]);
+            self.first = first;
+            self.len = len;
+            self.flush_with(simd);
         }
     }
 
     /// The block's outputs (the lanes past `len` hold earlier aircraft or
-    /// the default block: computed along, never written).
+    /// the default block: computed along, never written), with the
+    /// instruction set pulp picks.
     #[inline(always)]
     fn flush(&mut self) {
+        let arch = self.arch;
+        self.flush_by(Dispatch(arch));
+    }
+
+    /// [`Self::flush`] inside a function already compiled for `simd`'s
+    /// instruction set.
+    #[inline(always)]
+    fn flush_with<S: pulp::Simd>(&mut self, simd: S) {
+        self.flush_by(WithSimd(simd));
+    }
+
+    /// [`Self::flush`], the block's numbers computed by `run`.
+    #[inline(always)]
+    fn flush_by(&mut self, run: impl RunFlush) {
         let (j0, len, args) = (self.first, self.len, self.args);
         if len == 0 {
             return;
@@ -816,7 +983,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
             &mut piece.columns[head..],
             &mut piece.terminated[j0..j0 + len],
         );
-        self.arch.dispatch(FlushBlock::<M> {
+        run.run(FlushBlock::<M> {
             task: args.task,
             block: &self.block,
             states: &self.states,
@@ -836,6 +1003,67 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
             *truncated = *steps >= args.max_steps && !ended;
         }
         self.len = 0;
+    }
+}
+
+/// How [`Observer::flush_by`] runs a block's numbers (a trait with an
+/// always-inlined method, not a closure: a closure may be compiled as a
+/// function of its own, without the caller's instruction set).
+trait RunFlush {
+    /// Computes `block`.
+    fn run<M: BindModel>(self, block: FlushBlock<'_, '_, M>);
+}
+
+/// With the instruction set pulp picks, through its dispatch.
+#[derive(Clone, Copy)]
+struct Dispatch(pulp::Arch);
+
+impl RunFlush for Dispatch {
+    #[inline(always)]
+    fn run<M: BindModel>(self, block: FlushBlock<'_, '_, M>) {
+        self.0.dispatch(block);
+    }
+}
+
+/// Inline, inside a function already compiled for `S`'s instruction set.
+#[derive(Clone, Copy)]
+struct WithSimd<S>(S);
+
+impl<S: pulp::Simd> RunFlush for WithSimd<S> {
+    #[inline(always)]
+    fn run<M: BindModel>(self, block: FlushBlock<'_, '_, M>) {
+        pulp::WithSimd::with_simd(block, self.0);
+    }
+}
+
+/// A piece's observation pass ([`Observer::push_block`] for each of its
+/// fleet blocks) with the instruction set pulp picked.
+struct ObservePiece<'x, 'p, 'a, 'f, M: BindModel> {
+    observer: Observer<'p, 'a, M>,
+    piece: &'x FleetPiece<'f, M>,
+    steps: &'x [i64],
+}
+
+impl<M: BindModel> pulp::WithSimd for ObservePiece<'_, '_, '_, '_, M> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        let (mut observer, steps) = (self.observer, self.steps);
+        if M::BLOCK_READS {
+            for (j0, count, block) in self.piece.blocks() {
+                observer.push_block(simd, j0, count, block, steps);
+            }
+        } else {
+            // One aircraft at a time, each state read once.
+            for (j0, count, block) in self.piece.blocks() {
+                for l in 0..count {
+                    let (status, c) = (block.status.as_ref()[l], &block.controls.as_ref()[l]);
+                    observer.push_with(simd, j0 + l, steps[j0 + l], &block.state(l), status, c);
+                }
+            }
+        }
+        observer.flush_with(simd);
     }
 }
 

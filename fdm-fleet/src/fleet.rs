@@ -86,7 +86,7 @@ use std::time::Instant;
 use fdm_core::model::FlightStatus;
 #[cfg(doc)]
 use fdm_core::model::Model;
-use fdm_core::real::kernel::Block;
+use fdm_core::real::kernel::{Array, Block};
 #[cfg(doc)]
 use fdm_core::real::{Exact, Fast};
 use fdm_core::real::{LaneModel, Real};
@@ -594,17 +594,39 @@ impl<M: LaneModel> FleetPiece<'_, M> {
     /// inlined, so that a caller running it with a wider instruction set
     /// (pulp's dispatch) compiles the block's terms with that set too.
     #[inline(always)]
-    pub fn update_controls(&mut self, mut f: impl FnMut(usize, M::Controls) -> M::Controls) {
+    pub fn update_controls(&mut self, f: impl FnMut(usize, M::Controls) -> M::Controls) {
+        self.update_control_blocks(&mut EachAircraft(f));
+    }
+
+    /// Calls `update.update(fleet index of lane 0, lanes in use, the
+    /// block's controls)` for each of the piece's blocks, in order, and
+    /// recomputes the block's control terms from its controls
+    /// ([`LaneModel::set_controls_lanes`], the first `count` lanes): for
+    /// setting a block's controls together. [`Self::update_controls`] is
+    /// this with one aircraft at a time; always inlined, as it is.
+    #[inline(always)]
+    pub fn update_control_blocks(&mut self, update: &mut impl ControlBlocks<M>) {
         let (aircraft, shared, len, first) = (self.aircraft, self.shared, self.len, self.first);
         let lanes = M::Lanes::LANES;
         for (b, block) in self.blocks.iter_mut().enumerate() {
             let start = b * lanes;
             let count = lanes.min(len.saturating_sub(start));
-            for (lane, c) in block.controls.as_mut().iter_mut().enumerate().take(count) {
-                *c = f(first + start + lane, *c);
-            }
+            update.update(first + start, count, &mut block.controls);
             M::set_controls_lanes(&mut block.terms, count, aircraft, shared, &block.controls);
         }
+    }
+
+    /// The piece's blocks, in order, each as `(index in the piece of lane
+    /// 0, lanes in use, block)`: the kernel's own arrays, read a block at a
+    /// time (lane `l < count` is the piece's aircraft `index + l`; the lanes
+    /// past `count`, in the fleet's last block, belong to no aircraft).
+    #[inline(always)]
+    pub fn blocks(&self) -> impl Iterator<Item = (usize, usize, &Block<M>)> + '_ {
+        let (len, lanes) = (self.len, M::Lanes::LANES);
+        self.blocks.iter().enumerate().map(move |(b, block)| {
+            let start = b * lanes;
+            (start, lanes.min(len.saturating_sub(start)), block)
+        })
     }
 
     /// Calls `f(index in the piece, state, status, controls)` for each of
@@ -643,6 +665,32 @@ impl<M: FleetKernel> FleetPiece<'_, M> {
         };
         M::run_kernel_piece(self, run);
         Ok(())
+    }
+}
+
+/// What [`FleetPiece::update_control_blocks`] does to each block's
+/// controls (a trait, so that the work can be an always-inlined method: a
+/// closure may be compiled as a function of its own, without the
+/// instruction set of the function it is called from).
+pub trait ControlBlocks<M: LaneModel> {
+    /// Sets the first `count` lanes of `controls`, the controls of the
+    /// block whose lane 0 is the fleet's aircraft `first` (the lanes past
+    /// `count`, in the fleet's last block, belong to no aircraft and must
+    /// be left as they are).
+    fn update(&mut self, first: usize, count: usize, controls: &mut Array<M, M::Controls>);
+}
+
+/// [`FleetPiece::update_controls`]'s one aircraft at a time.
+struct EachAircraft<F>(F);
+
+impl<M: LaneModel, F: FnMut(usize, M::Controls) -> M::Controls> ControlBlocks<M>
+    for EachAircraft<F>
+{
+    #[inline(always)]
+    fn update(&mut self, first: usize, count: usize, controls: &mut Array<M, M::Controls>) {
+        for (lane, c) in controls.as_mut().iter_mut().enumerate().take(count) {
+            *c = (self.0)(first + lane, *c);
+        }
     }
 }
 

@@ -38,7 +38,9 @@ pub mod fleet;
 pub mod geodesy;
 
 pub use fdm_core::real::LaneModel;
-pub use fleet::{Fleet, FleetError, FleetKernel, FleetPiece, FlownPiece, KernelRun, Precision};
+pub use fleet::{
+    ControlBlocks, Fleet, FleetError, FleetKernel, FleetPiece, FlownPiece, KernelRun, Precision,
+};
 
 use fdm_core::model::{FlightStatus, Model};
 

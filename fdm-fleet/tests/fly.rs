@@ -437,6 +437,7 @@ fn pieces_are_the_whole_fleet<M, B: PartialEq + core::fmt::Debug + Clone + Send>
     M::Controls: PartialEq + core::fmt::Debug + Send + Sync,
     M::State: Sync,
 {
+    use fdm_core::real::Real;
     use rayon::prelude::*;
     let dt = M::time_step(30.0);
     let mut whole = fdm_fleet::Fleet::<M>::try_new(M::default_aircraft()).unwrap();
@@ -472,6 +473,20 @@ fn pieces_are_the_whole_fleet<M, B: PartialEq + core::fmt::Debug + Clone + Send>
                             out.push((first + j, bits(s), status, format!("{c:?}")))
                         });
                         assert_eq!(out.len(), piece.len());
+                        // The same aircraft read a block at a time.
+                        let mut by_block = Vec::new();
+                        for (j0, count, block) in piece.blocks() {
+                            assert_eq!(j0 % M::Lanes::LANES, 0);
+                            for l in 0..count {
+                                by_block.push((
+                                    first + j0 + l,
+                                    bits(&block.state(l)),
+                                    block.status.as_ref()[l],
+                                    format!("{:?}", block.controls.as_ref()[l]),
+                                ));
+                            }
+                        }
+                        assert_eq!(by_block, out);
                         // At least one block each: a piece is never empty.
                         assert!(!piece.is_empty(), "an empty piece at {first}");
                         out

@@ -261,7 +261,14 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
 /// [`ReportModel`](crate::report::ReportModel)). Implemented for every model
 /// that implements those.
 pub trait RegisteredModel:
-    CsvModel + FleetModel + NamedInputs + FleetKernel + ColumnModel + AgentModel + pilot::PilotModel
+    CsvModel
+    + FleetModel
+    + NamedInputs
+    + FleetKernel
+    + ColumnModel
+    + AgentModel
+    + agent::LaneAgent
+    + pilot::PilotModel
 {
 }
 
@@ -272,6 +279,7 @@ impl<
             + FleetKernel
             + ColumnModel
             + AgentModel
+            + agent::LaneAgent
             + pilot::PilotModel,
     > RegisteredModel for M
 {

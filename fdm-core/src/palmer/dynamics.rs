@@ -157,7 +157,7 @@ impl ControlTerms<f64> {
     #[inline(always)]
     #[must_use]
     pub fn bank_rad(controls: &PalmerControls) -> f64 {
-        controls.bank_deg * PI / 180.0
+        bank_rad(controls.bank_deg)
     }
 
     /// [`Self::new`] with the sine and cosine of [`Self::bank_rad`] given
@@ -171,30 +171,89 @@ impl ControlTerms<f64> {
         controls: &PalmerControls,
         (sin_w, cos_w): (f64, f64),
     ) -> Self {
+        Self::from_parts(
+            aircraft,
+            at,
+            &ControlParts {
+                alpha_deg: controls.alpha_deg,
+                flaps_up: controls.flaps == Flaps::Up,
+                flaps_lift: flaps_lift(controls.flaps),
+                throttle: controls.throttle,
+                brakes: controls.brakes,
+            },
+            (sin_w, cos_w),
+        )
+    }
+}
+
+/// Step 1: a bank in degrees in radians (of one aircraft or of lanes:
+/// [`ControlTerms::bank_rad`]).
+#[inline(always)]
+#[must_use]
+pub fn bank_rad<R: Real<Scalar = f64>>(bank_deg: R) -> R {
+    bank_deg * PI / 180.0
+}
+
+/// The lift coefficient the flaps add when down (step 7): 0.25 at 20°,
+/// 0.5 at 40° (flaps up add nothing: [`ControlParts::flaps_up`]).
+#[inline(always)]
+#[must_use]
+pub const fn flaps_lift(flaps: Flaps) -> f64 {
+    match flaps {
+        Flaps::Deg20 => 0.25,
+        Flaps::Up | Flaps::Deg40 => 0.5,
+    }
+}
+
+/// What [`ControlTerms`] are computed from, as numbers of `R` (one
+/// aircraft's controls for `f64`, a block's lane by lane for lanes).
+#[derive(Debug, Clone, Copy)]
+pub struct ControlParts<R: Real> {
+    /// The angle of attack, degrees.
+    pub alpha_deg: R,
+    /// Whether the flaps are up (they add no lift then).
+    pub flaps_up: R::Mask,
+    /// The lift the flaps add when down ([`flaps_lift`]).
+    pub flaps_lift: R,
+    /// The throttle.
+    pub throttle: R,
+    /// Whether the brakes are set.
+    pub brakes: R::Mask,
+}
+
+impl<R: Real<Scalar = f64>> ControlTerms<R> {
+    /// The terms of `parts` on `aircraft` (whose [`AircraftTerms`] are
+    /// `at`), the bank's sine and cosine given: one source for one aircraft
+    /// ([`ControlTerms::with_sin_cos`]) and a block's lanes (every lane the
+    /// scalar operations in the same order; each `if` a select of both
+    /// values, which are plain arithmetic).
+    #[inline(always)]
+    #[must_use]
+    pub fn from_parts(
+        aircraft: &PalmerAircraft,
+        at: &AircraftTerms,
+        parts: &ControlParts<R>,
+        (sin_w, cos_w): (R, R),
+    ) -> Self {
+        let c = R::splat;
         // Step 7, the part that does not depend on z.
-        let alpha = controls.alpha_deg;
-        let mut cl = if alpha < aircraft.alpha_cl_max_deg {
-            aircraft.cl_slope0_per_deg * alpha + aircraft.cl0
-        } else {
-            aircraft.cl_slope1_per_deg * alpha + aircraft.cl1
-        };
-        match controls.flaps {
-            Flaps::Up => {}
-            Flaps::Deg20 => cl += 0.25,
-            Flaps::Deg40 => cl += 0.5,
-        }
+        let alpha = parts.alpha_deg;
+        let cl = R::select(
+            alpha.lt(aircraft.alpha_cl_max_deg),
+            c(aircraft.cl_slope0_per_deg) * alpha + c(aircraft.cl0),
+            c(aircraft.cl_slope1_per_deg) * alpha + c(aircraft.cl1),
+        );
+        // `cl + 0.0` would turn a -0.0 into 0.0: flaps up keep `cl` itself.
+        let cl = R::select(parts.flaps_up, cl, cl + parts.flaps_lift);
         Self {
             cos_w,
             sin_w,
             cl_without_ground_effect: cl,
-            half_cl_without_ground_effect: 0.5 * cl,
-            half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / at.induced_drag_divisor),
-            throttle: controls.throttle,
-            wheel_friction: if controls.brakes {
-                BRAKING_FRICTION_COEFFICIENT
-            } else {
-                0.0
-            },
+            half_cl_without_ground_effect: c(0.5) * cl,
+            half_cd_without_ground_effect: c(0.5)
+                * (c(aircraft.cdp) + cl * cl / c(at.induced_drag_divisor)),
+            throttle: parts.throttle,
+            wheel_friction: R::select(parts.brakes, c(BRAKING_FRICTION_COEFFICIENT), c(0.0)),
         }
     }
 }
@@ -598,6 +657,96 @@ mod tests {
     use super::*;
 
     const CESSNA: PalmerAircraft = PalmerAircraft::cessna_172();
+
+    /// The terms as `ControlTerms::with_sin_cos` computed them before
+    /// `ControlTerms::from_parts` (branches, not selects): the oracle.
+    fn terms_with_branches(
+        aircraft: &PalmerAircraft,
+        at: &AircraftTerms,
+        controls: &PalmerControls,
+        (sin_w, cos_w): (f64, f64),
+    ) -> ControlTerms<f64> {
+        let alpha = controls.alpha_deg;
+        let mut cl = if alpha < aircraft.alpha_cl_max_deg {
+            aircraft.cl_slope0_per_deg * alpha + aircraft.cl0
+        } else {
+            aircraft.cl_slope1_per_deg * alpha + aircraft.cl1
+        };
+        match controls.flaps {
+            Flaps::Up => {}
+            Flaps::Deg20 => cl += 0.25,
+            Flaps::Deg40 => cl += 0.5,
+        }
+        ControlTerms {
+            cos_w,
+            sin_w,
+            cl_without_ground_effect: cl,
+            half_cl_without_ground_effect: 0.5 * cl,
+            half_cd_without_ground_effect: 0.5 * (aircraft.cdp + cl * cl / at.induced_drag_divisor),
+            throttle: controls.throttle,
+            wheel_friction: if controls.brakes {
+                BRAKING_FRICTION_COEFFICIENT
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// `from_parts` (selects) gives the branches' bits for every flap
+    /// setting and brake, over angles of attack across the slope change
+    /// (16° and its neighbours), zeros of both signs, the ends of the range
+    /// and NaN, and with an aircraft whose lift is exactly zero at an
+    /// angle (`-0.0` must stay `-0.0` with the flaps up).
+    #[test]
+    fn terms_from_parts_are_the_branches_bits() {
+        let mut alphas: Vec<f64> = (0..=400).map(|i| -20.0 + 0.1 * f64::from(i)).collect();
+        let max = CESSNA.alpha_cl_max_deg;
+        alphas.extend([
+            max,
+            max.next_up(),
+            max.next_down(),
+            0.0,
+            -0.0,
+            f64::NAN,
+            90.0,
+            -90.0,
+        ]);
+        let zero_lift = PalmerAircraft {
+            cl0: -0.0,
+            cl1: -0.0,
+            ..CESSNA
+        };
+        for aircraft in [CESSNA, zero_lift] {
+            let at = AircraftTerms::new(&aircraft);
+            for &alpha_deg in &alphas {
+                for flaps in [Flaps::Up, Flaps::Deg20, Flaps::Deg40] {
+                    for brakes in [false, true] {
+                        let c = PalmerControls {
+                            throttle: 0.37,
+                            alpha_deg,
+                            bank_deg: 5.0,
+                            flaps,
+                            brakes,
+                        };
+                        let sc = sin_cos(ControlTerms::bank_rad(&c));
+                        let got = ControlTerms::with_sin_cos(&aircraft, &at, &c, sc);
+                        let want = terms_with_branches(&aircraft, &at, &c, sc);
+                        assert_eq!(format!("{got:?}"), format!("{want:?}"), "{c:?}");
+                        let bits = |t: &ControlTerms<f64>| {
+                            [
+                                t.cl_without_ground_effect,
+                                t.half_cl_without_ground_effect,
+                                t.half_cd_without_ground_effect,
+                                t.wheel_friction,
+                            ]
+                            .map(f64::to_bits)
+                        };
+                        assert_eq!(bits(&got), bits(&want), "{c:?}");
+                    }
+                }
+            }
+        }
+    }
 
     fn flying() -> PalmerState {
         PalmerState {

@@ -10,8 +10,8 @@
 
 use nalgebra::Vector3;
 
-use super::dynamics::{rk4, AircraftTerms, ControlTerms};
-use super::{AircraftError, Palmer, PalmerAircraft, PalmerControls, PalmerState};
+use super::dynamics::{bank_rad, flaps_lift, rk4, AircraftTerms, ControlParts, ControlTerms};
+use super::{AircraftError, Flaps, Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use crate::real::{F64s, LaneMask, LaneModel, Maths, Real};
 
 /// Aircraft per block of a Palmer fleet: 8 `f64` lanes (one AVX-512 register,
@@ -75,8 +75,10 @@ impl LaneModel for Palmer {
         terms.set_lane(lane, &ControlTerms::new(aircraft, shared, controls));
     }
 
-    /// A whole block's bank sines and cosines at once
-    /// ([`crate::math::sin_cos_lanes`], the bits of the scalar `sin_cos`).
+    /// A whole block's terms computed lane-wise: the bank sines and cosines
+    /// at once ([`crate::math::sin_cos_lanes`], the bits of the scalar
+    /// `sin_cos`) and the rest by [`ControlTerms::from_parts`], the scalar
+    /// terms' one source, with lanes.
     /// Always inlined (into a caller with a wider instruction set too).
     #[inline(always)]
     fn set_controls_lanes(
@@ -92,14 +94,19 @@ impl LaneModel for Palmer {
             }
             return;
         }
-        let bank_rad: [f64; LANES] = core::array::from_fn(|l| ControlTerms::bank_rad(&controls[l]));
-        let (sin, cos) = crate::math::sin_cos_lanes(bank_rad);
-        for (lane, c) in controls.iter().enumerate() {
-            terms.set_lane(
-                lane,
-                &ControlTerms::with_sin_cos(aircraft, shared, c, (sin[lane], cos[lane])),
-            );
-        }
+        // Each field's lanes built whole (`from_fn`, not lane by lane into
+        // an array read back as a vector: a load that a narrower store must
+        // forward stalls).
+        let bank_deg = F64s(core::array::from_fn(|l| controls[l].bank_deg));
+        let (sin, cos) = crate::math::sin_cos_lanes(bank_rad(bank_deg).0);
+        let parts = ControlParts {
+            alpha_deg: F64s(core::array::from_fn(|l| controls[l].alpha_deg)),
+            flaps_up: LaneMask(core::array::from_fn(|l| controls[l].flaps == Flaps::Up)),
+            flaps_lift: F64s(core::array::from_fn(|l| flaps_lift(controls[l].flaps))),
+            throttle: F64s(core::array::from_fn(|l| controls[l].throttle)),
+            brakes: LaneMask(core::array::from_fn(|l| controls[l].brakes)),
+        };
+        *terms = ControlTerms::from_parts(aircraft, shared, &parts, (F64s(sin), F64s(cos)));
     }
 
     #[inline(always)]
@@ -148,7 +155,6 @@ impl LaneModel for Palmer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::palmer::Flaps;
 
     /// Every field of every lane as bits (`-0.0` and `0.0` differ).
     fn bits(t: &ControlTerms<PalmerLanes>) -> [[u64; LANES]; 7] {

@@ -12,6 +12,9 @@
 //! calls these for every aircraft at every step, so the implementations are
 //! `#[inline]` or `#[inline(always)]` as they were in the binding.
 
+use fdm_core::real::kernel::{Array, Block};
+use fdm_core::real::{LaneModel, Real};
+
 use super::columns::ColumnModel;
 
 /// Feet per metre, as `afit_fdm.gym` computes it (`1.0 / 0.3048`).
@@ -67,12 +70,102 @@ pub trait AgentModel: ColumnModel {
     fn task_apply(controls: Self::Controls, actions: &[f64]) -> Self::Controls;
 }
 
+/// Most observed controls per aircraft ([`AgentModel::TASK_CONTROL_OBS`]).
+pub const MAX_CONTROL_OBS: usize = 5;
+
+/// Most actions per aircraft ([`AgentModel::TASK_ACTIONS`]).
+pub const MAX_ACTIONS: usize = 8;
+
+/// Most state fields ([`ColumnModel::STATE_FIELDS`]) a block reads at once.
+pub const MAX_STATE_FIELDS: usize = 32;
+
+/// What the tasks read of a fleet's aircraft, a block of the fleet's lanes
+/// at a time (`fdm_core::real::kernel::Block`): the state's columns, the
+/// kinematics and the observed controls.
+/// Each method's result is, lane by lane, the per-aircraft method's, bit
+/// for bit (the provided bodies are those methods lane by lane; a model may
+/// compute its lanes together). Lane `l < count` is an aircraft; the lanes
+/// past `count` (the fleet's last block) are read along where that is
+/// simpler.
+pub trait LaneAgent: AgentModel + LaneModel {
+    /// Whether a reader should read a block at a time with these methods
+    /// rather than one aircraft at a time: `true` where the model computes
+    /// them for the lanes together (the provided bodies, a lane at a time
+    /// through a state's values, are slower than reading each aircraft's
+    /// state once).
+    const BLOCK_READS: bool = false;
+
+    /// `out[f].as_mut()[l]` becomes field `f` of
+    /// [`ColumnModel::state_values_head`] of lane `l` of `block`, for the
+    /// first `out.len()` fields (at most the fields before the last
+    /// [`ColumnModel::BLOCK_FIELDS`] and [`MAX_STATE_FIELDS`]) and the lanes
+    /// below `count` (a model may write the other lanes too).
+    #[inline(always)]
+    fn block_state_values(block: &Block<Self>, count: usize, out: &mut [Array<Self, f64>]) {
+        let mut values = [0.0; MAX_STATE_FIELDS];
+        let values = &mut values[..Self::STATE_FIELDS.len()];
+        for lane in 0..count {
+            Self::state_values_head(&block.state(lane), values);
+            for (column, v) in out.iter_mut().zip(values.iter()) {
+                column.as_mut()[lane] = *v;
+            }
+        }
+    }
+
+    /// `out` becomes [`AgentModel::task_kinematics`] of each lane of
+    /// `columns` (what [`Self::block_state_values`] gives; lane `l`'s
+    /// values are `columns[f].as_ref()[l]`), field by field: altitude, climb
+    /// rate, `vx`, `vy`.
+    #[inline(always)]
+    fn block_kinematics(columns: &[Array<Self, f64>], out: &mut [Array<Self, f64>; 4]) {
+        let mut values = [0.0; MAX_STATE_FIELDS];
+        let values = &mut values[..columns.len()];
+        for lane in 0..Self::Lanes::LANES {
+            for (v, column) in values.iter_mut().zip(columns) {
+                *v = column.as_ref()[lane];
+            }
+            let k = Self::task_kinematics(values);
+            for (o, v) in out
+                .iter_mut()
+                .zip([k.altitude_ft, k.climb_ftps, k.vx, k.vy])
+            {
+                o.as_mut()[lane] = v;
+            }
+        }
+    }
+
+    /// `out[k].as_mut()[l]` becomes observed control `k`
+    /// ([`AgentModel::task_control_obs`] of [`ColumnModel::control_values`])
+    /// of lane `l` of `controls`, for the lanes below `count` (a model may
+    /// write the other lanes too) and `k` below
+    /// [`AgentModel::TASK_CONTROL_OBS`].
+    #[inline(always)]
+    fn block_control_obs(
+        controls: &Array<Self, Self::Controls>,
+        count: usize,
+        out: &mut [Array<Self, f64>; MAX_CONTROL_OBS],
+    ) {
+        let mut values = [0.0; MAX_ACTIONS];
+        let values = &mut values[..Self::CONTROL_FIELDS.len()];
+        let mut observed = [0.0; MAX_CONTROL_OBS];
+        let observed = &mut observed[..Self::TASK_CONTROL_OBS];
+        for (lane, c) in controls.as_ref().iter().enumerate().take(count) {
+            Self::control_values(c, values);
+            Self::task_control_obs(values, observed);
+            for (column, v) in out.iter_mut().zip(observed.iter()) {
+                column.as_mut()[lane] = *v;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use fdm_core::bourg::Bourg;
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
+    use fdm_core::real::Lanes;
 
     /// Actions over -1..1, with the thresholds ±1/3 and their neighbours.
     fn action_values() -> Vec<f64> {
@@ -105,6 +198,90 @@ mod tests {
                     expected = M::with_control(expected, index, value).unwrap();
                 }
                 assert_eq!(M::task_apply(start, &actions), expected, "{actions:?}");
+            }
+        }
+        check::<Palmer>();
+        check::<Bourg>();
+    }
+
+    /// A block of `M` with a different flight in each lane (a few seconds
+    /// into the demonstration fleet's members), and each lane's controls.
+    fn block<M: LaneAgent>() -> Block<M> {
+        let aircraft = M::default_aircraft();
+        let dt = M::time_step(30.0);
+        let mut block = Block::<M>::idle(&aircraft);
+        for lane in 0..M::Lanes::LANES {
+            let (controls, mut state) = M::fleet_member(lane);
+            for _ in 0..(30 + lane) {
+                state = M::step(&aircraft, &controls, &state, dt);
+            }
+            block.set_state(lane, &state);
+            block.controls.as_mut()[lane] = controls;
+        }
+        block
+    }
+
+    /// The block forms are the per-aircraft methods lane by lane, bit for
+    /// bit, for whole and partial blocks (the lanes below `count`).
+    #[test]
+    fn lane_agent_is_the_per_aircraft_methods() {
+        fn check<M: LaneAgent>() {
+            let lanes = M::Lanes::LANES;
+            let block = block::<M>();
+            let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
+            for count in [lanes, lanes - 1, 3, 1] {
+                let sentinel = -12345.0_f64;
+                let fill = || M::Lanes::array(|_| sentinel);
+                // The state's columns.
+                let mut columns: Vec<Array<M, f64>> = (0..head).map(|_| fill()).collect();
+                M::block_state_values(&block, count, &mut columns);
+                for lane in 0..lanes {
+                    let mut want = vec![0.0; M::STATE_FIELDS.len()];
+                    M::state_values_head(&block.state(lane), &mut want);
+                    for (f, column) in columns.iter().enumerate() {
+                        let got = column.as_ref()[lane];
+                        if lane < count {
+                            assert_eq!(got.to_bits(), want[f].to_bits(), "{} field {f}", M::NAME);
+                        }
+                    }
+                }
+                // The kinematics of the whole block's columns.
+                let mut all: Vec<Array<M, f64>> = (0..head).map(|_| fill()).collect();
+                M::block_state_values(&block, lanes, &mut all);
+                let mut kinematics: [Array<M, f64>; 4] = core::array::from_fn(|_| fill());
+                M::block_kinematics(&all, &mut kinematics);
+                for lane in 0..lanes {
+                    let mut v = vec![0.0; M::STATE_FIELDS.len()];
+                    M::state_values(&block.state(lane), &mut v);
+                    let k = M::task_kinematics(&v);
+                    let want = [k.altitude_ft, k.climb_ftps, k.vx, k.vy];
+                    for (f, w) in want.iter().enumerate() {
+                        assert_eq!(
+                            kinematics[f].as_ref()[lane].to_bits(),
+                            w.to_bits(),
+                            "{}",
+                            M::NAME
+                        );
+                    }
+                }
+                // The observed controls.
+                let mut observed: [Array<M, f64>; MAX_CONTROL_OBS] =
+                    core::array::from_fn(|_| fill());
+                M::block_control_obs(&block.controls, count, &mut observed);
+                for lane in 0..count {
+                    let mut c = vec![0.0; M::CONTROL_FIELDS.len()];
+                    M::control_values(&block.controls.as_ref()[lane], &mut c);
+                    let mut want = vec![0.0; M::TASK_CONTROL_OBS];
+                    M::task_control_obs(&c, &mut want);
+                    for (k, w) in want.iter().enumerate() {
+                        assert_eq!(
+                            observed[k].as_ref()[lane].to_bits(),
+                            w.to_bits(),
+                            "{}",
+                            M::NAME
+                        );
+                    }
+                }
             }
         }
         check::<Palmer>();

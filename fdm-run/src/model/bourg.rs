@@ -449,7 +449,7 @@ impl ControlsLine for BourgDetails {
 // --- Named columns and the agent's tasks (`ColumnModel`, `AgentModel`: the
 // Python bindings' state and control columns and Gymnasium tasks).
 
-use super::agent::{AgentModel, Kinematics};
+use super::agent::{AgentModel, Kinematics, LaneAgent};
 use super::columns::{ColumnModel, ControlRange, MAX_BLOCK_FIELDS};
 use fdm_core::bourg::Flap;
 
@@ -652,6 +652,9 @@ fn bourg_controls(a: &[f64]) -> [(usize, f64); 5] {
         (5, a[4]),
     ]
 }
+
+/// The provided bodies: the per-aircraft methods lane by lane.
+impl LaneAgent for Bourg {}
 
 impl AgentModel for Bourg {
     const TASK_ACTIONS: usize = 5;

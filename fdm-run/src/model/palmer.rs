@@ -643,7 +643,10 @@ impl ControlsLine for PalmerDetails {
 // --- Named columns and the agent's tasks (`ColumnModel`, `AgentModel`: the
 // Python bindings' state and control columns and Gymnasium tasks).
 
-use super::agent::{AgentModel, Kinematics, FT_PER_M};
+use fdm_core::palmer::LANES;
+use fdm_core::real::kernel::Block;
+
+use super::agent::{AgentModel, Kinematics, LaneAgent, FT_PER_M, MAX_CONTROL_OBS};
 use super::columns::{ColumnModel, ControlRange};
 
 impl ColumnModel for Palmer {
@@ -712,23 +715,58 @@ impl ColumnModel for Palmer {
     }
 }
 
+/// The throttle an action sets (clipped to -1..1).
+#[inline(always)]
+fn throttle_of(a: f64) -> f64 {
+    (a + 1.0) * 0.5
+}
+
+/// The angle of attack an action sets, degrees.
+#[inline(always)]
+fn alpha_deg_of(a: f64) -> f64 {
+    2.0 + 18.0 * a
+}
+
+/// The bank an action sets, degrees.
+#[inline(always)]
+fn bank_deg_of(a: f64) -> f64 {
+    20.0 * a
+}
+
+/// The flaps an action sets, degrees: exactly 0, 20 or 40.
+#[inline(always)]
+fn flaps_deg_of(a: f64) -> f64 {
+    if a < -1.0 / 3.0 {
+        0.0
+    } else if a <= 1.0 / 3.0 {
+        20.0
+    } else {
+        40.0
+    }
+}
+
+/// The flap setting of [`flaps_deg_of`]'s degrees.
+#[inline(always)]
+fn flaps_of(degrees: f64) -> Flaps {
+    if degrees == 0.0 {
+        Flaps::Up
+    } else if degrees == 20.0 {
+        Flaps::Deg20
+    } else {
+        Flaps::Deg40
+    }
+}
+
 /// Palmer's controls from one aircraft's clipped actions: throttle,
 /// alpha_deg, bank_deg, flaps_deg (control indices 0..4).
 #[inline]
 #[must_use]
 fn palmer_controls(a: &[f64]) -> [(usize, f64); 4] {
-    let flaps = if a[3] < -1.0 / 3.0 {
-        0.0
-    } else if a[3] <= 1.0 / 3.0 {
-        20.0
-    } else {
-        40.0
-    };
     [
-        (0, (a[0] + 1.0) * 0.5),
-        (1, 2.0 + 18.0 * a[1]),
-        (2, 20.0 * a[2]),
-        (3, flaps),
+        (0, throttle_of(a[0])),
+        (1, alpha_deg_of(a[1])),
+        (2, bank_deg_of(a[2])),
+        (3, flaps_deg_of(a[3])),
     ]
 }
 
@@ -766,14 +804,54 @@ impl AgentModel for Palmer {
         c.throttle = throttle;
         c.alpha_deg = alpha_deg;
         c.bank_deg = bank_deg;
-        // `palmer_controls` gives exactly 0, 20 or 40.
-        c.flaps = if flaps == 0.0 {
-            Flaps::Up
-        } else if flaps == 20.0 {
-            Flaps::Deg20
-        } else {
-            Flaps::Deg40
-        };
+        c.flaps = flaps_of(flaps);
         c
+    }
+}
+
+/// A block's columns and controls, each lane the per-aircraft methods'
+/// operations in the same order, the lanes together (the compiler may put
+/// them in vector registers: every operation is correctly rounded, none is
+/// fused).
+impl LaneAgent for Palmer {
+    const BLOCK_READS: bool = true;
+
+    /// The state's columns are the block's own lanes (`vars` is `[vx, x,
+    /// vy, y, vz, z]`), copied, every lane (those past `count` too).
+    #[inline(always)]
+    fn block_state_values(block: &Block<Self>, _count: usize, out: &mut [[f64; LANES]]) {
+        let v = &block.vars;
+        let columns = [block.time, v[1].0, v[3].0, v[5].0, v[0].0, v[2].0, v[4].0];
+        for (o, c) in out.iter_mut().zip(&columns) {
+            // Every lane: a copy of a fixed length.
+            *o = *c;
+        }
+    }
+
+    /// [`AgentModel::task_kinematics`]'s operations on whole lanes.
+    #[inline(always)]
+    fn block_kinematics(columns: &[[f64; LANES]], out: &mut [[f64; LANES]; 4]) {
+        *out = [
+            columns[3].map(|z| z * FT_PER_M),
+            columns[6].map(|vz| vz * FT_PER_M),
+            columns[4],
+            columns[5],
+        ];
+    }
+
+    #[inline(always)]
+    fn block_control_obs(
+        controls: &[PalmerControls; LANES],
+        _count: usize,
+        out: &mut [[f64; LANES]; MAX_CONTROL_OBS],
+    ) {
+        // Every lane (those past `count` hold controls too): the divisions
+        // of the whole block together.
+        for (l, c) in controls.iter().enumerate() {
+            out[0][l] = c.throttle;
+            out[1][l] = c.alpha_deg / 20.0;
+            out[2][l] = c.bank_deg / 20.0;
+            out[3][l] = c.flaps.degrees() / 40.0;
+        }
     }
 }
