@@ -651,9 +651,16 @@ where
 
 impl<M: BindModel> Lanes<M> {
     /// Flies `frames` frames without refreshing the buffers.
+    /// Each cache-sized run of blocks flies all the frames before the next
+    /// ([`fdm_fleet::Fleet::fly_frames_with`]): the bits of frame after frame over the
+    /// whole fleet, without reading a large fleet from memory every frame.
     fn fly_frames(&mut self, frames: u64) -> Result<(), FleetError> {
-        for _ in 0..frames {
-            self.fleet.fly(self.fps, self.precision, self.parallel)?;
+        let mut left = frames;
+        while left > 0 {
+            let now = usize::try_from(left).unwrap_or(usize::MAX);
+            self.fleet
+                .fly_frames(self.fps, self.precision, self.parallel, now)?;
+            left -= now as u64;
         }
         Ok(())
     }

@@ -73,6 +73,19 @@ pub trait FleetOps<M: FleetKernel>: Send + Sized {
     /// A precision the kernel does not have ([`Self::check_precision`],
     /// which the constructor already asked).
     fn fly(&mut self, fps: f64, precision: Precision, parallel: bool) -> Result<(), FleetError>;
+    /// `frames` calls of [`Self::fly`], with the same bits, each cache-sized
+    /// run of blocks flown every frame before the next
+    /// ([`Fleet::fly_frames_with`]).
+    ///
+    /// # Errors
+    /// As [`Self::fly`] (nothing is flown then).
+    fn fly_frames(
+        &mut self,
+        fps: f64,
+        precision: Precision,
+        parallel: bool,
+        frames: usize,
+    ) -> Result<(), FleetError>;
     /// Every aircraft's state, in order.
     fn for_each_state(&self, f: impl FnMut(usize, &M::State));
     /// Every aircraft's status, in order.
@@ -153,6 +166,20 @@ where
             self.par_fly_with(dt, precision)
         } else {
             self.fly_with(dt, precision)
+        }
+    }
+    fn fly_frames(
+        &mut self,
+        fps: f64,
+        precision: Precision,
+        parallel: bool,
+        frames: usize,
+    ) -> Result<(), FleetError> {
+        let dt = M::time_step(fps);
+        if parallel {
+            self.par_fly_frames_with(dt, precision, frames)
+        } else {
+            self.fly_frames_with(dt, precision, frames)
         }
     }
     fn for_each_state(&self, mut f: impl FnMut(usize, &M::State)) {

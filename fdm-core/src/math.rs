@@ -303,9 +303,7 @@ fn asinf_series(t: f32) -> f32 {
 #[inline(always)]
 fn asinf_poly(a: f32) -> f32 {
     if a < 0.5 {
-        let t = a * a;
-        let w = t * asinf_series(t);
-        return a + a * w;
+        return asinf_below_half(a);
     }
     let (pio2_hi, pio2_lo, pio4_hi) = (ASINF_PIO2_HI, ASINF_PIO2_LO, ASINF_PIO4_HI);
     let t = (1.0 - a) * 0.5;
@@ -413,15 +411,65 @@ fn asinf_exception(ix: u32) -> Option<u32> {
         .map(|i| entries[i][1])
 }
 
-/// [`asinf`] of every lane, bit for bit, in vector registers: both branches
-/// of the polynomial (`|x| < 0.5` and above) are evaluated lane-wise with the
-/// scalar branch's operations in its order and the lane's one kept (a blend,
-/// [`asinf_blend`], in one plain loop that LLVM vectorises); the exception
-/// table is searched only for the lanes that a 7 kB bit filter cannot rule
-/// out (about one lane in seven for small angles of attack), and the lanes
-/// outside `2^-27 <= |x| <= 1` take [`asinf`]'s own answer.
+/// [`asinf`] of every lane, bit for bit, in vector registers: the
+/// polynomial's branches (`|x| < 0.5` and above) are evaluated lane-wise with
+/// the scalar branch's operations in its order and the lane's one kept (a
+/// blend, [`asinf_blend`], in one plain loop that LLVM vectorises); when no
+/// lane is at or above 0.5 (the usual case for angles of attack) only the
+/// first branch is evaluated ([`asinf_small`], the same operations). The
+/// exception table is searched only for the lanes that a 7 kB bit filter
+/// cannot rule out (2.4 % of the lanes of Bourg's demonstration fleet,
+/// tested without a branch per lane), and the lanes outside
+/// `2^-27 <= |x| <= 1` take [`asinf`]'s own answer ([`asinf_other`]).
 #[inline(always)]
 pub(crate) fn asinf_lanes<const N: usize>(x: [f32; N]) -> [f32; N] {
+    let mut r = [0.0_f32; N];
+    // Whether a lane takes one of the branches for |x| >= 0.5 (or is
+    // outside the domain, answered below anyway): a plain `|` over the
+    // lanes, no branch per lane.
+    let mut large = false;
+    for v in &x {
+        large |= (v.to_bits() & 0x7fff_ffff) >= 0x3f00_0000;
+    }
+    if large {
+        for l in 0..N {
+            r[l] = asinf_blend(x[l]);
+        }
+    } else {
+        for l in 0..N {
+            r[l] = asinf_small(x[l]);
+        }
+    }
+    // The lanes the polynomial may not answer: outside 2^-27 <= |x| <= 1, or
+    // possibly in the exception table. Each lane's test is branch-free (it
+    // had two branches on the lane's value, which is data).
+    let mut other = [false; N];
+    let mut any = false;
+    for l in 0..N {
+        let ix = x[l].to_bits() & 0x7fff_ffff;
+        let outside = ix.wrapping_sub(0x3200_0000) > 0x3f80_0000 - 0x3200_0000;
+        other[l] = outside | exception_filter_bit(ix);
+        any |= other[l];
+    }
+    if any {
+        for l in 0..N {
+            if other[l] {
+                r[l] = asinf_other(x[l], r[l]);
+            }
+        }
+    }
+    r
+}
+
+/// [`asinf_lanes`] as it was before the branch-free filter and the
+/// `|x| < 0.5` shortcut: every lane through [`asinf_blend`], the filter
+/// tested lane by lane, a lane it does not rule out through the scalar
+/// [`asinf`]. The same bits; kept for the scalar step's eight `asinf`s
+/// (`Real::asinf_exact_8` of `f32`), which it serves about 6 % faster than
+/// [`asinf_lanes`] does (BENCHMARKS.md, "Bourg: the asinf filter, the loads'
+/// arrays, several frames in cache").
+#[inline(always)]
+pub(crate) fn asinf_lanes_blended<const N: usize>(x: [f32; N]) -> [f32; N] {
     let mut r = [0.0_f32; N];
     for l in 0..N {
         r[l] = asinf_blend(x[l]);
@@ -445,6 +493,55 @@ pub(crate) fn asinf_lanes<const N: usize>(x: [f32; N]) -> [f32; N] {
     r
 }
 
+/// [`may_be_exception`] without a branch, for any `ix` (`|x|`'s bits): the
+/// filter bit of `ix`'s run, the run clamped into the filter (inputs below
+/// [`EXCEPTION_FILTER_BASE`] read run 0, which holds no exception; inputs
+/// above 1 read the last run, and are outside `asinf`'s domain anyway).
+#[inline(always)]
+fn exception_filter_bit(ix: u32) -> bool {
+    let k = (ix.saturating_sub(EXCEPTION_FILTER_BASE) >> EXCEPTION_FILTER_SHIFT) as usize;
+    let k = k.min(EXCEPTION_FILTER_BYTES * 8 - 1);
+    EXCEPTION_FILTER[k / 8] & (1 << (k % 8)) != 0
+}
+
+// Run 0 of the filter holds no exception, so that the inputs below the
+// filter's base, clamped to it by `exception_filter_bit`, are ruled out.
+const _: () = assert!(EXCEPTION_FILTER[0] & 1 == 0);
+
+/// A lane of [`asinf_lanes`] the bit filter did not rule out, or outside
+/// `2^-27 <= |x| <= 1`: [`asinf`]'s answer, from `poly` ([`asinf_blend`]'s
+/// or [`asinf_small`]'s answer for `x`, which is [`asinf`]'s when `x` is in
+/// that range and not in the exception table) without computing it again.
+#[inline(never)]
+fn asinf_other(x: f32, poly: f32) -> f32 {
+    let ix = x.to_bits() & 0x7fff_ffff;
+    if !(0x3200_0000..=0x3f80_0000).contains(&ix) {
+        return asinf(x);
+    }
+    // `asinf`'s negation of the table's (positive) answer is its sign bit
+    // flipped, as `asinf_blend`'s.
+    asinf_exception(ix).map_or(poly, |glibc| {
+        f32::from_bits(glibc ^ (x.to_bits() & 0x8000_0000))
+    })
+}
+
+/// [`asinf_blend`] for `|x| < 0.5`: its first branch alone, the same
+/// operations in the same order (so the same bits there).
+#[inline(always)]
+fn asinf_small(x: f32) -> f32 {
+    let ix = x.to_bits() & 0x7fff_ffff;
+    let small = asinf_below_half(f32::from_bits(ix));
+    f32::from_bits(small.to_bits() ^ (x.to_bits() & 0x8000_0000))
+}
+
+/// [`asinf_poly`]'s branch for `a < 0.5`: `a + a·(t·P(t))`, `t = a²`.
+#[inline(always)]
+fn asinf_below_half(a: f32) -> f32 {
+    let t = a * a;
+    let w = t * asinf_series(t);
+    a + a * w
+}
+
 /// [`asinf`] for `2^-27 <= |x| <= 1` outside the exception table, without a
 /// branch: [`asinf_poly`]'s three branches all computed, with their
 /// operations in their order, and the one the scalar takes kept; the sign as
@@ -455,9 +552,7 @@ fn asinf_blend(x: f32) -> f32 {
     let ix = x.to_bits() & 0x7fff_ffff;
     let a = f32::from_bits(ix);
     // |x| < 0.5.
-    let t = a * a;
-    let w = t * asinf_series(t);
-    let small = a + a * w;
+    let small = asinf_below_half(a);
     // |x| >= 0.5.
     let t = (1.0 - a) * 0.5;
     let pt = t * asinf_series(t);

@@ -11,7 +11,10 @@
 //! same on a 2-thread rayon pool, `par_step`);
 //! the number of aircraft; the number of steps; `fly` to fly whole frames
 //! with the flight status (`fly`) instead of bare steps (not for the scalar
-//! kernels). Prints the instruction set and
+//! kernels), or, for `bourg-demo` and `bourg-demo-2t`, `frames` to step all
+//! the steps in one call of `step_frames_with` (`par_step_frames_with`: each
+//! cache-sized run of blocks stepped every time before the next; the same
+//! checksum). Prints the instruction set and
 //! a checksum of the final positions (so the work cannot be optimised away).
 
 use fdm_core::bourg::{self, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
@@ -49,6 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .num_threads(threads)
             .build()?;
         let fly = args.get(3).is_some_and(|a| a == "fly");
+        let frames = args.get(3).is_some_and(|a| a == "frames");
         let run = |fleet: &mut Fleet<Bourg>| match (threads, fly) {
             (1, false) => fleet.step(dt),
             (1, true) => fleet.fly(dt),
@@ -58,8 +62,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         run(&mut fleet);
         let cpu = on_cpu_ns();
         let start = std::time::Instant::now();
-        for _ in 0..steps {
-            run(&mut fleet);
+        if frames && threads == 1 {
+            fleet.step_frames_with(dt, Precision::Exact, steps)?;
+        } else if frames {
+            pool.install(|| fleet.par_step_frames_with(dt, Precision::Exact, steps))?;
+        } else {
+            for _ in 0..steps {
+                run(&mut fleet);
+            }
         }
         let seconds = start.elapsed().as_secs_f64();
         #[allow(clippy::cast_precision_loss)] // a rate

@@ -99,6 +99,14 @@ use rayon::prelude::*;
 /// threads on a 1,000-aircraft fleet.
 const BLOCKS_PER_TASK: usize = 32;
 
+/// Bytes of a fleet's arrays that the `_frames` methods
+/// ([`Fleet::step_frames_with`], ...) fly all their frames before going on
+/// to the next blocks: well inside the 1 to 2 MiB L2 cache of a core of the
+/// project's machines, so that every frame after the first reads its blocks
+/// from L2 rather than from L3 or memory (BENCHMARKS.md, "Bourg: the asinf
+/// filter, the loads' arrays, several frames in cache").
+const FRAMES_PIECE_BYTES: usize = 256 * 1024;
+
 /// Which maths a fleet's step uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Precision {
@@ -893,6 +901,108 @@ impl<M: FleetKernel> Fleet<M> {
         precision: Precision,
     ) -> Result<(), FleetError> {
         self.checked_run(Arch::Scalar, dt, precision, true, false)
+    }
+
+    /// `frames` calls of [`Fleet::step_with`], with the same bits, each run
+    /// of blocks of a cache's size (256 kB) stepped all `frames` times before
+    /// the next: a fleet larger than the core's cache is read from memory
+    /// once per call rather than once per frame. Aircraft do not interact
+    /// and a block's step reads only that block, so every aircraft ends as
+    /// after `frames` calls (the tests compare the two). No frame for
+    /// `frames = 0`.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`] (nothing is stepped then).
+    pub fn step_frames_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+        frames: usize,
+    ) -> Result<(), FleetError> {
+        self.run_frames(dt, precision, false, false, frames)
+    }
+
+    /// [`Fleet::step_frames_with`] on the threads of the current rayon pool,
+    /// in runs of at most 32 blocks: `frames` calls of
+    /// [`Fleet::par_step_with`], the same bits.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn par_step_frames_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+        frames: usize,
+    ) -> Result<(), FleetError> {
+        self.run_frames(dt, precision, false, true, frames)
+    }
+
+    /// `frames` calls of [`Fleet::fly_with`] (whole frames with the flight
+    /// status), a cache-sized run of blocks at a time as
+    /// [`Fleet::step_frames_with`]: the same bits.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn fly_frames_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+        frames: usize,
+    ) -> Result<(), FleetError> {
+        self.run_frames(dt, precision, true, false, frames)
+    }
+
+    /// [`Fleet::fly_frames_with`] on the threads of the current rayon pool:
+    /// `frames` calls of [`Fleet::par_fly_with`], the same bits.
+    ///
+    /// # Errors
+    /// As [`Fleet::check_precision`].
+    pub fn par_fly_frames_with(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+        frames: usize,
+    ) -> Result<(), FleetError> {
+        self.run_frames(dt, precision, true, true, frames)
+    }
+
+    /// `frames` frames of every aircraft, each run of blocks of at most
+    /// [`FRAMES_PIECE_BYTES`] (and, in parallel, at most
+    /// [`BLOCKS_PER_TASK`] blocks, so that small fleets still use every
+    /// thread) flown all `frames` times through the model's
+    /// [`FleetKernel::run_kernel_piece`] before the next.
+    fn run_frames(
+        &mut self,
+        dt: M::TimeStep,
+        precision: Precision,
+        fly: bool,
+        parallel: bool,
+        frames: usize,
+    ) -> Result<(), FleetError> {
+        Self::check_precision(precision)?;
+        let mut blocks = (FRAMES_PIECE_BYTES / core::mem::size_of::<Block<M>>()).max(1);
+        if parallel {
+            blocks = blocks.min(BLOCKS_PER_TASK);
+        }
+        let fly_piece = |piece: &mut FleetPiece<'_, M>| {
+            for _ in 0..frames {
+                let run = KernelRun {
+                    arch: piece.arch,
+                    dt,
+                    precision,
+                    fly,
+                    parallel: false,
+                };
+                M::run_kernel_piece(piece, run);
+            }
+        };
+        let mut pieces = self.pieces_mut(blocks);
+        if parallel {
+            pieces.par_iter_mut().for_each(fly_piece);
+        } else {
+            pieces.iter_mut().for_each(fly_piece);
+        }
+        Ok(())
     }
 
     /// [`Self::run`] after [`Fleet::check_precision`].

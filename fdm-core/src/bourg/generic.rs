@@ -41,6 +41,50 @@ use super::controls::BourgControls;
 use super::ops::{PI, TOL};
 use crate::real::{Mask, Maths, Real, V3};
 
+/// `eight!(|i| expr)`: `[expr with i = 0, ..., expr with i = 7]`, evaluated
+/// in that order: an array of the eight elements' values, each written once
+/// (no zeroed array to fill). A macro, not a function taking a closure: the
+/// compiler kept such closures out of line, compiled for the baseline
+/// instruction set, in the fleet kernels (2.8 times slower).
+macro_rules! eight {
+    (|$i:ident| $e:expr) => {
+        [
+            {
+                let $i: usize = 0;
+                $e
+            },
+            {
+                let $i: usize = 1;
+                $e
+            },
+            {
+                let $i: usize = 2;
+                $e
+            },
+            {
+                let $i: usize = 3;
+                $e
+            },
+            {
+                let $i: usize = 4;
+                $e
+            },
+            {
+                let $i: usize = 5;
+                $e
+            },
+            {
+                let $i: usize = 6;
+                $e
+            },
+            {
+                let $i: usize = 7;
+                $e
+            },
+        ]
+    };
+}
+
 /// The number type of Bourg's step: a [`Real`] over `f32` with the model's
 /// table look-ups as hooks.
 pub trait BourgReal: Real<Scalar = f32> {
@@ -365,23 +409,46 @@ pub(crate) fn loads<R: BourgReal, F: Maths>(
     };
     let cg_offset = |i: usize| splat3(&mass.cg_offsets_ft[i]);
 
-    let mut local_speed = [c(0.0); 8];
-    let mut drag_candidate = [zero; 8];
-    for i in 0..8 {
-        let local_velocity = s.velocity_body_ftps + s.angular_velocity_radps.cross(cg_offset(i));
-        local_speed[i] = local_velocity.magnitude();
-        drag_candidate[i] = -local_velocity / local_speed[i];
-    }
-
+    // The per-element arrays are built by `eight!` (each element written
+    // once) rather than zeroed and then filled, which the compiler did with
+    // a `memset` of 1.5 kB per array for 16 lanes (about 5 % of the fleet
+    // kernel's time; BENCHMARKS.md, "Bourg: the asinf filter, the loads'
+    // arrays, several frames in cache").
     // `vDragVector` is declared once before the loop: an element whose local
     // speed is not above 1 ft/s keeps the previous element's drag direction
     // (zero before the first update).
-    let mut drag = [zero; 8];
-    let mut carried = zero;
-    for i in 0..8 {
-        carried = V3::select(local_speed[i].gt(1.0), drag_candidate[i], carried);
-        drag[i] = carried;
-    }
+    let (local_speed, drag) = if R::LANES == 1 {
+        // For one aircraft, filled loops: the arrays are small, and the
+        // scalar step was 25 to 30 % slower with `eight!` for these arrays
+        // and the resultants (measured; the compiler vectorised the eight
+        // elements' operations less).
+        let mut local_speed = [c(0.0); 8];
+        let mut drag_candidate = [zero; 8];
+        for i in 0..8 {
+            let local_velocity =
+                s.velocity_body_ftps + s.angular_velocity_radps.cross(cg_offset(i));
+            local_speed[i] = local_velocity.magnitude();
+            drag_candidate[i] = -local_velocity / local_speed[i];
+        }
+        let mut drag = [zero; 8];
+        let mut carried = zero;
+        for i in 0..8 {
+            carried = V3::select(local_speed[i].gt(1.0), drag_candidate[i], carried);
+            drag[i] = carried;
+        }
+        (local_speed, drag)
+    } else {
+        let local_velocity =
+            eight!(|i| s.velocity_body_ftps + s.angular_velocity_radps.cross(cg_offset(i)));
+        let local_speed = eight!(|i| local_velocity[i].magnitude());
+        let drag_candidate = eight!(|i| -local_velocity[i] / local_speed[i]);
+        let mut carried = zero;
+        let drag = eight!(|i| {
+            carried = V3::select(local_speed[i].gt(1.0), drag_candidate[i], carried);
+            carried
+        });
+        (local_speed, drag)
+    };
 
     // Each element's lift direction and the sine of its angle of attack. For
     // one aircraft the eight sines and their `asinf`s come first and the
@@ -390,27 +457,27 @@ pub(crate) fn loads<R: BourgReal, F: Maths>(
     // step about 20 % faster on an Intel Xeon (BENCHMARKS.md, "Scalar
     // steps"). For lanes the two stay in one loop: the other order made
     // the fleet kernel 10 to 20 % slower there.
-    let mut lift = [zero; 8];
     let mut sin_attack = [c(0.0); 8];
     // `RadiansToDegrees(asinf(s))`, the eight `asinf`s together (for one
     // aircraft, as eight lanes: the same bits, `Real::asinf_exact_8`).
     // Element by element, not with `.map(..)`, which the compiler could keep
     // out of line in the fleet kernels (see `real::lanes`).
-    let [a0, a1, a2, a3, a4, a5, a6, a7] = if R::LANES == 1 {
+    let (lift, [a0, a1, a2, a3, a4, a5, a6, a7]) = if R::LANES == 1 {
         for (i, s) in sin_attack.iter_mut().enumerate() {
             *s = sine_of_attack(drag[i], normal(i));
         }
         let asin = F::asinf_8(sin_attack);
+        let mut lift = [zero; 8];
         for (i, l) in lift.iter_mut().enumerate() {
             *l = lift_direction(drag[i], normal(i));
         }
-        asin
+        (lift, asin)
     } else {
-        for i in 0..8 {
-            lift[i] = lift_direction(drag[i], normal(i));
+        let lift = eight!(|i| {
             sin_attack[i] = sine_of_attack(drag[i], normal(i));
-        }
-        F::asinf_8(sin_attack)
+            lift_direction(drag[i], normal(i))
+        });
+        (lift, F::asinf_8(sin_attack))
     };
     let deg = |a: R| a * 180.0 / PI;
     let attack_deg = [
@@ -425,25 +492,41 @@ pub(crate) fn loads<R: BourgReal, F: Maths>(
     ];
 
     let mut stalling = R::Mask::splat(false);
-    let mut resultant = [zero; 8];
-    for (i, element) in elements.iter().enumerate() {
-        let q_area = c(0.5) * RHO_SLUG_FT3 * local_speed[i] * local_speed[i] * element.area_ft2;
-        let (a, l, d) = (attack_deg[i], lift[i], drag[i]);
-        resultant[i] = match i {
-            6 => {
-                let (cl, cd) = R::rudder(a);
-                (l * cl + d * cd) * q_area
-            }
-            7 => d * c(0.5) * q_area,
-            _ => {
-                let (cl, cd) = elevator_coefficients::<R>(terms, i, a);
-                if i <= 3 {
-                    stalling = stalling.or(cl.eq(0.0));
+    // Element `i`'s resultant (and the stall flag of the wing's elements).
+    macro_rules! resultant_of {
+        ($i:expr) => {{
+            let i: usize = $i;
+            let q_area =
+                c(0.5) * RHO_SLUG_FT3 * local_speed[i] * local_speed[i] * elements[i].area_ft2;
+            let (a, l, d) = (attack_deg[i], lift[i], drag[i]);
+            match i {
+                6 => {
+                    let (cl, cd) = R::rudder(a);
+                    (l * cl + d * cd) * q_area
                 }
-                (l * cl + d * cd) * q_area
+                7 => d * c(0.5) * q_area,
+                _ => {
+                    let (cl, cd) = elevator_coefficients::<R>(terms, i, a);
+                    if i <= 3 {
+                        stalling = stalling.or(cl.eq(0.0));
+                    }
+                    (l * cl + d * cd) * q_area
+                }
             }
-        };
+        }};
     }
+    // For one aircraft a filled loop, for lanes `eight!` (as above: the
+    // zeroed array of lanes was a `memset`, and the lanes' kernel was 40 %
+    // slower with this loop).
+    let resultant = if R::LANES == 1 {
+        let mut resultant = [zero; 8];
+        for (i, r) in resultant.iter_mut().enumerate() {
+            *r = resultant_of!(i);
+        }
+        resultant
+    } else {
+        eight!(|i| resultant_of!(i))
+    };
 
     let thrust = V3::new(
         c(1.0) * terms.thrust_lb,

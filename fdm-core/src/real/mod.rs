@@ -302,7 +302,7 @@ scalar_real!(
     fmaf,
     #[inline(always)]
     fn asinf_exact_8(values: [f32; 8]) -> [f32; 8] {
-        crate::math::asinf_lanes(values)
+        crate::math::asinf_lanes_blended(values)
     }
 );
 
