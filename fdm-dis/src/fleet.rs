@@ -104,9 +104,10 @@ impl FleetPublisher {
                 let mut tally = Tally::default();
                 for (k, tracker) in trackers.iter_mut().enumerate() {
                     if let Some(v) = view(c * FLEET_BATCH + k) {
-                        tally.publish(sender, tracker.update(&v, placement));
+                        tally.publish_batched(sender, tracker.update(&v, placement));
                     }
                 }
+                tally.flush(sender);
                 tally
             })
             .reduce(Tally::default, |mut a, b| {
@@ -148,15 +149,23 @@ impl FleetPublisher {
         rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]) + Sync,
         view: impl Fn(usize, &S) -> FlightView + Sync,
     ) -> Tally {
-        self.screened(placement, last, state, rough, view, |tally, _, due| {
-            tally.publish(sender, due);
-        })
+        self.screened(
+            placement,
+            last,
+            state,
+            rough,
+            view,
+            |tally, _, due| tally.publish_batched(sender, due),
+            |tally| tally.flush(sender),
+        )
     }
 
     /// [`FleetPublisher::publish_screened`] handing each exact update's
     /// result to `send` instead of a socket: the fleet in pieces of
     /// [`FLEET_BATCH`] aircraft ([`FleetPublisher::screened_pieces`]) on the
-    /// current rayon pool, each piece's inputs read by `state`.
+    /// current rayon pool, each piece's inputs read by `state`, each piece's
+    /// tally given to `finish` (to send what it queued) before it is merged.
+    #[allow(clippy::too_many_arguments)] // private; one closure per role
     fn screened<S: Copy + Send + Sync>(
         &mut self,
         placement: &Placement,
@@ -165,13 +174,16 @@ impl FleetPublisher {
         rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]) + Sync,
         view: impl Fn(usize, &S) -> FlightView + Sync,
         send: impl Fn(&mut Tally, usize, Result<Option<Due<'_>>, DisOutputError>) + Sync,
+        finish: impl Fn(&mut Tally) + Sync,
     ) -> Tally {
         self.screened_pieces(placement, last, FLEET_BATCH)
             .into_par_iter()
             .map(|mut piece| {
                 let first = piece.first;
                 let states: Vec<Option<S>> = (first..first + piece.len()).map(&state).collect();
-                piece.run(&states, &rough, &view, &send)
+                let mut tally = piece.run(&states, &rough, &view, &send);
+                finish(&mut tally);
+                tally
             })
             .reduce(Tally::default, |mut a, b| {
                 a.merge(b);
@@ -299,9 +311,11 @@ impl<S: Copy> ScreenedPiece<'_, S> {
         rough: impl Fn(usize, &[Option<S>], &mut [Option<Rough>]),
         view: impl Fn(usize, &S) -> FlightView,
     ) -> Tally {
-        self.run(states, rough, view, |tally, _, due| {
-            tally.publish(sender, due)
-        })
+        let mut tally = self.run(states, rough, view, |tally, _, due| {
+            tally.publish_batched(sender, due);
+        });
+        tally.flush(sender);
+        tally
     }
 
     /// [`ScreenedPiece::publish`] with the rough frames made
@@ -322,9 +336,11 @@ impl<S: Copy> ScreenedPiece<'_, S> {
         rough: impl RoughFrames<S>,
         view: impl Fn(usize, &S) -> FlightView,
     ) -> Tally {
-        self.run_lanes(states, rough, view, |tally, _, due| {
-            tally.publish(sender, due);
-        })
+        let mut tally = self.run_lanes(states, rough, view, |tally, _, due| {
+            tally.publish_batched(sender, due);
+        });
+        tally.flush(sender);
+        tally
     }
 
     /// [`ScreenedPiece::publish`] handing each exact update's result to
@@ -575,6 +591,7 @@ mod tests {
                     rough,
                     view,
                     keep(&got),
+                    |_| {},
                 );
                 let mut got = got.into_inner().unwrap();
                 got.sort_by_key(|(i, _)| *i);
@@ -670,6 +687,7 @@ mod tests {
                     rough,
                     view,
                     keep(&expected),
+                    |_| {},
                 );
                 let got = std::sync::Mutex::new(Vec::new());
                 let mut tally = Tally::default();
@@ -816,6 +834,7 @@ mod tests {
                     got.lock().unwrap().extend(kept);
                     tally.publish_counts_only(&result);
                 },
+                |_| {},
             );
             let expected = match whole.update(&v, &placement) {
                 Ok(Some(d)) => vec![Ok(d.bytes.to_vec())],

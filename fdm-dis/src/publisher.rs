@@ -2,6 +2,7 @@
 //! a reusable encode buffer, behind one call per frame; and a UDP sender.
 
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use bytes::BytesMut;
 
@@ -138,10 +139,44 @@ impl EntityPublisher {
 
 /// A UDP socket that sends datagrams to one address (unicast or broadcast;
 /// the tests use 127.0.0.1 only).
+///
+/// A fleet's due datagrams of one size go out several to a system call
+/// where the OS can split them ([`UdpSender::send_segments`]: UDP generic
+/// segmentation offload on Linux); the receivers get the same datagrams.
 #[derive(Debug)]
 pub struct UdpSender {
     socket: UdpSocket,
     target: SocketAddr,
+    /// Whether [`UdpSender::send_segments`] still tries the OS's
+    /// segmentation (cleared the first time the OS refuses it).
+    segmenting: AtomicBool,
+}
+
+/// The most datagrams the OS is asked to split one buffer into: Linux's
+/// `UDP_MAX_SEGMENTS` (64 since 4.18, when UDP segmentation came).
+pub(crate) const MAX_SEGMENTS: usize = 64;
+
+/// The most bytes of one segmented buffer: a UDP payload's limit over IPv4
+/// (65,507) rounded down.
+const MAX_SEGMENTED_BYTES: usize = 65_000;
+
+/// How many datagrams of `len` bytes one call of
+/// [`UdpSender::send_segments`] may carry (at least 1).
+pub(crate) const fn segments_for(len: usize) -> usize {
+    if len == 0 {
+        return 1;
+    }
+    let by_bytes = MAX_SEGMENTED_BYTES / len;
+    let n = if by_bytes < MAX_SEGMENTS {
+        by_bytes
+    } else {
+        MAX_SEGMENTS
+    };
+    if n == 0 {
+        1
+    } else {
+        n
+    }
 }
 
 impl UdpSender {
@@ -168,7 +203,11 @@ impl UdpSender {
         };
         let socket = UdpSocket::bind(local).map_err(io)?;
         socket.set_broadcast(broadcast).map_err(io)?;
-        Ok(Self { socket, target })
+        Ok(Self {
+            socket,
+            target,
+            segmenting: AtomicBool::new(cfg!(target_os = "linux")),
+        })
     }
 
     /// The destination.
@@ -185,5 +224,111 @@ impl UdpSender {
         self.socket
             .send_to(datagram, self.target)
             .map_err(|e| DisOutputError::Io(e.to_string()))
+    }
+
+    /// A sender whose every send fails: an IPv4 loopback socket aimed at an
+    /// IPv6 address (the tests' failing sends; nothing leaves the host).
+    #[cfg(test)]
+    pub(crate) fn failing() -> Self {
+        Self {
+            socket: UdpSocket::bind("127.0.0.1:0").unwrap(),
+            target: "[::1]:9".parse().unwrap(),
+            segmenting: AtomicBool::new(true),
+        }
+    }
+
+    /// Stops [`UdpSender::send_segments`] from trying the OS's segmentation
+    /// (the tests' way to the one-by-one path on Linux).
+    #[cfg(test)]
+    pub(crate) fn stop_segmenting(&self) {
+        self.segmenting.store(false, Ordering::Relaxed);
+    }
+
+    /// Sends `datagrams`, consecutive datagrams of `len` bytes each (at most
+    /// [`segments_for`]`(len)` of them, the last possibly shorter), in one
+    /// system call that the OS splits into those datagrams (Linux's UDP
+    /// generic segmentation offload, `UDP_SEGMENT`): the receivers get the
+    /// same datagrams, in order, as from one [`UdpSender::send`] each,
+    /// for a fraction of the kernel's work per datagram (one socket lookup,
+    /// route and copy for all of them).
+    ///
+    /// Returns the bytes sent, or `None` when it sent nothing: the OS has no
+    /// such segmentation (not Linux, a kernel before 4.18, a device that
+    /// refuses it: then it is not tried again on this sender), or the send
+    /// failed. The caller then sends them one by one, which also reports
+    /// each datagram's own error.
+    pub(crate) fn send_segments(&self, datagrams: &[u8], len: usize) -> Option<usize> {
+        if !self.segmenting.load(Ordering::Relaxed) || len == 0 || datagrams.len() <= len {
+            return None;
+        }
+        let segment = u16::try_from(len).ok()?;
+        match segmented::send(&self.socket, self.target, datagrams, segment) {
+            Ok(n) => Some(n),
+            Err(e) => {
+                if segmented::unsupported(&e) {
+                    self.segmenting.store(false, Ordering::Relaxed);
+                }
+                None
+            }
+        }
+    }
+}
+
+/// UDP segmentation offload: one `sendmsg` with a `UDP_SEGMENT` control
+/// message (Linux 4.18 and later), through nix's safe wrappers.
+#[cfg(target_os = "linux")]
+mod segmented {
+    use std::io::IoSlice;
+    use std::net::{SocketAddr, UdpSocket};
+    use std::os::fd::AsRawFd;
+
+    use nix::errno::Errno;
+    use nix::sys::socket::{sendmsg, ControlMessage, MsgFlags, SockaddrStorage};
+
+    /// Sends `buf` to `to` as datagrams of `segment` bytes.
+    pub(super) fn send(
+        socket: &UdpSocket,
+        to: SocketAddr,
+        buf: &[u8],
+        segment: u16,
+    ) -> Result<usize, Errno> {
+        let to = SockaddrStorage::from(to);
+        sendmsg(
+            socket.as_raw_fd(),
+            &[IoSlice::new(buf)],
+            &[ControlMessage::UdpGsoSegments(&segment)],
+            MsgFlags::empty(),
+            Some(&to),
+        )
+    }
+
+    /// Whether `e` says the OS or the device cannot segment (rather than
+    /// that the datagrams could not be sent).
+    pub(super) fn unsupported(e: &Errno) -> bool {
+        matches!(
+            e,
+            Errno::EINVAL | Errno::ENOPROTOOPT | Errno::EOPNOTSUPP | Errno::EIO
+        )
+    }
+}
+
+/// No UDP segmentation offload off Linux: every datagram is its own send.
+#[cfg(not(target_os = "linux"))]
+mod segmented {
+    use std::net::{SocketAddr, UdpSocket};
+
+    /// Never sends (the caller sends one datagram at a time).
+    pub(super) fn send(
+        _socket: &UdpSocket,
+        _to: SocketAddr,
+        _buf: &[u8],
+        _segment: u16,
+    ) -> Result<usize, std::io::Error> {
+        Err(std::io::ErrorKind::Unsupported.into())
+    }
+
+    /// Always (nothing to try again).
+    pub(super) fn unsupported(_e: &std::io::Error) -> bool {
+        true
     }
 }

@@ -33,7 +33,7 @@ use crate::dead_reckoning::{DrThresholds, SendReason};
 use crate::entity::EntityConfig;
 use crate::error::DisOutputError;
 use crate::frames::{ned_to_ecef_rotation, EcefState};
-use crate::publisher::{Due, EntityPublisher, PublisherCounts, UdpSender};
+use crate::publisher::{segments_for, Due, EntityPublisher, PublisherCounts, UdpSender};
 
 /// Where a run's model frame sits in ECEF: the flat model frame (x north,
 /// y west, z up) is the tangent plane at the origin, so a model-frame
@@ -354,19 +354,95 @@ pub struct Tally {
     pub reasons: ReasonCounts,
     /// The first failure's message, kept until taken.
     pub first_failure: Option<String>,
+    /// Due datagrams of one size not yet handed to the OS (a fleet's
+    /// [`Tally::publish_batched`]; empty otherwise).
+    pending: PendingDatagrams,
+}
+
+/// Datagrams of `len` bytes each, queued to go out together
+/// ([`UdpSender::send_segments`]).
+#[derive(Clone, Default)]
+struct PendingDatagrams {
+    bytes: Vec<u8>,
+    len: usize,
+    count: usize,
+}
+
+impl core::fmt::Debug for PendingDatagrams {
+    // Only how many: two tallies that counted the same are the same tally,
+    // whatever their buffers' capacities (the tests compare them so).
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{}", self.count)
+    }
 }
 
 impl Tally {
     /// Sends one due PDU through `sender` and counts it (a failure is
     /// counted, its message kept once).
     pub fn send(&mut self, sender: &UdpSender, due: &Due<'_>) {
-        match due.reason {
+        self.count_reason(due.reason);
+        self.sent(sender, sender.send(due.bytes));
+    }
+
+    /// Counts why a PDU is due.
+    fn count_reason(&mut self, reason: SendReason) {
+        match reason {
             SendReason::First | SendReason::ClockReset => self.reasons.first += 1,
             SendReason::PositionError => self.reasons.position += 1,
             SendReason::OrientationError => self.reasons.orientation += 1,
             SendReason::Heartbeat => self.reasons.heartbeat += 1,
         }
-        match sender.send(due.bytes) {
+    }
+
+    /// [`Tally::send`] of a fleet's frame: the PDU is queued with the
+    /// previous ones of its size and the queue handed to the OS in one call
+    /// ([`UdpSender::send_segments`]) when it is full, when a PDU of
+    /// another size comes, or at [`Tally::flush`], which the fleet's
+    /// publishing calls before it returns a tally: the same datagrams, in
+    /// the same order, counted the same.
+    pub(crate) fn send_batched(&mut self, sender: &UdpSender, due: &Due<'_>) {
+        self.count_reason(due.reason);
+        let len = due.bytes.len();
+        if self.pending.count > 0 && self.pending.len != len {
+            self.flush(sender);
+        }
+        self.pending.len = len;
+        self.pending.bytes.extend_from_slice(due.bytes);
+        self.pending.count += 1;
+        if self.pending.count >= segments_for(len) {
+            self.flush(sender);
+        }
+    }
+
+    /// Hands the queued datagrams ([`Tally::send_batched`]) to the OS: in
+    /// one call where it can segment them, else one by one, each counted as
+    /// [`Tally::send`] counts it.
+    pub(crate) fn flush(&mut self, sender: &UdpSender) {
+        let (count, len) = (self.pending.count, self.pending.len);
+        if count == 0 {
+            return;
+        }
+        let mut bytes = core::mem::take(&mut self.pending.bytes);
+        if let Some(n) = sender.send_segments(&bytes, len) {
+            self.pdus += count as u64;
+            self.bytes += n as u64;
+        } else {
+            for datagram in bytes.chunks(len) {
+                self.sent(sender, sender.send(datagram));
+            }
+        }
+        // The buffer is kept for the next datagrams.
+        bytes.clear();
+        self.pending = PendingDatagrams {
+            bytes,
+            len: 0,
+            count: 0,
+        };
+    }
+
+    /// Counts one datagram's send.
+    fn sent(&mut self, sender: &UdpSender, result: Result<usize, DisOutputError>) {
+        match result {
             Ok(n) => {
                 self.pdus += 1;
                 self.bytes += n as u64;
@@ -396,6 +472,11 @@ impl Tally {
 
     /// Adds `other`'s counts (and its failure message if this has none).
     pub fn merge(&mut self, other: Self) {
+        // Every tally a fleet's publishing returns was flushed.
+        debug_assert_eq!(
+            other.pending.count, 0,
+            "a merged tally has unsent datagrams"
+        );
         self.pdus += other.pdus;
         self.bytes += other.bytes;
         self.failed += other.failed;
@@ -425,6 +506,25 @@ impl Tally {
             Ok(Some(due)) => self.send(sender, &due),
             Ok(None) => {}
             Err(e) => self.invalid(&e),
+        }
+    }
+
+    /// [`Tally::publish`] through [`Tally::send_batched`] (a fleet's frame;
+    /// [`Tally::flush`] before the tally is returned).
+    pub(crate) fn publish_batched(
+        &mut self,
+        sender: &UdpSender,
+        result: Result<Option<Due<'_>>, DisOutputError>,
+    ) {
+        match result {
+            Ok(Some(due)) => self.send_batched(sender, &due),
+            Ok(None) => {}
+            Err(e) => {
+                // The queued sends first, so that the first failure kept is
+                // the one that happened first, as with `publish`.
+                self.flush(sender);
+                self.invalid(&e);
+            }
         }
     }
 }
@@ -460,6 +560,128 @@ pub(crate) mod tests {
     use crate::frames::rotation_angle_between;
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
+
+    /// Receives `n` datagrams on `rx` (loopback; each read is one datagram).
+    fn receive(rx: &std::net::UdpSocket, n: usize) -> Vec<Vec<u8>> {
+        rx.set_read_timeout(Some(std::time::Duration::from_secs(5)))
+            .unwrap();
+        let mut buf = vec![0_u8; 70_000];
+        (0..n)
+            .map(|_| {
+                let got = rx.recv(&mut buf).expect("a datagram within 5 s");
+                buf[..got].to_vec()
+            })
+            .collect()
+    }
+
+    /// Datagrams `k` of `len` bytes, each byte telling its datagram apart.
+    fn datagram(k: usize, len: usize) -> Vec<u8> {
+        (0..len).map(|b| (k * 7 + b) as u8).collect()
+    }
+
+    /// A fleet's queued sends (`send_batched`, `flush`) reach a receiver as
+    /// the same datagrams, in the same order and counted the same, as one
+    /// `send` each: runs of one size longer than a segmented call holds
+    /// (64), a size change in the middle, a lone datagram, and a flush of
+    /// nothing; with the OS's segmentation (Linux) and without it (the
+    /// fallback, forced).
+    #[test]
+    fn queued_sends_are_the_datagrams_one_send_each_gives() {
+        let sizes: Vec<usize> = (0..150)
+            .map(|k| if k < 130 { 144 } else { 100 })
+            .chain([144, 1])
+            .collect();
+        let dues: Vec<Vec<u8>> = sizes
+            .iter()
+            .enumerate()
+            .map(|(k, &len)| datagram(k, len))
+            .collect();
+        let reasons = [
+            SendReason::First,
+            SendReason::PositionError,
+            SendReason::OrientationError,
+            SendReason::Heartbeat,
+        ];
+        for segmenting in [true, false] {
+            let rx = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+            let sender = UdpSender::new(rx.local_addr().unwrap(), false).unwrap();
+            if !segmenting {
+                sender.stop_segmenting();
+            }
+            let mut batched = Tally::default();
+            let mut one_by_one = Tally::default();
+            batched.flush(&sender);
+            for (k, bytes) in dues.iter().enumerate() {
+                let due = Due {
+                    reason: reasons[k % 4],
+                    bytes,
+                };
+                batched.send_batched(&sender, &due);
+                one_by_one.count_reason(due.reason);
+                one_by_one.pdus += 1;
+                one_by_one.bytes += bytes.len() as u64;
+            }
+            batched.flush(&sender);
+            batched.flush(&sender);
+            assert_eq!(receive(&rx, dues.len()), dues, "segmenting {segmenting}");
+            assert_eq!(format!("{batched:?}"), format!("{one_by_one:?}"));
+            assert_eq!(batched.pending.count, 0);
+        }
+    }
+
+    /// `send_segments` declines what it cannot do in one call (nothing to
+    /// split, a zero length, segmentation stopped): the caller sends those
+    /// one by one.
+    #[test]
+    fn segmented_sends_decline_what_one_send_does() {
+        let rx = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let sender = UdpSender::new(rx.local_addr().unwrap(), false).unwrap();
+        assert_eq!(sender.send_segments(&datagram(0, 144), 144), None);
+        assert_eq!(sender.send_segments(&datagram(0, 288), 0), None);
+        let two = [datagram(1, 144), datagram(2, 144)].concat();
+        if cfg!(target_os = "linux") {
+            assert_eq!(sender.send_segments(&two, 144), Some(288));
+            assert_eq!(receive(&rx, 2), vec![datagram(1, 144), datagram(2, 144)]);
+        }
+        sender.stop_segmenting();
+        assert_eq!(sender.send_segments(&two, 144), None);
+        assert_eq!(segments_for(144), 64);
+        assert_eq!(segments_for(1), 64);
+        assert_eq!(segments_for(2_000), 32);
+        assert_eq!(segments_for(65_000), 1);
+        assert_eq!(segments_for(70_000), 1);
+        assert_eq!(segments_for(0), 1);
+    }
+
+    /// A queued send that fails is counted per datagram with the first
+    /// failure's message, as `send` counts it; an aircraft that cannot be
+    /// sent after queued PDUs keeps the queued sends' failure first.
+    #[test]
+    fn queued_sends_that_fail_count_each_datagram() {
+        let bad = UdpSender::failing();
+        let mut batched = Tally::default();
+        let mut one_by_one = Tally::default();
+        for k in 0..70 {
+            let bytes = datagram(k, 144);
+            let due = Due {
+                reason: SendReason::Heartbeat,
+                bytes: &bytes,
+            };
+            batched.publish_batched(&bad, Ok(Some(due)));
+            one_by_one.publish(&bad, Ok(Some(due)));
+        }
+        let error = || Err(DisOutputError::Io("not finite".into()));
+        batched.publish_batched(&bad, error());
+        one_by_one.publish(&bad, error());
+        batched.flush(&bad);
+        assert_eq!(one_by_one.failed, 70);
+        assert!(one_by_one
+            .first_failure
+            .as_ref()
+            .unwrap()
+            .starts_with("sending DIS"));
+        assert_eq!(format!("{batched:?}"), format!("{one_by_one:?}"));
+    }
 
     /// The rotation vector against nalgebra's exact construction, 1e-12 rad
     /// (rounding of a few matrix products); identity and a matrix whose

@@ -365,14 +365,12 @@ fn a_tally_counts_failures_and_keeps_the_first_message() {
 #[test]
 fn merging_tallies_adds_every_count() {
     let tally = |base: u64, failure: Option<&str>| {
-        let mut t = Tally {
-            pdus: base,
-            bytes: base * 2,
-            failed: base * 3,
-            invalid: base * 4,
-            first_failure: failure.map(str::to_owned),
-            ..Tally::default()
-        };
+        let mut t = Tally::default();
+        t.pdus = base;
+        t.bytes = base * 2;
+        t.failed = base * 3;
+        t.invalid = base * 4;
+        t.first_failure = failure.map(str::to_owned);
         t.reasons.first = base * 5;
         t.reasons.position = base * 6;
         t.reasons.orientation = base * 7;
