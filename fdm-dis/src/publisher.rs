@@ -167,15 +167,12 @@ pub(crate) const fn segments_for(len: usize) -> usize {
         return 1;
     }
     let by_bytes = MAX_SEGMENTED_BYTES / len;
-    let n = if by_bytes < MAX_SEGMENTS {
+    if by_bytes == 0 {
+        1
+    } else if by_bytes < MAX_SEGMENTS {
         by_bytes
     } else {
         MAX_SEGMENTS
-    };
-    if n == 0 {
-        1
-    } else {
-        n
     }
 }
 
@@ -271,6 +268,73 @@ impl UdpSender {
                 None
             }
         }
+    }
+}
+
+/// Due datagrams of one size queued to go to the OS together
+/// ([`UdpSender::send_segments`]), for a fleet's frame: up to
+/// [`segments_for`] of them, sent when the queue is full, when a datagram of
+/// another size comes, or at [`DatagramQueue::flush`]. Each datagram's
+/// result goes to the caller's `sent` (the bytes sent, or the error of its
+/// own send when the OS could not take them together), in order.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct DatagramQueue {
+    /// The queued datagrams, end to end.
+    bytes: Vec<u8>,
+    /// Each one's length.
+    len: usize,
+    /// How many.
+    count: usize,
+}
+
+impl DatagramQueue {
+    /// Whether nothing is queued.
+    pub(crate) const fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// Queues `datagram` (first sending what is queued if its size
+    /// differs), and sends the queue if that fills it.
+    pub(crate) fn push(
+        &mut self,
+        sender: &UdpSender,
+        datagram: &[u8],
+        mut sent: impl FnMut(Result<usize, DisOutputError>),
+    ) {
+        if self.count > 0 && self.len != datagram.len() {
+            self.flush(sender, &mut sent);
+        }
+        self.len = datagram.len();
+        self.bytes.extend_from_slice(datagram);
+        self.count += 1;
+        if self.count >= segments_for(self.len) {
+            self.flush(sender, &mut sent);
+        }
+    }
+
+    /// Sends what is queued: in one call where the OS segments it, else one
+    /// datagram at a time.
+    pub(crate) fn flush(
+        &mut self,
+        sender: &UdpSender,
+        mut sent: impl FnMut(Result<usize, DisOutputError>),
+    ) {
+        if self.count == 0 {
+            return;
+        }
+        if sender.send_segments(&self.bytes, self.len).is_some() {
+            for datagram in self.bytes.chunks(self.len) {
+                sent(Ok(datagram.len()));
+            }
+        } else {
+            for datagram in self.bytes.chunks(self.len) {
+                sent(sender.send(datagram));
+            }
+        }
+        // The buffer is kept for the next datagrams.
+        self.bytes.clear();
+        self.len = 0;
+        self.count = 0;
     }
 }
 

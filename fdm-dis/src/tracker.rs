@@ -33,7 +33,7 @@ use crate::dead_reckoning::{DrThresholds, SendReason};
 use crate::entity::EntityConfig;
 use crate::error::DisOutputError;
 use crate::frames::{ned_to_ecef_rotation, EcefState};
-use crate::publisher::{segments_for, Due, EntityPublisher, PublisherCounts, UdpSender};
+use crate::publisher::{DatagramQueue, Due, EntityPublisher, PublisherCounts, UdpSender};
 
 /// Where a run's model frame sits in ECEF: the flat model frame (x north,
 /// y west, z up) is the tangent plane at the origin, so a model-frame
@@ -354,26 +354,9 @@ pub struct Tally {
     pub reasons: ReasonCounts,
     /// The first failure's message, kept until taken.
     pub first_failure: Option<String>,
-    /// Due datagrams of one size not yet handed to the OS (a fleet's
+    /// Due datagrams not yet handed to the OS (a fleet's
     /// [`Tally::publish_batched`]; empty otherwise).
-    pending: PendingDatagrams,
-}
-
-/// Datagrams of `len` bytes each, queued to go out together
-/// ([`UdpSender::send_segments`]).
-#[derive(Clone, Default)]
-struct PendingDatagrams {
-    bytes: Vec<u8>,
-    len: usize,
-    count: usize,
-}
-
-impl core::fmt::Debug for PendingDatagrams {
-    // Only how many: two tallies that counted the same are the same tally,
-    // whatever their buffers' capacities (the tests compare them so).
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "{}", self.count)
-    }
+    pending: DatagramQueue,
 }
 
 impl Tally {
@@ -394,50 +377,24 @@ impl Tally {
         }
     }
 
-    /// [`Tally::send`] of a fleet's frame: the PDU is queued with the
-    /// previous ones of its size and the queue handed to the OS in one call
-    /// ([`UdpSender::send_segments`]) when it is full, when a PDU of
-    /// another size comes, or at [`Tally::flush`], which the fleet's
-    /// publishing calls before it returns a tally: the same datagrams, in
-    /// the same order, counted the same.
+    /// [`Tally::send`] of a fleet's frame: the PDU is queued
+    /// ([`DatagramQueue`]: sent with the previous ones of its size in one
+    /// call when the queue is full or a PDU of another size comes) or at
+    /// [`Tally::flush`], which the fleet's publishing calls before it returns
+    /// a tally: the same datagrams, in the same order, counted the same.
     pub(crate) fn send_batched(&mut self, sender: &UdpSender, due: &Due<'_>) {
         self.count_reason(due.reason);
-        let len = due.bytes.len();
-        if self.pending.count > 0 && self.pending.len != len {
-            self.flush(sender);
-        }
-        self.pending.len = len;
-        self.pending.bytes.extend_from_slice(due.bytes);
-        self.pending.count += 1;
-        if self.pending.count >= segments_for(len) {
-            self.flush(sender);
-        }
+        let mut queue = core::mem::take(&mut self.pending);
+        queue.push(sender, due.bytes, |result| self.sent(sender, result));
+        self.pending = queue;
     }
 
-    /// Hands the queued datagrams ([`Tally::send_batched`]) to the OS: in
-    /// one call where it can segment them, else one by one, each counted as
-    /// [`Tally::send`] counts it.
+    /// Hands the queued datagrams ([`Tally::send_batched`]) to the OS and
+    /// counts each as [`Tally::send`] counts it.
     pub(crate) fn flush(&mut self, sender: &UdpSender) {
-        let (count, len) = (self.pending.count, self.pending.len);
-        if count == 0 {
-            return;
-        }
-        let mut bytes = core::mem::take(&mut self.pending.bytes);
-        if let Some(n) = sender.send_segments(&bytes, len) {
-            self.pdus += count as u64;
-            self.bytes += n as u64;
-        } else {
-            for datagram in bytes.chunks(len) {
-                self.sent(sender, sender.send(datagram));
-            }
-        }
-        // The buffer is kept for the next datagrams.
-        bytes.clear();
-        self.pending = PendingDatagrams {
-            bytes,
-            len: 0,
-            count: 0,
-        };
+        let mut queue = core::mem::take(&mut self.pending);
+        queue.flush(sender, |result| self.sent(sender, result));
+        self.pending = queue;
     }
 
     /// Counts one datagram's send.
@@ -473,8 +430,8 @@ impl Tally {
     /// Adds `other`'s counts (and its failure message if this has none).
     pub fn merge(&mut self, other: Self) {
         // Every tally a fleet's publishing returns was flushed.
-        debug_assert_eq!(
-            other.pending.count, 0,
+        debug_assert!(
+            other.pending.is_empty(),
             "a merged tally has unsent datagrams"
         );
         self.pdus += other.pdus;
@@ -625,7 +582,7 @@ pub(crate) mod tests {
             batched.flush(&sender);
             assert_eq!(receive(&rx, dues.len()), dues, "segmenting {segmenting}");
             assert_eq!(format!("{batched:?}"), format!("{one_by_one:?}"));
-            assert_eq!(batched.pending.count, 0);
+            assert!(batched.pending.is_empty());
         }
     }
 
@@ -645,12 +602,27 @@ pub(crate) mod tests {
         }
         sender.stop_segmenting();
         assert_eq!(sender.send_segments(&two, 144), None);
-        assert_eq!(segments_for(144), 64);
-        assert_eq!(segments_for(1), 64);
-        assert_eq!(segments_for(2_000), 32);
-        assert_eq!(segments_for(65_000), 1);
-        assert_eq!(segments_for(70_000), 1);
-        assert_eq!(segments_for(0), 1);
+    }
+
+    /// One segmented call carries at most 64 datagrams (Linux's
+    /// `UDP_MAX_SEGMENTS`) and 65,000 bytes, and at least one datagram.
+    #[test]
+    fn a_segmented_call_carries_64_datagrams_or_65000_bytes() {
+        use crate::publisher::segments_for;
+        for (len, n) in [
+            (0, 1),
+            (1, 64),
+            (144, 64),
+            (1_015, 64),
+            (1_016, 63),
+            (2_000, 32),
+            (32_500, 2),
+            (32_501, 1),
+            (65_000, 1),
+            (70_000, 1),
+        ] {
+            assert_eq!(segments_for(len), n, "{len} bytes");
+        }
     }
 
     /// A queued send that fails is counted per datagram with the first
