@@ -656,7 +656,9 @@ mod tests {
         let view =
             |i: usize, s: &fdm_core::palmer::PalmerState| Palmer::view(&aircraft, &controls[i], s);
         let trackers: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
-        for per in [1, 7, 64, n + 5] {
+        // 13: more than a block and not a whole number of them (the
+        // layout of pieces whose blocks' count is rounded up).
+        for per in [1, 7, 13, 64, n + 5] {
             let mut whole = FleetPublisher::new(trackers.clone());
             let mut pieces = FleetPublisher::new(trackers.clone());
             let (mut last_whole, mut last_pieces) = (Vec::new(), Vec::new());
@@ -776,7 +778,7 @@ mod tests {
                 got
             };
             let want = frame_of(&mut fixed, &mut last_fixed, 7);
-            let per = [7, FLEET_BATCH, 5, 64, 1, 8, 150][frame % 7];
+            let per = [7, FLEET_BATCH, 5, 13, 64, 1, 8, 150][frame % 8];
             let got = frame_of(&mut changing, &mut last_changing, per);
             assert_eq!(got, want, "frame {frame}, pieces of {per}");
             quiet += n - want.len();
