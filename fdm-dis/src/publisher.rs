@@ -141,7 +141,7 @@ impl EntityPublisher {
 /// the tests use 127.0.0.1 only).
 ///
 /// A fleet's due datagrams of one size go out several to a system call
-/// where the OS can split them ([`UdpSender::send_segments`]: UDP generic
+/// where the OS can split them (`UdpSender::send_segments`: UDP generic
 /// segmentation offload on Linux); the receivers get the same datagrams.
 #[derive(Debug)]
 pub struct UdpSender {
