@@ -505,6 +505,139 @@ mod tests {
         }
     }
 
+    /// Every publishing path that sends (`publish`, `publish_screened`, and
+    /// the pieces' `publish` and `publish_lanes`) sends through a loopback
+    /// socket exactly the datagrams its tally counts, and all four send the
+    /// same datagrams, frame by frame, with the same counts: the queued sends
+    /// (`DatagramQueue`, segmented by the kernel where it can) are flushed
+    /// before each tally is returned.
+    #[test]
+    fn every_publishing_path_sends_what_it_counts() {
+        use std::net::UdpSocket;
+        let placement = Placement::new(GeodeticOrigin::default());
+        let aircraft = Palmer::default_aircraft();
+        let thresholds = DrThresholds {
+            position_m: 0.3,
+            orientation_deg: 1.0,
+            heartbeat_s: 1.5,
+        };
+        // Few enough that a frame's datagrams fit a loopback socket's
+        // default receive buffer (the first frame sends one per aircraft).
+        let n = 100;
+        let (controls, mut states): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
+        let rough_of = |i: usize, s: &fdm_core::palmer::PalmerState| {
+            let v = Palmer::view(&aircraft, &controls[i], s);
+            Rough {
+                time_s: v.time_s,
+                position_m: v.position_m,
+                velocity_mps: v.velocity_mps,
+                body_to_ned: v.attitude.body_to_ned(),
+            }
+        };
+        let rough = |first: usize,
+                     input: &[Option<fdm_core::palmer::PalmerState>],
+                     out: &mut [Option<Rough>]| {
+            for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
+                *o = s.map(|s| rough_of(first + k, &s));
+            }
+        };
+        let rough_lanes =
+            |at: usize, group: &[Option<fdm_core::palmer::PalmerState>], out: &mut RoughLanes| {
+                for (k, s) in group.iter().enumerate() {
+                    out.set(k, s.map(|s| rough_of(at + k, &s)).as_ref());
+                }
+            };
+        let view =
+            |i: usize, s: &fdm_core::palmer::PalmerState| Palmer::view(&aircraft, &controls[i], s);
+        let receivers: Vec<UdpSocket> = (0..4)
+            .map(|_| {
+                let r = UdpSocket::bind("127.0.0.1:0").unwrap();
+                r.set_read_timeout(Some(std::time::Duration::from_secs(5)))
+                    .unwrap();
+                r
+            })
+            .collect();
+        let senders: Vec<UdpSender> = receivers
+            .iter()
+            .map(|r| UdpSender::new(r.local_addr().unwrap(), false).unwrap())
+            .collect();
+        let trackers: Vec<Tracker> = (0..n).map(|_| tracker(thresholds)).collect();
+        let mut publishers: Vec<FleetPublisher> = (0..4)
+            .map(|_| FleetPublisher::new(trackers.clone()))
+            .collect();
+        let mut lasts: Vec<Vec<Option<fdm_core::palmer::PalmerState>>> = vec![Vec::new(); 4];
+        let mut buf = [0_u8; 2048];
+        let mut sent = 0;
+        for frame in 0..40 {
+            for (s, c) in states.iter_mut().zip(&controls) {
+                *s = Palmer::step(&aircraft, c, s, 1.0 / 30.0);
+            }
+            let tallies = [
+                publishers[0].publish(&senders[0], &placement, |i| Some(view(i, &states[i]))),
+                publishers[1].publish_screened(
+                    &senders[1],
+                    &placement,
+                    &mut lasts[1],
+                    |i| Some(states[i]),
+                    rough,
+                    view,
+                ),
+                {
+                    let mut tally = Tally::default();
+                    for mut piece in publishers[2].screened_pieces(&placement, &mut lasts[2], 64) {
+                        let first = piece.first();
+                        let input: Vec<_> = (first..first + piece.len())
+                            .map(|i| Some(states[i]))
+                            .collect();
+                        tally.merge(piece.publish(&senders[2], &input, rough, view));
+                    }
+                    tally
+                },
+                {
+                    let mut tally = Tally::default();
+                    for mut piece in publishers[3].screened_pieces(&placement, &mut lasts[3], 64) {
+                        let first = piece.first();
+                        let input: Vec<_> = (first..first + piece.len())
+                            .map(|i| Some(states[i]))
+                            .collect();
+                        tally.merge(piece.publish_lanes(&senders[3], &input, rough_lanes, view));
+                    }
+                    tally
+                },
+            ];
+            let mut frames: Vec<Vec<Vec<u8>>> = Vec::new();
+            for (tally, receiver) in tallies.iter().zip(&receivers) {
+                let mut got: Vec<Vec<u8>> = (0..tally.pdus)
+                    .map(|_| {
+                        let len = receiver
+                            .recv(&mut buf)
+                            .expect("a datagram the tally counts");
+                        buf[..len].to_vec()
+                    })
+                    .collect();
+                assert_eq!(got.iter().map(|d| d.len() as u64).sum::<u64>(), tally.bytes);
+                assert_eq!((tally.failed, tally.invalid), (0, 0));
+                got.sort();
+                frames.push(got);
+            }
+            for (k, tally) in tallies.iter().enumerate() {
+                assert_eq!(
+                    format!("{tally:?}"),
+                    format!("{:?}", tallies[0]),
+                    "path {k}, frame {frame}"
+                );
+                assert_eq!(frames[k], frames[0], "path {k}, frame {frame}");
+            }
+            sent += tallies[0].pdus;
+        }
+        assert!(sent > n as u64, "{sent}");
+        // Nothing more than the tallies counted.
+        for receiver in &receivers {
+            receiver.set_nonblocking(true).unwrap();
+            assert!(receiver.recv(&mut buf).is_err());
+        }
+    }
+
     /// The screened fleet publisher against the whole computation, aircraft
     /// by aircraft and frame by frame: the same PDUs (reason and bytes), the
     /// same errors, the same counts. The rough orientations are the exact
