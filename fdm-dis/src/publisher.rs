@@ -396,3 +396,51 @@ mod segmented {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The queue holds a run of datagrams of one size until 64 fill it (then
+    /// they go together), sends the run before a datagram of another size,
+    /// and sends what it holds at `flush`: every datagram reaches the
+    /// receiver once, in order, each result reported once.
+    #[test]
+    fn the_queue_holds_a_run_of_one_size_until_it_is_full() {
+        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        rx.set_read_timeout(Some(std::time::Duration::from_secs(5)))
+            .unwrap();
+        let sender = UdpSender::new(rx.local_addr().unwrap(), false).unwrap();
+        let datagram = |k: usize, len: usize| vec![k as u8; len];
+        let mut queue = DatagramQueue::default();
+        let mut sent = Vec::new();
+        let mut expected = Vec::new();
+        let mut push = |queue: &mut DatagramQueue, sent: &mut Vec<usize>, d: Vec<u8>| {
+            queue.push(&sender, &d, |r| sent.push(r.unwrap()));
+            expected.push(d);
+        };
+        for k in 0..63 {
+            push(&mut queue, &mut sent, datagram(k, 144));
+        }
+        assert_eq!((queue.count, queue.len, sent.len()), (63, 144, 0));
+        assert!(!queue.is_empty());
+        push(&mut queue, &mut sent, datagram(63, 144));
+        assert_eq!((queue.count, sent.len()), (0, 64));
+        assert!(queue.is_empty());
+        push(&mut queue, &mut sent, datagram(64, 144));
+        push(&mut queue, &mut sent, datagram(65, 144));
+        assert_eq!((queue.count, sent.len()), (2, 64));
+        push(&mut queue, &mut sent, datagram(66, 100));
+        assert_eq!((queue.count, queue.len, sent.len()), (1, 100, 66));
+        queue.flush(&sender, |r| sent.push(r.unwrap()));
+        queue.flush(&sender, |r| sent.push(r.unwrap()));
+        assert_eq!((queue.count, queue.len, sent.len()), (0, 0, 67));
+        let lens: Vec<usize> = expected.iter().map(Vec::len).collect();
+        assert_eq!(sent, lens);
+        let mut buf = [0_u8; 256];
+        for d in &expected {
+            let n = rx.recv(&mut buf).unwrap();
+            assert_eq!(&buf[..n], &d[..]);
+        }
+    }
+}

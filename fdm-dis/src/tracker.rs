@@ -574,6 +574,10 @@ pub(crate) mod tests {
                     bytes,
                 };
                 batched.send_batched(&sender, &due);
+                // The first datagram of a run waits in the queue.
+                if k == 0 {
+                    assert!(!batched.pending.is_empty());
+                }
                 one_by_one.count_reason(due.reason);
                 one_by_one.pdus += 1;
                 one_by_one.bytes += bytes.len() as u64;
