@@ -485,6 +485,17 @@ mod tests {
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
 
+    /// The rough frame of a view: its time, position, velocity and attitude
+    /// matrix, the bits the screen wants.
+    fn rough_of(v: &FlightView) -> Rough {
+        Rough {
+            time_s: v.time_s,
+            position_m: v.position_m,
+            velocity_mps: v.velocity_mps,
+            body_to_ned: v.attitude.body_to_ned(),
+        }
+    }
+
     /// An aircraft's decision as the tests compare it: its index and the
     /// datagram's reason and bytes, or the error in words.
     type Sent = (usize, Result<(SendReason, Vec<u8>), String>);
@@ -525,26 +536,20 @@ mod tests {
         // default receive buffer (the first frame sends one per aircraft).
         let n = 100;
         let (controls, mut states): (Vec<_>, Vec<_>) = (0..n).map(Palmer::fleet_member).unzip();
-        let rough_of = |i: usize, s: &fdm_core::palmer::PalmerState| {
-            let v = Palmer::view(&aircraft, &controls[i], s);
-            Rough {
-                time_s: v.time_s,
-                position_m: v.position_m,
-                velocity_mps: v.velocity_mps,
-                body_to_ned: v.attitude.body_to_ned(),
-            }
+        let rough_at = |i: usize, s: &fdm_core::palmer::PalmerState| {
+            rough_of(&Palmer::view(&aircraft, &controls[i], s))
         };
         let rough = |first: usize,
                      input: &[Option<fdm_core::palmer::PalmerState>],
                      out: &mut [Option<Rough>]| {
             for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
-                *o = s.map(|s| rough_of(first + k, &s));
+                *o = s.map(|s| rough_at(first + k, &s));
             }
         };
         let rough_lanes =
             |at: usize, group: &[Option<fdm_core::palmer::PalmerState>], out: &mut RoughLanes| {
                 for (k, s) in group.iter().enumerate() {
-                    out.set(k, s.map(|s| rough_of(at + k, &s)).as_ref());
+                    out.set(k, s.map(|s| rough_at(at + k, &s)).as_ref());
                 }
             };
         let view =
@@ -775,15 +780,9 @@ mod tests {
                      input: &[Option<fdm_core::palmer::PalmerState>],
                      out: &mut [Option<Rough>]| {
             for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
-                *o = s.filter(|_| !(first + k).is_multiple_of(11)).map(|s| {
-                    let v = Palmer::view(&aircraft, &controls[first + k], &s);
-                    Rough {
-                        time_s: v.time_s,
-                        position_m: v.position_m,
-                        velocity_mps: v.velocity_mps,
-                        body_to_ned: v.attitude.body_to_ned(),
-                    }
-                });
+                *o = s
+                    .filter(|_| !(first + k).is_multiple_of(11))
+                    .map(|s| rough_of(&Palmer::view(&aircraft, &controls[first + k], &s)));
             }
         };
         let view =
@@ -875,15 +874,7 @@ mod tests {
                      input: &[Option<fdm_core::palmer::PalmerState>],
                      out: &mut [Option<Rough>]| {
             for (k, (s, o)) in input.iter().zip(out.iter_mut()).enumerate() {
-                *o = s.map(|s| {
-                    let v = Palmer::view(&aircraft, &controls[first + k], &s);
-                    Rough {
-                        time_s: v.time_s,
-                        position_m: v.position_m,
-                        velocity_mps: v.velocity_mps,
-                        body_to_ned: v.attitude.body_to_ned(),
-                    }
-                });
+                *o = s.map(|s| rough_of(&Palmer::view(&aircraft, &controls[first + k], &s)));
             }
         };
         let view =
