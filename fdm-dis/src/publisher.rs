@@ -162,18 +162,10 @@ const MAX_SEGMENTED_BYTES: usize = 65_000;
 
 /// How many datagrams of `len` bytes one call of
 /// [`UdpSender::send_segments`] may carry (at least 1).
-pub(crate) const fn segments_for(len: usize) -> usize {
-    if len == 0 {
-        return 1;
-    }
-    let by_bytes = MAX_SEGMENTED_BYTES / len;
-    if by_bytes == 0 {
-        1
-    } else if by_bytes < MAX_SEGMENTS {
-        by_bytes
-    } else {
-        MAX_SEGMENTS
-    }
+pub(crate) fn segments_for(len: usize) -> usize {
+    MAX_SEGMENTED_BYTES
+        .checked_div(len)
+        .map_or(1, |n| n.clamp(1, MAX_SEGMENTS))
 }
 
 impl UdpSender {
@@ -322,14 +314,13 @@ impl DatagramQueue {
         if self.count == 0 {
             return;
         }
-        if sender.send_segments(&self.bytes, self.len).is_some() {
-            for datagram in self.bytes.chunks(self.len) {
-                sent(Ok(datagram.len()));
-            }
-        } else {
-            for datagram in self.bytes.chunks(self.len) {
-                sent(sender.send(datagram));
-            }
+        let together = sender.send_segments(&self.bytes, self.len).is_some();
+        for datagram in self.bytes.chunks(self.len) {
+            sent(if together {
+                Ok(datagram.len())
+            } else {
+                sender.send(datagram)
+            });
         }
         // The buffer is kept for the next datagrams.
         self.bytes.clear();
