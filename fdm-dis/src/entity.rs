@@ -592,7 +592,12 @@ mod tests {
                 k.min(n - 1)
             };
             let markings = ["", "N", "N172SP", "PALMER00001", "a b~c!", "12345678901"];
-            let id = [(1, 1, 1), (65534, 65534, 65533), (42, 7, 1001), (1, 65534, 2)];
+            let id = [
+                (1, 1, 1),
+                (65534, 65534, 65533),
+                (42, 7, 1001),
+                (1, 65534, 2),
+            ];
             let (site, application, entity) = id[pick(id.len(), &mut u)];
             let identity = EntityIdentity::new(site, application, entity).unwrap();
             let kind = [

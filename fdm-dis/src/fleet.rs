@@ -426,25 +426,50 @@ impl<S: Copy> ScreenedPiece<'_, S> {
                 cleared[k] = quiet[k] & s.is_some();
             }
             refs.cleared(&cleared, &lanes.time_s);
-            for (k, ((s, tracker), last)) in group.iter().zip(trackers).zip(last).enumerate() {
-                let Some(s) = s else { continue };
-                if !cleared[k] {
-                    let i = at + k;
-                    if refs.stale[k] {
-                        let pending = refs.pending[k];
-                        match last {
-                            Some(l) => tracker.restore_previous(&view(i, l), placement, pending),
-                            // Not reached: a cleared frame's input is kept.
-                            None => tracker.publisher.count_quiet_frames(pending),
+            if cleared[..group.len()].contains(&false) {
+                for (k, ((s, tracker), last)) in
+                    group.iter().zip(&mut *trackers).zip(&*last).enumerate()
+                {
+                    let Some(s) = s else { continue };
+                    if !cleared[k] {
+                        let i = at + k;
+                        if refs.stale[k] {
+                            let pending = refs.pending[k];
+                            match last {
+                                Some(l) => {
+                                    tracker.restore_previous(&view(i, l), placement, pending);
+                                }
+                                // Not reached: a cleared frame's input is kept.
+                                None => tracker.publisher.count_quiet_frames(pending),
+                            }
                         }
+                        send(&mut tally, i, tracker.update(&view(i, s), placement));
+                        refs.set(k, &ScreenRef::refresh(tracker, placement, frame));
                     }
-                    send(&mut tally, i, tracker.update(&view(i, s), placement));
-                    refs.set(k, &ScreenRef::refresh(tracker, placement, frame));
                 }
-                *last = Some(*s);
             }
+            // Each aircraft's input, kept for its next exact update (after
+            // the exact path above has read the previous one): the group's
+            // inputs copied whole when every aircraft has one.
+            keep_inputs(last, group);
         }
         tally
+    }
+}
+
+/// `last[k]` becomes `group[k]` where that is an input (`Some`); the others
+/// keep theirs. One copy of the whole group when every aircraft has an
+/// input (the usual frame).
+#[inline(always)]
+fn keep_inputs<S: Copy>(last: &mut [Option<S>], group: &[Option<S>]) {
+    if last.len() == group.len() && group.iter().all(Option::is_some) {
+        last.copy_from_slice(group);
+    } else {
+        for (l, s) in last.iter_mut().zip(group) {
+            if s.is_some() {
+                *l = *s;
+            }
+        }
     }
 }
 
