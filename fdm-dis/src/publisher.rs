@@ -102,6 +102,24 @@ impl EntityPublisher {
         self.update_ecef(&ecef)
     }
 
+    /// Reads a few fields spread over the publisher's memory and a byte of
+    /// each cache line of its PDU buffer, mixed (see `Tracker::warm`).
+    pub(crate) fn warm(&self) -> u64 {
+        let r = &self.reckoner;
+        let sent = r
+            .last_sent()
+            .map_or(0, |w| w.time_s.to_bits() ^ w.location_m.z.to_bits());
+        let m = r.last_sent_body_to_ecef();
+        let buf = [0, 64, 128].map(|k| u64::from(self.buf.get(k).copied().unwrap_or(0)));
+        sent ^ m[(0, 0)].to_bits()
+            ^ m[(2, 2)].to_bits()
+            ^ r.thresholds().position_m.to_bits()
+            ^ self.counts.frames
+            ^ buf[0]
+            ^ (buf[1] << 8)
+            ^ (buf[2] << 16)
+    }
+
     /// Counts a frame that [`DeadReckoner::check_at`](crate::DeadReckoner::check_at)
     /// found nothing due for (what [`EntityPublisher::update_ecef`] counts
     /// for such a frame).
