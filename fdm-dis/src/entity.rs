@@ -479,3 +479,160 @@ pub fn encode_entity_state(
         .map(usize::from)
         .map_err(|e| DisOutputError::Encode(e.to_string()))
 }
+
+/// Makes `pdu`, an Entity State PDU that [`encode_entity_state`] wrote for
+/// some configuration and any wire state, the PDU of `wire` for the same
+/// configuration, byte for byte what [`encode_entity_state`] would write:
+/// only the fields that come from the wire state are written (the header's
+/// timestamp, the velocity, location and orientation, the dead-reckoning
+/// acceleration and angular velocity, at the standard's offsets, big-endian
+/// as dis-rs writes them); the rest (header, identity, type, appearance,
+/// dead-reckoning algorithm, marking, capabilities) depends on the
+/// configuration alone and is kept. Straight stores instead of dis-rs's PDU
+/// value (its marking's `String`) and many small writes; the test
+/// `rewriting_a_pdu_is_encoding_it` compares the two.
+pub(crate) fn rewrite_entity_state(pdu: &mut [u8; ENTITY_STATE_PDU_LEN], wire: &WireState) {
+    fn put<const N: usize>(pdu: &mut [u8], at: usize, bytes: [u8; N]) {
+        pdu[at..at + N].copy_from_slice(&bytes);
+    }
+    put(pdu, 4, u32::from(dis_timestamp(wire.time_s)).to_be_bytes());
+    for (k, v) in wire.velocity_m_s.iter().enumerate() {
+        put(pdu, 36 + 4 * k, v.to_be_bytes());
+    }
+    for (k, x) in wire.location_m.iter().enumerate() {
+        put(pdu, 48 + 8 * k, x.to_be_bytes());
+    }
+    for (k, o) in wire.orientation_rad.iter().enumerate() {
+        put(pdu, 72 + 4 * k, o.to_be_bytes());
+    }
+    for (k, a) in wire.acceleration_m_s2.iter().enumerate() {
+        put(pdu, 104 + 4 * k, a.to_be_bytes());
+    }
+    for (k, w) in wire.angular_velocity_rad_s.iter().enumerate() {
+        put(pdu, 116 + 4 * k, w.to_be_bytes());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tracker::tests::unit_xorshift;
+
+    /// A number of any kind from `u`: every `f32` or `f64` bit pattern
+    /// class the wire can see (zeros of both signs, subnormals, the
+    /// extremes, infinities, NaNs with payloads, ordinary values).
+    fn any_f64(u: &mut impl FnMut() -> f64) -> f64 {
+        let pick = u();
+        let x = u();
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let bits = (x * 2f64.powi(53)) as u64;
+        match (pick * 12.0) as u32 {
+            0 => 0.0,
+            1 => -0.0,
+            2 => f64::from_bits(bits & 0x000F_FFFF_FFFF_FFFF | 1),
+            3 => f64::MAX,
+            4 => f64::MIN_POSITIVE,
+            5 => f64::INFINITY,
+            6 => f64::NEG_INFINITY,
+            7 => f64::from_bits(0x7FF0_0000_0000_0000 | bits | 1),
+            8 => f64::from_bits(bits.rotate_left(11) ^ bits),
+            _ => (x - 0.5) * 2f64.powi((u() * 60.0) as i32 - 20),
+        }
+    }
+
+    fn any_f32(u: &mut impl FnMut() -> f64) -> f32 {
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let bits = (u() * 2f64.powi(32)) as u32;
+        match (u() * 10.0) as u32 {
+            0 => f32::from_bits(bits),
+            1 => f32::from_bits(bits & 0x007F_FFFF | 1),
+            2 => f32::NAN,
+            #[allow(clippy::cast_possible_truncation)]
+            _ => any_f64(u) as f32,
+        }
+    }
+
+    fn any_wire(u: &mut impl FnMut() -> f64) -> WireState {
+        let time_s = match (u() * 8.0) as u32 {
+            0 => any_f64(u),
+            1 => 3600.0 * (u() * 10.0).floor() + (u() - 0.5) * 1e-9,
+            2 => -u() * 100.0,
+            _ => u() * 20_000.0,
+        };
+        let mut three = || [any_f32(u), any_f32(u), any_f32(u)];
+        let (orientation_rad, velocity_m_s, acceleration_m_s2, angular_velocity_rad_s) =
+            (three(), three(), three(), three());
+        WireState {
+            time_s,
+            location_m: Vector3::new(any_f64(u), any_f64(u), any_f64(u)),
+            orientation_rad,
+            velocity_m_s,
+            acceleration_m_s2,
+            angular_velocity_rad_s,
+        }
+    }
+
+    /// [`rewrite_entity_state`] of a PDU [`encode_entity_state`] wrote is
+    /// what [`encode_entity_state`] writes for the new wire state, byte for
+    /// byte: both DIS versions, the four dead-reckoning models, both
+    /// aircraft kinds, forces, exercises, identities at the extremes and
+    /// markings from empty to 11 characters; wire states with every class
+    /// of `f32`/`f64` (zeros of both signs, subnormals, extremes,
+    /// infinities, NaNs with payloads) and times around the timestamp's
+    /// hour, negative and not finite; each PDU rewritten from the previous
+    /// one, as a publisher does.
+    #[test]
+    fn rewriting_a_pdu_is_encoding_it() {
+        let mut u = unit_xorshift(0xE27_17E5_7A7E_0144);
+        let mut rewritten = 0;
+        for case in 0..400 {
+            let pick = |n: usize, u: &mut dyn FnMut() -> f64| {
+                #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+                let k = (u() * n as f64) as usize;
+                k.min(n - 1)
+            };
+            let markings = ["", "N", "N172SP", "PALMER00001", "a b~c!", "12345678901"];
+            let id = [
+                (1, 1, 1),
+                (65534, 65534, 65533),
+                (42, 7, 1001),
+                (1, 65534, 2),
+            ];
+            let (site, application, entity) = id[pick(id.len(), &mut u)];
+            let identity = EntityIdentity::new(site, application, entity).unwrap();
+            let kind = [
+                AircraftKind::CESSNA_172_SKYHAWK,
+                AircraftKind::SMALL_CIVIL_FIXED_WING,
+            ][case % 2];
+            let mut config = EntityConfig::new(
+                identity,
+                kind,
+                Marking::new(markings[pick(markings.len(), &mut u)]).unwrap(),
+            );
+            config.dr_algorithm = [
+                DrAlgorithm::Fpw,
+                DrAlgorithm::Rpw,
+                DrAlgorithm::Rvw,
+                DrAlgorithm::Fvw,
+            ][(case / 2) % 4];
+            config.version = [DisVersion::V6, DisVersion::V7][(case / 8) % 2];
+            config.force = [ForceId::Other, ForceId::Friendly, ForceId::Opposing][case % 3];
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            let exercise = (u() * 256.0) as u8;
+            config.exercise_id = exercise;
+            let mut buf = BytesMut::new();
+            let n = encode_entity_state(&config, &any_wire(&mut u), &mut buf).unwrap();
+            assert_eq!(n, ENTITY_STATE_PDU_LEN);
+            let mut pdu: [u8; ENTITY_STATE_PDU_LEN] = buf[..].try_into().unwrap();
+            for _ in 0..40 {
+                let wire = any_wire(&mut u);
+                rewrite_entity_state(&mut pdu, &wire);
+                let mut want = BytesMut::new();
+                encode_entity_state(&config, &wire, &mut want).unwrap();
+                assert_eq!(&pdu[..], &want[..], "{config:?} {wire:?}");
+                rewritten += 1;
+            }
+        }
+        assert_eq!(rewritten, 400 * 40);
+    }
+}

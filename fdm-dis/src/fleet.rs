@@ -388,13 +388,18 @@ impl<S: Copy> ScreenedPiece<'_, S> {
         })
     }
 
-    /// The piece's frame, [`ROUGH_LANES`] aircraft at a time: their rough
-    /// frames, the screen's decision for all of them at once, the cleared
-    /// ones taken together, the others through the exact path one by one
-    /// (as before the screen: their last cleared frame placed exactly, then
-    /// [`Tracker::update`], then the screen's copy refreshed), and each
-    /// aircraft's input kept for its next exact update. Always inlined
-    /// into [`PieceRun`]'s instruction set.
+    /// The piece's frame: [`ROUGH_LANES`] aircraft at a time their rough
+    /// frames, the screen's decision for all of them at once and the
+    /// cleared ones taken together (their inputs kept for their next exact
+    /// update); then the others, in order, through the exact path one by
+    /// one (as before the screen: their last cleared frame placed exactly,
+    /// then [`Tracker::update`], then the screen's copy refreshed and the
+    /// input kept). Their trackers are read once ahead of that
+    /// ([`Tracker::warm`]), all together, so that their memory comes into
+    /// the cache at once rather than one aircraft after the other. The
+    /// sends are those of the aircraft in order, as when each group's
+    /// exact path followed its screen. Always inlined into [`PieceRun`]'s
+    /// instruction set.
     #[inline(always)]
     fn run_groups(
         &mut self,
@@ -407,44 +412,78 @@ impl<S: Copy> ScreenedPiece<'_, S> {
         let states = &states[..states.len().min(self.trackers.len())];
         let mut tally = Tally::default();
         let mut lanes = RoughLanes::default();
-        for (g, ((group, refs), (trackers, last))) in states
+        // The piece's aircraft (index in the piece) that the screen did not
+        // clear and that have an input.
+        let mut exact: Vec<usize> = Vec::with_capacity(states.len() / 16);
+        for (g, ((group, refs), last)) in states
             .chunks(ROUGH_LANES)
             .zip(self.refs.iter_mut())
-            .zip(
-                self.trackers
-                    .chunks_mut(ROUGH_LANES)
-                    .zip(self.last.chunks_mut(ROUGH_LANES)),
-            )
+            .zip(self.last.chunks_mut(ROUGH_LANES))
             .enumerate()
         {
-            let at = first + g * ROUGH_LANES;
+            let at = g * ROUGH_LANES;
             lanes.ok = [false; ROUGH_LANES];
-            rough.rough_lanes(at, group, &mut lanes);
+            rough.rough_lanes(first + at, group, &mut lanes);
             let quiet = refs.quiet_lanes(&lanes, frame);
             let mut cleared = [false; ROUGH_LANES];
             for (k, s) in group.iter().enumerate() {
                 cleared[k] = quiet[k] & s.is_some();
             }
             refs.cleared(&cleared, &lanes.time_s);
-            for (k, ((s, tracker), last)) in group.iter().zip(trackers).zip(last).enumerate() {
-                let Some(s) = s else { continue };
-                if !cleared[k] {
-                    let i = at + k;
-                    if refs.stale[k] {
-                        let pending = refs.pending[k];
-                        match last {
-                            Some(l) => tracker.restore_previous(&view(i, l), placement, pending),
-                            // Not reached: a cleared frame's input is kept.
-                            None => tracker.publisher.count_quiet_frames(pending),
+            if cleared[..group.len()].contains(&false) {
+                // The cleared aircraft's inputs kept now; the others' after
+                // their exact path, which reads the previous one.
+                for (k, (s, l)) in group.iter().zip(last.iter_mut()).enumerate() {
+                    if s.is_some() {
+                        if cleared[k] {
+                            *l = *s;
+                        } else {
+                            exact.push(at + k);
                         }
                     }
-                    send(&mut tally, i, tracker.update(&view(i, s), placement));
-                    refs.set(k, &ScreenRef::refresh(tracker, placement, frame));
                 }
-                *last = Some(*s);
+            } else {
+                keep_inputs(last, group);
             }
         }
+        for &k in &exact {
+            std::hint::black_box(self.trackers[k].warm());
+        }
+        for &k in &exact {
+            let Some(s) = &states[k] else { continue };
+            let (i, lane) = (first + k, k % ROUGH_LANES);
+            let refs = &mut self.refs[k / ROUGH_LANES];
+            let tracker = &mut self.trackers[k];
+            let last = &mut self.last[k];
+            if refs.stale[lane] {
+                let pending = refs.pending[lane];
+                match last {
+                    Some(l) => tracker.restore_previous(&view(i, l), placement, pending),
+                    // Not reached: a cleared frame's input is kept.
+                    None => tracker.publisher.count_quiet_frames(pending),
+                }
+            }
+            send(&mut tally, i, tracker.update(&view(i, s), placement));
+            refs.set(lane, &ScreenRef::refresh(tracker, placement, frame));
+            *last = Some(*s);
+        }
         tally
+    }
+}
+
+/// `last[k]` becomes `group[k]` where that is an input (`Some`); the others
+/// keep theirs. One copy of the whole group when every aircraft has an
+/// input (the usual frame).
+#[inline(always)]
+fn keep_inputs<S: Copy>(last: &mut [Option<S>], group: &[Option<S>]) {
+    if last.len() == group.len() && group.iter().all(Option::is_some) {
+        last.copy_from_slice(group);
+    } else {
+        for (l, s) in last.iter_mut().zip(group) {
+            if s.is_some() {
+                *l = *s;
+            }
+        }
     }
 }
 

@@ -7,7 +7,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use bytes::BytesMut;
 
 use crate::dead_reckoning::{DeadReckoner, DrThresholds, SendReason};
-use crate::entity::{encode_entity_state, EntityConfig, WireState, ENTITY_STATE_PDU_LEN};
+use crate::entity::{
+    encode_entity_state, rewrite_entity_state, EntityConfig, WireState, ENTITY_STATE_PDU_LEN,
+};
 use crate::error::DisOutputError;
 use crate::frames::{AircraftState, EcefState};
 
@@ -48,6 +50,9 @@ pub struct EntityPublisher {
     config: EntityConfig,
     reckoner: DeadReckoner,
     buf: BytesMut,
+    /// `buf` holds a PDU [`encode_entity_state`] wrote for `config`: the
+    /// next one is that PDU rewritten ([`rewrite_entity_state`]).
+    encoded: bool,
     counts: PublisherCounts,
 }
 
@@ -62,6 +67,7 @@ impl EntityPublisher {
             config,
             reckoner,
             buf: BytesMut::with_capacity(ENTITY_STATE_PDU_LEN),
+            encoded: false,
             counts: PublisherCounts::default(),
         })
     }
@@ -96,6 +102,24 @@ impl EntityPublisher {
         self.update_ecef(&ecef)
     }
 
+    /// Reads a few fields spread over the publisher's memory and a byte of
+    /// each cache line of its PDU buffer, mixed (see `Tracker::warm`).
+    pub(crate) fn warm(&self) -> u64 {
+        let r = &self.reckoner;
+        let sent = r
+            .last_sent()
+            .map_or(0, |w| w.time_s.to_bits() ^ w.location_m.z.to_bits());
+        let m = r.last_sent_body_to_ecef();
+        let buf = [0, 64, 128].map(|k| u64::from(self.buf.get(k).copied().unwrap_or(0)));
+        sent ^ m[(0, 0)].to_bits()
+            ^ m[(2, 2)].to_bits()
+            ^ r.thresholds().position_m.to_bits()
+            ^ self.counts.frames
+            ^ buf[0]
+            ^ (buf[1] << 8)
+            ^ (buf[2] << 16)
+    }
+
     /// Counts a frame that [`DeadReckoner::check_at`](crate::DeadReckoner::check_at)
     /// found nothing due for (what [`EntityPublisher::update_ecef`] counts
     /// for such a frame).
@@ -121,7 +145,21 @@ impl EntityPublisher {
             return Ok(None);
         };
         let wire = WireState::new(&ecef, self.config.dr_algorithm);
-        let n = encode_entity_state(&self.config, &wire, &mut self.buf)?;
+        // The first PDU through dis-rs; the next ones rewrite its bytes
+        // (the configuration does not change, so neither does the rest).
+        let pdu: Option<&mut [u8; ENTITY_STATE_PDU_LEN]> = if self.encoded {
+            (&mut self.buf[..]).try_into().ok()
+        } else {
+            None
+        };
+        let n = if let Some(pdu) = pdu {
+            rewrite_entity_state(pdu, &wire);
+            ENTITY_STATE_PDU_LEN
+        } else {
+            let n = encode_entity_state(&self.config, &wire, &mut self.buf)?;
+            self.encoded = n == ENTITY_STATE_PDU_LEN && self.buf.len() == n;
+            n
+        };
         self.reckoner.record_sent(wire);
         self.counts.sent += 1;
         match reason {
@@ -391,6 +429,73 @@ mod segmented {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A publisher's PDUs are [`encode_entity_state`]'s of what it sent,
+    /// byte for byte, from the first (through dis-rs) to the last
+    /// (rewritten from the one before): an aircraft turning and climbing
+    /// with every frame due (thresholds of 1 µm and 1e-6°), the clock going back once
+    /// (a reset: first PDU again) and a state that cannot be sent between,
+    /// under each dead-reckoning model and both DIS versions.
+    #[test]
+    fn every_pdu_is_the_encoders() {
+        use crate::entity::{AircraftKind, DisVersion, DrAlgorithm, EntityIdentity, Marking};
+        use fdm_core::geodesy::{Attitude, Geodetic};
+        use nalgebra::Vector3;
+        let mut checked = 0;
+        for (alg, version) in [
+            (DrAlgorithm::Fpw, DisVersion::V6),
+            (DrAlgorithm::Rpw, DisVersion::V7),
+            (DrAlgorithm::Rvw, DisVersion::V7),
+            (DrAlgorithm::Fvw, DisVersion::V6),
+        ] {
+            let mut config = EntityConfig::new(
+                EntityIdentity::new(3, 9, 77).unwrap(),
+                AircraftKind::CESSNA_172_SKYHAWK,
+                Marking::new("DIS144").unwrap(),
+            );
+            config.dr_algorithm = alg;
+            config.version = version;
+            config.exercise_id = 9;
+            let thresholds = DrThresholds {
+                position_m: 1e-6,
+                orientation_deg: 1e-6,
+                heartbeat_s: 5.0,
+            };
+            let mut publisher = EntityPublisher::new(config.clone(), thresholds).unwrap();
+            for frame in 0..120_u32 {
+                let f = f64::from(frame);
+                let time = if frame < 60 { 3590.0 + f } else { f - 60.0 };
+                let mut state = AircraftState::new(
+                    time,
+                    Geodetic {
+                        lat_deg: 39.8 + 1e-4 * f,
+                        lon_deg: -84.0 - 2e-4 * f,
+                        alt_m: 500.0 + 3.0 * f,
+                    },
+                    Attitude {
+                        heading_deg: 7.0 * f,
+                        pitch_deg: 5.0 - 0.1 * f,
+                        roll_deg: 30.0 * (0.1 * f).sin(),
+                    },
+                    Vector3::new(40.0 + f, -3.0 * f, -1.0),
+                );
+                state.angular_velocity_body_rad_s = Some(Vector3::new(0.01 * f, -0.02, 0.1));
+                state.acceleration_ned_m_s2 = Some(Vector3::new(0.5, -0.25 * f, 0.125));
+                if frame == 30 {
+                    state.velocity_ned_m_s.x = f64::NAN;
+                    assert!(publisher.update(&state).is_err());
+                    continue;
+                }
+                let bytes = publisher.update(&state).unwrap().unwrap().bytes.to_vec();
+                let wire = *publisher.reckoner().last_sent().unwrap();
+                let mut want = BytesMut::new();
+                encode_entity_state(&config, &wire, &mut want).unwrap();
+                assert_eq!(bytes, &want[..], "{alg:?} {version:?} frame {frame}");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 4 * 119);
+    }
 
     /// The queue holds a run of datagrams of one size until 64 fill it (then
     /// they go together), sends the run before a datagram of another size,

@@ -170,21 +170,28 @@ pub fn palmer_rough_lanes(
     // Lanes past the end get an angle in sin_cos_lanes's kernel range.
     let mut alpha = [0.1; L];
     let mut bank = [0.1; L];
-    let mut has = [false; L];
-    let mut v = [[0.0; L]; 3];
-    for (k, s) in states.iter().take(L).enumerate() {
+    for k in 0..states.len().min(L) {
         let (controls, _) = Palmer::fleet_member(first + k);
         alpha[k] = controls.alpha_deg.to_radians();
         bank[k] = controls.bank_deg.to_radians();
-        if let Some(s) = s {
-            has[k] = true;
-            out.time_s[k] = s.time_s;
-            for c in 0..3 {
-                out.position_m[c][k] = s.position_m[c];
-                v[c][k] = s.velocity_mps[c];
-            }
-        }
     }
+    // Each field's lanes made as one value and stored whole (0 where there
+    // is no state; such a lane is not `ok` and never read for a decision):
+    // the screen's vector loads of them then read whole stores, instead of
+    // eight scalar stores each, which a vector load cannot take from the
+    // store buffer (it would wait for every older store to reach the cache).
+    let has: [bool; L] = core::array::from_fn(|k| states.get(k).is_some_and(Option::is_some));
+    let v = [
+        lanes_of(states, |s| s.velocity_mps.x),
+        lanes_of(states, |s| s.velocity_mps.y),
+        lanes_of(states, |s| s.velocity_mps.z),
+    ];
+    out.time_s = lanes_of(states, |s| s.time_s);
+    out.position_m = [
+        lanes_of(states, |s| s.position_m.x),
+        lanes_of(states, |s| s.position_m.y),
+        lanes_of(states, |s| s.position_m.z),
+    ];
     out.velocity_mps = v;
     // A zero angle (the fleet's wings-level aircraft) is outside
     // sin_cos_lanes's kernel range, which would send all eight lanes through
@@ -247,6 +254,17 @@ pub fn palmer_rough_lanes(
     for ok in out.ok.iter_mut().skip(states.len()) {
         *ok = false;
     }
+}
+
+/// `field` of the first [`fdm_dis::ROUGH_LANES`] states, lane by lane (0
+/// where there is none).
+#[cfg(feature = "dis")]
+#[inline(always)]
+fn lanes_of(
+    states: &[Option<PalmerState>],
+    field: impl Fn(&PalmerState) -> f64,
+) -> [f64; fdm_dis::ROUGH_LANES] {
+    core::array::from_fn(|k| states.get(k).and_then(Option::as_ref).map_or(0.0, &field))
 }
 
 /// One aircraft of [`palmer_rough`].
