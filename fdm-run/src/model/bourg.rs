@@ -713,9 +713,9 @@ impl LaneAgent for Bourg {
     ) {
         let v = &block.vars;
         let (u, o) = (&v.velocity_ftps, &v.orientation);
-        for l in 0..LANES {
+        for (l, speed) in out[0].iter_mut().enumerate() {
             let (x, y, z) = (u.x.0[l], u.y.0[l], u.z.0[l]);
-            out[0][l] = f64::from((x * x + y * y + z * z).sqrt());
+            *speed = f64::from((x * x + y * y + z * z).sqrt());
         }
         let e = fdm_core::bourg::ops::euler_deg_from_quat_columns(&o.w.0, &o.x.0, &o.y.0, &o.z.0);
         for (column, angles) in out[1..].iter_mut().zip(&e) {
