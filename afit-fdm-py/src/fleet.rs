@@ -778,6 +778,9 @@ struct Observer<'p, 'a, M: BindModel> {
     columns: [Array<M, f64>; MAX_STATE_FIELDS],
     /// Scratch of [`Self::push_block`]: a fleet block's observed controls.
     observed: [Array<M, f64>; MAX_CONTROL_OBS],
+    /// Scratch of [`Self::push_block`]: a fleet block's derived fields
+    /// ([`fdm_run::model::agent::LaneAgent::block_tail_values`]).
+    tail: [Array<M, f64>; crate::models::MAX_BLOCK_FIELDS],
     model: PhantomData<M>,
 }
 
@@ -794,6 +797,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
             len: 0,
             columns: core::array::from_fn(|_| zeros::<M>()),
             observed: core::array::from_fn(|_| zeros::<M>()),
+            tail: core::array::from_fn(|_| zeros::<M>()),
             model: PhantomData,
         }
     }
@@ -843,7 +847,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         const MAX_FIELDS: usize = 32;
         const MAX_CONTROLS: usize = 8;
         if self.len > 0 && j != self.first + self.len {
-            self.flush_by(run);
+            self.flush_by(run, true);
         }
         if self.len == 0 {
             self.first = j;
@@ -882,7 +886,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         self.steps[l] = steps;
         self.len += 1;
         if self.len == task::BLOCK {
-            self.flush_by(run);
+            self.flush_by(run, true);
         }
     }
 
@@ -909,6 +913,15 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         let piece = &mut *self.piece;
         for (column, values) in piece.columns.iter_mut().zip(&columns[..head]) {
             copy_lanes(&mut column[j0..], values.as_ref(), count, M::Fleet::lanes());
+        }
+        if M::BLOCK_FIELDS > 0 {
+            // The derived fields from the block's lanes too (not each lane's
+            // state at the flushes).
+            let tail = &mut self.tail;
+            M::block_tail_values(block, count, tail);
+            for (column, values) in piece.columns[head..].iter_mut().zip(&tail[..]) {
+                copy_lanes(&mut column[j0..], values.as_ref(), count, M::Fleet::lanes());
+            }
         }
         let statuses = &block.status.as_ref()[..count];
         for (code, status) in piece.status[j0..j0 + count].iter_mut().zip(statuses) {
@@ -948,15 +961,11 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
                 len,
                 task::BLOCK,
             );
-            if M::BLOCK_FIELDS > 0 {
-                for (l, state) in self.states.iter_mut().enumerate().take(len) {
-                    *state = block.state(start + l);
-                }
-            }
             self.steps[..len].copy_from_slice(&steps[first..first + len]);
             self.first = first;
             self.len = len;
-            self.flush_with(simd);
+            // The derived fields are written above.
+            self.flush_by(WithSimd(simd), false);
         }
     }
 
@@ -966,19 +975,21 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
     #[inline(always)]
     fn flush(&mut self) {
         let arch = self.arch;
-        self.flush_by(Dispatch(arch));
+        self.flush_by(Dispatch(arch), true);
     }
 
     /// [`Self::flush`] inside a function already compiled for `simd`'s
     /// instruction set.
     #[inline(always)]
     fn flush_with<S: pulp::Simd>(&mut self, simd: S) {
-        self.flush_by(WithSimd(simd));
+        self.flush_by(WithSimd(simd), true);
     }
 
-    /// [`Self::flush`], the block's numbers computed by `run`.
+    /// [`Self::flush`], the block's numbers computed by `run`; the model's
+    /// [`BindModel::block_fields`] of the lanes' `states` too if `fields`
+    /// (else they are written already: [`Self::push_block`]).
     #[inline(always)]
-    fn flush_by(&mut self, run: impl RunFlush) {
+    fn flush_by(&mut self, run: impl RunFlush, fields: bool) {
         let (j0, len, args) = (self.first, self.len, self.args);
         if len == 0 {
             return;
@@ -994,6 +1005,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
             task: args.task,
             block: &self.block,
             states: &self.states,
+            fields,
             columns,
             first: j0,
             out: task::BlockOut {
@@ -1083,6 +1095,8 @@ struct FlushBlock<'x, 'c, M: BindModel> {
     task: task::Task,
     block: &'x task::Block<{ task::BLOCK }>,
     states: &'x [M::State; task::BLOCK],
+    /// Whether to compute and write the block fields of `states`.
+    fields: bool,
     columns: &'x mut [&'c mut [f64]],
     first: usize,
     out: task::BlockOut<'x>,
@@ -1094,7 +1108,7 @@ impl<M: BindModel> pulp::WithSimd for FlushBlock<'_, '_, M> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let len = self.out.reward.len();
-        if M::BLOCK_FIELDS > 0 {
+        if M::BLOCK_FIELDS > 0 && self.fields {
             let mut fields = [[0.0; task::BLOCK]; crate::models::MAX_BLOCK_FIELDS];
             M::block_fields(self.states, &mut fields);
             for (column, values) in self.columns.iter_mut().zip(&fields) {

@@ -19,7 +19,7 @@
 //! | [`sin`], [`cos`], [`atan`], [`atan2`], [`asin`], [`hypot`], [`atan2f`] | the `libm` crate (fdlibm) | on the reference cases' inputs; not everywhere (fdlibm and glibc both miss correct rounding at times) |
 //! | [`acos`], [`tan`] (outputs only: FlightGear multiplayer, DIS) | the `libm` crate (fdlibm) | not needed: no reference case calls them |
 //!
-//! [`atan2_lanes`], [`hypot_lanes`] and [`sin_cos_lanes`] are those functions for several
+//! [`atan2_lanes`], [`hypot_lanes`], [`asin_lanes`] and [`sin_cos_lanes`] are those functions for several
 //! arguments at once, bit for bit (the same operations in the same order, lane by lane, and
 //! the scalar function for any lane off their main path).
 //!
@@ -803,6 +803,83 @@ pub fn hypot_lanes<const N: usize>(x: [f64; N], y: [f64; N]) -> [f64; N] {
     out
 }
 
+/// [`asin`] of every lane, bit for bit. A lane with `2^-26 <= |x| < 1` (by
+/// the high word: fdlibm's polynomial paths) is evaluated with fdlibm's
+/// operations in the same order: `x + x·R(x²)` below 0.5, and above it
+/// `π/2 − 2(s + s·R(z))` (past 0.975) or the split-`s` form, `z = (1 − |x|)/2`
+/// and `s = √z`. When no lane is at or above 0.5 (the usual pitch angles)
+/// only the first is evaluated; otherwise each lane computes both and keeps
+/// its own. The compiler may put the lanes in vector registers (every
+/// operation is correctly rounded, none is fused); any other lane (±0,
+/// tiny, subnormal, `|x| >= 1`, NaN) goes through [`asin`].
+#[inline(always)]
+#[must_use]
+pub fn asin_lanes<const N: usize>(x: [f64; N]) -> [f64; N] {
+    // fdlibm's constants (e_asin.c), by their bits.
+    const PIO2_HI: f64 = f64::from_bits(0x3ff9_21fb_5444_2d18);
+    const PIO2_LO: f64 = f64::from_bits(0x3c91_a626_3314_5c07);
+    const P_S0: f64 = f64::from_bits(0x3fc5_5555_5555_5555);
+    const P_S1: f64 = f64::from_bits(0xbfd4_d612_03eb_6f7d);
+    const P_S2: f64 = f64::from_bits(0x3fc9_c155_0e88_4455);
+    const P_S3: f64 = f64::from_bits(0xbfa4_8228_b568_8f3b);
+    const P_S4: f64 = f64::from_bits(0x3f49_efe0_7501_b288);
+    const P_S5: f64 = f64::from_bits(0x3f02_3de1_0dfd_f709);
+    const Q_S1: f64 = f64::from_bits(0xc003_3a27_1c8a_2d4b);
+    const Q_S2: f64 = f64::from_bits(0x4000_2ae5_9c59_8ac8);
+    const Q_S3: f64 = f64::from_bits(0xbfe6_066c_1b8d_0159);
+    const Q_S4: f64 = f64::from_bits(0x3fb3_b8c5_b12e_9282);
+    /// fdlibm's `R(z)`, `p / q` (`comp_r`).
+    #[inline(always)]
+    fn comp_r(z: f64) -> f64 {
+        let p = z * (P_S0 + z * (P_S1 + z * (P_S2 + z * (P_S3 + z * (P_S4 + z * P_S5)))));
+        let q = 1.0 + z * (Q_S1 + z * (Q_S2 + z * (Q_S3 + z * Q_S4)));
+        p / q
+    }
+    let mut out = [0.0; N];
+    let mut main = [true; N];
+    // Whether a lane is at or above 0.5 (or outside the domain, answered
+    // below anyway): a plain `|` over the lanes, no branch per lane.
+    let mut large = false;
+    for (m, &v) in main.iter_mut().zip(&x) {
+        let ix = high_word(v) & 0x7fff_ffff;
+        *m = (0x3e50_0000..0x3ff0_0000).contains(&ix);
+        large |= ix >= 0x3fe0_0000;
+    }
+    if large {
+        for (o, &v) in out.iter_mut().zip(&x) {
+            let ix = high_word(v) & 0x7fff_ffff;
+            let below_half = ix < 0x3fe0_0000;
+            let z = if below_half {
+                v * v
+            } else {
+                (1.0 - v.abs()) * 0.5
+            };
+            let r = comp_r(z);
+            let small = v + v * r;
+            let s = sqrt(z);
+            let far = PIO2_HI - (2.0 * (s + s * r) - PIO2_LO);
+            // s with its low word cleared, and c with f + c = √z.
+            let f = f64::from_bits(s.to_bits() & 0xffff_ffff_0000_0000);
+            let c = (z - f * f) / (s + f);
+            let near =
+                0.5 * PIO2_HI - (2.0 * s * r - (PIO2_LO - 2.0 * c) - (0.5 * PIO2_HI - 2.0 * f));
+            let big = if ix >= 0x3fef_3333 { far } else { near };
+            let big = if v.is_sign_negative() { -big } else { big };
+            *o = if below_half { small } else { big };
+        }
+    } else {
+        for (o, &v) in out.iter_mut().zip(&x) {
+            *o = v + v * comp_r(v * v);
+        }
+    }
+    for l in 0..N {
+        if !main[l] {
+            out[l] = asin(x[l]);
+        }
+    }
+    out
+}
+
 /// `x * x`, which is what `x.powi(2)` computes (exactly one rounding).
 #[inline(always)]
 #[must_use]
@@ -1082,6 +1159,90 @@ mod tests {
                 x[lane] = odd;
                 check(x, y);
                 check(y, x);
+            }
+        }
+    }
+
+    /// The lane `asin` is [`asin`] bit for bit: vectors of sines of pitch
+    /// angles (every lane below 0.5, the shortcut), of any value in -1..1
+    /// (lanes on both sides of 0.5 and 0.975), each path edge by the high
+    /// word (2^-26, 0.5, 0.975, 1) with its neighbours and any low word, in
+    /// vectors of that value alone and beside other lanes, and vectors with
+    /// special values in one lane (±0, subnormals, ±1, past 1, infinities,
+    /// NaN).
+    #[test]
+    fn asin_lanes_is_asin() {
+        let check = |x: [f64; 8]| {
+            let a = asin_lanes(x);
+            for l in 0..8 {
+                let want = asin(x[l]);
+                assert!(
+                    a[l].to_bits() == want.to_bits() || (a[l].is_nan() && want.is_nan()),
+                    "asin_lanes({:e}) [{:#x}] = {:e}, asin {:e}",
+                    x[l],
+                    x[l].to_bits(),
+                    a[l],
+                    want
+                );
+            }
+        };
+        let mut bits = test_bits(0xa5_1e_1a_e5);
+        #[allow(clippy::cast_precision_loss)] // 53 random bits, exact
+        let mut unit = move || (bits() >> 11) as f64 / (1_u64 << 53) as f64;
+        for _ in 0..200_000 {
+            // Pitch angles within ±29°: every lane below 0.5.
+            check(core::array::from_fn(|_| {
+                libm::sin((unit() - 0.5) * 58.0 * core::f64::consts::PI / 180.0)
+            }));
+            // Anywhere in -1..1.
+            check(core::array::from_fn(|_| 2.0 * unit() - 1.0));
+            // Near ±1, where the two forms above 0.5 meet.
+            check(core::array::from_fn(|_| {
+                let v = 1.0 - unit() * 0.1;
+                if unit() < 0.5 {
+                    v
+                } else {
+                    -v
+                }
+            }));
+        }
+        let mut next = test_bits(0x0a51_7e57);
+        for high in [0x3e50_0000_u64, 0x3fe0_0000, 0x3fef_3333, 0x3ff0_0000] {
+            for low in [0_u64, 1, 0xffff_ffff, next() >> 32, next() >> 32] {
+                let b = (high << 32) | low;
+                for e in [b - 1, b, b + 1].map(f64::from_bits) {
+                    for v in [e, -e] {
+                        check([v; 8]);
+                        let mut mixed: [f64; 8] = core::array::from_fn(|_| 0.4 * unit() - 0.2);
+                        mixed[(next() % 8) as usize] = v;
+                        check(mixed);
+                    }
+                }
+            }
+        }
+        for _ in 0..100_000 {
+            // Random bit patterns of magnitudes below 2 (every exponent).
+            check(core::array::from_fn(|_| {
+                f64::from_bits(next() & 0xbfff_ffff_ffff_ffff)
+            }));
+        }
+        for odd in ODD.into_iter().chain([
+            0.5,
+            -0.5,
+            0.975,
+            -0.975,
+            1.0 + f64::EPSILON,
+            -1.0 - f64::EPSILON,
+            2.0_f64.powi(-26),
+            2.0_f64.powi(-1022),
+        ]) {
+            for lane in 0..8 {
+                let mut x: [f64; 8] = core::array::from_fn(|_| 0.8 * unit() - 0.4);
+                x[lane] = odd;
+                check(x);
+                let mut x: [f64; 8] = core::array::from_fn(|_| 2.0 * unit() - 1.0);
+                x[lane] = odd;
+                check(x);
             }
         }
     }

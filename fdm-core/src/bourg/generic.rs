@@ -349,6 +349,7 @@ impl<R: BourgReal> BourgTerms<R> {
     }
 
     /// Sets lane `i` to `t`.
+    #[inline(always)]
     pub fn set_lane(&mut self, i: usize, t: &BourgTerms<f32>) {
         self.thrust_lb.set_lane(i, t.thrust_lb);
         self.rudder_normal.set_lane(i, t.rudder_normal);

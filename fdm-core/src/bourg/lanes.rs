@@ -278,6 +278,22 @@ impl LaneModel for Bourg {
         terms.set_lane(lane, &BourgTerms::new(aircraft, controls));
     }
 
+    /// [`Self::set_controls`] of each of the first `count` lanes (the
+    /// provided body), always inlined into the caller (a fleet's
+    /// dispatched function), rather than a call per lane.
+    #[inline(always)]
+    fn set_controls_lanes(
+        terms: &mut Self::Terms,
+        count: usize,
+        aircraft: &BourgAircraft,
+        (): &(),
+        controls: &[BourgControls; LANES],
+    ) {
+        for (lane, c) in controls.iter().enumerate().take(count) {
+            terms.set_lane(lane, &BourgTerms::new(aircraft, c));
+        }
+    }
+
     #[inline(always)]
     fn step_lanes<F: Maths>(
         aircraft: &BourgAircraft,

@@ -298,19 +298,44 @@ pub fn euler_deg_from_quat(q: &Quaternion<f32>) -> Vector3<f32> {
     )
 }
 
-/// [`euler_deg_from_quat`] of every lane, bit for bit: the same operations,
-/// with the two `atan2` of a block at once ([`crate::math::atan2_lanes`]);
-/// a lane at the pitch singularity (`|r31| > 0.999999`) goes through
-/// [`euler_deg_from_quat`].
+/// [`euler_deg_from_quat`] of every lane, bit for bit:
+/// [`euler_deg_from_quat_columns`] of the quaternions' components.
+#[inline(always)]
+#[must_use]
+pub fn euler_deg_from_quat_lanes<const N: usize>(q: &[Quaternion<f32>; N]) -> [Vector3<f32>; N] {
+    let [w, x, y, z] = [0, 1, 2, 3].map(|k| -> [f32; N] {
+        core::array::from_fn(|l| match k {
+            0 => q[l].coords.w,
+            1 => q[l].coords.x,
+            2 => q[l].coords.y,
+            _ => q[l].coords.z,
+        })
+    });
+    let [roll, pitch, yaw] = euler_deg_from_quat_columns(&w, &x, &y, &z);
+    core::array::from_fn(|l| Vector3::new(roll[l], pitch[l], yaw[l]))
+}
+
+/// [`euler_deg_from_quat`] of every lane `l` of the quaternion
+/// `Quaternion::new(w[l], x[l], y[l], z[l])`, bit for bit, as the arrays of
+/// roll, pitch and yaw (a block's lanes as they are, without a quaternion
+/// or a vector per lane): the same operations, with the two `atan2` and the
+/// `asin` of the lanes at once ([`crate::math::atan2_lanes`],
+/// [`crate::math::asin_lanes`]); a lane at the pitch singularity
+/// (`|r31| > 0.999999`) goes through [`euler_deg_from_quat`].
 #[inline(always)]
 #[must_use]
 #[allow(clippy::cast_possible_truncation)] // as euler_deg_from_quat: f32 angles
-pub fn euler_deg_from_quat_lanes<const N: usize>(q: &[Quaternion<f32>; N]) -> [Vector3<f32>; N] {
-    use crate::math::{asin, atan2_lanes};
+pub fn euler_deg_from_quat_columns<const N: usize>(
+    w: &[f32; N],
+    x: &[f32; N],
+    y: &[f32; N],
+    z: &[f32; N],
+) -> [[f32; N]; 3] {
+    use crate::math::{asin_lanes, atan2_lanes};
     let (mut r11, mut r21, mut r31, mut r32, mut r33) =
         ([0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N]);
     for l in 0..N {
-        let (n, x, y, z) = (q[l].coords.w, q[l].coords.x, q[l].coords.y, q[l].coords.z);
+        let (n, x, y, z) = (w[l], x[l], y[l], z[l]);
         let q00 = f64::from(n * n);
         let q11 = f64::from(x * x);
         let q22 = f64::from(y * y);
@@ -323,17 +348,19 @@ pub fn euler_deg_from_quat_lanes<const N: usize>(q: &[Quaternion<f32>; N]) -> [V
     }
     let roll = atan2_lanes(r32, r33);
     let yaw = atan2_lanes(r21, r11);
-    core::array::from_fn(|l| {
+    let pitch = asin_lanes(r31.map(|r| -r));
+    let mut out = [
+        roll.map(|r| radians_to_degrees(r as f32)),
+        pitch.map(|p| radians_to_degrees(p as f32)),
+        yaw.map(|y| radians_to_degrees(y as f32)),
+    ];
+    for l in 0..N {
         if abs_f64(r31[l]) > 0.999_999 {
-            euler_deg_from_quat(&q[l])
-        } else {
-            Vector3::new(
-                radians_to_degrees(roll[l] as f32),
-                radians_to_degrees(asin(-r31[l]) as f32),
-                radians_to_degrees(yaw[l] as f32),
-            )
+            let e = euler_deg_from_quat(&Quaternion::new(w[l], x[l], y[l], z[l]));
+            (out[0][l], out[1][l], out[2][l]) = (e.x, e.y, e.z);
         }
-    })
+    }
+    out
 }
 
 #[inline(always)]
@@ -390,6 +417,25 @@ mod tests {
         for _ in 0..100_000 {
             check(core::array::from_fn(|_| random(true)));
             check(core::array::from_fn(|_| random(false)));
+        }
+        // Attitudes of flight (pitch within ±29°, so every lane's `asin`
+        // below 0.5: the lane `asin`'s shortcut), and the same with one lane
+        // pitched past 30° (both of its paths).
+        let mut flight_bits = crate::math::test_bits(0xf1_1e5);
+        #[allow(clippy::cast_precision_loss, clippy::cast_possible_truncation)]
+        let mut unit = move || ((flight_bits() >> 11) as f64 / (1_u64 << 53) as f64) as f32;
+        for steep in [None, Some(40.0), Some(-75.0)] {
+            for l in 0..2_000 {
+                let mut q: [Quaternion<f32>; 16] = core::array::from_fn(|_| {
+                    let (roll, pitch, yaw) =
+                        (unit() * 360.0 - 180.0, unit() * 58.0 - 29.0, unit() * 360.0);
+                    quat_from_euler_deg(&Vector3::new(roll, pitch, yaw))
+                });
+                if let Some(p) = steep {
+                    q[l % 16] = quat_from_euler_deg(&Vector3::new(10.0, p + unit(), 30.0));
+                }
+                check(q);
+            }
         }
         // Pitch ±90 degrees and near it (r31 about ±1).
         for pitch in [89.9, 89.99, 89.999, 90.0, -90.0, -89.95, 45.0] {

@@ -15,7 +15,7 @@
 use fdm_core::real::kernel::{Array, Block};
 use fdm_core::real::{LaneModel, Real};
 
-use super::columns::ColumnModel;
+use super::columns::{ColumnModel, MAX_BLOCK_FIELDS};
 
 /// Feet per metre, as `afit_fdm.gym` computes it (`1.0 / 0.3048`).
 pub const FT_PER_M: f64 = 1.0 / 0.3048;
@@ -107,6 +107,29 @@ pub trait LaneAgent: AgentModel + LaneModel {
         for lane in 0..count {
             Self::state_values_head(&block.state(lane), values);
             for (column, v) in out.iter_mut().zip(values.iter()) {
+                column.as_mut()[lane] = *v;
+            }
+        }
+    }
+
+    /// `out[k].as_mut()[l]` becomes the `k`-th of the last
+    /// [`ColumnModel::BLOCK_FIELDS`] values of
+    /// [`ColumnModel::state_values`] (those [`ColumnModel::block_fields`]
+    /// computes) of lane `l` of `block`, for the lanes below `count` (a model
+    /// may write the other lanes too) and `k` below
+    /// [`ColumnModel::BLOCK_FIELDS`].
+    #[inline(always)]
+    fn block_tail_values(
+        block: &Block<Self>,
+        count: usize,
+        out: &mut [Array<Self, f64>; MAX_BLOCK_FIELDS],
+    ) {
+        let mut values = [0.0; MAX_STATE_FIELDS];
+        let values = &mut values[..Self::STATE_FIELDS.len()];
+        let head = Self::STATE_FIELDS.len() - Self::BLOCK_FIELDS;
+        for lane in 0..count {
+            Self::state_values(&block.state(lane), values);
+            for (column, v) in out.iter_mut().zip(&values[head..]) {
                 column.as_mut()[lane] = *v;
             }
         }
@@ -221,20 +244,68 @@ mod tests {
         block
     }
 
+    /// A block of Bourg aircraft at the edges of the state views: pitch
+    /// ±90° and near it (the Euler angles' singular path), steep pitch
+    /// (the lane `asin` past 0.5), a stalled aircraft, ±0, NaN, infinite and
+    /// huge components, a zero quaternion; the other lanes as [`block`].
+    fn bourg_edge_block() -> Block<Bourg> {
+        use fdm_core::bourg::ops::quat_from_euler_deg;
+        use nalgebra::{Quaternion, Vector3};
+        let mut block = block::<Bourg>();
+        let pitched = |p: f32| quat_from_euler_deg(&Vector3::new(10.0, p, 30.0));
+        for (lane, edit) in [
+            (0, 0_u8),
+            (1, 1),
+            (2, 2),
+            (3, 3),
+            (5, 4),
+            (7, 5),
+            (8, 6),
+            (10, 7),
+            (12, 8),
+            (15, 9),
+        ] {
+            let mut s = block.state(lane);
+            match edit {
+                0 => s.orientation = pitched(90.0),
+                1 => s.orientation = pitched(-90.0),
+                2 => s.orientation = pitched(89.99),
+                3 => s.orientation = pitched(-40.0),
+                4 => {
+                    s.stalling = true;
+                    s.velocity_ftps = Vector3::new(-0.0, 0.0, -0.0);
+                }
+                5 => {
+                    s.velocity_ftps.x = f32::NAN;
+                    s.orientation.coords.y = f32::NAN;
+                }
+                6 => {
+                    s.velocity_ftps.y = f32::INFINITY;
+                    s.angular_velocity_radps.z = -0.0;
+                }
+                7 => s.velocity_ftps = Vector3::new(1e30, -1e30, 3e-45),
+                8 => s.orientation = Quaternion::new(0.0, 0.0, 0.0, 0.0),
+                _ => s.orientation = pitched(75.0),
+            }
+            block.set_state(lane, &s);
+        }
+        block
+    }
+
     /// The block forms are the per-aircraft methods lane by lane, bit for
-    /// bit, for whole and partial blocks (the lanes below `count`).
+    /// bit, for whole and partial blocks (the lanes below `count`), of
+    /// flights and (Bourg) of a block at the edges ([`bourg_edge_block`]).
     #[test]
     fn lane_agent_is_the_per_aircraft_methods() {
-        fn check<M: LaneAgent>() {
+        fn check<M: LaneAgent>(block: &Block<M>) {
             let lanes = M::Lanes::LANES;
-            let block = block::<M>();
             let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
             for count in [lanes, lanes - 1, 3, 1] {
                 let sentinel = -12345.0_f64;
                 let fill = || M::Lanes::array(|_| sentinel);
                 // The state's columns.
                 let mut columns: Vec<Array<M, f64>> = (0..head).map(|_| fill()).collect();
-                M::block_state_values(&block, count, &mut columns);
+                M::block_state_values(block, count, &mut columns);
                 for lane in 0..lanes {
                     let mut want = vec![0.0; M::STATE_FIELDS.len()];
                     M::state_values_head(&block.state(lane), &mut want);
@@ -245,9 +316,26 @@ mod tests {
                         }
                     }
                 }
+                // The derived fields.
+                let mut tail: [Array<M, f64>; MAX_BLOCK_FIELDS] = core::array::from_fn(|_| fill());
+                M::block_tail_values(block, count, &mut tail);
+                for lane in 0..count {
+                    let mut want = vec![0.0; M::STATE_FIELDS.len()];
+                    M::state_values(&block.state(lane), &mut want);
+                    for (k, column) in tail.iter().enumerate().take(M::BLOCK_FIELDS) {
+                        let got = column.as_ref()[lane];
+                        assert_eq!(
+                            got.to_bits(),
+                            want[head + k].to_bits(),
+                            "{} lane {lane} field {}",
+                            M::NAME,
+                            head + k
+                        );
+                    }
+                }
                 // The kinematics of the whole block's columns.
                 let mut all: Vec<Array<M, f64>> = (0..head).map(|_| fill()).collect();
-                M::block_state_values(&block, lanes, &mut all);
+                M::block_state_values(block, lanes, &mut all);
                 let mut kinematics: [Array<M, f64>; 4] = core::array::from_fn(|_| fill());
                 M::block_kinematics(&all, &mut kinematics);
                 for lane in 0..lanes {
@@ -284,8 +372,9 @@ mod tests {
                 }
             }
         }
-        check::<Palmer>();
-        check::<Bourg>();
+        check::<Palmer>(&block::<Palmer>());
+        check::<Bourg>(&block::<Bourg>());
+        check::<Bourg>(&bourg_edge_block());
     }
 
     /// The kinematics are the state's position and velocity columns.

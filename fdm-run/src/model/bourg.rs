@@ -449,9 +449,11 @@ impl ControlsLine for BourgDetails {
 // --- Named columns and the agent's tasks (`ColumnModel`, `AgentModel`: the
 // Python bindings' state and control columns and Gymnasium tasks).
 
-use super::agent::{AgentModel, Kinematics, LaneAgent};
+use super::agent::{AgentModel, Kinematics, LaneAgent, MAX_CONTROL_OBS};
 use super::columns::{ColumnModel, ControlRange, MAX_BLOCK_FIELDS};
 use fdm_core::bourg::Flap;
+use fdm_core::bourg::{BourgLanes, LANES};
+use fdm_core::real::kernel::Block;
 
 /// A Bourg surface as a number: −1, 0 or +1.
 #[inline]
@@ -569,7 +571,7 @@ impl ColumnModel for Bourg {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn control_values(c: &BourgControls, out: &mut [f64]) {
         let rudder = if c.rudder_deg > 0.0 {
             -1.0
@@ -653,8 +655,99 @@ fn bourg_controls(a: &[f64]) -> [(usize, f64); 5] {
     ]
 }
 
-/// The provided bodies: the per-aircraft methods lane by lane.
-impl LaneAgent for Bourg {}
+/// A block's columns and controls straight from the kernel's lanes: each
+/// lane the per-aircraft methods' operations in the same order, the lanes
+/// together (the compiler may put them in vector registers: every operation
+/// is correctly rounded, none is fused).
+impl LaneAgent for Bourg {
+    const BLOCK_READS: bool = true;
+
+    /// The state's columns are the block's own lanes widened to `f64` (the
+    /// state's fields in [`ColumnModel::state_values_head`]'s order; the
+    /// stall flag 1 or 0), every lane (those past `count` too).
+    #[inline(always)]
+    fn block_state_values(block: &Block<Self>, _count: usize, out: &mut [[f64; LANES]]) {
+        let v = &block.vars;
+        let w = |a: &BourgLanes| a.0.map(f64::from);
+        let (p, u, b, r, o) = (
+            &v.position_ft,
+            &v.velocity_ftps,
+            &v.velocity_body_ftps,
+            &v.angular_velocity_radps,
+            &v.orientation,
+        );
+        let stalling = v.stalling.0.map(|s| if s { 1.0 } else { 0.0 });
+        let columns = [
+            block.time,
+            w(&p.x),
+            w(&p.y),
+            w(&p.z),
+            w(&u.x),
+            w(&u.y),
+            w(&u.z),
+            w(&b.x),
+            w(&b.y),
+            w(&b.z),
+            w(&r.x),
+            w(&r.y),
+            w(&r.z),
+            w(&o.w),
+            w(&o.x),
+            w(&o.y),
+            w(&o.z),
+            stalling,
+        ];
+        for (o, c) in out.iter_mut().zip(&columns) {
+            *o = *c;
+        }
+    }
+
+    /// The speed ([`BourgState::speed_ftps`]'s operations, lane-wise) and
+    /// the Euler angles ([`fdm_core::bourg::ops::euler_deg_from_quat_columns`])
+    /// of every lane, from the block's own lanes.
+    #[inline(always)]
+    fn block_tail_values(
+        block: &Block<Self>,
+        _count: usize,
+        out: &mut [[f64; LANES]; MAX_BLOCK_FIELDS],
+    ) {
+        let v = &block.vars;
+        let (u, o) = (&v.velocity_ftps, &v.orientation);
+        for (l, speed) in out[0].iter_mut().enumerate() {
+            let (x, y, z) = (u.x.0[l], u.y.0[l], u.z.0[l]);
+            *speed = f64::from((x * x + y * y + z * z).sqrt());
+        }
+        let e = fdm_core::bourg::ops::euler_deg_from_quat_columns(&o.w.0, &o.x.0, &o.y.0, &o.z.0);
+        for (column, angles) in out[1..].iter_mut().zip(&e) {
+            *column = angles.map(f64::from);
+        }
+    }
+
+    /// [`AgentModel::task_kinematics`] reads four columns as they are.
+    #[inline(always)]
+    fn block_kinematics(columns: &[[f64; LANES]], out: &mut [[f64; LANES]; 4]) {
+        *out = [columns[3], columns[6], columns[4], columns[5]];
+    }
+
+    /// [`ColumnModel::control_values`] and [`AgentModel::task_control_obs`]
+    /// of every lane (those past `count` hold controls too).
+    #[inline(always)]
+    fn block_control_obs(
+        controls: &[BourgControls; LANES],
+        _count: usize,
+        out: &mut [[f64; LANES]; MAX_CONTROL_OBS],
+    ) {
+        for (l, c) in controls.iter().enumerate() {
+            let mut values = [0.0; 6];
+            let mut observed = [0.0; 5];
+            Self::control_values(c, &mut values);
+            Self::task_control_obs(&values, &mut observed);
+            for (column, v) in out.iter_mut().zip(observed) {
+                column[l] = v;
+            }
+        }
+    }
+}
 
 impl AgentModel for Bourg {
     const TASK_ACTIONS: usize = 5;
@@ -672,7 +765,7 @@ impl AgentModel for Bourg {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn task_control_obs(c: &[f64], out: &mut [f64]) {
         out.copy_from_slice(&[c[0] / 3000.0, c[1], c[2], c[3], c[5]]);
     }
@@ -682,7 +775,7 @@ impl AgentModel for Bourg {
         (bourg_controls(a), 5)
     }
 
-    #[inline]
+    #[inline(always)]
     #[allow(clippy::cast_possible_truncation)] // as with_control: f32 is the model's type
     fn task_apply(mut c: BourgControls, a: &[f64]) -> BourgControls {
         let [(_, thrust), (_, elevator), (_, aileron), (_, rudder), (_, trim)] = bourg_controls(a);
