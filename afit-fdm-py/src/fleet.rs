@@ -604,7 +604,7 @@ where
         let (chunk, n_obs, parallel) = (self.chunk(), self.task_observations(), self.parallel);
         let group = TASK_GROUP;
         let mut runs = self.fleet.pieces_mut(group);
-        let mut fleet_pieces: Vec<&mut [FleetPiece<'_, M>]> = runs
+        let fleet_pieces: Vec<&mut [FleetPiece<'_, M>]> = runs
             .chunks_mut(chunk / (group * M::Fleet::lanes()))
             .collect();
         let (args, mut outs): (_, Vec<Option<Piece<'_>>>) = match observe {
@@ -618,10 +618,7 @@ where
             None => (None, (0..fleet_pieces.len()).map(|_| None).collect()),
         };
         let arch = pulp::Arch::new();
-        let work = |((runs, steps), out): (
-            (&mut &mut [FleetPiece<'_, M>], &mut [i64]),
-            &mut Option<Piece<'_>>,
-        )| {
+        let work = |((runs, steps), out): StepWork<'_, '_, '_, M>| {
             for s in steps.iter_mut() {
                 *s = s.saturating_add(1);
             }
@@ -642,13 +639,13 @@ where
         if parallel && fleet_pieces.len() > 1 {
             use rayon::prelude::*;
             fleet_pieces
-                .par_iter_mut()
+                .into_par_iter()
                 .zip(steps.par_chunks_mut(chunk))
                 .zip(outs.par_iter_mut())
                 .for_each(work);
         } else {
             fleet_pieces
-                .iter_mut()
+                .into_iter()
                 .zip(steps.chunks_mut(chunk))
                 .zip(outs.iter_mut())
                 .for_each(work);
@@ -781,6 +778,13 @@ fn split<'a>(out: TaskOut<'a>, chunk: usize, fields: usize, n_obs: usize) -> Vec
         )
         .collect()
 }
+
+/// One piece of a task step as a thread takes it: its runs of fleet blocks,
+/// its step counts and, when it observes, its part of the buffers.
+type StepWork<'r, 'f, 'o, M> = (
+    (&'r mut [FleetPiece<'f, M>], &'r mut [i64]),
+    &'r mut Option<Piece<'o>>,
+);
 
 /// A run of aircraft of a task pass and their parts of the buffers.
 struct Piece<'a> {
@@ -1010,7 +1014,8 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
     /// The aircraft of `run`, a run of blocks of the fleet whose first
     /// aircraft is the piece's aircraft `offset` (`steps` the piece's step
     /// counts): [`Self::push_block`] of each block, or, for a model that
-    /// reads its aircraft one at a time ([`BindModel::BLOCK_READS`] false),
+    /// reads its aircraft one at a time
+    /// ([`fdm_run::model::agent::LaneAgent::BLOCK_READS`] false),
     /// [`Self::push_with`] of each aircraft, each state read once.
     #[inline(always)]
     fn observe_run<S: pulp::Simd>(
