@@ -338,23 +338,49 @@ where
     piece.update_control_blocks(&mut ActBlocks { values, k });
 }
 
-/// [`act_piece`] with the instruction set pulp picked (the Palmer block's
-/// bank sines and cosines and the other control terms in its vector
-/// registers; every operation correctly rounded and none fused, so the
-/// same bits).
-struct ActPiece<'x, 'f, M: BindModel> {
-    piece: &'x mut FleetPiece<'f, M>,
+/// A piece of a task step ([`AnyFleet::task_step`]) with the instruction set
+/// pulp picked: each run of [`TASK_GROUP`] blocks has its controls set from
+/// the actions ([`act_piece`]: the Palmer block's bank sines and cosines and
+/// the other control terms in its vector registers), is flown and, with an
+/// observer, is observed ([`Observer::observe_run`]) before the next run,
+/// so that each block's memory is touched once per step while it is in the
+/// level-1 cache. The aircraft are independent and every operation is
+/// correctly rounded and none fused, so neither the order nor the
+/// instruction set changes a bit.
+struct StepPiece<'x, 'p, 'a, 'f, M: BindModel> {
+    /// The piece's runs of blocks, in order.
+    runs: &'x mut [FleetPiece<'f, M>],
     actions: ActionValues<'x>,
+    dt: M::TimeStep,
+    precision: Precision,
+    frames: u64,
+    observer: Option<Observer<'p, 'a, M>>,
+    /// The piece's step counts (already counted up).
+    steps: &'x [i64],
 }
 
-impl<M: BindModel> pulp::WithSimd for ActPiece<'_, '_, M> {
+impl<M: BindModel> pulp::WithSimd for StepPiece<'_, '_, '_, '_, M> {
     type Output = ();
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        match self.actions {
-            ActionValues::F32(v) => act_piece(self.piece, v, M::TASK_ACTIONS),
-            ActionValues::F64(v) => act_piece(self.piece, v, M::TASK_ACTIONS),
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        let (mut observer, steps) = (self.observer, self.steps);
+        let first = self.runs.first().map_or(0, FleetPiece::first);
+        for run in self.runs.iter_mut() {
+            match self.actions {
+                ActionValues::F32(v) => act_piece(run, v, M::TASK_ACTIONS),
+                ActionValues::F64(v) => act_piece(run, v, M::TASK_ACTIONS),
+            }
+            for _ in 0..self.frames {
+                // The precision was checked by the caller: flying cannot fail.
+                let _ = run.fly_with(self.dt, self.precision);
+            }
+            if let Some(observer) = observer.as_mut() {
+                observer.observe_run(simd, run.first() - first, run, steps);
+            }
+        }
+        if let Some(observer) = observer.as_mut() {
+            observer.flush_with(simd);
         }
     }
 }
@@ -389,13 +415,19 @@ pub struct TaskOut<'a> {
     pub truncated: &'a mut [bool],
 }
 
-/// Most aircraft per piece of work of a task pass (a piece's blocks and
-/// outputs stay within a core's level-2 cache between acting, flying and
-/// observing).
+/// Most aircraft per piece of work of a task pass (one thread's share at a
+/// time; within a piece each run of [`TASK_GROUP`] blocks is acted on,
+/// flown and observed before the next: [`StepPiece`]).
 const TASK_CHUNK: usize = 2048;
 /// Fewest aircraft per piece (below this a piece costs less than handing it
 /// to another thread).
 const TASK_CHUNK_MIN: usize = 512;
+
+/// Blocks per run of a task step: each run's controls are set, it is flown
+/// and observed before the next ([`StepPiece`]). One block: measured
+/// against runs of 2, 4, 8 and a whole piece (run P9 in BENCHMARKS.md), one
+/// block at a time took the least CPU time per aircraft-step.
+const TASK_GROUP: usize = 1;
 
 /// A fleet of model `M` and how it steps.
 pub struct Lanes<M: BindModel> {
@@ -570,7 +602,11 @@ where
         }
         let (dt, precision) = (M::time_step(self.fps), self.precision);
         let (chunk, n_obs, parallel) = (self.chunk(), self.task_observations(), self.parallel);
-        let mut fleet_pieces = self.fleet.pieces_mut(chunk / M::Fleet::lanes());
+        let group = TASK_GROUP;
+        let mut runs = self.fleet.pieces_mut(group);
+        let fleet_pieces: Vec<&mut [FleetPiece<'_, M>]> = runs
+            .chunks_mut(chunk / (group * M::Fleet::lanes()))
+            .collect();
         let (args, mut outs): (_, Vec<Option<Piece<'_>>>) = match observe {
             Some((args, out)) => (
                 Some(args),
@@ -582,36 +618,34 @@ where
             None => (None, (0..fleet_pieces.len()).map(|_| None).collect()),
         };
         let arch = pulp::Arch::new();
-        let work = |((piece, steps), out): (
-            (&mut FleetPiece<'_, M>, &mut [i64]),
-            &mut Option<Piece<'_>>,
-        )| {
-            arch.dispatch(ActPiece { piece, actions });
-            for _ in 0..frames {
-                // The precision was checked above: flying cannot fail.
-                let _ = piece.fly_with(dt, precision);
-            }
+        let work = |((runs, steps), out): StepWork<'_, '_, '_, M>| {
             for s in steps.iter_mut() {
                 *s = s.saturating_add(1);
             }
-            if let (Some(args), Some(out)) = (args, out) {
-                arch.dispatch(ObservePiece {
-                    observer: Observer::<M>::new(args, out),
-                    piece,
-                    steps,
-                });
-            }
+            let observer = match (args, out) {
+                (Some(args), Some(out)) => Some(Observer::<M>::new(args, out)),
+                _ => None,
+            };
+            arch.dispatch(StepPiece {
+                runs,
+                actions,
+                dt,
+                precision,
+                frames,
+                observer,
+                steps,
+            });
         };
         if parallel && fleet_pieces.len() > 1 {
             use rayon::prelude::*;
             fleet_pieces
-                .par_iter_mut()
+                .into_par_iter()
                 .zip(steps.par_chunks_mut(chunk))
                 .zip(outs.par_iter_mut())
                 .for_each(work);
         } else {
             fleet_pieces
-                .iter_mut()
+                .into_iter()
                 .zip(steps.chunks_mut(chunk))
                 .zip(outs.iter_mut())
                 .for_each(work);
@@ -666,8 +700,8 @@ impl<M: BindModel> Lanes<M> {
     }
 
     /// Aircraft per piece of a task pass: about four pieces per thread,
-    /// within [`TASK_CHUNK_MIN`]..=[`TASK_CHUNK`], in whole blocks (the
-    /// results do not depend on the split).
+    /// within [`TASK_CHUNK_MIN`]..=[`TASK_CHUNK`], in whole runs of
+    /// [`TASK_GROUP`] blocks (the results do not depend on the split).
     fn chunk(&self) -> usize {
         let lanes = M::Fleet::lanes();
         let chunk = if self.parallel {
@@ -677,7 +711,8 @@ impl<M: BindModel> Lanes<M> {
         } else {
             TASK_CHUNK
         };
-        chunk.div_ceil(lanes) * lanes
+        let whole = lanes * TASK_GROUP;
+        chunk.div_ceil(whole) * whole
     }
 
     /// The first failure `actions` would cause: a NaN that reaches a
@@ -743,6 +778,13 @@ fn split<'a>(out: TaskOut<'a>, chunk: usize, fields: usize, n_obs: usize) -> Vec
         )
         .collect()
 }
+
+/// One piece of a task step as a thread takes it: its runs of fleet blocks,
+/// its step counts and, when it observes, its part of the buffers.
+type StepWork<'r, 'f, 'o, M> = (
+    (&'r mut [FleetPiece<'f, M>], &'r mut [i64]),
+    &'r mut Option<Piece<'o>>,
+);
 
 /// A run of aircraft of a task pass and their parts of the buffers.
 struct Piece<'a> {
@@ -969,6 +1011,35 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         }
     }
 
+    /// The aircraft of `run`, a run of blocks of the fleet whose first
+    /// aircraft is the piece's aircraft `offset` (`steps` the piece's step
+    /// counts): [`Self::push_block`] of each block, or, for a model that
+    /// reads its aircraft one at a time
+    /// ([`fdm_run::model::agent::LaneAgent::BLOCK_READS`] false),
+    /// [`Self::push_with`] of each aircraft, each state read once.
+    #[inline(always)]
+    fn observe_run<S: pulp::Simd>(
+        &mut self,
+        simd: S,
+        offset: usize,
+        run: &FleetPiece<'_, M>,
+        steps: &[i64],
+    ) {
+        if M::BLOCK_READS {
+            for (j0, count, block) in run.blocks() {
+                self.push_block(simd, offset + j0, count, block, steps);
+            }
+        } else {
+            for (j0, count, block) in run.blocks() {
+                for l in 0..count {
+                    let (status, c) = (block.status.as_ref()[l], &block.controls.as_ref()[l]);
+                    let j = offset + j0 + l;
+                    self.push_with(simd, j, steps[j], &block.state(l), status, c);
+                }
+            }
+        }
+    }
+
     /// The block's outputs (the lanes past `len` hold earlier aircraft or
     /// the default block: computed along, never written), with the
     /// instruction set pulp picks.
@@ -1052,37 +1123,6 @@ impl<S: pulp::Simd> RunFlush for WithSimd<S> {
     #[inline(always)]
     fn run<M: BindModel>(self, block: FlushBlock<'_, '_, M>) {
         pulp::WithSimd::with_simd(block, self.0);
-    }
-}
-
-/// A piece's observation pass ([`Observer::push_block`] for each of its
-/// fleet blocks) with the instruction set pulp picked.
-struct ObservePiece<'x, 'p, 'a, 'f, M: BindModel> {
-    observer: Observer<'p, 'a, M>,
-    piece: &'x FleetPiece<'f, M>,
-    steps: &'x [i64],
-}
-
-impl<M: BindModel> pulp::WithSimd for ObservePiece<'_, '_, '_, '_, M> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, simd: S) {
-        let (mut observer, steps) = (self.observer, self.steps);
-        if M::BLOCK_READS {
-            for (j0, count, block) in self.piece.blocks() {
-                observer.push_block(simd, j0, count, block, steps);
-            }
-        } else {
-            // One aircraft at a time, each state read once.
-            for (j0, count, block) in self.piece.blocks() {
-                for l in 0..count {
-                    let (status, c) = (block.status.as_ref()[l], &block.controls.as_ref()[l]);
-                    observer.push_with(simd, j0 + l, steps[j0 + l], &block.state(l), status, c);
-                }
-            }
-        }
-        observer.flush_with(simd);
     }
 }
 
