@@ -302,7 +302,7 @@ fn zeros<M: BindModel>() -> Array<M, f64> {
 }
 
 /// Sets the controls of a piece's aircraft from their rows of `values`
-/// (`k` per aircraft), clipped ([`BindModel::task_apply`]), one aircraft at
+/// (`k` per aircraft), clipped ([`AgentModel::task_apply`](fdm_run::model::agent::AgentModel::task_apply)), one aircraft at
 /// a time (reading a row and writing a lane: a transposition of the
 /// actions into lane arrays measured slower), the control terms a block at
 /// a time ([`FleetPiece::update_control_blocks`]).
@@ -806,7 +806,7 @@ struct Observer<'p, 'a, M: BindModel> {
     args: &'p TaskArgs<'p>,
     piece: &'p mut Piece<'a>,
     block: task::Block<{ task::BLOCK }>,
-    /// Each lane's state, for [`BindModel::block_fields`] (only with some).
+    /// Each lane's state, for [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields) (only with some).
     states: [M::State; task::BLOCK],
     /// The instruction set of the block's observation.
     arch: pulp::Arch,
@@ -1057,7 +1057,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
     }
 
     /// [`Self::flush`], the block's numbers computed by `run`; the model's
-    /// [`BindModel::block_fields`] of the lanes' `states` too if `fields`
+    /// [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields) of the lanes' `states` too if `fields`
     /// (else they are written already: [`Self::push_block`]).
     #[inline(always)]
     fn flush_by(&mut self, run: impl RunFlush, fields: bool) {
@@ -1127,7 +1127,7 @@ impl<S: pulp::Simd> RunFlush for WithSimd<S> {
 }
 
 /// One block's numbers, computed with the instruction set pulp picked:
-/// the model's [`BindModel::block_fields`] written into their columns
+/// the model's [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields) written into their columns
 /// (rows `first..` of each), and [`crate::task::observe_block`]. Every
 /// operation is correctly rounded and none is fused, so the instruction
 /// set cannot change a bit (as fdm-fleet's kernels).
