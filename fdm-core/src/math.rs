@@ -1167,7 +1167,9 @@ mod tests {
     /// angles (every lane below 0.5, the shortcut), of any value in -1..1
     /// (lanes on both sides of 0.5 and 0.975), each path edge by the high
     /// word (2^-26, 0.5, 0.975, 1) with its neighbours and any low word, in
-    /// vectors of that value alone and beside other lanes, and vectors with
+    /// vectors of that value alone and beside other lanes, thousands of
+    /// numbers under the high words of 0.5 and 0.975 alone in a vector,
+    /// vectors of one magnitude past 1 of every exponent, and vectors with
     /// special values in one lane (±0, subnormals, ±1, past 1, infinities,
     /// NaN).
     #[test]
@@ -1218,6 +1220,29 @@ mod tests {
                         check(mixed);
                     }
                 }
+            }
+        }
+        // Every low word's first 4,096 and 4,096 random ones under the high
+        // words of 0.5 and 0.975, alone in a vector: the two forms above 0.5
+        // differ from the one below it for about a fifth of the numbers
+        // whose high word is 0.5's (0.5 + 5 ulp is one), so the choice of
+        // form must be made at 0.5 exactly, by the whole word.
+        for high in [0x3fe0_0000_u64, 0x3fef_3333] {
+            for k in 0..8192_u64 {
+                let low = if k < 4096 { k } else { next() >> 32 };
+                let v = f64::from_bits((high << 32) | low);
+                check([v; 8]);
+                check([-v; 8]);
+            }
+        }
+        // Vectors of one magnitude past 1 alone, of every exponent (no lane
+        // in the domain: each answer is the scalar function's NaN, never a
+        // number from the lanes' forms).
+        for exponent in 0..=1024_u64 {
+            for _ in 0..4 {
+                let v = f64::from_bits(((0x3ff + exponent).min(0x7ff) << 52) | (next() >> 12));
+                check([v; 8]);
+                check([-v; 8]);
             }
         }
         for _ in 0..100_000 {
