@@ -805,6 +805,8 @@ struct Piece<'a> {
 struct Observer<'p, 'a, M: BindModel> {
     args: &'p TaskArgs<'p>,
     piece: &'p mut Piece<'a>,
+    /// The lanes [`Self::push`] gathers ([`Self::push_block`] uses a block
+    /// of its own).
     block: task::Block<{ task::BLOCK }>,
     /// Each lane's state, for [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields) (only with some).
     states: [M::State; task::BLOCK],
@@ -936,8 +938,9 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
     /// of the fleet (`steps` the piece's step counts), read a block at a
     /// time ([`fdm_run::model::agent::LaneAgent`]): their state columns and status codes written,
     /// and their observations, rewards and flags, [`task::BLOCK`] lanes at
-    /// a time ([`Self::flush_with`], with `simd`): what [`Self::push`] of
-    /// each and [`Self::flush`] give, bit for bit.
+    /// a time ([`flush_lanes`] of a block of its own, with `simd`; the
+    /// lanes [`Self::push`] gathered before are flushed first): what
+    /// [`Self::push`] of each and [`Self::flush`] give, bit for bit.
     #[inline(always)]
     fn push_block<S: pulp::Simd>(
         &mut self,
