@@ -805,6 +805,8 @@ struct Piece<'a> {
 struct Observer<'p, 'a, M: BindModel> {
     args: &'p TaskArgs<'p>,
     piece: &'p mut Piece<'a>,
+    /// The lanes [`Self::push`] gathers ([`Self::push_block`] uses a block
+    /// of its own).
     block: task::Block<{ task::BLOCK }>,
     /// Each lane's state, for [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields) (only with some).
     states: [M::State; task::BLOCK],
@@ -889,7 +891,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         const MAX_FIELDS: usize = 32;
         const MAX_CONTROLS: usize = 8;
         if self.len > 0 && j != self.first + self.len {
-            self.flush_by(run, true);
+            self.flush_by(run);
         }
         if self.len == 0 {
             self.first = j;
@@ -928,7 +930,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         self.steps[l] = steps;
         self.len += 1;
         if self.len == task::BLOCK {
-            self.flush_by(run, true);
+            self.flush_by(run);
         }
     }
 
@@ -936,8 +938,9 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
     /// of the fleet (`steps` the piece's step counts), read a block at a
     /// time ([`fdm_run::model::agent::LaneAgent`]): their state columns and status codes written,
     /// and their observations, rewards and flags, [`task::BLOCK`] lanes at
-    /// a time ([`Self::flush_with`], with `simd`): what [`Self::push`] of
-    /// each and [`Self::flush`] give, bit for bit.
+    /// a time ([`flush_lanes`] of a block of its own, with `simd`; the
+    /// lanes [`Self::push`] gathered before are flushed first): what
+    /// [`Self::push`] of each and [`Self::flush`] give, bit for bit.
     #[inline(always)]
     fn push_block<S: pulp::Simd>(
         &mut self,
@@ -974,40 +977,52 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         for start in (0..count).step_by(task::BLOCK) {
             let len = (count - start).min(task::BLOCK);
             let (first, i) = (j0 + start, self.piece.first + j0 + start);
-            let b = &mut self.block;
             // Every lane of the sub-block (it is within the fleet's block:
             // `task::BLOCK` divides the lanes), whole arrays (lanes past
             // `len` computed along and never written).
             let lanes = |a: &Array<M, f64>| -> [f64; task::BLOCK] {
                 core::array::from_fn(|l| a.as_ref()[start + l])
             };
-            b.alt_ft = lanes(&kinematics[0]);
-            b.vz_fps = lanes(&kinematics[1]);
-            b.vx = lanes(&kinematics[2]);
-            b.vy = lanes(&kinematics[3]);
-            for (row, column) in b.observed.iter_mut().zip(&self.observed) {
-                *row = lanes(column);
-            }
-            b.airborne = core::array::from_fn(|l| {
-                block.status.as_ref()[start + l] == FlightStatus::Airborne
-            });
+            let mut target_alt_ft = [0.0; task::BLOCK];
+            let mut target_heading_deg = [0.0; task::BLOCK];
             copy_lanes(
-                &mut b.target_alt_ft,
+                &mut target_alt_ft,
                 &self.args.target_alt_ft[i..],
                 len,
                 task::BLOCK,
             );
             copy_lanes(
-                &mut b.target_heading_deg,
+                &mut target_heading_deg,
                 &self.args.target_heading_deg[i..],
                 len,
                 task::BLOCK,
             );
-            self.steps[..len].copy_from_slice(&steps[first..first + len]);
-            self.first = first;
-            self.len = len;
+            // A block of this function's own, not the observer's
+            // [`Self::block`]: its arrays can stay in registers from here to
+            // the observation (stored into the observer and read back in
+            // other widths, they stalled the loads: store forwarding).
+            let b = task::Block {
+                alt_ft: lanes(&kinematics[0]),
+                vz_fps: lanes(&kinematics[1]),
+                vx: lanes(&kinematics[2]),
+                vy: lanes(&kinematics[3]),
+                target_alt_ft,
+                target_heading_deg,
+                observed: core::array::from_fn(|c| lanes(&self.observed[c])),
+                airborne: core::array::from_fn(|l| {
+                    block.status.as_ref()[start + l] == FlightStatus::Airborne
+                }),
+            };
             // The derived fields are written above.
-            self.flush_by(WithSimd(simd), false);
+            flush_lanes::<M>(
+                WithSimd(simd),
+                self.args,
+                self.piece,
+                &b,
+                None,
+                first,
+                &steps[first..first + len],
+            );
         }
     }
 
@@ -1046,53 +1061,87 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
     #[inline(always)]
     fn flush(&mut self) {
         let arch = self.arch;
-        self.flush_by(Dispatch(arch), true);
+        self.flush_by(Dispatch(arch));
     }
 
     /// [`Self::flush`] inside a function already compiled for `simd`'s
     /// instruction set.
     #[inline(always)]
     fn flush_with<S: pulp::Simd>(&mut self, simd: S) {
-        self.flush_by(WithSimd(simd), true);
+        self.flush_by(WithSimd(simd));
     }
 
-    /// [`Self::flush`], the block's numbers computed by `run`; the model's
-    /// [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields) of the lanes' `states` too if `fields`
-    /// (else they are written already: [`Self::push_block`]).
+    /// [`Self::flush`], the block's numbers computed by `run`, the model's
+    /// [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields)
+    /// of the lanes' `states` too ([`Self::push_block`] writes its blocks'
+    /// derived fields itself and flushes through [`flush_lanes`]).
     #[inline(always)]
-    fn flush_by(&mut self, run: impl RunFlush, fields: bool) {
-        let (j0, len, args) = (self.first, self.len, self.args);
+    fn flush_by(&mut self, run: impl RunFlush) {
+        let (j0, len) = (self.first, self.len);
         if len == 0 {
             return;
         }
-        let n_obs = task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
-        let piece = &mut *self.piece;
-        let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
-        let (columns, ended) = (
-            &mut piece.columns[head..],
-            &mut piece.terminated[j0..j0 + len],
+        flush_lanes::<M>(
+            run,
+            self.args,
+            self.piece,
+            &self.block,
+            Some(&self.states),
+            j0,
+            &self.steps[..len],
         );
-        run.run(FlushBlock::<M> {
-            task: args.task,
-            block: &self.block,
-            states: &self.states,
-            fields,
-            columns,
-            first: j0,
-            out: task::BlockOut {
-                obs: &mut piece.obs[j0 * n_obs..(j0 + len) * n_obs],
-                reward: &mut piece.reward[j0..j0 + len],
-                ended,
-            },
-        });
-        for ((truncated, ended), steps) in piece.truncated[j0..j0 + len]
-            .iter_mut()
-            .zip(&piece.terminated[j0..j0 + len])
-            .zip(&self.steps)
-        {
-            *truncated = *steps >= args.max_steps && !ended;
-        }
         self.len = 0;
+    }
+}
+
+/// The outputs of the piece's aircraft `j0..j0 + steps.len()`, lanes
+/// `0..steps.len()` of `block` (`steps` their step counts; the lanes past
+/// them computed along, never written), the block's numbers computed by
+/// `run`; the model's
+/// [`ColumnModel::block_fields`](fdm_run::model::columns::ColumnModel::block_fields)
+/// of `states` too if given (else they are written already:
+/// [`Observer::push_block`]). A function of its parts rather than a method
+/// of the [`Observer`], so that [`Observer::push_block`] can pass a block
+/// of its own.
+#[inline(always)]
+fn flush_lanes<M: BindModel>(
+    run: impl RunFlush,
+    args: &TaskArgs<'_>,
+    piece: &mut Piece<'_>,
+    block: &task::Block<{ task::BLOCK }>,
+    states: Option<&[M::State; task::BLOCK]>,
+    j0: usize,
+    steps: &[i64],
+) {
+    let len = steps.len();
+    let n_obs = task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
+    let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
+    let (columns, ended) = (
+        &mut piece.columns[head..],
+        &mut piece.terminated[j0..j0 + len],
+    );
+    run.run(FlushBlock::<M> {
+        task: args.task,
+        block,
+        states,
+        columns,
+        first: j0,
+        out: task::BlockOut {
+            obs: &mut piece.obs[j0 * n_obs..(j0 + len) * n_obs],
+            reward: &mut piece.reward[j0..j0 + len],
+            ended,
+        },
+    });
+    // An episode ended by status is the block's aircraft not airborne (what
+    // `observe_block` wrote as `terminated`), read from the block rather
+    // than from the bytes just written (a vector load of single-byte stores
+    // cannot be forwarded and stalled).
+    for ((truncated, airborne), steps) in piece.truncated[j0..j0 + len]
+        .iter_mut()
+        .zip(&block.airborne)
+        .zip(steps)
+    {
+        *truncated = *steps >= args.max_steps && *airborne;
     }
 }
 
@@ -1134,9 +1183,9 @@ impl<S: pulp::Simd> RunFlush for WithSimd<S> {
 struct FlushBlock<'x, 'c, M: BindModel> {
     task: task::Task,
     block: &'x task::Block<{ task::BLOCK }>,
-    states: &'x [M::State; task::BLOCK],
-    /// Whether to compute and write the block fields of `states`.
-    fields: bool,
+    /// The lanes' states, whose block fields to compute and write (`None`:
+    /// written already).
+    states: Option<&'x [M::State; task::BLOCK]>,
     columns: &'x mut [&'c mut [f64]],
     first: usize,
     out: task::BlockOut<'x>,
@@ -1148,9 +1197,9 @@ impl<M: BindModel> pulp::WithSimd for FlushBlock<'_, '_, M> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let len = self.out.reward.len();
-        if M::BLOCK_FIELDS > 0 && self.fields {
+        if let Some(states) = self.states.filter(|_| M::BLOCK_FIELDS > 0) {
             let mut fields = [[0.0; task::BLOCK]; crate::models::MAX_BLOCK_FIELDS];
-            M::block_fields(self.states, &mut fields);
+            M::block_fields(states, &mut fields);
             for (column, values) in self.columns.iter_mut().zip(&fields) {
                 column[self.first..self.first + len].copy_from_slice(&values[..len]);
             }

@@ -294,6 +294,11 @@ fn remainder_lanes<const N: usize>(a: [f64; N], b: f64) -> [f64; N] {
             m
         };
     }
+    // One test of all the lanes (a vector compare) for the usual case, not
+    // one branch per lane.
+    if near.iter().fold(true, |all, &n| all & n) {
+        return out;
+    }
     for ((o, n), &x) in out.iter_mut().zip(&near).zip(&a) {
         if !n {
             *o = np_remainder(x, b);

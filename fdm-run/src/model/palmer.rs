@@ -775,6 +775,19 @@ fn flaps_of(degrees: f64) -> Flaps {
     }
 }
 
+/// The observed flaps, `flaps.degrees() / 40.0`, without the division: the
+/// degrees are exactly 0, 20 or 40, so the quotients are exactly 0, 0.5 and
+/// 1 (the same bits; `lane_agent_is_the_per_aircraft_methods` compares
+/// them with [`AgentModel::task_control_obs`]'s division).
+#[inline(always)]
+fn flaps_obs(flaps: Flaps) -> f64 {
+    match flaps {
+        Flaps::Up => 0.0,
+        Flaps::Deg20 => 0.5,
+        Flaps::Deg40 => 1.0,
+    }
+}
+
 /// Palmer's controls from one aircraft's clipped actions: throttle,
 /// alpha_deg, bank_deg, flaps_deg (control indices 0..4).
 #[inline]
@@ -869,7 +882,35 @@ impl LaneAgent for Palmer {
             out[0][l] = c.throttle;
             out[1][l] = c.alpha_deg / 20.0;
             out[2][l] = c.bank_deg / 20.0;
-            out[3][l] = c.flaps.degrees() / 40.0;
+            out[3][l] = flaps_obs(c.flaps);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The observed flaps of every setting are the per-aircraft method's
+    /// division, bit for bit (the agent tests' fleet members have no 40°
+    /// flaps), in each lane of a block.
+    #[test]
+    fn observed_flaps_are_the_division() {
+        for flaps in [Flaps::Up, Flaps::Deg20, Flaps::Deg40] {
+            let c = PalmerControls {
+                flaps,
+                ..PalmerControls::default()
+            };
+            let mut values = [0.0; 5];
+            Palmer::control_values(&c, &mut values);
+            let mut want = [0.0; 4];
+            Palmer::task_control_obs(&values, &mut want);
+            assert_eq!(want[3].to_bits(), (flaps.degrees() / 40.0).to_bits());
+            let mut out = [[f64::NAN; LANES]; MAX_CONTROL_OBS];
+            Palmer::block_control_obs(&[c; LANES], LANES, &mut out);
+            for lane in out[3] {
+                assert_eq!(lane.to_bits(), want[3].to_bits(), "{flaps:?}");
+            }
         }
     }
 }
