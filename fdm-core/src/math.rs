@@ -1276,6 +1276,114 @@ mod tests {
         }
     }
 
+    /// Both lane forms of `asinf` are [`asinf`] in every lane, every bit (a
+    /// NaN's sign and payload too): [`asinf_lanes`] (the lane types'
+    /// `asinf_exact`) and [`asinf_lanes_blended`] (`Real::asinf_exact_8` of
+    /// `f32`, the scalar step's eight elements), eight and five lanes at a
+    /// time. On every input of the exception table and its two neighbours
+    /// (the table is where the polynomial is not glibc, so a filter, an index
+    /// or a fallback that misses one shows), each range edge alone in a
+    /// vector and among ordinary sines (the `|x| < 0.5` shortcut, the
+    /// polynomial's range `2^-27..=1`, the filter's base, NaN, the
+    /// infinities), random bit patterns (every exponent, half of them past 1)
+    /// and a sweep of the sines of angles of attack.
+    #[test]
+    fn asinf_lanes_are_asinf() {
+        fn check<const N: usize>(x: [f32; N]) {
+            for (form, got) in [
+                ("asinf_lanes", asinf_lanes(x)),
+                ("asinf_lanes_blended", asinf_lanes_blended(x)),
+            ] {
+                for l in 0..N {
+                    let want = asinf(x[l]);
+                    assert!(
+                        got[l].to_bits() == want.to_bits(),
+                        "{form}({:e}) [{:#x}] = {:e} [{:#x}], asinf {:e} [{:#x}] (lane {l} of {x:?})",
+                        x[l],
+                        x[l].to_bits(),
+                        got[l],
+                        got[l].to_bits(),
+                        want,
+                        want.to_bits()
+                    );
+                }
+            }
+        }
+        fn check_all(xs: &[f32]) {
+            for block in xs.chunks(8) {
+                let mut lanes = [0.25_f32; 8];
+                lanes[..block.len()].copy_from_slice(block);
+                check(lanes);
+            }
+            for block in xs.chunks(5) {
+                let mut lanes = [-0.75_f32; 5];
+                lanes[..block.len()].copy_from_slice(block);
+                check(lanes);
+            }
+        }
+        let mut xs: Vec<f32> = Vec::new();
+        for &[input, _] in &asinf_table::EXCEPTIONS {
+            for ix in [input - 1, input, input + 1] {
+                xs.push(f32::from_bits(ix));
+                xs.push(-f32::from_bits(ix));
+            }
+        }
+        check_all(&xs);
+        // Exceptions below 0.5 only (no lane takes the branches above it),
+        // eight at a time.
+        let below_half: Vec<f32> = asinf_table::EXCEPTIONS
+            .iter()
+            .filter(|e| e[0] < 0x3f00_0000)
+            .map(|e| f32::from_bits(e[0]))
+            .collect();
+        assert!(below_half.len() > 100, "{}", below_half.len());
+        check_all(&below_half);
+
+        let edges = [
+            0,
+            1,
+            0x007f_ffff,
+            0x0080_0000,
+            0x31ff_ffff,
+            0x3200_0000,
+            0x3200_0001,
+            EXCEPTION_FILTER_BASE - 1,
+            EXCEPTION_FILTER_BASE,
+            0x3eff_ffff,
+            0x3f00_0000,
+            0x3f79_9999,
+            0x3f79_999a,
+            0x3f7f_ffff,
+            0x3f80_0000,
+            0x3f80_0001,
+            0x3fc0_0000,
+            0x4000_0000,
+            0x7f7f_ffff,
+            0x7f80_0000,
+            0x7f80_0001,
+            0x7fc0_0000,
+            0x7fff_ffff,
+        ];
+        for ix in edges {
+            for x in [f32::from_bits(ix), -f32::from_bits(ix)] {
+                check([x; 8]);
+                check([x; 5]);
+                for lane in [0, 3, 7] {
+                    let mut v = [0.1_f32, -0.2, 0.3, -0.4, 0.05, -0.01, 0.45, 0.2];
+                    v[lane] = x;
+                    check(v);
+                }
+            }
+        }
+
+        let mut bits = test_bits(0xa51f_1ae5);
+        let mut xs: Vec<f32> = (0..200_000)
+            .map(|_| f32::from_bits((bits() >> 32) as u32))
+            .collect();
+        xs.extend((0..=100_000).map(|i| (-1.0 + 2.0 * f64::from(i) / 100_000.0) as f32));
+        check_all(&xs);
+    }
+
     /// `square` is `x * x`, one rounding, which is what `powi(2)` computes
     /// (WGS-84's conversions call it for the original's `pow(v, 2)`): the
     /// same bits on samples of every size and sign, and on special values.
