@@ -200,8 +200,9 @@ const AIRFOIL_CL_32: [f32; 32] =
 /// The three CD tables, for the permutes.
 const AIRFOIL_CD_32: [f32; 32] =
     airfoil_tables(&CD_TRAILING_EDGE_DOWN, &CD_NEUTRAL, &CD_TRAILING_EDGE_UP);
-/// Where the rudder's CD and abscissae start in [`RUDDER_32`] (CL at 0).
+/// Where the rudder's CD starts in [`RUDDER_32`] (CL at 0).
 const RUDDER_CD_AT: u32 = 8;
+/// Where the rudder's abscissae start in [`RUDDER_32`].
 const RUDDER_A_AT: u32 = 16;
 /// The rudder's CL, CD and abscissae in one table, for the permutes.
 const RUDDER_32: [f32; 32] = table_32(
