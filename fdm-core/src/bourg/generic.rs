@@ -18,8 +18,9 @@
 //! The airfoil and rudder table look-ups are hooks of the number type
 //! ([`BourgReal::airfoil`], [`BourgReal::rudder`]): the scalar search and
 //! interpolation of [`super::airfoil`] for `f32`, branchless comparisons and
-//! selects among the tables' constants with the same interpolation for lanes
-//! (the same bits: the unit tests of [`super::lanes`] compare them).
+//! selects among the tables' constants (or, with the instruction set's lane
+//! [`Permutes`], permutes of them) with the same interpolation for lanes (the
+//! same bits: the unit tests of [`super::lanes`] compare them).
 //!
 //! What the step reads and writes:
 //!
@@ -39,7 +40,7 @@ use super::airfoil::{airfoil_coefficients, rudder_coefficients, G_FTPS2, RHO_SLU
 use super::airframe::{BourgAircraft, Flap};
 use super::controls::BourgControls;
 use super::ops::{PI, TOL};
-use crate::real::{Mask, Maths, Real, V3};
+use crate::real::{Mask, Maths, Permutes, Real, V3};
 
 /// `eight!(|i| expr)`: `[expr with i = 0, ..., expr with i = 7]`, evaluated
 /// in that order: an array of the eight elements' values, each written once
@@ -95,10 +96,12 @@ pub trait BourgReal: Real<Scalar = f32> {
     fn table(flap: Flap) -> Self::Table;
     /// Sets lane `i`'s table to `flap`'s.
     fn set_table_lane(table: &mut Self::Table, i: usize, flap: Flap);
-    /// [`airfoil_coefficients`] of every lane's angle in its table.
-    fn airfoil(angle_deg: Self, table: Self::Table) -> (Self, Self);
-    /// [`rudder_coefficients`] of every lane's angle.
-    fn rudder(angle_deg: Self) -> (Self, Self);
+    /// [`airfoil_coefficients`] of every lane's angle in its table; lanes
+    /// may fetch the table's entries with `permutes` (the same bits).
+    fn airfoil<P: Permutes>(angle_deg: Self, table: Self::Table, permutes: P) -> (Self, Self);
+    /// [`rudder_coefficients`] of every lane's angle; lanes may fetch the
+    /// table's entries with `permutes` (the same bits).
+    fn rudder<P: Permutes>(angle_deg: Self, permutes: P) -> (Self, Self);
 }
 
 impl BourgReal for f32 {
@@ -112,11 +115,11 @@ impl BourgReal for f32 {
         *table = flap;
     }
     #[inline(always)]
-    fn airfoil(angle_deg: f32, table: Flap) -> (f32, f32) {
+    fn airfoil<P: Permutes>(angle_deg: f32, table: Flap, _: P) -> (f32, f32) {
         airfoil_coefficients(angle_deg, table)
     }
     #[inline(always)]
-    fn rudder(angle_deg: f32) -> (f32, f32) {
+    fn rudder<P: Permutes>(angle_deg: f32, _: P) -> (f32, f32) {
         rudder_coefficients(angle_deg)
     }
 }
@@ -383,7 +386,8 @@ pub struct BourgVars<R: Real> {
 /// [`super::loads`]): earth-frame force, body-frame moment, stall flag.
 #[inline(always)]
 #[allow(clippy::similar_names)]
-pub(crate) fn loads<R: BourgReal, F: Maths>(
+pub(crate) fn loads<R: BourgReal, F: Maths, P: Permutes>(
+    permutes: P,
     aircraft: &BourgAircraft,
     terms: &BourgTerms<R>,
     s: &BourgVars<R>,
@@ -502,12 +506,12 @@ pub(crate) fn loads<R: BourgReal, F: Maths>(
             let (a, l, d) = (attack_deg[i], lift[i], drag[i]);
             match i {
                 6 => {
-                    let (cl, cd) = R::rudder(a);
+                    let (cl, cd) = R::rudder(a, permutes);
                     (l * cl + d * cd) * q_area
                 }
                 7 => d * c(0.5) * q_area,
                 _ => {
-                    let (cl, cd) = elevator_coefficients::<R>(terms, i, a);
+                    let (cl, cd) = elevator_coefficients::<R, P>(permutes, terms, i, a);
                     if i <= 3 {
                         stalling = stalling.or(cl.eq(0.0));
                     }
@@ -567,10 +571,15 @@ fn sine_of_attack<R: Real<Scalar = f32>>(drag: V3<R>, normal: V3<R>) -> R {
 /// the element's table, blended toward the pitch trim's for the elevators
 /// (4 and 5) of the lanes whose trim is set.
 #[inline(always)]
-fn elevator_coefficients<R: BourgReal>(terms: &BourgTerms<R>, i: usize, angle_deg: R) -> (R, R) {
-    let base = R::airfoil(angle_deg, terms.tables[i]);
+fn elevator_coefficients<R: BourgReal, P: Permutes>(
+    permutes: P,
+    terms: &BourgTerms<R>,
+    i: usize,
+    angle_deg: R,
+) -> (R, R) {
+    let base = R::airfoil(angle_deg, terms.tables[i], permutes);
     if (i == 4 || i == 5) && terms.trimmed.any() {
-        let (cl, cd) = R::airfoil(angle_deg, terms.trim_tables);
+        let (cl, cd) = R::airfoil(angle_deg, terms.trim_tables, permutes);
         let t = terms.trim;
         (
             R::select(terms.trimmed, base.0 + (cl - base.0) * t, base.0),
@@ -582,9 +591,11 @@ fn elevator_coefficients<R: BourgReal>(terms: &BourgTerms<R>, i: usize, angle_de
 }
 
 /// The original's `StepSimulation` for every lane: [`loads`], then
-/// semi-implicit Euler (see [`super::step`]), the clock aside.
+/// semi-implicit Euler (see [`super::step`]), the clock aside; the look-ups
+/// with `permutes`.
 #[inline(always)]
-pub(crate) fn step<R: BourgReal, F: Maths>(
+pub(crate) fn step<R: BourgReal, F: Maths, P: Permutes>(
+    permutes: P,
     aircraft: &BourgAircraft,
     terms: &BourgTerms<R>,
     s: &BourgVars<R>,
@@ -592,7 +603,7 @@ pub(crate) fn step<R: BourgReal, F: Maths>(
 ) -> BourgVars<R> {
     let mass = aircraft.mass_properties();
     let c = R::splat;
-    let (force_earth, moment_body, stalling) = loads::<R, F>(aircraft, terms, s);
+    let (force_earth, moment_body, stalling) = loads::<R, F, P>(permutes, aircraft, terms, s);
 
     let acceleration = force_earth / c(mass.mass_slug);
     let velocity = s.velocity_ftps + acceleration * c(dt);

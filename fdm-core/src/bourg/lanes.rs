@@ -9,21 +9,36 @@
 //! The airfoil and rudder look-ups ([`airfoil_coefficients`],
 //! [`rudder_coefficients`]) search the interval of the angle and interpolate.
 //! In lanes they read no memory by lane: the tables are nine (rudder: seven)
-//! constants, so each lane's two entries are picked by selects. The
-//! comparisons `a[j] <= angle` give one mask per abscissa; the entries
-//! `t[i]`, `t[i + 1]` and the abscissa `a[i]` of a lane's interval `i` start
-//! as entry 0 (1) and are replaced by entry `j` (`j + 1`) in the lanes at or
-//! above `a[j]`, `j` rising. A lane's flap (of three) picks its table's entry
-//! `j` by two more selects, before the interval's. The interpolation is the
-//! scalar formula, lane-wise, except that the division by `a[i] − a[i + 1]`,
-//! always −4 (checked at compile time), is the multiplication by −1/4: the
-//! same bits, as both round the same real number. The unit tests below
-//! compare every lane with the scalar functions bit for bit (every `f32`
-//! near the abscissae, a stride through −25..25 and random bit patterns, each
-//! flap in mixed and uniform blocks). Before, a lane's table was an offset
-//! into the three tables laid end to end and its entries gathers
-//! (`vgatherdps`, microcoded on the project's CPU; BENCHMARKS.md, "Bourg's
-//! look-ups without gathers").
+//! constants. The comparisons `a[j] <= angle` give one mask per abscissa;
+//! a lane's interval `i` is the last `j` set (see [`at_or_above`]). Its
+//! entries `t[i]`, `t[i + 1]` and abscissa `a[i]` are fetched in one of two
+//! ways, with the same bits (a fetch moves an entry, it computes nothing):
+//!
+//! * by permutes, where the fleet kernel's instruction set has them
+//!   ([`Permutes`]: AVX-512's `vpermt2ps`, 16 lanes out of 32 entries in two
+//!   registers). The three airfoil tables of a coefficient are laid end to
+//!   end (27 entries), a lane's index is its flap's offset plus `i`, `i`
+//!   being the count of the masks set (they are nested, as `a` increases
+//!   strictly): five permutes per look-up (`t[i]`, `t[i + 1]` of CL and CD,
+//!   and `a[i]`) instead of about seventy selects, which on Intel share the
+//!   two 512-bit ports with the rest of the step (BENCHMARKS.md, "Bourg's
+//!   look-ups by permutes");
+//! * by selects elsewhere (AVX2, the baseline, other architectures, and
+//!   [`LaneModel::step_lanes`]): entry 0 (1), replaced by entry `j`
+//!   (`j + 1`) in the lanes at or above `a[j]`, `j` rising; a lane's flap
+//!   (of three) picks its table's entry `j` by two more selects, before the
+//!   interval's.
+//!
+//! The interpolation is the scalar formula, lane-wise, except that the
+//! division by `a[i] − a[i + 1]`, always −4 (checked at compile time), is
+//! the multiplication by −1/4: the same bits, as both round the same real
+//! number. The unit tests below compare every lane of both forms with the
+//! scalar functions bit for bit (every `f32` near the abscissae, a stride
+//! through −25..25 and random bit patterns, each flap in mixed and uniform
+//! blocks). Before the selects, a lane's table was an offset into the three
+//! tables laid end to end and its entries gathers (`vgatherdps`, microcoded
+//! on the project's CPU; BENCHMARKS.md, "Bourg's look-ups without
+//! gathers").
 //!
 //! | fleet block | lanes | read by the step | written by the step |
 //! |---|---|---|---|
@@ -45,7 +60,7 @@ use super::generic::{self, BourgReal, BourgTerms, BourgVars};
 use super::model::{state_of, vars};
 use super::{Bourg, BourgState};
 
-use crate::real::{F32s, LaneMask, LaneModel, Maths, Real, V3};
+use crate::real::{F32s, LaneMask, LaneModel, Maths, NoPermutes, Permutes, Real, V3};
 
 /// Aircraft per block of a Bourg fleet: 16 `f32` lanes (one AVX-512 register,
 /// two AVX2 ones).
@@ -118,9 +133,15 @@ fn pick<const T: usize, const N: usize>(
 
 /// The scalar `lerp` in each lane's interval `i`:
 /// `t[i] - (a[i] - angle) * (t[i] - t[i+1]) / (a[i] - a[i+1])`, with
-/// `a[i]` given and the division the exact multiplication by
-/// [`INVERSE_STEP`]; `t[i]`, `t[i + 1]` picked from `column`, lane `l`'s
-/// table entry `j` being `column(j).0[l]`.
+/// `t0 = t[i]`, `t1 = t[i + 1]` and `a0 = a[i]` given and the division the
+/// exact multiplication by [`INVERSE_STEP`].
+#[inline(always)]
+fn lerp<const N: usize>(t0: F32s<N>, t1: F32s<N>, a0: F32s<N>, angle: F32s<N>) -> F32s<N> {
+    t0 - (a0 - angle) * (t0 - t1) * INVERSE_STEP
+}
+
+/// [`lerp`] with `t[i]`, `t[i + 1]` picked from `column` by [`pick`], lane
+/// `l`'s table entry `j` being `column(j).0[l]`.
 #[inline(always)]
 fn lerp_lanes<const T: usize, const N: usize>(
     at_or_above: &[LaneMask<N>; T],
@@ -129,7 +150,135 @@ fn lerp_lanes<const T: usize, const N: usize>(
     angle: F32s<N>,
 ) -> F32s<N> {
     let (t0, t1) = pick(at_or_above, column);
-    t0 - (a0 - angle) * (t0 - t1) * INVERSE_STEP
+    lerp(t0, t1, a0, angle)
+}
+
+/// Each lane's interval `i` as an index: the number of the masks
+/// `a[1] <= angle`, ..., `a[T − 2] <= angle` set. They are nested (`a`
+/// increases strictly), so this is the last `j` set, or 0: the interval
+/// whose entries [`pick`] ends on, in every lane (NaN, outside the table and
+/// the boundaries included).
+#[inline(always)]
+fn interval<const T: usize, const N: usize>(at_or_above: &[LaneMask<N>; T]) -> [u32; N] {
+    let mut i = [0_u32; N];
+    for m in &at_or_above[1..T - 1] {
+        i = each_lane!(N, |l| i[l] + u32::from(m.0[l]));
+    }
+    i
+}
+
+/// `entries` at `at` in a table of 32 `f32` (zeros after them): what the
+/// permutes read.
+const fn table_32(mut table: [f32; 32], at: usize, entries: &[f32]) -> [f32; 32] {
+    let mut j = 0;
+    while j < entries.len() {
+        table[at + j] = entries[j];
+        j += 1;
+    }
+    table
+}
+
+/// A coefficient's three airfoil tables laid end to end, flap `f`'s at
+/// `AIRFOIL_TABLE * f as usize` (the enum's discriminant).
+const fn airfoil_tables(down: &[f32; 9], neutral: &[f32; 9], up: &[f32; 9]) -> [f32; 32] {
+    let t = table_32(
+        [0.0; 32],
+        AIRFOIL_TABLE * Flap::TrailingEdgeDown as usize,
+        down,
+    );
+    let t = table_32(t, AIRFOIL_TABLE * Flap::Neutral as usize, neutral);
+    table_32(t, AIRFOIL_TABLE * Flap::TrailingEdgeUp as usize, up)
+}
+
+/// The length of an airfoil table.
+const AIRFOIL_TABLE: usize = AIRFOIL_ALPHA_DEG.len();
+/// The airfoil abscissae, for the permutes.
+const AIRFOIL_A_32: [f32; 32] = table_32([0.0; 32], 0, &AIRFOIL_ALPHA_DEG);
+/// The three CL tables, for the permutes.
+const AIRFOIL_CL_32: [f32; 32] =
+    airfoil_tables(&CL_TRAILING_EDGE_DOWN, &CL_NEUTRAL, &CL_TRAILING_EDGE_UP);
+/// The three CD tables, for the permutes.
+const AIRFOIL_CD_32: [f32; 32] =
+    airfoil_tables(&CD_TRAILING_EDGE_DOWN, &CD_NEUTRAL, &CD_TRAILING_EDGE_UP);
+/// Where the rudder's CD starts in [`RUDDER_32`] (CL at 0).
+const RUDDER_CD_AT: u32 = 8;
+/// Where the rudder's abscissae start in [`RUDDER_32`].
+const RUDDER_A_AT: u32 = 16;
+/// The rudder's CL, CD and abscissae in one table, for the permutes.
+const RUDDER_32: [f32; 32] = table_32(
+    table_32(
+        table_32([0.0; 32], 0, &RUDDER_CL),
+        RUDDER_CD_AT as usize,
+        &RUDDER_CD,
+    ),
+    RUDDER_A_AT as usize,
+    &RUDDER_ALPHA_DEG,
+);
+const _: () = assert!(
+    3 * AIRFOIL_TABLE <= 32
+        && RUDDER_CL.len() <= RUDDER_CD_AT as usize
+        && RUDDER_CD_AT as usize + RUDDER_CD.len() <= RUDDER_A_AT as usize
+        && RUDDER_A_AT as usize + RUDDER_ALPHA_DEG.len() <= 32
+);
+
+/// [`lerp`] of each lane's entries `at`, `at + 1` of `table`, fetched by
+/// `permutes` (`None` if the instruction set has none). A function, not a
+/// closure: the compiler kept such closures out of line, compiled for the
+/// baseline instruction set, each permute a call.
+#[inline(always)]
+fn lerp_permuted<P: Permutes, const N: usize>(
+    permutes: P,
+    table: &[f32; 32],
+    at: [u32; N],
+    a0: F32s<N>,
+    angle: F32s<N>,
+) -> Option<F32s<N>> {
+    let next = each_lane!(N, |l| at[l] + 1);
+    Some(lerp(
+        F32s(permutes.permute_32(table, at)?),
+        F32s(permutes.permute_32(table, next)?),
+        a0,
+        angle,
+    ))
+}
+
+/// The airfoil look-up's CL and CD in each lane (before the lanes outside
+/// the table are set), their entries fetched by `permutes`; `None` if the
+/// instruction set has none (the caller's selects).
+#[inline(always)]
+fn airfoil_permuted<P: Permutes, const N: usize>(
+    permutes: P,
+    at_or_above: &[LaneMask<N>; AIRFOIL_TABLE],
+    angle: F32s<N>,
+    flaps: [Flap; N],
+) -> Option<(F32s<N>, F32s<N>)> {
+    let i = interval(at_or_above);
+    let a0 = F32s(permutes.permute_32(&AIRFOIL_A_32, i)?);
+    // A lane's entry `i` in its flap's table.
+    let at = each_lane!(N, |l| AIRFOIL_TABLE as u32 * flaps[l] as u32 + i[l]);
+    Some((
+        lerp_permuted(permutes, &AIRFOIL_CL_32, at, a0, angle)?,
+        lerp_permuted(permutes, &AIRFOIL_CD_32, at, a0, angle)?,
+    ))
+}
+
+/// The rudder look-up's CL (of `|angle|`, before the sign) and CD in each
+/// lane (before the lanes outside the table are set), their entries fetched
+/// by `permutes`; `None` if the instruction set has none.
+#[inline(always)]
+fn rudder_permuted<P: Permutes, const N: usize>(
+    permutes: P,
+    at_or_above: &[LaneMask<N>; 7],
+    abs: F32s<N>,
+) -> Option<(F32s<N>, F32s<N>)> {
+    let i = interval(at_or_above);
+    let a_at = each_lane!(N, |l| i[l] + RUDDER_A_AT);
+    let a0 = F32s(permutes.permute_32(&RUDDER_32, a_at)?);
+    let cd_at = each_lane!(N, |l| i[l] + RUDDER_CD_AT);
+    Some((
+        lerp_permuted(permutes, &RUDDER_32, i, a0, abs)?,
+        lerp_permuted(permutes, &RUDDER_32, cd_at, a0, abs)?,
+    ))
 }
 
 impl<const N: usize> BourgReal for F32s<N> {
@@ -147,29 +296,14 @@ impl<const N: usize> BourgReal for F32s<N> {
     }
 
     #[inline(always)]
-    fn airfoil(angle: Self, flaps: [Flap; N]) -> (Self, Self) {
+    fn airfoil<P: Permutes>(angle: Self, flaps: [Flap; N], permutes: P) -> (Self, Self) {
         let a = &AIRFOIL_ALPHA_DEG;
         let (at_or_above, valid) = at_or_above(a, angle);
-        let (a0, _) = pick(&at_or_above, |j| Self::splat(a[j]));
-        let down = LaneMask(each_lane!(N, |l| flaps[l] == Flap::TrailingEdgeDown));
-        let up = LaneMask(each_lane!(N, |l| flaps[l] == Flap::TrailingEdgeUp));
-        // Entry `j` of each lane's table of the three.
-        let column = |neutral: &[f32; 9], te_down: &[f32; 9], te_up: &[f32; 9], j: usize| {
-            let c = Self::select(up, Self::splat(te_up[j]), Self::splat(neutral[j]));
-            Self::select(down, Self::splat(te_down[j]), c)
+        // A `match`, not `unwrap_or_else`: no closure to be kept out of line.
+        let (cl, cd) = match airfoil_permuted(permutes, &at_or_above, angle, flaps) {
+            Some(permuted) => permuted,
+            None => airfoil_selected(&at_or_above, angle, flaps),
         };
-        let cl = lerp_lanes(
-            &at_or_above,
-            a0,
-            |j| column(&CL_NEUTRAL, &CL_TRAILING_EDGE_DOWN, &CL_TRAILING_EDGE_UP, j),
-            angle,
-        );
-        let cd = lerp_lanes(
-            &at_or_above,
-            a0,
-            |j| column(&CD_NEUTRAL, &CD_TRAILING_EDGE_DOWN, &CD_TRAILING_EDGE_UP, j),
-            angle,
-        );
         (
             Self::select(valid, cl, Self::splat(0.0)),
             Self::select(valid, cd, Self::splat(CD_OUTSIDE)),
@@ -177,19 +311,66 @@ impl<const N: usize> BourgReal for F32s<N> {
     }
 
     #[inline(always)]
-    fn rudder(angle: Self) -> (Self, Self) {
+    fn rudder<P: Permutes>(angle: Self, permutes: P) -> (Self, Self) {
         let a = &RUDDER_ALPHA_DEG;
         let abs = angle.abs();
         let (at_or_above, valid) = at_or_above(a, abs);
-        let (a0, _) = pick(&at_or_above, |j| Self::splat(a[j]));
-        let cl = lerp_lanes(&at_or_above, a0, |j| Self::splat(RUDDER_CL[j]), abs);
+        let (cl, cd) = match rudder_permuted(permutes, &at_or_above, abs) {
+            Some(permuted) => permuted,
+            None => rudder_selected(&at_or_above, abs),
+        };
         let cl = Self::select(angle.lt(0.0), -cl, cl);
-        let cd = lerp_lanes(&at_or_above, a0, |j| Self::splat(RUDDER_CD[j]), abs);
         (
             Self::select(valid, cl, Self::splat(0.0)),
             Self::select(valid, cd, Self::splat(CD_OUTSIDE)),
         )
     }
+}
+
+/// The airfoil look-up's CL and CD in each lane (before the lanes outside
+/// the table are set), their entries picked by selects.
+#[inline(always)]
+fn airfoil_selected<const N: usize>(
+    at_or_above: &[LaneMask<N>; AIRFOIL_TABLE],
+    angle: F32s<N>,
+    flaps: [Flap; N],
+) -> (F32s<N>, F32s<N>) {
+    let a = &AIRFOIL_ALPHA_DEG;
+    let (a0, _) = pick(at_or_above, |j| F32s::splat(a[j]));
+    let down = LaneMask(each_lane!(N, |l| flaps[l] == Flap::TrailingEdgeDown));
+    let up = LaneMask(each_lane!(N, |l| flaps[l] == Flap::TrailingEdgeUp));
+    // Entry `j` of each lane's table of the three.
+    let column = |neutral: &[f32; 9], te_down: &[f32; 9], te_up: &[f32; 9], j: usize| {
+        let c = F32s::select(up, F32s::splat(te_up[j]), F32s::splat(neutral[j]));
+        F32s::select(down, F32s::splat(te_down[j]), c)
+    };
+    let cl = lerp_lanes(
+        at_or_above,
+        a0,
+        |j| column(&CL_NEUTRAL, &CL_TRAILING_EDGE_DOWN, &CL_TRAILING_EDGE_UP, j),
+        angle,
+    );
+    let cd = lerp_lanes(
+        at_or_above,
+        a0,
+        |j| column(&CD_NEUTRAL, &CD_TRAILING_EDGE_DOWN, &CD_TRAILING_EDGE_UP, j),
+        angle,
+    );
+    (cl, cd)
+}
+
+/// The rudder look-up's CL (of `|angle|`, before the sign) and CD in each
+/// lane (before the lanes outside the table are set), their entries picked
+/// by selects.
+#[inline(always)]
+fn rudder_selected<const N: usize>(
+    at_or_above: &[LaneMask<N>; 7],
+    abs: F32s<N>,
+) -> (F32s<N>, F32s<N>) {
+    let (a0, _) = pick(at_or_above, |j| F32s::splat(RUDDER_ALPHA_DEG[j]));
+    let cl = lerp_lanes(at_or_above, a0, |j| F32s::splat(RUDDER_CL[j]), abs);
+    let cd = lerp_lanes(at_or_above, a0, |j| F32s::splat(RUDDER_CD[j]), abs);
+    (cl, cd)
 }
 
 impl LaneModel for Bourg {
@@ -302,7 +483,21 @@ impl LaneModel for Bourg {
         vars: &Self::Vars,
         dt: f32,
     ) -> Self::Vars {
-        generic::step::<BourgLanes, F>(aircraft, terms, vars, dt)
+        generic::step::<BourgLanes, F, NoPermutes>(NoPermutes, aircraft, terms, vars, dt)
+    }
+
+    /// The look-ups' entries fetched with `permutes` where they permute
+    /// (the same bits as [`Self::step_lanes`]).
+    #[inline(always)]
+    fn step_lanes_permuting<F: Maths, P: Permutes>(
+        permutes: P,
+        aircraft: &BourgAircraft,
+        (): &(),
+        terms: &Self::Terms,
+        vars: &Self::Vars,
+        dt: f32,
+    ) -> Self::Vars {
+        generic::step::<BourgLanes, F, P>(permutes, aircraft, terms, vars, dt)
     }
 
     #[inline(always)]
@@ -437,6 +632,16 @@ mod tests {
 
     #[test]
     fn table_lookups_are_the_scalar_ones() {
+        // Both forms: the selects, and the permutes where this CPU has them
+        // (AVX-512).
+        check_lookups(NoPermutes);
+        #[cfg(target_arch = "x86_64")]
+        if let Some(simd) = pulp::x86::V4::try_new() {
+            check_lookups(simd);
+        }
+    }
+
+    fn check_lookups<P: Permutes>(permutes: P) {
         // Each angle in each flap's table: the lanes' flaps mixed (each
         // lane's neighbours on other tables) and shared by the whole block.
         let flaps = [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp];
@@ -451,13 +656,13 @@ mod tests {
         {
             let mut lanes = [0.0; LANES];
             lanes[..chunk.len()].copy_from_slice(chunk);
-            let (cl, cd) = BourgLanes::airfoil(F32s(lanes), flap_lanes);
-            let (rl, rd) = BourgLanes::rudder(F32s(lanes));
+            let (cl, cd) = BourgLanes::airfoil(F32s(lanes), flap_lanes, permutes);
+            let (rl, rd) = BourgLanes::rudder(F32s(lanes), permutes);
             for l in 0..LANES {
                 let (scl, scd) = airfoil_coefficients(lanes[l], flap_lanes[l]);
                 assert!(
                     same(cl.0[l], scl) && same(cd.0[l], scd),
-                    "{} ({:#x}) {:?}",
+                    "{} ({:#x}) {:?} {permutes:?}",
                     lanes[l],
                     lanes[l].to_bits(),
                     flap_lanes[l]
@@ -465,7 +670,7 @@ mod tests {
                 let (srl, srd) = rudder_coefficients(lanes[l]);
                 assert!(
                     same(rl.0[l], srl) && same(rd.0[l], srd),
-                    "rudder {}",
+                    "rudder {} {permutes:?}",
                     lanes[l]
                 );
             }

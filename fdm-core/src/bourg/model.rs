@@ -10,7 +10,7 @@ use super::airframe::BourgAircraft;
 use super::controls::BourgControls;
 use super::generic::{self, BourgTerms, BourgVars};
 use super::ops::{euler_deg_from_quat, magnitude, quat_from_euler_deg};
-use crate::real::Exact;
+use crate::real::{Exact, NoPermutes};
 
 /// The aircraft's integrated state.
 ///
@@ -157,7 +157,7 @@ pub struct Loads {
 pub fn loads(aircraft: &BourgAircraft, controls: &BourgControls, state: &BourgState) -> Loads {
     let terms = BourgTerms::new(aircraft, controls);
     let (force_earth, moment_body, stalling) =
-        generic::loads::<f32, Exact>(aircraft, &terms, &vars(state));
+        generic::loads::<f32, Exact, NoPermutes>(NoPermutes, aircraft, &terms, &vars(state));
     Loads {
         force_earth: force_earth.into(),
         moment_body: moment_body.into(),
@@ -254,7 +254,7 @@ pub fn step(
     // (`crate::math::with_fma`).
     let next = crate::math::with_fma(
         #[inline(always)]
-        move || generic::step::<f32, Exact>(aircraft, &terms, &vars, dt),
+        move || generic::step::<f32, Exact, NoPermutes>(NoPermutes, aircraft, &terms, &vars, dt),
     );
     state_of(&next, state.time_s + f64::from(dt))
 }

@@ -24,7 +24,7 @@
 
 use pulp::{Arch, Simd, WithSimd};
 
-use super::{Exact, Fast, LaneModel, Lanes, Mask, Maths, Real};
+use super::{Exact, Fast, LaneModel, Lanes, Mask, Maths, NoPermutes, Permutes, Real};
 use crate::model::{FlightStatus, Model};
 
 /// The lane arrays of model `M`'s blocks.
@@ -69,10 +69,24 @@ impl<M: LaneModel> Block<M> {
         self.time.as_mut()[lane] = M::set_state(&mut self.vars, lane, state);
     }
 
-    /// One step of every lane with the maths `F`.
+    /// One step of every lane with the maths `F` and the lane permutes
+    /// `permutes`.
     #[inline(always)]
-    fn step<F: Maths>(&mut self, aircraft: &M::Aircraft, shared: &M::Shared, dt: M::TimeStep) {
-        self.vars = M::step_lanes::<F>(aircraft, shared, &self.terms, &self.vars, dt);
+    fn step<F: Maths, P: Permutes>(
+        &mut self,
+        permutes: P,
+        aircraft: &M::Aircraft,
+        shared: &M::Shared,
+        dt: M::TimeStep,
+    ) {
+        self.vars = M::step_lanes_permuting::<F, P>(
+            permutes,
+            aircraft,
+            shared,
+            &self.terms,
+            &self.vars,
+            dt,
+        );
         let dt_s: f64 = dt.into();
         for t in self.time.as_mut() {
             *t += dt_s;
@@ -173,9 +187,9 @@ fn finish_lane<M: Model>(
 /// The stepping loop over some blocks, generic over the instruction set pulp
 /// picked: `with_simd` and everything it calls are inlined into pulp's
 /// `#[target_feature]` function, so the lane loops compile to that set.
-/// `FastMaths` is the [`Fast`] maths of that instruction set (see
-/// [`dispatch`]).
-struct StepBlocks<'a, M: LaneModel, FastMaths> {
+/// `FastMaths` is the [`Fast`] maths of that instruction set and `P` its
+/// lane permutes (see [`dispatch`]).
+struct StepBlocks<'a, M: LaneModel, FastMaths, P> {
     blocks: &'a mut [Block<M>],
     aircraft: &'a M::Aircraft,
     shared: &'a M::Shared,
@@ -185,10 +199,12 @@ struct StepBlocks<'a, M: LaneModel, FastMaths> {
     fast: bool,
     /// Whole frames with the flight status rather than bare steps.
     fly: bool,
+    /// The instruction set's lane permutes.
+    permutes: P,
     fast_maths: core::marker::PhantomData<FastMaths>,
 }
 
-impl<M: LaneModel, FastMaths: Maths> WithSimd for StepBlocks<'_, M, FastMaths> {
+impl<M: LaneModel, FastMaths: Maths, P: Permutes> WithSimd for StepBlocks<'_, M, FastMaths, P> {
     type Output = ();
 
     #[inline(always)]
@@ -201,10 +217,10 @@ impl<M: LaneModel, FastMaths: Maths> WithSimd for StepBlocks<'_, M, FastMaths> {
     }
 }
 
-impl<'a, M: LaneModel, FastMaths> StepBlocks<'a, M, FastMaths> {
-    /// The same loop with the fast maths `F`.
+impl<'a, M: LaneModel, FastMaths, P: Permutes> StepBlocks<'a, M, FastMaths, P> {
+    /// The same loop with the fast maths `F` and the lane permutes `permutes`.
     #[inline(always)]
-    fn with_fast<F>(self) -> StepBlocks<'a, M, F> {
+    fn with<F, Q>(self, permutes: Q) -> StepBlocks<'a, M, F, Q> {
         StepBlocks {
             blocks: self.blocks,
             aircraft: self.aircraft,
@@ -212,6 +228,7 @@ impl<'a, M: LaneModel, FastMaths> StepBlocks<'a, M, FastMaths> {
             dt: self.dt,
             fast: self.fast,
             fly: self.fly,
+            permutes,
             fast_maths: core::marker::PhantomData,
         }
     }
@@ -220,16 +237,16 @@ impl<'a, M: LaneModel, FastMaths> StepBlocks<'a, M, FastMaths> {
     /// [`Self::fly`].
     #[inline(always)]
     fn each<F: Maths>(self) {
-        let (aircraft, shared, dt) = (self.aircraft, self.shared, self.dt);
+        let (aircraft, shared, dt, p) = (self.aircraft, self.shared, self.dt, self.permutes);
         if self.fly {
             for b in self.blocks {
                 let (time, vars) = (b.time, b.vars);
-                b.step::<F>(aircraft, shared, dt);
+                b.step::<F, P>(p, aircraft, shared, dt);
                 b.settle(&time, &vars, aircraft, dt);
             }
         } else {
             for b in self.blocks {
-                b.step::<F>(aircraft, shared, dt);
+                b.step::<F, P>(p, aircraft, shared, dt);
             }
         }
     }
@@ -244,18 +261,22 @@ impl<'a, M: LaneModel, FastMaths> StepBlocks<'a, M, FastMaths> {
 /// is thereby compiled with the one fast maths it can run: a flag would
 /// compile both into every copy (a third more code in the release build,
 /// whose time is mostly these copies).
+///
+/// The lane permutes likewise: x86-64-v4's copy gets pulp's AVX-512 token
+/// itself as its [`Permutes`] (`vpermt2ps`), every other copy
+/// [`NoPermutes`] (the look-ups' selects), so each copy holds one form.
 #[inline(always)]
-fn dispatch<M: LaneModel>(arch: Arch, op: StepBlocks<'_, M, ()>) {
+fn dispatch<M: LaneModel>(arch: Arch, op: StepBlocks<'_, M, (), NoPermutes>) {
     #[cfg(target_arch = "x86_64")]
     match arch {
-        Arch::V4(simd) => Simd::vectorize(simd, op.with_fast::<Fast<true>>()),
-        Arch::V3(simd) => Simd::vectorize(simd, op.with_fast::<Fast<true>>()),
+        Arch::V4(simd) => Simd::vectorize(simd, op.with::<Fast<true>, _>(simd)),
+        Arch::V3(simd) => Simd::vectorize(simd, op.with::<Fast<true>, _>(NoPermutes)),
         // The baseline, and any instruction set a later pulp adds (`Arch`
         // is non-exhaustive): the scalar copy is correct on every CPU.
-        _ => Simd::vectorize(pulp::Scalar::new(), op.with_fast::<Fast<false>>()),
+        _ => Simd::vectorize(pulp::Scalar::new(), op.with::<Fast<false>, _>(NoPermutes)),
     }
     #[cfg(not(target_arch = "x86_64"))]
-    arch.dispatch(op.with_fast::<Fast<false>>());
+    arch.dispatch(op.with::<Fast<false>, _>(NoPermutes));
 }
 
 /// The kernel over `blocks` on this thread with `arch`'s instruction set:
@@ -276,13 +297,14 @@ pub fn run_blocks<M: LaneModel>(
 ) {
     dispatch(
         arch,
-        StepBlocks::<M, ()> {
+        StepBlocks::<M, (), NoPermutes> {
             blocks,
             aircraft,
             shared,
             dt,
             fast,
             fly,
+            permutes: NoPermutes,
             fast_maths: core::marker::PhantomData,
         },
     );

@@ -39,12 +39,14 @@
 pub mod kernel;
 mod lanes;
 mod maths;
+mod permute;
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 pub use lanes::{F32s, F64s, LaneMask, Lanes};
 pub use maths::{fast, Exact, Fast, Maths};
+pub use permute::{NoPermutes, Permutes};
 
 use crate::model::Model;
 
@@ -529,6 +531,23 @@ pub trait LaneModel: Model {
         vars: &Self::Vars,
         dt: Self::TimeStep,
     ) -> Self::Vars;
+
+    /// [`Self::step_lanes`] with the instruction set's lane permutes at hand
+    /// (the fleet kernel's, [`Permutes`]): the same bits. The provided body
+    /// ignores them; a model whose step has table look-ups in lanes (Bourg)
+    /// fetches their entries with them.
+    #[inline(always)]
+    fn step_lanes_permuting<F: Maths, P: Permutes>(
+        permutes: P,
+        aircraft: &Self::Aircraft,
+        shared: &Self::Shared,
+        terms: &Self::Terms,
+        vars: &Self::Vars,
+        dt: Self::TimeStep,
+    ) -> Self::Vars {
+        let _ = permutes;
+        Self::step_lanes::<F>(aircraft, shared, terms, vars, dt)
+    }
 
     /// Every component of `vars`, for the fleet's finiteness check: `f` gets
     /// each lane vector in turn.
