@@ -641,6 +641,45 @@ mod tests {
         }
     }
 
+    /// On a CPU with AVX-512 the fleet kernel's look-ups really are the
+    /// permutes (not the selects they fall back to when an instruction set
+    /// has none), and each permuted coefficient has the selected one's bits
+    /// before the lanes outside the table are set, in every lane.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx512_lookups_are_permuted_with_the_selects_bits() {
+        let Some(simd) = pulp::x86::V4::try_new() else {
+            return;
+        };
+        let flaps = [Flap::TrailingEdgeDown, Flap::Neutral, Flap::TrailingEdgeUp];
+        let angles = angles();
+        for (c, chunk) in angles.chunks(LANES).enumerate() {
+            let mut lanes = [0.0; LANES];
+            lanes[..chunk.len()].copy_from_slice(chunk);
+            let angle = F32s(lanes);
+            let flap_lanes: [Flap; LANES] = core::array::from_fn(|l| flaps[(l + c) % 3]);
+            let (at, _) = at_or_above(&AIRFOIL_ALPHA_DEG, angle);
+            let permuted = airfoil_permuted(simd, &at, angle, flap_lanes)
+                .expect("AVX-512 permutes the airfoil tables");
+            let selected = airfoil_selected(&at, angle, flap_lanes);
+            let abs = angle.abs();
+            let (rudder_at, _) = at_or_above(&RUDDER_ALPHA_DEG, abs);
+            let rudder =
+                rudder_permuted(simd, &rudder_at, abs).expect("AVX-512 permutes the rudder table");
+            let rudder_selected = rudder_selected(&rudder_at, abs);
+            for l in 0..LANES {
+                for (p, s) in [
+                    (permuted.0, selected.0),
+                    (permuted.1, selected.1),
+                    (rudder.0, rudder_selected.0),
+                    (rudder.1, rudder_selected.1),
+                ] {
+                    assert!(same(p.0[l], s.0[l]), "{} {:?}", lanes[l], flap_lanes[l]);
+                }
+            }
+        }
+    }
+
     fn check_lookups<P: Permutes>(permutes: P) {
         // Each angle in each flap's table: the lanes' flaps mixed (each
         // lane's neighbours on other tables) and shared by the whole block.
