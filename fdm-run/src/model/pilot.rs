@@ -266,3 +266,158 @@ pub fn tenths(x: f64) -> f64 {
         x
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::bourg::{Bourg, BourgAction};
+    use fdm_core::palmer::{Palmer, PalmerAction};
+
+    fn option(options: &'static [StartOption], long: &str) -> &'static StartOption {
+        options
+            .iter()
+            .find(|o| o.long == long)
+            .unwrap_or_else(|| panic!("no --{long}"))
+    }
+
+    /// Every key of a model's table stands for the action the table binds
+    /// it to, and a key outside the table for nothing (Bourg's trim key T is
+    /// not Palmer's; X is nobody's).
+    #[test]
+    fn a_key_stands_for_the_action_its_table_binds_it_to() {
+        for &(key, action) in PalmerAction::KEYS {
+            assert_eq!(PalmerAction::for_key(key), Some(action), "{key:?}");
+        }
+        for &(key, action) in BourgAction::KEYS {
+            assert_eq!(BourgAction::for_key(key), Some(action), "{key:?}");
+        }
+        assert_eq!(
+            PalmerAction::for_key(Key::Char('e')),
+            Some(PalmerAction::ThrottleUp)
+        );
+        assert_eq!(
+            BourgAction::for_key(Key::Char('t')),
+            Some(BourgAction::TrimNoseUp)
+        );
+        assert_eq!(PalmerAction::for_key(Key::Char('t')), None);
+        assert_eq!(PalmerAction::for_key(Key::Char('x')), None);
+        assert_eq!(BourgAction::for_key(Key::Char('x')), None);
+    }
+
+    /// A number option takes a number in its range, around spaces, and
+    /// refuses one outside it in the words of its note: a unit
+    /// (`parse_in_range`) or what the value is (`parse_number`).
+    #[test]
+    fn a_number_option_takes_its_range_and_refuses_the_rest() {
+        let OptionKind::Number { range, default, .. } =
+            option(Palmer::START_OPTIONS, "throttle").kind
+        else {
+            panic!("--throttle is not a number option")
+        };
+        assert_eq!(default, Some("0"));
+        assert_eq!(range.parse(" 0.25 ").unwrap(), 0.25);
+        assert_eq!(
+            range.parse("1.5").unwrap_err().to_string(),
+            "`1.5` is outside 0..1 (fraction of full power)"
+        );
+        let OptionKind::Number { range, default, .. } =
+            option(Bourg::START_OPTIONS, "thrust-lb").kind
+        else {
+            panic!("--thrust-lb is not a number option")
+        };
+        assert_eq!(default, None);
+        assert_eq!(range.parse("1234.5").unwrap(), 1234.5);
+        assert_eq!(
+            range.parse("-1").unwrap_err().to_string(),
+            "`-1` is outside 0..3000 lb"
+        );
+        let what = NumberRange {
+            low: 0.5,
+            high: 2.0,
+            note: RangeNote::What("a lift coefficient"),
+        };
+        assert_eq!(what.parse("2").unwrap(), 2.0);
+        assert_eq!(
+            what.parse("3").unwrap_err().to_string(),
+            "`3` is not a lift coefficient in 0.5..2"
+        );
+    }
+
+    /// A choice option takes one of its choices as typed (around spaces),
+    /// and refuses anything else naming what the choices are.
+    #[test]
+    fn a_choice_option_takes_one_of_its_choices_and_refuses_the_rest() {
+        let OptionKind::Choice {
+            choices, default, ..
+        } = option(Palmer::START_OPTIONS, "flaps").kind
+        else {
+            panic!("--flaps is not a choice option")
+        };
+        assert_eq!(choices.parse(default), Ok("0"));
+        for typed in ["0", "20", "40", " 40 "] {
+            assert_eq!(choices.parse(typed), Ok(typed.trim()), "{typed:?}");
+        }
+        for typed in ["30", "", "4"] {
+            assert_eq!(
+                choices.parse(typed),
+                Err(format!("`{typed}` is not a flap setting (0, 20 or 40)")),
+                "{typed:?}"
+            );
+        }
+    }
+
+    /// Bourg's `--thrust-lb` cannot be given with `--trim` (which sets the
+    /// thrust itself); Palmer's options conflict with nothing; a flag made
+    /// with `conflicting` keeps its name, help and kind.
+    #[test]
+    fn conflicting_options_name_the_options_they_exclude() {
+        assert_eq!(
+            option(Bourg::START_OPTIONS, "thrust-lb").conflicts_with,
+            ["trim"]
+        );
+        assert!(Palmer::START_OPTIONS
+            .iter()
+            .all(|o| o.conflicts_with.is_empty()));
+        assert_eq!(
+            StartOption::flag("brakes", "Brakes set").conflicting(&["trim", "throttle"]),
+            StartOption {
+                long: "brakes",
+                help: "Brakes set",
+                kind: OptionKind::Flag,
+                conflicts_with: &["trim", "throttle"],
+            }
+        );
+    }
+
+    /// Values that do not match a model's table are refused with one line
+    /// that shows them.
+    #[test]
+    fn values_not_as_the_table_are_refused_showing_them() {
+        let values = [OptionValue::Absent, OptionValue::Flag(true)];
+        assert_eq!(
+            unexpected_values(&values),
+            "start options' values not as the model's table: [Absent, Flag(true)]"
+        );
+        assert_eq!(
+            Bourg::start_controls(&values),
+            Err(unexpected_values(&values))
+        );
+        assert_eq!(
+            Palmer::start_controls(&[OptionValue::Absent]),
+            Err(unexpected_values(&[OptionValue::Absent]))
+        );
+    }
+
+    /// Values that show as zero with one decimal come back as +0.0 (no
+    /// "-0.0" on the display); every other value comes back unchanged.
+    #[test]
+    fn tenths_makes_what_shows_as_zero_plus_zero() {
+        for x in [-0.04, 0.04, -0.0, 0.0, 1e-300, -1e-300] {
+            assert_eq!(tenths(x).to_bits(), 0.0_f64.to_bits(), "{x}");
+        }
+        assert_eq!(format!("{:+.1}", tenths(-0.04)), "+0.0");
+        for x in [-0.06, 0.06, 1.5, -1.5, 4.9, 12.34, -10.0, 20.0] {
+            assert_eq!(tenths(x).to_bits(), x.to_bits(), "{x}");
+        }
+    }
+}
