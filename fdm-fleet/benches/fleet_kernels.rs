@@ -4,9 +4,15 @@
 //! steps), at 1,000 / 100,000 / 1,000,000 aircraft, on 1 and 2 threads.
 //!
 //! Every benchmark steps the whole fleet once per iteration (throughput in
-//! aircraft-steps); the fleets keep flying from one iteration to the next. One
-//! thread runs without rayon (`step` and a plain loop); two threads run the
-//! rayon versions (`par_step`, `par_iter_mut`) inside a 2-thread pool.
+//! aircraft-steps), and every iteration flies the same stretch of the
+//! members' flights: the first [`WINDOW_S`] seconds, from a copy of the
+//! starting fleet taken anew (untimed) at the end of each stretch. (Before,
+//! the fleets kept flying from one iteration to the next, so a benchmark
+//! timed whatever part of the flights its number of iterations reached, and
+//! a Bourg step costs more later in the flights: a faster kernel, given more
+//! iterations, timed later and dearer states.) One thread runs without rayon
+//! (`step` and a plain loop); two threads run the rayon versions
+//! (`par_step`, `par_iter_mut`) inside a 2-thread pool.
 //!
 //! ```sh
 //! cargo bench -p fdm-fleet --bench fleet_kernels -- --warm-up-time 1 --measurement-time 3
@@ -24,8 +30,9 @@
 //! ```
 
 use std::hint::black_box;
+use std::time::{Duration, Instant};
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, Bencher, BenchmarkId, Criterion, Throughput};
 use fdm_core::bourg::{self, Bourg, BourgAction, BourgAircraft, BourgControls, BourgState};
 use fdm_core::palmer::{step, Flaps, Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use fdm_fleet::{Fleet, Precision};
@@ -34,6 +41,34 @@ use rayon::prelude::*;
 
 const CESSNA: PalmerAircraft = PalmerAircraft::cessna_172();
 const DT: f64 = 0.1;
+/// The stretch of the members' flights every benchmark times, seconds.
+const WINDOW_S: f64 = 30.0;
+
+/// Times `step`, one call per iteration, on `start`'s copy flying the first
+/// `window` steps of its flights, again and again: the copy is taken anew,
+/// outside the timing, after every `window` steps. So each timed step is a
+/// step of that stretch, whatever the number of iterations criterion picks.
+fn time_stretch<F: Clone>(
+    b: &mut Bencher<'_>,
+    start: &F,
+    window: u64,
+    mut step: impl FnMut(&mut F),
+) {
+    b.iter_custom(|iters| {
+        let mut fleet = start.clone();
+        let mut timed = Duration::ZERO;
+        for i in 0..iters {
+            if i > 0 && i % window == 0 {
+                fleet = start.clone();
+            }
+            let begin = Instant::now();
+            step(&mut fleet);
+            timed += begin.elapsed();
+        }
+        black_box(&fleet);
+        timed
+    });
+}
 
 /// A deterministic mix of take-off rolls from rest (on the ground, with ground
 /// effect) and climbing aircraft at 50 to 2,000 m, every one with its own
@@ -109,22 +144,24 @@ fn bench_bourg(c: &mut Criterion) {
     let pools = pools();
     let mut group = c.benchmark_group("bourg_fleet");
     group.sample_size(10);
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // 900
+    let bourg_window = (WINDOW_S * f64::from(DT_BOURG.recip())).round() as u64;
     for n in [1_000, 100_000, 1_000_000] {
         let members = bourg_members(n);
         group.throughput(Throughput::Elements(n as u64));
         for (threads, pool) in &pools {
             let threads = *threads;
             let id = |what: &str| BenchmarkId::new(format!("{what}/{threads}t"), n);
-            let mut scalar = members.clone();
+            let window = bourg_window;
             group.bench_function(id("scalar"), |b| {
                 if threads == 1 {
-                    b.iter(|| {
-                        for (s, c) in &mut scalar {
+                    time_stretch(b, &members, window, |scalar| {
+                        for (s, c) in scalar {
                             *s = bourg::step(&aircraft, c, s, DT_BOURG);
                         }
                     });
                 } else {
-                    b.iter(|| {
+                    time_stretch(b, &members, window, |scalar| {
                         pool.install(|| {
                             scalar.par_iter_mut().with_min_len(256).for_each(|(s, c)| {
                                 *s = bourg::step(&aircraft, c, s, DT_BOURG);
@@ -132,7 +169,6 @@ fn bench_bourg(c: &mut Criterion) {
                         });
                     });
                 }
-                black_box(&scalar);
             });
             let mut fleet = Fleet::<Bourg>::new(aircraft).expect("fleet");
             for (s, c) in &members {
@@ -140,12 +176,11 @@ fn bench_bourg(c: &mut Criterion) {
             }
             group.bench_function(id("exact"), |b| {
                 if threads == 1 {
-                    b.iter(|| fleet.step(DT_BOURG));
+                    time_stretch(b, &fleet, window, |f| f.step(DT_BOURG));
                 } else {
-                    b.iter(|| pool.install(|| fleet.par_step(DT_BOURG)));
+                    time_stretch(b, &fleet, window, |f| pool.install(|| f.par_step(DT_BOURG)));
                 }
             });
-            black_box(&fleet);
         }
     }
     group.finish();
@@ -162,16 +197,17 @@ fn bench(c: &mut Criterion) {
             let threads = *threads;
             let id = |what: &str| BenchmarkId::new(format!("{what}/{threads}t"), n);
 
-            let mut scalar = members.clone();
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // 300
+            let window = (WINDOW_S / DT).round() as u64;
             group.bench_function(id("scalar"), |b| {
                 if threads == 1 {
-                    b.iter(|| {
-                        for (s, c) in &mut scalar {
+                    time_stretch(b, &members, window, |scalar| {
+                        for (s, c) in scalar {
                             *s = step(&CESSNA, c, s, DT);
                         }
                     });
                 } else {
-                    b.iter(|| {
+                    time_stretch(b, &members, window, |scalar| {
                         pool.install(|| {
                             scalar.par_iter_mut().with_min_len(256).for_each(|(s, c)| {
                                 *s = step(&CESSNA, c, s, DT);
@@ -179,25 +215,31 @@ fn bench(c: &mut Criterion) {
                         });
                     });
                 }
-                black_box(&scalar);
             });
 
             for precision in [Precision::Exact, Precision::Fast] {
-                let mut fleet =
+                let fleet =
                     Fleet::<Palmer>::from_states(CESSNA, members.iter().copied()).expect("fleet");
+                // The stretch stays finite (a fleet of NaN would time
+                // another path).
+                let mut end = fleet.clone();
+                for _ in 0..window {
+                    end.step_with(DT, precision).expect("precision");
+                }
+                let finite = end.states().filter(PalmerState::is_finite).count();
+                assert_eq!(finite, n, "a benchmark fleet went non-finite");
                 group.bench_function(id(precision.name()), |b| {
                     if threads == 1 {
-                        b.iter(|| fleet.step_with(DT, precision).expect("precision"));
+                        time_stretch(b, &fleet, window, |f| {
+                            f.step_with(DT, precision).expect("precision");
+                        });
                     } else {
-                        b.iter(|| {
-                            pool.install(|| fleet.par_step_with(DT, precision))
+                        time_stretch(b, &fleet, window, |f| {
+                            pool.install(|| f.par_step_with(DT, precision))
                                 .expect("precision");
                         });
                     }
                 });
-                let finite = fleet.states().filter(PalmerState::is_finite).count();
-                assert_eq!(finite, n, "a benchmark fleet went non-finite");
-                black_box(&fleet);
             }
         }
     }
