@@ -266,3 +266,114 @@ pub fn tenths(x: f64) -> f64 {
         x
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::bourg::{Bourg, BourgAction};
+    use fdm_core::palmer::{Palmer, PalmerAction};
+
+    /// A value shown with one decimal that shows as zero is +0.0 (no
+    /// "-0.0" for a tiny negative roll); every other value is itself.
+    #[test]
+    fn tenths_shows_no_negative_zero() {
+        for x in [-0.04, -0.0, 0.0, 0.04, -1e-12] {
+            assert_eq!(tenths(x).to_bits(), 0.0_f64.to_bits(), "{x}");
+            assert_eq!(format!("{:+5.1}", tenths(x)), " +0.0", "{x}");
+        }
+        for x in [-0.06, 0.06, -3.0, 12.34, -19.96] {
+            assert_eq!(tenths(x).to_bits(), x.to_bits(), "{x}");
+        }
+        assert_eq!(format!("{:+5.1}", tenths(-0.06)), " -0.1");
+    }
+
+    /// Each key stands for the action its model binds it to (docs/cli.md's
+    /// keys), and a key bound to nothing for none.
+    #[test]
+    fn keys_stand_for_their_actions() {
+        assert_eq!(
+            PalmerAction::for_key(Key::Char('e')),
+            Some(PalmerAction::ThrottleUp)
+        );
+        assert_eq!(PalmerAction::for_key(Key::Up), Some(PalmerAction::AlphaDown));
+        assert_eq!(
+            PalmerAction::for_key(Key::Char('v')),
+            Some(PalmerAction::BrakesOff)
+        );
+        assert_eq!(PalmerAction::for_key(Key::Char('t')), None);
+        assert_eq!(
+            BourgAction::for_key(Key::Char('t')),
+            Some(BourgAction::TrimNoseUp)
+        );
+        assert_eq!(BourgAction::for_key(Key::Down), Some(BourgAction::PitchUp));
+        assert_eq!(BourgAction::for_key(Key::Char('b')), None);
+        // Every binding is found, each key bound once.
+        for &(key, action) in PalmerAction::KEYS {
+            assert_eq!(PalmerAction::for_key(key), Some(action), "{key:?}");
+        }
+        for &(key, action) in BourgAction::KEYS {
+            assert_eq!(BourgAction::for_key(key), Some(action), "{key:?}");
+        }
+    }
+
+    /// The start options' values are parsed and refused as their tables
+    /// say: Palmer's throttle (a fraction, with its unit in the refusal),
+    /// its flaps (one of three choices, around spaces), a range refused
+    /// with what the value is; Bourg's thrust not with `--trim`.
+    #[test]
+    fn start_options_parse_and_refuse_their_values() {
+        let options = Palmer::START_OPTIONS;
+        let names: Vec<&str> = options.iter().map(|o| o.long).collect();
+        assert_eq!(names, ["throttle", "alpha", "bank", "flaps", "brakes"]);
+        let OptionKind::Number { range, default, .. } = options[0].kind else {
+            panic!("{:?}", options[0]);
+        };
+        assert_eq!(default, Some("0"));
+        assert_eq!(range.parse(" 0.25 "), Ok(0.25));
+        assert!(range.parse("-0.5").is_err());
+        assert_eq!(
+            range.parse("2").unwrap_err().to_string(),
+            "`2` is outside 0..1 (fraction of full power)"
+        );
+        let OptionKind::Choice { choices, .. } = options[3].kind else {
+            panic!("{:?}", options[3]);
+        };
+        assert_eq!(choices.parse(" 20 "), Ok("20"));
+        assert_eq!(choices.parse("40"), Ok("40"));
+        assert_eq!(
+            choices.parse("30"),
+            Err("`30` is not a flap setting (0, 20 or 40)".to_string())
+        );
+        assert_eq!(options[4].kind, OptionKind::Flag);
+        assert!(options.iter().all(|o| o.conflicts_with.is_empty()));
+
+        let lift = NumberRange {
+            low: 0.0,
+            high: 1.4,
+            note: RangeNote::What("a lift coefficient"),
+        };
+        assert_eq!(lift.parse("1.25"), Ok(1.25));
+        assert_eq!(
+            lift.parse("1.5").unwrap_err().to_string(),
+            "`1.5` is not a lift coefficient in 0..1.4"
+        );
+
+        let [thrust] = Bourg::START_OPTIONS else {
+            panic!("{:?}", Bourg::START_OPTIONS);
+        };
+        assert_eq!(thrust.long, "thrust-lb");
+        assert_eq!(thrust.conflicts_with, ["trim"]);
+    }
+
+    /// Values that do not match a model's table are refused naming them.
+    #[test]
+    fn values_not_as_the_table_are_named() {
+        let values = [OptionValue::Flag(true), OptionValue::Number(2.5)];
+        let message = unexpected_values(&values);
+        assert_eq!(
+            message,
+            "start options' values not as the model's table: [Flag(true), Number(2.5)]"
+        );
+        assert_eq!(Bourg::start_controls(&values), Err(message));
+    }
+}
