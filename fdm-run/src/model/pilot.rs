@@ -295,7 +295,10 @@ mod tests {
             PalmerAction::for_key(Key::Char('e')),
             Some(PalmerAction::ThrottleUp)
         );
-        assert_eq!(PalmerAction::for_key(Key::Up), Some(PalmerAction::AlphaDown));
+        assert_eq!(
+            PalmerAction::for_key(Key::Up),
+            Some(PalmerAction::AlphaDown)
+        );
         assert_eq!(
             PalmerAction::for_key(Key::Char('v')),
             Some(PalmerAction::BrakesOff)
