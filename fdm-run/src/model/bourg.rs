@@ -1042,7 +1042,7 @@ mod tests {
         .unwrap();
         assert_ne!(aircraft, BourgAircraft::bourg_default());
         let record = Bourg::aircraft_record(&aircraft);
-        assert_eq!(Bourg::aircraft_from_record(record), Ok(aircraft.clone()));
+        assert_eq!(Bourg::aircraft_from_record(record), Ok(aircraft));
         for name in ["max_thrust_lb", "delta_thrust_lb"] {
             let with = |value: f32| {
                 let mut r = record;
