@@ -1011,6 +1011,54 @@ mod tests {
             .starts_with("unknown aircraft parameter `mass`"));
     }
 
+    /// `sim-cli bourg`'s start: the model's own without `--thrust-lb`, its
+    /// thrust with it; and the HUD's controls line (the example of
+    /// `ControlsLine::controls_line`).
+    #[test]
+    fn the_pilots_start_and_controls_line() {
+        use crate::model::pilot::{ControlsLine, OptionValue, PilotModel};
+        let initial = Bourg::initial_controls();
+        assert_eq!(Bourg::start_controls(&[OptionValue::Absent]), Ok(initial));
+        let mut want = initial;
+        want.thrust_lb = 1234.5;
+        assert_eq!(
+            Bourg::start_controls(&[OptionValue::Number(1234.5)]),
+            Ok(want)
+        );
+        let details = Bourg::details(
+            &Bourg::default_aircraft(),
+            &initial,
+            &Bourg::initial_state(),
+        );
+        assert_eq!(
+            details.controls_line(),
+            "THRUST  500 lb   FLAPS up   TRIM +0.00"
+        );
+        let sample = BourgDetails::sample_snapshot().details;
+        assert_eq!(
+            sample.controls_line(),
+            "THRUST 3000 lb   FLAPS down   TRIM +0.00"
+        );
+    }
+
+    /// The cheap reads of a state in flight (its time past 0) are the
+    /// view's.
+    #[test]
+    fn the_cheap_reads_of_a_flight_are_the_views() {
+        let aircraft = Bourg::default_aircraft();
+        let (controls, mut state) = Bourg::fleet_member(1);
+        for _ in 0..10 {
+            state = Bourg::step(&aircraft, &controls, &state, Bourg::time_step(30.0));
+        }
+        let view = Bourg::view(&aircraft, &controls, &state);
+        assert!(view.time_s > 0.3, "{}", view.time_s);
+        assert_eq!(Bourg::time_s(&state), view.time_s);
+        assert_eq!(
+            Bourg::velocity_mps(&state),
+            <[f64; 3]>::from(view.velocity_mps)
+        );
+    }
+
     /// What a recording keeps of a state is the state half of fdm-core's
     /// fingerprint (the docs of `RunModel::state_fingerprint`), so a state a
     /// step on has another.
