@@ -182,13 +182,123 @@ pub trait LaneAgent: AgentModel + LaneModel {
     }
 }
 
+/// The glider `sim-cli glider` flies (its one model file, included as
+/// fdm-fleet's `tests/third_model.rs` includes it), for the tests: a model
+/// that keeps [`LaneAgent`]'s provided bodies, which Palmer and Bourg
+/// override.
+#[cfg(test)]
+#[path = "../../../sim-cli/src/models/glider/model.rs"]
+mod glider;
+
 #[cfg(test)]
 mod tests {
+    use super::glider::{Glider, GliderControls, GliderState};
     use super::*;
+    use crate::model::columns::ControlRange;
     use fdm_core::bourg::Bourg;
     use fdm_core::model::Model;
     use fdm_core::palmer::Palmer;
     use fdm_core::real::Lanes;
+
+    /// The glider's speed and climb angle (degrees): the fields a program
+    /// may compute a block at a time ([`ColumnModel::BLOCK_FIELDS`]).
+    fn glider_tail(s: &GliderState) -> [f64; 2] {
+        let v = s.velocity_mps;
+        [v.norm(), v.z.atan2(v.x.hypot(v.y)).to_degrees()]
+    }
+
+    /// The glider's columns, Palmer's state layout (time, position,
+    /// velocity) and two derived fields: a model whose block fields are not
+    /// the whole state (the head is 7 of 9 fields).
+    impl ColumnModel for Glider {
+        const STATE_FIELDS: &'static [&'static str] = &[
+            "time_s",
+            "x_m",
+            "y_m",
+            "z_m",
+            "vx_mps",
+            "vy_mps",
+            "vz_mps",
+            "speed_mps",
+            "climb_deg",
+        ];
+        const CONTROL_FIELDS: &'static [ControlRange] =
+            &[("lift_coefficient", 0.0, 1.4), ("bank_deg", -45.0, 45.0)];
+        const TRIM_SETS: &'static [(&'static str, &'static str)] = &[];
+        const BLOCK_FIELDS: usize = 2;
+
+        fn state_values(s: &GliderState, out: &mut [f64]) {
+            Self::state_values_head(s, out);
+            out[7..].copy_from_slice(&glider_tail(s));
+        }
+
+        fn state_values_head(s: &GliderState, out: &mut [f64]) {
+            let (p, v) = (s.position_m, s.velocity_mps);
+            out[..7].copy_from_slice(&[s.time_s, p.x, p.y, p.z, v.x, v.y, v.z]);
+        }
+
+        fn block_fields<const N: usize>(
+            states: &[GliderState; N],
+            out: &mut [[f64; N]; MAX_BLOCK_FIELDS],
+        ) {
+            for (lane, s) in states.iter().enumerate() {
+                let [speed, climb] = glider_tail(s);
+                (out[0][lane], out[1][lane]) = (speed, climb);
+            }
+        }
+
+        fn control_values(c: &GliderControls, out: &mut [f64]) {
+            out.copy_from_slice(&[c.lift_coefficient, c.bank_deg]);
+        }
+
+        fn with_control(
+            mut c: GliderControls,
+            index: usize,
+            value: f64,
+        ) -> Result<GliderControls, String> {
+            match index {
+                0 => c.lift_coefficient = value,
+                _ => c.bank_deg = value,
+            }
+            Ok(c)
+        }
+    }
+
+    /// The glider's tasks: two actions (lift coefficient over its range,
+    /// bank), both controls observed over their ranges.
+    impl AgentModel for Glider {
+        const TASK_ACTIONS: usize = 2;
+        const TASK_CONTROL_OBS: usize = 2;
+        const GROUND_MPS_PER_SPEED: f64 = 1.0;
+
+        fn task_kinematics(v: &[f64]) -> Kinematics {
+            Kinematics {
+                altitude_ft: v[3] * FT_PER_M,
+                climb_ftps: v[6] * FT_PER_M,
+                vx: v[4],
+                vy: v[5],
+            }
+        }
+
+        fn task_control_obs(c: &[f64], out: &mut [f64]) {
+            out.copy_from_slice(&[c[0] / 1.4, c[1] / 45.0]);
+        }
+
+        fn task_controls(a: &[f64]) -> ([(usize, f64); 5], usize) {
+            let none = (0, 0.0);
+            let list = [(0, 0.7 * (a[0] + 1.0)), (1, 45.0 * a[1])];
+            ([list[0], list[1], none, none, none], 2)
+        }
+
+        fn task_apply(mut c: GliderControls, a: &[f64]) -> GliderControls {
+            let ([(_, lift), (_, bank), ..], _) = Self::task_controls(a);
+            (c.lift_coefficient, c.bank_deg) = (lift, bank);
+            c
+        }
+    }
+
+    /// Every provided body.
+    impl LaneAgent for Glider {}
 
     /// Actions over -1..1, with the thresholds ±1/3 and their neighbours.
     fn action_values() -> Vec<f64> {
@@ -225,6 +335,7 @@ mod tests {
         }
         check::<Palmer>();
         check::<Bourg>();
+        check::<Glider>();
     }
 
     /// A block of `M` with a different flight in each lane (a few seconds
@@ -375,6 +486,31 @@ mod tests {
         check::<Palmer>(&block::<Palmer>());
         check::<Bourg>(&block::<Bourg>());
         check::<Bourg>(&bourg_edge_block());
+        // The provided bodies (Palmer and Bourg override every one), with
+        // each lane's own controls: the glider keeps them all.
+        const { assert!(!<Glider as LaneAgent>::BLOCK_READS) };
+        let mut gliders = block::<Glider>();
+        for (lane, c) in gliders.controls.as_mut().iter_mut().enumerate() {
+            let k = f64::from(u8::try_from(lane).unwrap());
+            c.lift_coefficient = 0.3 + 0.07 * k;
+            c.bank_deg = -30.0 + 6.0 * k;
+        }
+        check::<Glider>(&gliders);
+    }
+
+    /// The tasks' feet are international feet (0.3048 m): a Palmer state
+    /// 304.8 m up climbing at 3.048 m/s is 1000 ft up climbing at 10 ft/s
+    /// (to the rounding of the metres).
+    #[test]
+    fn the_tasks_feet_are_0_3048_m() {
+        let (_, mut s) = Palmer::fleet_member(3);
+        s.position_m.z = 304.8;
+        s.velocity_mps.z = 3.048;
+        let mut v = vec![0.0; Palmer::STATE_FIELDS.len()];
+        Palmer::state_values(&s, &mut v);
+        let k = Palmer::task_kinematics(&v);
+        assert!((k.altitude_ft - 1000.0).abs() < 1e-9, "{k:?}");
+        assert!((k.climb_ftps - 10.0).abs() < 1e-12, "{k:?}");
     }
 
     /// The kinematics are the state's position and velocity columns.

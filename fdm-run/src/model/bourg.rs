@@ -796,3 +796,319 @@ impl AgentModel for Bourg {
         c
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::bourg::BourgAction;
+
+    /// The tasks' surfaces (`afit_fdm.gym`'s `_surface`): an action above
+    /// 1/3 is +1, below -1/3 is -1, else 0 (1/3 and -1/3 themselves, and
+    /// NaN); the thrust spans 0..3000 lb over the action's -1..1; the trim
+    /// is the action; the controls set are thrust, elevator, aileron,
+    /// rudder and pitch trim (indices 0, 1, 2, 3, 5).
+    #[test]
+    fn the_tasks_actions_set_thrust_surfaces_and_trim() {
+        let third = 1.0_f64 / 3.0;
+        for (a, want) in [
+            (third, 0.0),
+            (third.next_up(), 1.0),
+            (-third, 0.0),
+            ((-third).next_down(), -1.0),
+            (0.0, 0.0),
+            (-0.0, 0.0),
+            (f64::NAN, 0.0),
+            (1.0, 1.0),
+            (-1.0, -1.0),
+        ] {
+            let (list, count) = Bourg::task_controls(&[0.0, a, a, a, 0.0]);
+            assert_eq!(count, 5);
+            for (index, value) in &list[1..4] {
+                assert_eq!(value.to_bits(), f64::to_bits(want), "{a} control {index}");
+            }
+        }
+        for (a, lb) in [(-1.0, 0.0), (0.0, 1500.0), (0.5, 2250.0), (1.0, 3000.0)] {
+            let (list, _) = Bourg::task_controls(&[a, 0.0, 0.0, 0.0, -0.25]);
+            assert_eq!(
+                list,
+                [(0, lb), (1, 0.0), (2, 0.0), (3, 0.0), (5, -0.25)],
+                "{a}"
+            );
+        }
+    }
+
+    /// An action of +1 or -1 moves a surface as the key press of that
+    /// direction does (elevator +1 is pitch-up, aileron +1 roll-right,
+    /// rudder +1 yaw-right), and the observed controls of those controls
+    /// are the actions back: thrust over 3000 lb, the surfaces' directions,
+    /// the trim.
+    #[test]
+    fn the_tasks_surfaces_are_the_keys_directions() {
+        let aircraft = Bourg::default_aircraft();
+        let start = Bourg::initial_controls();
+        for (sign, keys) in [
+            (
+                1.0,
+                [
+                    BourgAction::PitchUp,
+                    BourgAction::RollRight,
+                    BourgAction::YawRight,
+                ],
+            ),
+            (
+                -1.0,
+                [
+                    BourgAction::PitchDown,
+                    BourgAction::RollLeft,
+                    BourgAction::YawLeft,
+                ],
+            ),
+        ] {
+            let mut want = keys
+                .into_iter()
+                .fold(start, |c, key| Bourg::apply(&aircraft, c, key));
+            want.thrust_lb = 2250.0;
+            want.pitch_trim = 0.5;
+            let got = Bourg::task_apply(start, &[0.5, sign, sign, sign, 0.5]);
+            assert_eq!(got, want, "{sign}");
+            let mut values = [0.0; 6];
+            Bourg::control_values(&got, &mut values);
+            let mut observed = [0.0; 5];
+            Bourg::task_control_obs(&values, &mut observed);
+            assert_eq!(observed, [0.75, sign, sign, sign, 0.5], "{sign}");
+        }
+        // Neutral surfaces are observed as +0 (no -0).
+        let mut values = [f64::NAN; 6];
+        Bourg::control_values(&start, &mut values);
+        for v in &values[1..5] {
+            assert_eq!(v.to_bits(), 0.0_f64.to_bits(), "{values:?}");
+        }
+    }
+
+    /// A fleet's offsets are metres, Bourg's position feet (1 ft = 0.3048
+    /// m): 30.48 m north, 60.96 m west and 3.048 m down move an aircraft
+    /// 100 ft, 200 ft and -10 ft, and nothing else.
+    #[test]
+    fn an_offset_in_metres_moves_the_feet() {
+        let (_, mut state) = Bourg::fleet_member(4);
+        state.position_ft = nalgebra::Vector3::new(1000.0, -2000.0, 1500.0);
+        let moved = Bourg::offset_state(&state, 30.48, 60.96, -3.048);
+        let p = moved.position_ft;
+        for (got, want) in [(p.x, 1100.0), (p.y, -1800.0), (p.z, 1490.0)] {
+            assert!((got - want).abs() < 1e-3, "{p:?}");
+        }
+        assert_eq!(
+            BourgState {
+                position_ft: state.position_ft,
+                ..moved
+            },
+            state
+        );
+    }
+
+    /// The CSV's position and velocity are the state's, in feet (widened
+    /// exactly): times `METRES_PER_UNIT`, the view's metres.
+    #[test]
+    fn the_csvs_native_columns_are_the_views_in_feet() {
+        let aircraft = Bourg::default_aircraft();
+        let (controls, mut state) = Bourg::fleet_member(6);
+        state.velocity_ftps = nalgebra::Vector3::new(78.0, -12.5, 3.25);
+        let view = Bourg::view(&aircraft, &controls, &state);
+        let (p, v) = (
+            Bourg::native_position(&state),
+            Bourg::native_velocity(&state),
+        );
+        for i in 0..3 {
+            assert_eq!(p[i], f64::from(state.position_ft[i]));
+            assert_eq!(v[i], f64::from(state.velocity_ftps[i]));
+            let (pm, vm) = (view.position_m[i], view.velocity_mps[i]);
+            assert!(
+                (p[i] * Bourg::METRES_PER_UNIT - pm).abs() <= 1e-9 * pm.abs(),
+                "{p:?}"
+            );
+            assert!(
+                (v[i] * Bourg::METRES_PER_UNIT - vm).abs() <= 1e-9 * vm.abs(),
+                "{v:?}"
+            );
+        }
+        assert!(p.iter().chain(&v).all(|x| x.abs() > 1.0), "{p:?} {v:?}");
+    }
+
+    /// The sample snapshot's airspeed is its speed, 183.12346 ft/s, in m/s.
+    #[test]
+    fn the_sample_snapshots_airspeed_is_its_speed_in_mps() {
+        let s = BourgDetails::sample_snapshot();
+        assert_eq!(s.details.speed, f64::from(183.123_46_f32));
+        assert!(
+            (s.airspeed_mps - 55.816_03).abs() < 1e-5,
+            "{}",
+            s.airspeed_mps
+        );
+    }
+
+    /// A study file sets the thrust by name, in 0..3000 lb (`sim-cli bourg
+    /// --thrust-lb`'s range); a value out of it, or another name, is
+    /// refused naming it.
+    #[test]
+    fn a_study_sets_the_thrust_by_name() {
+        let mut c = Bourg::initial_controls();
+        Bourg::set_control(&mut c, "thrust_lb", 1234.5).unwrap();
+        assert_eq!(c.thrust_lb, 1234.5);
+        Bourg::set_control(&mut c, "thrust_lb", 3000.0).unwrap();
+        assert_eq!(c, {
+            let mut want = Bourg::initial_controls();
+            want.thrust_lb = 3000.0;
+            want
+        });
+        for value in [-1.0, 3000.5, f64::NAN] {
+            let refused = Bourg::set_control(&mut c, "thrust_lb", value).unwrap_err();
+            assert!(refused.starts_with("thrust_lb = "), "{refused}");
+        }
+        let refused = Bourg::set_control(&mut c, "throttle", 0.5).unwrap_err();
+        assert_eq!(
+            refused,
+            "unknown control `throttle`; expected one of thrust_lb"
+        );
+        assert_eq!(c.thrust_lb, 3000.0);
+    }
+
+    /// A study file's aircraft parameters: the mass and area scales
+    /// multiply every element's mass and area, the thrust limits are set;
+    /// a scale outside 0.01..100 or another name is refused naming it.
+    #[test]
+    fn a_study_sets_the_aircraft_by_name() {
+        let default = BourgAircraft::bourg_default();
+        let a = Bourg::aircraft_with(&[
+            ("mass_scale", 2.0),
+            ("area_scale", 0.5),
+            ("max_thrust_lb", 2000.0),
+            ("delta_thrust_lb", 25.0),
+        ])
+        .unwrap();
+        for (e, d) in a
+            .airframe()
+            .elements
+            .iter()
+            .zip(&default.airframe().elements)
+        {
+            assert_eq!(e.mass_slug, d.mass_slug * 2.0);
+            assert_eq!(e.area_ft2, d.area_ft2 * 0.5);
+        }
+        let mass = |a: &BourgAircraft| a.mass_properties().mass_slug;
+        assert!((mass(&a) / mass(&default) - 2.0).abs() < 1e-5);
+        assert_eq!((a.max_thrust_lb, a.delta_thrust_lb), (2000.0, 25.0));
+        assert_eq!(Bourg::aircraft_with(&[]), Ok(default));
+        for (key, value) in [
+            ("mass_scale", 0.001),
+            ("area_scale", 101.0),
+            ("max_thrust_lb", -1.0),
+        ] {
+            let refused = Bourg::aircraft_with(&[(key, value)]).unwrap_err();
+            assert!(refused.starts_with(&format!("{key} = ")), "{refused}");
+        }
+        assert!(Bourg::aircraft_with(&[("mass", 1.0)])
+            .unwrap_err()
+            .starts_with("unknown aircraft parameter `mass`"));
+    }
+
+    /// `sim-cli bourg`'s start: the model's own without `--thrust-lb`, its
+    /// thrust with it; and the HUD's controls line (the example of
+    /// `ControlsLine::controls_line`).
+    #[test]
+    fn the_pilots_start_and_controls_line() {
+        use crate::model::pilot::{ControlsLine, OptionValue, PilotModel};
+        let initial = Bourg::initial_controls();
+        assert_eq!(Bourg::start_controls(&[OptionValue::Absent]), Ok(initial));
+        let mut want = initial;
+        want.thrust_lb = 1234.5;
+        assert_eq!(
+            Bourg::start_controls(&[OptionValue::Number(1234.5)]),
+            Ok(want)
+        );
+        let details = Bourg::details(
+            &Bourg::default_aircraft(),
+            &initial,
+            &Bourg::initial_state(),
+        );
+        assert_eq!(
+            details.controls_line(),
+            "THRUST  500 lb   FLAPS up   TRIM +0.00"
+        );
+        let sample = BourgDetails::sample_snapshot().details;
+        assert_eq!(
+            sample.controls_line(),
+            "THRUST 3000 lb   FLAPS down   TRIM +0.00"
+        );
+    }
+
+    /// The cheap reads of a state in flight (its time past 0) are the
+    /// view's.
+    #[test]
+    fn the_cheap_reads_of_a_flight_are_the_views() {
+        let aircraft = Bourg::default_aircraft();
+        let (controls, mut state) = Bourg::fleet_member(1);
+        for _ in 0..10 {
+            state = Bourg::step(&aircraft, &controls, &state, Bourg::time_step(30.0));
+        }
+        let view = Bourg::view(&aircraft, &controls, &state);
+        assert!(view.time_s > 0.3, "{}", view.time_s);
+        assert_eq!(Bourg::time_s(&state), view.time_s);
+        assert_eq!(
+            Bourg::velocity_mps(&state),
+            <[f64; 3]>::from(view.velocity_mps)
+        );
+    }
+
+    /// What a recording keeps of a state is the state half of fdm-core's
+    /// fingerprint (the docs of `RunModel::state_fingerprint`), so a state a
+    /// step on has another.
+    #[test]
+    fn the_recorded_fingerprint_is_the_states() {
+        let aircraft = Bourg::default_aircraft();
+        let (controls, state) = Bourg::fleet_member(2);
+        let next = Bourg::step(&aircraft, &controls, &state, Bourg::time_step(30.0));
+        for s in [state, next] {
+            let want = fingerprint::Fingerprint::of_bourg(&s).state;
+            assert_eq!(Bourg::state_fingerprint(&s), want);
+        }
+        assert_ne!(
+            Bourg::state_fingerprint(&state),
+            Bourg::state_fingerprint(&next)
+        );
+    }
+
+    /// A recorded aircraft comes back as it was (airframe and thrust
+    /// limits), and a record whose thrust limit is not a finite number of
+    /// at least 0 lb is refused naming the field; 0 lb is accepted.
+    #[test]
+    fn a_recorded_aircraft_comes_back_and_bad_thrust_limits_are_refused() {
+        let aircraft = Bourg::aircraft_with(&[
+            ("mass_scale", 1.5),
+            ("max_thrust_lb", 2500.0),
+            ("delta_thrust_lb", 50.0),
+        ])
+        .unwrap();
+        assert_ne!(aircraft, BourgAircraft::bourg_default());
+        let record = Bourg::aircraft_record(&aircraft);
+        assert_eq!(Bourg::aircraft_from_record(record), Ok(aircraft));
+        for name in ["max_thrust_lb", "delta_thrust_lb"] {
+            let with = |value: f32| {
+                let mut r = record;
+                match name {
+                    "max_thrust_lb" => r.max_thrust_lb = value,
+                    _ => r.delta_thrust_lb = value,
+                }
+                Bourg::aircraft_from_record(r)
+            };
+            let zero = with(0.0).unwrap();
+            assert_eq!(zero.airframe(), aircraft.airframe(), "{name}");
+            for value in [-1.0, -0.001, f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                assert_eq!(
+                    with(value),
+                    Err(format!("{name} {value} is not a finite thrust >= 0")),
+                    "{name} {value}"
+                );
+            }
+        }
+    }
+}
