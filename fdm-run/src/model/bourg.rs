@@ -1268,7 +1268,7 @@ mod tests {
         let (mut made, mut none) = (0, 0);
         for (g, group) in states.chunks(L).enumerate() {
             let at = g * L;
-            // Stale lanes from an earlier group are overwritten or not `ok`.
+            // Every lane `ok` before the call, as an earlier group may leave it.
             let mut lanes = fdm_dis::RoughLanes {
                 ok: [true; L],
                 ..Default::default()
