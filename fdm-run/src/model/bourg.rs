@@ -271,14 +271,17 @@ impl BourgDetails {
     /// A fixed snapshot (the same in every call) of Bourg's aircraft at
     /// 183.12346 ft/s (an `f32`), 3000 lb of thrust, flaps down, on
     /// [`CommonState::sample`](crate::report::CommonState::sample): for
-    /// tests and examples of code that shows a snapshot.
+    /// tests and examples of code that shows a snapshot. Its Euler angles
+    /// are that common state's attitude (roll 5°, pitch 2.5° nose-up,
+    /// heading 359.5°) in the model's axes, as
+    /// [`fdm_core::geodesy::bourg_attitude`] reads them: `[5, -2.5, 0.5]`.
     #[must_use]
     pub fn sample_snapshot() -> Snapshot<Self> {
         Snapshot {
             common: CommonState::sample(),
             details: Self {
                 speed: f64::from(183.123_46_f32),
-                euler_deg: [0.1_f32, -2.5, -0.3].map(f64::from),
+                euler_deg: [5.0_f32, -2.5, 0.5].map(f64::from),
                 thrust_lb: 3000.0,
                 flaps: true,
                 stalling: false,
@@ -1110,5 +1113,181 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The sample snapshot's Euler angles are its common state's attitude
+    /// (`CommonState::sample`: roll 5°, pitch 2.5°, heading 359.5°) read in
+    /// the model's axes by `bourg_attitude`, the mapping a flight's view
+    /// uses (x roll, y pitch nose-down, z yaw left: pitch -y, heading -z
+    /// wrapped to [0, 360)). The numbers are exact in `f32` and the mapping
+    /// is a sign change and one addition of 360, so they compare exactly.
+    #[test]
+    fn the_sample_snapshots_euler_angles_are_its_attitude() {
+        let s = BourgDetails::sample_snapshot();
+        let euler = nalgebra::Vector3::from(s.details.euler_deg.map(|d| d as f32));
+        assert_eq!(<[f64; 3]>::from(euler.map(f64::from)), s.details.euler_deg);
+        let a = fdm_core::geodesy::bourg_attitude(euler);
+        let common = s.common.attitude_deg;
+        assert_eq!(
+            (a.roll_deg, a.pitch_deg, a.heading_deg),
+            (common.roll, common.pitch, common.heading)
+        );
+    }
+
+    /// States for the rough DIS frames: orientations in every direction
+    /// (random quaternions, normalised or off by a few 1e-6 as a step
+    /// leaves them) and from Euler angles (banked, inverted, at the
+    /// vertical), with positions and velocities in feet.
+    #[cfg(feature = "dis")]
+    fn rough_states(n: usize) -> Vec<Option<BourgState>> {
+        use fdm_core::bourg::{ops, Quaternion};
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        (0..n)
+            .map(|i| {
+                let orientation = if i % 3 == 0 {
+                    let euler = nalgebra::Vector3::new(
+                        180.0 * next(),
+                        if i % 9 == 0 { 90.0 } else { 89.0 * next() },
+                        180.0 * next(),
+                    );
+                    ops::quat_from_euler_deg(&euler.map(|c| c as f32))
+                } else {
+                    let q = Quaternion::new(next(), next(), next(), next()).cast::<f32>();
+                    let (n, scale) = (q.norm(), 1.0 + 4e-6 * next() as f32);
+                    Quaternion::from_vector(q.coords.map(|c| c / n * scale))
+                };
+                let mut s = BourgState::initial();
+                s.time_s = i as f64 / 30.0;
+                s.position_ft = nalgebra::Vector3::new(i as f32 * 1.7 + 3.0, -3.3, 2000.0);
+                s.velocity_ftps =
+                    nalgebra::Vector3::new(next(), next(), next()).map(|c| (c * 300.0) as f32);
+                s.orientation = orientation;
+                Some(s)
+            })
+            .collect()
+    }
+
+    /// Bits of a rough frame's every number.
+    #[cfg(feature = "dis")]
+    fn rough_bits(r: &fdm_dis::Rough) -> Vec<u64> {
+        let mut b = vec![r.time_s.to_bits()];
+        b.extend(r.position_m.iter().map(|x| x.to_bits()));
+        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
+        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
+        b
+    }
+
+    /// `FleetModel::dis_rough` (`bourg_rough`): each aircraft's view's
+    /// time, position, velocity and attitude matrix, bit for bit (its docs;
+    /// the view is fdm-core's `Bourg::view`), over orientations in every
+    /// direction; none for an aircraft without a state or with a number
+    /// that is not finite. And from independent numbers: an aircraft 100 ft
+    /// north, 200 ft west and 1000 ft up, flying 10 ft/s north, 20 ft/s west
+    /// and 5 ft/s up, heading east (yaw -90°) 30° nose-up, is 30.48 m,
+    /// 60.96 m and 304.8 m there at 3.048, 6.096 and 1.524 m/s (to 1e-12
+    /// of each: one rounding of the product), and its nose (the matrix's
+    /// first column, north-east-down) is (0, cos 30°, -sin 30°), to 1e-5
+    /// (the quaternion and the Euler angles are `f32`: a few 1e-7 rad).
+    #[cfg(feature = "dis")]
+    #[test]
+    fn the_rough_frames_are_the_views() {
+        let aircraft = Bourg::default_aircraft();
+        let mut states = rough_states(300);
+        states[7] = None;
+        states[11].as_mut().unwrap().position_ft.y = f32::NAN;
+        states[13].as_mut().unwrap().velocity_ftps.z = f32::INFINITY;
+        states[17].as_mut().unwrap().orientation.coords.x = f32::NAN;
+        states[19].as_mut().unwrap().time_s = f64::NAN;
+        let mut out = vec![None; states.len()];
+        Bourg::dis_rough(0, &states, &mut out);
+        let mut made = 0;
+        for (i, (s, r)) in states.iter().zip(&out).enumerate() {
+            let Some(s) = s.filter(BourgState::is_finite) else {
+                assert!(r.is_none(), "aircraft {i}: {r:?}");
+                continue;
+            };
+            let r = r.unwrap_or_else(|| panic!("no rough frame for aircraft {i}"));
+            let view = Bourg::view(&aircraft, &Bourg::fleet_member(i).0, &s);
+            let want = fdm_dis::Rough {
+                time_s: view.time_s,
+                position_m: view.position_m,
+                velocity_mps: view.velocity_mps,
+                body_to_ned: view.attitude.body_to_ned(),
+            };
+            assert_eq!(rough_bits(&r), rough_bits(&want), "aircraft {i}");
+            made += 1;
+        }
+        assert_eq!(made, 300 - 5);
+
+        let mut s = BourgState::initial();
+        s.position_ft = nalgebra::Vector3::new(100.0, 200.0, 1000.0);
+        s.velocity_ftps = nalgebra::Vector3::new(10.0, 20.0, 5.0);
+        s.orientation =
+            fdm_core::bourg::ops::quat_from_euler_deg(&nalgebra::Vector3::new(0.0, -30.0, -90.0));
+        let mut out = [None];
+        Bourg::dis_rough(3, &[Some(s)], &mut out);
+        let r = out[0].expect("a rough frame");
+        let close = |got: f64, want: f64| (got - want).abs() <= 1e-12 * want.abs();
+        for (got, want) in r.position_m.iter().zip([30.48, 60.96, 304.8]) {
+            assert!(close(*got, want), "{}", r.position_m);
+        }
+        for (got, want) in r.velocity_mps.iter().zip([3.048, 6.096, 1.524]) {
+            assert!(close(*got, want), "{}", r.velocity_mps);
+        }
+        let nose = r.body_to_ned.column(0);
+        let half_root_3 = 3.0_f64.sqrt() / 2.0;
+        for (got, want) in nose.iter().zip([0.0, half_root_3, -0.5]) {
+            assert!((got - want).abs() < 1e-5, "{nose}");
+        }
+    }
+
+    /// `FleetModel::dis_rough_lanes` (`bourg_rough_lanes`) is
+    /// `bourg_rough` lane by lane, bit for bit (its docs), a lane without a
+    /// rough frame not `ok`: full groups of eight, groups with aircraft
+    /// without a state or with a number that is not finite, and a last
+    /// group of fewer than eight; each lane's matrix element `(i / 3, i %
+    /// 3)` in its place (the orientations are general, so no two elements
+    /// are the same).
+    #[cfg(feature = "dis")]
+    #[test]
+    fn the_rough_lanes_are_the_rough_frames() {
+        const L: usize = fdm_dis::ROUGH_LANES;
+        let mut states = rough_states(4 * L + 5);
+        states[L + 2] = None;
+        states[L + 5].as_mut().unwrap().position_ft.z = f32::NAN;
+        states[2 * L].as_mut().unwrap().angular_velocity_radps.x = f32::INFINITY;
+        states[2 * L + 7].as_mut().unwrap().orientation.coords.w = f32::NAN;
+        let mut want = vec![None; states.len()];
+        bourg_rough(&states, &mut want);
+        let (mut made, mut none) = (0, 0);
+        for (g, group) in states.chunks(L).enumerate() {
+            let at = g * L;
+            // Every lane `ok` before the call, as an earlier group may leave it.
+            let mut lanes = fdm_dis::RoughLanes {
+                ok: [true; L],
+                ..Default::default()
+            };
+            Bourg::dis_rough_lanes(at, group, &mut lanes);
+            for k in 0..group.len() {
+                match (lanes.get(k), want[at + k]) {
+                    (Some(got), Some(w)) => {
+                        assert_eq!(rough_bits(&got), rough_bits(&w), "aircraft {}", at + k);
+                        made += 1;
+                    }
+                    (None, None) => none += 1,
+                    (got, w) => panic!("aircraft {}: {got:?} against {w:?}", at + k),
+                }
+            }
+            for k in group.len()..L {
+                assert!(lanes.get(k).is_none(), "lane {k} of {}", group.len());
+            }
+        }
+        assert_eq!((made, none), (states.len() - 4, 4));
     }
 }
