@@ -913,4 +913,313 @@ mod tests {
             }
         }
     }
+
+    /// States for the rough DIS frames: velocities in every direction
+    /// (up to 60 m/s a component; every seventh with no west component,
+    /// flying north or south, every eleventh level, every thirteenth
+    /// straight up or down), none within 5° of the vertical, so that the
+    /// rough matrix is within the documented 1e-12 of the view's even
+    /// through the Euler angles' round trip.
+    #[cfg(feature = "dis")]
+    fn rough_states(n: usize) -> Vec<Option<PalmerState>> {
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        (0..n)
+            .map(|i| {
+                let mut v = nalgebra::Vector3::new(next(), next(), next()) * 60.0;
+                if i % 7 == 0 {
+                    v.y = 0.0;
+                }
+                if i % 11 == 0 {
+                    v.z = 0.0;
+                }
+                if i % 13 == 0 {
+                    v.x = 0.0;
+                    v.y = 0.0;
+                } else if v.z.abs() > 10.0 * v.x.abs().max(v.y.abs()) {
+                    v.z *= 0.05;
+                }
+                Some(PalmerState {
+                    time_s: i as f64 / 30.0,
+                    position_m: nalgebra::Vector3::new(i as f64 * 1.7 + 3.0, -3.3 * next(), 500.0),
+                    velocity_mps: v,
+                })
+            })
+            .collect()
+    }
+
+    /// A state at `velocity_mps` (time and position arbitrary).
+    #[cfg(feature = "dis")]
+    fn moving(velocity_mps: [f64; 3]) -> Option<PalmerState> {
+        Some(PalmerState {
+            time_s: 12.5,
+            position_m: nalgebra::Vector3::new(-40.0, 75.5, 321.0),
+            velocity_mps: nalgebra::Vector3::from(velocity_mps),
+        })
+    }
+
+    /// The velocity of `speed` m/s climbing `climb_deg` on the compass
+    /// track `track_deg` (the model's axes: x north, y west, z up).
+    #[cfg(feature = "dis")]
+    fn flying(speed: f64, climb_deg: f64, track_deg: f64) -> [f64; 3] {
+        let (climb, track) = (climb_deg.to_radians(), track_deg.to_radians());
+        [
+            speed * climb.cos() * track.cos(),
+            -speed * climb.cos() * track.sin(),
+            speed * climb.sin(),
+        ]
+    }
+
+    /// States with no rough frame by `palmer_rough`'s documentation
+    /// whatever the controls: no state, velocities not finite, out of the
+    /// range 1e-100 to 1e100 m/s (horizontal or vertical).
+    #[cfg(feature = "dis")]
+    fn no_rough() -> Vec<Option<PalmerState>> {
+        vec![
+            None,
+            moving([f64::NAN, 1.0, 1.0]),
+            moving([1.0, f64::INFINITY, 1.0]),
+            moving([1.0, 1.0, f64::NEG_INFINITY]),
+            moving([1e-101, 0.0, 5.0]),
+            moving([0.0, -1e-101, 5.0]),
+            moving([5.0, 0.0, 1e-101]),
+            moving([1e100, 0.0, 0.0]),
+            moving([0.0, -1e100, 0.0]),
+            moving([40.0, 0.0, -1e100]),
+        ]
+    }
+
+    /// Aircraft `index` (a wings-level one of the fleet) with its nose
+    /// `off_deg` from the vertical: climbing `90° - alpha - off_deg` on the
+    /// track 30°, so that the nose's two horizontal components are both
+    /// positive, `cos(pitch)² = sin(off)²` (0.03°: 2.7e-7, below the
+    /// documented 1e-6, no frame; 0.1°: 3.0e-6, a frame).
+    #[cfg(feature = "dis")]
+    fn steep(index: usize, off_deg: f64) -> Option<PalmerState> {
+        let (controls, _) = Palmer::fleet_member(index);
+        assert_eq!(controls.bank_deg, 0.0, "aircraft {index}");
+        moving(flying(50.0, 90.0 - controls.alpha_deg - off_deg, 30.0))
+    }
+
+    /// Bits of a rough frame's every number.
+    #[cfg(feature = "dis")]
+    fn rough_bits(r: &fdm_dis::Rough) -> Vec<u64> {
+        let mut b = vec![r.time_s.to_bits()];
+        b.extend(r.position_m.iter().map(|x| x.to_bits()));
+        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
+        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
+        b
+    }
+
+    /// `FleetModel::dis_rough` (`palmer_rough`): aircraft `first + k` has
+    /// the view's time, position and velocity bit for bit and the view's
+    /// `attitude.body_to_ned()` within 1e-12 in every element (its docs:
+    /// the same matrix up to about 1e-12 with the Euler round trip; these
+    /// states stay 5° from the vertical), under the controls of
+    /// `fleet_member(first + k)` (first 3, so that the aircraft index is
+    /// not the slice's), over velocities in every direction, level,
+    /// vertical and at rest, and at the range's ends (1e-100 and 9e99
+    /// m/s), and 0.1° from the vertical; none for an aircraft without a
+    /// state, or past the documented limits (`no_rough`, 5 of every 16
+    /// aircraft, so in every group of eight), or 0.03° from the vertical.
+    #[cfg(feature = "dis")]
+    #[test]
+    fn the_rough_frames_are_the_views() {
+        let aircraft = Palmer::default_aircraft();
+        let first = 3;
+        let mut states = rough_states(300);
+        for (i, s) in no_rough()
+            .into_iter()
+            .cycle()
+            .take(300 / 16 * 5)
+            .enumerate()
+        {
+            states[i / 5 * 16 + i % 5 * 3] = s;
+        }
+        for (i, v) in [
+            [0.0; 3],
+            [1e-100, 0.0, 0.0],
+            [0.0, -1e-100, 1e-100],
+            [9e99, 0.0, -9e99],
+            [0.0, 0.0, 20.0],
+            [0.0, 0.0, -20.0],
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            states[1 + 16 * i] = moving(v);
+        }
+        // Aircraft 10 and 94 (first + 7 and first + 91) are wings level.
+        states[7] = steep(first + 7, 0.03);
+        states[91] = steep(first + 91, 0.1);
+        let mut out = vec![None; states.len()];
+        Palmer::dis_rough(first, &states, &mut out);
+        let mut made = 0;
+        for (i, (s, r)) in states.iter().zip(&out).enumerate() {
+            // The documented limits, independently of the code's form.
+            let at_limits = |m: f64| m == 0.0 || (1e-100..1e100).contains(&m);
+            let Some(s) = s.filter(|s| {
+                let v = s.velocity_mps;
+                v.iter().all(|c| c.is_finite())
+                    && at_limits(v.z.abs())
+                    && at_limits(v.x.abs().max(v.y.abs()))
+            }) else {
+                assert!(r.is_none(), "aircraft {i}: {r:?}");
+                continue;
+            };
+            let view = Palmer::view(&aircraft, &Palmer::fleet_member(first + i).0, &s);
+            let want = view.attitude.body_to_ned();
+            let cos_pitch_sq = want[(0, 0)].powi(2) + want[(1, 0)].powi(2);
+            let Some(r) = r.filter(|_| cos_pitch_sq >= 1e-6) else {
+                assert!(r.is_none() && cos_pitch_sq < 1e-6, "aircraft {i}: {r:?}");
+                continue;
+            };
+            assert_eq!(r.time_s.to_bits(), view.time_s.to_bits(), "aircraft {i}");
+            let bits = |v: nalgebra::Vector3<f64>| v.map(f64::to_bits);
+            assert_eq!(bits(r.position_m), bits(view.position_m), "aircraft {i}");
+            assert_eq!(
+                bits(r.velocity_mps),
+                bits(view.velocity_mps),
+                "aircraft {i}"
+            );
+            let worst = (r.body_to_ned - want).abs().max();
+            assert!(
+                worst <= 1e-12,
+                "aircraft {i}: {worst:e}\n{}{want}",
+                r.body_to_ned
+            );
+            made += 1;
+        }
+        assert_eq!(made, 300 - 300 / 16 * 5 - 1);
+    }
+
+    /// `palmer_rough` from numbers worked by hand. Palmer's state is in
+    /// metres and seconds already (`METRES_PER_UNIT` 1), so the frame's
+    /// time, position and velocity are the state's bits. Its matrix is
+    /// `Rz(track) · Ry(climb) · Rx(bank) · Ry(alpha)` (north-east-down,
+    /// body x forward, y right): with the fleet's controls of aircraft 10
+    /// (alpha 2°, bank 0), flying north at 40 m/s climbing 30 m/s (climb
+    /// atan(3/4)) the nose (the first column) is `(cos θ, 0, -sin θ)`, θ
+    /// = climb + 2°, so `cos θ = 0.8 cos 2° - 0.6 sin 2°` and `sin θ = 0.6
+    /// cos 2° + 0.8 sin 2°`; straight up (climb 90°) it is over the top,
+    /// `(-sin 2°, 0, -cos 2°)`; with those of aircraft 0 (alpha 2°, bank
+    /// -10°) flying east level the nose is `(-sin b sin a, cos a, -cos b
+    /// sin a)` and the right wing (the second column) `(-cos b, 0, sin b)`,
+    /// up, as the bank is to the left; at rest (track north, climb 0,
+    /// aircraft 3: alpha 5°, bank -7°) the nose is `(cos a, sin b sin a,
+    /// -cos b sin a)`. To 1e-14: a dozen roundings of numbers below 1
+    /// (1.1e-16 each) and sines within an ulp or two of `std`'s.
+    #[cfg(feature = "dis")]
+    #[test]
+    fn the_rough_frames_by_hand() {
+        let rough = |index: usize, velocity: [f64; 3]| {
+            let mut out = [None];
+            palmer_rough(index, &[moving(velocity)], &mut out);
+            out[0]
+        };
+        let close = |got: nalgebra::Vector3<f64>, want: [f64; 3]| {
+            let worst = got
+                .iter()
+                .zip(want)
+                .map(|(g, w)| (g - w).abs())
+                .fold(0.0, f64::max);
+            assert!(worst <= 1e-14, "{got} against {want:?}");
+        };
+        assert_eq!(Palmer::fleet_member(10).0.alpha_deg, 2.0);
+        assert_eq!(Palmer::fleet_member(10).0.bank_deg, 0.0);
+        assert_eq!(Palmer::fleet_member(0).0.bank_deg, -10.0);
+        assert_eq!(Palmer::fleet_member(3).0.alpha_deg, 5.0);
+        assert_eq!(Palmer::fleet_member(3).0.bank_deg, -7.0);
+        let (sa, ca) = 2f64.to_radians().sin_cos();
+
+        let r = rough(10, [40.0, 0.0, 30.0]).expect("a rough frame");
+        assert_eq!(r.time_s.to_bits(), 12.5f64.to_bits());
+        assert_eq!(<[f64; 3]>::from(r.position_m), [-40.0, 75.5, 321.0]);
+        assert_eq!(<[f64; 3]>::from(r.velocity_mps), [40.0, 0.0, 30.0]);
+        close(
+            r.body_to_ned.column(0).into_owned(),
+            [0.8 * ca - 0.6 * sa, 0.0, -(0.6 * ca + 0.8 * sa)],
+        );
+
+        let r = rough(10, [0.0, 0.0, 20.0]).expect("a rough frame");
+        close(r.body_to_ned.column(0).into_owned(), [-sa, 0.0, -ca]);
+
+        let (sb, cb) = (-10f64).to_radians().sin_cos();
+        let r = rough(0, [0.0, -50.0, 0.0]).expect("a rough frame");
+        close(
+            r.body_to_ned.column(0).into_owned(),
+            [-sb * sa, ca, -cb * sa],
+        );
+        close(r.body_to_ned.column(1).into_owned(), [-cb, 0.0, sb]);
+
+        let (sa5, ca5) = 5f64.to_radians().sin_cos();
+        let (sb7, cb7) = (-7f64).to_radians().sin_cos();
+        let r = rough(3, [0.0; 3]).expect("a rough frame");
+        close(
+            r.body_to_ned.column(0).into_owned(),
+            [ca5, sb7 * sa5, -cb7 * sa5],
+        );
+    }
+
+    /// `FleetModel::dis_rough_lanes` (`palmer_rough_lanes`) is
+    /// `palmer_rough` lane by lane, bit for bit (its docs), a lane without a
+    /// rough frame not `ok`: groups of eight from `first` 0 and past it
+    /// (each its own controls), groups with every state of `no_rough` and
+    /// ones flying at the range's ends, level, vertical and at rest, the
+    /// wings-level aircraft 10 and 31 (whose zero bank takes the lanes' own
+    /// sine and cosine) 0.03° and 0.1° from the vertical, and a last group
+    /// of fewer than eight, whose lanes past it are not `ok`.
+    #[cfg(feature = "dis")]
+    #[test]
+    fn the_rough_lanes_are_the_rough_frames() {
+        const L: usize = fdm_dis::ROUGH_LANES;
+        let mut states = rough_states(5 * L + 5);
+        let none = no_rough();
+        states.splice(L + 3..L + 3 + none.len(), none);
+        states.splice(
+            3 * L..3 * L + 5,
+            [
+                [0.0; 3],
+                [1e-100, 0.0, 0.0],
+                [9e99, 0.0, -9e99],
+                [0.0, 0.0, 20.0],
+                [50.0, 0.0, 0.0],
+            ]
+            .map(moving),
+        );
+        states[10] = steep(10, 0.03);
+        states[31] = steep(31, 0.1);
+        let mut want = vec![None; states.len()];
+        palmer_rough(0, &states, &mut want);
+        let (mut made, mut none) = (0, 0);
+        for (g, group) in states.chunks(L).enumerate() {
+            let at = g * L;
+            // Every lane `ok` before the call, as an earlier group may leave it.
+            let mut lanes = fdm_dis::RoughLanes {
+                ok: [true; L],
+                ..Default::default()
+            };
+            Palmer::dis_rough_lanes(at, group, &mut lanes);
+            for k in 0..group.len() {
+                match (lanes.get(k), want[at + k]) {
+                    (Some(got), Some(w)) => {
+                        assert_eq!(rough_bits(&got), rough_bits(&w), "aircraft {}", at + k);
+                        made += 1;
+                    }
+                    (None, None) => none += 1,
+                    (got, w) => panic!("aircraft {}: {got:?} against {w:?}", at + k),
+                }
+            }
+            for k in group.len()..L {
+                assert!(lanes.get(k).is_none(), "lane {k} of {}", group.len());
+            }
+        }
+        let no = no_rough().len() + 1;
+        assert_eq!((made, none), (states.len() - no, no));
+    }
 }
