@@ -310,6 +310,21 @@ pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
     }
 }
 
+/// What the adapters' tests share (`bourg.rs`, `palmer.rs`).
+#[cfg(test)]
+pub(crate) mod test_support {
+    /// Bits of a rough DIS frame's every number, to compare rough frames
+    /// bit for bit.
+    #[cfg(feature = "dis")]
+    pub(crate) fn rough_bits(r: &fdm_dis::Rough) -> Vec<u64> {
+        let mut b = vec![r.time_s.to_bits()];
+        b.extend(r.position_m.iter().map(|x| x.to_bits()));
+        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
+        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
+        b
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

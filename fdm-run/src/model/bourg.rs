@@ -803,6 +803,8 @@ impl AgentModel for Bourg {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(feature = "dis")]
+    use crate::model::test_support::rough_bits;
     use fdm_core::bourg::BourgAction;
 
     /// The tasks' surfaces (`afit_fdm.gym`'s `_surface`): an action above
@@ -1171,16 +1173,6 @@ mod tests {
                 Some(s)
             })
             .collect()
-    }
-
-    /// Bits of a rough frame's every number.
-    #[cfg(feature = "dis")]
-    fn rough_bits(r: &fdm_dis::Rough) -> Vec<u64> {
-        let mut b = vec![r.time_s.to_bits()];
-        b.extend(r.position_m.iter().map(|x| x.to_bits()));
-        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
-        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
-        b
     }
 
     /// `FleetModel::dis_rough` (`bourg_rough`): each aircraft's view's

@@ -890,6 +890,8 @@ impl LaneAgent for Palmer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(feature = "dis")]
+    use crate::model::test_support::rough_bits;
 
     /// The observed flaps of every setting are the per-aircraft method's
     /// division, bit for bit (the agent tests' fleet members have no 40°
@@ -1004,16 +1006,6 @@ mod tests {
         let (controls, _) = Palmer::fleet_member(index);
         assert_eq!(controls.bank_deg, 0.0, "aircraft {index}");
         moving(flying(50.0, 90.0 - controls.alpha_deg - off_deg, 30.0))
-    }
-
-    /// Bits of a rough frame's every number.
-    #[cfg(feature = "dis")]
-    fn rough_bits(r: &fdm_dis::Rough) -> Vec<u64> {
-        let mut b = vec![r.time_s.to_bits()];
-        b.extend(r.position_m.iter().map(|x| x.to_bits()));
-        b.extend(r.velocity_mps.iter().map(|x| x.to_bits()));
-        b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
-        b
     }
 
     /// `FleetModel::dis_rough` (`palmer_rough`): aircraft `first + k` has
