@@ -323,6 +323,43 @@ pub(crate) mod test_support {
         b.extend(r.body_to_ned.iter().map(|x| x.to_bits()));
         b
     }
+
+    /// `M::dis_rough_lanes` over `states` in groups of
+    /// [`fdm_dis::ROUGH_LANES`] (every lane `ok` before each call, as an
+    /// earlier group may leave it) against `want`, the one-at-a-time rough
+    /// frames: each aircraft's lane is its frame bit for bit or none where
+    /// it has none, and the lanes past a short last group are not `ok`.
+    /// Returns how many aircraft had a frame and how many had none.
+    #[cfg(feature = "dis")]
+    pub(crate) fn lanes_against_frames<M: super::FleetModel>(
+        states: &[Option<M::State>],
+        want: &[Option<fdm_dis::Rough>],
+    ) -> (usize, usize) {
+        const L: usize = fdm_dis::ROUGH_LANES;
+        let (mut made, mut none) = (0, 0);
+        for (g, group) in states.chunks(L).enumerate() {
+            let at = g * L;
+            let mut lanes = fdm_dis::RoughLanes {
+                ok: [true; L],
+                ..Default::default()
+            };
+            M::dis_rough_lanes(at, group, &mut lanes);
+            for k in 0..group.len() {
+                match (lanes.get(k), want[at + k]) {
+                    (Some(got), Some(w)) => {
+                        assert_eq!(rough_bits(&got), rough_bits(&w), "aircraft {}", at + k);
+                        made += 1;
+                    }
+                    (None, None) => none += 1,
+                    (got, w) => panic!("aircraft {}: {got:?} against {w:?}", at + k),
+                }
+            }
+            for k in group.len()..L {
+                assert!(lanes.get(k).is_none(), "lane {k} of {}", group.len());
+            }
+        }
+        (made, none)
+    }
 }
 
 #[cfg(test)]

@@ -804,7 +804,7 @@ impl AgentModel for Bourg {
 mod tests {
     use super::*;
     #[cfg(feature = "dis")]
-    use crate::model::test_support::rough_bits;
+    use crate::model::test_support::{lanes_against_frames, rough_bits};
     use fdm_core::bourg::BourgAction;
 
     /// The tasks' surfaces (`afit_fdm.gym`'s `_surface`): an action above
@@ -1257,29 +1257,7 @@ mod tests {
         states[2 * L + 7].as_mut().unwrap().orientation.coords.w = f32::NAN;
         let mut want = vec![None; states.len()];
         bourg_rough(&states, &mut want);
-        let (mut made, mut none) = (0, 0);
-        for (g, group) in states.chunks(L).enumerate() {
-            let at = g * L;
-            // Every lane `ok` before the call, as an earlier group may leave it.
-            let mut lanes = fdm_dis::RoughLanes {
-                ok: [true; L],
-                ..Default::default()
-            };
-            Bourg::dis_rough_lanes(at, group, &mut lanes);
-            for k in 0..group.len() {
-                match (lanes.get(k), want[at + k]) {
-                    (Some(got), Some(w)) => {
-                        assert_eq!(rough_bits(&got), rough_bits(&w), "aircraft {}", at + k);
-                        made += 1;
-                    }
-                    (None, None) => none += 1,
-                    (got, w) => panic!("aircraft {}: {got:?} against {w:?}", at + k),
-                }
-            }
-            for k in group.len()..L {
-                assert!(lanes.get(k).is_none(), "lane {k} of {}", group.len());
-            }
-        }
+        let (made, none) = lanes_against_frames::<Bourg>(&states, &want);
         assert_eq!((made, none), (states.len() - 4, 4));
     }
 }

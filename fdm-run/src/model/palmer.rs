@@ -891,7 +891,7 @@ impl LaneAgent for Palmer {
 mod tests {
     use super::*;
     #[cfg(feature = "dis")]
-    use crate::model::test_support::rough_bits;
+    use crate::model::test_support::lanes_against_frames;
 
     /// The observed flaps of every setting are the per-aircraft method's
     /// division, bit for bit (the agent tests' fleet members have no 40°
@@ -1188,29 +1188,7 @@ mod tests {
         states[31] = steep(31, 0.1);
         let mut want = vec![None; states.len()];
         palmer_rough(0, &states, &mut want);
-        let (mut made, mut none) = (0, 0);
-        for (g, group) in states.chunks(L).enumerate() {
-            let at = g * L;
-            // Every lane `ok` before the call, as an earlier group may leave it.
-            let mut lanes = fdm_dis::RoughLanes {
-                ok: [true; L],
-                ..Default::default()
-            };
-            Palmer::dis_rough_lanes(at, group, &mut lanes);
-            for k in 0..group.len() {
-                match (lanes.get(k), want[at + k]) {
-                    (Some(got), Some(w)) => {
-                        assert_eq!(rough_bits(&got), rough_bits(&w), "aircraft {}", at + k);
-                        made += 1;
-                    }
-                    (None, None) => none += 1,
-                    (got, w) => panic!("aircraft {}: {got:?} against {w:?}", at + k),
-                }
-            }
-            for k in group.len()..L {
-                assert!(lanes.get(k).is_none(), "lane {k} of {}", group.len());
-            }
-        }
+        let (made, none) = lanes_against_frames::<Palmer>(&states, &want);
         let no = no_rough().len() + 1;
         assert_eq!((made, none), (states.len() - no, no));
     }
