@@ -313,6 +313,19 @@ pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
 /// What the adapters' tests share (`bourg.rs`, `palmer.rs`).
 #[cfg(test)]
 pub(crate) mod test_support {
+    /// A fixed sequence of numbers in [-1, 1) (xorshift64, the same seed in
+    /// every call), for the adapters' tests' random but reproducible states.
+    #[cfg(feature = "dis")]
+    pub(crate) fn uniform_in_plus_minus_one() -> impl FnMut() -> f64 {
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
     /// Bits of a rough DIS frame's every number, to compare rough frames
     /// bit for bit.
     #[cfg(feature = "dis")]

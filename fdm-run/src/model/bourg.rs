@@ -804,7 +804,7 @@ impl AgentModel for Bourg {
 mod tests {
     use super::*;
     #[cfg(feature = "dis")]
-    use crate::model::test_support::{lanes_against_frames, rough_bits};
+    use crate::model::test_support::{lanes_against_frames, rough_bits, uniform_in_plus_minus_one};
     use fdm_core::bourg::BourgAction;
 
     /// The tasks' surfaces (`afit_fdm.gym`'s `_surface`): an action above
@@ -1143,13 +1143,7 @@ mod tests {
     #[cfg(feature = "dis")]
     fn rough_states(n: usize) -> Vec<Option<BourgState>> {
         use fdm_core::bourg::{ops, Quaternion};
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform_in_plus_minus_one();
         (0..n)
             .map(|i| {
                 let orientation = if i % 3 == 0 {

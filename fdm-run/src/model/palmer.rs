@@ -891,7 +891,7 @@ impl LaneAgent for Palmer {
 mod tests {
     use super::*;
     #[cfg(feature = "dis")]
-    use crate::model::test_support::lanes_against_frames;
+    use crate::model::test_support::{lanes_against_frames, uniform_in_plus_minus_one};
 
     /// The observed flaps of every setting are the per-aircraft method's
     /// division, bit for bit (the agent tests' fleet members have no 40°
@@ -924,13 +924,7 @@ mod tests {
     /// through the Euler angles' round trip.
     #[cfg(feature = "dis")]
     fn rough_states(n: usize) -> Vec<Option<PalmerState>> {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform_in_plus_minus_one();
         (0..n)
             .map(|i| {
                 let mut v = nalgebra::Vector3::new(next(), next(), next()) * 60.0;
