@@ -104,6 +104,8 @@ impl FleetModel for Palmer {
 /// heading lose about `1e-16 / cos(pitch)` each. So an aircraft gets a
 /// rough frame only when
 ///
+/// * its time and position are finite (the frame carries them as they
+///   are; the exact path decides what a state that is not finite sends),
 /// * its velocity components are 0 or between 1e-100 and 1e100 m/s in
 ///   magnitude, the horizontal ones both 0 or the larger of them in that
 ///   range (no square under- or overflows beyond a relative 1e-100), and
@@ -216,7 +218,12 @@ pub fn palmer_rough_lanes(
         let (sa, ca, sb, cb) = (sin_alpha[k], cos_alpha[k], sin_bank[k], cos_bank[k]);
         let in_range = |m: f64| (m == 0.0) | (1e-100..1e100).contains(&m);
         let horizontal = vx.abs().max(vy.abs());
+        let placed = out.time_s[k].is_finite()
+            & out.position_m[0][k].is_finite()
+            & out.position_m[1][k].is_finite()
+            & out.position_m[2][k].is_finite();
         let usable = has[k]
+            & placed
             & vx.is_finite()
             & vy.is_finite()
             & vz.is_finite()
@@ -277,7 +284,8 @@ fn palmer_rough_one(
     let v = s.velocity_mps;
     let in_range = |m: f64| m == 0.0 || (1e-100..1e100).contains(&m);
     let horizontal = v.x.abs().max(v.y.abs());
-    if !(v.iter().all(|c| c.is_finite()) && in_range(horizontal) && in_range(v.z.abs())) {
+    // `is_finite`: the time, the position and the velocity.
+    if !(s.is_finite() && in_range(horizontal) && in_range(v.z.abs())) {
         return None;
     }
     let vh2 = v.x * v.x + v.y * v.y;
@@ -972,12 +980,25 @@ mod tests {
     }
 
     /// States with no rough frame by `palmer_rough`'s documentation
-    /// whatever the controls: no state, velocities not finite, out of the
-    /// range 1e-100 to 1e100 m/s (horizontal or vertical).
+    /// whatever the controls: no state, a time or a position not finite,
+    /// velocities not finite, out of the range 1e-100 to 1e100 m/s
+    /// (horizontal or vertical).
     #[cfg(feature = "dis")]
     fn no_rough() -> Vec<Option<PalmerState>> {
+        let placed = |time_s: f64, position_m: [f64; 3]| {
+            moving([40.0, 0.0, 3.0]).map(|s| PalmerState {
+                time_s,
+                position_m: position_m.into(),
+                ..s
+            })
+        };
         vec![
             None,
+            placed(f64::NAN, [-40.0, 75.5, 321.0]),
+            placed(f64::INFINITY, [-40.0, 75.5, 321.0]),
+            placed(12.5, [f64::NAN, 75.5, 321.0]),
+            placed(12.5, [-40.0, f64::NEG_INFINITY, 321.0]),
+            placed(12.5, [-40.0, 75.5, f64::NAN]),
             moving([f64::NAN, 1.0, 1.0]),
             moving([1.0, f64::INFINITY, 1.0]),
             moving([1.0, 1.0, f64::NEG_INFINITY]),
@@ -1051,7 +1072,9 @@ mod tests {
             let at_limits = |m: f64| m == 0.0 || (1e-100..1e100).contains(&m);
             let Some(s) = s.filter(|s| {
                 let v = s.velocity_mps;
-                v.iter().all(|c| c.is_finite())
+                s.time_s.is_finite()
+                    && s.position_m.iter().all(|c| c.is_finite())
+                    && v.iter().all(|c| c.is_finite())
                     && at_limits(v.z.abs())
                     && at_limits(v.x.abs().max(v.y.abs()))
             }) else {
@@ -1167,8 +1190,10 @@ mod tests {
         let mut states = rough_states(5 * L + 5);
         let none = no_rough();
         states.splice(L + 3..L + 3 + none.len(), none);
+        // After the states of `no_rough` (from the second group into the
+        // fourth).
         states.splice(
-            3 * L..3 * L + 5,
+            4 * L..4 * L + 5,
             [
                 [0.0; 3],
                 [1e-100, 0.0, 0.0],
