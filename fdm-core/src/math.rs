@@ -497,6 +497,17 @@ pub(crate) fn asinf_lanes_blended<const N: usize>(x: [f32; N]) -> [f32; N] {
 /// filter bit of `ix`'s run, the run clamped into the filter (inputs below
 /// [`EXCEPTION_FILTER_BASE`] read run 0, which holds no exception; inputs
 /// above 1 read the last run, and are outside `asinf`'s domain anyway).
+///
+/// No branch, but not free in lanes: each lane reads its own byte of the
+/// filter by its own index, which no vector instruction of x86-64-v3/v4
+/// does without a gather, so the compiler takes the indices out of the
+/// vector register (a `vpmovzxdq` and a `vpextrq` or `vmovq` for each pair
+/// of lanes), loads the bytes one at a time and inserts them back into a
+/// vector (`vpinsrb`, 15 for 16 lanes). In Bourg's lanes kernel
+/// this filter is 9-10 % of the samples; the forms tried to avoid the
+/// extracts (the indices through memory) were slower (BENCHMARKS.md, "Bourg:
+/// the profile of the permuting kernel, and the asinf filter's indices
+/// through memory").
 #[inline(always)]
 fn exception_filter_bit(ix: u32) -> bool {
     let k = (ix.saturating_sub(EXCEPTION_FILTER_BASE) >> EXCEPTION_FILTER_SHIFT) as usize;
