@@ -4,8 +4,9 @@
 //! The state the Python side sees is the binding's own column buffer: one
 //! C-contiguous `(fields, n)` float64 array and one `(n,)` uint8 status array,
 //! owned by NumPy, refreshed in place at the end of every call that changes
-//! the fleet (`step`, `reset`, construction). Reading them never copies: the
-//! read-only views handed out are views of those buffers. The kernel's own
+//! the fleet (`step`, `reset`, construction, the tasks' steps; a task step
+//! with `views=False` refreshes the status array only). Reading them never
+//! copies: the read-only views handed out are views of those buffers. The kernel's own
 //! arrays are lane blocks (8 or 16 aircraft, field by field) that `fdm-fleet`
 //! keeps private, so the refresh is one gather per `step` call, not per frame.
 
@@ -401,7 +402,9 @@ pub struct TaskArgs<'a> {
 /// The buffers a task step fills.
 #[derive(Debug)]
 pub struct TaskOut<'a> {
-    /// The state columns, `(fields, n)`.
+    /// The state columns, `(fields, n)`, or empty: the columns are then
+    /// left as they are (`Fleet.task_step(..., views=False)`), the status
+    /// codes still written.
     pub columns: &'a mut [f64],
     /// The status codes.
     pub status: &'a mut [u8],
@@ -790,6 +793,9 @@ type StepWork<'r, 'f, 'o, M> = (
 struct Piece<'a> {
     /// The first aircraft's index.
     first: usize,
+    /// Each state column's part, or none: the columns are not written
+    /// ([`TaskOut::columns`] empty), and the derived fields, which only go
+    /// there, are not computed.
     columns: Vec<&'a mut [f64]>,
     status: &'a mut [u8],
     obs: &'a mut [f32],
@@ -959,7 +965,7 @@ impl<'p, 'a, M: BindModel> Observer<'p, 'a, M> {
         for (column, values) in piece.columns.iter_mut().zip(&columns[..head]) {
             copy_lanes(&mut column[j0..], values.as_ref(), count, M::Fleet::lanes());
         }
-        if M::BLOCK_FIELDS > 0 {
+        if M::BLOCK_FIELDS > 0 && !piece.columns.is_empty() {
             // The derived fields from the block's lanes too (not each lane's
             // state at the flushes).
             let tail = &mut self.tail;
@@ -1116,10 +1122,9 @@ fn flush_lanes<M: BindModel>(
     let len = steps.len();
     let n_obs = task::KINEMATIC_OBS + M::TASK_CONTROL_OBS;
     let head = M::STATE_FIELDS.len() - M::BLOCK_FIELDS;
-    let (columns, ended) = (
-        &mut piece.columns[head..],
-        &mut piece.terminated[j0..j0 + len],
-    );
+    // No columns: the state views are not written.
+    let columns = piece.columns.get_mut(head..).unwrap_or_default();
+    let ended = &mut piece.terminated[j0..j0 + len];
     run.run(FlushBlock::<M> {
         task: args.task,
         block,
@@ -1197,7 +1202,8 @@ impl<M: BindModel> pulp::WithSimd for FlushBlock<'_, '_, M> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let len = self.out.reward.len();
-        if let Some(states) = self.states.filter(|_| M::BLOCK_FIELDS > 0) {
+        let views = !self.columns.is_empty();
+        if let Some(states) = self.states.filter(|_| M::BLOCK_FIELDS > 0 && views) {
             let mut fields = [[0.0; task::BLOCK]; crate::models::MAX_BLOCK_FIELDS];
             M::block_fields(states, &mut fields);
             for (column, values) in self.columns.iter_mut().zip(&fields) {

@@ -614,7 +614,7 @@ impl PyFleet {
 
     /// One step of a Gymnasium task for every aircraft (`afit_fdm.gym`'s
     /// engine; see `_afit_fdm.pyi`).
-    #[pyo3(signature = (actions, frames, task, target_alt_ft, target_heading_deg, steps, max_steps, obs, reward, terminated, truncated, *, observe=true))]
+    #[pyo3(signature = (actions, frames, task, target_alt_ft, target_heading_deg, steps, max_steps, obs, reward, terminated, truncated, *, observe=true, views=true))]
     #[allow(clippy::too_many_arguments)]
     fn task_step(
         &mut self,
@@ -631,6 +631,7 @@ impl PyFleet {
         terminated: &Bound<'_, PyAny>,
         truncated: &Bound<'_, PyAny>,
         observe: bool,
+        views: bool,
     ) -> PyResult<()> {
         let task = task::Task::named(task).map_err(PyValueError::new_err)?;
         let n = self.inner.len();
@@ -650,6 +651,9 @@ impl PyFleet {
         let buffers = &self.buffers;
         let (mut columns, mut status) = buffers.borrow_mut(py)?;
         let (columns, status) = fleet::buffer_slices(&mut columns, &mut status)?;
+        // Without views the state columns are left as they are (no slice of
+        // them to write): the statuses are still written.
+        let columns = if views { columns } else { &mut [] };
         let steps = steps
             .as_slice_mut()
             .map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -359,7 +359,9 @@ class Fleet:
     **State views and their lifetime.** :attr:`state`, ``fleet[name]``,
     :attr:`columns` and :attr:`status` are read-only NumPy views of buffers
     the fleet writes in place at the end of every :meth:`step` and
-    :meth:`reset`; reading them never copies. A view stays valid (it keeps its
+    :meth:`reset` (and of the tasks' :meth:`task_step` and
+    :meth:`task_observe`; ``task_step(..., views=False)`` refreshes only
+    :attr:`status`); reading them never copies. A view stays valid (it keeps its
     buffer alive) after the fleet is gone, and then keeps its last values.
     Values change in place on the next step: copy (``np.array(view)``) what
     must be kept. Do not read a fleet's views in one thread while another
@@ -445,6 +447,7 @@ class Fleet:
         truncated: npt.NDArray[np.bool_],
         *,
         observe: bool = True,
+        views: bool = True,
     ) -> None:
         """One step of a Gymnasium task (``task``: ``"heading-altitude"`` or
         ``"climb"``) for every aircraft, the engine of :mod:`afit_fdm.gym`
@@ -458,7 +461,15 @@ class Fleet:
         refreshed and ``obs`` (float32, ``(n, 10)`` Palmer or ``(n, 11)``
         Bourg), ``reward`` (float64), ``terminated`` (not airborne) and
         ``truncated`` (``steps >= max_steps`` and not terminated) filled
-        (bool, ``(n,)``). Arrays of another dtype or shape raise
+        (bool, ``(n,)``). With ``observe`` but not ``views``, the state
+        columns (:attr:`state`, ``fleet[name]``, :attr:`columns`) are left
+        as they were and :attr:`status` is refreshed: for a caller that
+        reads only the task's outputs and the statuses (the vector
+        environment), which then skips writing every aircraft's state
+        fields (and computing Bourg's speed and Euler angles) on each step;
+        the next :meth:`step`, :meth:`reset`, :meth:`task_observe` or
+        ``task_step`` with ``views`` refreshes them. The outputs are the
+        same bits either way. Arrays of another dtype or shape raise
         ``TypeError``/``ValueError`` naming them."""
     def task_observe(
         self,

@@ -154,7 +154,7 @@ class _Task:
         )
 
     def step(
-        self, actions: Any, steps: np.ndarray, max_steps: int, observe: bool = True
+        self, actions: Any, steps: np.ndarray, max_steps: int, observe: bool = True, views: bool = False
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """One agent step in one call into Rust (``Fleet.task_step``, the
         GIL released): the action array validated (a NaN reaching a control
@@ -163,11 +163,15 @@ class _Task:
         module docstring), ``frame_skip`` frames flown, ``steps`` counted
         up, and with ``observe`` the observations, rewards (0 for an ended
         episode), terminated (not airborne) and truncated (``steps >=
-        max_steps`` and not terminated) filled."""
+        max_steps`` and not terminated) filled; with ``views`` the fleet's
+        state views refreshed too (the statuses always are)."""
         out = self._outputs()
+        # The environments read the outputs and the statuses only, never
+        # the fleet's state views (the fleet is not theirs to hand out), so
+        # by default the step skips refreshing those on every step.
         self.fleet.task_step(
             actions, self.frame_skip, self.task, self.target_alt_ft, self.target_heading_deg,
-            steps, max_steps, *out, observe=observe,
+            steps, max_steps, *out, observe=observe, views=views,
         )
         return out
 
