@@ -900,6 +900,7 @@ mod tests {
     use super::*;
     #[cfg(feature = "dis")]
     use crate::model::test_support::{lanes_against_frames, uniform_in_plus_minus_one};
+    use fdm_core::model::Model;
 
     /// The observed flaps of every setting are the per-aircraft method's
     /// division, bit for bit (the agent tests' fleet members have no 40°
@@ -922,6 +923,250 @@ mod tests {
                 assert_eq!(lane.to_bits(), want[3].to_bits(), "{flaps:?}");
             }
         }
+    }
+
+    /// A state with every field its own number (exact in binary): at
+    /// 7.5 s, 1234.5 m north, 0.25 m east and 321.75 m up, flying 12 m/s
+    /// north, 16 m/s east and 15 m/s up (a 3-4-5 triangle twice: 20 m/s
+    /// horizontally, 25 m/s in all).
+    fn hand_state() -> PalmerState {
+        PalmerState {
+            time_s: 7.5,
+            position_m: nalgebra::Vector3::new(1234.5, -0.25, 321.75),
+            velocity_mps: nalgebra::Vector3::new(12.0, -16.0, 15.0),
+        }
+    }
+
+    /// Controls with every field off its default: throttle 75 %, alpha
+    /// -3.5°, bank 12°, flaps 40°, brakes set.
+    fn hand_controls() -> PalmerControls {
+        PalmerControls {
+            throttle: 0.75,
+            alpha_deg: -3.5,
+            bank_deg: 12.0,
+            flaps: Flaps::Deg40,
+            brakes: true,
+        }
+    }
+
+    /// A recorded aircraft comes back as it was, even the tail area a
+    /// study cannot set (the record is the aircraft itself), and a record
+    /// `PalmerAircraft::validate` refuses is refused in its words, naming
+    /// the first bad field: 0 kg (must be > 0), a negative parasite drag
+    /// (must be >= 0), a NaN wing span (must be finite).
+    #[test]
+    fn a_recorded_aircraft_comes_back_and_bad_parameters_are_refused() {
+        let mut aircraft = Palmer::aircraft_with(&[("mass_kg", 950.0), ("prop_b", -1.25)]).unwrap();
+        aircraft.tail_area_m2 = 3.0;
+        assert_ne!(aircraft, PalmerAircraft::cessna_172());
+        let record = Palmer::aircraft_record(&aircraft);
+        assert_eq!(record, aircraft);
+        assert_eq!(Palmer::aircraft_from_record(record), Ok(aircraft));
+        let bad = |edit: fn(&mut PalmerAircraft)| {
+            let mut r = record;
+            edit(&mut r);
+            Palmer::aircraft_from_record(r)
+        };
+        assert_eq!(
+            bad(|r| r.mass_kg = 0.0),
+            Err("aircraft parameter `mass_kg` must be > 0, got 0".to_owned())
+        );
+        assert_eq!(
+            bad(|r| r.cdp = -0.5),
+            Err("aircraft parameter `cdp` must be >= 0, got -0.5".to_owned())
+        );
+        assert_eq!(
+            bad(|r| {
+                r.wing_span_m = f64::NAN;
+                r.mass_kg = 0.0;
+            }),
+            Err("aircraft parameter `wing_span_m` must be finite, got NaN".to_owned())
+        );
+    }
+
+    /// What a recording keeps of a state is the state half of fdm-core's
+    /// fingerprint (the docs of `RunModel::state_fingerprint`), so a state a
+    /// step on has another.
+    #[test]
+    fn the_recorded_fingerprint_is_the_states() {
+        let aircraft = Palmer::default_aircraft();
+        let (controls, state) = Palmer::fleet_member(2);
+        let next = Palmer::step(&aircraft, &controls, &state, Palmer::time_step(30.0));
+        for s in [state, next, hand_state()] {
+            let want = fingerprint::Fingerprint::of_palmer(&s).state;
+            assert_eq!(Palmer::state_fingerprint(&s), want);
+        }
+        assert_ne!(
+            Palmer::state_fingerprint(&state),
+            Palmer::state_fingerprint(&next)
+        );
+    }
+
+    /// A fleet's offsets are metres, as Palmer's position is: 30.25 m
+    /// north, 60.5 m west and 3.125 m down move an aircraft from (1000.5,
+    /// -2000.25, 1500) m to (1030.75, -1939.75, 1496.875) m (every number
+    /// exact in binary, so the sums are exact), and nothing else.
+    #[test]
+    fn an_offset_in_metres_moves_the_metres() {
+        let (_, mut state) = Palmer::fleet_member(4);
+        state.time_s = 7.5;
+        state.position_m = nalgebra::Vector3::new(1000.5, -2000.25, 1500.0);
+        let moved = Palmer::offset_state(&state, 30.25, 60.5, -3.125);
+        assert_eq!(
+            <[f64; 3]>::from(moved.position_m),
+            [1030.75, -1939.75, 1496.875]
+        );
+        assert_eq!(
+            PalmerState {
+                position_m: state.position_m,
+                ..moved
+            },
+            state
+        );
+    }
+
+    /// The CSV's position and velocity are the state's metres, bit for bit
+    /// (`METRES_PER_UNIT` 1): the view's `position_m` and `velocity_mps`.
+    /// And its own columns, in `CSV_COLUMNS`' order, from numbers worked by
+    /// hand: airspeed `sqrt(12² + 16² + 15²)` = 25 m/s exactly, the
+    /// controls (flaps in degrees), climb angle `atan(15 / 20)` =
+    /// 36.869897645844021°, climb rate 15 m/s, heading (from north toward
+    /// west) `360° - atan(16 / 12)` = 306.86989764584402° (to 1e-12°: a few
+    /// roundings of `atan` and the degree conversion).
+    #[test]
+    fn the_csvs_columns_are_the_views_metres_and_the_flight_data() {
+        let state = hand_state();
+        let controls = hand_controls();
+        let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
+        assert_eq!(Palmer::METRES_PER_UNIT, 1.0);
+        let bits = |v: [f64; 3]| v.map(f64::to_bits);
+        let (p, v) = (
+            Palmer::native_position(&state),
+            Palmer::native_velocity(&state),
+        );
+        assert_eq!(bits(p), bits([1234.5, -0.25, 321.75]));
+        assert_eq!(bits(v), bits([12.0, -16.0, 15.0]));
+        assert_eq!(bits(p), bits(view.position_m.into()));
+        assert_eq!(bits(v), bits(view.velocity_mps.into()));
+
+        let mut row = Vec::new();
+        Palmer::csv_values(&controls, &state, &mut row);
+        assert_eq!(row.len(), Palmer::CSV_COLUMNS.len());
+        let want = [
+            25.0,
+            0.75,
+            -3.5,
+            12.0,
+            40.0,
+            36.869_897_645_844_02,
+            15.0,
+            306.869_897_645_844,
+        ];
+        for ((name, got), want) in Palmer::CSV_COLUMNS.iter().zip(&row).zip(want) {
+            assert!((got - want).abs() <= 1e-12, "{name}: {got} against {want}");
+        }
+        assert_eq!(Palmer::CSV_SPEED_COLUMN, Palmer::CSV_COLUMNS[0]);
+    }
+
+    /// The report's fields are the state's flight data and the controls as
+    /// they are (flaps in degrees, the brakes), from the numbers of
+    /// [`the_csvs_columns_are_the_views_metres_and_the_flight_data`] (to
+    /// 1e-12°); the aircraft does not enter them.
+    #[test]
+    fn the_report_details_are_the_flight_data_and_the_controls() {
+        let d = Palmer::details(&Palmer::default_aircraft(), &hand_controls(), &hand_state());
+        assert_eq!(d.airspeed, 25.0);
+        assert_eq!(
+            d.controls,
+            PalmerControlsReport {
+                throttle: 0.75,
+                alpha_deg: -3.5,
+                bank_deg: 12.0,
+                flaps_deg: 40.0,
+                brakes: true,
+            }
+        );
+        assert!(
+            (d.climb_angle_deg - 36.869_897_645_844_02).abs() <= 1e-12,
+            "{d:?}"
+        );
+        assert_eq!(d.climb_rate, 15.0);
+        assert!(
+            (d.heading_deg - 306.869_897_645_844).abs() <= 1e-12,
+            "{d:?}"
+        );
+        let heavy = Palmer::aircraft_with(&[("mass_kg", 2000.0)]).unwrap();
+        assert_eq!(Palmer::details(&heavy, &hand_controls(), &hand_state()), d);
+    }
+
+    /// The sample snapshot is what its docs say: 55.6 m/s (its details'
+    /// airspeed is the snapshot's), 75 % throttle, 4° of attack, banked 5°,
+    /// 20° of flaps, brakes off, airborne, on `CommonState::sample`.
+    #[test]
+    fn the_sample_snapshot_is_its_docs() {
+        let s = PalmerDetails::sample_snapshot();
+        assert_eq!(s.airspeed_mps, 55.6);
+        assert_eq!(s.details.airspeed, s.airspeed_mps);
+        assert_eq!(
+            s.details.controls,
+            PalmerControlsReport {
+                throttle: 0.75,
+                alpha_deg: 4.0,
+                bank_deg: 5.0,
+                flaps_deg: 20.0,
+                brakes: false,
+            }
+        );
+        assert_eq!(s.status, FlightStatus::Airborne);
+        assert!(!s.stalling);
+        assert_eq!(s.common, CommonState::sample());
+    }
+
+    /// The report's controls leave the brakes out of the JSON while they
+    /// are off (so reports read as before the brakes), write `"brakes":
+    /// true` while they are set, and read a report without them as off.
+    #[test]
+    fn the_reports_brakes_are_written_only_while_set() {
+        let off = PalmerDetails::sample_snapshot().details.controls;
+        let on = PalmerControlsReport {
+            brakes: true,
+            ..off
+        };
+        let json = |c: &PalmerControlsReport| serde_json::to_value(c).unwrap();
+        let written = json(&off);
+        assert_eq!(
+            written,
+            serde_json::json!({
+                "throttle": 0.75,
+                "alpha_deg": 4.0,
+                "bank_deg": 5.0,
+                "flaps_deg": 20.0,
+            })
+        );
+        assert_eq!(json(&on)["brakes"], serde_json::Value::Bool(true));
+        assert_eq!(json(&on).as_object().unwrap().len(), 5);
+        let read: PalmerControlsReport = serde_json::from_value(written).unwrap();
+        assert_eq!(read, off);
+        assert_eq!(
+            serde_json::from_value::<PalmerControlsReport>(json(&on)).unwrap(),
+            on
+        );
+    }
+
+    /// The summary's lines: airspeed to the millimetre per second, climb
+    /// angle to a hundredth of a degree, climb rate, throttle in whole per
+    /// cent, the angles and flaps as they are (`{}`), and `  BRAKES`
+    /// (`brakes_note`) after the flaps while the brakes are set.
+    #[test]
+    fn the_summary_shows_the_details_and_the_brakes() {
+        assert_eq!(brakes_note(true), "  BRAKES");
+        assert_eq!(brakes_note(false), "");
+        let mut d = PalmerDetails::sample_snapshot().details;
+        let line = "airspeed  55.600 m/s  climb 3.10 deg, 2.900 m/s\n\
+                    controls  throttle 75 %  alpha 4 deg  bank 5 deg  flaps 20 deg";
+        assert_eq!(d.summary(), line);
+        d.controls.brakes = true;
+        assert_eq!(d.summary(), format!("{line}  BRAKES"));
     }
 
     /// States for the rough DIS frames: velocities in every direction
