@@ -1169,6 +1169,183 @@ mod tests {
         assert_eq!(d.summary(), format!("{line}  BRAKES"));
     }
 
+    /// A study file sets the controls by name in the ranges of `sim-cli
+    /// palmer --throttle/--alpha/--bank` (0..1, -16..20°, -20..20°, the
+    /// ends included); a value out of its range (or NaN) is refused in
+    /// `in_range`'s words and leaves the controls as they were; another
+    /// name (the flaps are not one) is refused listing the names.
+    #[test]
+    fn a_study_sets_the_controls_by_name() {
+        let mut c = Palmer::initial_controls();
+        for (key, value) in [
+            ("throttle", 1.0),
+            ("throttle", 0.0),
+            ("alpha_deg", -16.0),
+            ("alpha_deg", 20.0),
+            ("bank_deg", -20.0),
+            ("bank_deg", 20.0),
+            ("throttle", 0.25),
+            ("alpha_deg", 7.5),
+            ("bank_deg", -12.5),
+        ] {
+            Palmer::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{e}"));
+        }
+        let want = PalmerControls {
+            throttle: 0.25,
+            alpha_deg: 7.5,
+            bank_deg: -12.5,
+            ..Palmer::initial_controls()
+        };
+        assert_eq!(c, want);
+        for (key, value, refusal) in [
+            (
+                "throttle",
+                1.5,
+                "throttle = 1.5: expected a number from 0 to 1",
+            ),
+            (
+                "throttle",
+                -0.25,
+                "throttle = -0.25: expected a number from 0 to 1",
+            ),
+            (
+                "alpha_deg",
+                -16.5,
+                "alpha_deg = -16.5: expected a number from -16 to 20",
+            ),
+            (
+                "alpha_deg",
+                20.5,
+                "alpha_deg = 20.5: expected a number from -16 to 20",
+            ),
+            (
+                "bank_deg",
+                -20.5,
+                "bank_deg = -20.5: expected a number from -20 to 20",
+            ),
+            (
+                "bank_deg",
+                f64::NAN,
+                "bank_deg = NaN: expected a number from -20 to 20",
+            ),
+        ] {
+            assert_eq!(
+                Palmer::set_control(&mut c, key, value),
+                Err(refusal.to_owned())
+            );
+        }
+        assert_eq!(
+            Palmer::set_control(&mut c, "flaps_deg", 20.0),
+            Err(
+                "unknown control `flaps_deg`; expected one of throttle, alpha_deg, bank_deg"
+                    .to_owned()
+            )
+        );
+        assert_eq!(c, want);
+    }
+
+    /// A study file's aircraft parameters: each of the fifteen names sets
+    /// its own field of the Cessna 172 (each value another than the
+    /// Cessna's), in order (the last value of a name counts, and only the
+    /// result is checked); none leaves the Cessna; a result
+    /// `PalmerAircraft::validate` refuses is refused in its words; another
+    /// name (the tail area, which the equations do not use, is not one) is
+    /// refused listing the names.
+    #[test]
+    fn a_study_sets_the_aircraft_by_name() {
+        let values = [
+            ("wing_area_m2", 17.5),
+            ("wing_span_m", 11.25),
+            ("cl_slope0_per_deg", 0.09),
+            ("cl0", 0.2),
+            ("cl_slope1_per_deg", -0.125),
+            ("cl1", 3.0),
+            ("alpha_cl_max_deg", 15.0),
+            ("cdp", 0.03),
+            ("eff", 0.8),
+            ("mass_kg", 1000.0),
+            ("engine_power_w", 120_000.0),
+            ("engine_rps", 42.0),
+            ("prop_diameter_m", 1.8),
+            ("prop_a", 1.9),
+            ("prop_b", -1.25),
+        ];
+        let want = PalmerAircraft {
+            wing_area_m2: 17.5,
+            wing_span_m: 11.25,
+            tail_area_m2: 2.0,
+            cl_slope0_per_deg: 0.09,
+            cl0: 0.2,
+            cl_slope1_per_deg: -0.125,
+            cl1: 3.0,
+            alpha_cl_max_deg: 15.0,
+            cdp: 0.03,
+            eff: 0.8,
+            mass_kg: 1000.0,
+            engine_power_w: 120_000.0,
+            engine_rps: 42.0,
+            prop_diameter_m: 1.8,
+            prop_a: 1.9,
+            prop_b: -1.25,
+        };
+        assert_eq!(Palmer::aircraft_with(&values), Ok(want));
+        assert_eq!(Palmer::AIRCRAFT_KEYS, values.map(|(key, _)| key).as_slice());
+        // Each name alone changes its own field only (the fields by their
+        // serialized names, which are the keys).
+        let cessna = PalmerAircraft::cessna_172();
+        let fields = |a: &PalmerAircraft| match serde_json::to_value(a).unwrap() {
+            serde_json::Value::Object(map) => map,
+            other => panic!("{other}"),
+        };
+        let original = fields(&cessna);
+        for (key, value) in values {
+            let a = fields(&Palmer::aircraft_with(&[(key, value)]).unwrap());
+            let changed: Vec<&str> = original
+                .iter()
+                .filter(|(k, v)| a[k.as_str()] != **v)
+                .map(|(k, _)| k.as_str())
+                .collect();
+            assert_eq!(changed, [key]);
+            assert_eq!(a[key], serde_json::json!(value), "{key}");
+        }
+        assert_eq!(Palmer::aircraft_with(&[]), Ok(cessna));
+        assert_eq!(
+            Palmer::aircraft_with(&[("mass_kg", -1.0), ("mass_kg", 900.0)]).map(|a| a.mass_kg),
+            Ok(900.0)
+        );
+        assert_eq!(
+            Palmer::aircraft_with(&[("eff", 0.0)]),
+            Err("aircraft parameter `eff` must be > 0, got 0".to_owned())
+        );
+        assert_eq!(
+            Palmer::aircraft_with(&[("tail_area_m2", 2.5)]),
+            Err(format!(
+                "unknown aircraft parameter `tail_area_m2`; expected one of {}",
+                values.map(|(key, _)| key).join(", ")
+            ))
+        );
+    }
+
+    /// The cheap reads of a state in flight (its time past 0) are the
+    /// view's, bit for bit.
+    #[test]
+    fn the_cheap_reads_of_a_flight_are_the_views() {
+        let aircraft = Palmer::default_aircraft();
+        let (controls, mut state) = Palmer::fleet_member(1);
+        for _ in 0..10 {
+            state = Palmer::step(&aircraft, &controls, &state, Palmer::time_step(30.0));
+        }
+        let view = Palmer::view(&aircraft, &controls, &state);
+        assert!(view.time_s > 0.3, "{}", view.time_s);
+        assert_eq!(Palmer::time_s(&state).to_bits(), view.time_s.to_bits());
+        assert_eq!(
+            Palmer::velocity_mps(&state).map(f64::to_bits),
+            <[f64; 3]>::from(view.velocity_mps).map(f64::to_bits)
+        );
+        assert_eq!(Palmer::time_s(&hand_state()), 7.5);
+        assert_eq!(Palmer::velocity_mps(&hand_state()), [12.0, -16.0, 15.0]);
+    }
+
     /// States for the rough DIS frames: velocities in every direction
     /// (up to 60 m/s a component; every seventh with no west component,
     /// flying north or south, every eleventh level, every thirteenth
