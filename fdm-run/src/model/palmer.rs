@@ -1346,6 +1346,91 @@ mod tests {
         assert_eq!(Palmer::velocity_mps(&hand_state()), [12.0, -16.0, 15.0]);
     }
 
+    /// `sim-cli palmer`'s start: the table's number options take the
+    /// documented ranges (throttle 0..1, alpha -16..20°, bank -20..20°,
+    /// the ends included), and its defaults (0, 0, 0, flaps 0, no brakes)
+    /// give the model's own start; given values become the controls as they
+    /// are (flaps by degrees, the brakes flag), and a flap setting the
+    /// model has not is refused.
+    #[test]
+    fn the_pilots_start_options_and_controls() {
+        use crate::model::pilot::OptionKind;
+        let mut ranges = Vec::new();
+        let defaults: Vec<OptionValue> = Palmer::START_OPTIONS
+            .iter()
+            .map(|o| match o.kind {
+                OptionKind::Number { range, default, .. } => {
+                    ranges.push((o.long, range.low, range.high));
+                    for end in [range.low, range.high] {
+                        assert_eq!(range.parse(&end.to_string()), Ok(end), "--{}", o.long);
+                    }
+                    OptionValue::Number(range.parse(default.unwrap()).unwrap())
+                }
+                OptionKind::Choice {
+                    choices, default, ..
+                } => OptionValue::Choice(choices.parse(default).unwrap()),
+                OptionKind::Flag => OptionValue::Flag(false),
+            })
+            .collect();
+        assert_eq!(
+            ranges,
+            [
+                ("throttle", 0.0, 1.0),
+                ("alpha", -16.0, 20.0),
+                ("bank", -20.0, 20.0)
+            ]
+        );
+        assert_eq!(
+            Palmer::start_controls(&defaults),
+            Ok(Palmer::initial_controls())
+        );
+        let given = |flaps: &'static str| {
+            Palmer::start_controls(&[
+                OptionValue::Number(0.75),
+                OptionValue::Number(-3.5),
+                OptionValue::Number(12.0),
+                OptionValue::Choice(flaps),
+                OptionValue::Flag(true),
+            ])
+        };
+        assert_eq!(given("40"), Ok(hand_controls()));
+        assert_eq!(given("20").map(|c| c.flaps), Ok(Flaps::Deg20));
+        assert_eq!(
+            given("30"),
+            Err("--flaps 30: not a flap setting (0, 20 or 40)".to_owned())
+        );
+    }
+
+    /// The HUD's controls line: throttle in whole per cent (3 wide), alpha
+    /// and bank signed to a tenth (5 wide, what shows as zero as `+0.0`:
+    /// `tenths`), flaps in degrees, and `  BRAKES` while the brakes are set;
+    /// the model's start (with an alpha of -0.04°, shown as `+0.0`), the
+    /// sample snapshot, and full throttle banked -12.5° with the brakes.
+    #[test]
+    fn the_controls_line_shows_the_controls() {
+        let mut start = Palmer::initial_controls();
+        start.alpha_deg = -0.04;
+        let details = |c: &PalmerControls| {
+            Palmer::details(&Palmer::default_aircraft(), c, &Palmer::initial_state())
+        };
+        assert_eq!(
+            details(&start).controls_line(),
+            "THROTTLE   0 %   ALPHA  +0.0 deg   BANK  +0.0 deg   FLAPS 0 deg"
+        );
+        let mut sample = PalmerDetails::sample_snapshot().details;
+        assert_eq!(
+            sample.controls_line(),
+            "THROTTLE  75 %   ALPHA  +4.0 deg   BANK  +5.0 deg   FLAPS 20 deg"
+        );
+        sample.controls.throttle = 1.0;
+        sample.controls.bank_deg = -12.5;
+        sample.controls.brakes = true;
+        assert_eq!(
+            sample.controls_line(),
+            "THROTTLE 100 %   ALPHA  +4.0 deg   BANK -12.5 deg   FLAPS 20 deg  BRAKES"
+        );
+    }
+
     /// States for the rough DIS frames: velocities in every direction
     /// (up to 60 m/s a component; every seventh with no west component,
     /// flying north or south, every eleventh level, every thirteenth
