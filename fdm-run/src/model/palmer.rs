@@ -1431,6 +1431,149 @@ mod tests {
         );
     }
 
+    /// The state's columns are `STATE_FIELDS` in order (time, position,
+    /// velocity), the state's numbers bit for bit; the controls' columns
+    /// are `CONTROL_FIELDS` in order (flaps in degrees, brakes 1 or 0),
+    /// with the ranges of `sim-cli palmer`'s options (throttle 0..1, alpha
+    /// -16..20°, bank -20..20°), flaps 0..40° and brakes 0..1.
+    #[test]
+    fn the_columns_are_the_state_and_the_controls() {
+        assert_eq!(
+            Palmer::STATE_FIELDS,
+            ["time_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"]
+        );
+        let mut values = [f64::NAN; 7];
+        Palmer::state_values(&hand_state(), &mut values);
+        assert_eq!(
+            values.map(f64::to_bits),
+            [7.5, 1234.5, -0.25, 321.75, 12.0, -16.0, 15.0].map(f64::to_bits)
+        );
+        assert_eq!(
+            Palmer::CONTROL_FIELDS,
+            [
+                ("throttle", 0.0, 1.0),
+                ("alpha_deg", -16.0, 20.0),
+                ("bank_deg", -20.0, 20.0),
+                ("flaps_deg", 0.0, 40.0),
+                ("brakes", 0.0, 1.0),
+            ]
+        );
+        let mut values = [f64::NAN; 5];
+        Palmer::control_values(&hand_controls(), &mut values);
+        assert_eq!(values, [0.75, -3.5, 12.0, 40.0, 1.0]);
+        let c = PalmerControls {
+            brakes: false,
+            flaps: Flaps::Deg20,
+            ..hand_controls()
+        };
+        Palmer::control_values(&c, &mut values);
+        assert_eq!(values, [0.75, -3.5, 12.0, 20.0, 0.0]);
+    }
+
+    /// A control set by its column's index changes that control only:
+    /// the throttle, alpha and bank as given, the flaps for 0, 20 and 40
+    /// (another number in their range refused), the brakes for 1 and 0
+    /// (another number refused).
+    #[test]
+    fn a_control_is_set_by_its_columns_index() {
+        let start = hand_controls();
+        let set = |index: usize, value: f64| Palmer::with_control(start, index, value);
+        let with = |edit: fn(&mut PalmerControls)| {
+            let mut c = start;
+            edit(&mut c);
+            Ok(c)
+        };
+        assert_eq!(set(0, 0.25), with(|c| c.throttle = 0.25));
+        assert_eq!(set(1, 7.5), with(|c| c.alpha_deg = 7.5));
+        assert_eq!(set(2, -12.5), with(|c| c.bank_deg = -12.5));
+        assert_eq!(set(3, 0.0), with(|c| c.flaps = Flaps::Up));
+        assert_eq!(set(3, 20.0), with(|c| c.flaps = Flaps::Deg20));
+        assert_eq!(set(3, 40.0), Ok(start));
+        assert_eq!(set(3, 30.0), Err("30 is not 0, 20 or 40".to_owned()));
+        assert_eq!(set(4, 0.0), with(|c| c.brakes = false));
+        assert_eq!(
+            Palmer::with_control(Palmer::initial_controls(), 4, 1.0).map(|c| c.brakes),
+            Ok(true)
+        );
+        assert_eq!(set(4, 0.5), Err("0.5 is not 0 or 1".to_owned()));
+    }
+
+    /// The tasks' actions (`afit_fdm.gym`, its oracle
+    /// `test_task_kernel.py`): throttle `(a + 1) / 2`, alpha `2 + 18 a`
+    /// degrees, bank `20 a` degrees, flaps 0° below -1/3, 20° from -1/3 to
+    /// 1/3 (both included), 40° above (and for NaN, which no comparison
+    /// holds for); the controls set are indices 0..4, four of them. The
+    /// numbers are exact in binary (and so the operations).
+    #[test]
+    fn the_tasks_actions_set_throttle_alpha_bank_and_flaps() {
+        for (a, throttle, alpha, bank) in [
+            (-1.0, 0.0, -16.0, -20.0),
+            (-0.5, 0.25, -7.0, -10.0),
+            (0.0, 0.5, 2.0, 0.0),
+            (0.5, 0.75, 11.0, 10.0),
+            (1.0, 1.0, 20.0, 20.0),
+        ] {
+            let (list, count) = Palmer::task_controls(&[a, a, a, 0.0]);
+            assert_eq!(count, 4);
+            assert_eq!(
+                list[..4],
+                [(0, throttle), (1, alpha), (2, bank), (3, 20.0)],
+                "{a}"
+            );
+        }
+        let third = 1.0_f64 / 3.0;
+        for (a, flaps) in [
+            (-1.0, 0.0),
+            (-0.5, 0.0),
+            ((-third).next_down(), 0.0),
+            (-third, 20.0),
+            (0.0, 20.0),
+            (third, 20.0),
+            (third.next_up(), 40.0),
+            (0.5, 40.0),
+            (1.0, 40.0),
+            (f64::NAN, 40.0),
+        ] {
+            let (list, _) = Palmer::task_controls(&[0.0, 0.0, 0.0, a]);
+            assert_eq!(list[3], (3, flaps), "{a}");
+        }
+    }
+
+    /// `task_apply` sets the throttle, alpha, bank and flap setting of the
+    /// actions (as [`the_tasks_actions_set_throttle_alpha_bank_and_flaps`]
+    /// worked them) and keeps the brakes; the observed controls of those
+    /// controls are throttle, alpha / 20, bank / 20 and flaps / 40: for
+    /// actions (0.5, 0.5, -0.5, ±1, 0) the controls 0.75, 11°, -10°, flaps
+    /// 40° or 0°, observed as 0.75, 0.55 (11 / 20 correctly rounded is the
+    /// double nearest 0.55), -0.5, 1 or 0.
+    #[test]
+    fn the_tasks_apply_and_observe_the_controls() {
+        let start = hand_controls();
+        for (a3, flaps, observed) in [
+            (1.0, Flaps::Deg40, 1.0),
+            (0.0, Flaps::Deg20, 0.5),
+            (-1.0, Flaps::Up, 0.0),
+        ] {
+            let got = Palmer::task_apply(start, &[0.5, 0.5, -0.5, a3]);
+            assert_eq!(
+                got,
+                PalmerControls {
+                    throttle: 0.75,
+                    alpha_deg: 11.0,
+                    bank_deg: -10.0,
+                    flaps,
+                    brakes: true,
+                },
+                "{a3}"
+            );
+            let mut values = [0.0; 5];
+            Palmer::control_values(&got, &mut values);
+            let mut obs = [f64::NAN; 4];
+            Palmer::task_control_obs(&values, &mut obs);
+            assert_eq!(obs, [0.75, 0.55, -0.5, observed], "{a3}");
+        }
+    }
+
     /// States for the rough DIS frames: velocities in every direction
     /// (up to 60 m/s a component; every seventh with no west component,
     /// flying north or south, every eleventh level, every thirteenth
