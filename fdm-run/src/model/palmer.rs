@@ -1247,7 +1247,7 @@ mod tests {
     /// A study file's aircraft parameters: each of the fifteen names sets
     /// its own field of the Cessna 172 (each value another than the
     /// Cessna's), in order (the last value of a name counts, and only the
-    /// result is checked); none leaves the Cessna; a result
+    /// result is checked); no parameters give the Cessna; a result
     /// `PalmerAircraft::validate` refuses is refused in its words; another
     /// name (the tail area, which the equations do not use, is not one) is
     /// refused listing the names.
@@ -1543,9 +1543,9 @@ mod tests {
     /// actions (as [`the_tasks_actions_set_throttle_alpha_bank_and_flaps`]
     /// worked them) and keeps the brakes; the observed controls of those
     /// controls are throttle, alpha / 20, bank / 20 and flaps / 40: for
-    /// actions (0.5, 0.5, -0.5, ±1, 0) the controls 0.75, 11°, -10°, flaps
-    /// 40° or 0°, observed as 0.75, 0.55 (11 / 20 correctly rounded is the
-    /// double nearest 0.55), -0.5, 1 or 0.
+    /// actions (0.5, 0.5, -0.5, a), a 1, 0 or -1, the controls 0.75, 11°,
+    /// -10°, flaps 40°, 20° or 0°, observed as 0.75, 0.55 (11 / 20
+    /// correctly rounded is the double nearest 0.55), -0.5, 1, 0.5 or 0.
     #[test]
     fn the_tasks_apply_and_observe_the_controls() {
         let start = hand_controls();
