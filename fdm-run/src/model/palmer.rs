@@ -900,6 +900,7 @@ mod tests {
     use super::*;
     #[cfg(feature = "dis")]
     use crate::model::test_support::{lanes_against_frames, uniform_in_plus_minus_one};
+    use fdm_core::model::Model;
 
     /// The observed flaps of every setting are the per-aircraft method's
     /// division, bit for bit (the agent tests' fleet members have no 40°
@@ -921,6 +922,655 @@ mod tests {
             for lane in out[3] {
                 assert_eq!(lane.to_bits(), want[3].to_bits(), "{flaps:?}");
             }
+        }
+    }
+
+    /// A state with every field its own number (exact in binary): at
+    /// 7.5 s, 1234.5 m north, 0.25 m east and 321.75 m up, flying 12 m/s
+    /// north, 16 m/s east and 15 m/s up (a 3-4-5 triangle twice: 20 m/s
+    /// horizontally, 25 m/s in all).
+    fn hand_state() -> PalmerState {
+        PalmerState {
+            time_s: 7.5,
+            position_m: nalgebra::Vector3::new(1234.5, -0.25, 321.75),
+            velocity_mps: nalgebra::Vector3::new(12.0, -16.0, 15.0),
+        }
+    }
+
+    /// Controls with every field off its default: throttle 75 %, alpha
+    /// -3.5°, bank 12°, flaps 40°, brakes set.
+    fn hand_controls() -> PalmerControls {
+        PalmerControls {
+            throttle: 0.75,
+            alpha_deg: -3.5,
+            bank_deg: 12.0,
+            flaps: Flaps::Deg40,
+            brakes: true,
+        }
+    }
+
+    /// A recorded aircraft comes back as it was, even the tail area a
+    /// study cannot set (the record is the aircraft itself), and a record
+    /// `PalmerAircraft::validate` refuses is refused in its words, naming
+    /// the first bad field: 0 kg (must be > 0), a negative parasite drag
+    /// (must be >= 0), a NaN wing span (must be finite).
+    #[test]
+    fn a_recorded_aircraft_comes_back_and_bad_parameters_are_refused() {
+        let mut aircraft = Palmer::aircraft_with(&[("mass_kg", 950.0), ("prop_b", -1.25)]).unwrap();
+        aircraft.tail_area_m2 = 3.0;
+        assert_ne!(aircraft, PalmerAircraft::cessna_172());
+        let record = Palmer::aircraft_record(&aircraft);
+        assert_eq!(record, aircraft);
+        assert_eq!(Palmer::aircraft_from_record(record), Ok(aircraft));
+        let bad = |edit: fn(&mut PalmerAircraft)| {
+            let mut r = record;
+            edit(&mut r);
+            Palmer::aircraft_from_record(r)
+        };
+        assert_eq!(
+            bad(|r| r.mass_kg = 0.0),
+            Err("aircraft parameter `mass_kg` must be > 0, got 0".to_owned())
+        );
+        assert_eq!(
+            bad(|r| r.cdp = -0.5),
+            Err("aircraft parameter `cdp` must be >= 0, got -0.5".to_owned())
+        );
+        assert_eq!(
+            bad(|r| {
+                r.wing_span_m = f64::NAN;
+                r.mass_kg = 0.0;
+            }),
+            Err("aircraft parameter `wing_span_m` must be finite, got NaN".to_owned())
+        );
+    }
+
+    /// What a recording keeps of a state is the state half of fdm-core's
+    /// fingerprint (the docs of `RunModel::state_fingerprint`), so a state a
+    /// step on has another.
+    #[test]
+    fn the_recorded_fingerprint_is_the_states() {
+        let aircraft = Palmer::default_aircraft();
+        let (controls, state) = Palmer::fleet_member(2);
+        let next = Palmer::step(&aircraft, &controls, &state, Palmer::time_step(30.0));
+        for s in [state, next, hand_state()] {
+            let want = fingerprint::Fingerprint::of_palmer(&s).state;
+            assert_eq!(Palmer::state_fingerprint(&s), want);
+        }
+        assert_ne!(
+            Palmer::state_fingerprint(&state),
+            Palmer::state_fingerprint(&next)
+        );
+    }
+
+    /// A fleet's offsets are metres, as Palmer's position is: 30.25 m
+    /// north, 60.5 m west and 3.125 m down move an aircraft from (1000.5,
+    /// -2000.25, 1500) m to (1030.75, -1939.75, 1496.875) m (every number
+    /// exact in binary, so the sums are exact), and nothing else.
+    #[test]
+    fn an_offset_in_metres_moves_the_metres() {
+        let (_, mut state) = Palmer::fleet_member(4);
+        state.time_s = 7.5;
+        state.position_m = nalgebra::Vector3::new(1000.5, -2000.25, 1500.0);
+        let moved = Palmer::offset_state(&state, 30.25, 60.5, -3.125);
+        assert_eq!(
+            <[f64; 3]>::from(moved.position_m),
+            [1030.75, -1939.75, 1496.875]
+        );
+        assert_eq!(
+            PalmerState {
+                position_m: state.position_m,
+                ..moved
+            },
+            state
+        );
+    }
+
+    /// The CSV's position and velocity are the state's metres, bit for bit
+    /// (`METRES_PER_UNIT` 1): the view's `position_m` and `velocity_mps`.
+    /// And its own columns, in `CSV_COLUMNS`' order, from numbers worked by
+    /// hand: airspeed `sqrt(12² + 16² + 15²)` = 25 m/s exactly, the
+    /// controls (flaps in degrees), climb angle `atan(15 / 20)` =
+    /// 36.869897645844021°, climb rate 15 m/s, heading (from north toward
+    /// west) `360° - atan(16 / 12)` = 306.86989764584402° (to 1e-12°: a few
+    /// roundings of `atan` and the degree conversion).
+    #[test]
+    fn the_csvs_columns_are_the_views_metres_and_the_flight_data() {
+        let state = hand_state();
+        let controls = hand_controls();
+        let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
+        assert_eq!(Palmer::METRES_PER_UNIT, 1.0);
+        let bits = |v: [f64; 3]| v.map(f64::to_bits);
+        let (p, v) = (
+            Palmer::native_position(&state),
+            Palmer::native_velocity(&state),
+        );
+        assert_eq!(bits(p), bits([1234.5, -0.25, 321.75]));
+        assert_eq!(bits(v), bits([12.0, -16.0, 15.0]));
+        assert_eq!(bits(p), bits(view.position_m.into()));
+        assert_eq!(bits(v), bits(view.velocity_mps.into()));
+
+        let mut row = Vec::new();
+        Palmer::csv_values(&controls, &state, &mut row);
+        assert_eq!(row.len(), Palmer::CSV_COLUMNS.len());
+        let want = [
+            25.0,
+            0.75,
+            -3.5,
+            12.0,
+            40.0,
+            36.869_897_645_844_02,
+            15.0,
+            306.869_897_645_844,
+        ];
+        for ((name, got), want) in Palmer::CSV_COLUMNS.iter().zip(&row).zip(want) {
+            assert!((got - want).abs() <= 1e-12, "{name}: {got} against {want}");
+        }
+        assert_eq!(Palmer::CSV_SPEED_COLUMN, Palmer::CSV_COLUMNS[0]);
+    }
+
+    /// The report's fields are the state's flight data and the controls as
+    /// they are (flaps in degrees, the brakes), from the numbers of
+    /// [`the_csvs_columns_are_the_views_metres_and_the_flight_data`] (to
+    /// 1e-12°); the aircraft does not enter them.
+    #[test]
+    fn the_report_details_are_the_flight_data_and_the_controls() {
+        let d = Palmer::details(&Palmer::default_aircraft(), &hand_controls(), &hand_state());
+        assert_eq!(d.airspeed, 25.0);
+        assert_eq!(
+            d.controls,
+            PalmerControlsReport {
+                throttle: 0.75,
+                alpha_deg: -3.5,
+                bank_deg: 12.0,
+                flaps_deg: 40.0,
+                brakes: true,
+            }
+        );
+        assert!(
+            (d.climb_angle_deg - 36.869_897_645_844_02).abs() <= 1e-12,
+            "{d:?}"
+        );
+        assert_eq!(d.climb_rate, 15.0);
+        assert!(
+            (d.heading_deg - 306.869_897_645_844).abs() <= 1e-12,
+            "{d:?}"
+        );
+        let heavy = Palmer::aircraft_with(&[("mass_kg", 2000.0)]).unwrap();
+        assert_eq!(Palmer::details(&heavy, &hand_controls(), &hand_state()), d);
+    }
+
+    /// The sample snapshot is what its docs say: 55.6 m/s (its details'
+    /// airspeed is the snapshot's), 75 % throttle, 4° of attack, banked 5°,
+    /// 20° of flaps, brakes off, airborne, on `CommonState::sample`.
+    #[test]
+    fn the_sample_snapshot_is_its_docs() {
+        let s = PalmerDetails::sample_snapshot();
+        assert_eq!(s.airspeed_mps, 55.6);
+        assert_eq!(s.details.airspeed, s.airspeed_mps);
+        assert_eq!(
+            s.details.controls,
+            PalmerControlsReport {
+                throttle: 0.75,
+                alpha_deg: 4.0,
+                bank_deg: 5.0,
+                flaps_deg: 20.0,
+                brakes: false,
+            }
+        );
+        assert_eq!(s.status, FlightStatus::Airborne);
+        assert!(!s.stalling);
+        assert_eq!(s.common, CommonState::sample());
+    }
+
+    /// The report's controls leave the brakes out of the JSON while they
+    /// are off (so reports read as before the brakes), write `"brakes":
+    /// true` while they are set, and read a report without them as off.
+    #[test]
+    fn the_reports_brakes_are_written_only_while_set() {
+        let off = PalmerDetails::sample_snapshot().details.controls;
+        let on = PalmerControlsReport {
+            brakes: true,
+            ..off
+        };
+        let json = |c: &PalmerControlsReport| serde_json::to_value(c).unwrap();
+        let written = json(&off);
+        assert_eq!(
+            written,
+            serde_json::json!({
+                "throttle": 0.75,
+                "alpha_deg": 4.0,
+                "bank_deg": 5.0,
+                "flaps_deg": 20.0,
+            })
+        );
+        assert_eq!(json(&on)["brakes"], serde_json::Value::Bool(true));
+        assert_eq!(json(&on).as_object().unwrap().len(), 5);
+        let read: PalmerControlsReport = serde_json::from_value(written).unwrap();
+        assert_eq!(read, off);
+        assert_eq!(
+            serde_json::from_value::<PalmerControlsReport>(json(&on)).unwrap(),
+            on
+        );
+    }
+
+    /// The summary's lines: airspeed to the millimetre per second, climb
+    /// angle to a hundredth of a degree, climb rate, throttle in whole per
+    /// cent, the angles and flaps as they are (`{}`), and `  BRAKES`
+    /// (`brakes_note`) after the flaps while the brakes are set.
+    #[test]
+    fn the_summary_shows_the_details_and_the_brakes() {
+        assert_eq!(brakes_note(true), "  BRAKES");
+        assert_eq!(brakes_note(false), "");
+        let mut d = PalmerDetails::sample_snapshot().details;
+        let line = "airspeed  55.600 m/s  climb 3.10 deg, 2.900 m/s\n\
+                    controls  throttle 75 %  alpha 4 deg  bank 5 deg  flaps 20 deg";
+        assert_eq!(d.summary(), line);
+        d.controls.brakes = true;
+        assert_eq!(d.summary(), format!("{line}  BRAKES"));
+    }
+
+    /// A study file sets the controls by name in the ranges of `sim-cli
+    /// palmer --throttle/--alpha/--bank` (0..1, -16..20°, -20..20°, the
+    /// ends included); a value out of its range (or NaN) is refused in
+    /// `in_range`'s words and leaves the controls as they were; another
+    /// name (the flaps are not one) is refused listing the names.
+    #[test]
+    fn a_study_sets_the_controls_by_name() {
+        let mut c = Palmer::initial_controls();
+        for (key, value) in [
+            ("throttle", 1.0),
+            ("throttle", 0.0),
+            ("alpha_deg", -16.0),
+            ("alpha_deg", 20.0),
+            ("bank_deg", -20.0),
+            ("bank_deg", 20.0),
+            ("throttle", 0.25),
+            ("alpha_deg", 7.5),
+            ("bank_deg", -12.5),
+        ] {
+            Palmer::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{e}"));
+        }
+        let want = PalmerControls {
+            throttle: 0.25,
+            alpha_deg: 7.5,
+            bank_deg: -12.5,
+            ..Palmer::initial_controls()
+        };
+        assert_eq!(c, want);
+        for (key, value, refusal) in [
+            (
+                "throttle",
+                1.5,
+                "throttle = 1.5: expected a number from 0 to 1",
+            ),
+            (
+                "throttle",
+                -0.25,
+                "throttle = -0.25: expected a number from 0 to 1",
+            ),
+            (
+                "alpha_deg",
+                -16.5,
+                "alpha_deg = -16.5: expected a number from -16 to 20",
+            ),
+            (
+                "alpha_deg",
+                20.5,
+                "alpha_deg = 20.5: expected a number from -16 to 20",
+            ),
+            (
+                "bank_deg",
+                -20.5,
+                "bank_deg = -20.5: expected a number from -20 to 20",
+            ),
+            (
+                "bank_deg",
+                f64::NAN,
+                "bank_deg = NaN: expected a number from -20 to 20",
+            ),
+        ] {
+            assert_eq!(
+                Palmer::set_control(&mut c, key, value),
+                Err(refusal.to_owned())
+            );
+        }
+        assert_eq!(
+            Palmer::set_control(&mut c, "flaps_deg", 20.0),
+            Err(
+                "unknown control `flaps_deg`; expected one of throttle, alpha_deg, bank_deg"
+                    .to_owned()
+            )
+        );
+        assert_eq!(c, want);
+    }
+
+    /// A study file's aircraft parameters: each of the fifteen names sets
+    /// its own field of the Cessna 172 (each value another than the
+    /// Cessna's), in order (the last value of a name counts, and only the
+    /// result is checked); no parameters give the Cessna; a result
+    /// `PalmerAircraft::validate` refuses is refused in its words; another
+    /// name (the tail area, which the equations do not use, is not one) is
+    /// refused listing the names.
+    #[test]
+    fn a_study_sets_the_aircraft_by_name() {
+        let values = [
+            ("wing_area_m2", 17.5),
+            ("wing_span_m", 11.25),
+            ("cl_slope0_per_deg", 0.09),
+            ("cl0", 0.2),
+            ("cl_slope1_per_deg", -0.125),
+            ("cl1", 3.0),
+            ("alpha_cl_max_deg", 15.0),
+            ("cdp", 0.03),
+            ("eff", 0.8),
+            ("mass_kg", 1000.0),
+            ("engine_power_w", 120_000.0),
+            ("engine_rps", 42.0),
+            ("prop_diameter_m", 1.8),
+            ("prop_a", 1.9),
+            ("prop_b", -1.25),
+        ];
+        let want = PalmerAircraft {
+            wing_area_m2: 17.5,
+            wing_span_m: 11.25,
+            tail_area_m2: 2.0,
+            cl_slope0_per_deg: 0.09,
+            cl0: 0.2,
+            cl_slope1_per_deg: -0.125,
+            cl1: 3.0,
+            alpha_cl_max_deg: 15.0,
+            cdp: 0.03,
+            eff: 0.8,
+            mass_kg: 1000.0,
+            engine_power_w: 120_000.0,
+            engine_rps: 42.0,
+            prop_diameter_m: 1.8,
+            prop_a: 1.9,
+            prop_b: -1.25,
+        };
+        assert_eq!(Palmer::aircraft_with(&values), Ok(want));
+        assert_eq!(Palmer::AIRCRAFT_KEYS, values.map(|(key, _)| key).as_slice());
+        // Each name alone changes its own field only (the fields by their
+        // serialized names, which are the keys).
+        let cessna = PalmerAircraft::cessna_172();
+        let fields = |a: &PalmerAircraft| match serde_json::to_value(a).unwrap() {
+            serde_json::Value::Object(map) => map,
+            other => panic!("{other}"),
+        };
+        let original = fields(&cessna);
+        for (key, value) in values {
+            let a = fields(&Palmer::aircraft_with(&[(key, value)]).unwrap());
+            let changed: Vec<&str> = original
+                .iter()
+                .filter(|(k, v)| a[k.as_str()] != **v)
+                .map(|(k, _)| k.as_str())
+                .collect();
+            assert_eq!(changed, [key]);
+            assert_eq!(a[key], serde_json::json!(value), "{key}");
+        }
+        assert_eq!(Palmer::aircraft_with(&[]), Ok(cessna));
+        assert_eq!(
+            Palmer::aircraft_with(&[("mass_kg", -1.0), ("mass_kg", 900.0)]).map(|a| a.mass_kg),
+            Ok(900.0)
+        );
+        assert_eq!(
+            Palmer::aircraft_with(&[("eff", 0.0)]),
+            Err("aircraft parameter `eff` must be > 0, got 0".to_owned())
+        );
+        assert_eq!(
+            Palmer::aircraft_with(&[("tail_area_m2", 2.5)]),
+            Err(format!(
+                "unknown aircraft parameter `tail_area_m2`; expected one of {}",
+                values.map(|(key, _)| key).join(", ")
+            ))
+        );
+    }
+
+    /// The cheap reads of a state in flight (its time past 0) are the
+    /// view's, bit for bit.
+    #[test]
+    fn the_cheap_reads_of_a_flight_are_the_views() {
+        let aircraft = Palmer::default_aircraft();
+        let (controls, mut state) = Palmer::fleet_member(1);
+        for _ in 0..10 {
+            state = Palmer::step(&aircraft, &controls, &state, Palmer::time_step(30.0));
+        }
+        let view = Palmer::view(&aircraft, &controls, &state);
+        assert!(view.time_s > 0.3, "{}", view.time_s);
+        assert_eq!(Palmer::time_s(&state).to_bits(), view.time_s.to_bits());
+        assert_eq!(
+            Palmer::velocity_mps(&state).map(f64::to_bits),
+            <[f64; 3]>::from(view.velocity_mps).map(f64::to_bits)
+        );
+        assert_eq!(Palmer::time_s(&hand_state()), 7.5);
+        assert_eq!(Palmer::velocity_mps(&hand_state()), [12.0, -16.0, 15.0]);
+    }
+
+    /// `sim-cli palmer`'s start: the table's number options take the
+    /// documented ranges (throttle 0..1, alpha -16..20°, bank -20..20°,
+    /// the ends included), and its defaults (0, 0, 0, flaps 0, no brakes)
+    /// give the model's own start; given values become the controls as they
+    /// are (flaps by degrees, the brakes flag), and a flap setting the
+    /// model has not is refused.
+    #[test]
+    fn the_pilots_start_options_and_controls() {
+        use crate::model::pilot::OptionKind;
+        let mut ranges = Vec::new();
+        let defaults: Vec<OptionValue> = Palmer::START_OPTIONS
+            .iter()
+            .map(|o| match o.kind {
+                OptionKind::Number { range, default, .. } => {
+                    ranges.push((o.long, range.low, range.high));
+                    for end in [range.low, range.high] {
+                        assert_eq!(range.parse(&end.to_string()), Ok(end), "--{}", o.long);
+                    }
+                    OptionValue::Number(range.parse(default.unwrap()).unwrap())
+                }
+                OptionKind::Choice {
+                    choices, default, ..
+                } => OptionValue::Choice(choices.parse(default).unwrap()),
+                OptionKind::Flag => OptionValue::Flag(false),
+            })
+            .collect();
+        assert_eq!(
+            ranges,
+            [
+                ("throttle", 0.0, 1.0),
+                ("alpha", -16.0, 20.0),
+                ("bank", -20.0, 20.0)
+            ]
+        );
+        assert_eq!(
+            Palmer::start_controls(&defaults),
+            Ok(Palmer::initial_controls())
+        );
+        let given = |flaps: &'static str| {
+            Palmer::start_controls(&[
+                OptionValue::Number(0.75),
+                OptionValue::Number(-3.5),
+                OptionValue::Number(12.0),
+                OptionValue::Choice(flaps),
+                OptionValue::Flag(true),
+            ])
+        };
+        assert_eq!(given("40"), Ok(hand_controls()));
+        assert_eq!(given("20").map(|c| c.flaps), Ok(Flaps::Deg20));
+        assert_eq!(
+            given("30"),
+            Err("--flaps 30: not a flap setting (0, 20 or 40)".to_owned())
+        );
+    }
+
+    /// The HUD's controls line: throttle in whole per cent (3 wide), alpha
+    /// and bank signed to a tenth (5 wide, what shows as zero as `+0.0`:
+    /// `tenths`), flaps in degrees, and `  BRAKES` while the brakes are set;
+    /// the model's start (with an alpha of -0.04°, shown as `+0.0`), the
+    /// sample snapshot, and full throttle banked -12.5° with the brakes.
+    #[test]
+    fn the_controls_line_shows_the_controls() {
+        let mut start = Palmer::initial_controls();
+        start.alpha_deg = -0.04;
+        let details = |c: &PalmerControls| {
+            Palmer::details(&Palmer::default_aircraft(), c, &Palmer::initial_state())
+        };
+        assert_eq!(
+            details(&start).controls_line(),
+            "THROTTLE   0 %   ALPHA  +0.0 deg   BANK  +0.0 deg   FLAPS 0 deg"
+        );
+        let mut sample = PalmerDetails::sample_snapshot().details;
+        assert_eq!(
+            sample.controls_line(),
+            "THROTTLE  75 %   ALPHA  +4.0 deg   BANK  +5.0 deg   FLAPS 20 deg"
+        );
+        sample.controls.throttle = 1.0;
+        sample.controls.bank_deg = -12.5;
+        sample.controls.brakes = true;
+        assert_eq!(
+            sample.controls_line(),
+            "THROTTLE 100 %   ALPHA  +4.0 deg   BANK -12.5 deg   FLAPS 20 deg  BRAKES"
+        );
+    }
+
+    /// The state's columns are `STATE_FIELDS` in order (time, position,
+    /// velocity), the state's numbers bit for bit; the controls' columns
+    /// are `CONTROL_FIELDS` in order (flaps in degrees, brakes 1 or 0),
+    /// with the ranges of `sim-cli palmer`'s options (throttle 0..1, alpha
+    /// -16..20°, bank -20..20°), flaps 0..40° and brakes 0..1.
+    #[test]
+    fn the_columns_are_the_state_and_the_controls() {
+        assert_eq!(
+            Palmer::STATE_FIELDS,
+            ["time_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"]
+        );
+        let mut values = [f64::NAN; 7];
+        Palmer::state_values(&hand_state(), &mut values);
+        assert_eq!(
+            values.map(f64::to_bits),
+            [7.5, 1234.5, -0.25, 321.75, 12.0, -16.0, 15.0].map(f64::to_bits)
+        );
+        assert_eq!(
+            Palmer::CONTROL_FIELDS,
+            [
+                ("throttle", 0.0, 1.0),
+                ("alpha_deg", -16.0, 20.0),
+                ("bank_deg", -20.0, 20.0),
+                ("flaps_deg", 0.0, 40.0),
+                ("brakes", 0.0, 1.0),
+            ]
+        );
+        let mut values = [f64::NAN; 5];
+        Palmer::control_values(&hand_controls(), &mut values);
+        assert_eq!(values, [0.75, -3.5, 12.0, 40.0, 1.0]);
+        let c = PalmerControls {
+            brakes: false,
+            flaps: Flaps::Deg20,
+            ..hand_controls()
+        };
+        Palmer::control_values(&c, &mut values);
+        assert_eq!(values, [0.75, -3.5, 12.0, 20.0, 0.0]);
+    }
+
+    /// A control set by its column's index changes that control only:
+    /// the throttle, alpha and bank as given, the flaps for 0, 20 and 40
+    /// (another number in their range refused), the brakes for 1 and 0
+    /// (another number refused).
+    #[test]
+    fn a_control_is_set_by_its_columns_index() {
+        let start = hand_controls();
+        let set = |index: usize, value: f64| Palmer::with_control(start, index, value);
+        let with = |edit: fn(&mut PalmerControls)| {
+            let mut c = start;
+            edit(&mut c);
+            Ok(c)
+        };
+        assert_eq!(set(0, 0.25), with(|c| c.throttle = 0.25));
+        assert_eq!(set(1, 7.5), with(|c| c.alpha_deg = 7.5));
+        assert_eq!(set(2, -12.5), with(|c| c.bank_deg = -12.5));
+        assert_eq!(set(3, 0.0), with(|c| c.flaps = Flaps::Up));
+        assert_eq!(set(3, 20.0), with(|c| c.flaps = Flaps::Deg20));
+        assert_eq!(set(3, 40.0), Ok(start));
+        assert_eq!(set(3, 30.0), Err("30 is not 0, 20 or 40".to_owned()));
+        assert_eq!(set(4, 0.0), with(|c| c.brakes = false));
+        assert_eq!(
+            Palmer::with_control(Palmer::initial_controls(), 4, 1.0).map(|c| c.brakes),
+            Ok(true)
+        );
+        assert_eq!(set(4, 0.5), Err("0.5 is not 0 or 1".to_owned()));
+    }
+
+    /// The tasks' actions (`afit_fdm.gym`, its oracle
+    /// `test_task_kernel.py`): throttle `(a + 1) / 2`, alpha `2 + 18 a`
+    /// degrees, bank `20 a` degrees, flaps 0° below -1/3, 20° from -1/3 to
+    /// 1/3 (both included), 40° above (and for NaN, which no comparison
+    /// holds for); the controls set are indices 0..4, four of them. The
+    /// numbers are exact in binary (and so the operations).
+    #[test]
+    fn the_tasks_actions_set_throttle_alpha_bank_and_flaps() {
+        for (a, throttle, alpha, bank) in [
+            (-1.0, 0.0, -16.0, -20.0),
+            (-0.5, 0.25, -7.0, -10.0),
+            (0.0, 0.5, 2.0, 0.0),
+            (0.5, 0.75, 11.0, 10.0),
+            (1.0, 1.0, 20.0, 20.0),
+        ] {
+            let (list, count) = Palmer::task_controls(&[a, a, a, 0.0]);
+            assert_eq!(count, 4);
+            assert_eq!(
+                list[..4],
+                [(0, throttle), (1, alpha), (2, bank), (3, 20.0)],
+                "{a}"
+            );
+        }
+        let third = 1.0_f64 / 3.0;
+        for (a, flaps) in [
+            (-1.0, 0.0),
+            (-0.5, 0.0),
+            ((-third).next_down(), 0.0),
+            (-third, 20.0),
+            (0.0, 20.0),
+            (third, 20.0),
+            (third.next_up(), 40.0),
+            (0.5, 40.0),
+            (1.0, 40.0),
+            (f64::NAN, 40.0),
+        ] {
+            let (list, _) = Palmer::task_controls(&[0.0, 0.0, 0.0, a]);
+            assert_eq!(list[3], (3, flaps), "{a}");
+        }
+    }
+
+    /// `task_apply` sets the throttle, alpha, bank and flap setting of the
+    /// actions (as [`the_tasks_actions_set_throttle_alpha_bank_and_flaps`]
+    /// worked them) and keeps the brakes; the observed controls of those
+    /// controls are throttle, alpha / 20, bank / 20 and flaps / 40: for
+    /// actions (0.5, 0.5, -0.5, a), a 1, 0 or -1, the controls 0.75, 11°,
+    /// -10°, flaps 40°, 20° or 0°, observed as 0.75, 0.55 (11 / 20
+    /// correctly rounded is the double nearest 0.55), -0.5, 1, 0.5 or 0.
+    #[test]
+    fn the_tasks_apply_and_observe_the_controls() {
+        let start = hand_controls();
+        for (a3, flaps, observed) in [
+            (1.0, Flaps::Deg40, 1.0),
+            (0.0, Flaps::Deg20, 0.5),
+            (-1.0, Flaps::Up, 0.0),
+        ] {
+            let got = Palmer::task_apply(start, &[0.5, 0.5, -0.5, a3]);
+            assert_eq!(
+                got,
+                PalmerControls {
+                    throttle: 0.75,
+                    alpha_deg: 11.0,
+                    bank_deg: -10.0,
+                    flaps,
+                    brakes: true,
+                },
+                "{a3}"
+            );
+            let mut values = [0.0; 5];
+            Palmer::control_values(&got, &mut values);
+            let mut obs = [f64::NAN; 4];
+            Palmer::task_control_obs(&values, &mut obs);
+            assert_eq!(obs, [0.75, 0.55, -0.5, observed], "{a3}");
         }
     }
 
