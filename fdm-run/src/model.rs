@@ -313,6 +313,25 @@ pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
 /// What the adapters' tests share (`bourg.rs`, `palmer.rs`).
 #[cfg(test)]
 pub(crate) mod test_support {
+    /// `M::state_fingerprint` is `want` (the state half of fdm-core's
+    /// fingerprint of `M`) of fleet member 2's state, of that state a step
+    /// (at 30 frames a second) on, and of each of `more`; and the first two
+    /// differ.
+    pub(crate) fn recorded_fingerprint_is_the_states<M: super::RunModel>(
+        want: impl Fn(&M::State) -> u64,
+        more: &[M::State],
+    ) where
+        M::State: Copy,
+    {
+        let aircraft = M::default_aircraft();
+        let (controls, state) = M::fleet_member(2);
+        let next = M::step(&aircraft, &controls, &state, M::time_step(30.0));
+        for s in [state, next].iter().chain(more) {
+            assert_eq!(M::state_fingerprint(s), want(s));
+        }
+        assert_ne!(M::state_fingerprint(&state), M::state_fingerprint(&next));
+    }
+
     /// A fixed sequence of numbers in [-1, 1) (xorshift64, the same seed in
     /// every call), for the adapters' tests' random but reproducible states.
     #[cfg(feature = "dis")]

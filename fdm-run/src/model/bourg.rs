@@ -1069,16 +1069,9 @@ mod tests {
     /// step on has another.
     #[test]
     fn the_recorded_fingerprint_is_the_states() {
-        let aircraft = Bourg::default_aircraft();
-        let (controls, state) = Bourg::fleet_member(2);
-        let next = Bourg::step(&aircraft, &controls, &state, Bourg::time_step(30.0));
-        for s in [state, next] {
-            let want = fingerprint::Fingerprint::of_bourg(&s).state;
-            assert_eq!(Bourg::state_fingerprint(&s), want);
-        }
-        assert_ne!(
-            Bourg::state_fingerprint(&state),
-            Bourg::state_fingerprint(&next)
+        crate::model::test_support::recorded_fingerprint_is_the_states::<Bourg>(
+            |s| fingerprint::Fingerprint::of_bourg(s).state,
+            &[],
         );
     }
 

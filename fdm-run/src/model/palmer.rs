@@ -989,16 +989,9 @@ mod tests {
     /// step on has another.
     #[test]
     fn the_recorded_fingerprint_is_the_states() {
-        let aircraft = Palmer::default_aircraft();
-        let (controls, state) = Palmer::fleet_member(2);
-        let next = Palmer::step(&aircraft, &controls, &state, Palmer::time_step(30.0));
-        for s in [state, next, hand_state()] {
-            let want = fingerprint::Fingerprint::of_palmer(&s).state;
-            assert_eq!(Palmer::state_fingerprint(&s), want);
-        }
-        assert_ne!(
-            Palmer::state_fingerprint(&state),
-            Palmer::state_fingerprint(&next)
+        crate::model::test_support::recorded_fingerprint_is_the_states::<Palmer>(
+            |s| fingerprint::Fingerprint::of_palmer(s).state,
+            &[hand_state()],
         );
     }
 
