@@ -313,6 +313,24 @@ pub fn with_model<J: ModelJob>(name: &str, job: J) -> Option<J::Output> {
 /// What the adapters' tests share (`bourg.rs`, `palmer.rs`).
 #[cfg(test)]
 pub(crate) mod test_support {
+    /// `M`'s cheap reads of a state in flight (fleet member 1 ten steps at
+    /// 30 frames a second on, its time past 0) are the view's time and
+    /// velocity, bit for bit.
+    pub(crate) fn cheap_reads_are_the_views<M: super::NamedInputs>() {
+        let aircraft = M::default_aircraft();
+        let (controls, mut state) = M::fleet_member(1);
+        for _ in 0..10 {
+            state = M::step(&aircraft, &controls, &state, M::time_step(30.0));
+        }
+        let view = M::view(&aircraft, &controls, &state);
+        assert!(view.time_s > 0.3, "{}", view.time_s);
+        assert_eq!(M::time_s(&state).to_bits(), view.time_s.to_bits());
+        assert_eq!(
+            M::velocity_mps(&state).map(f64::to_bits),
+            <[f64; 3]>::from(view.velocity_mps).map(f64::to_bits)
+        );
+    }
+
     /// `M::state_fingerprint` is `want` (the state half of fdm-core's
     /// fingerprint of `M`) of fleet member 2's state, of that state a step
     /// (at 30 frames a second) on, and of each of `more`; and the first two

@@ -1047,21 +1047,10 @@ mod tests {
     }
 
     /// The cheap reads of a state in flight (its time past 0) are the
-    /// view's.
+    /// view's, bit for bit.
     #[test]
     fn the_cheap_reads_of_a_flight_are_the_views() {
-        let aircraft = Bourg::default_aircraft();
-        let (controls, mut state) = Bourg::fleet_member(1);
-        for _ in 0..10 {
-            state = Bourg::step(&aircraft, &controls, &state, Bourg::time_step(30.0));
-        }
-        let view = Bourg::view(&aircraft, &controls, &state);
-        assert!(view.time_s > 0.3, "{}", view.time_s);
-        assert_eq!(Bourg::time_s(&state), view.time_s);
-        assert_eq!(
-            Bourg::velocity_mps(&state),
-            <[f64; 3]>::from(view.velocity_mps)
-        );
+        crate::model::test_support::cheap_reads_are_the_views::<Bourg>();
     }
 
     /// What a recording keeps of a state is the state half of fdm-core's

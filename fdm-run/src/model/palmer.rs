@@ -1323,18 +1323,7 @@ mod tests {
     /// view's, bit for bit.
     #[test]
     fn the_cheap_reads_of_a_flight_are_the_views() {
-        let aircraft = Palmer::default_aircraft();
-        let (controls, mut state) = Palmer::fleet_member(1);
-        for _ in 0..10 {
-            state = Palmer::step(&aircraft, &controls, &state, Palmer::time_step(30.0));
-        }
-        let view = Palmer::view(&aircraft, &controls, &state);
-        assert!(view.time_s > 0.3, "{}", view.time_s);
-        assert_eq!(Palmer::time_s(&state).to_bits(), view.time_s.to_bits());
-        assert_eq!(
-            Palmer::velocity_mps(&state).map(f64::to_bits),
-            <[f64; 3]>::from(view.velocity_mps).map(f64::to_bits)
-        );
+        crate::model::test_support::cheap_reads_are_the_views::<Palmer>();
         assert_eq!(Palmer::time_s(&hand_state()), 7.5);
         assert_eq!(Palmer::velocity_mps(&hand_state()), [12.0, -16.0, 15.0]);
     }
