@@ -6,9 +6,10 @@
 //! owned by NumPy, refreshed in place at the end of every call that changes
 //! the fleet (`step`, `reset`, construction, the tasks' steps; a task step
 //! with `views=False` refreshes the status array only). Reading them never
-//! copies: the read-only views handed out are views of those buffers. The kernel's own
-//! arrays are lane blocks (8 or 16 aircraft, field by field) that `fdm-fleet`
-//! keeps private, so the refresh is one gather per `step` call, not per frame.
+//! copies: the read-only views handed out are views of those buffers. The
+//! kernel's own arrays are lane blocks (8 or 16 aircraft, field by field)
+//! that `fdm-fleet` keeps private, so the refresh is one gather per `step`
+//! call, not per frame.
 
 use std::marker::PhantomData;
 use std::sync::OnceLock;

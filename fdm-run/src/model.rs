@@ -338,9 +338,7 @@ pub(crate) mod test_support {
     pub(crate) fn recorded_fingerprint_is_the_states<M: super::RunModel>(
         want: impl Fn(&M::State) -> u64,
         more: &[M::State],
-    ) where
-        M::State: Copy,
-    {
+    ) {
         let aircraft = M::default_aircraft();
         let (controls, state) = M::fleet_member(2);
         let next = M::step(&aircraft, &controls, &state, M::time_step(30.0));
