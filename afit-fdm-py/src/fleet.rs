@@ -218,8 +218,8 @@ pub trait AnyFleet: Send + Sync {
     /// it is in the cache.
     ///
     /// # Errors
-    /// A NaN where it reaches a control, as `Fleet.set_controls` words it
-    /// (nothing changed); a precision the kernel does not have (checked
+    /// A NaN action, named by the control it sets as `Fleet.set_controls`
+    /// words it (nothing changed); a precision the kernel does not have (checked
     /// when the fleet was made).
     fn task_step(
         &mut self,
@@ -719,9 +719,15 @@ impl<M: BindModel> Lanes<M> {
         chunk.div_ceil(whole) * whole
     }
 
-    /// The first failure `actions` would cause: a NaN that reaches a
-    /// control, as `Fleet.set_controls` checked the control arrays (control
-    /// by control in the tasks' order, the first bad aircraft).
+    /// The first failure `actions` would cause: a NaN action, named by the
+    /// control it sets, in `Fleet.set_controls`'s words for a bad control
+    /// array (control by control in the tasks' order, the first bad
+    /// aircraft). Entry `p` of [`AgentModel::task_controls`] is set by
+    /// action `p` (true of every model's tasks), so a NaN in action `p` is
+    /// reported as control `p`: also where only a threshold reads it
+    /// (Palmer's flaps, Bourg's surfaces), whose comparisons would
+    /// otherwise turn the NaN silently into a setting (40° flaps, a
+    /// neutral surface).
     fn check_actions(&self, actions: ActionValues<'_>) -> Result<(), String> {
         if !actions.any_nan() {
             return Ok(());
@@ -735,10 +741,12 @@ impl<M: BindModel> Lanes<M> {
             M::task_controls(&clipped[..k])
         };
         let (_, count) = row(0, &mut clipped);
-        for p in 0..count {
+        for p in 0..count.min(k) {
             for i in 0..self.len {
                 let (index, value) = row(i, &mut clipped).0[p];
                 let (name, lo, hi) = M::CONTROL_FIELDS[index];
+                // The action's own NaN, not the setting a threshold made of it.
+                let value = if clipped[p].is_nan() { f64::NAN } else { value };
                 if !value.is_finite() || !(lo..=hi).contains(&value) {
                     return Err(format!(
                         "{name}[{i}]: {value} is not a finite number in {lo}..{hi}"

@@ -267,9 +267,7 @@ def test_against_numpys_own_arctan2_only_the_heading_error_differs_within_bounds
 def test_nan_actions_raise_as_before_and_change_nothing(model, column, name, bounds) -> None:
     """A NaN that reaches a control: the old code's ``ValueError`` (the same
     message, naming the control and the first aircraft), and the fleet is
-    untouched: not stepped, controls unchanged. (A NaN where only a
-    threshold reads it, Palmer's flaps or Bourg's surfaces, was never an
-    error: it is 40 degrees or neutral, as before.)"""
+    untouched: not stepped, controls unchanged."""
     n = 6
     new, old = pair(model, "heading-altitude", n, 1, False)
     k = 4 if model == "palmer" else 5
@@ -286,12 +284,42 @@ def test_nan_actions_raise_as_before_and_change_nothing(model, column, name, bou
     assert str(new_error.value) == f"{name}[3]: NaN is not a finite number in {bounds}"
     assert np.array_equal(new.fleet.columns, before[0]) and not steps.any()
     assert all(np.array_equal(new.fleet.controls[c], v) for c, v in before[1].items())
-    threshold = np.zeros((n, k), dtype=np.float32)
-    threshold[:, 3] = np.nan
-    new.step(threshold, steps, 10)
-    old.act(threshold)
-    for c, v in old.fleet.controls.items():
-        assert np.array_equal(bits(new.fleet.controls[c]), bits(v)), c
+
+
+@pytest.mark.parametrize("model,column,name,bounds", [
+    ("palmer", 3, "flaps_deg", "0..40"),
+    ("bourg", 1, "elevator", "-1..1"),
+    ("bourg", 2, "aileron", "-1..1"),
+    ("bourg", 3, "rudder", "-1..1"),
+])
+def test_nan_actions_read_by_a_threshold_raise_too(model, column, name, bounds) -> None:
+    """A NaN where only a threshold reads it (Palmer's flaps, Bourg's
+    surfaces): the old NumPy code made a setting of it without a word (all
+    its comparisons are false: 40 degrees of flaps, a neutral surface); now
+    it is refused as a NaN reaching a continuous control is, naming the
+    control it sets and the first aircraft, and nothing changes. A NaN in an
+    earlier action of a later aircraft is named first (control by control,
+    then aircraft by aircraft, as ``Fleet.set_controls`` checks)."""
+    n = 6
+    new, old = pair(model, "heading-altitude", n, 1, False)
+    k = 4 if model == "palmer" else 5
+    actions = np.zeros((n, k), dtype=np.float32)
+    actions[2:, column] = np.nan
+    old.act(actions)  # The old code: silently a setting.
+    before = new.fleet.columns.copy(), {c: v.copy() for c, v in new.fleet.controls.items()}
+    steps = np.zeros(n, dtype=np.int64)
+    for dtype in (np.float32, np.float64):
+        with pytest.raises(ValueError) as error:
+            new.step(actions.astype(dtype), steps, 10)
+        assert str(error.value) == f"{name}[2]: NaN is not a finite number in {bounds}"
+    assert np.array_equal(new.fleet.columns, before[0]) and not steps.any()
+    assert all(np.array_equal(new.fleet.controls[c], v) for c, v in before[1].items())
+    if column > 0:
+        actions[4, 0] = np.nan
+        with pytest.raises(ValueError) as error:
+            new.step(actions, steps, 10)
+        first = "throttle" if model == "palmer" else "thrust_lb"
+        assert str(error.value).startswith(f"{first}[4]: NaN ")
 
 
 def test_bad_action_arrays_are_refused_by_name() -> None:

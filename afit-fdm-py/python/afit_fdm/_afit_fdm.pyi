@@ -455,8 +455,8 @@ class Fleet:
         released: ``actions`` (``n`` times 4 for Palmer, 5 for Bourg; float32
         or float64 used in place, anything else converted to float64) clipped
         to -1..1 and set as the controls (in parallel over the fleet with
-        ``parallel=True``; a NaN reaching a control raises ``ValueError``
-        before anything changes), ``frames`` frames flown, ``steps`` (int64,
+        ``parallel=True``; a NaN action raises ``ValueError`` naming the
+        control it sets, before anything changes), ``frames`` frames flown, ``steps`` (int64,
         ``(n,)``) counted up by one, and with ``observe`` the state views
         refreshed and ``obs`` (float32, ``(n, 10)`` Palmer or ``(n, 11)``
         Bourg), ``reward`` (float64), ``terminated`` (not airborne) and

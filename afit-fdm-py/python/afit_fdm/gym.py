@@ -30,8 +30,9 @@ frames per second (defaults 30 and 1: a 30 Hz agent).
 **Actions** (``Box(-1, 1)``, float32, scaled to the thesis's controls; any
 array of ``num_envs`` times this many numbers is taken, float32 or float64 as
 given, other dtypes converted to float64; values are clipped to -1..1, and a
-NaN that reaches a continuous control raises ``ValueError`` naming it and the
-first aircraft, with nothing changed):
+NaN action raises ``ValueError`` naming the control it sets and the first
+aircraft, with nothing changed; also where only a threshold reads the action,
+whose comparisons would otherwise turn the NaN into a setting):
 
 * Palmer, 4 values: throttle ``(a0 + 1) / 2`` (0..1); angle of attack
   ``2 + 18 a1`` degrees (-16..20); bank ``20 a2`` degrees (-20..20, positive
@@ -157,9 +158,9 @@ class _Task:
         self, actions: Any, steps: np.ndarray, max_steps: int, observe: bool = True, views: bool = False
     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """One agent step in one call into Rust (``Fleet.task_step``, the
-        GIL released): the action array validated (a NaN reaching a control
-        raises ``ValueError`` as ``Fleet.set_controls`` does; nothing
-        changes then), clipped to -1..1 and scaled to the controls (see the
+        GIL released): the action array validated (a NaN action raises
+        ``ValueError`` naming its control as ``Fleet.set_controls`` does;
+        nothing changes then), clipped to -1..1 and scaled to the controls (see the
         module docstring), ``frame_skip`` frames flown, ``steps`` counted
         up, and with ``observe`` the observations, rewards (0 for an ended
         episode), terminated (not airborne) and truncated (``steps >=
