@@ -21,7 +21,7 @@ use fdm_fleet::{ControlBlocks, FleetError, FleetPiece, Precision};
 use fdm_run::model::agent::{MAX_ACTIONS, MAX_CONTROL_OBS, MAX_STATE_FIELDS};
 use numpy::ndarray::ArrayView1;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::flight::to_py;
@@ -461,7 +461,9 @@ impl<M: BindModel> Lanes<M> {
     /// `n` aircraft from `start` and `controls`.
     ///
     /// # Errors
-    /// ValueError for a start or control that cannot be flown.
+    /// ValueError for a start or control that cannot be flown; MemoryError
+    /// for a fleet that does not fit in the memory this process can still
+    /// allocate ([`check_memory`]).
     pub fn new(
         n: usize,
         fps: f64,
@@ -472,6 +474,7 @@ impl<M: BindModel> Lanes<M> {
     ) -> PyResult<Self> {
         M::Fleet::check_precision(precision)
             .map_err(|e| PyValueError::new_err(format!("precision: {e}")))?;
+        check_memory::<M>(n, fdm_run::memory::available_bytes())?;
         let mut fleet = M::Fleet::empty().map_err(|e| PyValueError::new_err(e.to_string()))?;
         for i in 0..n {
             let (c, s) = start_of::<M>(i, start, controls)?;
@@ -1381,6 +1384,30 @@ pub fn buffer_slices<'a>(
             .as_slice_mut()
             .map_err(|e| PyValueError::new_err(e.to_string()))?,
     ))
+}
+
+/// Bytes one aircraft of model `M` takes in a Python fleet: its share of
+/// the kernel's blocks, its state columns (float64) and status (one byte)
+/// in the NumPy buffers, and its controls while `set_controls` builds the
+/// new ones before it sets them.
+pub fn bytes_per_aircraft<M: BindModel>() -> u64 {
+    let kernel = fdm_fleet::Fleet::<M>::bytes_per_aircraft();
+    let buffers = 8 * M::STATE_FIELDS.len() + 1;
+    (kernel + buffers + std::mem::size_of::<M::Controls>()) as u64
+}
+
+/// Refuses a fleet of `n` aircraft of model `M` that does not fit in
+/// `available` bytes, as `sim-cli fleet` refuses one
+/// ([`fdm_run::memory::check_fleet`]: twice [`bytes_per_aircraft`] each,
+/// for the arrays' growth, and the allocator must grant that much): a
+/// clear `MemoryError` at once, rather than a fleet that grows until the
+/// machine runs out of memory. `None` available: nothing to check against.
+///
+/// # Errors
+/// MemoryError saying what the fleet needs and the process has.
+pub fn check_memory<M: BindModel>(n: usize, available: Option<u64>) -> PyResult<()> {
+    fdm_run::memory::check_fleet(M::NAME, n as u64, bytes_per_aircraft::<M>(), available)
+        .map_err(|e| PyMemoryError::new_err(e.to_string()))
 }
 
 /// Shorthand: a fleet of model `M` boxed.

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import gc
 import threading
+import time
 
 import numpy as np
 import pytest
 
 import afit_fdm
+import afit_fdm.gym
 from afit_fdm import Status
 
 
@@ -127,6 +129,25 @@ def test_bad_controls_raise_naming_the_argument_and_change_nothing() -> None:
         afit_fdm.Fleet("bourg", 2, elevator=0.5)
     with pytest.raises(KeyError, match="x_ft"):
         fleet["x_ft"]
+
+
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+def test_a_fleet_too_big_for_the_memory_is_refused_at_once(model: str) -> None:
+    """A fleet this process cannot hold is a ``MemoryError`` before anything
+    is allocated, saying what it needs, as ``sim-cli fleet`` refuses it: not
+    a fleet that grows aircraft by aircraft until the machine runs out of
+    memory (2^50 aircraft of a few hundred bytes each are exabytes). The
+    Gymnasium vector env of that size is refused the same way (its NumPy
+    arrays, never touched, cost nothing first)."""
+    n = 2**50
+    started = time.monotonic()
+    with pytest.raises(MemoryError, match=rf"^a fleet of {n} {model} aircraft needs about \d+ MiB \(\d+ bytes each"):
+        afit_fdm.Fleet(model, n)
+    with pytest.raises(MemoryError, match=rf"a fleet of {n} {model} aircraft"):
+        afit_fdm.gym.AircraftVectorEnv(model, "climb", num_envs=n)
+    assert time.monotonic() - started < 10.0
+    # A fleet that fits is still made.
+    assert len(afit_fdm.Fleet(model, 1000)) == 1000
 
 
 def test_fast_precision_stays_close_to_exact() -> None:

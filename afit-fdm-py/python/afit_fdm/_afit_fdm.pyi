@@ -354,7 +354,10 @@ class Fleet:
     (the surfaces -1, 0 or +1 and held until changed: a fleet has no start-of-
     frame reset). Wrong types and dtypes raise ``TypeError``, wrong shapes,
     non-finite or out-of-range values ``ValueError``; both name the argument
-    (and the first bad index). A refused call changes nothing.
+    (and the first bad index). A refused call changes nothing. A fleet that
+    does not fit in the memory this process can still allocate raises
+    ``MemoryError`` at once, saying what it needs and what there is (as
+    ``sim-cli fleet`` refuses it).
 
     **State views and their lifetime.** :attr:`state`, ``fleet[name]``,
     :attr:`columns` and :attr:`status` are read-only NumPy views of buffers
