@@ -14,7 +14,7 @@ use fdm_core::model::{FlightStatus, LandingState};
 use fdm_fleet::Precision;
 use fdm_study::{summarize, FlyOptions, RunStatus, RunTable, Study, StudyError};
 use numpy::{PyArray1, PyReadonlyArray1};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -44,6 +44,7 @@ fn status_index(status: RunStatus) -> u8 {
 fn py_err(e: StudyError) -> PyErr {
     match e {
         StudyError::Io { .. } => PyOSError::new_err(e.to_string()),
+        StudyError::TableMemory { .. } => PyMemoryError::new_err(e.to_string()),
         other => PyValueError::new_err(other.to_string()),
     }
 }

@@ -249,6 +249,13 @@ def test_bad_input_is_a_clear_error(tmp_path: pathlib.Path) -> None:
         s.fly(-1, 3)
     with pytest.raises(ValueError, match="threads"):
         s.fly(0, 2, threads=0)
+    # A table that cannot fit (2^40 runs: petabytes) is refused before
+    # anything flies, not grown until the machine runs out of memory; a
+    # range of the same study that fits is flown.
+    huge = afit_fdm.Study.from_toml(STUDY, runs=2**40)
+    with pytest.raises(MemoryError, match=r"^runs 0\.\.1099511627776: their table needs about \d+ MiB"):
+        huge.fly()
+    assert len(huge.fly(2**40 - 2)) == 2
     with pytest.raises(ValueError, match="precision"):
         s.fly(0, 2, precision="sloppy")
     with pytest.raises(TypeError):

@@ -71,7 +71,9 @@ impl Study {
     ///
     /// # Errors
     /// [`StudyError::Range`] for runs past [`Study::runs`], a precision the
-    /// model has not ([`StudyError::Fleet`]), or no thread.
+    /// model has not ([`StudyError::Fleet`]), no thread, or a table of the
+    /// runs that would not fit in the memory this process can still
+    /// allocate ([`StudyError::TableMemory`], before anything is flown).
     pub fn fly_runs(&self, runs: Range<u64>, options: &FlyOptions) -> Result<RunTable, StudyError> {
         self.fly_runs_until(runs, options, || false)
     }
@@ -169,6 +171,7 @@ impl Study {
         if options.threads == 0 {
             return Err(StudyError::Threads);
         }
+        self.check_table_memory(&runs, fdm_run::memory::available_bytes())?;
         self.entry().fly(FlyJob {
             study: self,
             runs,
@@ -519,6 +522,50 @@ impl Study {
     }
 }
 
+impl Study {
+    /// Bytes one run takes in a [`RunTable`]: its index, status, frames,
+    /// one `Option<f64>` per measure, one `f64` per drawn input and its
+    /// fingerprint.
+    #[must_use]
+    pub fn table_bytes_per_run(&self) -> u64 {
+        use core::mem::size_of;
+        let bytes = size_of::<u64>() * 2
+            + size_of::<RunStatus>()
+            + self.measures().len() * size_of::<Option<f64>>()
+            + self.input_names().len() * size_of::<f64>()
+            + size_of::<Option<u64>>();
+        bytes as u64
+    }
+
+    /// Refuses `runs` whose table (twice [`Study::table_bytes_per_run`]
+    /// each: its columns double as they grow) exceeds `available_bytes`,
+    /// before anything is flown: a clear error, not a table that grows
+    /// until the machine runs out of memory. `None`: nothing to check
+    /// against.
+    fn check_table_memory(
+        &self,
+        runs: &Range<u64>,
+        available_bytes: Option<u64>,
+    ) -> Result<(), StudyError> {
+        let per_run_bytes = self.table_bytes_per_run();
+        let needed_bytes = (runs.end - runs.start)
+            .saturating_mul(per_run_bytes)
+            .saturating_mul(2);
+        match available_bytes {
+            Some(available_bytes) if needed_bytes > available_bytes => {
+                Err(StudyError::TableMemory {
+                    start: runs.start,
+                    end: runs.end,
+                    per_run_bytes,
+                    needed_bytes,
+                    available_bytes,
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 impl StudyJob for MemoryJob<'_> {
     type Output = MemoryEstimate;
 
@@ -580,5 +627,66 @@ mod tests {
              available memory, the address-space limit and the cgroup's memory limit)"
         );
         assert_eq!(estimate.check(10, 4, Some(estimate.total)), Ok(()));
+    }
+
+    /// Two measures, one dispersion: 8 (run) + 8 (frames) + the status +
+    /// 2 × 16 (`Option<f64>`) + 8 (the input) + 16 (`Option<u64>`) bytes.
+    fn two_measures_one_input() -> Study {
+        Study::from_toml_str(
+            "model = \"palmer\"\nruns = 1099511627776\nduration_s = 1.0\n\
+             measures = [\"max_height_m\", \"final_x_m\"]\n\
+             [[dispersion]]\nkey = \"initial.speed_kt\"\ndistribution = \"uniform\"\n\
+             low = 60.0\nhigh = 70.0\n",
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_tables_bytes_per_run_are_its_columns() {
+        let study = two_measures_one_input();
+        let status = core::mem::size_of::<RunStatus>() as u64;
+        assert_eq!(study.table_bytes_per_run(), 8 + 8 + status + 32 + 8 + 16);
+    }
+
+    #[test]
+    fn a_range_whose_table_does_not_fit_is_refused_before_it_flies() {
+        let study = two_measures_one_input();
+        let per = study.table_bytes_per_run();
+        // Twice the table fits exactly: flown; one byte less: refused.
+        assert!(study.check_table_memory(&(5..15), Some(20 * per)).is_ok());
+        assert!(study.check_table_memory(&(5..15), None).is_ok());
+        let refused = study.check_table_memory(&(5..15), Some(20 * per - 1));
+        assert!(
+            matches!(
+                refused,
+                Err(StudyError::TableMemory {
+                    start: 5,
+                    end: 15,
+                    per_run_bytes,
+                    needed_bytes,
+                    available_bytes,
+                }) if per_run_bytes == per && needed_bytes == 20 * per
+                    && available_bytes == 20 * per - 1
+            ),
+            "{refused:?}"
+        );
+        // The whole range of 2^40 runs (petabytes of table) on this
+        // machine: refused at once, with the numbers, nothing flown.
+        let started = std::time::Instant::now();
+        let refused = study
+            .fly_runs(0..study.runs(), &crate::FlyOptions::default())
+            .unwrap_err();
+        assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
+        let needed_mib = (study.runs() * per * 2).div_ceil(1024 * 1024);
+        assert!(
+            refused.to_string().starts_with(&format!(
+                "runs 0..1099511627776: their table needs about {needed_mib} MiB ({per} bytes a \
+                 run, twice that while it grows); this process has "
+            )),
+            "{refused}"
+        );
+        // A range that fits is flown as before.
+        let table = study.fly_runs(0..3, &crate::FlyOptions::default()).unwrap();
+        assert_eq!(table.len(), 3);
     }
 }

@@ -174,6 +174,29 @@ pub enum StudyError {
     /// A worker thread failed.
     #[error("a worker thread failed")]
     Worker,
+    /// The table of the runs asked for would not fit in the memory this
+    /// process can still allocate ([`Study::table_bytes_per_run`]).
+    #[error(
+        "runs {start}..{end}: their table needs about {} MiB ({per_run_bytes} bytes a run, \
+         twice that while it grows); this process has {} MiB available: fly fewer runs at a \
+         time (a range of runs each call) or stream the study (`sim-cli study`)",
+        .needed_bytes.div_ceil(1024 * 1024),
+        .available_bytes / (1024 * 1024)
+    )]
+    TableMemory {
+        /// First run asked for.
+        start: u64,
+        /// End of the range asked for.
+        end: u64,
+        /// Bytes of the table per run ([`Study::table_bytes_per_run`]).
+        per_run_bytes: u64,
+        /// Bytes the table needs: twice the runs times `per_run_bytes`
+        /// (its columns double as they grow).
+        needed_bytes: u64,
+        /// Bytes this process can still allocate
+        /// ([`fdm_run::memory::available_bytes`]).
+        available_bytes: u64,
+    },
 }
 
 /// The README's example, compiled and run as a doctest so it cannot go stale.

@@ -395,7 +395,10 @@ class Study:
         fleets, on ``threads`` threads (default: one per core), with the
         GIL released. Run *i*'s row is the same bits whatever the range and
         the threads. ``precision`` is ``"exact"`` (the bits of ``sim-cli
-        study``) or ``"fast"`` (Palmer only).
+        study``) or ``"fast"`` (Palmer only). A range whose table would not
+        fit in the memory this process can still allocate raises
+        ``MemoryError`` before anything flies: fly it a range at a time, or
+        stream it with ``sim-cli study``.
 
         Ctrl-C (SIGINT) stops it: called from the main thread, the fly
         looks at Python's pending signals every 20 ms, and a signal whose
