@@ -252,6 +252,13 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
     }
 }
 
+/// The message for `value` of `key` when only the values `allowed` (in
+/// words: "0, 20 or 40") are settings (a notch, an on/off switch): no range
+/// fits, so a value between two of them, or NaN, is refused naming them.
+pub(crate) fn not_one_of(key: &str, value: f64, allowed: &str) -> String {
+    format!("{key} = {}: expected {allowed}", ShortNumber(value))
+}
+
 /// What the registry's jobs ([`ModelJob`]) may use of a model: it records
 /// and writes the flight CSV ([`RunModel`], [`CsvModel`]), flies in fleets
 /// ([`FleetModel`], [`FleetKernel`]), is set up by name ([`NamedInputs`]),
