@@ -142,7 +142,7 @@ fn palmer_flaps_40_flies_as_the_single_flight_with_flaps_40() {
 }
 
 /// A control the trim solves for (Palmer's throttle and angle of attack,
-/// Bourg's thrust and pitch trim) is the trim's: the value the study gives
+/// and its bank, levelled; Bourg's thrust and pitch trim) is the trim's: the value the study gives
 /// is set first and then replaced, so the run is the same as without it,
 /// bit for bit; the other controls (flaps, brakes, landing flaps) are kept
 /// and the trim flies with them.
@@ -158,6 +158,8 @@ fn the_trim_replaces_the_controls_it_solves_for_and_keeps_the_flaps() {
         "throttle = 0.1",
         "alpha_deg = 15.0",
         "throttle = 1.0\nalpha_deg = -10.0",
+        // The trim flies wings level: the bank is set to 0 too.
+        "bank_deg = 10.0",
     ] {
         assert_eq!(with(extra), plain, "{extra}");
     }
