@@ -213,7 +213,8 @@ pub trait NamedInputs: RunModel {
     /// Sets control `key` (one of [`Self::CONTROL_KEYS`]) to `value`.
     ///
     /// # Errors
-    /// An unknown key or a value out of the control's range, in words.
+    /// An unknown key, or a value out of the control's range or not one of
+    /// its settings (a notch, on/off), in words.
     fn set_control(controls: &mut Self::Controls, key: &str, value: f64) -> Result<(), String>;
 
     /// The model's default aircraft with the parameters `values` (keys of
