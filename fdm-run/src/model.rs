@@ -213,7 +213,8 @@ pub trait NamedInputs: RunModel {
     /// Sets control `key` (one of [`Self::CONTROL_KEYS`]) to `value`.
     ///
     /// # Errors
-    /// An unknown key or a value out of the control's range, in words.
+    /// An unknown key, or a value out of the control's range or not one of
+    /// its settings (a notch, on/off), in words.
     fn set_control(controls: &mut Self::Controls, key: &str, value: f64) -> Result<(), String>;
 
     /// The model's default aircraft with the parameters `values` (keys of
@@ -250,6 +251,13 @@ pub(crate) fn in_range(key: &str, value: f64, low: f64, high: f64) -> Result<f64
             ShortNumber(value)
         ))
     }
+}
+
+/// The message for `value` of `key` when only the values `allowed` (in
+/// words: "0, 20 or 40") are settings (a notch, an on/off switch): no range
+/// fits, so a value between two of them, or NaN, is refused naming them.
+pub(crate) fn not_one_of(key: &str, value: f64, allowed: &str) -> String {
+    format!("{key} = {}: expected {allowed}", ShortNumber(value))
 }
 
 /// What the registry's jobs ([`ModelJob`]) may use of a model: it records

@@ -12,7 +12,7 @@ use fdm_core::model::FlightStatus;
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvModel;
-use crate::model::{in_range, unknown_key, NamedInputs};
+use crate::model::{in_range, not_one_of, unknown_key, NamedInputs};
 use crate::report::{CommonState, Details, ReportModel, Snapshot};
 use crate::{FleetModel, RunModel};
 use fdm_core::bourg::MAX_THRUST_LB;
@@ -312,7 +312,7 @@ impl Details for BourgDetails {
 
 /// What a study file can set of the model by name, and its cheap reads.
 impl NamedInputs for Bourg {
-    const CONTROL_KEYS: &'static [&'static str] = &["thrust_lb"];
+    const CONTROL_KEYS: &'static [&'static str] = &["thrust_lb", "landing_flaps", "pitch_trim"];
     const AIRCRAFT_KEYS: &'static [&'static str] = &[
         "mass_scale",
         "area_scale",
@@ -326,6 +326,18 @@ impl NamedInputs for Bourg {
             "thrust_lb" => {
                 controls.thrust_lb = in_range(key, value, 0.0, f64::from(MAX_THRUST_LB))? as f32;
             }
+            // Down or up, 1 or 0, as the column `landing_flaps` of the
+            // controls (`CONTROL_FIELDS`); `sim-cli bourg` has no start
+            // option for it (keys K/L).
+            "landing_flaps" => {
+                controls.landing_flaps = [false, true]
+                    .into_iter()
+                    .find(|&down| f64::from(u8::from(down)) == value)
+                    .ok_or_else(|| not_one_of(key, value, "0 or 1"))?;
+            }
+            // The controls' documented −1..=1 (`sim-cli bourg` has no start
+            // option for it: keys T/G); f32 as the model's.
+            "pitch_trim" => controls.pitch_trim = in_range(key, value, -1.0, 1.0)? as f32,
             _ => return Err(unknown_key("control", key, Self::CONTROL_KEYS)),
         }
         Ok(())
@@ -972,9 +984,144 @@ mod tests {
         let refused = Bourg::set_control(&mut c, "throttle", 0.5).unwrap_err();
         assert_eq!(
             refused,
-            "unknown control `throttle`; expected one of thrust_lb"
+            "unknown control `throttle`; expected one of thrust_lb, landing_flaps, pitch_trim"
         );
         assert_eq!(c.thrust_lb, 3000.0);
+    }
+
+    /// The landing flaps by name take exactly 0 (up) or 1 (down), the
+    /// column `landing_flaps` of the controls; the pitch trim any number in
+    /// the controls' −1..=1, ends included, rounded to f32 once (as the
+    /// thrust). Anything else (between, beyond, NaN) is refused naming the
+    /// key and what it takes, and leaves the controls as they were.
+    #[test]
+    fn a_study_sets_the_landing_flaps_and_pitch_trim_by_name() {
+        let start = Bourg::initial_controls();
+        assert!(!start.landing_flaps);
+        for (value, down) in [(1.0, true), (0.0, false)] {
+            // From both settings, so the result is the value's own.
+            for from in [false, true] {
+                let mut c = BourgControls {
+                    landing_flaps: from,
+                    ..start
+                };
+                Bourg::set_control(&mut c, "landing_flaps", value).unwrap();
+                let want = BourgControls {
+                    landing_flaps: down,
+                    ..start
+                };
+                assert_eq!(c, want, "{value} from {from}");
+            }
+        }
+        for (value, trim) in [
+            (-1.0, -1.0_f32),
+            (1.0, 1.0),
+            (0.0, 0.0),
+            (0.25, 0.25),
+            (-0.1, -0.1),
+        ] {
+            let mut c = BourgControls {
+                pitch_trim: 0.5,
+                ..start
+            };
+            Bourg::set_control(&mut c, "pitch_trim", value).unwrap();
+            assert_eq!(
+                c,
+                BourgControls {
+                    pitch_trim: trim,
+                    ..start
+                },
+                "{value}"
+            );
+        }
+        let set = BourgControls {
+            landing_flaps: true,
+            pitch_trim: 0.5,
+            ..start
+        };
+        let mut c = set;
+        for (key, value, refusal) in [
+            ("landing_flaps", 2.0, "landing_flaps = 2: expected 0 or 1"),
+            ("landing_flaps", 0.5, "landing_flaps = 0.5: expected 0 or 1"),
+            (
+                "landing_flaps",
+                -0.5,
+                "landing_flaps = -0.5: expected 0 or 1",
+            ),
+            ("landing_flaps", -1.0, "landing_flaps = -1: expected 0 or 1"),
+            ("landing_flaps", 10.0, "landing_flaps = 10: expected 0 or 1"),
+            (
+                "landing_flaps",
+                f64::NAN,
+                "landing_flaps = NaN: expected 0 or 1",
+            ),
+            (
+                "pitch_trim",
+                1.5,
+                "pitch_trim = 1.5: expected a number from -1 to 1",
+            ),
+            (
+                "pitch_trim",
+                -1.0001,
+                "pitch_trim = -1.0001: expected a number from -1 to 1",
+            ),
+            (
+                "pitch_trim",
+                f64::NAN,
+                "pitch_trim = NaN: expected a number from -1 to 1",
+            ),
+        ] {
+            assert_eq!(
+                Bourg::set_control(&mut c, key, value),
+                Err(refusal.to_owned())
+            );
+            assert_eq!(c, set);
+        }
+    }
+
+    /// `CONTROL_KEYS` is exactly what `set_control` takes: each key, in
+    /// order, sets its own field (each value another than the start's), and
+    /// a name that is not one (the other columns of the controls, set per
+    /// frame, among them) is refused listing them.
+    #[test]
+    fn the_control_keys_are_what_set_control_takes() {
+        let values = [
+            ("thrust_lb", 2500.0),
+            ("landing_flaps", 1.0),
+            ("pitch_trim", -0.5),
+        ];
+        assert_eq!(Bourg::CONTROL_KEYS, values.map(|(key, _)| key).as_slice());
+        let fields = |c: &BourgControls| match serde_json::to_value(c).unwrap() {
+            serde_json::Value::Object(map) => map,
+            other => panic!("{other}"),
+        };
+        let start = Bourg::initial_controls();
+        let mut all = start;
+        for (key, value) in values {
+            let mut c = start;
+            Bourg::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{key}: {e}"));
+            Bourg::set_control(&mut all, key, value).unwrap();
+            let (before, after) = (fields(&start), fields(&c));
+            let changed: Vec<&str> = after
+                .iter()
+                .filter(|(k, v)| before[k.as_str()] != **v)
+                .map(|(k, _)| k.as_str())
+                .collect();
+            assert_eq!(changed, [key]);
+        }
+        let want = BourgControls {
+            thrust_lb: 2500.0,
+            landing_flaps: true,
+            pitch_trim: -0.5,
+            ..start
+        };
+        assert_eq!(all, want);
+        for key in ["elevator", "rudder_deg", "flaps", "Pitch_trim", ""] {
+            assert_eq!(
+                Bourg::set_control(&mut { all }, key, 0.0),
+                Err(unknown_key("control", key, Bourg::CONTROL_KEYS))
+            );
+        }
     }
 
     /// A study file's aircraft parameters: the mass and area scales

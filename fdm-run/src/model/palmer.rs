@@ -13,7 +13,7 @@ use fdm_core::palmer::{Palmer, PalmerAircraft, PalmerControls, PalmerState};
 use serde::{Deserialize, Serialize};
 
 use crate::csv::CsvModel;
-use crate::model::{in_range, unknown_key, NamedInputs};
+use crate::model::{in_range, not_one_of, unknown_key, NamedInputs};
 use crate::report::{CommonState, Details, ReportModel, Snapshot};
 use crate::{FleetModel, RunModel};
 use fdm_core::palmer::{ALPHA_MAX_DEG, ALPHA_MIN_DEG, BANK_LIMIT_DEG};
@@ -479,7 +479,8 @@ impl Details for PalmerDetails {
 
 /// What a study file can set of the model by name, and its cheap reads.
 impl NamedInputs for Palmer {
-    const CONTROL_KEYS: &'static [&'static str] = &["throttle", "alpha_deg", "bank_deg"];
+    const CONTROL_KEYS: &'static [&'static str] =
+        &["throttle", "alpha_deg", "bank_deg", "flaps_deg", "brakes"];
     const AIRCRAFT_KEYS: &'static [&'static str] = &[
         "wing_area_m2",
         "wing_span_m",
@@ -499,7 +500,9 @@ impl NamedInputs for Palmer {
     ];
 
     fn set_control(controls: &mut PalmerControls, key: &str, value: f64) -> Result<(), String> {
-        // The ranges of `sim-cli palmer --throttle/--alpha/--bank`.
+        // The ranges of `sim-cli palmer --throttle/--alpha/--bank`, its
+        // flap notches (`--flaps`: exactly 0, 20 or 40, no rounding to the
+        // nearest) and its brakes (`--brakes`, on or off: 1 or 0).
         match key {
             "throttle" => controls.throttle = in_range(key, value, 0.0, 1.0)?,
             "alpha_deg" => {
@@ -507,6 +510,18 @@ impl NamedInputs for Palmer {
             }
             "bank_deg" => {
                 controls.bank_deg = in_range(key, value, -BANK_LIMIT_DEG, BANK_LIMIT_DEG)?;
+            }
+            "flaps_deg" => {
+                controls.flaps = [Flaps::Up, Flaps::Deg20, Flaps::Deg40]
+                    .into_iter()
+                    .find(|flaps| flaps.degrees() == value)
+                    .ok_or_else(|| not_one_of(key, value, "0, 20 or 40"))?;
+            }
+            "brakes" => {
+                controls.brakes = [false, true]
+                    .into_iter()
+                    .find(|&on| f64::from(u8::from(on)) == value)
+                    .ok_or_else(|| not_one_of(key, value, "0 or 1"))?;
             }
             _ => return Err(unknown_key("control", key, Self::CONTROL_KEYS)),
         }
@@ -900,6 +915,7 @@ mod tests {
     use super::*;
     #[cfg(feature = "dis")]
     use crate::model::test_support::{lanes_against_frames, uniform_in_plus_minus_one};
+    use fdm_core::message::ShortNumber;
     use fdm_core::model::Model;
 
     /// The observed flaps of every setting are the per-aircraft method's
@@ -1166,7 +1182,7 @@ mod tests {
     /// palmer --throttle/--alpha/--bank` (0..1, -16..20°, -20..20°, the
     /// ends included); a value out of its range (or NaN) is refused in
     /// `in_range`'s words and leaves the controls as they were; another
-    /// name (the flaps are not one) is refused listing the names.
+    /// name is refused listing the names.
     #[test]
     fn a_study_sets_the_controls_by_name() {
         let mut c = Palmer::initial_controls();
@@ -1228,13 +1244,150 @@ mod tests {
             );
         }
         assert_eq!(
-            Palmer::set_control(&mut c, "flaps_deg", 20.0),
+            Palmer::set_control(&mut c, "flaps", 20.0),
             Err(
-                "unknown control `flaps_deg`; expected one of throttle, alpha_deg, bank_deg"
+                "unknown control `flaps`; expected one of throttle, alpha_deg, bank_deg, \
+                 flaps_deg, brakes"
                     .to_owned()
             )
         );
         assert_eq!(c, want);
+    }
+
+    /// The flaps by name take exactly the three notches of `sim-cli palmer
+    /// --flaps` (0, 20, 40 degrees) and the brakes exactly 0 (off) or 1
+    /// (on), each setting its own field only; anything else (between two
+    /// notches, beyond them, negative, NaN, infinite) is refused naming the
+    /// key and the settings, and leaves the controls as they were.
+    #[test]
+    fn a_study_sets_the_flaps_and_brakes_by_name() {
+        let start = Palmer::initial_controls();
+        assert_eq!((start.flaps, start.brakes), (Flaps::Up, false));
+        for (degrees, flaps) in [(40.0, Flaps::Deg40), (20.0, Flaps::Deg20), (0.0, Flaps::Up)] {
+            // From each of the others, so the setting is the value's own.
+            for from in [Flaps::Up, Flaps::Deg20, Flaps::Deg40] {
+                let mut c = PalmerControls {
+                    flaps: from,
+                    ..start
+                };
+                Palmer::set_control(&mut c, "flaps_deg", degrees).unwrap();
+                assert_eq!(
+                    c,
+                    PalmerControls { flaps, ..start },
+                    "{degrees} from {from:?}"
+                );
+            }
+        }
+        for (value, brakes) in [(1.0, true), (0.0, false)] {
+            for from in [false, true] {
+                let mut c = PalmerControls {
+                    brakes: from,
+                    ..start
+                };
+                Palmer::set_control(&mut c, "brakes", value).unwrap();
+                assert_eq!(c, PalmerControls { brakes, ..start }, "{value} from {from}");
+            }
+        }
+        let set = PalmerControls {
+            flaps: Flaps::Deg20,
+            brakes: true,
+            ..start
+        };
+        for value in [
+            10.0,
+            19.5,
+            20.5,
+            30.0,
+            60.0,
+            1.0,
+            -20.0,
+            -0.5,
+            f64::NAN,
+            f64::INFINITY,
+        ] {
+            let mut c = set;
+            assert_eq!(
+                Palmer::set_control(&mut c, "flaps_deg", value),
+                Err(format!(
+                    "flaps_deg = {}: expected 0, 20 or 40",
+                    ShortNumber(value)
+                ))
+            );
+            assert_eq!(c, set);
+        }
+        // The words, written out (as `sim-cli palmer --flaps 10` would see them).
+        let mut c = set;
+        assert_eq!(
+            Palmer::set_control(&mut c, "flaps_deg", 10.0),
+            Err("flaps_deg = 10: expected 0, 20 or 40".to_owned())
+        );
+        assert_eq!(
+            Palmer::set_control(&mut c, "flaps_deg", f64::NAN),
+            Err("flaps_deg = NaN: expected 0, 20 or 40".to_owned())
+        );
+        for value in [2.0, 0.5, -0.5, -1.0, 20.0, f64::NAN] {
+            let mut c = set;
+            assert_eq!(
+                Palmer::set_control(&mut c, "brakes", value),
+                Err(format!("brakes = {}: expected 0 or 1", ShortNumber(value)))
+            );
+            assert_eq!(c, set);
+        }
+        assert_eq!(
+            Palmer::set_control(&mut c, "brakes", -0.5),
+            Err("brakes = -0.5: expected 0 or 1".to_owned())
+        );
+    }
+
+    /// `CONTROL_KEYS` is exactly what `set_control` takes: each key, in
+    /// order, sets its own field (each value another than the start's, the
+    /// fields by their serialized names: `flaps` for `flaps_deg`), and a
+    /// name that is not one is refused listing them.
+    #[test]
+    fn the_control_keys_are_what_set_control_takes() {
+        let values = [
+            ("throttle", 0.5),
+            ("alpha_deg", 3.0),
+            ("bank_deg", -10.0),
+            ("flaps_deg", 40.0),
+            ("brakes", 1.0),
+        ];
+        assert_eq!(Palmer::CONTROL_KEYS, values.map(|(key, _)| key).as_slice());
+        let fields = |c: &PalmerControls| match serde_json::to_value(c).unwrap() {
+            serde_json::Value::Object(map) => map,
+            other => panic!("{other}"),
+        };
+        let start = Palmer::initial_controls();
+        let mut all = start;
+        for (key, value) in values {
+            let mut c = start;
+            Palmer::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{key}: {e}"));
+            Palmer::set_control(&mut all, key, value).unwrap();
+            let (before, after) = (fields(&start), fields(&c));
+            let changed: Vec<&str> = after
+                .iter()
+                .filter(|(k, v)| before.get(k.as_str()) != Some(*v))
+                .map(|(k, _)| k.as_str())
+                .collect();
+            let field = if key == "flaps_deg" { "flaps" } else { key };
+            assert_eq!(changed, [field], "{key}");
+        }
+        assert_eq!(
+            all,
+            PalmerControls {
+                throttle: 0.5,
+                alpha_deg: 3.0,
+                bank_deg: -10.0,
+                flaps: Flaps::Deg40,
+                brakes: true,
+            }
+        );
+        for key in ["Throttle", "flaps_degrees", "brake", ""] {
+            assert_eq!(
+                Palmer::set_control(&mut { all }, key, 0.0),
+                Err(unknown_key("control", key, Palmer::CONTROL_KEYS))
+            );
+        }
     }
 
     /// A study file's aircraft parameters: each of the fifteen names sets
