@@ -155,6 +155,19 @@ pub fn now_s() -> f64 {
     EPOCH.get_or_init(Instant::now).elapsed().as_secs_f64()
 }
 
+/// Aircraft-frames a long `Fleet.step` flies between two looks at Python's
+/// pending signals ([`crate::in_chunks`]): about 20 to 120 ms of flying on
+/// one thread at 10 to 60 ns an aircraft-frame, so Ctrl-C stops it within a
+/// fraction of a second while the looks cost nothing next to the flying.
+pub const AIRCRAFT_FRAMES_PER_SIGNAL_CHECK: u64 = 1 << 21;
+
+/// Frames a fleet of `n` aircraft flies between two looks at the signals:
+/// [`AIRCRAFT_FRAMES_PER_SIGNAL_CHECK`] over `n`, at least one.
+#[must_use]
+pub fn frames_per_signal_check(n: usize) -> u64 {
+    (AIRCRAFT_FRAMES_PER_SIGNAL_CHECK / (n as u64).max(1)).max(1)
+}
+
 /// What `Fleet` needs from a fleet of any model.
 pub trait AnyFleet: Send + Sync {
     /// The model's name.
@@ -169,17 +182,13 @@ pub trait AnyFleet: Send + Sync {
     fn state_fields(&self) -> &'static [&'static str];
     /// The controls' names and ranges.
     fn control_fields(&self) -> &'static [ControlRange];
-    /// Steps `frames` frames, then refreshes the buffers; returns the
-    /// (start, end) of the work, seconds on a process-wide monotonic clock.
+    /// Steps `frames` frames (the buffers are not refreshed: [`Self::gather`]
+    /// does that). Flying `a` frames then `b` is flying `a + b`, bit for bit
+    /// (each frame is the same step of each aircraft).
     ///
     /// # Errors
     /// The kernel refused the fleet's precision (checked when it was made).
-    fn step(
-        &mut self,
-        frames: u64,
-        columns: &mut [f64],
-        status: &mut [u8],
-    ) -> Result<(f64, f64), FleetError>;
+    fn fly(&mut self, frames: u64) -> Result<(), FleetError>;
     /// Refreshes the buffers.
     fn gather(&self, columns: &mut [f64], status: &mut [u8]);
     /// Sets controls (already range-checked) for the aircraft with `mask`.
@@ -506,16 +515,8 @@ where
     fn control_fields(&self) -> &'static [ControlRange] {
         M::CONTROL_FIELDS
     }
-    fn step(
-        &mut self,
-        frames: u64,
-        columns: &mut [f64],
-        status: &mut [u8],
-    ) -> Result<(f64, f64), FleetError> {
-        let start = now_s();
-        let flown = self.fly_frames(frames);
-        self.gather(columns, status);
-        flown.map(|()| (start, now_s()))
+    fn fly(&mut self, frames: u64) -> Result<(), FleetError> {
+        self.fly_frames(frames)
     }
     fn gather(&self, columns: &mut [f64], status: &mut [u8]) {
         let (n, k) = (self.len, M::STATE_FIELDS.len());

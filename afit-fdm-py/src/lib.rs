@@ -36,6 +36,37 @@ fn unknown_model(model: &str) -> PyErr {
     ))
 }
 
+/// Frames a long `Flight.step` flies between two looks at Python's pending
+/// signals ([`in_chunks`]): about 15 to 150 ms at 0.25 to 2 µs a frame (the
+/// step alone; with a recording or outputs).
+const FLIGHT_FRAMES_PER_SIGNAL_CHECK: u64 = 1 << 16;
+
+/// Flies `total` frames by calls of `fly`, `chunk` frames at a time, and
+/// looks at Python's pending signals between two calls: a signal whose
+/// handler raises (Ctrl-C's `KeyboardInterrupt`) stops the step there and is
+/// raised, the frames flown so far staying flown (whole frames: the state is
+/// one the aircraft reached). Without a signal the frames are the same
+/// ones, bit for bit, as one call would fly: a frame is the same step
+/// whatever the chunk it is flown in. Off the main thread Python runs no
+/// handlers, so the step runs to its end.
+fn in_chunks(
+    py: Python<'_>,
+    total: u64,
+    chunk: u64,
+    mut fly: impl FnMut(u64) -> PyResult<()>,
+) -> PyResult<()> {
+    let mut left = total;
+    while left > 0 {
+        let frames = left.min(chunk);
+        fly(frames)?;
+        left -= frames;
+        if left > 0 {
+            py.check_signals()?;
+        }
+    }
+    Ok(())
+}
+
 fn check_fps(fps: u32) -> PyResult<f64> {
     if (1..=10_000).contains(&fps) {
         Ok(f64::from(fps))
@@ -159,12 +190,14 @@ impl PyFlight {
     fn step(&mut self, py: Python<'_>, n: u64, actions: Option<Vec<String>>) -> PyResult<()> {
         let actions = actions.unwrap_or_default();
         let inner = &mut self.inner;
-        let result = if n >= 256 {
-            py.detach(|| inner.step(n, &actions))
-        } else {
-            inner.step(n, &actions)
-        };
-        result.map_err(PyValueError::new_err)
+        if n < 256 {
+            // Too short to be worth releasing the GIL.
+            return inner.step(n, &actions).map_err(PyValueError::new_err);
+        }
+        in_chunks(py, n, FLIGHT_FRAMES_PER_SIGNAL_CHECK, |frames| {
+            py.detach(|| inner.step(frames, &actions))
+                .map_err(PyValueError::new_err)
+        })
     }
 
     /// Starts recording this flight to `path` (see `_afit_fdm.pyi`).
@@ -549,11 +582,19 @@ impl PyFleet {
     #[pyo3(signature = (frames=1))]
     fn step(&mut self, py: Python<'_>, frames: u64) -> PyResult<()> {
         let inner = &mut self.inner;
-        self.last_step = self
-            .buffers
-            .with_mut(py, |c, s| py.detach(|| inner.step(frames, c, s)))?
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(())
+        let per_check = fleet::frames_per_signal_check(inner.len());
+        let (flown, start, end) = self.buffers.with_mut(py, |c, s| {
+            let start = fleet::now_s();
+            let flown = in_chunks(py, frames, per_check, |frames| {
+                py.detach(|| inner.fly(frames))
+                    .map_err(|e| PyValueError::new_err(e.to_string()))
+            });
+            // The views show the frames flown, also those before a signal.
+            py.detach(|| inner.gather(c, s));
+            (flown, start, fleet::now_s())
+        })?;
+        self.last_step = (start, end);
+        flown
     }
 
     /// Restarts the aircraft selected by `mask` (all without one).

@@ -150,6 +150,31 @@ def test_a_fleet_too_big_for_the_memory_is_refused_at_once(model: str) -> None:
     assert len(afit_fdm.Fleet(model, 1000)) == 1000
 
 
+def test_a_long_step_in_chunks_is_the_same_bits_however_it_is_cut() -> None:
+    """``Fleet.step`` and ``Flight.step`` fly a long step in chunks (looking
+    at Ctrl-C between them): 3,000 frames of 1,000 aircraft in one call
+    (two chunks of 2,097 frames and the rest) are the bits of the same
+    frames flown in uneven calls, and so is a Flight's 200,000 frames (four
+    chunks) against calls of 255 frames and less (never chunked)."""
+    one = afit_fdm.Fleet("palmer", 1000, altitude_ft=3000.0, speed_kt=90.0, trim=True, parallel=False)
+    cut = afit_fdm.Fleet("palmer", 1000, altitude_ft=3000.0, speed_kt=90.0, trim=True, parallel=True)
+    one.step(3000)
+    for frames in (1, 2096, 2, 901):
+        cut.step(frames)
+    assert np.array_equal(one.columns.view(np.uint64), cut.columns.view(np.uint64))
+    assert np.array_equal(one.status, cut.status)
+    a = afit_fdm.Flight("bourg", altitude_ft=3000.0, speed_kt=90.0, trim=True)
+    b = afit_fdm.Flight("bourg", altitude_ft=3000.0, speed_kt=90.0, trim=True)
+    a.step(200_000)
+    left = 200_000
+    while left:
+        frames = min(left, 255)
+        b.step(frames)
+        left -= frames
+    assert a.state == b.state and a.status == b.status
+    assert a.state["time_s"] > 0
+
+
 def test_fast_precision_stays_close_to_exact() -> None:
     kw = dict(altitude_ft=2000.0, speed_kt=100.0, trim=True)
     exact = afit_fdm.Fleet("palmer", 16, precision="exact", **kw)

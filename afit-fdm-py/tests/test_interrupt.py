@@ -1,7 +1,9 @@
 """Ctrl-C stops a study: ``afit_fdm.study`` flies with the GIL released but
 looks at Python's pending signals every 20 ms, so a SIGINT raises
 ``KeyboardInterrupt`` out of it within a fraction of a second instead of when
-the whole study has been flown."""
+the whole study has been flown. Long ``Flight.step`` and ``Fleet.step``
+calls look at the signals between chunks of frames (a fraction of a second
+of flying each) in the same way."""
 
 from __future__ import annotations
 
@@ -9,6 +11,8 @@ import signal
 import subprocess
 import sys
 import time
+
+import pytest
 
 import afit_fdm
 
@@ -65,27 +69,28 @@ def test_study_is_interrupted_by_sigint_and_raises_keyboard_interrupt() -> None:
     # The study parses (what the child does first): a wrong file would make
     # the child fail for another reason.
     assert afit_fdm.Study.from_toml(LONG_STUDY).runs == 1048576
-    child = subprocess.Popen(
+    # `with` closes the pipes and waits for the child however the test
+    # ends: a failed assertion leaves no open pipe to warn about later.
+    with subprocess.Popen(
         [sys.executable, "-c", CHILD, LONG_STUDY],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-    )
-    try:
-        assert child.stdout is not None
-        assert child.stdout.readline() == "flying\n"
-        # The call is a few Python lines past the print: after a second the
-        # child is inside the fly (flying 2**20 runs takes far longer).
-        time.sleep(1.0)
-        assert child.poll() is None, "the study ended before the signal"
-        sent = time.monotonic()
-        child.send_signal(signal.SIGINT)
-        stdout, stderr = child.communicate(timeout=BOUND_S)
-        waited = time.monotonic() - sent
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.communicate()
+    ) as child:
+        try:
+            assert child.stdout is not None
+            assert child.stdout.readline() == "flying\n", child.communicate()
+            # The call is a few Python lines past the print: after a second
+            # the child is inside the fly (2**20 runs take far longer).
+            time.sleep(1.0)
+            assert child.poll() is None, "the study ended before the signal"
+            sent = time.monotonic()
+            child.send_signal(signal.SIGINT)
+            stdout, stderr = child.communicate(timeout=BOUND_S)
+            waited = time.monotonic() - sent
+        finally:
+            if child.poll() is None:
+                child.kill()
     assert waited < BOUND_S
     assert "finished" not in stdout
     assert child.returncode == -signal.SIGINT, stderr
@@ -108,3 +113,62 @@ def test_study_without_signal_is_unchanged() -> None:
     parts = afit_fdm.RunTable.concat([study.fly(0, 17, threads=1), study.fly(17, 40, threads=2)])
     assert len(whole) == 40
     assert whole.identical(parts)
+
+
+# The child starts one aircraft (or a fleet of 1,000) and steps it 10**12
+# frames: days of flying (at 0.25 µs a frame, about 70 hours for the
+# aircraft). After the signal it prints the frames flown, proving the state
+# is whole frames the aircraft reached, then re-raises.
+STEP_CHILD = """
+import math
+import signal
+import sys
+import afit_fdm
+signal.signal(signal.SIGINT, signal.default_int_handler)
+if sys.argv[1] == "flight":
+    flying = afit_fdm.Flight("palmer", altitude_ft=5000.0, speed_kt=100.0, trim=True)
+    time_s = lambda: flying.state["time_s"]
+else:
+    flying = afit_fdm.Fleet("bourg", 1000, altitude_ft=5000.0, speed_kt=90.0, trim=True)
+    time_s = lambda: float(flying["time_s"][0])
+print("flying", flush=True)
+try:
+    flying.step(10**12)
+except KeyboardInterrupt:
+    t = time_s()
+    print("frames", round(t * 30), math.isfinite(t) and t > 0, flush=True)
+    raise
+print("finished", flush=True)
+"""
+
+
+@pytest.mark.parametrize("what", ["flight", "fleet"])
+def test_a_long_step_is_interrupted_by_sigint_between_whole_frames(what: str) -> None:
+    # `with` closes the pipes and waits for the child however the test
+    # ends: a failed assertion leaves no open pipe to warn about later.
+    with subprocess.Popen(
+        [sys.executable, "-c", STEP_CHILD, what],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    ) as child:
+        try:
+            assert child.stdout is not None
+            assert child.stdout.readline() == "flying\n", child.communicate()
+            time.sleep(1.0)
+            assert child.poll() is None, "the step ended before the signal"
+            sent = time.monotonic()
+            child.send_signal(signal.SIGINT)
+            stdout, stderr = child.communicate(timeout=BOUND_S)
+            waited = time.monotonic() - sent
+        finally:
+            if child.poll() is None:
+                child.kill()
+    assert waited < BOUND_S
+    assert "finished" not in stdout
+    assert child.returncode == -signal.SIGINT, stderr
+    assert "KeyboardInterrupt" in stderr
+    words = stdout.split()
+    assert words[0] == "frames" and words[2] == "True", stdout
+    # Flown for about a second (at least one chunk), far from the end.
+    assert 1000 <= int(words[1]) < 10**9, stdout

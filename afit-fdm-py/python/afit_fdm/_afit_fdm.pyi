@@ -53,7 +53,12 @@ class Flight:
         for the frame, then ``actions`` (names as in scripts, e.g.
         ``"thrust-up"``), then the model's step, the ground contact and the
         status. A crashed aircraft stays at rest; a step that would give a
-        non-finite state is not kept and the status becomes ``"diverged"``."""
+        non-finite state is not kept and the status becomes ``"diverged"``.
+
+        From 256 frames on, the GIL is released, and Ctrl-C (a signal whose
+        handler raises, ``KeyboardInterrupt`` by default) stops the step
+        between two chunks of 65,536 frames: it is raised, and the frames
+        flown so far stay flown (the same bits as a shorter step)."""
     def reset(self) -> None:
         """Back to the start: state, controls, status, frame 0. The recording
         and the outputs take the reset (``ValueError`` if writing it fails)."""
@@ -388,7 +393,13 @@ class Fleet:
     def step(self, frames: int = 1) -> None:
         """Steps every aircraft ``frames`` frames (ground contact, touchdown,
         crash and divergence per aircraft), with the GIL released, then
-        refreshes the views. ``parallel=True`` uses every core (rayon)."""
+        refreshes the views. ``parallel=True`` uses every core (rayon).
+
+        Ctrl-C (a signal whose handler raises, ``KeyboardInterrupt`` by
+        default) stops a long step between two chunks of frames (about
+        2,000,000 aircraft-frames each): it is raised after the views are
+        refreshed, and the frames flown so far stay flown. Cut or not, the
+        frames are the same bits."""
     def reset(
         self,
         mask: Optional[npt.NDArray[np.bool_]] = None,
