@@ -144,6 +144,36 @@ def test_bad_reset_masks_are_refused() -> None:
         env.reset(options={"reset_mask": np.zeros(3, dtype=bool)})
 
 
+@pytest.mark.parametrize("make", [AircraftEnv, AircraftVectorEnv])
+def test_bad_constructor_arguments_are_refused_by_name(make) -> None:
+    """Whole-number arguments of another type raise ``TypeError`` and out of
+    their range ``ValueError``, naming the argument, when the environment is
+    made (not at its first step, and never taken as given: a fractional or
+    negative ``max_episode_steps`` used to truncate every step, a fractional
+    ``frame_skip`` to fail only in ``step``)."""
+    for kw, error, words in [
+        (dict(frame_skip=1.5), TypeError, "frame_skip: expected a whole number, got float 1.5"),
+        (dict(frame_skip=True), TypeError, "frame_skip: expected a whole number, got bool"),
+        (dict(frame_skip=0), ValueError, "frame_skip: 0 is not a whole number in 1..108000"),
+        (dict(frame_skip=108_001), ValueError, "frame_skip: 108001 is not a whole number in 1..108000"),
+        (dict(fps=10, frame_skip=36_001), ValueError, "frame_skip: 36001 is not a whole number in 1..36000"),
+        (dict(fps=29.97), TypeError, "fps: expected a whole number, got float"),
+        (dict(fps=0), ValueError, "fps: 0 is not a whole number in 1..10000"),
+        (dict(max_episode_steps=0), ValueError, "max_episode_steps: 0 is not a whole number in 1.."),
+        (dict(max_episode_steps=-5), ValueError, "max_episode_steps: -5 is not"),
+        (dict(max_episode_steps=2.5), TypeError, "max_episode_steps: expected a whole number"),
+    ]:
+        with pytest.raises(error) as raised:
+            make("palmer", "climb", **kw)
+        assert str(raised.value).startswith(words), (kw, str(raised.value))
+    # The ends of the ranges are taken, NumPy integers too.
+    make("palmer", "climb", fps=np.int64(10), frame_skip=36_000, max_episode_steps=np.int32(1))
+    if make is AircraftVectorEnv:
+        for n, error in [(0, ValueError), (2.0, TypeError), (True, TypeError)]:
+            with pytest.raises(error, match="num_envs"):
+                make("palmer", "climb", n)
+
+
 def test_example_training_loop_runs_and_improves() -> None:
     example = pathlib.Path(__file__).resolve().parents[1] / "examples" / "train_heading.py"
     out = subprocess.run(

@@ -25,7 +25,11 @@ Registered ids (``gymnasium.make`` / ``gymnasium.make_vec``)::
     afit_fdm/BourgHeadingAltitude-v0    afit_fdm/BourgClimb-v0
 
 **Agent rate.** Each ``step`` flies ``frame_skip`` model frames at ``fps``
-frames per second (defaults 30 and 1: a 30 Hz agent).
+frames per second (defaults 30 and 1: a 30 Hz agent). ``fps`` is a whole
+number from 1 to 10,000, ``frame_skip`` from 1 to an hour of frames (3,600 ×
+``fps``: a step is one call that Ctrl-C cannot stop), ``num_envs`` and
+``max_episode_steps`` at least 1; another type raises ``TypeError``, a number
+out of range ``ValueError``, both naming the argument.
 
 **Actions** (``Box(-1, 1)``, float32, scaled to the thesis's controls; any
 array of ``num_envs`` times this many numbers is taken, float32 or float64 as
@@ -94,6 +98,22 @@ FT_PER_M = 1.0 / 0.3048
 KT_PER_MPS = 3600.0 / 1852.0
 TASKS = ("heading-altitude", "climb")
 OBS_LIMIT = 10.0
+# The longest agent step, seconds of flight: ``frame_skip`` is at most this
+# many seconds of frames. A step is one call into Rust that Ctrl-C cannot
+# stop, so an absurd ``frame_skip`` is refused rather than flown for hours.
+MAX_AGENT_STEP_S = 3600
+_MAX_INT64 = 2**63 - 1
+
+
+def _whole(name: str, value: Any, low: int, high: int) -> int:
+    """``value`` if it is a whole number in ``low..high``: ``TypeError`` for
+    another type (``bool`` included), ``ValueError`` out of range, both
+    naming the argument."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name}: expected a whole number, got {type(value).__name__} {value!r}")
+    if not low <= value <= high:
+        raise ValueError(f"{name}: {value} is not a whole number in {low}..{high}")
+    return int(value)
 AIRBORNE = int(Status.AIRBORNE)
 
 
@@ -106,8 +126,8 @@ class _Task:
             raise ValueError(f"model: {model!r} is not 'palmer' or 'bourg'")
         if task not in TASKS:
             raise ValueError(f"task: {task!r} is not one of {TASKS}")
-        if frame_skip < 1:
-            raise ValueError(f"frame_skip: {frame_skip} is not a whole number >= 1")
+        fps = _whole("fps", fps, 1, 10_000)
+        frame_skip = _whole("frame_skip", frame_skip, 1, MAX_AGENT_STEP_S * fps)
         self.model, self.task, self.n, self.frame_skip = model, task, n, frame_skip
         self.fleet = Fleet(model, n, fps=fps, parallel=parallel, altitude_ft=2000.0, speed_kt=100.0, trim=True)
         self.fps = fps
@@ -208,6 +228,7 @@ class AircraftEnv(gymnasium.Env):
     ) -> None:
         if render_mode is not None:
             raise ValueError(f"render_mode: {render_mode!r}: these environments do not render")
+        max_episode_steps = _whole("max_episode_steps", max_episode_steps, 1, _MAX_INT64)
         self._task = _Task(model, task, 1, fps, frame_skip, parallel=False)
         self.action_space = self._task.action_space
         self.observation_space = self._task.observation_space
@@ -245,8 +266,8 @@ class AircraftVectorEnv(VectorEnv):
     ) -> None:
         if render_mode is not None:
             raise ValueError(f"render_mode: {render_mode!r}: these environments do not render")
-        if num_envs < 1:
-            raise ValueError(f"num_envs: {num_envs} is not >= 1")
+        num_envs = _whole("num_envs", num_envs, 1, _MAX_INT64)
+        max_episode_steps = _whole("max_episode_steps", max_episode_steps, 1, _MAX_INT64)
         self.num_envs = num_envs
         self.autoreset_mode = autoreset_mode if isinstance(autoreset_mode, AutoresetMode) else AutoresetMode(autoreset_mode)
         self._task = _Task(model, task, num_envs, fps, frame_skip, parallel)
