@@ -285,7 +285,11 @@ impl<M: BindModel> Outputs<M> {
                 Err(e) => {
                     let mut failed = self.list.remove(i);
                     let _ = failed.output.finish();
-                    first.get_or_insert(format!("{}: {e} (the output is closed)", failed.label));
+                    first.get_or_insert(format!(
+                        "{}: {} (the output is closed)",
+                        failed.label,
+                        with_sources(&*e)
+                    ));
                 }
             }
         }
@@ -302,7 +306,7 @@ impl<M: BindModel> Outputs<M> {
         let mut first = None;
         for mut attached in self.list.drain(..) {
             if let Err(e) = attached.output.finish() {
-                first.get_or_insert(format!("{}: {e}", attached.label));
+                first.get_or_insert(format!("{}: {}", attached.label, with_sources(&*e)));
             }
         }
         self.fg = None;
@@ -315,6 +319,24 @@ impl<M: BindModel> Outputs<M> {
 }
 
 /// Hands one output its frame, placed at the output's origin.
+/// `error`'s message followed by those of its sources, `: `-separated, as
+/// `sim-cli` prints an error ("writing CSV file out.csv: No space left on
+/// device (os error 28)"): the reason is often only in a source. A source
+/// whose message already ends the text is not repeated.
+fn with_sources(error: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        let message = cause.to_string();
+        if !text.ends_with(&message) {
+            text.push_str(": ");
+            text.push_str(&message);
+        }
+        source = cause.source();
+    }
+    text
+}
+
 fn hand<M: BindModel>(
     attached: &mut Attached<M>,
     f: &FrameData<'_, M>,

@@ -339,6 +339,25 @@ def test_bad_output_arguments_raise_naming_them(tmp_path) -> None:
     f.close_outputs()
 
 
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs Linux's /dev/full")
+def test_an_output_that_fails_says_why_and_is_closed() -> None:
+    """A CSV on a full disk (``/dev/full``: every write fails with ENOSPC):
+    the step raises with the output's label, what failed and the system's
+    reason (the source of the error, which the message used to leave out),
+    the output is closed, and the flight flies on without it."""
+    f = afit_fdm.Flight("palmer")
+    f.csv_to("/dev/full")
+    assert f.outputs == ["csv /dev/full"]
+    with pytest.raises(ValueError) as raised:
+        f.step(1000)
+    message = str(raised.value)
+    assert message.startswith("csv /dev/full: writing CSV file /dev/full: "), message
+    assert "No space left on device" in message and message.endswith("(the output is closed)")
+    assert f.outputs == []
+    f.step(10)
+    assert f.frame > 10
+
+
 def capture_while(sock: socket.socket, work: Callable[[], None]) -> List[bytes]:
     """The datagrams ``sock`` receives while ``work()`` runs, drained by a
     thread as they come: a burst from a subprocess cannot be slowed down,
