@@ -11,8 +11,8 @@ pub enum CliError {
     #[error("{0}")]
     Usage(String),
     /// Anything that went wrong after the input was accepted. Exit status 1.
-    /// `{:#}` prints an `anyhow` context chain on one line (`outer: inner`).
-    #[error("{0:#}")]
+    /// The `anyhow` context chain on one line (`outer: inner`, [`chain_text`]).
+    #[error("{}", chain_text(.0))]
     Runtime(anyhow::Error),
     /// The input was incomplete but what it held was used to the end: a
     /// recording cut before its end marker, replayed up to the cut. Exit
@@ -71,6 +71,25 @@ impl From<fgnet::address::FgAddressError> for CliError {
     }
 }
 
+/// `error`'s chain on one line, `outer: inner`, as `{:#}` prints it, except
+/// that a cause whose message already ends the text is not repeated: an error
+/// that prints its source and also returns it from `source()` (as
+/// `fdm_run::acmi::AcmiError` does) would otherwise show the reason twice.
+#[must_use]
+pub fn chain_text(error: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in error.chain() {
+        let message = cause.to_string();
+        if text.is_empty() {
+            text = message;
+        } else if !text.ends_with(&message) {
+            text.push_str(": ");
+            text.push_str(&message);
+        }
+    }
+    text
+}
+
 /// Joins the non-empty lines of `text` with single spaces.
 #[must_use]
 pub fn one_line(text: &str) -> String {
@@ -119,5 +138,30 @@ mod tests {
             .context("writing out.csv")
             .into();
         assert_eq!(e.one_line(), "writing out.csv: inner reason");
+    }
+
+    /// `sim-cli palmer --headless --acmi /dev/full` printed "writing the ACMI
+    /// file: No space left on device (os error 28): No space left on device
+    /// (os error 28)": the ACMI error prints its source and returns it.
+    #[test]
+    fn a_cause_the_message_already_ends_with_is_not_repeated() {
+        let full = std::io::Error::other("No space left on device (os error 28)");
+        let e: CliError = anyhow::Error::from(fdm_run::acmi::AcmiError::Io(full)).into();
+        assert_eq!(
+            e.one_line(),
+            "writing the ACMI file: No space left on device (os error 28)"
+        );
+        let e: CliError = anyhow::Error::from(fdm_run::acmi::AcmiError::Io(std::io::Error::other(
+            "disk full",
+        )))
+        .context("finishing out.acmi")
+        .into();
+        assert_eq!(
+            e.one_line(),
+            "finishing out.acmi: writing the ACMI file: disk full"
+        );
+        // Causes that add something are all kept, in order.
+        let e: CliError = anyhow::anyhow!("c").context("b").context("a").into();
+        assert_eq!(e.one_line(), "a: b: c");
     }
 }
