@@ -946,16 +946,21 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
                 .weights
                 .clone()
                 .unwrap_or_else(|| vec![1.0; values.len()]);
+            let total: f64 = weights.iter().sum();
+            // A sum that overflows (weights near f64::MAX) would make every
+            // quotient 0 and the last value certain: refused, not drawn.
             if weights.len() != values.len()
                 || !weights.iter().all(|w| w.is_finite() && *w >= 0.0)
-                || weights.iter().sum::<f64>() <= 0.0
+                || !(total > 0.0 && total.is_finite())
             {
                 return Err((
                     "weights",
-                    format!("{} finite weights >= 0 with a positive sum", values.len()),
+                    format!(
+                        "{} finite weights >= 0 with a positive, finite sum",
+                        values.len()
+                    ),
                 ));
             }
-            let total: f64 = weights.iter().sum();
             let mut sum = 0.0;
             let mut cumulative: Vec<f64> = weights
                 .iter()
@@ -1249,6 +1254,38 @@ mod tests {
         assert!(e.contains("found -1e308") && e.len() < 200, "{e}");
         let e = error(&format!("{BASE}[initial]\naltitude_ft = 1e300\n"));
         assert!(e.contains("found 1e300") && e.len() < 200, "{e}");
+    }
+
+    /// Weights whose sum overflows (each finite) drew the last value for
+    /// every run: refused instead; the largest weights with a finite sum
+    /// are taken, and draw every value.
+    #[test]
+    fn choice_weights_need_a_positive_finite_sum() {
+        let choice = |weights: &str| {
+            format!(
+                "{BASE}[[dispersion]]\nkey = \"initial.speed_kt\"\ndistribution = \"choice\"\n\
+                 values = [60.0, 70.0, 80.0]\nweights = {weights}\n"
+            )
+        };
+        for weights in [
+            "[1e308, 1e308, 1e308]",
+            "[0.0, 0.0, 0.0]",
+            "[1.0, 1.0]",
+            "[1.0, -1.0, 1.0]",
+        ] {
+            let e = error(&choice(weights));
+            assert!(
+                e.contains("line 5")
+                    && e.contains("dispersion.weights")
+                    && e.contains("3 finite weights >= 0 with a positive, finite sum"),
+                "{weights}: {e}"
+            );
+        }
+        let study = Study::from_toml_str(&choice("[5e307, 5e307, 5e307]")).unwrap();
+        let mut drawn: Vec<f64> = (0..10).map(|run| study.run_values(run).drawn[0]).collect();
+        drawn.sort_by(f64::total_cmp);
+        drawn.dedup();
+        assert_eq!(drawn, [60.0, 70.0, 80.0]);
     }
 
     #[test]
