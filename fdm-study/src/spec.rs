@@ -85,10 +85,17 @@ impl Distribution {
                 low,
                 high,
             } => {
-                let a = normal_cdf((low - mean) / sd);
-                let b = normal_cdf((high - mean) / sd);
-                let x = mean + sd * normal_quantile(a + u * (b - a));
-                // The CDF's rounding can put x a hair outside: clamp.
+                let (a, b) = truncated_cdfs(*mean, *sd, *low, *high);
+                let x = if mirrored(*mean, *low) {
+                    // Drawn through the lower tail ([`truncated_cdfs`]):
+                    // u's order kept (a larger u, a larger x).
+                    mean - sd * normal_quantile(a + (1.0 - u) * (b - a))
+                } else {
+                    mean + sd * normal_quantile(a + u * (b - a))
+                };
+                // The CDF's rounding can put x a hair outside: clamp. (The
+                // study refuses an interval without probability mass in
+                // `f64`, whose quantile could be infinite.)
                 if x.is_finite() {
                     x.clamp(*low, *high)
                 } else {
@@ -103,6 +110,26 @@ impl Distribution {
                 values[index]
             }
         }
+    }
+}
+
+/// Whether a truncated normal is drawn mirrored: an interval wholly above
+/// the mean, where Φ is near 1 and `f64` has few values left (Φ(8) is
+/// within 6e-16 of 1, so an interval 8 to 9 standard deviations up would
+/// get only a handful of distinct draws).
+fn mirrored(mean: f64, low: f64) -> bool {
+    low > mean
+}
+
+/// Φ at the ends of a truncated normal's standardised interval, from the
+/// lower tail, where Φ keeps its full relative precision: Φ(α), Φ(β), or
+/// for a [`mirrored`] interval Φ(−β), Φ(−α).
+fn truncated_cdfs(mean: f64, sd: f64, low: f64, high: f64) -> (f64, f64) {
+    let (alpha, beta) = ((low - mean) / sd, (high - mean) / sd);
+    if mirrored(mean, low) {
+        (normal_cdf(-beta), normal_cdf(-alpha))
+    } else {
+        (normal_cdf(alpha), normal_cdf(beta))
     }
 }
 
@@ -924,14 +951,44 @@ fn parse_distribution(spec: &DispersionSpec) -> Result<Distribution, (&'static s
         "uniform" => {
             let (low, high) = (need("low", spec.low)?, need("high", spec.high)?);
             ordered(low, high)?;
+            // high − low overflowing would make every draw infinite.
+            if !(high - low).is_finite() {
+                return Err((
+                    "high",
+                    format!(
+                        "high − low within f64's range, found low {} and high {}",
+                        ShortNumber(low),
+                        ShortNumber(high)
+                    ),
+                ));
+            }
             Distribution::Uniform { low, high }
         }
         "truncated_normal" => {
             let (low, high) = (need("low", spec.low)?, need("high", spec.high)?);
             ordered(low, high)?;
+            let (mean, sd) = (need("mean", spec.mean)?, positive(need("sd", spec.sd)?)?);
+            // No probability mass in `f64` (the interval some 38 standard
+            // deviations or more from the mean): every draw would be one
+            // arbitrary value.
+            let (a, b) = truncated_cdfs(mean, sd, low, high);
+            if b <= a {
+                return Err((
+                    "low",
+                    format!(
+                        "an interval with a probability under the normal (within about 38 \
+                         standard deviations of the mean), found low {} and high {} for mean {} \
+                         and sd {}",
+                        ShortNumber(low),
+                        ShortNumber(high),
+                        ShortNumber(mean),
+                        ShortNumber(sd)
+                    ),
+                ));
+            }
             Distribution::TruncatedNormal {
-                mean: need("mean", spec.mean)?,
-                sd: positive(need("sd", spec.sd)?)?,
+                mean,
+                sd,
                 low,
                 high,
             }
@@ -1286,6 +1343,82 @@ mod tests {
         drawn.sort_by(f64::total_cmp);
         drawn.dedup();
         assert_eq!(drawn, [60.0, 70.0, 80.0]);
+    }
+
+    /// A truncated normal wholly above its mean is drawn through the lower
+    /// tail: 8 to 9 standard deviations up, the draws spread over the
+    /// interval in u's order (through the upper tail Φ(8) and Φ(9) are both
+    /// within 6e-16 of 1: a handful of values), the mirror image of the same
+    /// interval below the mean; one without mass in `f64` is refused.
+    #[test]
+    fn a_truncated_normal_far_in_the_tail_keeps_its_spread() {
+        let up = Distribution::TruncatedNormal {
+            mean: 0.0,
+            sd: 1.0,
+            low: 8.0,
+            high: 9.0,
+        };
+        let down = Distribution::TruncatedNormal {
+            mean: 0.0,
+            sd: 1.0,
+            low: -9.0,
+            high: -8.0,
+        };
+        let draws: Vec<f64> = (1..1000)
+            .map(|i| up.sample(f64::from(i) / 1000.0))
+            .collect();
+        assert!(draws.windows(2).all(|w| w[0] < w[1]), "not increasing");
+        assert!(draws.iter().all(|x| (8.0..=9.0).contains(x)));
+        // Most of the mass is just above 8: the median about 8.09.
+        assert!((8.05..8.15).contains(&up.sample(0.5)), "{}", up.sample(0.5));
+        for i in 1..1000 {
+            let u = f64::from(i) / 1000.0;
+            assert_eq!(up.sample(u), -down.sample(1.0 - u), "{u}");
+        }
+        // An interval containing the mean is drawn as before (no mirror).
+        let around = Distribution::TruncatedNormal {
+            mean: 1050.0,
+            sd: 40.0,
+            low: 950.0,
+            high: 1114.0,
+        };
+        let (a, b) = (normal_cdf(-2.5), normal_cdf(1.6));
+        assert_eq!(
+            around.sample(0.3).to_bits(),
+            (1050.0 + 40.0 * normal_quantile(a + 0.3 * (b - a))).to_bits()
+        );
+        let far = |low: f64, high: f64| {
+            format!(
+                "{BASE}[[dispersion]]\nkey = \"initial.speed_kt\"\n\
+                 distribution = \"truncated_normal\"\nmean = 0.0\nsd = 1.0\n\
+                 low = {low}\nhigh = {high}\n"
+            )
+        };
+        assert!(Study::from_toml_str(&far(30.0, 31.0)).is_ok());
+        assert!(Study::from_toml_str(&far(-31.0, -30.0)).is_ok());
+        for (low, high) in [(50.0, 60.0), (-60.0, -50.0)] {
+            let e = error(&far(low, high));
+            assert!(
+                e.contains("dispersion.low") && e.contains("a probability under the normal"),
+                "{e}"
+            );
+        }
+    }
+
+    /// A uniform whose width overflows drew infinity for every run.
+    #[test]
+    fn a_uniform_wider_than_f64_is_refused() {
+        let wide = format!(
+            "{BASE}[[dispersion]]\nkey = \"initial.speed_kt\"\ndistribution = \"uniform\"\n\
+             low = -1e308\nhigh = 1e308\n"
+        );
+        let e = error(&wide);
+        assert!(
+            e.contains("dispersion.high") && e.contains("high − low within"),
+            "{e}"
+        );
+        let half = wide.replace("-1e308", "0.0");
+        assert!(Study::from_toml_str(&half).is_ok());
     }
 
     #[test]
