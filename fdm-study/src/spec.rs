@@ -1375,6 +1375,18 @@ mod tests {
             let u = f64::from(i) / 1000.0;
             assert_eq!(up.sample(u), -down.sample(1.0 - u), "{u}");
         }
+        // An interval starting at the mean is not mirrored.
+        let from_mean = Distribution::TruncatedNormal {
+            mean: 0.0,
+            sd: 1.0,
+            low: 0.0,
+            high: 2.0,
+        };
+        let (a, b) = (normal_cdf(0.0), normal_cdf(2.0));
+        assert_eq!(
+            from_mean.sample(0.3).to_bits(),
+            normal_quantile(a + 0.3 * (b - a)).to_bits()
+        );
         // An interval containing the mean is drawn as before (no mirror).
         let around = Distribution::TruncatedNormal {
             mean: 1050.0,
