@@ -11,6 +11,7 @@ import signal
 import subprocess
 import sys
 import time
+from typing import Tuple
 
 import pytest
 
@@ -65,14 +66,15 @@ print("finished", flush=True)
 BOUND_S = 5.0
 
 
-def test_study_is_interrupted_by_sigint_and_raises_keyboard_interrupt() -> None:
-    # The study parses (what the child does first): a wrong file would make
-    # the child fail for another reason.
-    assert afit_fdm.Study.from_toml(LONG_STUDY).runs == 1048576
-    # `with` closes the pipes and waits for the child however the test
-    # ends: a failed assertion leaves no open pipe to warn about later.
+def interrupted_child(code: str, argument: str) -> Tuple[str, str]:
+    """Runs ``code`` in a child Python with ``argument``, waits for its
+    ``flying`` line and a second more (it is then inside the long call),
+    sends it SIGINT and checks that it ended by it within ``BOUND_S``
+    without finishing, from a ``KeyboardInterrupt``; returns its stdout and
+    stderr. ``with`` closes the pipes and waits for the child however the
+    test ends: a failed assertion leaves no open pipe to warn about later."""
     with subprocess.Popen(
-        [sys.executable, "-c", CHILD, LONG_STUDY],
+        [sys.executable, "-c", code, argument],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -80,10 +82,8 @@ def test_study_is_interrupted_by_sigint_and_raises_keyboard_interrupt() -> None:
         try:
             assert child.stdout is not None
             assert child.stdout.readline() == "flying\n", child.communicate()
-            # The call is a few Python lines past the print: after a second
-            # the child is inside the fly (2**20 runs take far longer).
             time.sleep(1.0)
-            assert child.poll() is None, "the study ended before the signal"
+            assert child.poll() is None, "the call ended before the signal"
             sent = time.monotonic()
             child.send_signal(signal.SIGINT)
             stdout, stderr = child.communicate(timeout=BOUND_S)
@@ -95,6 +95,14 @@ def test_study_is_interrupted_by_sigint_and_raises_keyboard_interrupt() -> None:
     assert "finished" not in stdout
     assert child.returncode == -signal.SIGINT, stderr
     assert "KeyboardInterrupt" in stderr
+    return stdout, stderr
+
+
+def test_study_is_interrupted_by_sigint_and_raises_keyboard_interrupt() -> None:
+    # The study parses (what the child does first): a wrong file would make
+    # the child fail for another reason.
+    assert afit_fdm.Study.from_toml(LONG_STUDY).runs == 1048576
+    _, stderr = interrupted_child(CHILD, LONG_STUDY)
     # Raised from the study call (line 8 of CHILD), out of the fly itself.
     assert 'File "<string>", line 8, in <module>' in stderr
     assert "fly_columns" in stderr
@@ -144,30 +152,7 @@ print("finished", flush=True)
 
 @pytest.mark.parametrize("what", ["flight", "fleet"])
 def test_a_long_step_is_interrupted_by_sigint_between_whole_frames(what: str) -> None:
-    # `with` closes the pipes and waits for the child however the test
-    # ends: a failed assertion leaves no open pipe to warn about later.
-    with subprocess.Popen(
-        [sys.executable, "-c", STEP_CHILD, what],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    ) as child:
-        try:
-            assert child.stdout is not None
-            assert child.stdout.readline() == "flying\n", child.communicate()
-            time.sleep(1.0)
-            assert child.poll() is None, "the step ended before the signal"
-            sent = time.monotonic()
-            child.send_signal(signal.SIGINT)
-            stdout, stderr = child.communicate(timeout=BOUND_S)
-            waited = time.monotonic() - sent
-        finally:
-            if child.poll() is None:
-                child.kill()
-    assert waited < BOUND_S
-    assert "finished" not in stdout
-    assert child.returncode == -signal.SIGINT, stderr
-    assert "KeyboardInterrupt" in stderr
+    stdout, _ = interrupted_child(STEP_CHILD, what)
     words = stdout.split()
     assert words[0] == "frames" and words[2] == "True", stdout
     # Flown for about a second (at least one chunk), far from the end.
