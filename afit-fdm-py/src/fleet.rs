@@ -156,7 +156,7 @@ pub fn now_s() -> f64 {
 }
 
 /// Aircraft-frames a long `Fleet.step` flies between two looks at Python's
-/// pending signals ([`crate::in_chunks`]): about 20 to 120 ms of flying on
+/// pending signals (the crate's `in_chunks`): about 20 to 120 ms of flying on
 /// one thread at 10 to 60 ns an aircraft-frame, so Ctrl-C stops it within a
 /// fraction of a second while the looks cost nothing next to the flying.
 pub const AIRCRAFT_FRAMES_PER_SIGNAL_CHECK: u64 = 1 << 21;
@@ -221,10 +221,9 @@ pub trait AnyFleet: Send + Sync {
     /// `afit_fdm.gym` did in NumPy, flies `frames` frames, counts `steps`
     /// up by one and, with `observe`, refreshes the buffers and fills the
     /// task's outputs ([`crate::task::observe_block`]): what setting the
-    /// controls, [`Self::step`] without the refresh and
-    /// [`Self::task_observe`] give one after the other, bit for bit (the
-    /// aircraft are independent), with each run of blocks read once while
-    /// it is in the cache.
+    /// controls, [`Self::fly`] and [`Self::task_observe`] give one after
+    /// the other, bit for bit (the aircraft are independent), with each run
+    /// of blocks read once while it is in the cache.
     ///
     /// # Errors
     /// A NaN action, named by the control it sets as `Fleet.set_controls`
