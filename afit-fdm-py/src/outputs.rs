@@ -25,6 +25,7 @@ use fdm_core::model::{FlightStatus, FlightView};
 use fdm_run::acmi::{AcmiHeader, AcmiOutput, AcmiWriter, ReferenceTime};
 use fdm_run::csv::{CsvOutput, CsvWriter, FlightRow};
 use fdm_run::flightgear::FlightGearOutput;
+use fdm_run::output::error_text;
 use fdm_run::{Event, Frame, LinkStats, Output, Placement, SharedOutput};
 use fgnet::address::{parse_fg_target, FgAddressError};
 
@@ -288,7 +289,7 @@ impl<M: BindModel> Outputs<M> {
                     first.get_or_insert(format!(
                         "{}: {} (the output is closed)",
                         failed.label,
-                        with_sources(&*e)
+                        error_text(&*e)
                     ));
                 }
             }
@@ -306,7 +307,7 @@ impl<M: BindModel> Outputs<M> {
         let mut first = None;
         for mut attached in self.list.drain(..) {
             if let Err(e) = attached.output.finish() {
-                first.get_or_insert(format!("{}: {}", attached.label, with_sources(&*e)));
+                first.get_or_insert(format!("{}: {}", attached.label, error_text(&*e)));
             }
         }
         self.fg = None;
@@ -319,24 +320,6 @@ impl<M: BindModel> Outputs<M> {
 }
 
 /// Hands one output its frame, placed at the output's origin.
-/// `error`'s message followed by those of its sources, `: `-separated, as
-/// `sim-cli` prints an error ("writing CSV file out.csv: No space left on
-/// device (os error 28)"): the reason is often only in a source. A source
-/// whose message already ends the text is not repeated.
-fn with_sources(error: &(dyn std::error::Error + 'static)) -> String {
-    let mut text = error.to_string();
-    let mut source = error.source();
-    while let Some(cause) = source {
-        let message = cause.to_string();
-        if !text.ends_with(&message) {
-            text.push_str(": ");
-            text.push_str(&message);
-        }
-        source = cause.source();
-    }
-    text
-}
-
 fn hand<M: BindModel>(
     attached: &mut Attached<M>,
     f: &FrameData<'_, M>,

@@ -20,6 +20,35 @@ use fdm_core::model::{FlightStatus, FlightView, Model};
 /// line).
 pub type OutputError = Box<dyn std::error::Error + Send + Sync + 'static>;
 
+/// `error`'s message followed by those of its sources, `: `-separated, as
+/// `sim-cli` prints an error ("writing CSV file out.csv: No space left on
+/// device (os error 28)"): the reason is often only in a source. A source
+/// whose message already ends the text is not repeated (an error that prints
+/// its source and also returns it, as [`crate::acmi::AcmiError`] does, would
+/// otherwise show the reason twice).
+///
+/// ```
+/// use fdm_run::output::error_text;
+///
+/// let full = std::io::Error::other("No space left on device");
+/// let acmi = fdm_run::acmi::AcmiError::Io(full);
+/// assert_eq!(error_text(&acmi), "writing the ACMI file: No space left on device");
+/// ```
+#[must_use]
+pub fn error_text(error: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        let message = cause.to_string();
+        if !text.ends_with(&message) {
+            text.push_str(": ");
+            text.push_str(&message);
+        }
+        source = cause.source();
+    }
+    text
+}
+
 /// Why the run calls an output.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {
@@ -131,5 +160,42 @@ pub trait Output<M: Model> {
     /// As [`Self::frame`].
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::error_text;
+
+    /// An error with a message and, maybe, a source.
+    #[derive(Debug)]
+    struct Caused(&'static str, Option<Box<Caused>>);
+
+    impl std::fmt::Display for Caused {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str(self.0)
+        }
+    }
+
+    impl std::error::Error for Caused {
+        fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+            self.1.as_deref().map(|e| e as _)
+        }
+    }
+
+    #[test]
+    fn an_errors_text_is_its_chain_without_repeats() {
+        let root = Caused("disk full", None);
+        assert_eq!(error_text(&root), "disk full");
+        let middle = Caused("writing out.csv", Some(Box::new(root)));
+        assert_eq!(error_text(&middle), "writing out.csv: disk full");
+        // A source whose message already ends the text is not repeated.
+        let printed = Caused(
+            "writing: disk full",
+            Some(Box::new(Caused("disk full", None))),
+        );
+        assert_eq!(error_text(&printed), "writing: disk full");
+        let top = Caused("run stopped", Some(Box::new(middle)));
+        assert_eq!(error_text(&top), "run stopped: writing out.csv: disk full");
     }
 }

@@ -11,8 +11,10 @@ pub enum CliError {
     #[error("{0}")]
     Usage(String),
     /// Anything that went wrong after the input was accepted. Exit status 1.
-    /// The `anyhow` context chain on one line (`outer: inner`, [`chain_text`]).
-    #[error("{}", chain_text(.0))]
+    /// The `anyhow` context chain on one line (`outer: inner`,
+    /// [`fdm_run::output::error_text`]: a cause already at the end is not
+    /// repeated).
+    #[error("{}", fdm_run::output::error_text(.0.as_ref()))]
     Runtime(anyhow::Error),
     /// The input was incomplete but what it held was used to the end: a
     /// recording cut before its end marker, replayed up to the cut. Exit
@@ -69,25 +71,6 @@ impl From<fgnet::address::FgAddressError> for CliError {
     fn from(e: fgnet::address::FgAddressError) -> Self {
         Self::usage(e)
     }
-}
-
-/// `error`'s chain on one line, `outer: inner`, as `{:#}` prints it, except
-/// that a cause whose message already ends the text is not repeated: an error
-/// that prints its source and also returns it from `source()` (as
-/// `fdm_run::acmi::AcmiError` does) would otherwise show the reason twice.
-#[must_use]
-pub fn chain_text(error: &anyhow::Error) -> String {
-    let mut text = String::new();
-    for cause in error.chain() {
-        let message = cause.to_string();
-        if text.is_empty() {
-            text = message;
-        } else if !text.ends_with(&message) {
-            text.push_str(": ");
-            text.push_str(&message);
-        }
-    }
-    text
 }
 
 /// Joins the non-empty lines of `text` with single spaces.
