@@ -339,6 +339,40 @@ pub(crate) mod test_support {
         );
     }
 
+    /// `M::CONTROL_KEYS` is the keys of `values`, in order, and each key
+    /// set alone on the model's initial controls changes exactly its own
+    /// field (by its serialized name, `field(key)`); returns the initial
+    /// controls with every value set, in order, for the caller to compare.
+    pub(crate) fn each_control_key_sets_its_own_field<M: super::NamedInputs>(
+        values: &[(&str, f64)],
+        field: impl Fn(&str) -> &str,
+    ) -> M::Controls
+    where
+        M::Controls: serde::Serialize,
+    {
+        let keys: Vec<&str> = values.iter().map(|(key, _)| *key).collect();
+        assert_eq!(M::CONTROL_KEYS, keys.as_slice());
+        let fields = |c: &M::Controls| match serde_json::to_value(c).unwrap() {
+            serde_json::Value::Object(map) => map,
+            other => panic!("{other}"),
+        };
+        let start = M::initial_controls();
+        let mut all = start;
+        for &(key, value) in values {
+            let mut c = start;
+            M::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{key}: {e}"));
+            M::set_control(&mut all, key, value).unwrap();
+            let (before, after) = (fields(&start), fields(&c));
+            let changed: Vec<&str> = after
+                .iter()
+                .filter(|(k, v)| before.get(k.as_str()) != Some(*v))
+                .map(|(k, _)| k.as_str())
+                .collect();
+            assert_eq!(changed, [field(key)], "{key}");
+        }
+        all
+    }
+
     /// `M::state_fingerprint` is `want` (the state half of fdm-core's
     /// fingerprint of `M`) of fleet member 2's state, of that state a step
     /// (at 30 frames a second) on, and of each of `more`; and the first two

@@ -1090,25 +1090,11 @@ mod tests {
             ("landing_flaps", 1.0),
             ("pitch_trim", -0.5),
         ];
-        assert_eq!(Bourg::CONTROL_KEYS, values.map(|(key, _)| key).as_slice());
-        let fields = |c: &BourgControls| match serde_json::to_value(c).unwrap() {
-            serde_json::Value::Object(map) => map,
-            other => panic!("{other}"),
-        };
+        let all = crate::model::test_support::each_control_key_sets_its_own_field::<Bourg>(
+            &values,
+            |key| key,
+        );
         let start = Bourg::initial_controls();
-        let mut all = start;
-        for (key, value) in values {
-            let mut c = start;
-            Bourg::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{key}: {e}"));
-            Bourg::set_control(&mut all, key, value).unwrap();
-            let (before, after) = (fields(&start), fields(&c));
-            let changed: Vec<&str> = after
-                .iter()
-                .filter(|(k, v)| before[k.as_str()] != **v)
-                .map(|(k, _)| k.as_str())
-                .collect();
-            assert_eq!(changed, [key]);
-        }
         let want = BourgControls {
             thrust_lb: 2500.0,
             landing_flaps: true,

@@ -1352,26 +1352,16 @@ mod tests {
             ("flaps_deg", 40.0),
             ("brakes", 1.0),
         ];
-        assert_eq!(Palmer::CONTROL_KEYS, values.map(|(key, _)| key).as_slice());
-        let fields = |c: &PalmerControls| match serde_json::to_value(c).unwrap() {
-            serde_json::Value::Object(map) => map,
-            other => panic!("{other}"),
-        };
-        let start = Palmer::initial_controls();
-        let mut all = start;
-        for (key, value) in values {
-            let mut c = start;
-            Palmer::set_control(&mut c, key, value).unwrap_or_else(|e| panic!("{key}: {e}"));
-            Palmer::set_control(&mut all, key, value).unwrap();
-            let (before, after) = (fields(&start), fields(&c));
-            let changed: Vec<&str> = after
-                .iter()
-                .filter(|(k, v)| before.get(k.as_str()) != Some(*v))
-                .map(|(k, _)| k.as_str())
-                .collect();
-            let field = if key == "flaps_deg" { "flaps" } else { key };
-            assert_eq!(changed, [field], "{key}");
-        }
+        let all = crate::model::test_support::each_control_key_sets_its_own_field::<Palmer>(
+            &values,
+            |key| {
+                if key == "flaps_deg" {
+                    "flaps"
+                } else {
+                    key
+                }
+            },
+        );
         assert_eq!(
             all,
             PalmerControls {
