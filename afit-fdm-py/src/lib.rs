@@ -701,15 +701,34 @@ impl PyFleet {
         let targets = targets.slices()?;
         let outs = outs.slices()?;
         let values = actions.values()?;
+        let args = task_args(task, targets, max_steps);
         let start = fleet::now_s();
-        py.detach(|| {
-            let args = task_args(task, targets, max_steps);
-            let observe = observe.then(|| (&args, outs.into_task_out(columns, status)));
-            inner.task_step(values, frames, steps, observe)
-        })
-        .map_err(PyValueError::new_err)?;
+        // A step of more frames than one look at the signals allows is the
+        // actions set with the first stretch of frames, the rest flown in
+        // stretches with a look at Python's signals between two (as `step`),
+        // then the outputs filled: what one call gives, bit for bit
+        // (`AnyFleet::task_step`'s contract), and Ctrl-C stops it.
+        let per_check = fleet::frames_per_signal_check(n);
+        let first = frames.min(per_check);
+        let mut outs = Some(outs.into_task_out(columns, status));
+        let observe_now = if observe && first == frames {
+            outs.take().map(|out| (&args, out))
+        } else {
+            None
+        };
+        py.detach(|| inner.task_step(values, first, steps, observe_now))
+            .map_err(PyValueError::new_err)?;
+        let rest = in_chunks(py, frames - first, per_check, |frames| {
+            py.detach(|| inner.fly(frames))
+                .map_err(|e| PyValueError::new_err(e.to_string()))
+        });
+        // Also after a signal: the outputs and the statuses show the frames
+        // flown so far, as `step`'s views do.
+        if let Some(out) = outs.filter(|_| observe) {
+            py.detach(|| inner.task_observe(&args, steps, out));
+        }
         self.last_step = (start, fleet::now_s());
-        Ok(())
+        rest
     }
 
     /// Fills the task's outputs for the fleet as it is (after resets), as

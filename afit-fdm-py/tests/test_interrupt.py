@@ -2,8 +2,9 @@
 looks at Python's pending signals every 20 ms, so a SIGINT raises
 ``KeyboardInterrupt`` out of it within a fraction of a second instead of when
 the whole study has been flown. Long ``Flight.step`` and ``Fleet.step``
-calls look at the signals between chunks of frames (a fraction of a second
-of flying each) in the same way."""
+calls, and a Gymnasium task's ``Fleet.task_step`` of many frames, look at
+the signals between chunks of frames (a fraction of a second of flying each)
+in the same way."""
 
 from __future__ import annotations
 
@@ -123,7 +124,8 @@ def test_study_without_signal_is_unchanged() -> None:
     assert whole.identical(parts)
 
 
-# The child starts one aircraft (or a fleet of 1,000) and steps it 10**12
+# The child starts one aircraft (or a fleet of 1,000) and steps it (or flies
+# one task step of) 10**12
 # frames: days of flying (at 0.25 µs a frame, about 70 hours for the
 # aircraft). After the signal it prints the frames flown, proving the state
 # is whole frames the aircraft reached, then re-raises.
@@ -141,19 +143,34 @@ else:
     time_s = lambda: float(flying["time_s"][0])
 print("flying", flush=True)
 try:
-    flying.step(10**12)
+    if sys.argv[1] == "task":
+        import numpy as np
+        n = 1000
+        out = (np.full((n, 11), np.nan, np.float32), np.empty(n), np.empty(n, bool), np.empty(n, bool))
+        zeros = np.zeros(n)
+        flying.task_step(np.zeros((n, 5)), 10**12, "climb", zeros, zeros, np.zeros(n, np.int64), 10, *out)
+    else:
+        flying.step(10**12)
 except KeyboardInterrupt:
     t = time_s()
     print("frames", round(t * 30), math.isfinite(t) and t > 0, flush=True)
+    if sys.argv[1] == "task":
+        print("observed", bool(np.isfinite(out[0]).all()), flush=True)
     raise
 print("finished", flush=True)
 """
 
 
-@pytest.mark.parametrize("what", ["flight", "fleet"])
+@pytest.mark.parametrize("what", ["flight", "fleet", "task"])
 def test_a_long_step_is_interrupted_by_sigint_between_whole_frames(what: str) -> None:
+    """``task``: a Gymnasium task's step (``Fleet.task_step``) of 10**12
+    frames, which flies after its first stretch in stretches as
+    ``Fleet.step`` does; after the signal its outputs and views show the
+    frames flown."""
     stdout, _ = interrupted_child(STEP_CHILD, what)
     words = stdout.split()
     assert words[0] == "frames" and words[2] == "True", stdout
     # Flown for about a second (at least one chunk), far from the end.
     assert 1000 <= int(words[1]) < 10**9, stdout
+    if what == "task":
+        assert words[3:] == ["observed", "True"], stdout

@@ -338,3 +338,41 @@ def test_bad_action_arrays_are_refused_by_name() -> None:
     with pytest.raises(ValueError, match="task"):
         new.fleet.task_step(np.zeros((3, 4)), 1, "loop", new.target_alt_ft, new.target_heading_deg,
                             steps, 10, *new._outputs())
+
+
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+@pytest.mark.parametrize("views", [True, False])
+def test_a_long_task_step_flown_in_stretches_is_the_same_bits(model: str, views: bool) -> None:
+    """A ``task_step`` of more frames than one look at Ctrl-C allows (2**21
+    aircraft-frames: 2,097 frames for 1,000 aircraft) sets the actions with
+    the first stretch, flies the rest in stretches and then observes (and a
+    signal stops it: ``test_interrupt.py``). Its outputs, statuses and state
+    are the bits of the same 3,000 frames flown by three task steps of 1,000
+    frames (one stretch each) with the same actions, which set the same
+    controls each time: the step counts end equal (2 + 1 against 0 + 3), so
+    ``truncated`` (``max_steps`` 3) is compared too."""
+    n = 1000
+    tasks = []
+    for _ in range(2):
+        task = _Task(model, "climb", n, 30, 1, True)
+        task.reset([np.random.default_rng(20 + i) for i in range(n)], np.ones(n, dtype=bool))
+        tasks.append(task)
+    long, cut = tasks
+    actions = np.random.default_rng(3).uniform(-1.0, 1.0, size=(n, long.action_space.shape[0]))
+    args = (long.target_alt_ft, long.target_heading_deg)
+    assert np.array_equal(args[0], cut.target_alt_ft) and np.array_equal(args[1], cut.target_heading_deg)
+    long_steps, cut_steps = np.full(n, 2, dtype=np.int64), np.zeros(n, dtype=np.int64)
+    long_out = long._outputs()
+    long.fleet.task_step(actions, 3000, "climb", *args, long_steps, 3, *long_out, views=views)
+    for _ in range(3):
+        cut_out = cut._outputs()
+        cut.fleet.task_step(actions, 1000, "climb", *args, cut_steps, 3, *cut_out)
+    assert np.array_equal(long_steps, cut_steps) and (cut_steps == 3).all()
+    for a, b in zip(long_out, cut_out):
+        assert np.array_equal(bits(a) if a.dtype != bool else a, bits(b) if b.dtype != bool else b)
+    assert np.array_equal(long.fleet.status, cut.fleet.status)
+    # Both flew: some aircraft still in the air (truncated), the clock at 100 s.
+    assert cut_out[3].any()
+    long.fleet.step(0)  # the views refreshed (with views=False they were not)
+    assert np.array_equal(bits(long.fleet.columns), bits(cut.fleet.columns))
+    assert float(cut.fleet["time_s"][0]) == pytest.approx(100.0)

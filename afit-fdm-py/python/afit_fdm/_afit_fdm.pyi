@@ -484,7 +484,15 @@ class Fleet:
         the next :meth:`step`, :meth:`reset`, :meth:`task_observe` or
         ``task_step`` with ``views`` refreshes them. The outputs are the
         same bits either way. Arrays of another dtype or shape raise
-        ``TypeError``/``ValueError`` naming them."""
+        ``TypeError``/``ValueError`` naming them.
+
+        A step of many ``frames`` is stopped by Ctrl-C as :meth:`step` is:
+        past the first chunk of frames (about 2,000,000 aircraft-frames,
+        flown with the actions set), the rest flies in chunks with a look at
+        the signals between two; ``KeyboardInterrupt`` is raised after the
+        outputs (with ``observe``) are filled for the frames flown so far,
+        which stay flown, and ``steps`` is counted up. Cut or not, the
+        frames and outputs are the same bits."""
     def task_observe(
         self,
         task: str,
