@@ -14,6 +14,7 @@
 //! each flown frame, each reset).
 
 use std::fs::File;
+use std::path::Path;
 
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{fly, FlightStatus, FlightView, ScriptAction};
@@ -208,6 +209,30 @@ impl<M: BindModel> Single<M> {
         let emitted = outputs.emit(&self.frame_data(event, actions, &view));
         self.outputs = outputs;
         emitted
+    }
+
+    /// Refuses `path` for a new file of `what` (`record_to`, `csv_to`,
+    /// `acmi_to`) when the flight already writes that file (the same path,
+    /// or the same file by another name: [`fdm_run::input::clash`], as
+    /// `sim-cli` refuses `--csv F --acmi F`): the two would overwrite each
+    /// other's bytes.
+    fn refuse_clash(&self, what: &str, path: &str) -> Result<(), AttachError> {
+        let mut others: Vec<(Option<&Path>, String)> = Vec::new();
+        if let Some(recorder) = &self.recorder {
+            others.push((Some(Path::new(&recorder.path)), "recording".to_owned()));
+        }
+        for (file, label) in self.outputs.files() {
+            others.push((Some(Path::new(file)), format!("output `{label}`")));
+        }
+        let named: Vec<(Option<&Path>, &str)> =
+            others.iter().map(|(p, n)| (*p, n.as_str())).collect();
+        match fdm_run::input::clash(Path::new(path), &named) {
+            Some(name) => Err((
+                false,
+                format!("{what}: {path} is already written by this flight's {name}"),
+            )),
+            None => Ok(()),
+        }
     }
 
     /// Attaches an output made by `attach` (with the flight as it is now,
@@ -494,6 +519,7 @@ impl<M: BindModel> AnyFlight for Single<M> {
                 ),
             ));
         }
+        self.refuse_clash("record_to", path)?;
         let file = File::create(path).map_err(|e| (true, format!("{path}: {e}")))?;
         let start = Start::<M> {
             aircraft: self.aircraft.clone(),
@@ -531,9 +557,11 @@ impl<M: BindModel> AnyFlight for Single<M> {
         reference_time: Option<&str>,
         title: Option<&str>,
     ) -> Result<(), AttachError> {
+        self.refuse_clash("acmi_to", path)?;
         self.attach_with(|o, start| o.attach_acmi(path, *origin, reference_time, title, start))
     }
     fn csv_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {
+        self.refuse_clash("csv_to", path)?;
         self.attach_with(|o, start| o.attach_csv(path, *origin, start))
     }
     fn flightgear_to(&mut self, target: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {

@@ -39,6 +39,8 @@ struct Attached<M: BindModel> {
     /// What and where, e.g. `acmi /tmp/f.acmi` (shown in messages and by
     /// `Flight.outputs`).
     label: String,
+    /// The file it writes, for a file output.
+    file: Option<String>,
     origin: GeodeticOrigin,
     output: Box<dyn Output<M> + Send + Sync>,
 }
@@ -113,17 +115,26 @@ impl<M: BindModel> Outputs<M> {
         self.list.iter().map(|a| a.label.clone()).collect()
     }
 
+    /// The files the file outputs write, with their labels.
+    pub fn files(&self) -> impl Iterator<Item = (&str, &str)> {
+        self.list
+            .iter()
+            .filter_map(|a| Some((a.file.as_deref()?, a.label.as_str())))
+    }
+
     /// Attaches `output` and hands it `start` (frame 0 or the frame the
     /// flight is at: [`Event::Start`]).
     fn attach(
         &mut self,
         label: String,
+        file: Option<&str>,
         origin: GeodeticOrigin,
         output: impl Output<M> + Send + 'static,
         start: &FrameData<'_, M>,
     ) -> Result<(), AttachError> {
         let mut attached = Attached {
             label,
+            file: file.map(str::to_owned),
             origin,
             output: Box::new(SharedOutput::new(output)),
         };
@@ -163,6 +174,7 @@ impl<M: BindModel> Outputs<M> {
             .map_err(|e| (true, format!("cannot create ACMI file {path}: {e}")))?;
         self.attach(
             format!("acmi {path}"),
+            Some(path),
             origin,
             AcmiOutput::<M>::new(writer),
             start,
@@ -183,7 +195,7 @@ impl<M: BindModel> Outputs<M> {
             .map_err(|e| (true, format!("cannot create CSV file {path}: {e}")))?;
         let writer = CsvWriter::new(BufWriter::new(file), path);
         let output = CsvOutput::new(writer, FlightRow::<M>::of as fn(&Frame<'_, M>) -> _);
-        self.attach(format!("csv {path}"), origin, output, start)
+        self.attach(format!("csv {path}"), Some(path), origin, output, start)
     }
 
     /// Attaches a FlightGear native-FDM link to `target` (`HOST:PORT`, as
@@ -215,7 +227,13 @@ impl<M: BindModel> Outputs<M> {
         let output = FlightGearOutput::connect(&addr.to_string(), origin)
             .map_err(|e| (true, format!("flightgear_to: {e}")))?;
         let shared = SharedOutput::new(output);
-        self.attach(format!("flightgear {addr}"), origin, shared.clone(), start)?;
+        self.attach(
+            format!("flightgear {addr}"),
+            None,
+            origin,
+            shared.clone(),
+            start,
+        )?;
         self.fg = Some(shared);
         Ok(())
     }
@@ -254,6 +272,7 @@ impl<M: BindModel> Outputs<M> {
         let shared = SharedOutput::new(output);
         self.attach(
             format!("dis {}", config.settings.target),
+            None,
             origin,
             shared.clone(),
             start,

@@ -504,3 +504,47 @@ def test_a_flightgear_nobody_listens_to_is_counted_not_raised() -> None:
     flight.close_outputs()
     flight.flightgear_to(target)
     assert flight.outputs == [f"flightgear {target}"]
+
+
+def test_a_file_the_flight_already_writes_is_refused(tmp_path: pathlib.Path) -> None:
+    """Two of a flight's files at one path would overwrite each other's
+    bytes (``sim-cli --csv F --acmi F`` is refused for that): ``csv_to``,
+    ``acmi_to`` and ``record_to`` refuse a file the flight already writes,
+    by the same path or another name (a symlink), with ``ValueError``
+    naming the writer; nothing is attached and the first file is intact.
+    Once that writer is closed, the path may be used again."""
+    flight = afit_fdm.Flight("palmer", altitude_ft=3000.0, speed_kt=100.0, trim=True)
+    csv, rec, acmi = tmp_path / "a.csv", tmp_path / "a.rec", tmp_path / "a.acmi"
+    link = tmp_path / "link.csv"
+    flight.csv_to(csv)
+    link.symlink_to(csv)
+    flight.record_to(rec)
+    flight.acmi_to(acmi)
+    flight.step(3)
+    for attach, path, writer in [
+        (flight.csv_to, csv, f"output `csv {csv}`"),
+        (flight.acmi_to, link, f"output `csv {csv}`"),
+        (flight.csv_to, rec, "recording"),
+    ]:
+        with pytest.raises(ValueError) as error:
+            attach(path)
+        assert str(error.value).endswith(f"{path} is already written by this flight's {writer}")
+    assert flight.outputs == [f"csv {csv}", f"acmi {acmi}"] and flight.recording == str(rec)
+    flight.step(2)
+    flight.close_outputs()
+    assert flight.stop_recording() == 5
+    rows = csv_rows(csv.read_text(), "palmer")
+    assert [r["frame"] for r in rows] == ["0", "1", "2", "3", "4", "5"]
+    assert afit_fdm.replay(rec).frames == 5
+    assert acmi.read_text().startswith("FileType=text/acmi/tacview")
+    # A recording starts at frame 0: a new flight's, on its ACMI file.
+    other = afit_fdm.Flight("bourg")
+    other.acmi_to(tmp_path / "b.acmi")
+    with pytest.raises(ValueError) as error:
+        other.record_to(tmp_path / "b.acmi")
+    assert str(error.value) == f"record_to: {tmp_path / 'b.acmi'} is already written by this flight's output `acmi {tmp_path / 'b.acmi'}`"
+    assert other.recording is None
+    # Closed, the files may be written again (from the flight's frame on).
+    flight.csv_to(link)
+    flight.acmi_to(csv.with_suffix(".2.acmi"))
+    assert flight.outputs == [f"csv {link}", f"acmi {csv.with_suffix('.2.acmi')}"]

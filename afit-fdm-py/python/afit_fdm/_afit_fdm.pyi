@@ -134,7 +134,8 @@ class Flight:
         ``ValueError`` after a step or :meth:`set_controls` (call
         :meth:`reset` first), and :meth:`set_controls` raises ``ValueError``
         while recording (a controls value is not an action; set the starting
-        controls in the constructor, or fly ``actions``). ``OSError`` when
+        controls in the constructor, or fly ``actions``). ``ValueError`` for
+        a file an output of the flight writes (see below). ``OSError`` when
         the file cannot be created."""
     def stop_recording(self) -> int:
         """Seals and closes the recording (its end marker carries the final
@@ -152,7 +153,10 @@ class Flight:
     # stops there. ``origin`` is (lat_deg, lon_deg, alt_m) of the model's
     # x, y, z = 0, by default sim-cli's (39.8264, -84.0483, 251 m). A write
     # that fails raises ValueError from step()/reset() naming the output,
-    # which is then closed; the frame was flown.
+    # which is then closed; the frame was flown. A file the flight already
+    # writes (the recording's or another output's, by any name: a symlink or
+    # hard link too) is refused with ValueError, as sim-cli refuses
+    # --csv F --acmi F; once that writer is closed, the file may be used.
     def acmi_to(
         self,
         path: Union[str, "os.PathLike[str]"],
