@@ -10,6 +10,12 @@
 //! it, read from `/proc/locks` where there is one. Before this, two
 //! runs writing the same `--csv` both exited 0 and spliced their rows into one
 //! file.
+//!
+//! Only a regular file is locked and emptied. A device (`/dev/null`), a pipe
+//! (`/dev/stdout` piped into another program) or a socket has no contents to
+//! empty (emptying one fails with "Invalid argument"), and two runs writing
+//! `/dev/null` at once are not a mistake: such a file is opened for writing
+//! as it is.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io;
@@ -17,6 +23,7 @@ use std::path::Path;
 
 /// Creates `path` for writing, as [`File::create`] does, but refuses a file
 /// another process is writing through this function (see the module docs).
+/// A path that is not a regular file (a device, a pipe) is opened as it is.
 ///
 /// # Errors
 /// The OS error from opening or emptying the file; for a file that another
@@ -28,6 +35,9 @@ pub fn create_locked(path: &Path) -> io::Result<File> {
         .create(true)
         .truncate(false)
         .open(path)?;
+    if !file.metadata()?.is_file() {
+        return Ok(file);
+    }
     match file.try_lock() {
         Ok(()) => {}
         Err(TryLockError::WouldBlock) => {
@@ -96,5 +106,47 @@ mod tests {
         assert_eq!(again.metadata().unwrap().len(), 0);
         drop(again);
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// `/dev/null` (a character device: it cannot be emptied, and emptying
+    /// it was an "Invalid argument" error) is opened as it is, by two
+    /// writers at once, and takes what is written.
+    #[cfg(unix)]
+    #[test]
+    fn a_device_is_opened_as_it_is_by_every_writer() {
+        let path = Path::new("/dev/null");
+        let mut first = create_locked(path).unwrap();
+        let mut second = create_locked(path).unwrap();
+        io::Write::write_all(&mut first, b"row 1\n").unwrap();
+        io::Write::write_all(&mut second, b"row 1\n").unwrap();
+    }
+
+    /// A pipe (what `/dev/stdout` is when the output is piped into another
+    /// program) is written, not emptied or locked: the reader gets the bytes.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_pipe_is_written_as_it_is() {
+        use std::io::Read as _;
+        let mut child = std::process::Command::new("cat")
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let pid = std::process::id();
+        let fd = std::os::unix::io::AsRawFd::as_raw_fd(child.stdin.as_ref().unwrap());
+        let path = format!("/proc/{pid}/fd/{fd}");
+        let mut pipe = create_locked(Path::new(&path)).unwrap();
+        io::Write::write_all(&mut pipe, b"row 1\n").unwrap();
+        drop(pipe);
+        drop(child.stdin.take());
+        let mut got = String::new();
+        child
+            .stdout
+            .take()
+            .unwrap()
+            .read_to_string(&mut got)
+            .unwrap();
+        assert!(child.wait().unwrap().success());
+        assert_eq!(got, "row 1\n");
     }
 }

@@ -1128,11 +1128,15 @@ impl RecordFile {
 /// [`SyncedFile::SYNC_INTERVAL`] of wall-clock time and again when it is
 /// dropped: a machine that loses power keeps the recording up to a few
 /// seconds before, and a fast headless run does not wait on the disk every
-/// block.
+/// block. A file that is not a regular file (a pipe such as `/dev/stdout`
+/// piped into another program, `/dev/null`) has no disk to sync to (the OS
+/// refuses with "Invalid argument"): it is only written.
 #[derive(Debug)]
 pub struct SyncedFile {
     out: BufWriter<File>,
     last_sync: Option<Instant>,
+    /// Whether the file is a regular file, synced.
+    syncs: bool,
 }
 
 impl SyncedFile {
@@ -1142,9 +1146,13 @@ impl SyncedFile {
     /// Wraps `file` with a 64 KiB buffer.
     #[must_use]
     pub fn new(file: File) -> Self {
+        // A file whose kind cannot be read is synced (and its sync's error
+        // reported), as before this check.
+        let syncs = file.metadata().map_or(true, |m| m.is_file());
         Self {
             out: BufWriter::with_capacity(64 * 1024, file),
             last_sync: None,
+            syncs,
         }
     }
 }
@@ -1157,9 +1165,10 @@ impl Write for SyncedFile {
     fn flush(&mut self) -> std::io::Result<()> {
         self.out.flush()?;
         let now = Instant::now();
-        if self
-            .last_sync
-            .is_none_or(|last| now.duration_since(last) >= Self::SYNC_INTERVAL)
+        if self.syncs
+            && self
+                .last_sync
+                .is_none_or(|last| now.duration_since(last) >= Self::SYNC_INTERVAL)
         {
             self.out.get_ref().sync_data()?;
             self.last_sync = Some(now);
@@ -1171,7 +1180,7 @@ impl Write for SyncedFile {
 impl Drop for SyncedFile {
     fn drop(&mut self) {
         // Best effort, as BufWriter's own drop: errors were reported by flush.
-        if self.out.flush().is_ok() {
+        if self.out.flush().is_ok() && self.syncs {
             let _ = self.out.get_ref().sync_data();
         }
     }
@@ -1346,6 +1355,43 @@ mod tests {
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(Recording::<Palmer>::parse(&bytes).unwrap().frames, 45);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A recording into a pipe (`sim-cli --record /dev/stdout` piped into
+    /// another program) is written whole and finished: a pipe has no disk
+    /// to sync to, and the sync's "Invalid argument" used to end the run
+    /// after its first second. The reader gets the recording a file holds.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_recording_into_a_pipe_is_written_whole() {
+        use std::io::Read as _;
+        let mut cat = std::process::Command::new("cat")
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let fd = std::os::unix::io::AsRawFd::as_raw_fd(cat.stdin.as_ref().unwrap());
+        let path = format!("/proc/{}/fd/{fd}", std::process::id());
+        let file = RecordFile::create(std::path::Path::new(&path)).unwrap();
+        drop(cat.stdin.take());
+        // The reader drains the pipe on a thread while the writer writes.
+        let mut stdout = cat.stdout.take().unwrap();
+        let reader = std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            stdout.read_to_end(&mut bytes).unwrap();
+            bytes
+        });
+        let start = Start::<Palmer>::thesis();
+        let origin: GeodeticOrigin = "37.6,-122.4,4".parse().unwrap();
+        let mut writer = RecordWriter::new(file.out, 30, &origin, &start).unwrap();
+        for _ in 0..45 {
+            writer.frame(&[]).unwrap();
+        }
+        writer.finish().unwrap();
+        drop(writer);
+        let bytes = reader.join().unwrap();
+        assert!(cat.wait().unwrap().success());
+        assert_eq!(Recording::<Palmer>::parse(&bytes).unwrap().frames, 45);
     }
 
     /// The writer's side of the 64 MiB limit (`RecordWriteError::TooLarge`:

@@ -28,6 +28,9 @@ pub enum Mode {
         json: bool,
         /// Pace frames at 1/fps of wall-clock time (`--realtime`).
         realtime: bool,
+        /// Print the summary on stderr: an output file is the standard
+        /// output ([`output_on_stdout`]), whose bytes it would break.
+        summary_on_stderr: bool,
     },
     /// Keyboard in, HUD out, paced at the frame rate, until the user quits.
     Interactive,
@@ -97,6 +100,13 @@ pub fn start_model<M: Model>(
 /// [`CliError::Usage`] for --json / --frames / --duration without --headless, a
 /// headless run without a length, or a duration that is too long.
 pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
+    let outputs = [
+        (args.csv.as_deref(), "--csv"),
+        (args.plot.as_deref(), "--plot"),
+        (args.record.as_deref(), "--record"),
+        (args.acmi.acmi.as_deref(), "--acmi"),
+    ];
+    let summary_on_stderr = summary_on_stderr(&outputs, args.json, !args.headless)?;
     if !args.headless {
         for (given, name) in [
             (args.json, "--json"),
@@ -129,7 +139,42 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
         frames,
         json: args.json,
         realtime: args.realtime,
+        summary_on_stderr,
     })
+}
+
+/// Whether a headless run's summary goes to stderr: when one of its output
+/// files (`outputs`, with their options) is the standard output itself, the
+/// path `/dev/stdout` (e.g. `--csv /dev/stdout | another-program`) or the
+/// file the standard output is redirected to, so that the output's bytes
+/// are all the standard output holds.
+///
+/// # Errors
+/// [`CliError::Usage`] for such an output with `json` (the JSON report is
+/// the standard output's) or in an `interactive` run (its display is).
+pub fn summary_on_stderr(
+    outputs: &[(Option<&Path>, &str)],
+    json: bool,
+    interactive: bool,
+) -> Result<bool, CliError> {
+    let stdout = Path::new("/dev/stdout");
+    let Some((path, name)) = outputs.iter().find_map(|&(path, name)| {
+        path.filter(|p| fdm_run::input::same_file(p, stdout))
+            .map(|p| (p, name))
+    }) else {
+        return Ok(false);
+    };
+    let why = if interactive {
+        "the interactive display draws there (use --headless)"
+    } else if json {
+        "--json prints its report there"
+    } else {
+        return Ok(true);
+    };
+    Err(CliError::usage(format!(
+        "{name} {} is the standard output, and {why}",
+        show_path(path)
+    )))
 }
 
 /// frames = round(seconds × fps), checked against [`fdm_run::MAX_FRAMES`]: the run
@@ -283,6 +328,7 @@ mod tests {
                 frames: 900,
                 json: true,
                 realtime: false,
+                summary_on_stderr: false,
             }
         );
         assert_eq!(
@@ -291,6 +337,7 @@ mod tests {
                 frames: 15,
                 json: false,
                 realtime: false,
+                summary_on_stderr: false,
             }
         );
         assert_eq!(
@@ -299,6 +346,7 @@ mod tests {
                 frames: 3,
                 json: false,
                 realtime: true,
+                summary_on_stderr: false,
             }
         );
     }

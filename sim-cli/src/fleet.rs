@@ -116,7 +116,8 @@ pub fn measure(args: &FleetArgs) -> Result<FleetReport, CliError> {
 }
 
 /// `sim-cli fleet`: [`measure`], then the summary or (`--json`) the report
-/// as one JSON object on stdout.
+/// as one JSON object on stdout (the summary on stderr when `--acmi` writes
+/// the standard output, [`crate::config::summary_on_stderr`]).
 ///
 /// # Errors
 /// See [`measure`]; writing to stdout can fail too (exit status 1).
@@ -129,13 +130,22 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
     if let Some(text) = crate::fleet_mp::run_show(args)? {
         return crate::print_line(&text);
     }
+    let summary_on_stderr = crate::config::summary_on_stderr(
+        &[(args.acmi.acmi.as_deref(), "--acmi")],
+        args.json,
+        false,
+    )?;
     let report = measure(args)?;
     let text = if args.json {
         serde_json::to_string(&report).context("encoding the report")?
     } else {
         report.summary()
     };
-    crate::print_line(&text)
+    if summary_on_stderr {
+        crate::print_line_to(&mut std::io::stderr().lock(), &text, "stderr")
+    } else {
+        crate::print_line(&text)
+    }
 }
 
 #[cfg(test)]

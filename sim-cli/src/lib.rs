@@ -88,10 +88,14 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 /// Writes `text` and a newline to stdout, turning a closed pipe into an error
 /// instead of the panic `println!` would raise.
 pub(crate) fn print_line(text: &str) -> Result<(), CliError> {
-    let mut out = std::io::stdout().lock();
+    print_line_to(&mut std::io::stdout().lock(), text, "stdout")
+}
+
+/// Writes `text` and a newline to `out` (named `name` in the error).
+pub(crate) fn print_line_to(out: &mut impl Write, text: &str, name: &str) -> Result<(), CliError> {
     writeln!(out, "{text}")
         .and_then(|()| out.flush())
-        .context("writing to stdout")?;
+        .with_context(|| format!("writing to {name}"))?;
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! `sim-cli replay FILE`: flies a recording (docs/recording.md) again,
 //! headless, and reports like a headless flight (`--json`, `--csv`,
-//! `--plot`, `--fg`).
+//! `--plot`, `--fg`; the summary on stderr when an output file is the
+//! standard output).
 //!
 //! The replay builds the same [`ModelFlight`] the recorded run had (model,
 //! aircraft, fps, origin, controls and state from the header) and feeds it
@@ -128,6 +129,15 @@ impl WithModel for ReplayJob<'_> {
             (self.args.csv.as_deref(), "--csv"),
             (self.args.plot.as_deref(), "--plot"),
         ];
+        let summary_on_stderr = crate::config::summary_on_stderr(
+            &[
+                (self.args.csv.as_deref(), "--csv"),
+                (self.args.plot.as_deref(), "--plot"),
+                (self.args.acmi.acmi.as_deref(), "--acmi"),
+            ],
+            self.args.json,
+            false,
+        )?;
         let csv = (self.args.csv.as_deref())
             .map(|path| {
                 refuse_clash(path, &others[..1], |_| {
@@ -189,7 +199,11 @@ impl WithModel for ReplayJob<'_> {
                 recording.resets
             )
         };
-        crate::print_line(&text)?;
+        if summary_on_stderr {
+            crate::print_line_to(&mut std::io::stderr().lock(), &text, "stderr")?;
+        } else {
+            crate::print_line(&text)?;
+        }
         if let Some(cut) = cut {
             return Err(CliError::Incomplete(format!(
                 "{file}: {cut}; they were replayed (a cut recording has no fingerprint to check \

@@ -270,6 +270,85 @@ fn human_summary_without_json() {
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
 }
 
+/// An output written to the standard output (`--csv /dev/stdout`, piped to
+/// the test as to another program; `--record /dev/stdout`): the pipe gets
+/// the output's bytes alone, the same bytes as a file, and the summary goes
+/// to stderr; `sim-cli replay --csv` and `sim-cli fleet --acmi` too. The CSV
+/// and the recording used to fail at once with "Invalid argument" (a pipe
+/// cannot be emptied or synced). `--json` (its report is stdout's) and an
+/// interactive run (its display is) are refused with such an output.
+#[test]
+fn an_output_on_the_standard_output_gets_it_alone() {
+    let dir = scratch("stdout");
+    let csv = dir.join("palmer.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let flight = ["palmer", "--headless", "--frames", "40", "--throttle", "1"];
+    let to_file = sim(&[&flight[..], &["--csv", csv_arg]].concat());
+    assert_eq!(to_file.status.code(), Some(0), "{}", text(&to_file.stderr));
+    let piped = sim(&[&flight[..], &["--csv", "/dev/stdout"]].concat());
+    assert_eq!(piped.status.code(), Some(0), "{}", text(&piped.stderr));
+    assert_eq!(piped.stdout, std::fs::read(&csv).unwrap());
+    // The summary the file run printed on stdout, now on stderr.
+    assert_eq!(piped.stderr, to_file.stdout);
+    assert!(text(&piped.stderr).starts_with("palmer: 40 frames at 30 fps"));
+
+    let rec = dir.join("bourg.rec");
+    let flight = ["bourg", "--headless", "--frames", "75"];
+    let to_file = sim(&[&flight[..], &["--record", rec.to_str().unwrap()]].concat());
+    assert_eq!(to_file.status.code(), Some(0), "{}", text(&to_file.stderr));
+    let piped = sim(&[&flight[..], &["--record", "/dev/stdout"]].concat());
+    assert_eq!(piped.status.code(), Some(0), "{}", text(&piped.stderr));
+    assert_eq!(piped.stdout, std::fs::read(&rec).unwrap());
+    assert_eq!(piped.stderr, to_file.stdout);
+    // `sim-cli replay` and `sim-cli fleet` alike.
+    let replay_csv = dir.join("replay.csv");
+    let replay = ["replay", rec.to_str().unwrap(), "--csv"];
+    let to_file = sim(&[&replay[..], &[replay_csv.to_str().unwrap()]].concat());
+    assert_eq!(to_file.status.code(), Some(0), "{}", text(&to_file.stderr));
+    let piped = sim(&[&replay[..], &["/dev/stdout"]].concat());
+    assert_eq!(piped.status.code(), Some(0), "{}", text(&piped.stderr));
+    assert_eq!(piped.stdout, std::fs::read(&replay_csv).unwrap());
+    assert_eq!(piped.stderr, to_file.stdout);
+    let fleet = [
+        "fleet",
+        "--model",
+        "palmer",
+        "--aircraft",
+        "3",
+        "--frames",
+        "5",
+    ];
+    let piped = sim(&[&fleet[..], &["--acmi", "/dev/stdout"]].concat());
+    assert_eq!(piped.status.code(), Some(0), "{}", text(&piped.stderr));
+    assert!(text(&piped.stdout).starts_with("FileType=text/acmi/tacview"));
+    assert!(
+        text(&piped.stderr).contains("aircraft"),
+        "{}",
+        text(&piped.stderr)
+    );
+
+    let json = "--json prints its report there";
+    for (run, why) in [
+        (
+            &["palmer", "--headless", "--frames", "3", "--json"][..],
+            json,
+        ),
+        (
+            &["palmer"][..],
+            "the interactive display draws there (use --headless)",
+        ),
+        (&["replay", rec.to_str().unwrap(), "--json"][..], json),
+    ] {
+        let out = sim(&[run, &["--csv", "/dev/stdout"][..]].concat());
+        assert_eq!(out.status.code(), Some(2), "{run:?}");
+        assert_eq!(
+            text(&out.stderr),
+            format!("sim-cli: error: --csv /dev/stdout is the standard output, and {why}\n")
+        );
+        assert!(out.stdout.is_empty());
+    }
+}
+
 /// Collects every datagram arriving on `socket` in a thread until `done` is set
 /// and the socket has been quiet for a moment.
 fn collect(socket: UdpSocket, done: Arc<AtomicBool>) -> std::thread::JoinHandle<Vec<Vec<u8>>> {

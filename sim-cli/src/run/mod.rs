@@ -109,7 +109,8 @@ pub(crate) fn finish_report<F: Flight>(
 
 /// Flies `flight` at `fps` in `mode` (`fg`: the FlightGear link's target,
 /// whose counters the report shows): headless (report on stdout: JSON with `--json`,
-/// else a short summary) or interactive (a one-line summary on stderr at the end).
+/// else a short summary, on stderr when an output writes the standard
+/// output) or interactive (a one-line summary on stderr at the end).
 ///
 /// # Errors
 /// Whatever the loop or the output reports.
@@ -124,6 +125,7 @@ pub fn fly<F: Flight>(
             frames,
             json,
             realtime,
+            summary_on_stderr,
         } => {
             let mut progress = StderrProgress::new(frames);
             let report = run_headless(&mut flight, fps, frames, realtime, &mut progress);
@@ -136,7 +138,11 @@ pub fn fly<F: Flight>(
             } else {
                 report.human_summary()
             };
-            crate::print_line(&text)
+            if summary_on_stderr {
+                crate::print_line_to(&mut std::io::stderr().lock(), &text, "stderr")
+            } else {
+                crate::print_line(&text)
+            }
         }
         Mode::Interactive => {
             let summary = run_interactive(&mut flight, fps, fg);
