@@ -144,6 +144,37 @@ def test_bad_reset_masks_are_refused() -> None:
         env.reset(options={"reset_mask": np.zeros(3, dtype=bool)})
 
 
+def test_step_before_reset_raises_reset_needed() -> None:
+    """An aircraft has no episode (start, target) before its first reset:
+    ``step`` raises Gymnasium's ``ResetNeeded``, as ``gymnasium.make``'s
+    ``OrderEnforcing`` wrapper does, instead of flying the fleet's initial
+    aircraft toward a target of 0 ft (what it used to do). A vector env
+    refuses while any aircraft was never reset (a first reset with a
+    ``reset_mask``), naming them; nothing is flown."""
+    single = AircraftEnv("bourg", "climb")
+    with pytest.raises(gym.error.ResetNeeded, match=r"before calling env\.reset\(\)"):
+        single.step(np.zeros(5, dtype=np.float32))
+    single.reset(seed=4)
+    single.step(np.zeros(5, dtype=np.float32))
+    made = gym.make("afit_fdm/PalmerClimb-v0")
+    with pytest.raises(gym.error.ResetNeeded):
+        made.step(np.zeros(4, dtype=np.float32))
+
+    vec = AircraftVectorEnv("palmer", "climb", num_envs=8, autoreset_mode=AutoresetMode.DISABLED)
+    with pytest.raises(gym.error.ResetNeeded, match=r"not reset: 0, 1, 2, 3, 4, \.\.\.\)"):
+        vec.step(np.zeros((8, 4), dtype=np.float32))
+    mask = np.zeros(8, dtype=bool)
+    mask[[1, 5]] = True
+    vec.reset(seed=0, options={"reset_mask": mask})
+    before = vec._task.fleet.columns.copy()
+    with pytest.raises(gym.error.ResetNeeded, match=r"\(not reset: 0, 2, 3, 4, 6, \.\.\.\)"):
+        vec.step(np.zeros((8, 4), dtype=np.float32))
+    assert np.array_equal(vec._task.fleet.columns, before)
+    vec.reset(seed=0, options={"reset_mask": ~mask})
+    obs, reward, *_ = vec.step(np.zeros((8, 4), dtype=np.float32))
+    assert obs.shape == (8, 10) and np.isfinite(reward).all()
+
+
 @pytest.mark.parametrize("make", [AircraftEnv, AircraftVectorEnv])
 def test_bad_constructor_arguments_are_refused_by_name(make) -> None:
     """Whole-number arguments of another type raise ``TypeError`` and out of

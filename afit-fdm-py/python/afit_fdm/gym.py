@@ -80,6 +80,12 @@ ends resets those aircraft, ignoring their actions, reward 0), ``SAME_STEP``
 (reset at once; ``info["final_obs"]``, ``info["final_info"]`` and their
 ``_final_obs`` masks hold the last observation), ``DISABLED`` (the caller
 resets with ``reset(options={"reset_mask": mask})``).
+
+**Order**: ``step`` before ``reset`` raises Gymnasium's ``ResetNeeded`` (as
+the ``OrderEnforcing`` wrapper of ``gymnasium.make`` does), and so does a
+vector env's ``step`` while some aircraft were never reset (a first
+``reset`` with a ``reset_mask`` that leaves some out): an aircraft has no
+episode, no start and no target, before its first reset.
 """
 
 from __future__ import annotations
@@ -89,6 +95,7 @@ from typing import Any, Dict, Optional, Tuple
 import numpy as np
 import gymnasium
 from gymnasium import spaces
+from gymnasium.error import ResetNeeded
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
@@ -235,15 +242,21 @@ class AircraftEnv(gymnasium.Env):
         self.max_episode_steps = max_episode_steps
         self.metadata = {"render_modes": [], "render_fps": fps / frame_skip}
         self._steps = np.zeros(1, dtype=np.int64)
+        self._was_reset = False
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None):
         super().reset(seed=seed)
         self._task.reset([self.np_random], np.ones(1, dtype=bool))
         self._steps[0] = 0
+        self._was_reset = True
         obs = self._task.observe(self._steps, self.max_episode_steps)[0]
         return obs[0], {"status": int(_statuses(self._task.fleet)[0])}
 
     def step(self, action):
+        if not self._was_reset:
+            # What Gymnasium's OrderEnforcing wrapper (which gymnasium.make
+            # adds) raises; the aircraft has no episode (start, target) yet.
+            raise ResetNeeded("Cannot call env.step() before calling env.reset()")
         obs, reward, ended, truncated = self._task.step(action, self._steps, self.max_episode_steps)
         return obs[0], float(reward[0]), bool(ended[0]), bool(truncated[0]), {"status": int(_statuses(self._task.fleet)[0])}
 
@@ -281,6 +294,9 @@ class AircraftVectorEnv(VectorEnv):
         self._rngs: list = []
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._autoreset = np.zeros(num_envs, dtype=bool)
+        # Aircraft not reset yet (no episode: start, target); cleared by
+        # reset, and dropped once every aircraft has been reset.
+        self._never_reset: Optional[np.ndarray] = np.ones(num_envs, dtype=bool)
 
     def _seed(self, seed: Optional[int], mask: np.ndarray) -> None:
         if not self._rngs:
@@ -308,10 +324,21 @@ class AircraftVectorEnv(VectorEnv):
         self._task.reset(self._rngs, mask)
         self._steps[mask] = 0
         self._autoreset[mask] = False
+        if self._never_reset is not None:
+            self._never_reset[mask] = False
         obs = self._task.observe(self._steps, self.max_episode_steps)[0]
         return obs, {"status": np.where(mask, _statuses(self._task.fleet), 0), "_status": mask.copy()}
 
     def step(self, actions):
+        if self._never_reset is not None:
+            never = np.flatnonzero(self._never_reset)
+            if never.size:
+                shown = ", ".join(str(i) for i in never[:5]) + (", ..." if never.size > 5 else "")
+                raise ResetNeeded(
+                    f"Cannot call step() before every environment is reset (not reset: {shown}); "
+                    "call reset() first"
+                )
+            self._never_reset = None
         task = self._task
         infos: Dict[str, Any] = {}
         if self.autoreset_mode == AutoresetMode.NEXT_STEP and self._autoreset.any():
