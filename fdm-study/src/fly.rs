@@ -520,9 +520,7 @@ impl Study {
             chunk_runs,
         })
     }
-}
 
-impl Study {
     /// Bytes one run takes in a [`RunTable`]: its index, status, frames,
     /// one `Option<f64>` per measure, one `f64` per drawn input and its
     /// fingerprint.
