@@ -43,8 +43,11 @@ def main() -> None:
         frame_skip=15,
         max_episode_steps=args.steps,
     )
-    n_act = env.single_action_space.shape[0]
-    n_obs = env.single_observation_space.shape[0]
+    # Both spaces are Boxes (the module docstring of afit_fdm.gym): their
+    # shapes are known.
+    act_space, obs_space = env.single_action_space, env.single_observation_space
+    assert isinstance(act_space, gym.spaces.Box) and isinstance(obs_space, gym.spaces.Box)
+    n_act, n_obs = act_space.shape[0], obs_space.shape[0]
     rng = np.random.default_rng(0)
     mean = np.zeros((n_act, n_obs + 1))
     std = np.full_like(mean, 0.5)

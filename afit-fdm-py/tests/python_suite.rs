@@ -2,7 +2,8 @@
 //! README's test command), so that a fresh clone's two commands cover it too.
 //!
 //! One test, in order:
-//! 1. a pinned virtualenv (maturin, NumPy, pytest, Hypothesis, Gymnasium),
+//! 1. a pinned virtualenv (maturin, NumPy, pytest, Hypothesis, Gymnasium,
+//!    mypy for `tests/test_typing.py`),
 //!    built once per target directory like the interop tests' ([`PythonEnv`]);
 //! 2. `pip install` of this directory into it: the one command a user runs
 //!    from a clone, building the extension in release with maturin (in its
@@ -28,7 +29,7 @@ mod common;
 
 /// The suite's pinned environment.
 const SUITE: PythonEnv = PythonEnv {
-    name: "afit-fdm-suite-1",
+    name: "afit-fdm-suite-2",
     override_var: "AFIT_FDM_PYTHON",
     packages: &[
         "maturin==1.16.0",
@@ -36,10 +37,11 @@ const SUITE: PythonEnv = PythonEnv {
         "pytest==9.2.0",
         "hypothesis==6.170.17",
         "gymnasium==1.4.0",
+        "mypy==2.4.1",
     ],
     distribution: "maturin",
     version: "1.16.0",
-    imports: &["numpy", "pytest", "hypothesis", "gymnasium"],
+    imports: &["numpy", "pytest", "hypothesis", "gymnasium", "mypy"],
 };
 
 #[test]

@@ -266,3 +266,26 @@ def test_bad_input_is_a_clear_error(tmp_path: pathlib.Path) -> None:
         cols = s.fly(0, 1).to_columns()
         cols["status_code"] = np.array([9], dtype=np.uint8)
         afit_fdm.RunTable(cols, seed=7)
+
+
+def test_a_run_is_in_a_table_at_most_once() -> None:
+    """A run is one row of its study: tables of overlapping ranges are not
+    concatenated (their summary counted the shared runs twice), and a table
+    is not made from columns that repeat a run; tables of ranges with a gap
+    between them, or in another order, still are."""
+    s = afit_fdm.Study.from_toml(STUDY, runs=8)
+    a, b = s.fly(0, 4), s.fly(2, 6)
+    with pytest.raises(ValueError) as error:
+        afit_fdm.RunTable.concat([s.fly(6, 8), a, b])
+    assert str(error.value) == (
+        "concat: run 2 is in more than one table (tables 1 and 2): the tables' runs must not overlap"
+    )
+    with pytest.raises(ValueError, match=r"^concat: run 0 is in more than one table \(tables 0 and 1\)"):
+        afit_fdm.RunTable.concat([a, a])
+    cols = a.to_columns()
+    cols["run"] = np.array([0, 1, 2, 1], dtype=np.uint64)
+    with pytest.raises(ValueError, match=r"^run: run 1 is in the table more than once$"):
+        afit_fdm.RunTable(cols, seed=s.seed)
+    apart = afit_fdm.RunTable.concat([s.fly(6, 8), s.fly(0, 2)])
+    assert list(apart.run) == [6, 7, 0, 1]
+    assert afit_fdm.RunTable.concat([a, s.fly(4, 8)]).identical(s.fly())

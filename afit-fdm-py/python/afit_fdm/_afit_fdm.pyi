@@ -1,10 +1,27 @@
 """Type stubs and API reference of the ``afit_fdm._afit_fdm`` extension module."""
 
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
+
+__all__ = [
+    "Flight",
+    "Fleet",
+    "_Study",
+    "Replay",
+    "replay",
+    "RecordingError",
+    "RecordingCutError",
+    "ReplayDivergedError",
+    "summarize_columns",
+    "_math_atan2",
+    "_math_hypot",
+    "STATUS_CODES",
+    "MODELS",
+    "__version__",
+]
 
 __version__: str
 
@@ -13,9 +30,10 @@ MODELS: Dict[str, Dict[str, Any]]
 (names with units), ``controls`` (``(name, low, high)`` triples) and
 ``actions`` (script action names)."""
 
-Number = Union[float, int]
-PerAircraft = Union[float, int, npt.NDArray[np.float64]]
+_Number = Union[float, int]
+_PerAircraft = Union[float, int, npt.NDArray[np.float64]]
 
+@final
 class Flight:
     """One aircraft, flown frame by frame exactly as ``sim-cli`` flies it.
 
@@ -35,8 +53,8 @@ class Flight:
     argument.
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         model: str,
         *,
         fps: int = 30,
@@ -45,8 +63,8 @@ class Flight:
         heading_deg: Optional[float] = None,
         trim: bool = False,
         script: Optional[str] = None,
-        **controls: Number,
-    ) -> None: ...
+        **controls: _Number,
+    ) -> "Flight": ...
     def step(self, n: int = 1, actions: Optional[Sequence[str]] = None) -> None:
         """Steps ``n`` frames. Each frame: the model's start of frame (Bourg's
         rudder, ailerons and elevators back to neutral), the script's actions
@@ -62,7 +80,7 @@ class Flight:
     def reset(self) -> None:
         """Back to the start: state, controls, status, frame 0. The recording
         and the outputs take the reset (``ValueError`` if writing it fails)."""
-    def set_controls(self, **controls: Number) -> None:
+    def set_controls(self, **controls: _Number) -> None:
         """Sets controls by name, validated as in the constructor."""
     @property
     def model(self) -> str: ...
@@ -283,6 +301,7 @@ class ReplayDivergedError(ValueError):
     diverged frame (status ``diverged``, the last finite state), its
     trajectory without the diverged row (as ``sim-cli replay --csv``)."""
 
+@final
 class Replay:
     """What :func:`replay` read and flew."""
 
@@ -351,6 +370,7 @@ def replay(
     ``sim-cli replay``, the replay stops at a frame whose state is not
     finite: :class:`ReplayDivergedError`."""
 
+@final
 class Fleet:
     """``n`` aircraft of one model, stepped together by the SIMD kernels
     (``precision="exact"``: every aircraft bit-identical to :class:`Flight`
@@ -380,20 +400,20 @@ class Fleet:
     thread steps that fleet.
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         model: str,
         n: int,
         *,
         fps: int = 30,
         precision: str = "exact",
         parallel: bool = True,
-        altitude_ft: Optional[PerAircraft] = None,
-        speed_kt: Optional[PerAircraft] = None,
-        heading_deg: Optional[PerAircraft] = None,
+        altitude_ft: Optional[_PerAircraft] = None,
+        speed_kt: Optional[_PerAircraft] = None,
+        heading_deg: Optional[_PerAircraft] = None,
         trim: bool = False,
-        **controls: PerAircraft,
-    ) -> None: ...
+        **controls: _PerAircraft,
+    ) -> "Fleet": ...
     def step(self, frames: int = 1) -> None:
         """Steps every aircraft ``frames`` frames (ground contact, touchdown,
         crash and divergence per aircraft), with the GIL released, then
@@ -408,23 +428,23 @@ class Fleet:
         self,
         mask: Optional[npt.NDArray[np.bool_]] = None,
         *,
-        altitude_ft: Optional[PerAircraft] = None,
-        speed_kt: Optional[PerAircraft] = None,
-        heading_deg: Optional[PerAircraft] = None,
+        altitude_ft: Optional[_PerAircraft] = None,
+        speed_kt: Optional[_PerAircraft] = None,
+        heading_deg: Optional[_PerAircraft] = None,
         trim: bool = False,
-        **controls: PerAircraft,
+        **controls: _PerAircraft,
     ) -> None:
         """Restarts the aircraft where ``mask`` (bool, shape ``(n,)``) is
         true, all without it, as the constructor would start them."""
     def set_controls(
-        self, mask: Optional[npt.NDArray[np.bool_]] = None, **controls: PerAircraft
+        self, mask: Optional[npt.NDArray[np.bool_]] = None, **controls: _PerAircraft
     ) -> None:
         """Sets controls of the aircraft where ``mask`` is true (all without it)."""
     @property
     def state(self) -> Dict[str, npt.NDArray[np.float64]]:
         """State columns by name (read-only float64 views of shape ``(n,)``;
         the names of :attr:`Flight.state`)."""
-    def __getitem__(self, name: str) -> npt.NDArray[np.float64]: ...
+    def __getitem__(self, name: str, /) -> npt.NDArray[np.float64]: ...
     @property
     def columns(self) -> npt.NDArray[np.float64]:
         """All state columns, shape ``(len(fields), n)``, read-only."""
@@ -518,6 +538,7 @@ STATUS_CODES: List[str]
 """How a study's run ended, by ``status_code``: ``on_ground``, ``airborne``,
 ``landed_safe``, ``landed_rough``, ``crashed``, ``diverged``, ``start_refused``."""
 
+@final
 class _Study:
     """A parsed, validated study file (use :class:`afit_fdm.Study`)."""
 

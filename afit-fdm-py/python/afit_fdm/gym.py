@@ -90,7 +90,7 @@ episode, no start and no target, before its first reset.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import gymnasium
@@ -145,7 +145,7 @@ class _Task:
         n_obs = 6 + (4 if model == "palmer" else 5)
         self.observation_space = spaces.Box(-OBS_LIMIT, OBS_LIMIT, shape=(n_obs,), dtype=np.float32)
 
-    def draw(self, rngs: list, indices: np.ndarray) -> Dict[str, np.ndarray]:
+    def draw(self, rngs: Sequence[Optional[np.random.Generator]], indices: np.ndarray) -> Dict[str, np.ndarray]:
         """Starts and targets for aircraft ``indices``, each from its own generator."""
         alt, spd, hdg, t_alt, t_hdg = (np.zeros(self.n) for _ in range(5))
         for i in indices:
@@ -164,7 +164,7 @@ class _Task:
                 t_hdg[i] = hdg[i]
         return {"altitude_ft": alt, "speed_kt": spd, "heading_deg": hdg, "t_alt": t_alt, "t_hdg": t_hdg}
 
-    def reset(self, rngs: list, mask: np.ndarray) -> None:
+    def reset(self, rngs: Sequence[Optional[np.random.Generator]], mask: np.ndarray) -> None:
         d = self.draw(rngs, np.flatnonzero(mask))
         self.fleet.reset(mask, altitude_ft=d["altitude_ft"], speed_kt=d["speed_kt"], heading_deg=d["heading_deg"], trim=True)
         self.target_alt_ft[mask] = d["t_alt"][mask]
@@ -244,7 +244,9 @@ class AircraftEnv(gymnasium.Env):
         self._steps = np.zeros(1, dtype=np.int64)
         self._was_reset = False
 
-    def reset(self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None):
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None
+    ) -> Tuple[np.ndarray, Dict[str, Any]]:
         super().reset(seed=seed)
         self._task.reset([self.np_random], np.ones(1, dtype=bool))
         self._steps[0] = 0
@@ -252,7 +254,7 @@ class AircraftEnv(gymnasium.Env):
         obs = self._task.observe(self._steps, self.max_episode_steps)[0]
         return obs[0], {"status": int(_statuses(self._task.fleet)[0])}
 
-    def step(self, action):
+    def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, Dict[str, Any]]:
         if not self._was_reset:
             # What Gymnasium's OrderEnforcing wrapper (which gymnasium.make
             # adds) raises; the aircraft has no episode (start, target) yet.
@@ -291,7 +293,7 @@ class AircraftVectorEnv(VectorEnv):
         self.metadata = {"render_modes": [], "render_fps": fps / frame_skip, "autoreset_mode": self.autoreset_mode}
         self.render_mode = None
         self.max_episode_steps = max_episode_steps
-        self._rngs: list = []
+        self._rngs: List[Optional[np.random.Generator]] = []
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._autoreset = np.zeros(num_envs, dtype=bool)
         # Aircraft not reset yet (no episode: start, target); cleared by
@@ -308,7 +310,9 @@ class AircraftVectorEnv(VectorEnv):
             else:
                 self._rngs[i] = seeding.np_random(seed + int(i))[0]
 
-    def reset(self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None):
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None
+    ) -> Tuple[np.ndarray, Dict[str, Any]]:
         mask = np.ones(self.num_envs, dtype=bool)
         if options is not None and "reset_mask" in options:
             mask = options["reset_mask"]
@@ -329,7 +333,7 @@ class AircraftVectorEnv(VectorEnv):
         obs = self._task.observe(self._steps, self.max_episode_steps)[0]
         return obs, {"status": np.where(mask, _statuses(self._task.fleet), 0), "_status": mask.copy()}
 
-    def step(self, actions):
+    def step(self, actions: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Dict[str, Any]]:
         if self._never_reset is not None:
             never = np.flatnonzero(self._never_reset)
             if never.size:

@@ -38,6 +38,15 @@ Columns = Dict[str, Any]
 """A table as plain data (what :meth:`RunTable.to_columns` returns)."""
 
 
+def _first_repeated(runs: npt.NDArray[np.uint64]) -> Optional[int]:
+    """The smallest run number that appears more than once in ``runs``."""
+    if runs.size < 2:
+        return None
+    ordered = np.sort(runs)
+    same = np.flatnonzero(ordered[1:] == ordered[:-1])
+    return int(ordered[same[0]]) if same.size else None
+
+
 class RunTable:
     """Per-run results of some runs of a study, in run order.
 
@@ -69,9 +78,13 @@ class RunTable:
         left out) and ``fingerprint`` with ``has_fingerprint`` (no
         fingerprint if left out), as :meth:`Study.fly` and :meth:`to_columns`
         give. The arrays are checked (dtype, one dimension, equal lengths,
-        known status codes) and copied."""
+        known status codes, each run at most once: a run is one row of its
+        study, and a summary would count a repeated one twice) and copied."""
         n = _column(columns, "run", np.uint64, None).shape[0]
         self.run = _column(columns, "run", np.uint64, n)
+        repeated = _first_repeated(self.run)
+        if repeated is not None:
+            raise ValueError(f"run: run {repeated} is in the table more than once")
         self.status_code = _column(columns, "status_code", np.uint8, n)
         if self.status_code.size and int(self.status_code.max()) >= len(STATUS_CODES):
             raise ValueError(
@@ -247,7 +260,8 @@ class RunTable:
     @staticmethod
     def concat(tables: Sequence["RunTable"]) -> "RunTable":
         """The tables' rows one after the other (the caller's order). They
-        must have the same measures and seed."""
+        must have the same measures, inputs and seed, and no run in two of
+        them (tables of overlapping ranges would hold those runs twice)."""
         if not tables:
             raise ValueError("concat: no tables")
         first = tables[0]
@@ -264,6 +278,13 @@ class RunTable:
                 )
             if t.seed != first.seed:
                 raise ValueError(f"concat: the tables' seeds differ: {first.seed} and {t.seed}")
+        repeated = _first_repeated(np.concatenate([t.run for t in tables]))
+        if repeated is not None:
+            holders = [k for k, t in enumerate(tables) if repeated in t.run]
+            raise ValueError(
+                f"concat: run {repeated} is in more than one table (tables {holders[0]} and "
+                f"{holders[1]}): the tables' runs must not overlap"
+            )
         return RunTable(
             {
                 "run": np.concatenate([t.run for t in tables]),
