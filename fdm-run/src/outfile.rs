@@ -82,6 +82,24 @@ fn holder_of(_file: &File) -> Option<u32> {
     None
 }
 
+/// A pipe into a `cat` child, for the tests of writing into a pipe: the
+/// child (its stdout piped back to the test) and a path that opens the
+/// pipe's writing end (`/proc/PID/fd/N`, what `/dev/stdout` is when the
+/// output is piped into another program). The test drops the child's stdin
+/// once it has opened the path, so that `cat` ends with the writer.
+#[cfg(all(test, target_os = "linux"))]
+pub(crate) fn pipe_into_cat() -> (std::process::Child, String) {
+    use std::process::{Command, Stdio};
+    let child = Command::new("cat")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let fd = std::os::unix::io::AsRawFd::as_raw_fd(child.stdin.as_ref().unwrap());
+    let path = format!("/proc/{}/fd/{fd}", std::process::id());
+    (child, path)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -127,14 +145,7 @@ mod tests {
     #[test]
     fn a_pipe_is_written_as_it_is() {
         use std::io::Read as _;
-        let mut child = std::process::Command::new("cat")
-            .stdin(std::process::Stdio::piped())
-            .stdout(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        let pid = std::process::id();
-        let fd = std::os::unix::io::AsRawFd::as_raw_fd(child.stdin.as_ref().unwrap());
-        let path = format!("/proc/{pid}/fd/{fd}");
+        let (mut child, path) = pipe_into_cat();
         let mut pipe = create_locked(Path::new(&path)).unwrap();
         io::Write::write_all(&mut pipe, b"row 1\n").unwrap();
         drop(pipe);

@@ -1365,13 +1365,7 @@ mod tests {
     #[test]
     fn a_recording_into_a_pipe_is_written_whole() {
         use std::io::Read as _;
-        let mut cat = std::process::Command::new("cat")
-            .stdin(std::process::Stdio::piped())
-            .stdout(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        let fd = std::os::unix::io::AsRawFd::as_raw_fd(cat.stdin.as_ref().unwrap());
-        let path = format!("/proc/{}/fd/{fd}", std::process::id());
+        let (mut cat, path) = crate::outfile::pipe_into_cat();
         let file = RecordFile::create(std::path::Path::new(&path)).unwrap();
         drop(cat.stdin.take());
         // The reader drains the pipe on a thread while the writer writes.
