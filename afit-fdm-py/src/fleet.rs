@@ -47,8 +47,11 @@ impl Column {
         }
     }
 
-    /// Reads `obj` as argument `name` for `n` aircraft: a Python number, or
-    /// a one-dimensional float64 NumPy array of length `n`.
+    /// Reads `obj` as argument `name` for `n` aircraft: a Python number, a
+    /// NumPy number (a float16, float32 or float64, integer or bool scalar or
+    /// 0-d array: float32 is what Gymnasium's action arrays hold, and its
+    /// widening to f64 is exact), or a one-dimensional float64 NumPy array of
+    /// length `n`.
     ///
     /// # Errors
     /// `TypeError` for anything else (naming the argument and what it got),
@@ -58,8 +61,13 @@ impl Column {
             let dtype: String = obj.getattr("dtype")?.str()?.extract()?;
             let shape: Vec<usize> = obj.getattr("shape")?.extract()?;
             if shape.is_empty() {
-                // A NumPy scalar (or 0-d array): one number.
-                if dtype != "float64" && dtype != "bool" && !dtype.starts_with("int") {
+                // A NumPy scalar (or 0-d array): one number. Not a longdouble
+                // or a complex one, whose conversion would drop digits or a
+                // part.
+                let number = matches!(dtype.as_str(), "float16" | "float32" | "float64" | "bool")
+                    || dtype.starts_with("int")
+                    || dtype.starts_with("uint");
+                if !number {
                     return Err(PyTypeError::new_err(format!(
                         "{name}: expected a number or a float64 array, got a {dtype} scalar"
                     )));

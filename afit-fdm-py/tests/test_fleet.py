@@ -95,6 +95,35 @@ def test_reset_with_a_mask_restarts_only_those() -> None:
     assert fleet.controls["throttle"][0] != 0.7 and fleet.controls["throttle"][1] == 0.7
 
 
+def test_numpy_numbers_are_taken_as_the_numbers_they_are() -> None:
+    """A NumPy number sets a control or a start as a Python number does:
+    float32 (what Gymnasium's action arrays hold, e.g. ``action[0]``) and
+    float16 widen to float64 exactly, integers, unsigned ones and bools too;
+    a Flight takes them the same way. A longdouble or complex number, whose
+    conversion would drop digits or a part, is refused naming the argument,
+    and arrays must still be float64 (the test below)."""
+    fleet = afit_fdm.Fleet("palmer", 3)
+    flight = afit_fdm.Flight("palmer")
+    for value in [np.float32(0.1), np.float16(0.25), np.float64(0.3), np.uint8(1), np.int32(0), np.bool_(True)]:
+        fleet.set_controls(throttle=value)
+        flight.set_controls(throttle=value)
+        assert (fleet.controls["throttle"] == float(value)).all(), value
+        assert flight.controls["throttle"] == float(value), value
+    assert fleet.controls["throttle"][0] == 1.0 and float(np.float32(0.1)) != 0.1
+    fleet.set_controls(throttle=np.float32(0.1))
+    assert fleet.controls["throttle"][0] == float(np.float32(0.1))
+    fleet.reset(altitude_ft=np.float32(1500.5), speed_kt=np.float32(90.0), trim=True)
+    same = afit_fdm.Fleet("palmer", 3, altitude_ft=1500.5, speed_kt=90.0, trim=True)
+    assert np.array_equal(fleet.columns.view(np.uint64), same.columns.view(np.uint64))
+    refused = [np.complex64(0.5)]
+    if np.dtype(np.longdouble) != np.dtype(np.float64):  # wider than f64 here
+        refused.append(np.longdouble(0.5))
+    for bad in refused:
+        kind = np.dtype(type(bad)).name
+        with pytest.raises(TypeError, match=rf"^throttle: expected a number or a float64 array, got a {kind} scalar$"):
+            fleet.set_controls(throttle=bad)
+
+
 def test_bad_controls_raise_naming_the_argument_and_change_nothing() -> None:
     fleet = afit_fdm.Fleet("palmer", 4, throttle=0.5)
     with pytest.raises(TypeError, match="throttle.*float64.*int64"):

@@ -30,8 +30,10 @@ MODELS: Dict[str, Dict[str, Any]]
 (names with units), ``controls`` (``(name, low, high)`` triples) and
 ``actions`` (script action names)."""
 
-_Number = Union[float, int]
-_PerAircraft = Union[float, int, npt.NDArray[np.float64]]
+# A number: Python's, or NumPy's float16/float32/float64, integer or bool
+# (a longdouble is refused at run time: its conversion would drop digits).
+_Number = Union[float, int, np.floating[Any], np.integer[Any], np.bool_]
+_PerAircraft = Union[_Number, npt.NDArray[np.float64]]
 
 @final
 class Flight:
@@ -376,8 +378,10 @@ class Fleet:
     (``precision="exact"``: every aircraft bit-identical to :class:`Flight`
     without script; ``"fast"``: Palmer only, within 1e-9).
 
-    Start and control arguments are numbers (the same for every aircraft) or
-    one-dimensional float64 arrays of shape ``(n,)`` (one each); the controls
+    Start and control arguments are numbers (the same for every aircraft:
+    Python's, or NumPy's float16, float32, float64, integers and bools, each
+    taken exactly) or one-dimensional float64 arrays of shape ``(n,)`` (one
+    each); the controls
     are Palmer's ``throttle, alpha_deg, bank_deg, flaps_deg, brakes`` or Bourg's
     ``thrust_lb, elevator, aileron, rudder, landing_flaps, pitch_trim``
     (the surfaces -1, 0 or +1 and held until changed: a fleet has no start-of-
