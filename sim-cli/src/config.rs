@@ -147,7 +147,8 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
 /// files (`outputs`, with their options) is the standard output itself, the
 /// path `/dev/stdout` (e.g. `--csv /dev/stdout | another-program`) or the
 /// file the standard output is redirected to, so that the output's bytes
-/// are all the standard output holds.
+/// are all the standard output holds. Not when both are `/dev/null` (a
+/// caller that discards both).
 ///
 /// # Errors
 /// [`CliError::Usage`] for such an output with `json` (the JSON report is
@@ -157,9 +158,11 @@ pub fn summary_on_stderr(
     json: bool,
     interactive: bool,
 ) -> Result<bool, CliError> {
-    let stdout = Path::new("/dev/stdout");
+    let (stdout, null) = (Path::new("/dev/stdout"), Path::new("/dev/null"));
+    // `/dev/null` is no one's output: a caller that discards stdout and
+    // names `/dev/null` as an output too gets the run it always got.
     let Some((path, name)) = outputs.iter().find_map(|&(path, name)| {
-        path.filter(|p| fdm_run::input::same_file(p, stdout))
+        path.filter(|p| fdm_run::input::same_file(p, stdout) && !fdm_run::input::same_file(p, null))
             .map(|p| (p, name))
     }) else {
         return Ok(false);

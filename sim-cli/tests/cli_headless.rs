@@ -276,7 +276,8 @@ fn human_summary_without_json() {
 /// to stderr; `sim-cli replay --csv` and `sim-cli fleet --acmi` too. The CSV
 /// and the recording used to fail at once with "Invalid argument" (a pipe
 /// cannot be emptied or synced). `--json` (its report is stdout's) and an
-/// interactive run (its display is) are refused with such an output.
+/// interactive run (its display is) are refused with such an output, but
+/// not when stdout and the output are both `/dev/null`.
 #[test]
 fn an_output_on_the_standard_output_gets_it_alone() {
     let dir = scratch("stdout");
@@ -327,6 +328,28 @@ fn an_output_on_the_standard_output_gets_it_alone() {
         text(&piped.stderr)
     );
 
+    // A caller that discards stdout and names `/dev/null` as an output
+    // gets the run it always got: `--json` taken, nothing on stderr.
+    for output in ["--acmi", "--csv", "--record"] {
+        let discarded = std::process::Command::new(env!("CARGO_BIN_EXE_sim-cli"))
+            .args(["palmer", "--headless", "--frames", "3", "--json", output])
+            .arg("/dev/null")
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .output()
+            .unwrap();
+        assert_eq!(
+            discarded.status.code(),
+            Some(0),
+            "{output}: {}",
+            text(&discarded.stderr)
+        );
+        assert!(
+            discarded.stderr.is_empty(),
+            "{output}: {}",
+            text(&discarded.stderr)
+        );
+    }
     let json = "--json prints its report there";
     for (run, why) in [
         (
