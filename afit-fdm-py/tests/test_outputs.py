@@ -512,7 +512,8 @@ def test_a_file_the_flight_already_writes_is_refused(tmp_path: pathlib.Path) -> 
     ``acmi_to`` and ``record_to`` refuse a file the flight already writes,
     by the same path or another name (a symlink), with ``ValueError``
     naming the writer; nothing is attached and the first file is intact.
-    Once that writer is closed, the path may be used again."""
+    Once that writer is closed, the path may be used again; ``/dev/null``
+    clashes with nothing."""
     flight = afit_fdm.Flight("palmer", altitude_ft=3000.0, speed_kt=100.0, trim=True)
     csv, rec, acmi = tmp_path / "a.csv", tmp_path / "a.rec", tmp_path / "a.acmi"
     link = tmp_path / "link.csv"
@@ -544,6 +545,14 @@ def test_a_file_the_flight_already_writes_is_refused(tmp_path: pathlib.Path) -> 
         other.record_to(tmp_path / "b.acmi")
     assert str(error.value) == f"record_to: {tmp_path / 'b.acmi'} is already written by this flight's output `acmi {tmp_path / 'b.acmi'}`"
     assert other.recording is None
+    # Outputs all on /dev/null (a caller discarding them) do not clash.
+    null = afit_fdm.Flight("palmer")
+    null.record_to("/dev/null")
+    null.csv_to("/dev/null")
+    null.acmi_to("/dev/null")
+    null.step(40)
+    null.close_outputs()
+    assert null.stop_recording() == 40
     # Closed, the files may be written again (from the flight's frame on).
     flight.csv_to(link)
     flight.acmi_to(csv.with_suffix(".2.acmi"))

@@ -252,8 +252,13 @@ pub fn open_input(
 }
 
 /// Whether `a` and `b` are the same file: the same path, or [`same_file`],
-/// else the same canonical path.
+/// else the same canonical path. `/dev/null` is no file's clash: what is
+/// written there overwrites nothing, and reading it gives nothing written.
 fn same_output(a: &Path, b: &Path) -> bool {
+    let null = Path::new("/dev/null");
+    if same_file(a, null) || same_file(b, null) {
+        return false;
+    }
     a == b
         || same_file(a, b)
         || match (a.canonicalize(), b.canonicalize()) {
@@ -350,6 +355,25 @@ mod tests {
     }
 
     #[cfg(unix)]
+    /// Two outputs on `/dev/null` (a caller discarding both) do not clash;
+    /// two on one file, by any name, do.
+    #[cfg(unix)]
+    #[test]
+    fn dev_null_clashes_with_nothing() {
+        let null = Path::new("/dev/null");
+        assert_eq!(clash(null, &[(Some(null), "--csv")]), None);
+        let dir = temp_dir("null");
+        let file = dir.join("a.csv");
+        fs::write(&file, "x").unwrap();
+        assert_eq!(clash(&file, &[(Some(null), "--csv")]), None);
+        assert_eq!(clash(null, &[(Some(&file), "--csv")]), None);
+        assert_eq!(
+            clash(&file, &[(Some(null), "--acmi"), (Some(&file), "--csv")]),
+            Some("--csv")
+        );
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn same_file_sees_hard_links_and_symlinks() {
         let dir = temp_dir("same");

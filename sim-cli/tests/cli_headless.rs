@@ -329,11 +329,20 @@ fn an_output_on_the_standard_output_gets_it_alone() {
     );
 
     // A caller that discards stdout and names `/dev/null` as an output
-    // gets the run it always got: `--json` taken, nothing on stderr.
-    for output in ["--acmi", "--csv", "--record"] {
+    // gets the run it always got: `--json` taken, nothing on stderr. Outputs
+    // all on `/dev/null` do not clash (nothing there is overwritten).
+    let all = [
+        "--acmi",
+        "/dev/null",
+        "--csv",
+        "/dev/null",
+        "--record",
+        "/dev/null",
+    ];
+    for outputs in [&all[..2], &all[2..4], &all[4..], &all[..]] {
         let discarded = std::process::Command::new(env!("CARGO_BIN_EXE_sim-cli"))
-            .args(["palmer", "--headless", "--frames", "3", "--json", output])
-            .arg("/dev/null")
+            .args(["palmer", "--headless", "--frames", "3", "--json"])
+            .args(outputs)
             .stdin(std::process::Stdio::null())
             .stdout(std::process::Stdio::null())
             .output()
@@ -341,12 +350,12 @@ fn an_output_on_the_standard_output_gets_it_alone() {
         assert_eq!(
             discarded.status.code(),
             Some(0),
-            "{output}: {}",
+            "{outputs:?}: {}",
             text(&discarded.stderr)
         );
         assert!(
             discarded.stderr.is_empty(),
-            "{output}: {}",
+            "{outputs:?}: {}",
             text(&discarded.stderr)
         );
     }

@@ -177,6 +177,7 @@ class Flight:
     # writes (the recording's or another output's, by any name: a symlink or
     # hard link too) is refused with ValueError, as sim-cli refuses
     # --csv F --acmi F; once that writer is closed, the file may be used.
+    # /dev/null clashes with nothing.
     def acmi_to(
         self,
         path: Union[str, "os.PathLike[str]"],
