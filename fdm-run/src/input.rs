@@ -235,20 +235,58 @@ pub fn open_input(
     if !pipe {
         return File::open(path).map_err(|e| unreadable(path, what, e));
     }
-    let (opened, wait) = mpsc::channel::<()>();
     let note = format!(
         "waiting for a program to open the pipe {} for writing ({what}); Ctrl-C stops",
         show_path(path)
     );
+    noting_a_wait(note, waiting, || File::open(path)).map_err(|e| unreadable(path, what, e))
+}
+
+/// Opens the named pipe `path` for writing when it is one, waiting until a
+/// program opens it for reading (as the OS makes a writer wait); past a
+/// second, `waiting` is called (once, on another thread) with a note saying
+/// what is awaited (`what`: the output, e.g. "--csv"), for the caller to
+/// show instead of hanging silently. `None` for anything else (nothing
+/// waits). An output's own opening of the pipe, while this one is held
+/// open, finds the reader there and returns at once.
+///
+/// # Errors
+/// The OS error from opening the pipe.
+pub fn await_pipe_reader(
+    path: &Path,
+    what: &str,
+    waiting: impl FnOnce(String) + Send + 'static,
+) -> io::Result<Option<File>> {
+    if !fs::metadata(path).is_ok_and(|meta| is_pipe(meta.file_type())) {
+        return Ok(None);
+    }
+    let note = format!(
+        "waiting for a program to open the pipe {} for reading ({what}); Ctrl-C stops",
+        show_path(path)
+    );
+    noting_a_wait(note, waiting, || {
+        fs::OpenOptions::new().write(true).open(path)
+    })
+    .map(Some)
+}
+
+/// `open()`, with `waiting(note)` called on another thread if it has not
+/// returned within [`FIFO_NOTE_AFTER`].
+fn noting_a_wait<T>(
+    note: String,
+    waiting: impl FnOnce(String) + Send + 'static,
+    open: impl FnOnce() -> T,
+) -> T {
+    let (opened, wait) = mpsc::channel::<()>();
     let noter = std::thread::spawn(move || {
         if wait.recv_timeout(FIFO_NOTE_AFTER) == Err(mpsc::RecvTimeoutError::Timeout) {
             waiting(note);
         }
     });
-    let file = File::open(path);
+    let file = open();
     drop(opened);
     let _ = noter.join();
-    file.map_err(|e| unreadable(path, what, e))
+    file
 }
 
 /// Whether `a` and `b` are the same file: the same path, or [`same_file`],

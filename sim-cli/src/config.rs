@@ -253,7 +253,14 @@ pub fn prepare_model<M: Model>(
         (None, Mode::Interactive) => Some(FgTarget::default().resolve()?),
         (None, Mode::Headless { .. }) => None,
     };
-    // Created last, so that no earlier error leaves a truncated file behind.
+    // Created last, so that no earlier error leaves a truncated file behind;
+    // an output that is a named pipe first waits for its reader, saying so.
+    let _readers = crate::input::await_pipe_readers(&[
+        (args.csv.as_deref(), "--csv"),
+        (args.plot.as_deref(), "--plot"),
+        (args.record.as_deref(), "--record"),
+        (args.acmi.acmi.as_deref(), "--acmi"),
+    ])?;
     let script = args.script.as_deref();
     let others = [(script, "--script"), (args.csv.as_deref(), "--csv")];
     let csv = (args.csv.as_deref())

@@ -89,6 +89,8 @@ impl WithModel for Measure<'_> {
                 .tick(done);
         })?;
         drop(bar);
+        // A named pipe first waits for its reader, saying so.
+        let _reader = crate::input::await_pipe_readers(&[(args.acmi.acmi.as_deref(), "--acmi")])?;
         let acmi = crate::acmi::create(&args.acmi, M::NAME, FLEET_FPS, &run.origin(), &[])?;
         if let Some(acmi) = acmi {
             run.attach(acmi)?;

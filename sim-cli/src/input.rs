@@ -28,6 +28,26 @@ pub fn refuse_clash(
     clash(path, others).map_or(Ok(()), |name| Err(CliError::usage(message(name))))
 }
 
+/// Waits for a reader of each of `outputs` (with their option names) that
+/// is a named pipe, with a note on stderr after a second ([`waiting`]), as an
+/// input pipe waits for its writer, and returns those pipes held open: while
+/// they are, the outputs' own opening of them returns at once.
+///
+/// # Errors
+/// [`CliError::Usage`] naming the output whose pipe cannot be opened.
+pub fn await_pipe_readers(
+    outputs: &[(Option<&std::path::Path>, &str)],
+) -> Result<Vec<std::fs::File>, CliError> {
+    let mut held = Vec::new();
+    for &(path, name) in outputs {
+        let Some(path) = path else { continue };
+        let pipe = fdm_run::input::await_pipe_reader(path, name, waiting)
+            .map_err(|e| CliError::usage(format!("cannot open {name} {}: {e}", show_path(path))))?;
+        held.extend(pipe);
+    }
+    Ok(held)
+}
+
 /// Says on stderr what `sim-cli` is waiting for when opening a named pipe
 /// waits for its writer (Ctrl-C stops it, as any run), instead of hanging
 /// silently: the `waiting` of [`fdm_run::input::open_input`].

@@ -138,6 +138,12 @@ impl WithModel for ReplayJob<'_> {
             self.args.json,
             false,
         )?;
+        // An output that is a named pipe first waits for its reader, saying so.
+        let _readers = crate::input::await_pipe_readers(&[
+            (self.args.csv.as_deref(), "--csv"),
+            (self.args.plot.as_deref(), "--plot"),
+            (self.args.acmi.acmi.as_deref(), "--acmi"),
+        ])?;
         let csv = (self.args.csv.as_deref())
             .map(|path| {
                 refuse_clash(path, &others[..1], |_| {

@@ -205,6 +205,75 @@ fn a_script_fifo_without_a_writer_is_waited_for_out_loud() {
     assert_eq!(piped, script_file_report(&dir));
 }
 
+/// An output that is a named pipe with no reader yet (`--csv FIFO`, the
+/// reader to start later) is waited for with a note on stderr after a
+/// second, as an input pipe is (it used to wait in silence), and once a
+/// reader opens it the run writes the CSV there, the bytes a file gets.
+#[test]
+fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
+    use std::io::Read as _;
+    let dir = scratch("csv-fifo");
+    let fifo = dir.join("out.csv");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo")
+        .success());
+    let file = dir.join("file.csv");
+    let flight = [
+        "palmer",
+        "--headless",
+        "--frames",
+        "30",
+        "--throttle",
+        "1",
+        "--csv",
+    ];
+    let to_file = sim(&[&flight[..], &[file.to_str().unwrap()]].concat());
+    assert_eq!(to_file.status.code(), Some(0), "{}", text(&to_file.stderr));
+    let mut child = Command::new(BIN)
+        .args(flight)
+        .arg(&fifo)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sim-cli");
+    // The note's line comes before anything reads the pipe (read by a
+    // thread: without the note the reader still comes, after 20 s, so that
+    // the run ends and the test fails instead of hanging).
+    let mut stderr = child.stderr.take().expect("stderr");
+    let (first_line, note) = std::sync::mpsc::channel();
+    let stderr_reader = std::thread::spawn(move || {
+        let mut all = Vec::new();
+        let mut byte = [0_u8; 1];
+        while stderr.read(&mut byte).expect("read stderr") == 1 {
+            all.push(byte[0]);
+            if byte[0] == b'\n' {
+                let _ = first_line.send(String::from_utf8_lossy(&all).into_owned());
+            }
+        }
+        String::from_utf8_lossy(&all).into_owned()
+    });
+    let note = note.recv_timeout(Duration::from_secs(20));
+    let mut csv = Vec::new();
+    std::fs::File::open(&fifo)
+        .expect("open the FIFO")
+        .read_to_end(&mut csv)
+        .expect("read the FIFO");
+    let out = child.wait_with_output().expect("wait");
+    let stderr = stderr_reader.join().expect("stderr reader");
+    assert!(
+        note.as_deref().is_ok_and(|line| line
+            .starts_with("sim-cli: waiting for a program to open the pipe ")
+            && line.contains("for reading (--csv)")),
+        "no note before the reader came: {note:?}; stderr {stderr}"
+    );
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert_eq!(csv, std::fs::read(&file).unwrap());
+    assert_eq!(out.stdout, to_file.stdout);
+}
+
 #[test]
 fn a_file_over_16_mib_is_refused_before_reading() {
     let dir = scratch("big");
