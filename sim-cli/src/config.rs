@@ -29,7 +29,7 @@ pub enum Mode {
         /// Pace frames at 1/fps of wall-clock time (`--realtime`).
         realtime: bool,
         /// Print the summary on stderr: an output file is the standard
-        /// output ([`output_on_stdout`]), whose bytes it would break.
+        /// output ([`summary_on_stderr`]), whose bytes it would break.
         summary_on_stderr: bool,
     },
     /// Keyboard in, HUD out, paced at the frame rate, until the user quits.
@@ -100,13 +100,7 @@ pub fn start_model<M: Model>(
 /// [`CliError::Usage`] for --json / --frames / --duration without --headless, a
 /// headless run without a length, or a duration that is too long.
 pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
-    let outputs = [
-        (args.csv.as_deref(), "--csv"),
-        (args.plot.as_deref(), "--plot"),
-        (args.record.as_deref(), "--record"),
-        (args.acmi.acmi.as_deref(), "--acmi"),
-    ];
-    let summary_on_stderr = summary_on_stderr(&outputs, args.json, !args.headless)?;
+    let summary_on_stderr = summary_on_stderr(&output_files(args), args.json, !args.headless)?;
     if !args.headless {
         for (given, name) in [
             (args.json, "--json"),
@@ -141,6 +135,16 @@ pub fn resolve_mode(args: &CommonArgs) -> Result<Mode, CliError> {
         realtime: args.realtime,
         summary_on_stderr,
     })
+}
+
+/// The run's output files, with their options.
+fn output_files(args: &CommonArgs) -> [(Option<&Path>, &'static str); 4] {
+    [
+        (args.csv.as_deref(), "--csv"),
+        (args.plot.as_deref(), "--plot"),
+        (args.record.as_deref(), "--record"),
+        (args.acmi.acmi.as_deref(), "--acmi"),
+    ]
 }
 
 /// Whether a headless run's summary goes to stderr: when one of its output
@@ -255,12 +259,7 @@ pub fn prepare_model<M: Model>(
     };
     // Created last, so that no earlier error leaves a truncated file behind;
     // an output that is a named pipe first waits for its reader, saying so.
-    let _readers = crate::input::await_pipe_readers(&[
-        (args.csv.as_deref(), "--csv"),
-        (args.plot.as_deref(), "--plot"),
-        (args.record.as_deref(), "--record"),
-        (args.acmi.acmi.as_deref(), "--acmi"),
-    ])?;
+    let _readers = crate::input::await_pipe_readers(&output_files(&args))?;
     let script = args.script.as_deref();
     let others = [(script, "--script"), (args.csv.as_deref(), "--csv")];
     let csv = (args.csv.as_deref())
