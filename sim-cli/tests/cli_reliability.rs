@@ -170,23 +170,8 @@ fn a_script_fifo_without_a_writer_is_waited_for_out_loud() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("spawn sim-cli");
-    // The note's line comes before anything is written to the pipe. (Read
-    // by a thread: without the note the writer still comes, after 20 s, so
-    // that the run ends and the test fails instead of hanging.)
-    let mut stderr = child.stderr.take().expect("stderr");
-    let (first_line, note) = std::sync::mpsc::channel();
-    let reader = std::thread::spawn(move || {
-        let mut all = Vec::new();
-        let mut byte = [0_u8; 1];
-        while stderr.read(&mut byte).expect("read stderr") == 1 {
-            all.push(byte[0]);
-            if byte[0] == b'\n' {
-                let _ = first_line.send(String::from_utf8_lossy(&all).into_owned());
-            }
-        }
-        String::from_utf8_lossy(&all).into_owned()
-    });
-    let note = note.recv_timeout(Duration::from_secs(20));
+    // The note's line comes before anything is written to the pipe.
+    let (note, reader) = stderr_lines(&mut child);
     let mut writer = std::fs::OpenOptions::new()
         .write(true)
         .open(&fifo)
@@ -205,13 +190,38 @@ fn a_script_fifo_without_a_writer_is_waited_for_out_loud() {
     assert_eq!(piped, script_file_report(&dir));
 }
 
+/// The child's first line on stderr, or the timeout after 20 s, and a
+/// thread reading the whole of its stderr. Read by a thread: a test whose
+/// note does not come still opens its pipe after the 20 s, so that the run
+/// ends and the test fails instead of hanging.
+fn stderr_lines(
+    child: &mut Child,
+) -> (
+    Result<String, std::sync::mpsc::RecvTimeoutError>,
+    std::thread::JoinHandle<String>,
+) {
+    let mut stderr = child.stderr.take().expect("stderr");
+    let (first_line, line) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut all = Vec::new();
+        let mut byte = [0_u8; 1];
+        while stderr.read(&mut byte).expect("read stderr") == 1 {
+            all.push(byte[0]);
+            if byte[0] == b'\n' {
+                let _ = first_line.send(String::from_utf8_lossy(&all).into_owned());
+            }
+        }
+        String::from_utf8_lossy(&all).into_owned()
+    });
+    (line.recv_timeout(Duration::from_secs(20)), reader)
+}
+
 /// An output that is a named pipe with no reader yet (`--csv FIFO`, the
 /// reader to start later) is waited for with a note on stderr after a
 /// second, as an input pipe is (it used to wait in silence), and once a
 /// reader opens it the run writes the CSV there, the bytes a file gets.
 #[test]
 fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
-    use std::io::Read as _;
     let dir = scratch("csv-fifo");
     let fifo = dir.join("out.csv");
     assert!(Command::new("mkfifo")
@@ -239,23 +249,8 @@ fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("spawn sim-cli");
-    // The note's line comes before anything reads the pipe (read by a
-    // thread: without the note the reader still comes, after 20 s, so that
-    // the run ends and the test fails instead of hanging).
-    let mut stderr = child.stderr.take().expect("stderr");
-    let (first_line, note) = std::sync::mpsc::channel();
-    let stderr_reader = std::thread::spawn(move || {
-        let mut all = Vec::new();
-        let mut byte = [0_u8; 1];
-        while stderr.read(&mut byte).expect("read stderr") == 1 {
-            all.push(byte[0]);
-            if byte[0] == b'\n' {
-                let _ = first_line.send(String::from_utf8_lossy(&all).into_owned());
-            }
-        }
-        String::from_utf8_lossy(&all).into_owned()
-    });
-    let note = note.recv_timeout(Duration::from_secs(20));
+    // The note's line comes before anything reads the pipe.
+    let (note, stderr_reader) = stderr_lines(&mut child);
     let mut csv = Vec::new();
     std::fs::File::open(&fifo)
         .expect("open the FIFO")
