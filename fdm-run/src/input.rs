@@ -293,8 +293,7 @@ fn noting_a_wait<T>(
 /// else the same canonical path. `/dev/null` is no file's clash: what is
 /// written there overwrites nothing, and reading it gives nothing written.
 fn same_output(a: &Path, b: &Path) -> bool {
-    let null = Path::new("/dev/null");
-    if same_file(a, null) || same_file(b, null) {
+    if is_dev_null(a) || is_dev_null(b) {
         return false;
     }
     a == b
@@ -313,6 +312,13 @@ pub fn clash<'a>(path: &Path, others: &[(Option<&Path>, &'a str)]) -> Option<&'a
         .iter()
         .find(|(other, _)| other.is_some_and(|o| same_output(path, o)))
         .map(|&(_, name)| name)
+}
+
+/// Whether `path` is `/dev/null` (by any name: [`same_file`]), where what is
+/// written overwrites nothing and nobody reads it.
+#[must_use]
+pub fn is_dev_null(path: &Path) -> bool {
+    same_file(path, Path::new("/dev/null"))
 }
 
 /// Whether two paths name the same file: same device and inode, so hard links and

@@ -162,11 +162,11 @@ pub fn summary_on_stderr(
     json: bool,
     interactive: bool,
 ) -> Result<bool, CliError> {
-    let (stdout, null) = (Path::new("/dev/stdout"), Path::new("/dev/null"));
+    let stdout = Path::new("/dev/stdout");
     // `/dev/null` is no one's output: a caller that discards stdout and
     // names `/dev/null` as an output too gets the run it always got.
     let Some((path, name)) = outputs.iter().find_map(|&(path, name)| {
-        path.filter(|p| fdm_run::input::same_file(p, stdout) && !fdm_run::input::same_file(p, null))
+        path.filter(|p| fdm_run::input::same_file(p, stdout) && !fdm_run::input::is_dev_null(p))
             .map(|p| (p, name))
     }) else {
         return Ok(false);

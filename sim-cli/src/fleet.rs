@@ -143,11 +143,7 @@ pub fn run(args: &FleetArgs) -> Result<(), CliError> {
     } else {
         report.summary()
     };
-    if summary_on_stderr {
-        crate::print_line_to(&mut std::io::stderr().lock(), &text, "stderr")
-    } else {
-        crate::print_line(&text)
-    }
+    crate::print_report(&text, summary_on_stderr)
 }
 
 #[cfg(test)]

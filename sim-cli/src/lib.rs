@@ -91,8 +91,18 @@ pub(crate) fn print_line(text: &str) -> Result<(), CliError> {
     print_line_to(&mut std::io::stdout().lock(), text, "stdout")
 }
 
+/// Writes a run's report `text` and a newline to stdout, or to stderr when
+/// an output of the run writes stdout ([`config::summary_on_stderr`]).
+pub(crate) fn print_report(text: &str, on_stderr: bool) -> Result<(), CliError> {
+    if on_stderr {
+        print_line_to(&mut std::io::stderr().lock(), text, "stderr")
+    } else {
+        print_line(text)
+    }
+}
+
 /// Writes `text` and a newline to `out` (named `name` in the error).
-pub(crate) fn print_line_to(out: &mut impl Write, text: &str, name: &str) -> Result<(), CliError> {
+fn print_line_to(out: &mut impl Write, text: &str, name: &str) -> Result<(), CliError> {
     writeln!(out, "{text}")
         .and_then(|()| out.flush())
         .with_context(|| format!("writing to {name}"))?;

@@ -205,11 +205,7 @@ impl WithModel for ReplayJob<'_> {
                 recording.resets
             )
         };
-        if summary_on_stderr {
-            crate::print_line_to(&mut std::io::stderr().lock(), &text, "stderr")?;
-        } else {
-            crate::print_line(&text)?;
-        }
+        crate::print_report(&text, summary_on_stderr)?;
         if let Some(cut) = cut {
             return Err(CliError::Incomplete(format!(
                 "{file}: {cut}; they were replayed (a cut recording has no fingerprint to check \

@@ -138,11 +138,7 @@ pub fn fly<F: Flight>(
             } else {
                 report.human_summary()
             };
-            if summary_on_stderr {
-                crate::print_line_to(&mut std::io::stderr().lock(), &text, "stderr")
-            } else {
-                crate::print_line(&text)
-            }
+            crate::print_report(&text, summary_on_stderr)
         }
         Mode::Interactive => {
             let summary = run_interactive(&mut flight, fps, fg);
