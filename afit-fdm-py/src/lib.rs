@@ -5,6 +5,7 @@
 //! environments; its documentation is `python/afit_fdm/_afit_fdm.pyi` and
 //! the README's Python section.
 
+pub mod args;
 #[cfg(feature = "dis")]
 pub mod dis;
 pub mod fleet;
@@ -136,15 +137,16 @@ impl PyFlight {
     #[pyo3(signature = (model, *, fps=30, altitude_ft=None, speed_kt=None, heading_deg=None, trim=false, script=None, **controls))]
     #[allow(clippy::too_many_arguments)]
     fn new(
-        model: &str,
-        fps: u32,
-        altitude_ft: Option<f64>,
-        speed_kt: Option<f64>,
-        heading_deg: Option<f64>,
-        trim: bool,
-        script: Option<&str>,
+        #[pyo3(from_py_with = args::model)] model: String,
+        #[pyo3(from_py_with = args::fps)] fps: u32,
+        #[pyo3(from_py_with = args::altitude_ft)] altitude_ft: Option<f64>,
+        #[pyo3(from_py_with = args::speed_kt)] speed_kt: Option<f64>,
+        #[pyo3(from_py_with = args::heading_deg)] heading_deg: Option<f64>,
+        #[pyo3(from_py_with = args::trim)] trim: bool,
+        #[pyo3(from_py_with = args::script)] script: Option<String>,
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let (model, script) = (model.as_str(), script.as_deref());
         check_fps(fps)?;
         let spec = StartSpec {
             altitude_ft,
@@ -187,7 +189,12 @@ impl PyFlight {
     /// Steps `n` frames; `actions` (script action names) are applied on each
     /// of them after the script's.
     #[pyo3(signature = (n=1, actions=None))]
-    fn step(&mut self, py: Python<'_>, n: u64, actions: Option<Vec<String>>) -> PyResult<()> {
+    fn step(
+        &mut self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = args::n_frames)] n: u64,
+        #[pyo3(from_py_with = args::actions)] actions: Option<Vec<String>>,
+    ) -> PyResult<()> {
         let actions = actions.unwrap_or_default();
         let inner = &mut self.inner;
         if n < 256 {
@@ -206,7 +213,7 @@ impl PyFlight {
         &mut self,
         py: Python<'_>,
         path: &Bound<'_, PyAny>,
-        origin: Option<(f64, f64, f64)>,
+        #[pyo3(from_py_with = args::origin)] origin: Option<(f64, f64, f64)>,
     ) -> PyResult<()> {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
@@ -246,10 +253,11 @@ impl PyFlight {
         &mut self,
         py: Python<'_>,
         path: &Bound<'_, PyAny>,
-        origin: Option<(f64, f64, f64)>,
-        reference_time: Option<&str>,
-        title: Option<&str>,
+        #[pyo3(from_py_with = args::origin)] origin: Option<(f64, f64, f64)>,
+        #[pyo3(from_py_with = args::reference_time)] reference_time: Option<String>,
+        #[pyo3(from_py_with = args::title)] title: Option<String>,
     ) -> PyResult<()> {
+        let (reference_time, title) = (reference_time.as_deref(), title.as_deref());
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
         self.inner
@@ -263,7 +271,7 @@ impl PyFlight {
         &mut self,
         py: Python<'_>,
         path: &Bound<'_, PyAny>,
-        origin: Option<(f64, f64, f64)>,
+        #[pyo3(from_py_with = args::origin)] origin: Option<(f64, f64, f64)>,
     ) -> PyResult<()> {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
@@ -272,7 +280,12 @@ impl PyFlight {
 
     /// Sends the flight to FlightGear at `target` (see `_afit_fdm.pyi`).
     #[pyo3(signature = (target, *, origin=None))]
-    fn flightgear_to(&mut self, target: &str, origin: Option<(f64, f64, f64)>) -> PyResult<()> {
+    fn flightgear_to(
+        &mut self,
+        #[pyo3(from_py_with = args::target)] target: String,
+        #[pyo3(from_py_with = args::origin)] origin: Option<(f64, f64, f64)>,
+    ) -> PyResult<()> {
+        let target = target.as_str();
         let origin = read_origin(origin)?;
         self.inner
             .flightgear_to(target, &origin)
@@ -298,20 +311,21 @@ impl PyFlight {
     #[allow(clippy::too_many_arguments)]
     fn dis_to(
         &mut self,
-        target: &str,
-        origin: Option<(f64, f64, f64)>,
-        entity: u16,
-        callsign: Option<String>,
-        site: u16,
-        application: u16,
-        exercise: u8,
-        version: u8,
-        dr: &str,
-        position_threshold_m: f64,
-        orientation_threshold_deg: f64,
-        heartbeat_s: f64,
-        every_frame: bool,
+        #[pyo3(from_py_with = args::target)] target: String,
+        #[pyo3(from_py_with = args::origin)] origin: Option<(f64, f64, f64)>,
+        #[pyo3(from_py_with = args::entity)] entity: u16,
+        #[pyo3(from_py_with = args::callsign)] callsign: Option<String>,
+        #[pyo3(from_py_with = args::site)] site: u16,
+        #[pyo3(from_py_with = args::application)] application: u16,
+        #[pyo3(from_py_with = args::exercise)] exercise: u8,
+        #[pyo3(from_py_with = args::version)] version: u8,
+        #[pyo3(from_py_with = args::dr)] dr: &str,
+        #[pyo3(from_py_with = args::position_threshold_m)] position_threshold_m: f64,
+        #[pyo3(from_py_with = args::orientation_threshold_deg)] orientation_threshold_deg: f64,
+        #[pyo3(from_py_with = args::heartbeat_s)] heartbeat_s: f64,
+        #[pyo3(from_py_with = args::every_frame)] every_frame: bool,
     ) -> PyResult<()> {
+        let target = target.as_str();
         let origin = read_origin(origin)?;
         let config = dis::flight_dis(&dis::DisArgs {
             target,
@@ -502,17 +516,18 @@ impl PyFleet {
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
-        model: &str,
-        n: usize,
-        fps: u32,
-        precision: &str,
-        parallel: bool,
+        #[pyo3(from_py_with = args::model)] model: String,
+        #[pyo3(from_py_with = args::n_aircraft)] n: usize,
+        #[pyo3(from_py_with = args::fps)] fps: u32,
+        #[pyo3(from_py_with = args::precision)] precision: &str,
+        #[pyo3(from_py_with = args::parallel)] parallel: bool,
         altitude_ft: Option<&Bound<'_, PyAny>>,
         speed_kt: Option<&Bound<'_, PyAny>>,
         heading_deg: Option<&Bound<'_, PyAny>>,
-        trim: bool,
+        #[pyo3(from_py_with = args::trim)] trim: bool,
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let model = model.as_str();
         let fps = check_fps(fps)?;
         let precision_value: Precision = precision
             .parse()
@@ -580,7 +595,11 @@ impl PyFleet {
     /// Steps every aircraft `frames` frames with the GIL released, then
     /// refreshes the state views.
     #[pyo3(signature = (frames=1))]
-    fn step(&mut self, py: Python<'_>, frames: u64) -> PyResult<()> {
+    fn step(
+        &mut self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = args::frames)] frames: u64,
+    ) -> PyResult<()> {
         let inner = &mut self.inner;
         let per_check = fleet::frames_per_signal_check(inner.len());
         let (flown, start, end) = self.buffers.with_mut(py, |c, s| {
@@ -607,7 +626,7 @@ impl PyFleet {
         altitude_ft: Option<&Bound<'_, PyAny>>,
         speed_kt: Option<&Bound<'_, PyAny>>,
         heading_deg: Option<&Bound<'_, PyAny>>,
-        trim: bool,
+        #[pyo3(from_py_with = args::trim)] trim: bool,
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<()> {
         let n = self.inner.len();
@@ -661,20 +680,20 @@ impl PyFleet {
         &mut self,
         py: Python<'_>,
         actions: &Bound<'_, PyAny>,
-        frames: u64,
-        task: &str,
+        #[pyo3(from_py_with = args::frames)] frames: u64,
+        #[pyo3(from_py_with = args::task)] task: String,
         target_alt_ft: &Bound<'_, PyAny>,
         target_heading_deg: &Bound<'_, PyAny>,
         steps: &Bound<'_, PyAny>,
-        max_steps: i64,
+        #[pyo3(from_py_with = args::max_steps)] max_steps: i64,
         obs: &Bound<'_, PyAny>,
         reward: &Bound<'_, PyAny>,
         terminated: &Bound<'_, PyAny>,
         truncated: &Bound<'_, PyAny>,
-        observe: bool,
-        views: bool,
+        #[pyo3(from_py_with = args::observe)] observe: bool,
+        #[pyo3(from_py_with = args::views)] views: bool,
     ) -> PyResult<()> {
-        let task = task::Task::named(task).map_err(PyValueError::new_err)?;
+        let task = task::Task::named(&task).map_err(PyValueError::new_err)?;
         let n = self.inner.len();
         let k = self.inner.task_actions();
         let actions = task_io::actions(py, actions, n, k)?;
@@ -737,17 +756,17 @@ impl PyFleet {
     fn task_observe(
         &mut self,
         py: Python<'_>,
-        task: &str,
+        #[pyo3(from_py_with = args::task)] task: String,
         target_alt_ft: &Bound<'_, PyAny>,
         target_heading_deg: &Bound<'_, PyAny>,
         steps: &Bound<'_, PyAny>,
-        max_steps: i64,
+        #[pyo3(from_py_with = args::max_steps)] max_steps: i64,
         obs: &Bound<'_, PyAny>,
         reward: &Bound<'_, PyAny>,
         terminated: &Bound<'_, PyAny>,
         truncated: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
-        let task = task::Task::named(task).map_err(PyValueError::new_err)?;
+        let task = task::Task::named(&task).map_err(PyValueError::new_err)?;
         let n = self.inner.len();
         let targets = task_io::Targets::read(target_alt_ft, target_heading_deg, n)?;
         let steps = task_io::steps(steps, n)?;

@@ -261,8 +261,8 @@ fn read_source(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<(String, V
 pub fn replay(
     py: Python<'_>,
     source: &Bound<'_, PyAny>,
-    trajectory: bool,
-    salvage: bool,
+    #[pyo3(from_py_with = crate::args::trajectory)] trajectory: bool,
+    #[pyo3(from_py_with = crate::args::salvage)] salvage: bool,
 ) -> PyResult<PyReplay> {
     let (name, bytes) = read_source(py, source)?;
     let model = recorded_model(&bytes).map_err(|e| format_error(&e))?;

@@ -74,14 +74,22 @@ impl PyStudy {
     /// See `_afit_fdm.pyi`.
     #[staticmethod]
     #[pyo3(signature = (text, *, runs=None, seed=None))]
-    fn from_toml(text: String, runs: Option<u64>, seed: Option<u64>) -> PyResult<Self> {
+    fn from_toml(
+        #[pyo3(from_py_with = crate::args::text)] text: String,
+        #[pyo3(from_py_with = crate::args::runs)] runs: Option<u64>,
+        #[pyo3(from_py_with = crate::args::seed)] seed: Option<u64>,
+    ) -> PyResult<Self> {
         Self::build(text, runs, seed)
     }
 
     /// See `_afit_fdm.pyi`.
     #[staticmethod]
     #[pyo3(signature = (path, *, runs=None, seed=None))]
-    fn from_path(path: std::path::PathBuf, runs: Option<u64>, seed: Option<u64>) -> PyResult<Self> {
+    fn from_path(
+        #[pyo3(from_py_with = crate::args::path)] path: std::path::PathBuf,
+        #[pyo3(from_py_with = crate::args::runs)] runs: Option<u64>,
+        #[pyo3(from_py_with = crate::args::seed)] seed: Option<u64>,
+    ) -> PyResult<Self> {
         let text = std::fs::read_to_string(&path).map_err(|source| {
             py_err(StudyError::Io {
                 path: path.display().to_string(),
@@ -133,10 +141,10 @@ impl PyStudy {
     fn fly_columns<'py>(
         &self,
         py: Python<'py>,
-        first: u64,
-        end: u64,
-        threads: Option<usize>,
-        precision: &str,
+        #[pyo3(from_py_with = crate::args::first)] first: u64,
+        #[pyo3(from_py_with = crate::args::end)] end: u64,
+        #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
+        #[pyo3(from_py_with = crate::args::precision)] precision: &str,
     ) -> PyResult<Bound<'py, PyDict>> {
         let precision: Precision = precision
             .parse()
