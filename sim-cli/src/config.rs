@@ -198,11 +198,14 @@ pub fn frames_for_duration(seconds: f64, fps: u32) -> Result<u64, CliError> {
 }
 
 /// Reads and parses a script ([`fdm_run::scenario::load_script`]: errors
-/// name the file and line as `FILE:LINE: message`).
+/// name the file and line as `FILE:LINE: message`). A signal while it is
+/// read (a FIFO waiting for its writer) ends the process at once
+/// ([`crate::signals::before_outputs`]): call this before creating any output.
 ///
 /// # Errors
 /// [`CliError::Usage`] for a file that cannot be read or its first bad line.
 pub fn load_script<A: ScriptAction>(path: &Path) -> Result<Script<A>, CliError> {
+    let _before_outputs = crate::signals::before_outputs();
     fdm_run::scenario::load_script(path, waiting).map_err(CliError::usage)
 }
 

@@ -33,11 +33,17 @@ pub fn refuse_clash(
 /// input pipe waits for its writer, and returns those pipes held open: while
 /// they are, the outputs' own opening of them returns at once.
 ///
+/// A signal during the wait ends the process at once
+/// ([`crate::signals::before_outputs`]): call this before creating any output.
+///
 /// # Errors
 /// [`CliError::Usage`] naming the output whose pipe cannot be opened.
 pub fn await_pipe_readers(
     outputs: &[(Option<&std::path::Path>, &str)],
 ) -> Result<Vec<std::fs::File>, CliError> {
+    // `open` blocks until a reader comes, where no frame looks at a signal;
+    // nothing has been written, into the pipes or elsewhere.
+    let _before_outputs = crate::signals::before_outputs();
     let mut held = Vec::new();
     for &(path, name) in outputs {
         let Some(path) = path else { continue };
@@ -49,7 +55,8 @@ pub fn await_pipe_readers(
 }
 
 /// Says on stderr what `sim-cli` is waiting for when opening a named pipe
-/// waits for its writer (Ctrl-C stops it, as any run), instead of hanging
+/// waits for the program at its other end (Ctrl-C stops it at once: the
+/// callers hold [`crate::signals::before_outputs`]), instead of hanging
 /// silently: the `waiting` of [`fdm_run::input::open_input`].
 pub fn waiting(note: String) {
     eprintln!("sim-cli: {note}");

@@ -51,6 +51,10 @@ pub fn create(path: &Path) -> Result<PlotFile, CliError> {
 /// [`CliError::Usage`] for an unreadable or malformed CSV or an uncreatable
 /// output; [`CliError::Runtime`] if drawing or writing fails.
 pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
+    // Until the SVG is created, a signal ends the process at once: a CSV
+    // from a FIFO may wait for its writer (in `open`, where nothing looks
+    // at a signal), and there is nothing to finish.
+    let before_outputs = crate::signals::before_outputs();
     let file = fdm_run::input::open_input(csv, "CSV", crate::input::waiting)?;
     let name = csv.display().to_string();
     let models = ModelKind::csv_layouts();
@@ -58,6 +62,9 @@ pub fn run_plot(csv: &Path, output: &Path) -> Result<(), CliError> {
     if let Some(warning) = &read.torn_last_row {
         eprintln!("sim-cli: warning: {warning}");
     }
+    // An SVG that is a named pipe waits for its reader as a run's outputs do.
+    let _reader = crate::input::await_pipe_readers(&[(Some(output), "-o")])?;
+    drop(before_outputs);
     Ok(create(output)?.write(&read.trace)?)
 }
 

@@ -243,7 +243,11 @@ impl WithModel for ReplayJob<'_> {
 /// problem; [`CliError::Runtime`] for failures while replaying.
 pub fn run(args: &ReplayArgs) -> Result<(), CliError> {
     let path = &args.file;
+    // A signal while a FIFO waits for its writer ends the process at once:
+    // no output exists yet.
+    let before_outputs = crate::signals::before_outputs();
     let bytes = read_bytes(path, "recording", MAX_RECORDING_BYTES, waiting)?;
+    drop(before_outputs);
     let name = recorded_model_name(&bytes)
         .map_err(|e| CliError::usage(format!("{}: {e}", show_path(path))))?;
     // The CLI's registry, which may have models the run library's does not.

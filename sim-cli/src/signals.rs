@@ -23,6 +23,16 @@
 //!    `--csv` file), up to the last complete line;
 //! 4. prints the same line and exits with the same status.
 //!
+//! Before a run has created any output it has nothing to finish, and it may be
+//! blocked where no frame comes to look at the request: opening a named pipe
+//! that waits for its writer (a `--script` FIFO) or its reader (a `--csv` FIFO),
+//! or reading an input. The code there holds a [`BeforeOutputs`] guard
+//! ([`before_outputs`]). While one is held, a signal (or one that came less
+//! than [`GRACE`] before) ends the process at once, as in the steps above but
+//! with the plain `sim-cli: stopped by SIGINT` line of a normal stop and its
+//! status: no output file has been created or truncated yet, and nothing has
+//! been written into a pipe the user named, so nothing is left half-made.
+//!
 //! A panic restores the terminal through [`crate::terminal::install_panic_hook`].
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -54,6 +64,42 @@ pub const GRACE: Duration = Duration::from_secs(3);
 
 /// The signal that asked the run to stop (0: none yet).
 static STOP: AtomicI32 = AtomicI32::new(0);
+
+/// How many [`BeforeOutputs`] guards are alive. A mutex, not an atomic: the
+/// signal thread holds it from seeing a guard until the process has exited,
+/// so the run cannot drop its guard and create (truncate) an output while
+/// the process is being ended (the guard's drop waits for the lock).
+static BEFORE_OUTPUTS: Mutex<usize> = Mutex::new(0);
+
+/// Held while the run has created no output yet: opening a named pipe that
+/// waits for the program at its other end, reading an input. While one is
+/// alive, a signal ends the process at once (module docs) instead of
+/// waiting up to [`GRACE`] for a run that may be blocked in `open`.
+///
+/// Drop it before the first output is created: a signal ending the process
+/// then could leave that output half-made.
+#[derive(Debug)]
+#[must_use = "the guard covers the code until it is dropped"]
+pub struct BeforeOutputs {
+    /// Made by [`before_outputs`] only, so that the count stays right.
+    _private: (),
+}
+
+/// A [`BeforeOutputs`] guard: a signal ends the process at once until it is
+/// dropped.
+pub fn before_outputs() -> BeforeOutputs {
+    *lock(&BEFORE_OUTPUTS) += 1;
+    BeforeOutputs { _private: () }
+}
+
+impl Drop for BeforeOutputs {
+    fn drop(&mut self) {
+        // Blocks for good if the signal thread is ending the process: the run
+        // goes no further (no output is created meanwhile).
+        let mut count = lock(&BEFORE_OUTPUTS);
+        *count = count.saturating_sub(1);
+    }
+}
 
 /// The signal that asked the run to stop, if one came: the run loops end the
 /// run at the next frame and finish their outputs; `main` then exits with
@@ -101,9 +147,12 @@ pub fn install() -> io::Result<()> {
             STOP.store(signal, Ordering::Relaxed);
             // The run loops see the request within a frame; give them GRACE
             // to finish every output, and end the process here only if they
-            // do not (or a second signal insists).
+            // do not (or a second signal insists). A run that has no output
+            // yet (it may be blocked opening a pipe, where no frame comes)
+            // is ended at once, also when it gets there during the grace.
             let deadline = Instant::now() + GRACE;
             while Instant::now() < deadline {
+                end_if_before_outputs(signal);
                 if signals.pending().next().is_some() {
                     break;
                 }
@@ -114,23 +163,43 @@ pub fn install() -> io::Result<()> {
     Ok(())
 }
 
+/// Ends the process on `signal` if a [`BeforeOutputs`] guard is alive, with
+/// the line and status of a normal stop: there is nothing to finish.
+fn end_if_before_outputs(signal: i32) {
+    let count = lock(&BEFORE_OUTPUTS);
+    if *count > 0 {
+        // `count` stays locked into exit (see BEFORE_OUTPUTS).
+        end(signal, "", count);
+    }
+}
+
 /// Restores the terminal, flushes the outputs and exits with 128 + `signal`.
 fn terminate(signal: i32) -> ! {
+    let why = format!(
+        " (the run did not finish its outputs within {} s)",
+        GRACE.as_secs()
+    );
+    end(signal, &why, ())
+}
+
+/// Restores the terminal, flushes the registered outputs, prints
+/// `sim-cli: stopped by SIG...` and `why` on stderr and exits with 128 +
+/// `signal`, keeping `held` (a lock) until the process is gone.
+fn end<T>(signal: i32, why: &str, held: T) -> ! {
     let stdout = io::stdout();
     // Held until the process exits: no HUD frame after the restore. (The lock is
     // reentrant, so `restore` below can still write through it.)
-    let held = stdout.lock();
+    let stdout_held = stdout.lock();
     crate::terminal::restore();
     flush_registered();
     let _ = writeln!(
         io::stderr(),
-        "{}sim-cli: stopped by {} (the run did not finish its outputs within {} s)",
+        "{}sim-cli: stopped by {}{why}",
         crate::progress::line_start(),
         signal_name(signal),
-        GRACE.as_secs()
     );
-    // Keep the stdout lock alive into exit (std's exit-time flush re-enters it).
-    let _ = &held;
+    // Keep the locks alive into exit (std's exit-time flush re-enters stdout's).
+    let _ = (&stdout_held, &held);
     std::process::exit(exit_status(signal))
 }
 

@@ -149,12 +149,7 @@ fn script_file_report(dir: &std::path::Path) -> serde_json::Value {
 fn a_script_fifo_without_a_writer_is_waited_for_out_loud() {
     use std::io::Write as _;
     let dir = scratch("script-fifo");
-    let fifo = dir.join("script.txt");
-    assert!(Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .expect("mkfifo")
-        .success());
+    let fifo = fifo(&dir, "script.txt");
     let mut child = Command::new(BIN)
         .args([
             "palmer",
@@ -223,12 +218,7 @@ fn stderr_lines(
 #[test]
 fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
     let dir = scratch("csv-fifo");
-    let fifo = dir.join("out.csv");
-    assert!(Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .expect("mkfifo")
-        .success());
+    let fifo = fifo(&dir, "out.csv");
     let file = dir.join("file.csv");
     let flight = [
         "palmer",
@@ -267,6 +257,108 @@ fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     assert_eq!(csv, std::fs::read(&file).unwrap());
     assert_eq!(out.stdout, to_file.stdout);
+}
+
+/// Runs `sim-cli ARGS` (whose pipe waits for the program at its other
+/// end), waits for its note, sends `signal` (a `kill -s` name, number
+/// `number`) and checks that it stops at once as a signal stops a run
+/// (docs/cli.md, "Exit status"): status 128 + `number`, the plain `stopped
+/// by` line, not the grace's "did not finish its outputs", and well within
+/// the grace (3 s). The bound of 2 s is generous on purpose, for a loaded
+/// machine: the signal thread ends such a run within milliseconds, where
+/// before the fix the run sat in `open` until the grace ran out (3.0 s).
+#[cfg(unix)]
+fn stops_at_once_while_waiting(args: &[&std::ffi::OsStr], signal: &str, number: i32) -> String {
+    let mut child = Command::new(BIN)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sim-cli");
+    let (note, stderr_reader) = stderr_lines(&mut child);
+    assert!(
+        note.as_deref()
+            .is_ok_and(|line| line.starts_with("sim-cli: waiting for a program to open the pipe ")),
+        "no note: {note:?}"
+    );
+    let kill = Command::new("kill")
+        .args(["-s", signal, &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success(), "kill -s {signal}");
+    let signalled = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if signalled.elapsed() > Duration::from_secs(20) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("sim-cli still running 20 s after SIG{signal}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let elapsed = signalled.elapsed();
+    let stderr = stderr_reader.join().expect("stderr reader");
+    assert_eq!(status.code(), Some(128 + number), "SIG{signal}: {stderr}");
+    assert!(
+        elapsed < Duration::from_secs(2),
+        "SIG{signal} took {elapsed:?} to stop the wait: {stderr}"
+    );
+    assert!(
+        stderr.contains(&format!("sim-cli: stopped by SIG{signal}\n")),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("did not finish its outputs"), "{stderr}");
+    stderr
+}
+
+/// A named pipe for a test, in `dir`.
+fn fifo(dir: &std::path::Path, name: &str) -> std::path::PathBuf {
+    let fifo = dir.join(name);
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo")
+        .success());
+    fifo
+}
+
+/// Ctrl-C while `--csv FIFO` waits for its reader stops the run at once,
+/// as Ctrl-C stops a run (it used to wait out the 3 s grace and say the run
+/// did not finish its outputs), and the `--plot` file, created after the
+/// wait, is not there: no output is left empty or half-made.
+#[cfg(unix)]
+#[test]
+fn a_signal_while_an_output_pipe_waits_for_its_reader_stops_at_once() {
+    let dir = scratch("csv-fifo-signal");
+    let csv = fifo(&dir, "out.csv");
+    let plot = dir.join("plot.svg");
+    let args = ["palmer", "--headless", "--frames", "30", "--csv"];
+    let mut args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
+    args.extend([csv.as_os_str(), "--plot".as_ref(), plot.as_os_str()]);
+    let stderr = stops_at_once_while_waiting(&args, "INT", 2);
+    assert!(stderr.contains("for reading (--csv)"), "{stderr}");
+    assert!(!plot.exists(), "the plot file was created: {stderr}");
+}
+
+/// SIGINT or SIGTERM while a `--script` FIFO waits for its writer stops the
+/// run at once, before its `--csv` file is created.
+#[cfg(unix)]
+#[test]
+fn a_signal_while_a_script_fifo_waits_for_its_writer_stops_at_once() {
+    for (signal, number) in [("INT", 2), ("TERM", 15)] {
+        let dir = scratch(&format!("script-fifo-sig{signal}"));
+        let script = fifo(&dir, "script.txt");
+        let csv = dir.join("out.csv");
+        let args = ["palmer", "--headless", "--frames", "30", "--script"];
+        let mut args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
+        args.extend([script.as_os_str(), "--csv".as_ref(), csv.as_os_str()]);
+        let stderr = stops_at_once_while_waiting(&args, signal, number);
+        assert!(stderr.contains("for writing (script)"), "{stderr}");
+        assert!(!csv.exists(), "SIG{signal}: the CSV was created: {stderr}");
+    }
 }
 
 #[test]
