@@ -40,10 +40,15 @@ fn status_index(status: RunStatus) -> u8 {
 }
 
 /// A study error as the Python exception a user expects: `OSError` for a
-/// file that cannot be read, `ValueError` for everything else.
+/// file that cannot be opened or read (missing, a directory, `/dev/zero`),
+/// `MemoryError` for a table too large, `ValueError` for everything else
+/// (a file too large or not UTF-8 among them, as `bytes.decode` refuses).
 fn py_err(e: StudyError) -> PyErr {
+    use fdm_run::input::InputError;
     match e {
-        StudyError::Io { .. } => PyOSError::new_err(e.to_string()),
+        StudyError::Input(InputError::Unreadable { .. } | InputError::NotAFileOrPipe { .. }) => {
+            PyOSError::new_err(e.to_string())
+        }
         StudyError::TableMemory { .. } => PyMemoryError::new_err(e.to_string()),
         other => PyValueError::new_err(other.to_string()),
     }
@@ -86,16 +91,15 @@ impl PyStudy {
     #[staticmethod]
     #[pyo3(signature = (path, *, runs=None, seed=None))]
     fn from_path(
+        py: Python<'_>,
         #[pyo3(from_py_with = crate::args::path)] path: std::path::PathBuf,
         #[pyo3(from_py_with = crate::args::runs)] runs: Option<u64>,
         #[pyo3(from_py_with = crate::args::seed)] seed: Option<u64>,
     ) -> PyResult<Self> {
-        let text = std::fs::read_to_string(&path).map_err(|source| {
-            py_err(StudyError::Io {
-                path: path.display().to_string(),
-                source,
-            })
-        })?;
+        // A named pipe waits for its writer: without holding the GIL.
+        let text = py
+            .detach(|| Study::read_file(&path, |_| {}))
+            .map_err(py_err)?;
         Self::build(text, runs, seed)
     }
 

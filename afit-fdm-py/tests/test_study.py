@@ -240,6 +240,17 @@ def test_bad_input_is_a_clear_error(tmp_path: pathlib.Path) -> None:
         afit_fdm.ray_study(STUDY, shards=25)  # checked before Ray is imported
     with pytest.raises(OSError, match="cannot read"):
         afit_fdm.Study(tmp_path / "missing.toml")
+    # Read as sim-cli reads it: a device is refused unread (it was read until
+    # memory ran out), a directory too.
+    with pytest.raises(OSError, match="^cannot read study file /dev/zero: it is a character device"):
+        afit_fdm.Study("/dev/zero")
+    with pytest.raises(OSError, match="it is a directory"):
+        afit_fdm.Study(tmp_path)
+    big = tmp_path / "big.toml"
+    with open(big, "wb") as f:
+        f.truncate(16 * 1024 * 1024 + 1)
+    with pytest.raises(ValueError, match="larger than the 16 MiB limit"):
+        afit_fdm.Study(big)
     s = afit_fdm.Study.from_toml(STUDY)
     with pytest.raises(ValueError, match="not within"):
         s.fly(0, 25)

@@ -92,7 +92,7 @@ pub use fly::{FlyOptions, MeasureOutput, BLOCK_RUNS};
 pub use measure::Measure;
 pub use memory::{MemoryEstimate, MemoryRefused};
 pub use model::StudyModel;
-pub use spec::{Distribution, Stop, Study, StudyEntry, MAX_RUNS};
+pub use spec::{Distribution, Stop, Study, StudyEntry, MAX_RUNS, MAX_STUDY_FILE_BYTES};
 pub use summary::{summarize, MeasureSummary, StoppedEarly, Summary, SummaryBuilder};
 pub use table::{RunStatus, RunTable};
 pub use track::{GroundTrack, TrackPlan};
@@ -120,14 +120,12 @@ pub enum StudyError {
         /// The parser's message.
         message: String,
     },
-    /// The study file cannot be read.
-    #[error("cannot read {path}: {source}")]
-    Io {
-        /// The path.
-        path: String,
-        /// The error.
-        source: std::io::Error,
-    },
+    /// The study file cannot be read, or is not one to read: missing,
+    /// unreadable, neither a regular file nor a pipe (`/dev/zero`, a
+    /// directory), larger than [`MAX_STUDY_FILE_BYTES`], or not UTF-8 text
+    /// ([`Study::read_file`]).
+    #[error("{0}")]
+    Input(#[from] fdm_run::input::InputError),
     /// A number of runs outside 1 to [`MAX_RUNS`].
     #[error("{0} runs: expected a whole number from 1 to {MAX_RUNS}")]
     Runs(u64),

@@ -21,6 +21,11 @@ use crate::table::RunTable;
 use crate::track::{GroundTrack, TrackPlan};
 use crate::StudyError;
 
+/// Largest study file read: 16 MiB ([`fdm_run::input::MAX_INPUT_BYTES`], a
+/// script's limit). A study file is a few kilobytes; its `script` is the
+/// largest part, and a script is held to the same limit.
+pub const MAX_STUDY_FILE_BYTES: u64 = fdm_run::input::MAX_INPUT_BYTES;
+
 /// Most runs one study may have (2^40, about 1.1e12): far beyond one
 /// machine, it only keeps counts exact in `f64` summaries.
 pub const MAX_RUNS: u64 = 1 << 40;
@@ -545,16 +550,12 @@ impl Study {
         Ok(study)
     }
 
-    /// Reads and parses a study file.
+    /// Reads and parses a study file ([`Self::read_file`], silently).
     ///
     /// # Errors
-    /// [`StudyError::Io`] when it cannot be read; as [`Self::from_toml_str`].
+    /// [`StudyError::Input`] when it cannot be read; as [`Self::from_toml_str`].
     pub fn from_path(path: &Path) -> Result<Self, StudyError> {
-        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::from_toml_str(&text)
+        Self::from_toml_str(&Self::read_file(path, |_| {})?)
     }
 
     /// Reads and parses a study file whose model is one of `models`
@@ -563,11 +564,30 @@ impl Study {
     /// # Errors
     /// As [`Study::from_path`].
     pub fn from_path_among(path: &Path, models: &[StudyEntry]) -> Result<Self, StudyError> {
-        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::from_toml_str_among(&text, models)
+        Self::from_toml_str_among(&Self::read_file(path, |_| {})?, models)
+    }
+
+    /// The text of the study file `path`, read as the run library reads a
+    /// script ([`fdm_run::input::read_text`]): a regular file or a pipe of
+    /// at most [`MAX_STUDY_FILE_BYTES`], so that `/dev/zero` or an endless
+    /// pipe is refused instead of filling the memory. A named pipe that no
+    /// program writes to yet is waited for; past a second, `waiting` is
+    /// called (on another thread) with a note saying so, for a caller to
+    /// show.
+    ///
+    /// # Errors
+    /// [`StudyError::Input`]: missing or unreadable, neither a regular file
+    /// nor a pipe, too large, or not UTF-8.
+    pub fn read_file(
+        path: &Path,
+        waiting: impl FnOnce(String) + Send + 'static,
+    ) -> Result<String, StudyError> {
+        Ok(fdm_run::input::read_text(
+            path,
+            "study file",
+            MAX_STUDY_FILE_BYTES,
+            waiting,
+        )?)
     }
 
     /// The same study with `runs` runs.
@@ -1218,6 +1238,39 @@ mod tests {
     use super::*;
     use fdm_core::bourg::Bourg;
     use fdm_core::palmer::Palmer;
+
+    /// A study file is read as a script is: a device unread, a regular
+    /// file past the limit unread, a file that is a study parsed.
+    #[cfg(unix)]
+    #[test]
+    fn a_study_file_is_read_within_bounds() {
+        use fdm_run::input::InputError;
+        let zero = Study::from_path(Path::new("/dev/zero")).unwrap_err();
+        assert!(
+            matches!(zero, StudyError::Input(InputError::NotAFileOrPipe { .. })),
+            "{zero}"
+        );
+        let dir = std::env::temp_dir().join(format!("fdm-study-read-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let big = dir.join("big.toml");
+        std::fs::File::create(&big)
+            .unwrap()
+            .set_len(MAX_STUDY_FILE_BYTES + 1)
+            .unwrap();
+        let err = Study::from_path(&big).unwrap_err();
+        assert!(
+            matches!(err, StudyError::Input(InputError::TooLarge { .. })),
+            "{err}"
+        );
+        let small = dir.join("s.toml");
+        let text = "model = \"bourg\"\nruns = 2\nduration_s = 1.0\nmeasures = [\"final_x_m\"]\n";
+        std::fs::write(&small, text).unwrap();
+        assert_eq!(
+            Study::from_path(&small).unwrap(),
+            Study::from_toml_str(text).unwrap()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     /// A study's model is looked up in the list it is read with: the run
     /// library's registry by default, a program's own list otherwise (the

@@ -47,8 +47,15 @@ fn usage(e: impl std::fmt::Display, file: &Path) -> CliError {
 /// that will not fit in `--memory-limit-mib`; [`CliError::Runtime`] for a
 /// failure while flying or writing.
 pub fn run(args: &StudyArgs) -> Result<(), CliError> {
+    // Until the outputs are created a signal ends the process at once: a
+    // study file that is a named pipe waits in `open` for its writer.
+    let before_outputs = crate::signals::before_outputs();
+    // The message of a file that cannot be read names it already.
+    let text = Study::read_file(&args.file, crate::input::waiting)
+        .map_err(|e| CliError::usage(e.to_string()))?;
+    drop(before_outputs);
     // The CLI's registry, which may have models the run library's does not.
-    let mut study = Study::from_path_among(&args.file, &ModelKind::study_models())
+    let mut study = Study::from_toml_str_among(&text, &ModelKind::study_models())
         .map_err(|e| usage(e, &args.file))?;
     if let Some(runs) = args.runs {
         study = study.with_runs(runs).map_err(|e| usage(e, &args.file))?;

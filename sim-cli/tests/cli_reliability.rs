@@ -551,3 +551,47 @@ fn stdout_to_dev_null_by_a_shell_is_fine() {
     let done = finish_within(child, Duration::from_secs(60), "> /dev/null");
     assert_eq!(done.status.code(), Some(0), "{}", done.stderr);
 }
+
+/// A study file is read as a script is (bounded, a regular file or a pipe):
+/// `/dev/zero` is refused without being read and an endless pipe at the
+/// 16 MiB limit. Both used to be read to the end of memory: the children run
+/// under a 2 GiB address-space limit (`ulimit -v`) so that a regression
+/// fails here ("out of memory", not the messages below) instead of taking
+/// the machine's memory.
+#[cfg(unix)]
+#[test]
+fn a_study_file_that_is_a_device_or_endless_is_refused() {
+    for (script, expected) in [
+        (
+            r#"ulimit -v 2097152; exec "$0" study /dev/zero"#,
+            "cannot read study file /dev/zero: it is a character device",
+        ),
+        (
+            r#"ulimit -v 2097152; yes 'runs = 1' | "$0" study /dev/stdin"#,
+            "study file /dev/stdin is larger than the 16 MiB limit",
+        ),
+    ] {
+        let done = finish_within(shell(script), Duration::from_secs(60), script);
+        assert_eq!(done.status.code(), Some(2), "{script}: {}", done.stderr);
+        assert!(done.stderr.contains(expected), "{script}: {}", done.stderr);
+        assert_one_clean_line(&done.stderr, 300);
+    }
+}
+
+/// A study file that is a named FIFO no program writes to yet is waited for
+/// out loud, and Ctrl-C stops the wait at once, before the study's `--out`
+/// directory is made (it read the FIFO in silence, and a signal waited out
+/// the grace).
+#[cfg(unix)]
+#[test]
+fn a_study_fifo_without_a_writer_is_waited_for_and_a_signal_stops_it() {
+    let dir = scratch("study-fifo-signal");
+    let study = fifo(&dir, "study.toml");
+    let out = dir.join("out");
+    let args = [study.as_os_str(), "--out".as_ref(), out.as_os_str()];
+    let mut all: Vec<&std::ffi::OsStr> = vec!["study".as_ref()];
+    all.extend(args);
+    let stderr = stops_at_once_while_waiting(&all, "INT", 2);
+    assert!(stderr.contains("for writing (study file)"), "{stderr}");
+    assert!(!out.exists(), "--out was made: {stderr}");
+}

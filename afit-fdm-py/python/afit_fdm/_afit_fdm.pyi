@@ -552,7 +552,9 @@ class _Study:
         """Parses a study file's text; ``ValueError`` names the line and key at fault."""
     @staticmethod
     def from_path(path: str, *, runs: Optional[int] = None, seed: Optional[int] = None) -> "_Study":
-        """Reads and parses a study file (``OSError`` when it cannot be read)."""
+        """Reads and parses a study file: a regular file or a pipe of at most
+        16 MiB (``OSError`` when it cannot be read or is neither, as
+        ``/dev/zero``; ``ValueError`` past the limit)."""
     @property
     def text(self) -> str: ...
     @property

@@ -336,8 +336,9 @@ class Study:
 
     ``Study(path)`` reads a file; :meth:`Study.from_toml` parses text.
     ``runs`` and ``seed`` override the file's (as ``sim-cli study --runs
-    --seed``). A bad file raises ``ValueError`` naming the line and key, an
-    unreadable one ``OSError``.
+    --seed``). A bad file raises ``ValueError`` naming the line and key (or
+    the 16 MiB limit, as ``sim-cli``'s), an unreadable one ``OSError`` (also
+    a device such as ``/dev/zero`` or a directory, refused unread).
 
     A study pickles as its text and overrides, so it can be sent to other
     processes (Ray tasks).
