@@ -23,6 +23,11 @@
 //!    `--csv` file), up to the last complete line;
 //! 4. prints the same line and exits with the same status.
 //!
+//! Steps 1 to 3 run on a thread of their own and get [`FLUSH_LIMIT`]: a
+//! pipe whose reader reads nothing (or a terminal stopped with Ctrl-S) would
+//! block them for good. Past it the process exits anyway, and the line says
+//! an output took nothing.
+//!
 //! Before a run has created any output it has nothing to finish, and it may be
 //! blocked where no frame comes to look at the request: opening a named pipe
 //! that waits for its writer (a `--script` FIFO) or its reader (a `--csv` FIFO),
@@ -182,24 +187,54 @@ fn terminate(signal: i32) -> ! {
     end(signal, &why, ())
 }
 
+/// How long ending the process waits for the terminal's restore and the
+/// registered outputs' flush (module docs): a pipe whose reader stopped reading
+/// (or a terminal stopped with Ctrl-S) blocks them for good, and so does the
+/// run blocked writing there while it holds the output's or stdout's lock.
+pub const FLUSH_LIMIT: Duration = Duration::from_secs(1);
+
 /// Restores the terminal, flushes the registered outputs, prints
 /// `sim-cli: stopped by SIG...` and `why` on stderr and exits with 128 +
-/// `signal`, keeping `held` (a lock) until the process is gone.
+/// `signal`, keeping `held` (a lock) until the process is gone. The restore
+/// and the flush run on a thread of their own and get [`FLUSH_LIMIT`]; past
+/// it the process exits anyway, and the message says what was not flushed.
 fn end<T>(signal: i32, why: &str, held: T) -> ! {
-    let stdout = io::stdout();
-    // Held until the process exits: no HUD frame after the restore. (The lock is
-    // reentrant, so `restore` below can still write through it.)
-    let stdout_held = stdout.lock();
-    crate::terminal::restore();
-    flush_registered();
+    let (done, finished) = std::sync::mpsc::channel::<()>();
+    let finisher = std::thread::Builder::new()
+        .name("sim-cli-exit".to_owned())
+        .spawn(move || {
+            let stdout = io::stdout();
+            // Held until the process exits: no HUD frame after the restore.
+            // (The lock is reentrant, so `restore` can still write through
+            // it; std's exit-time flush only tries the lock.)
+            let mut stdout_held = stdout.lock();
+            crate::terminal::restore();
+            flush_registered();
+            // What the run printed and std's exit would have flushed (it
+            // only tries the lock this thread keeps).
+            let _ = stdout_held.flush();
+            let _ = done.send(());
+            loop {
+                std::thread::park();
+            }
+        });
+    let finished = finisher.is_ok() && finished.recv_timeout(FLUSH_LIMIT).is_ok();
+    let unflushed = if finished {
+        String::new()
+    } else {
+        format!(
+            "; an output or the terminal took nothing for {} s: what was not written to it is lost",
+            FLUSH_LIMIT.as_secs()
+        )
+    };
     let _ = writeln!(
         io::stderr(),
-        "{}sim-cli: stopped by {}{why}",
+        "{}sim-cli: stopped by {}{why}{unflushed}",
         crate::progress::line_start(),
         signal_name(signal),
     );
-    // Keep the locks alive into exit (std's exit-time flush re-enters stdout's).
-    let _ = (&stdout_held, &held);
+    // Keep the lock alive into exit.
+    let _ = &held;
     std::process::exit(exit_status(signal))
 }
 

@@ -595,3 +595,72 @@ fn a_study_fifo_without_a_writer_is_waited_for_and_a_signal_stops_it() {
     assert!(stderr.contains("for writing (study file)"), "{stderr}");
     assert!(!out.exists(), "--out was made: {stderr}");
 }
+
+/// A signal while an output pipe is full and its reader reads nothing ends
+/// the process after the 3 s grace and at most `signals::FLUSH_LIMIT` more (1 s)
+/// for the flush, saying the output took nothing; it used to block in the
+/// flush until the reader went away (here 60 s).
+#[cfg(unix)]
+#[test]
+fn a_signal_while_an_output_pipe_is_stalled_ends_after_the_grace_and_the_flush_limit() {
+    let dir = scratch("stalled-pipe");
+    let csv = fifo(&dir, "out.csv");
+    // A reader that opens the pipe and never reads it.
+    let mut reader = Command::new("sh")
+        .arg("-c")
+        .arg(r#"exec sleep 60 < "$0""#)
+        .arg(&csv)
+        .spawn()
+        .expect("spawn the reader");
+    let mut child = Command::new(BIN)
+        .args(["palmer", "--headless", "--frames", "100000000", "--csv"])
+        .arg(&csv)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sim-cli");
+    // The pipe's 64 KiB fill within milliseconds of the first frames.
+    std::thread::sleep(Duration::from_millis(1000));
+    let kill = Command::new("kill")
+        .args(["-s", "INT", &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success());
+    let signalled = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if signalled.elapsed() > Duration::from_secs(30) {
+            let _ = child.kill();
+            let _ = reader.kill();
+            panic!("sim-cli still running 30 s after SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let elapsed = signalled.elapsed();
+    let _ = reader.kill();
+    let _ = reader.wait();
+    let mut stderr = String::new();
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut stderr)
+        .expect("read stderr");
+    assert_eq!(status.code(), Some(130), "{stderr}");
+    // 3 s of grace and 1 s for the flush; the rest is slack for a loaded
+    // machine, far below the reader's 60 s.
+    assert!(
+        elapsed < Duration::from_secs(10),
+        "took {elapsed:?}: {stderr}"
+    );
+    assert!(
+        stderr.contains(
+            "stopped by SIGINT (the run did not finish its outputs within 3 s); an output or \
+             the terminal took nothing for 1 s"
+        ),
+        "{stderr}"
+    );
+}
