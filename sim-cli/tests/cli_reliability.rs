@@ -282,24 +282,7 @@ fn stops_at_once_while_waiting(args: &[&std::ffi::OsStr], signal: &str, number: 
             .is_ok_and(|line| line.starts_with("sim-cli: waiting for a program to open the pipe ")),
         "no note: {note:?}"
     );
-    let kill = Command::new("kill")
-        .args(["-s", signal, &child.id().to_string()])
-        .status()
-        .expect("run kill");
-    assert!(kill.success(), "kill -s {signal}");
-    let signalled = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("wait") {
-            break status;
-        }
-        if signalled.elapsed() > Duration::from_secs(20) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("sim-cli still running 20 s after SIG{signal}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let elapsed = signalled.elapsed();
+    let (status, elapsed) = signal_and_wait(&mut child, signal, Duration::from_secs(20));
     let stderr = stderr_reader.join().expect("stderr reader");
     assert_eq!(status.code(), Some(128 + number), "SIG{signal}: {stderr}");
     assert!(
@@ -312,6 +295,29 @@ fn stops_at_once_while_waiting(args: &[&std::ffi::OsStr], signal: &str, number: 
     );
     assert!(!stderr.contains("did not finish its outputs"), "{stderr}");
     stderr
+}
+/// Sends `SIG{signal}` to `child` and waits for it to end: its status and
+/// how long it took after the signal. Past `limit` it is killed and the
+/// test fails.
+#[track_caller]
+fn signal_and_wait(child: &mut Child, signal: &str, limit: Duration) -> (ExitStatus, Duration) {
+    let kill = Command::new("kill")
+        .args(["-s", signal, &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success(), "kill -s {signal}");
+    let signalled = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            return (status, signalled.elapsed());
+        }
+        if signalled.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("sim-cli still running {limit:?} after SIG{signal}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
 }
 
 /// A named pipe for a test, in `dir`.
@@ -622,26 +628,12 @@ fn a_signal_while_an_output_pipe_is_stalled_ends_after_the_grace_and_the_flush_l
         .expect("spawn sim-cli");
     // The pipe's 64 KiB fill within milliseconds of the first frames.
     std::thread::sleep(Duration::from_millis(1000));
-    let kill = Command::new("kill")
-        .args(["-s", "INT", &child.id().to_string()])
-        .status()
-        .expect("run kill");
-    assert!(kill.success());
-    let signalled = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("wait") {
-            break status;
-        }
-        if signalled.elapsed() > Duration::from_secs(30) {
-            let _ = child.kill();
-            let _ = reader.kill();
-            panic!("sim-cli still running 30 s after SIGINT");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let elapsed = signalled.elapsed();
+    let waited = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        signal_and_wait(&mut child, "INT", Duration::from_secs(30))
+    }));
     let _ = reader.kill();
     let _ = reader.wait();
+    let (status, elapsed) = waited.unwrap_or_else(|panic| std::panic::resume_unwind(panic));
     let mut stderr = String::new();
     child
         .stderr
