@@ -235,6 +235,34 @@ impl<M: BindModel> Single<M> {
         }
     }
 
+    /// Refuses a recording now: one in progress, or a flight not at its
+    /// start (the recording's header holds the start).
+    fn refuse_recording(&self) -> Result<(), AttachError> {
+        if let Some(recorder) = &self.recorder {
+            return Err((
+                false,
+                format!("record_to: already recording to {}", recorder.path),
+            ));
+        }
+        if self.frame != 0 || self.controls_set {
+            return Err((
+                false,
+                format!(
+                    "record_to: a recording starts where the flight starts (its header holds \
+                     the start, and a reset goes back to it), but this flight is at frame {}{}; \
+                     call reset() first",
+                    self.frame,
+                    if self.controls_set {
+                        " with controls set by value"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Attaches an output made by `attach` (with the flight as it is now,
     /// its frame 0 for the output).
     fn attach_with(
@@ -334,6 +362,14 @@ pub trait AnyFlight: Send + Sync {
     /// `(is_os_error, message)`: already recording, not at the start, or the
     /// file cannot be created or written.
     fn record_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), (bool, String)>;
+    /// Whether `what` (`record_to`, `csv_to`, `acmi_to`) may write `path`
+    /// now: what it refuses before it opens the file (a recording not at
+    /// the start, a file the flight already writes), so that a caller can
+    /// refuse before waiting for a named pipe's reader.
+    ///
+    /// # Errors
+    /// `(false, message)`, the message of `what`'s refusal.
+    fn check_output(&self, what: &str, path: &str) -> Result<(), AttachError>;
     /// Seals and closes the recording; returns its path and frames.
     ///
     /// # Errors
@@ -496,30 +532,14 @@ impl<M: BindModel> AnyFlight for Single<M> {
     fn action_names(&self) -> &'static [&'static str] {
         M::Action::NAMES
     }
+    fn check_output(&self, what: &str, path: &str) -> Result<(), AttachError> {
+        if what == "record_to" {
+            self.refuse_recording()?;
+        }
+        self.refuse_clash(what, path)
+    }
     fn record_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), (bool, String)> {
-        if let Some(recorder) = &self.recorder {
-            return Err((
-                false,
-                format!("record_to: already recording to {}", recorder.path),
-            ));
-        }
-        if self.frame != 0 || self.controls_set {
-            return Err((
-                false,
-                format!(
-                    "record_to: a recording starts where the flight starts (its header holds \
-                     the start, and a reset goes back to it), but this flight is at frame {}{}; \
-                     call reset() first",
-                    self.frame,
-                    if self.controls_set {
-                        " with controls set by value"
-                    } else {
-                        ""
-                    }
-                ),
-            ));
-        }
-        self.refuse_clash("record_to", path)?;
+        self.check_output("record_to", path)?;
         let file = File::create(path).map_err(|e| (true, format!("{path}: {e}")))?;
         let start = Start::<M> {
             aircraft: self.aircraft.clone(),

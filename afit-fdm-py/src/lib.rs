@@ -12,6 +12,7 @@ pub mod fleet;
 pub mod flight;
 pub mod models;
 pub mod outputs;
+pub mod pipes;
 pub mod replay;
 pub mod start;
 pub mod study;
@@ -130,6 +131,22 @@ pub struct PyFlight {
     pub(crate) inner: Box<dyn AnyFlight>,
 }
 
+impl PyFlight {
+    /// For the output `what` to `path`: its refusals first, then, when
+    /// `path` is a named pipe, the wait for its reader with Ctrl-C looked at
+    /// ([`pipes::await_reader`]); the pipe held open until the output has
+    /// opened it.
+    fn await_reader(
+        &self,
+        py: Python<'_>,
+        what: &str,
+        path: &str,
+    ) -> PyResult<Option<std::fs::File>> {
+        self.inner.check_output(what, path).map_err(attach_error)?;
+        pipes::await_reader(py, path)
+    }
+}
+
 #[pymethods]
 impl PyFlight {
     /// See `_afit_fdm.pyi`.
@@ -217,6 +234,7 @@ impl PyFlight {
     ) -> PyResult<()> {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
+        let _reader = self.await_reader(py, "record_to", &path)?;
         self.inner
             .record_to(&path, &origin)
             .map_err(|(os, message)| {
@@ -260,6 +278,7 @@ impl PyFlight {
         let (reference_time, title) = (reference_time.as_deref(), title.as_deref());
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
+        let _reader = self.await_reader(py, "acmi_to", &path)?;
         self.inner
             .acmi_to(&path, &origin, reference_time, title)
             .map_err(attach_error)
@@ -275,6 +294,7 @@ impl PyFlight {
     ) -> PyResult<()> {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
+        let _reader = self.await_reader(py, "csv_to", &path)?;
         self.inner.csv_to(&path, &origin).map_err(attach_error)
     }
 

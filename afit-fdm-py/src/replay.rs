@@ -239,11 +239,16 @@ fn read_source(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<(String, V
     // An io::Error becomes its OSError subclass (FileNotFoundError, ...).
     let os_error =
         |e: std::io::Error| PyErr::from(std::io::Error::new(e.kind(), format!("{path}: {e}")));
-    let file = std::fs::File::open(&path).map_err(os_error)?;
-    let mut bytes = Vec::new();
-    file.take(MAX_RECORDING_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(os_error)?;
+    // A named pipe waits for its writer: without the GIL, Ctrl-C looked at.
+    let file = std::path::PathBuf::from(&path);
+    let bytes = crate::pipes::read_interruptibly(py, &file.clone(), move || {
+        let mut bytes = Vec::new();
+        std::fs::File::open(&file)?
+            .take(MAX_RECORDING_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map(|_| bytes)
+    })?
+    .map_err(os_error)?;
     if bytes.len() as u64 > MAX_RECORDING_BYTES {
         return Err(RecordingError::new_err(format!(
             "{path}: {}",

@@ -96,10 +96,11 @@ impl PyStudy {
         #[pyo3(from_py_with = crate::args::runs)] runs: Option<u64>,
         #[pyo3(from_py_with = crate::args::seed)] seed: Option<u64>,
     ) -> PyResult<Self> {
-        // A named pipe waits for its writer: without holding the GIL.
-        let text = py
-            .detach(|| Study::read_file(&path, |_| {}))
-            .map_err(py_err)?;
+        // A named pipe waits for its writer: without the GIL, Ctrl-C looked at.
+        let file = path.clone();
+        let text =
+            crate::pipes::read_interruptibly(py, &path, move || Study::read_file(&file, |_| {}))?
+                .map_err(py_err)?;
         Self::build(text, runs, seed)
     }
 

@@ -4,15 +4,19 @@ looks at Python's pending signals every 20 ms, so a SIGINT raises
 the whole study has been flown. Long ``Flight.step`` and ``Fleet.step``
 calls, and a Gymnasium task's ``Fleet.task_step`` of many frames, look at
 the signals between chunks of frames (a fraction of a second of flying each)
-in the same way."""
+in the same way, and so does the wait for the program at a named pipe's
+other end (an output's reader, a study file's or recording's writer)."""
 
 from __future__ import annotations
 
+import os
+import pathlib
 import signal
 import subprocess
 import sys
+import threading
 import time
-from typing import Tuple
+from typing import Any, Callable, List, Tuple
 
 import pytest
 
@@ -174,3 +178,120 @@ def test_a_long_step_is_interrupted_by_sigint_between_whole_frames(what: str) ->
     assert 1000 <= int(words[1]) < 10**9, stdout
     if what == "task":
         assert words[3:] == ["observed", "True"], stdout
+
+
+# Named pipes. The child opens the named pipe argv[1] as argv[2] says, with
+# no program at the other end: an output (csv_to, acmi_to, record_to) waits
+# for a reader, an input (a study file, a recording) for a writer. Opening a
+# pipe waits in open(2), which used to hold the thread with Ctrl-C doing
+# nothing until the other program came; the wait now looks at the signals
+# every 20 ms.
+PIPE_CHILD = """
+import signal
+import sys
+import afit_fdm
+signal.signal(signal.SIGINT, signal.default_int_handler)
+fifo, what = sys.argv[1].split("|")
+flight = afit_fdm.Flight("palmer")
+print("flying", flush=True)
+if what == "csv_to":
+    flight.csv_to(fifo)
+elif what == "acmi_to":
+    flight.acmi_to(fifo)
+elif what == "record_to":
+    flight.record_to(fifo)
+elif what == "study":
+    afit_fdm.Study(fifo)
+else:
+    afit_fdm.replay(fifo)
+print("finished", flush=True)
+"""
+
+
+@pytest.mark.parametrize("what", ["csv_to", "acmi_to", "record_to", "study", "replay"])
+def test_a_wait_for_a_named_pipe_is_interrupted_by_sigint(what: str, tmp_path: pathlib.Path) -> None:
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    interrupted_child(PIPE_CHILD, f"{fifo}|{what}")
+
+
+def _in_thread(work: Callable[[], Any]) -> Tuple[threading.Thread, List[Any]]:
+    """``work()`` on a daemon thread; its result (or exception) lands in
+    the list returned."""
+    out: List[Any] = []
+
+    def run() -> None:
+        try:
+            out.append(work())
+        except BaseException as e:  # noqa: BLE001 - handed to the test
+            out.append(e)
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread, out
+
+
+def test_an_output_pipe_gets_the_files_bytes_once_its_reader_comes(tmp_path: pathlib.Path) -> None:
+    """A CSV, ACMI file or recording written into a named pipe: the wait
+    ends when a reader comes (here after 0.3 s), and the reader gets the
+    bytes a regular file gets."""
+    for what in ("csv_to", "acmi_to", "record_to"):
+        fifo = tmp_path / f"{what}.pipe"
+        os.mkfifo(fifo)
+        file = tmp_path / f"{what}.file"
+
+        def read_later(path: pathlib.Path = fifo) -> bytes:
+            time.sleep(0.3)
+            return path.read_bytes()
+
+        reader, got = _in_thread(read_later)
+        for target in (fifo, file):
+            flight = afit_fdm.Flight("palmer", altitude_ft=3000.0, speed_kt=100.0, trim=True)
+            getattr(flight, what)(target)
+            flight.step(45)
+            if what == "record_to":
+                flight.stop_recording()
+            flight.close_outputs()
+        reader.join(timeout=20)
+        assert not reader.is_alive(), what
+        assert got == [file.read_bytes()], what
+
+
+def test_an_output_refused_is_refused_before_the_wait_for_a_reader(tmp_path: pathlib.Path) -> None:
+    """What an output refuses (a recording not at the start, a file the
+    flight already writes) is refused at once, also for a named pipe that
+    no program reads: not after a reader came."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    flight = afit_fdm.Flight("palmer")
+    flight.step(3)
+    thread, out = _in_thread(lambda: flight.record_to(fifo))
+    thread.join(timeout=10)
+    assert not thread.is_alive(), "record_to waited for a reader before refusing"
+    assert isinstance(out[0], ValueError) and "call reset() first" in str(out[0]), out
+
+
+def test_an_input_pipe_is_read_once_its_writer_comes(tmp_path: pathlib.Path) -> None:
+    """A study file and a recording read from named pipes: the same as from
+    regular files once a writer comes (here after 0.3 s)."""
+    flight = afit_fdm.Flight("palmer", altitude_ft=3000.0, speed_kt=100.0, trim=True)
+    recording = tmp_path / "r.rec"
+    flight.record_to(recording)
+    flight.step(30)
+    flight.stop_recording()
+    text = LONG_STUDY.replace("runs = 1048576", "runs = 4")
+    for name, data in (("study", text.encode()), ("replay", recording.read_bytes())):
+        fifo = tmp_path / f"{name}.pipe"
+        os.mkfifo(fifo)
+
+        def write_later(path: pathlib.Path = fifo, data: bytes = data) -> None:
+            time.sleep(0.3)
+            path.write_bytes(data)
+
+        writer, done = _in_thread(write_later)
+        if name == "study":
+            assert afit_fdm.Study(fifo).text == afit_fdm.Study.from_toml(text).text
+        else:
+            assert afit_fdm.replay(fifo).same_final_state is True
+        writer.join(timeout=20)
+        assert done == [None], name

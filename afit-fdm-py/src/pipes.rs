@@ -1,0 +1,155 @@
+//! Named pipes (FIFOs) given as files from Python, waited for with Python's
+//! signals looked at. Opening a named pipe waits for a program at its other
+//! end, in `open(2)`, which Rust retries on `EINTR`: a `Flight.csv_to(FIFO)`
+//! with no reader yet, or a `Study(FIFO)` with no writer, would hold the
+//! calling thread there, Ctrl-C doing nothing until the other program came
+//! (Python's handler only runs when the call returns). Here the wait looks
+//! at the signals every [`SIGNAL_CHECK`], so Ctrl-C raises
+//! `KeyboardInterrupt` out of it at once, as it does out of a long step.
+//!
+//! A regular file (or anything else that is not a named pipe) is opened as
+//! before: nothing waits.
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use pyo3::exceptions::{PyOSError, PyRuntimeError};
+use pyo3::prelude::*;
+
+/// How often a wait for a named pipe's other end looks at Python's signals.
+pub const SIGNAL_CHECK: Duration = Duration::from_millis(20);
+
+/// Whether `path` is a named pipe (following symlinks).
+fn is_fifo(path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+        false
+    }
+}
+
+/// The named pipe `path` opened without waiting, for writing (`write`) or
+/// reading: `Ok(None)` while a pipe opened for writing has no reader.
+#[cfg(unix)]
+fn open_now(path: &Path, write: bool) -> std::io::Result<Option<File>> {
+    use std::os::unix::fs::OpenOptionsExt as _;
+    match std::fs::OpenOptions::new()
+        .read(!write)
+        .write(write)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(path)
+    {
+        Ok(file) => Ok(Some(file)),
+        Err(e) if e.raw_os_error() == Some(libc::ENXIO) => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// For an output to be written at `path`: when it is a named pipe, waits
+/// until a program opens it for reading, looking at Python's signals every
+/// [`SIGNAL_CHECK`] with the GIL released between two looks (Ctrl-C raises
+/// `KeyboardInterrupt`), and returns the pipe held open for writing. While
+/// it is held, the output's own opening of the pipe returns at once. `None`
+/// for anything else (nothing waits).
+///
+/// # Errors
+/// The exception of a signal's handler; `OSError` when the pipe cannot be
+/// opened.
+pub fn await_reader(py: Python<'_>, path: &str) -> PyResult<Option<File>> {
+    #[cfg(unix)]
+    {
+        let path = Path::new(path);
+        if !is_fifo(path) {
+            return Ok(None);
+        }
+        loop {
+            match open_now(path, true) {
+                Ok(Some(held)) => return Ok(Some(held)),
+                Ok(None) => {
+                    py.check_signals()?;
+                    py.detach(|| std::thread::sleep(SIGNAL_CHECK));
+                }
+                Err(e) => {
+                    return Err(PyOSError::new_err(format!("{}: {e}", path.display())));
+                }
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (py, path);
+        Ok(None)
+    }
+}
+
+/// `read()` (which opens and reads `path`) with the GIL released; when
+/// `path` is a named pipe, on a thread of its own while this one looks at
+/// Python's signals every [`SIGNAL_CHECK`]. On a signal whose handler
+/// raises, a reader still waiting in `open` for a writer is let go (the
+/// pipe is opened for writing and closed at once, without a byte: it reads
+/// an empty pipe, and its result is dropped) and the exception is returned
+/// at once. (A reader already reading from a writer that sends nothing ends
+/// when that writer closes the pipe; the call does not wait for it.)
+///
+/// # Errors
+/// The exception of a signal's handler; `RuntimeError` if the reading
+/// thread cannot be started or panics.
+pub fn read_interruptibly<T: Send + 'static>(
+    py: Python<'_>,
+    path: &Path,
+    read: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    if !is_fifo(path) {
+        return Ok(py.detach(read));
+    }
+    let (done, result) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .name("afit-fdm-pipe".to_owned())
+        .spawn(move || {
+            let _ = done.send(read());
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start a thread: {e}")))?;
+    let mut result = result;
+    loop {
+        // The receiver goes with the closure (it may be sent, not shared).
+        let (receiver, received) = py.detach(move || {
+            let received = result.recv_timeout(SIGNAL_CHECK);
+            (result, received)
+        });
+        result = receiver;
+        match received {
+            Ok(value) => return Ok(value),
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    let_reader_go(path.to_path_buf());
+                    return Err(e);
+                }
+            }
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err(format!(
+                    "reading {} failed (its thread panicked)",
+                    path.display()
+                )));
+            }
+        }
+    }
+}
+
+/// Lets a reader waiting in `open` for a writer of the named pipe `path`
+/// go: opens it for writing without waiting and closes it at once.
+fn let_reader_go(path: PathBuf) {
+    #[cfg(unix)]
+    {
+        let _ = open_now(&path, true);
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+    }
+}
