@@ -72,6 +72,7 @@ pub mod dis;
 pub mod fgfs;
 pub mod fleet;
 pub mod flightgear;
+pub mod flushable;
 pub mod input;
 pub mod links;
 pub mod memory;
