@@ -12,6 +12,7 @@
 //! range, both starting with the argument's name as the package's other
 //! errors do (`throttle: expected a number or a float64 array, ...`).
 
+use fdm_run::MAX_FPS;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyFloat, PyInt, PyString};
@@ -167,20 +168,25 @@ macro_rules! readers {
     )*};
 }
 
-/// The argument `fps` (`u32`), its range's message that of the range the
-/// models take (`fps: 0 is not a whole number in 1..10000`, checked after).
+/// The argument `fps` (`u32`): a whole number in `1..=`[`MAX_FPS`], the
+/// frame rates the run library takes, every refusal with the same message
+/// (`fps: 0 is not a whole number in 1..=10000`).
 ///
 /// # Errors
-/// `TypeError` or `ValueError` naming the argument.
+/// `TypeError` for the wrong kind of object, `ValueError` out of range.
 pub fn fps(obj: &Bound<'_, PyAny>) -> PyResult<u32> {
-    u32::read(obj, "fps").map_err(|e| {
-        if e.is_instance_of::<PyValueError>(obj.py()) {
-            let shown = obj.str().map_or_else(|_| "?".to_owned(), |s| s.to_string());
-            PyValueError::new_err(format!("fps: {shown} is not a whole number in 1..10000"))
-        } else {
-            e
-        }
-    })
+    let out_of_range = || {
+        let shown = obj.str().map_or_else(|_| "?".to_owned(), |s| s.to_string());
+        PyValueError::new_err(format!(
+            "fps: {shown} is not a whole number in 1..={MAX_FPS}"
+        ))
+    };
+    match u32::read(obj, "fps") {
+        Ok(fps) if (1..=MAX_FPS).contains(&fps) => Ok(fps),
+        Ok(_) => Err(out_of_range()),
+        Err(e) if e.is_instance_of::<PyValueError>(obj.py()) => Err(out_of_range()),
+        Err(e) => Err(e),
+    }
 }
 
 /// `obj` as one of `choices` (a `str`), for the argument `name`: a

@@ -69,16 +69,6 @@ fn in_chunks(
     Ok(())
 }
 
-fn check_fps(fps: u32) -> PyResult<f64> {
-    if (1..=10_000).contains(&fps) {
-        Ok(f64::from(fps))
-    } else {
-        Err(PyValueError::new_err(format!(
-            "fps: {fps} is not a whole number in 1..10000"
-        )))
-    }
-}
-
 /// Reads `**controls` of a single flight: name → finite number.
 fn named_controls(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
     let mut out = Vec::new();
@@ -164,7 +154,6 @@ impl PyFlight {
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let (model, script) = (model.as_str(), script.as_deref());
-        check_fps(fps)?;
         let spec = StartSpec {
             altitude_ft,
             speed_kt,
@@ -548,7 +537,7 @@ impl PyFleet {
         controls: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let model = model.as_str();
-        let fps = check_fps(fps)?;
+        let fps = f64::from(fps);
         let precision_value: Precision = precision
             .parse()
             .map_err(|e| PyValueError::new_err(format!("precision: {e}")))?;

@@ -12,12 +12,15 @@
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::Duration;
 
 use pyo3::exceptions::{PyOSError, PyRuntimeError};
 use pyo3::prelude::*;
 
-/// How often a wait for a named pipe's other end looks at Python's signals.
+/// How often a wait (for a named pipe's other end, for a study's runs) looks
+/// at Python's signals: short enough that Ctrl-C ends it within a fraction
+/// of a second, long enough that the looks cost nothing next to the work.
 pub const SIGNAL_CHECK: Duration = Duration::from_millis(20);
 
 /// Whether `path` is a named pipe (following symlinks).
@@ -117,21 +120,17 @@ pub fn read_interruptibly<T: Send + 'static>(
         .map_err(|e| PyRuntimeError::new_err(format!("cannot start a thread: {e}")))?;
     let mut result = result;
     loop {
-        // The receiver goes with the closure (it may be sent, not shared).
-        let (receiver, received) = py.detach(move || {
-            let received = result.recv_timeout(SIGNAL_CHECK);
-            (result, received)
-        });
-        result = receiver;
+        let received;
+        (result, received) = recv_detached(py, result, SIGNAL_CHECK);
         match received {
             Ok(value) => return Ok(value),
-            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+            Err(RecvTimeoutError::Timeout) => {
                 if let Err(e) = py.check_signals() {
                     let_reader_go(path.to_path_buf());
                     return Err(e);
                 }
             }
-            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+            Err(RecvTimeoutError::Disconnected) => {
                 return Err(PyRuntimeError::new_err(format!(
                     "reading {} failed (its thread panicked)",
                     path.display()
@@ -139,6 +138,22 @@ pub fn read_interruptibly<T: Send + 'static>(
             }
         }
     }
+}
+
+/// One wait of at most `timeout` for `receiver`'s next message with the GIL
+/// released, for a caller that looks at Python's signals between two waits.
+/// The receiver moves into the released section and back out (it is `Send`,
+/// not `Sync`: it cannot be borrowed across), so it is returned with what
+/// the wait got.
+pub fn recv_detached<T: Send>(
+    py: Python<'_>,
+    receiver: Receiver<T>,
+    timeout: Duration,
+) -> (Receiver<T>, Result<T, RecvTimeoutError>) {
+    py.detach(move || {
+        let received = receiver.recv_timeout(timeout);
+        (receiver, received)
+    })
 }
 
 /// Lets a reader waiting in `open` for a writer of the named pipe `path`

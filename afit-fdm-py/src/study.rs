@@ -8,7 +8,6 @@
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
-use std::time::Duration;
 
 use fdm_core::model::{FlightStatus, LandingState};
 use fdm_fleet::Precision;
@@ -17,6 +16,8 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+
+use crate::pipes::{recv_detached, SIGNAL_CHECK};
 
 /// Every [`RunStatus`], in the order of [`RunStatus::CODES`]: a status's
 /// position here is its code in the `status_code` column.
@@ -177,15 +178,9 @@ impl PyStudy {
     }
 }
 
-/// How long the calling thread waits, without the GIL, between two looks
-/// at Python's pending signals: short enough that Ctrl-C stops a study
-/// within a fraction of a second, long enough that the checks cost nothing
-/// next to the flying.
-const SIGNAL_POLL: Duration = Duration::from_millis(20);
-
 /// The runs `range` of `study`, flown on a scoped thread while the calling
 /// thread (the GIL released between checks) asks Python every
-/// [`SIGNAL_POLL`] whether a signal is pending. A signal whose handler
+/// [`SIGNAL_CHECK`] whether a signal is pending. A signal whose handler
 /// raises (Ctrl-C's `KeyboardInterrupt`) sets the stop flag of
 /// [`Study::fly_runs_until`], waits for the fly to return (at most a block
 /// per thread, see there) and is raised; the partial table is dropped.
@@ -210,13 +205,8 @@ fn fly_interruptibly(
         });
         let mut interrupt: Option<PyErr> = None;
         loop {
-            // The receiver moves into and out of `detach`: it is `Send`,
-            // not `Sync`, so it cannot be borrowed across.
-            let (waited, receiver) = py.detach(move || {
-                let waited = finished.recv_timeout(SIGNAL_POLL);
-                (waited, finished)
-            });
-            finished = receiver;
+            let waited;
+            (finished, waited) = recv_detached(py, finished, SIGNAL_CHECK);
             match waited {
                 // Done, or the flier panicked (its sender dropped): join
                 // below says which.

@@ -31,14 +31,19 @@ def raises(kind: type, message: str, call: Callable[[], Any]) -> None:
 
 
 def test_flight_arguments_are_named() -> None:
-    raises(ValueError, "fps: -1 is not a whole number in 1..10000", lambda: Flight("palmer", fps=-1))
-    raises(ValueError, "fps: 0 is not a whole number in 1..10000", lambda: Flight("palmer", fps=0))
+    raises(ValueError, "fps: -1 is not a whole number in 1..=10000", lambda: Flight("palmer", fps=-1))
+    raises(ValueError, "fps: 0 is not a whole number in 1..=10000", lambda: Flight("palmer", fps=0))
     raises(
         ValueError,
-        f"fps: {2**40} is not a whole number in 1..10000",
+        f"fps: {2**40} is not a whole number in 1..=10000",
         lambda: Flight("palmer", fps=2**40),
     )
     raises(TypeError, "fps: expected a whole number (int), got float", lambda: Flight("palmer", fps=30.0))
+    # The range's both ends are taken, one past either refused, by Flight and Fleet alike.
+    assert Flight("palmer", fps=1).fps == 1.0 and Flight("palmer", fps=10000).fps == 10000.0
+    raises(ValueError, "fps: 10001 is not a whole number in 1..=10000", lambda: Flight("palmer", fps=10001))
+    raises(ValueError, "fps: 10001 is not a whole number in 1..=10000", lambda: Fleet("palmer", 2, fps=10001))
+    raises(ValueError, "fps: 0 is not a whole number in 1..=10000", lambda: Fleet("palmer", 2, fps=0))
     raises(TypeError, "model: expected a str, got int", lambda: Flight(5))  # type: ignore[arg-type]
     raises(
         TypeError,

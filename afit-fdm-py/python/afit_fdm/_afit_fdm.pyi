@@ -39,7 +39,7 @@ _PerAircraft = Union[_Number, npt.NDArray[np.float64]]
 class Flight:
     """One aircraft, flown frame by frame exactly as ``sim-cli`` flies it.
 
-    ``model`` is ``"palmer"`` or ``"bourg"``; ``fps`` a whole number 1..10000
+    ``model`` is ``"palmer"`` or ``"bourg"``; ``fps`` a whole number 1..=10000
     (``dt = 1/fps`` in the model's float type). Without ``altitude_ft``,
     ``speed_kt``, ``heading_deg`` and ``trim`` the start is the thesis's
     (Palmer at rest on the runway; Bourg 2000 ft up at 60 ft/s); with any of

@@ -113,13 +113,13 @@ _MAX_INT64 = 2**63 - 1
 
 
 def _whole(name: str, value: Any, low: int, high: int) -> int:
-    """``value`` if it is a whole number in ``low..high``: ``TypeError`` for
-    another type (``bool`` included), ``ValueError`` out of range, both
-    naming the argument."""
+    """``value`` if it is a whole number in ``low..=high`` (both ends
+    included): ``TypeError`` for another type (``bool`` included),
+    ``ValueError`` out of range, both naming the argument."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name}: expected a whole number, got {type(value).__name__} {value!r}")
     if not low <= value <= high:
-        raise ValueError(f"{name}: {value} is not a whole number in {low}..{high}")
+        raise ValueError(f"{name}: {value} is not a whole number in {low}..={high}")
     return int(value)
 AIRBORNE = int(Status.AIRBORNE)
 
