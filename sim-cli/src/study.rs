@@ -108,6 +108,17 @@ fn batch(
         .map_err(CliError::usage)?;
     let csv_path = out_dir.join("runs.csv");
     let arrow_path = out_dir.join("runs.arrow");
+    let plot_path = out_dir.join("study.svg");
+    let summary_path = out_dir.join("summary.json");
+    // Any of the four that is a named pipe is waited for out loud (and a
+    // signal meanwhile ends the command at once), as the runs' outputs are:
+    // held open to the end, the writes below find their readers there.
+    let _readers = crate::input::await_pipe_readers(&[
+        (Some(&csv_path), "runs.csv"),
+        (Some(&arrow_path), "runs.arrow"),
+        (Some(&plot_path), "study.svg"),
+        (Some(&summary_path), "summary.json"),
+    ])?;
     // A write error with the file's path as its context (`writing PATH: REASON`).
     let writing = |e: BatchError| match e {
         BatchError::Fly(fdm_study::StudyError::Fleet(_)) => CliError::usage(e.to_string()),
@@ -152,12 +163,10 @@ fn batch(
         batch.tracks(),
         batch.frame_step(),
     )?;
-    let plot_path = out_dir.join("study.svg");
     std::fs::write(&plot_path, svg).with_context(|| format!("writing {}", plot_path.display()))?;
     let by = crate::signals::stop_requested().map_or("a signal", crate::signals::signal_name);
     let summary = batch.summary_stopped_by(by);
     let json = serde_json::to_string_pretty(&summary).context("summary as JSON")?;
-    let summary_path = out_dir.join("summary.json");
     std::fs::write(&summary_path, format!("{json}\n"))
         .with_context(|| format!("writing {}", summary_path.display()))?;
     let mut stdout = std::io::stdout().lock();
@@ -209,6 +218,11 @@ impl WithModel for Alone<'_> {
             Err(e @ AloneError::Refused(_)) => return Err(CliError::usage(e)),
         };
         let frames = scenario.frames;
+        // The run's row, waited for out loud when it is a named pipe (before
+        // the flight's own outputs, which prepare_model waits for).
+        let name = format!("run-{run}.csv");
+        let path = out_dir.join(&name);
+        let _reader = crate::input::await_pipe_readers(&[(Some(&path), &name)])?;
         let common = CommonArgs {
             fps: study.fps(),
             headless: true,
@@ -247,7 +261,6 @@ impl WithModel for Alone<'_> {
         if crate::signals::stop_requested().is_some() && table.frames.first() != Some(&frames) {
             return Ok(());
         }
-        let path = out_dir.join(format!("run-{run}.csv"));
         let mut text = Vec::new();
         write_csv(&mut text, &table).context("run row")?;
         std::fs::write(&path, &text).with_context(|| format!("writing {}", path.display()))?;

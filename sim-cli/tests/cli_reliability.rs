@@ -656,3 +656,105 @@ fn a_signal_while_an_output_pipe_is_stalled_ends_after_the_grace_and_the_flush_l
         "{stderr}"
     );
 }
+
+/// A small study for the output-pipe tests: three Palmer runs of 2 s.
+const SMALL_STUDY: &str = r#"
+model = "palmer"
+runs = 3
+seed = 5
+duration_s = 2.0
+measures = ["max_height_m"]
+[initial]
+altitude_ft = 1000.0
+speed_kt = 80.0
+[[dispersion]]
+key = "initial.speed_kt"
+distribution = "uniform"
+low = 75.0
+high = 85.0
+"#;
+
+/// A study's `runs.csv` that is a named pipe in `--out` is waited for out
+/// loud, as a run's `--csv` pipe is (it waited in silence), and once a
+/// reader opens it the study writes there the bytes a regular `runs.csv`
+/// gets; the other outputs are written as usual.
+#[cfg(unix)]
+#[test]
+fn a_study_output_pipe_is_waited_for_out_loud_and_gets_the_files_bytes() {
+    let dir = scratch("study-out-fifo");
+    let study = write_file(&dir, "study.toml", SMALL_STUDY);
+    let plain = dir.join("plain");
+    let to_files = sim(&["study", &study, "--out", plain.to_str().unwrap()]);
+    assert_eq!(
+        to_files.status.code(),
+        Some(0),
+        "{}",
+        text(&to_files.stderr)
+    );
+    let piped = dir.join("piped");
+    std::fs::create_dir(&piped).unwrap();
+    let runs_csv = fifo(&piped, "runs.csv");
+    let mut child = Command::new(BIN)
+        .args(["study", &study, "--out"])
+        .arg(&piped)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sim-cli");
+    // The note's line comes before anything reads the pipe.
+    let (note, stderr_reader) = stderr_lines(&mut child);
+    let mut csv = Vec::new();
+    std::fs::File::open(&runs_csv)
+        .expect("open the FIFO")
+        .read_to_end(&mut csv)
+        .expect("read the FIFO");
+    let out = child.wait_with_output().expect("wait");
+    let stderr = stderr_reader.join().expect("stderr reader");
+    assert!(
+        note.as_deref().is_ok_and(|line| line
+            .starts_with("sim-cli: waiting for a program to open the pipe ")
+            && line.contains("for reading (runs.csv)")),
+        "no note before the reader came: {note:?}; stderr {stderr}"
+    );
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert_eq!(csv, std::fs::read(plain.join("runs.csv")).unwrap());
+    for name in ["runs.arrow", "summary.json", "study.svg"] {
+        assert_eq!(
+            std::fs::read(piped.join(name)).unwrap(),
+            std::fs::read(plain.join(name)).unwrap(),
+            "{name}"
+        );
+    }
+    assert_eq!(out.stdout, to_files.stdout);
+}
+
+/// SIGINT while a study waits for the reader of its `summary.json` pipe (or
+/// of `run-I.csv`'s, for `--run I`) stops it at once, before any of its
+/// outputs is created.
+#[cfg(unix)]
+#[test]
+fn a_signal_while_a_study_output_pipe_waits_for_its_reader_stops_at_once() {
+    for (pipe, run) in [("summary.json", None), ("run-1.csv", Some("1"))] {
+        let dir = scratch(&format!("study-out-fifo-signal-{pipe}"));
+        let study = write_file(&dir, "study.toml", SMALL_STUDY);
+        let out = dir.join("out");
+        std::fs::create_dir(&out).unwrap();
+        fifo(&out, pipe);
+        let os = std::ffi::OsStr::new;
+        let mut args = vec![os("study"), os(&study), os("--out"), out.as_os_str()];
+        if let Some(run) = run {
+            args.extend([os("--run"), os(run)]);
+        }
+        let stderr = stops_at_once_while_waiting(&args, "INT", 2);
+        assert!(
+            stderr.contains(&format!("for reading ({pipe})")),
+            "{stderr}"
+        );
+        let made: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(made, [std::ffi::OsString::from(pipe)], "{stderr}");
+    }
+}
