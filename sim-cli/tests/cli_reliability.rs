@@ -231,9 +231,24 @@ fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
     ];
     let to_file = sim(&[&flight[..], &[file.to_str().unwrap()]].concat());
     assert_eq!(to_file.status.code(), Some(0), "{}", text(&to_file.stderr));
-    let mut child = Command::new(BIN)
-        .args(flight)
-        .arg(&fifo)
+    let mut command = Command::new(BIN);
+    command.args(flight).arg(&fifo);
+    let (csv, stdout) = read_output_pipe(command, &fifo, "--csv");
+    assert_eq!(csv, std::fs::read(&file).unwrap());
+    assert_eq!(stdout, to_file.stdout);
+}
+
+/// Runs `command` (a `sim-cli` whose output `fifo`, a named pipe, has no
+/// reader yet), checks that it says it waits for a reader of `what` before
+/// anything reads the pipe, then reads the pipe to its end and checks that
+/// the command succeeds: the bytes read and its stdout.
+#[track_caller]
+fn read_output_pipe(
+    mut command: Command,
+    fifo: &std::path::Path,
+    what: &str,
+) -> (Vec<u8>, Vec<u8>) {
+    let mut child = command
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -241,22 +256,21 @@ fn an_output_pipe_without_a_reader_says_it_waits_for_one() {
         .expect("spawn sim-cli");
     // The note's line comes before anything reads the pipe.
     let (note, stderr_reader) = stderr_lines(&mut child);
-    let mut csv = Vec::new();
-    std::fs::File::open(&fifo)
+    let mut bytes = Vec::new();
+    std::fs::File::open(fifo)
         .expect("open the FIFO")
-        .read_to_end(&mut csv)
+        .read_to_end(&mut bytes)
         .expect("read the FIFO");
     let out = child.wait_with_output().expect("wait");
     let stderr = stderr_reader.join().expect("stderr reader");
     assert!(
         note.as_deref().is_ok_and(|line| line
             .starts_with("sim-cli: waiting for a program to open the pipe ")
-            && line.contains("for reading (--csv)")),
+            && line.contains(&format!("for reading ({what})"))),
         "no note before the reader came: {note:?}; stderr {stderr}"
     );
     assert_eq!(out.status.code(), Some(0), "{stderr}");
-    assert_eq!(csv, std::fs::read(&file).unwrap());
-    assert_eq!(out.stdout, to_file.stdout);
+    (bytes, out.stdout)
 }
 
 /// Runs `sim-cli ARGS` (whose pipe waits for the program at its other
@@ -694,30 +708,9 @@ fn a_study_output_pipe_is_waited_for_out_loud_and_gets_the_files_bytes() {
     let piped = dir.join("piped");
     std::fs::create_dir(&piped).unwrap();
     let runs_csv = fifo(&piped, "runs.csv");
-    let mut child = Command::new(BIN)
-        .args(["study", &study, "--out"])
-        .arg(&piped)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn sim-cli");
-    // The note's line comes before anything reads the pipe.
-    let (note, stderr_reader) = stderr_lines(&mut child);
-    let mut csv = Vec::new();
-    std::fs::File::open(&runs_csv)
-        .expect("open the FIFO")
-        .read_to_end(&mut csv)
-        .expect("read the FIFO");
-    let out = child.wait_with_output().expect("wait");
-    let stderr = stderr_reader.join().expect("stderr reader");
-    assert!(
-        note.as_deref().is_ok_and(|line| line
-            .starts_with("sim-cli: waiting for a program to open the pipe ")
-            && line.contains("for reading (runs.csv)")),
-        "no note before the reader came: {note:?}; stderr {stderr}"
-    );
-    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let mut command = Command::new(BIN);
+    command.args(["study", &study, "--out"]).arg(&piped);
+    let (csv, stdout) = read_output_pipe(command, &runs_csv, "runs.csv");
     assert_eq!(csv, std::fs::read(plain.join("runs.csv")).unwrap());
     for name in ["runs.arrow", "summary.json", "study.svg"] {
         assert_eq!(
@@ -726,7 +719,7 @@ fn a_study_output_pipe_is_waited_for_out_loud_and_gets_the_files_bytes() {
             "{name}"
         );
     }
-    assert_eq!(out.stdout, to_files.stdout);
+    assert_eq!(stdout, to_files.stdout);
 }
 
 /// SIGINT while a study waits for the reader of its `summary.json` pipe (or
