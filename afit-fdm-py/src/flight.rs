@@ -15,6 +15,7 @@
 
 use std::fs::File;
 use std::path::Path;
+use std::sync::Arc;
 
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{fly, FlightStatus, FlightView, ScriptAction};
@@ -27,6 +28,7 @@ use pyo3::types::PyDict;
 
 use crate::models::BindModel;
 use crate::outputs::{AttachError, FrameData, Outputs};
+use crate::pipes::SignalWatch;
 use crate::start::StartSpec;
 
 /// A recording in progress: the run library's writer (`fdm_run::recording`,
@@ -78,6 +80,8 @@ pub struct Single<M: BindModel> {
     /// The frame's actions in order (script's, then the caller's) while a
     /// recording or an output is on, reused.
     frame_actions: Vec<M::Action>,
+    /// Python's signals looked at by the output files' waiting writes.
+    watch: Arc<SignalWatch>,
 }
 
 impl<M: BindModel> Single<M> {
@@ -105,6 +109,7 @@ impl<M: BindModel> Single<M> {
             recorder: None,
             outputs: Outputs::default(),
             frame_actions: Vec::new(),
+            watch: Arc::default(),
         }
     }
 
@@ -377,6 +382,8 @@ pub trait AnyFlight: Send + Sync {
     fn stop_recording(&mut self) -> Result<(String, u64), String>;
     /// Where the recording in progress goes.
     fn recording_path(&self) -> Option<&str>;
+    /// The watch on Python's signals of the flight's output files.
+    fn signal_watch(&self) -> &Arc<SignalWatch>;
     /// Attaches a Tacview ACMI file (`Flight.acmi_to`).
     ///
     /// # Errors
@@ -546,7 +553,8 @@ impl<M: BindModel> AnyFlight for Single<M> {
             controls: self.start.0,
             state: self.start.1,
         };
-        let mut writer = RecordWriter::new(SyncedFile::new(file), self.fps, origin, &start)
+        let file = SyncedFile::watched(SignalWatch::file(&self.watch, file));
+        let mut writer = RecordWriter::new(file, self.fps, origin, &start)
             .map_err(|e| (true, format!("{path}: {e}")))?;
         writer.set_final_state(M::state_fingerprint(&self.state));
         self.recorder = Some(Recorder {
@@ -570,6 +578,9 @@ impl<M: BindModel> AnyFlight for Single<M> {
     fn recording_path(&self) -> Option<&str> {
         self.recorder.as_ref().map(|r| r.path.as_str())
     }
+    fn signal_watch(&self) -> &Arc<SignalWatch> {
+        &self.watch
+    }
     fn acmi_to(
         &mut self,
         path: &str,
@@ -578,11 +589,15 @@ impl<M: BindModel> AnyFlight for Single<M> {
         title: Option<&str>,
     ) -> Result<(), AttachError> {
         self.refuse_clash("acmi_to", path)?;
-        self.attach_with(|o, start| o.attach_acmi(path, *origin, reference_time, title, start))
+        let watch = Arc::clone(&self.watch);
+        self.attach_with(|o, start| {
+            o.attach_acmi(path, *origin, reference_time, title, &watch, start)
+        })
     }
     fn csv_to(&mut self, path: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {
         self.refuse_clash("csv_to", path)?;
-        self.attach_with(|o, start| o.attach_csv(path, *origin, start))
+        let watch = Arc::clone(&self.watch);
+        self.attach_with(|o, start| o.attach_csv(path, *origin, &watch, start))
     }
     fn flightgear_to(&mut self, target: &str, origin: &GeodeticOrigin) -> Result<(), AttachError> {
         self.attach_with(|o, start| o.attach_flightgear(target, *origin, start))

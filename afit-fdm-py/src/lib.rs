@@ -19,6 +19,8 @@ pub mod study;
 pub mod task;
 pub mod task_io;
 
+use std::sync::Arc;
+
 use fdm_core::model::ScriptAction;
 use fdm_fleet::Precision;
 use numpy::PyArray1;
@@ -135,6 +137,21 @@ impl PyFlight {
         self.inner.check_output(what, path).map_err(attach_error)?;
         pipes::await_reader(py, path)
     }
+
+    /// Runs `call`, which may write the flight's recording and outputs,
+    /// with its [`pipes::SignalWatch`] armed: when a signal's handler
+    /// raised while a write waited for a pipe's reader (stopping the
+    /// writing), its exception (Ctrl-C's `KeyboardInterrupt`) is what the
+    /// call raises, not the output's error it caused.
+    fn writing<T>(&mut self, call: impl FnOnce(&mut dyn AnyFlight) -> PyResult<T>) -> PyResult<T> {
+        let watch = Arc::clone(self.inner.signal_watch());
+        watch.arm();
+        let result = call(&mut *self.inner);
+        match watch.take_raised() {
+            Some(raised) => Err(raised),
+            None => result,
+        }
+    }
 }
 
 #[pymethods]
@@ -202,14 +219,15 @@ impl PyFlight {
         #[pyo3(from_py_with = args::actions)] actions: Option<Vec<String>>,
     ) -> PyResult<()> {
         let actions = actions.unwrap_or_default();
-        let inner = &mut self.inner;
-        if n < 256 {
-            // Too short to be worth releasing the GIL.
-            return inner.step(n, &actions).map_err(PyValueError::new_err);
-        }
-        in_chunks(py, n, FLIGHT_FRAMES_PER_SIGNAL_CHECK, |frames| {
-            py.detach(|| inner.step(frames, &actions))
-                .map_err(PyValueError::new_err)
+        self.writing(|inner| {
+            if n < 256 {
+                // Too short to be worth releasing the GIL.
+                return inner.step(n, &actions).map_err(PyValueError::new_err);
+            }
+            in_chunks(py, n, FLIGHT_FRAMES_PER_SIGNAL_CHECK, |frames| {
+                py.detach(|| inner.step(frames, &actions))
+                    .map_err(PyValueError::new_err)
+            })
         })
     }
 
@@ -224,23 +242,17 @@ impl PyFlight {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
         let _reader = self.await_reader(py, "record_to", &path)?;
-        self.inner
-            .record_to(&path, &origin)
-            .map_err(|(os, message)| {
-                if os {
-                    pyo3::exceptions::PyOSError::new_err(message)
-                } else {
-                    PyValueError::new_err(message)
-                }
-            })
+        self.writing(|inner| inner.record_to(&path, &origin).map_err(attach_error))
     }
 
     /// Seals and closes the recording; returns the frames it holds.
     fn stop_recording(&mut self) -> PyResult<u64> {
-        self.inner
-            .stop_recording()
-            .map(|(_, frames)| frames)
-            .map_err(PyValueError::new_err)
+        self.writing(|inner| {
+            inner
+                .stop_recording()
+                .map(|(_, frames)| frames)
+                .map_err(PyValueError::new_err)
+        })
     }
 
     /// The path being recorded to, or `None`.
@@ -251,7 +263,7 @@ impl PyFlight {
 
     /// Back to the start: state, controls, status, frame 0, script from frame 1.
     fn reset(&mut self) -> PyResult<()> {
-        self.inner.reset().map_err(PyValueError::new_err)
+        self.writing(|inner| inner.reset().map_err(PyValueError::new_err))
     }
 
     /// Writes the flight as Tacview ACMI to `path` (see `_afit_fdm.pyi`).
@@ -268,9 +280,11 @@ impl PyFlight {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
         let _reader = self.await_reader(py, "acmi_to", &path)?;
-        self.inner
-            .acmi_to(&path, &origin, reference_time, title)
-            .map_err(attach_error)
+        self.writing(|inner| {
+            inner
+                .acmi_to(&path, &origin, reference_time, title)
+                .map_err(attach_error)
+        })
     }
 
     /// Writes the flight's CSV to `path` (see `_afit_fdm.pyi`).
@@ -284,7 +298,7 @@ impl PyFlight {
         let path = fspath(py, path)?;
         let origin = read_origin(origin)?;
         let _reader = self.await_reader(py, "csv_to", &path)?;
-        self.inner.csv_to(&path, &origin).map_err(attach_error)
+        self.writing(|inner| inner.csv_to(&path, &origin).map_err(attach_error))
     }
 
     /// Sends the flight to FlightGear at `target` (see `_afit_fdm.pyi`).
@@ -374,9 +388,11 @@ impl PyFlight {
 
     /// Finishes and detaches every output (see `_afit_fdm.pyi`).
     fn close_outputs(&mut self) -> PyResult<()> {
-        self.inner
-            .close_outputs()
-            .map_err(pyo3::exceptions::PyOSError::new_err)
+        self.writing(|inner| {
+            inner
+                .close_outputs()
+                .map_err(pyo3::exceptions::PyOSError::new_err)
+        })
     }
 
     /// Sets controls by name (validated; e.g. `throttle=0.5`).

@@ -19,6 +19,7 @@
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
+use std::sync::Arc;
 
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{FlightStatus, FlightView};
@@ -30,6 +31,7 @@ use fdm_run::{Event, Frame, LinkStats, Output, Placement, SharedOutput};
 use fgnet::address::{parse_fg_target, FgAddressError};
 
 use crate::models::BindModel;
+use crate::pipes::SignalWatch;
 
 /// A failure to attach an output: `(is_os_error, message)`.
 pub type AttachError = (bool, String);
@@ -157,6 +159,7 @@ impl<M: BindModel> Outputs<M> {
         origin: GeodeticOrigin,
         reference_time: Option<&str>,
         title: Option<&str>,
+        watch: &Arc<SignalWatch>,
         start: &FrameData<'_, M>,
     ) -> Result<(), AttachError> {
         let reference_time = match reference_time {
@@ -170,8 +173,12 @@ impl<M: BindModel> Outputs<M> {
             title: title.unwrap_or(M::NAME).to_owned(),
             origin: origin.geodetic(),
         };
-        let writer = AcmiWriter::create(Path::new(path), &header, start.fps)
-            .map_err(|e| (true, format!("cannot create ACMI file {path}: {e}")))?;
+        let cannot =
+            |e: &dyn std::fmt::Display| (true, format!("cannot create ACMI file {path}: {e}"));
+        let file = File::create(path).map_err(|e| cannot(&e))?;
+        let file = SignalWatch::file(watch, file);
+        let writer = AcmiWriter::on_file(file, Path::new(path), &header, start.fps)
+            .map_err(|e| cannot(&e))?;
         self.attach(
             format!("acmi {path}"),
             Some(path),
@@ -189,11 +196,12 @@ impl<M: BindModel> Outputs<M> {
         &mut self,
         path: &str,
         origin: GeodeticOrigin,
+        watch: &Arc<SignalWatch>,
         start: &FrameData<'_, M>,
     ) -> Result<(), AttachError> {
         let file = File::create(path)
             .map_err(|e| (true, format!("cannot create CSV file {path}: {e}")))?;
-        let writer = CsvWriter::new(BufWriter::new(file), path);
+        let writer = CsvWriter::new(BufWriter::new(SignalWatch::file(watch, file)), path);
         let output = CsvOutput::new(writer, FlightRow::<M>::of as fn(&Frame<'_, M>) -> _);
         self.attach(format!("csv {path}"), Some(path), origin, output, start)
     }

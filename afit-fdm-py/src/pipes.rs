@@ -9,11 +9,24 @@
 //!
 //! A regular file (or anything else that is not a named pipe) is opened as
 //! before: nothing waits.
+//!
+//! Once open, a pipe can keep a write waiting too: its reader opened it but
+//! takes nothing, and the pipe is full. Rust retries a write a signal
+//! interrupted, so Ctrl-C did nothing there either. A flight's output files
+//! are [`WatchedFile`]s watched by its [`SignalWatch`]: an interrupted write
+//! looks at Python's signals, and a handler that raises stops the writing
+//! (the output fails and is closed) and its exception is raised out of the
+//! call.
 
 use std::fs::File;
+use std::io;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
+
+use fdm_run::outfile::{WatchedFile, WriteWatch};
 
 use pyo3::exceptions::{PyOSError, PyRuntimeError};
 use pyo3::prelude::*;
@@ -166,5 +179,79 @@ fn let_reader_go(path: PathBuf) {
     #[cfg(not(unix))]
     {
         let _ = path;
+    }
+}
+
+/// A flight's watch on Python's signals for its output files'
+/// ([`WriteWatch`]). A write a signal interrupts runs the signals' handlers
+/// (`check_signals`); one that raises (Ctrl-C's `KeyboardInterrupt`) stops
+/// every write of the flight's watched files (pipes, sockets, devices: a
+/// regular file is not watched, and its bytes are kept) until the next call
+/// that writes ([`SignalWatch::arm`]), and its exception waits in the watch
+/// for that call to raise it ([`SignalWatch::take_raised`]) instead of the
+/// output's error. A handler that does not raise lets the write go on.
+#[derive(Debug, Default)]
+pub struct SignalWatch {
+    stopped: AtomicBool,
+    raised: Mutex<Option<PyErr>>,
+}
+
+impl SignalWatch {
+    /// Writing allowed again, at the start of a call that writes (the
+    /// previous call's stop, if any, was raised by it).
+    pub fn arm(&self) {
+        self.stopped.store(false, Ordering::SeqCst);
+        *self.raised.lock().unwrap_or_else(PoisonError::into_inner) = None;
+    }
+
+    /// The exception of the handler that stopped the writing, once.
+    pub fn take_raised(&self) -> Option<PyErr> {
+        self.raised
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take()
+    }
+
+    /// `error`, or the handler's exception when a signal stopped the
+    /// writing (the output's error is then only its consequence).
+    pub fn or_raised(&self, error: PyErr) -> PyErr {
+        self.take_raised().unwrap_or(error)
+    }
+
+    /// `file` watched by `watch` ([`WatchedFile::watched_by`]).
+    pub fn file(watch: &Arc<Self>, file: File) -> WatchedFile {
+        WatchedFile::watched_by(file, Arc::clone(watch) as Arc<dyn WriteWatch>)
+    }
+}
+
+/// The error of every write once a signal stopped them.
+fn stopped_error() -> io::Error {
+    io::Error::other("writing stopped by a signal while the output waited for its reader")
+}
+
+impl WriteWatch for SignalWatch {
+    fn interrupted(&self) -> io::Result<()> {
+        if self.stopped.load(Ordering::SeqCst) {
+            return Err(stopped_error());
+        }
+        // The calling thread may hold the GIL (a short step) or have
+        // released it (a long one); at the interpreter's exit it cannot
+        // take it, and the write stops.
+        match Python::try_attach(|py| py.check_signals()) {
+            Some(Ok(())) => Ok(()),
+            Some(Err(raised)) => {
+                *self.raised.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
+                self.stopped.store(true, Ordering::SeqCst);
+                Err(stopped_error())
+            }
+            None => {
+                self.stopped.store(true, Ordering::SeqCst);
+                Err(stopped_error())
+            }
+        }
+    }
+
+    fn stopped(&self) -> Option<io::Error> {
+        self.stopped.load(Ordering::SeqCst).then(stopped_error)
     }
 }

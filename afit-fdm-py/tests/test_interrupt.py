@@ -295,3 +295,110 @@ def test_an_input_pipe_is_read_once_its_writer_comes(tmp_path: pathlib.Path) -> 
             assert afit_fdm.replay(fifo).same_final_state is True
         writer.join(timeout=20)
         assert done == [None], name
+
+
+# A named pipe whose reader opened it and takes nothing: once the pipe is
+# full (64 KiB on Linux, a few hundred frames of CSV), a write into it waits,
+# and Rust retries a write a signal interrupts. The child steps with the
+# output on; the step waits in the write long before the signal comes (a
+# second after "flying"). argv[2] "long" is one step of 10**9 frames (the
+# GIL released); "short" is steps of 100 frames (the GIL held) in a loop.
+# After the KeyboardInterrupt it prints the frames flown and what is still
+# attached: the output the signal stopped is closed.
+STALLED_PIPE_CHILD = """
+import os
+import signal
+import sys
+import afit_fdm
+signal.signal(signal.SIGINT, signal.default_int_handler)
+fifo, what, how = sys.argv[1].split("|")
+reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+flight = afit_fdm.Flight("palmer", altitude_ft=5000.0, speed_kt=100.0, trim=True)
+getattr(flight, what)(fifo)
+print("flying", flush=True)
+try:
+    if how == "long":
+        flight.step(10**9)
+    else:
+        while True:
+            flight.step(100)
+except KeyboardInterrupt:
+    print("frames", flight.frame, flight.outputs, flight.recording, flush=True)
+    raise
+print("finished", flush=True)
+"""
+
+
+@pytest.mark.parametrize(
+    "what,how",
+    [("csv_to", "long"), ("csv_to", "short"), ("acmi_to", "long"), ("record_to", "long")],
+)
+def test_a_write_waiting_for_a_stalled_pipe_is_interrupted_by_sigint(
+    what: str, how: str, tmp_path: pathlib.Path
+) -> None:
+    """Ctrl-C while a step waits to write into a pipe its reader does not
+    read: ``KeyboardInterrupt`` within the bound, the frames flown stay
+    flown, and the output (or recording) is closed."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    stdout, stderr = interrupted_child(STALLED_PIPE_CHILD, f"{fifo}|{what}|{how}")
+    words = stdout.split()
+    assert words[0] == "frames", stdout
+    # The pipe took a few hundred frames before it was full; not all 10**9.
+    assert 1 <= int(words[1]) < 10**6, stdout
+    assert words[2:] == ["[]", "None"], stdout
+    assert "Traceback" in stderr and "OSError" not in stderr and "ValueError" not in stderr
+
+
+def test_a_signal_whose_handler_does_not_raise_lets_the_waiting_write_go_on(
+    tmp_path: pathlib.Path,
+) -> None:
+    """A signal while a step waits to write into a full pipe runs its
+    handler; one that does not raise lets the write go on, and the reader,
+    once it reads, gets the bytes a regular file gets (none lost or written
+    twice, also where a signal cut a write short)."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    file = tmp_path / "file.csv"
+    handled: List[int] = []
+
+    def handle(number: int, frame: Any) -> None:
+        handled.append(number)
+
+    previous = signal.signal(signal.SIGUSR1, handle)
+    try:
+
+        def signal_then_read() -> Tuple[List[bool], bytes]:
+            """Three signals, each once the handler has run for the one
+            before (while the step still waits: nothing reads yet), then
+            the reading; whether each handler ran within 5 s, and the
+            bytes."""
+            time.sleep(0.5)
+            in_time = []
+            for i in range(3):
+                os.kill(os.getpid(), signal.SIGUSR1)
+                deadline = time.monotonic() + 5.0
+                while len(handled) <= i and time.monotonic() < deadline:
+                    time.sleep(0.01)
+                in_time.append(len(handled) > i)
+            return in_time, fifo.read_bytes()
+
+        # The reader opens the pipe now (the output's wait for it ends) and
+        # reads nothing until the signals have come.
+        fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+        reader, got = _in_thread(signal_then_read)
+        for target in (fifo, file):
+            flight = afit_fdm.Flight("palmer", altitude_ft=3000.0, speed_kt=100.0, trim=True)
+            flight.csv_to(target)
+            # About 3 MB of rows, far more than the pipe holds: the step
+            # waits for the reader (and the signals come) in its middle.
+            flight.step(12_000)
+            flight.close_outputs()
+            if target == fifo:
+                os.close(fd)
+        reader.join(timeout=30)
+        assert not reader.is_alive()
+    finally:
+        signal.signal(signal.SIGUSR1, previous)
+    assert handled == [signal.SIGUSR1] * 3
+    assert got == [([True, True, True], file.read_bytes())]

@@ -48,6 +48,7 @@ use fdm_core::geodesy::{Geodetic, GeodeticOrigin};
 use fdm_core::model::{FlightStatus, FlightView, LandingState};
 
 use crate::model::RunModel;
+use crate::outfile::WatchedFile;
 use crate::output::{Event, Frame, Output, OutputError, Placement};
 
 /// The `ReferenceTime` of files written without one: a fixed instant, so
@@ -184,7 +185,7 @@ struct Track {
 /// Where the text goes.
 enum Sink {
     Plain(Box<dyn Write + Send>),
-    Zip(Box<zip::ZipWriter<BufWriter<File>>>),
+    Zip(Box<zip::ZipWriter<BufWriter<WatchedFile>>>),
 }
 
 impl Sink {
@@ -245,7 +246,21 @@ impl AcmiWriter {
     /// # Errors
     /// The file cannot be created or written.
     pub fn create(path: &Path, header: &AcmiHeader, fps: u32) -> Result<Self, AcmiError> {
-        let file = File::create(path)?;
+        Self::on_file(WatchedFile::new(File::create(path)?), path, header, fps)
+    }
+
+    /// As [`AcmiWriter::create`], on `file` already opened (or created) at
+    /// `path`: a file watched by a program that answers signals while a
+    /// write waits ([`WatchedFile::watched_by`]).
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn on_file(
+        file: WatchedFile,
+        path: &Path,
+        header: &AcmiHeader,
+        fps: u32,
+    ) -> Result<Self, AcmiError> {
         let name = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())

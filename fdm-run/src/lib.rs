@@ -58,7 +58,7 @@
 //! | [`csv`] | per-frame CSV rows ([`csv::CsvWriter`], [`csv::CsvRecord`]), [`csv::CsvOutput`], and the flight CSV's row ([`csv::FlightRow`]) |
 //! | [`fleet`] | fleet runs: [`fleet::FleetScenario`] → [`fleet::FleetRun`] (ECS or lanes kernel, [`fleet::FleetOutput`] plugins such as ACMI, DIS, [`fleet::FleetReport`]), a fleet watched in FlightGear ([`fleet::show`]) |
 //! | [`input`] | input files read safely (a regular file or a pipe, bounded: [`input::read_text`], [`input::InputError`]), the same-file check ([`input::clash`]), paths and numbers shown in messages |
-//! | [`outfile`] | output files locked against a second writer ([`outfile::create_locked`]) |
+//! | [`outfile`] | output files locked against a second writer ([`outfile::create_locked`]), watched while a write waits ([`outfile::WatchedFile`]) |
 //! | [`values`] | settings read from text (the options of `sim-cli`): frame rate, frames, durations, fleet sizes, start conditions, ports, each checked against its range ([`values::ValueError`]) |
 //! | [`memory`] | how much memory this process can still allocate, and the fleet's memory check |
 //! | [`model`] | [`RunModel`] (with each model's FlightGear aircraft, ACMI name, callsign, DIS type), [`FleetModel`] and the model registry ([`model::MODELS`], [`model::with_model`]); what a front end flying a model by hand needs of it ([`model::pilot`]); its state and controls as named columns ([`model::ColumnModel`]) and what a learning agent's tasks need of it ([`model::AgentModel`]); one adapter module per model ([`model::palmer`], [`model::bourg`]) |

@@ -16,10 +16,109 @@
 //! empty (emptying one fails with "Invalid argument"), and two runs writing
 //! `/dev/null` at once are not a mistake: such a file is opened for writing
 //! as it is.
+//!
+//! An output file that is a pipe can wait: a write blocks while the program
+//! at the other end takes nothing. A program embedding the run that has its
+//! own way of answering signals (Python's `KeyboardInterrupt`) wraps such a
+//! file in a [`WatchedFile`]: a write a signal interrupts asks the program's
+//! [`WriteWatch`] whether to go on waiting or to stop.
 
 use std::fs::{File, OpenOptions, TryLockError};
-use std::io;
+use std::io::{self, Seek, SeekFrom, Write};
 use std::path::Path;
+use std::sync::Arc;
+
+/// What a [`WatchedFile`] asks when one of its writes was interrupted by a
+/// signal: the embedding program's answer to signals (Python's handlers, for
+/// the Python package), looked at while a write waits for a pipe's reader.
+///
+/// The contract: once [`WriteWatch::interrupted`] has returned an error,
+/// [`WriteWatch::stopped`] returns one until the program says otherwise,
+/// so that every later write to a file it watches fails at once instead of
+/// waiting again.
+pub trait WriteWatch: Send + Sync + std::fmt::Debug {
+    /// A write was interrupted by a signal (`EINTR`, nothing written) or
+    /// cut short (as a signal cuts a write into a pipe): `Ok` to go on
+    /// writing (and waiting), an error to stop.
+    ///
+    /// # Errors
+    /// The error the write fails with, when the program wants to stop.
+    fn interrupted(&self) -> io::Result<()>;
+
+    /// The error every write to a watched file fails with, before it is
+    /// tried, once writing has been stopped; `None` to write.
+    fn stopped(&self) -> Option<io::Error>;
+}
+
+/// An output file whose writes, when a signal interrupts one, ask a
+/// [`WriteWatch`] whether to go on. Without a watch, or for a regular file
+/// (whose writes never wait for another program, and whose bytes are kept
+/// whatever a signal does), it writes as the [`File`] does: an interrupted
+/// write is retried by the caller, as [`Write::write_all`] and
+/// [`std::io::BufWriter`] retry it.
+#[derive(Debug)]
+pub struct WatchedFile {
+    file: File,
+    watch: Option<Arc<dyn WriteWatch>>,
+}
+
+impl WatchedFile {
+    /// `file`, not watched.
+    #[must_use]
+    pub fn new(file: File) -> Self {
+        Self { file, watch: None }
+    }
+
+    /// `file` watched by `watch`, unless it is a regular file (or its kind
+    /// cannot be read): only a pipe, a socket or a device can keep a write
+    /// waiting.
+    #[must_use]
+    pub fn watched_by(file: File, watch: Arc<dyn WriteWatch>) -> Self {
+        let waits = file.metadata().is_ok_and(|m| !m.is_file());
+        Self {
+            file,
+            watch: waits.then_some(watch),
+        }
+    }
+
+    /// The file.
+    #[must_use]
+    pub fn file(&self) -> &File {
+        &self.file
+    }
+}
+
+impl Write for WatchedFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let Some(watch) = &self.watch else {
+            return self.file.write(buf);
+        };
+        if let Some(stopped) = watch.stopped() {
+            return Err(stopped);
+        }
+        let written = self.file.write(buf);
+        match &written {
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => watch.interrupted()?,
+            // Bytes went out before the signal: they are counted, and a
+            // stop (by the contract) fails the write of the rest.
+            Ok(n) if *n < buf.len() => {
+                let _ = watch.interrupted();
+            }
+            _ => {}
+        }
+        written
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Seek for WatchedFile {
+    fn seek(&mut self, position: SeekFrom) -> io::Result<u64> {
+        self.file.seek(position)
+    }
+}
 
 /// Creates `path` for writing, as [`File::create`] does, but refuses a file
 /// another process is writing through this function (see the module docs).
@@ -137,6 +236,69 @@ mod tests {
         let mut second = create_locked(path).unwrap();
         io::Write::write_all(&mut first, b"row 1\n").unwrap();
         io::Write::write_all(&mut second, b"row 1\n").unwrap();
+    }
+
+    /// A watch that answers "go on" to the first `go_on` interruptions and
+    /// "stop" from then on, counting them. (Interruptions by real signals,
+    /// with the handler Python installs, are tested by the Python package's
+    /// `test_interrupt.py`: this crate has no unsafe code to install one.)
+    #[derive(Debug, Default)]
+    struct CountingWatch {
+        go_on: usize,
+        seen: std::sync::atomic::AtomicUsize,
+        stopped: std::sync::atomic::AtomicBool,
+    }
+
+    impl WriteWatch for CountingWatch {
+        fn interrupted(&self) -> io::Result<()> {
+            use std::sync::atomic::Ordering::SeqCst;
+            if self.seen.fetch_add(1, SeqCst) < self.go_on {
+                return Ok(());
+            }
+            self.stopped.store(true, SeqCst);
+            Err(io::Error::other("stopped by the watch"))
+        }
+        fn stopped(&self) -> Option<io::Error> {
+            self.stopped
+                .load(std::sync::atomic::Ordering::SeqCst)
+                .then(|| io::Error::other("stopped by the watch"))
+        }
+    }
+
+    fn pipe_file() -> (io::PipeReader, File) {
+        let (reader, writer) = io::pipe().unwrap();
+        (reader, File::from(std::os::fd::OwnedFd::from(writer)))
+    }
+
+    /// A stopped watch fails a pipe's writes before they are tried (the
+    /// reader gets nothing), and leaves a regular file alone: its writes
+    /// never wait, and its bytes are kept.
+    #[cfg(unix)]
+    #[test]
+    fn a_stopped_watch_fails_a_pipes_writes_and_leaves_a_regular_file_alone() {
+        use std::io::Read as _;
+        let watch = Arc::new(CountingWatch::default());
+        watch
+            .stopped
+            .store(true, std::sync::atomic::Ordering::SeqCst);
+        let (mut reader, writer) = pipe_file();
+        let mut pipe = WatchedFile::watched_by(writer, watch.clone());
+        let err = pipe.write_all(b"row 1\n").unwrap_err();
+        assert_eq!(err.to_string(), "stopped by the watch");
+        drop(pipe);
+        let mut got = Vec::new();
+        reader.read_to_end(&mut got).unwrap();
+        assert!(got.is_empty());
+
+        let dir = std::env::temp_dir().join(format!("watched-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.csv");
+        let mut file = WatchedFile::watched_by(File::create(&path).unwrap(), watch.clone());
+        file.write_all(b"row 1\n").unwrap();
+        drop(file);
+        assert_eq!(std::fs::read(&path).unwrap(), b"row 1\n");
+        assert_eq!(watch.seen.load(std::sync::atomic::Ordering::SeqCst), 0);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     /// A pipe (what `/dev/stdout` is when the output is piped into another

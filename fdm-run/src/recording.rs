@@ -58,6 +58,7 @@ use fdm_core::script::{Echo, ScriptAction};
 use serde::{Deserialize, Serialize};
 
 use crate::model::{with_model, ModelJob, RunModel, MODELS};
+use crate::outfile::WatchedFile;
 use crate::output::{self, Frame, Output, OutputError};
 use crate::scenario::{Start, MAX_FPS, MAX_FRAMES};
 
@@ -1133,7 +1134,7 @@ impl RecordFile {
 /// refuses with "Invalid argument"): it is only written.
 #[derive(Debug)]
 pub struct SyncedFile {
-    out: BufWriter<File>,
+    out: BufWriter<WatchedFile>,
     last_sync: Option<Instant>,
     /// Whether the file is a regular file, synced.
     syncs: bool,
@@ -1146,9 +1147,16 @@ impl SyncedFile {
     /// Wraps `file` with a 64 KiB buffer.
     #[must_use]
     pub fn new(file: File) -> Self {
+        Self::watched(WatchedFile::new(file))
+    }
+
+    /// Wraps `file` (watched by a program that answers signals while a
+    /// write waits: [`WatchedFile::watched_by`]) with a 64 KiB buffer.
+    #[must_use]
+    pub fn watched(file: WatchedFile) -> Self {
         // A file whose kind cannot be read is synced (and its sync's error
         // reported), as before this check.
-        let syncs = file.metadata().map_or(true, |m| m.is_file());
+        let syncs = file.file().metadata().map_or(true, |m| m.is_file());
         Self {
             out: BufWriter::with_capacity(64 * 1024, file),
             last_sync: None,
@@ -1170,7 +1178,7 @@ impl Write for SyncedFile {
                 .last_sync
                 .is_none_or(|last| now.duration_since(last) >= Self::SYNC_INTERVAL)
         {
-            self.out.get_ref().sync_data()?;
+            self.out.get_ref().file().sync_data()?;
             self.last_sync = Some(now);
         }
         Ok(())
@@ -1181,7 +1189,7 @@ impl Drop for SyncedFile {
     fn drop(&mut self) {
         // Best effort, as BufWriter's own drop: errors were reported by flush.
         if self.out.flush().is_ok() && self.syncs {
-            let _ = self.out.get_ref().sync_data();
+            let _ = self.out.get_ref().file().sync_data();
         }
     }
 }

@@ -78,7 +78,9 @@ class Flight:
         From 256 frames on, the GIL is released, and Ctrl-C (a signal whose
         handler raises, ``KeyboardInterrupt`` by default) stops the step
         between two chunks of 65,536 frames: it is raised, and the frames
-        flown so far stay flown (the same bits as a shorter step)."""
+        flown so far stay flown (the same bits as a shorter step). A step of
+        any length whose output waits for a named pipe's reader is stopped
+        by it there (see the outputs, below)."""
     def reset(self) -> None:
         """Back to the start: state, controls, status, frame 0. The recording
         and the outputs take the reset (``ValueError`` if writing it fails)."""
@@ -178,6 +180,14 @@ class Flight:
     # hard link too) is refused with ValueError, as sim-cli refuses
     # --csv F --acmi F; once that writer is closed, the file may be used.
     # /dev/null clashes with nothing.
+    #
+    # A path that is a named pipe (FIFO), here and in record_to(): the call
+    # waits for a program to open it for reading, and a step's write waits
+    # while that program takes nothing and the pipe is full. Ctrl-C (a
+    # signal whose handler raises) ends either wait: KeyboardInterrupt is
+    # raised (not the output's error), the frames flown stay flown, and an
+    # output or recording whose write it stopped is closed. A handler that
+    # does not raise runs and the write goes on waiting.
     def acmi_to(
         self,
         path: Union[str, "os.PathLike[str]"],
