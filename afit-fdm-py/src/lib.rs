@@ -957,6 +957,7 @@ fn _afit_fdm(m: &Bound<'_, PyModule>) -> PyResult<()> {
         with_model(name, Describe(py, &models)).ok_or_else(|| unknown_model(name))??;
     }
     m.add("MODELS", models)?;
+    m.add("MAX_FPS", fdm_run::MAX_FPS)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

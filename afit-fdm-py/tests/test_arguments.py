@@ -39,7 +39,9 @@ def test_flight_arguments_are_named() -> None:
         lambda: Flight("palmer", fps=2**40),
     )
     raises(TypeError, "fps: expected a whole number (int), got float", lambda: Flight("palmer", fps=30.0))
-    # The range's both ends are taken, one past either refused, by Flight and Fleet alike.
+    # The range's both ends are taken, one past either refused, by Flight and Fleet alike;
+    # the top is the package's MAX_FPS (which the Gymnasium environments check against too).
+    assert afit_fdm.MAX_FPS == 10000
     assert Flight("palmer", fps=1).fps == 1.0 and Flight("palmer", fps=10000).fps == 10000.0
     raises(ValueError, "fps: 10001 is not a whole number in 1..=10000", lambda: Flight("palmer", fps=10001))
     raises(ValueError, "fps: 10001 is not a whole number in 1..=10000", lambda: Fleet("palmer", 2, fps=10001))

@@ -183,16 +183,16 @@ def test_bad_constructor_arguments_are_refused_by_name(make) -> None:
     negative ``max_episode_steps`` used to truncate every step, a fractional
     ``frame_skip`` to fail only in ``step``)."""
     for kw, error, words in [
-        (dict(frame_skip=1.5), TypeError, "frame_skip: expected a whole number, got float 1.5"),
-        (dict(frame_skip=True), TypeError, "frame_skip: expected a whole number, got bool"),
+        (dict(frame_skip=1.5), TypeError, "frame_skip: expected a whole number (int), got float"),
+        (dict(frame_skip=True), TypeError, "frame_skip: expected a whole number (int), got bool"),
         (dict(frame_skip=0), ValueError, "frame_skip: 0 is not a whole number in 1..=108000"),
         (dict(frame_skip=108_001), ValueError, "frame_skip: 108001 is not a whole number in 1..=108000"),
         (dict(fps=10, frame_skip=36_001), ValueError, "frame_skip: 36001 is not a whole number in 1..=36000"),
-        (dict(fps=29.97), TypeError, "fps: expected a whole number, got float"),
+        (dict(fps=29.97), TypeError, "fps: expected a whole number (int), got float"),
         (dict(fps=0), ValueError, "fps: 0 is not a whole number in 1..=10000"),
         (dict(max_episode_steps=0), ValueError, "max_episode_steps: 0 is not a whole number in 1..="),
         (dict(max_episode_steps=-5), ValueError, "max_episode_steps: -5 is not"),
-        (dict(max_episode_steps=2.5), TypeError, "max_episode_steps: expected a whole number"),
+        (dict(max_episode_steps=2.5), TypeError, "max_episode_steps: expected a whole number (int), got float"),
     ]:
         with pytest.raises(error) as raised:
             make("palmer", "climb", **kw)

@@ -24,6 +24,7 @@ from __future__ import annotations
 import enum
 
 from ._afit_fdm import (
+    MAX_FPS,
     MODELS,
     Fleet,
     Flight,
@@ -38,6 +39,7 @@ from .distributed import ShardDone, ray_study
 from .study import STATUS_CODES, RunTable, Study, study
 
 __all__ = [
+    "MAX_FPS",
     "MODELS",
     "STATUS_CODES",
     "Fleet",

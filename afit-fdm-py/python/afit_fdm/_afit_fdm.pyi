@@ -20,6 +20,7 @@ __all__ = [
     "_math_hypot",
     "STATUS_CODES",
     "MODELS",
+    "MAX_FPS",
     "__version__",
 ]
 
@@ -29,6 +30,10 @@ MODELS: Dict[str, Dict[str, Any]]
 """Per model name (``"palmer"``, ``"bourg"``): ``title``, ``state_fields``
 (names with units), ``controls`` (``(name, low, high)`` triples) and
 ``actions`` (script action names)."""
+
+MAX_FPS: int
+"""The highest frame rate a flight, fleet or environment takes (10000):
+``fps`` is a whole number in ``1..=MAX_FPS``."""
 
 # A number: Python's, or NumPy's float16/float32/float64, integer or bool
 # (a longdouble is refused at run time: its conversion would drop digits).

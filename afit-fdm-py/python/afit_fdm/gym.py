@@ -99,7 +99,7 @@ from gymnasium.error import ResetNeeded
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
-from . import Fleet, Status
+from . import MAX_FPS, Fleet, Status
 
 FT_PER_M = 1.0 / 0.3048
 KT_PER_MPS = 3600.0 / 1852.0
@@ -115,9 +115,13 @@ _MAX_INT64 = 2**63 - 1
 def _whole(name: str, value: Any, low: int, high: int) -> int:
     """``value`` if it is a whole number in ``low..=high`` (both ends
     included): ``TypeError`` for another type (``bool`` included),
-    ``ValueError`` out of range, both naming the argument."""
+    ``ValueError`` out of range, both naming the argument, in the words of
+    the extension's own arguments (``fps: expected a whole number (int),
+    got float``)."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name}: expected a whole number, got {type(value).__name__} {value!r}")
+        kind = type(value)
+        shown = kind.__name__ if kind.__module__ == "builtins" else f"{kind.__module__}.{kind.__name__}"
+        raise TypeError(f"{name}: expected a whole number (int), got {shown}")
     if not low <= value <= high:
         raise ValueError(f"{name}: {value} is not a whole number in {low}..={high}")
     return int(value)
@@ -133,7 +137,7 @@ class _Task:
             raise ValueError(f"model: {model!r} is not 'palmer' or 'bourg'")
         if task not in TASKS:
             raise ValueError(f"task: {task!r} is not one of {TASKS}")
-        fps = _whole("fps", fps, 1, 10_000)
+        fps = _whole("fps", fps, 1, MAX_FPS)
         frame_skip = _whole("frame_skip", frame_skip, 1, MAX_AGENT_STEP_S * fps)
         self.model, self.task, self.n, self.frame_skip = model, task, n, frame_skip
         self.fleet = Fleet(model, n, fps=fps, parallel=parallel, altitude_ft=2000.0, speed_kt=100.0, trim=True)
