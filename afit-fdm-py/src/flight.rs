@@ -384,6 +384,11 @@ pub trait AnyFlight: Send + Sync {
     fn recording_path(&self) -> Option<&str>;
     /// The watch on Python's signals of the flight's output files.
     fn signal_watch(&self) -> &Arc<SignalWatch>;
+    /// An independent flight where this one is: the same frame, state,
+    /// controls, status, script (and where it is in it), start and clocks,
+    /// without the recording and the outputs (files and sockets are this
+    /// flight's). Flown alike, the two give the same bits.
+    fn duplicate(&self) -> Box<dyn AnyFlight>;
     /// Attaches a Tacview ACMI file (`Flight.acmi_to`).
     ///
     /// # Errors
@@ -580,6 +585,26 @@ impl<M: BindModel> AnyFlight for Single<M> {
     }
     fn signal_watch(&self) -> &Arc<SignalWatch> {
         &self.watch
+    }
+    fn duplicate(&self) -> Box<dyn AnyFlight> {
+        Box::new(Self {
+            aircraft: self.aircraft.clone(),
+            start: self.start,
+            controls: self.controls,
+            state: self.state,
+            status: self.status,
+            script: self.script.clone(),
+            cursor: self.cursor.clone(),
+            frame: self.frame,
+            flown: self.flown,
+            fps: self.fps,
+            dt: self.dt,
+            controls_set: self.controls_set,
+            recorder: None,
+            outputs: Outputs::default(),
+            frame_actions: Vec::new(),
+            watch: Arc::default(),
+        })
     }
     fn acmi_to(
         &mut self,

@@ -261,6 +261,25 @@ impl PyFlight {
         self.inner.recording_path().map(str::to_owned)
     }
 
+    /// An independent copy of the flight (see `_afit_fdm.pyi`).
+    fn copy(&self) -> Self {
+        Self {
+            inner: self.inner.duplicate(),
+        }
+    }
+
+    /// `copy.copy(flight)`: [`PyFlight::copy`].
+    fn __copy__(&self) -> Self {
+        self.copy()
+    }
+
+    /// `copy.deepcopy(flight)`: [`PyFlight::copy`] (a flight holds no
+    /// Python objects to copy deeply).
+    fn __deepcopy__(&self, memo: &Bound<'_, PyAny>) -> Self {
+        let _ = memo;
+        self.copy()
+    }
+
     /// Back to the start: state, controls, status, frame 0, script from frame 1.
     fn reset(&mut self) -> PyResult<()> {
         self.writing(|inner| inner.reset().map_err(PyValueError::new_err))

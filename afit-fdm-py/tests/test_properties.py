@@ -118,3 +118,70 @@ def test_random_exact_fleets_match_flights(n, seed, frames, model) -> None:
         for name, value in f.state.items():
             assert fleet[name][i] == value or (value != value and fleet[name][i] != fleet[name][i]), (i, name)
         assert fleet.status[i] == f.status_code
+
+
+def _bits(flight: afit_fdm.Flight) -> tuple:
+    """Everything a flight shows, numbers as their exact hex form (so that
+    -0.0 and 0.0 differ and nothing is compared within a tolerance)."""
+    numbers = lambda d: tuple((k, float(v).hex()) for k, v in sorted(d.items()))
+    return (flight.frame, flight.status, numbers(flight.state), numbers(flight.controls), numbers(flight.view))
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    model=st.sampled_from(["palmer", "bourg"]),
+    start=starts,
+    fps=st.integers(5, 120),
+    before=st.integers(0, 150),
+    after=st.integers(0, 150),
+    data=st.data(),
+)
+def test_a_copy_flies_on_to_the_bits_of_the_flight_it_was_copied_from(model, start, fps, before, after, data) -> None:
+    """A copy taken after ``before`` frames, stepped ``after`` more with the
+    same key presses, is where one flight stepped ``before + after`` frames
+    is, bit for bit, every frame; the flight it was copied from is not moved
+    by stepping the copy, and a reset of the copy goes back to the same
+    start. The tolerance is none: the copy is the same numbers, and a step
+    of the same numbers is the same step."""
+    actions = afit_fdm.MODELS[model]["actions"]
+    script = data.draw(scripts(actions))
+    presses = data.draw(st.lists(st.sampled_from(actions), max_size=3))
+    make = lambda: afit_fdm.Flight(model, fps=fps, script=script, **start)
+    alone, branched = make(), make()
+    for flight in (alone, branched):
+        flight.step(before)
+    copied = branched.copy()
+    assert _bits(copied) == _bits(branched)
+    for _ in range(after):
+        alone.step(1, presses)
+        copied.step(1, presses)
+        assert _bits(copied) == _bits(alone)
+    assert _bits(branched)[0] == before, "stepping the copy moved the flight it was copied from"
+    copied.reset()
+    fresh = make()
+    assert _bits(copied) == _bits(fresh)
+
+
+def test_copy_copy_and_deepcopy_are_copies_without_the_outputs(tmp_path: pathlib.Path) -> None:
+    """``copy.copy`` and ``copy.deepcopy`` make the same independent copy; the
+    copy writes none of the flight's files (their bytes are the flight's
+    alone), and its ``record_to`` refuses a flight past its start as the
+    flight's own does."""
+    import copy
+
+    import pytest
+
+    flight = afit_fdm.Flight("bourg", altitude_ft=3000.0, speed_kt=120.0, trim=True)
+    flight.csv_to(tmp_path / "f.csv")
+    flight.step(10)
+    for made in (flight.copy(), copy.copy(flight), copy.deepcopy(flight)):
+        assert made is not flight and _bits(made) == _bits(flight)
+        assert made.outputs == [] and made.recording is None
+        made.step(30)
+        assert made.frame == 40 and flight.frame == 10
+        with pytest.raises(ValueError, match="call reset"):
+            made.record_to(tmp_path / "r.rec")
+    flight.close_outputs()
+    rows = (tmp_path / "f.csv").read_text(encoding="utf-8").splitlines()
+    # The model line, the header, frame 0 and the flight's ten frames: none of the copies'.
+    assert len(rows) == 2 + 1 + 10, rows[-1]

@@ -86,6 +86,18 @@ class Flight:
         flown so far stay flown (the same bits as a shorter step). A step of
         any length whose output waits for a named pipe's reader is stopped
         by it there (see the outputs, below)."""
+    def copy(self) -> "Flight":
+        """An independent flight where this one is: the same model, frame,
+        state, controls, status, script (and the place in it) and start, so
+        a :meth:`reset` of the copy goes back to the same start. Stepped
+        alike, the two fly the same bits as this flight alone would (a
+        branch point for Monte Carlo runs or tree search). The recording and
+        the outputs are not copied (their files and sockets stay this
+        flight's): the copy has none, and its :meth:`record_to` refuses or
+        takes a file as this flight's would (a recording starts at the
+        start). ``copy.copy`` and ``copy.deepcopy`` call it."""
+    def __copy__(self) -> "Flight": ...
+    def __deepcopy__(self, memo: Any) -> "Flight": ...
     def reset(self) -> None:
         """Back to the start: state, controls, status, frame 0. The recording
         and the outputs take the reset (``ValueError`` if writing it fails)."""
