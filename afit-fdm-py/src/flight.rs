@@ -19,7 +19,7 @@ use std::sync::Arc;
 
 use fdm_core::geodesy::GeodeticOrigin;
 use fdm_core::model::{fly, FlightStatus, FlightView, ScriptAction};
-use fdm_core::script::{Script, ScriptCursor};
+use fdm_core::script::{Echo, Script, ScriptCursor};
 use fdm_run::recording::{RecordWriteError, RecordWriter, SyncedFile};
 use fdm_run::{Event, RunModel, Start};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -389,6 +389,9 @@ pub trait AnyFlight: Send + Sync {
     /// without the recording and the outputs (files and sockets are this
     /// flight's). Flown alike, the two give the same bits.
     fn duplicate(&self) -> Box<dyn AnyFlight>;
+    /// What [`Self::duplicate`] copies, as bytes ([`restore`] reads them
+    /// back): what `pickle` holds of a flight.
+    fn pickled(&self) -> Vec<u8>;
     /// Attaches a Tacview ACMI file (`Flight.acmi_to`).
     ///
     /// # Errors
@@ -606,6 +609,22 @@ impl<M: BindModel> AnyFlight for Single<M> {
             watch: Arc::default(),
         })
     }
+    fn pickled(&self) -> Vec<u8> {
+        let body = Pickled::<M::Controls, M::State> {
+            fps: self.fps,
+            script: self.script.to_string(),
+            start: self.start,
+            controls: self.controls,
+            state: self.state,
+            status: self.status,
+            frame: self.frame,
+            flown: self.flown,
+            controls_set: self.controls_set,
+        };
+        // Plain data of known size: encoding into a vector cannot fail.
+        bincode::serde::encode_to_vec((PICKLE_FORMAT, M::NAME, body), pickle_config())
+            .unwrap_or_default()
+    }
     fn acmi_to(
         &mut self,
         path: &str,
@@ -675,6 +694,109 @@ pub fn new_single<M: BindModel>(
         script,
         fps,
     )))
+}
+
+/// The version of [`Pickled`]'s bytes, their first field: a flight pickled
+/// by another version of the package is refused by name, not misread.
+const PICKLE_FORMAT: u32 = 1;
+
+/// The bytes' encoding: bincode's standard one (floats as their bits, so
+/// the state comes back bit for bit), with a limit that keeps a damaged
+/// length field from asking for more memory than any flight needs.
+fn pickle_config() -> bincode::config::Configuration<
+    bincode::config::LittleEndian,
+    bincode::config::Varint,
+    bincode::config::Limit<{ 1 << 24 }>,
+> {
+    bincode::config::standard().with_limit::<{ 1 << 24 }>()
+}
+
+/// A flight as `pickle` holds it, after its format and model name: what
+/// [`AnyFlight::duplicate`] copies. The aircraft is the model's default,
+/// the only one a Python flight has; the script is its text
+/// ([`Script`]'s `Display`, which `parse` reads back to an equal script);
+/// the script's cursor starts afresh (where it is depends only on the
+/// frame and the script).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Pickled<C, S> {
+    fps: u32,
+    script: String,
+    start: (C, S),
+    controls: C,
+    state: S,
+    status: FlightStatus,
+    frame: u64,
+    flown: u64,
+    controls_set: bool,
+}
+
+/// A flight from the bytes of [`AnyFlight::pickled`].
+///
+/// # Errors
+/// `ValueError` for bytes that are not a flight of this package's format:
+/// another format version, an unknown model, damaged bytes, or numbers no
+/// flight has (a frame rate out of range, a state or controls that are not
+/// finite or out of their ranges).
+pub fn restore(data: &[u8]) -> PyResult<Box<dyn AnyFlight>> {
+    let refused = |why: String| {
+        PyValueError::new_err(format!("Flight: cannot restore a pickled flight: {why}"))
+    };
+    let ((format, model), used): ((u32, String), usize) =
+        bincode::serde::decode_from_slice(data, pickle_config())
+            .map_err(|e| refused(format!("not a pickled flight ({e})")))?;
+    if format != PICKLE_FORMAT {
+        return Err(refused(format!(
+            "it has format {format}, this package reads format {PICKLE_FORMAT}"
+        )));
+    }
+    struct Restore<'a>(&'a [u8]);
+    impl crate::models::ModelJob for Restore<'_> {
+        type Output = Result<Box<dyn AnyFlight>, String>;
+        fn call<M: crate::models::RegisteredModel>(self) -> Self::Output {
+            restore_model::<M>(self.0)
+        }
+    }
+    crate::models::with_model(&model, Restore(&data[used..]))
+        .unwrap_or_else(|| Err(format!("`{}` is not a model", Echo::short(&model))))
+        .map_err(refused)
+}
+
+/// [`restore`] of model `M`, from the bytes after the model's name.
+fn restore_model<M: BindModel>(data: &[u8]) -> Result<Box<dyn AnyFlight>, String> {
+    let (p, used): (Pickled<M::Controls, M::State>, usize) =
+        bincode::serde::decode_from_slice(data, pickle_config())
+            .map_err(|e| format!("damaged ({e})"))?;
+    if used != data.len() {
+        let more = data.len() - used;
+        let plural = if more == 1 { "" } else { "s" };
+        return Err(format!("{more} byte{plural} after the flight"));
+    }
+    if !(1..=fdm_run::MAX_FPS).contains(&p.fps) {
+        return Err(format!("fps {} is not in 1..={}", p.fps, fdm_run::MAX_FPS));
+    }
+    let script = Script::<M::Action>::parse(&p.script).map_err(|e| format!("script: {e}"))?;
+    for (what, (controls, state)) in [("start", p.start), ("now", (p.controls, p.state))] {
+        if !M::is_finite(&state) {
+            return Err(format!("the state ({what}) is not finite"));
+        }
+        let mut values = vec![0.0; M::CONTROL_FIELDS.len()];
+        M::control_values(&controls, &mut values);
+        for ((name, lo, hi), value) in M::CONTROL_FIELDS.iter().zip(values) {
+            if !value.is_finite() || !(*lo..=*hi).contains(&value) {
+                return Err(format!(
+                    "control {name} ({what}) = {value} is not in {lo}..{hi}"
+                ));
+            }
+        }
+    }
+    let mut flight = Single::<M>::new(M::default_aircraft(), p.start.0, p.start.1, script, p.fps);
+    flight.controls = p.controls;
+    flight.state = p.state;
+    flight.status = p.status;
+    flight.frame = p.frame;
+    flight.flown = p.flown;
+    flight.controls_set = p.controls_set;
+    Ok(Box::new(flight))
 }
 
 /// A `(is_type_error, message)` as a Python exception.

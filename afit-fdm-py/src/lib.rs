@@ -273,6 +273,26 @@ impl PyFlight {
         self.copy()
     }
 
+    /// `pickle`'s recipe: `Flight._from_pickle` of the flight's bytes
+    /// ([`flight::AnyFlight::pickled`]): the copy [`PyFlight::copy`]
+    /// makes, across processes (`multiprocessing`, Ray).
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, pyo3::types::PyBytes>,))> {
+        let restore = py.get_type::<Self>().getattr("_from_pickle")?;
+        let bytes = pyo3::types::PyBytes::new(py, &self.inner.pickled());
+        Ok((restore, (bytes,)))
+    }
+
+    /// The flight `pickle` made of `data` ([`flight::restore`]).
+    #[classmethod]
+    fn _from_pickle(_cls: &Bound<'_, pyo3::types::PyType>, data: &[u8]) -> PyResult<Self> {
+        Ok(Self {
+            inner: flight::restore(data)?,
+        })
+    }
+
     /// `copy.deepcopy(flight)`: [`PyFlight::copy`] (a flight holds no
     /// Python objects to copy deeply).
     fn __deepcopy__(&self, memo: &Bound<'_, PyAny>) -> Self {

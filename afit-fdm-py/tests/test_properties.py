@@ -127,7 +127,7 @@ def _bits(flight: afit_fdm.Flight) -> tuple:
     return (flight.frame, flight.status, numbers(flight.state), numbers(flight.controls), numbers(flight.view))
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(
     model=st.sampled_from(["palmer", "bourg"]),
     start=starts,
@@ -185,3 +185,64 @@ def test_copy_copy_and_deepcopy_are_copies_without_the_outputs(tmp_path: pathlib
     rows = (tmp_path / "f.csv").read_text(encoding="utf-8").splitlines()
     # The model line, the header, frame 0 and the flight's ten frames: none of the copies'.
     assert len(rows) == 2 + 1 + 10, rows[-1]
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    model=st.sampled_from(["palmer", "bourg"]),
+    start=starts,
+    fps=st.integers(5, 120),
+    before=st.integers(0, 150),
+    after=st.integers(0, 60),
+    protocol=st.integers(2, 5),
+    data=st.data(),
+)
+def test_a_pickled_flight_flies_on_to_the_same_bits(model, start, fps, before, after, protocol, data) -> None:
+    """``pickle`` round trip of a flight after ``before`` frames (every
+    protocol from 2): the same numbers, bit for bit, and the same frames
+    after it as the flight itself flies; the script too (its text goes
+    through the pickle)."""
+    import pickle
+
+    actions = afit_fdm.MODELS[model]["actions"]
+    script = data.draw(scripts(actions))
+    flight = afit_fdm.Flight(model, fps=fps, script=script, **start)
+    flight.step(before)
+    thawed = pickle.loads(pickle.dumps(flight, protocol=protocol))
+    assert isinstance(thawed, afit_fdm.Flight) and _bits(thawed) == _bits(flight)
+    for _ in range(after):
+        flight.step(1)
+        thawed.step(1)
+        assert _bits(thawed) == _bits(flight)
+    thawed.reset()
+    assert _bits(thawed) == _bits(afit_fdm.Flight(model, fps=fps, script=script, **start))
+
+
+def test_bytes_that_are_not_a_pickled_flight_are_refused() -> None:
+    """Damaged, cut, foreign or impossible bytes raise ``ValueError`` saying
+    why, never a flight with a NaN state or a crash."""
+    import struct
+
+    import pytest
+
+    flight = afit_fdm.Flight("palmer", altitude_ft=2000.0, speed_kt=100.0, trim=True)
+    start_height = flight.state["z_m"]
+    flight.step(5)
+    restore, (good,) = flight.__reduce__()
+    assert _bits(restore(good)) == _bits(flight)
+
+    def refused(data: bytes, words: str) -> None:
+        with pytest.raises(ValueError, match="cannot restore a pickled flight: " + words):
+            restore(data)
+
+    refused(b"", "not a pickled flight")
+    refused(good[:-3], "damaged")
+    refused(good + b"\0", "1 byte after the flight")
+    refused(b"\x02" + good[1:], "it has format 2, this package reads format 1")
+    refused(good.replace(b"palmer", b"pumper"), "`pumper` is not a model")
+    # The start's height, as its 8 bytes, made NaN.
+    height = struct.pack("<d", start_height)
+    assert good.count(height) >= 1
+    refused(good.replace(height, struct.pack("<d", float("nan"))), r"the state \(start\) is not finite")
+    with pytest.raises(TypeError):
+        restore("not bytes")

@@ -95,9 +95,21 @@ class Flight:
         the outputs are not copied (their files and sockets stay this
         flight's): the copy has none, and its :meth:`record_to` refuses or
         takes a file as this flight's would (a recording starts at the
-        start). ``copy.copy`` and ``copy.deepcopy`` call it."""
+        start). ``copy.copy`` and ``copy.deepcopy`` call it.
+
+        ``pickle`` makes the same copy across processes (``multiprocessing``,
+        Ray): a flight pickles as its model, frame rate, script text, start,
+        state, controls, status and frame counts, the numbers as their bits
+        (a package of another pickle format refuses it by name). Unpickling
+        bytes that are not such a flight (damaged, cut, or with numbers no
+        flight has: a state that is not finite, controls out of range)
+        raises ``ValueError``. As with any pickle, unpickle only data you
+        trust."""
     def __copy__(self) -> "Flight": ...
     def __deepcopy__(self, memo: Any) -> "Flight": ...
+    def __reduce__(self) -> Tuple[Any, Tuple[bytes]]: ...
+    @classmethod
+    def _from_pickle(cls, data: bytes) -> "Flight": ...
     def reset(self) -> None:
         """Back to the start: state, controls, status, frame 0. The recording
         and the outputs take the reset (``ValueError`` if writing it fails)."""
