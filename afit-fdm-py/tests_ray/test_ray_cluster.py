@@ -2,8 +2,10 @@
 machine with Ray's own cluster utility (``ray.cluster_utils.Cluster``: a
 head and a worker node, each with its own raylet and object store, on the
 loopback address): shards spread over both nodes merge to the bits of the
-one-machine run for several shard counts, and a study whose worker node is
-killed while it flies one of its shards still completes, with the same bits.
+one-machine run for several shard counts, a ``Flight`` pickled into a task on
+each node flies on there to the bits it flies here, and a study whose worker
+node is killed while it flies one of its shards still completes, with the
+same bits.
 
 Run by ``afit-fdm-py/tests/ray_suite.rs`` in its own pinned virtualenv (Ray
 is large; the main suite does not need it).
@@ -123,6 +125,43 @@ def test_shards_on_both_nodes_merge_to_the_one_machine_bits(
     assert sorted(d.index for d in done) == list(range(shards))
     assert {d.node_id for d in done} == {c.head_node.node_id, worker.node_id}
     assert table.summarize() == whole.summarize()
+
+
+@ray.remote(num_cpus=1)
+def _fly_on(flight: afit_fdm.Flight, frames: int) -> Tuple[afit_fdm.Flight, Dict[str, str], str]:
+    """Flies a flight that came pickled ``frames`` more and sends it back
+    (pickled again), with its state as exact hex numbers and the node it
+    flew on."""
+    flight.step(frames)
+    state = {k: float(v).hex() for k, v in flight.state.items()}
+    return flight, state, ray.get_runtime_context().get_node_id()
+
+
+def test_a_flight_sent_to_each_node_flies_on_to_the_same_bits(cluster: Tuple[Cluster, Any]) -> None:
+    """A ``Flight`` mid-script, pickled into a task pinned to each node and
+    back: it flies on there to the bits it flies here, and the flight that
+    comes back flies on to them too."""
+    from ray.util.scheduling_strategies import NodeAffinitySchedulingStrategy
+
+    c, worker = cluster
+    exact = lambda f: {k: float(v).hex() for k, v in f.state.items()}
+    for model in ("palmer", "bourg"):
+        first, second = afit_fdm.MODELS[model]["actions"][:2]
+        script = f"1-40 {first}\n60-150 {second}\n"
+        flight = afit_fdm.Flight(model, altitude_ft=3000.0, speed_kt=100.0, trim=True, script=script)
+        flight.step(50)
+        here = flight.copy()
+        here.step(120)
+        for node in (c.head_node.node_id, worker.node_id):
+            pinned = NodeAffinitySchedulingStrategy(node_id=node, soft=False)
+            back, state, flown_on = ray.get(_fly_on.options(scheduling_strategy=pinned).remote(flight, 120), timeout=120)
+            assert flown_on == node
+            assert state == exact(here), model
+            assert exact(back) == exact(here) and back.frame == here.frame == 170
+            back.step(30)
+            again = here.copy()
+            again.step(30)
+            assert exact(back) == exact(again), model
 
 
 def test_a_node_killed_mid_study_its_shards_rerun_with_the_same_bits(
