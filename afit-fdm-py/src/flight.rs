@@ -779,15 +779,16 @@ fn restore_model<M: BindModel>(data: &[u8]) -> Result<Box<dyn AnyFlight>, String
         if !M::is_finite(&state) {
             return Err(format!("the state ({what}) is not finite"));
         }
+        // Each control as `set_controls` would take it: finite, in its
+        // range, and one of its settings (Palmer's flaps 0, 20 or 40).
         let mut values = vec![0.0; M::CONTROL_FIELDS.len()];
         M::control_values(&controls, &mut values);
-        for ((name, lo, hi), value) in M::CONTROL_FIELDS.iter().zip(values) {
-            if !value.is_finite() || !(*lo..=*hi).contains(&value) {
-                return Err(format!(
-                    "control {name} ({what}) = {value} is not in {lo}..{hi}"
-                ));
-            }
-        }
+        let named: Vec<(String, f64)> = (M::CONTROL_FIELDS.iter())
+            .map(|c| c.0.to_owned())
+            .zip(values)
+            .collect();
+        apply_named::<M>(M::initial_controls(), &named)
+            .map_err(|(_, e)| format!("the controls ({what}): {e}"))?;
     }
     let mut flight = Single::<M>::new(M::default_aircraft(), p.start.0, p.start.1, script, p.fps);
     flight.controls = p.controls;

@@ -212,12 +212,6 @@ impl SignalWatch {
             .take()
     }
 
-    /// `error`, or the handler's exception when a signal stopped the
-    /// writing (the output's error is then only its consequence).
-    pub fn or_raised(&self, error: PyErr) -> PyErr {
-        self.take_raised().unwrap_or(error)
-    }
-
     /// `file` watched by `watch` ([`WatchedFile::watched_by`]).
     pub fn file(watch: &Arc<Self>, file: File) -> WatchedFile {
         WatchedFile::watched_by(file, Arc::clone(watch) as Arc<dyn WriteWatch>)

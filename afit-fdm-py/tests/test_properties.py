@@ -244,5 +244,11 @@ def test_bytes_that_are_not_a_pickled_flight_are_refused() -> None:
     height = struct.pack("<d", start_height)
     assert good.count(height) >= 1
     refused(good.replace(height, struct.pack("<d", float("nan"))), r"the state \(start\) is not finite")
+    # A throttle of 2 (the range is 0..1), in the start's controls and now.
+    throttled = afit_fdm.Flight("palmer", throttle=0.637)
+    _, (data,) = throttled.__reduce__()
+    throttle = struct.pack("<d", 0.637)
+    assert data.count(throttle) == 2
+    refused(data.replace(throttle, struct.pack("<d", 2.0)), r"the controls \(start\): throttle: 2 is not in 0")
     with pytest.raises(TypeError):
         restore("not bytes")
