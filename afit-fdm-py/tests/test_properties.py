@@ -127,22 +127,38 @@ def _bits(flight: afit_fdm.Flight) -> tuple:
     return (flight.frame, flight.status, numbers(flight.state), numbers(flight.controls), numbers(flight.view))
 
 
-@settings(max_examples=100, deadline=None)
+def _branch(flight: afit_fdm.Flight, how: object) -> afit_fdm.Flight:
+    """``flight.copy()``, or a ``pickle`` round trip with protocol ``how``."""
+    import pickle
+
+    if how == "copy":
+        return flight.copy()
+    thawed = pickle.loads(pickle.dumps(flight, protocol=how))
+    assert isinstance(thawed, afit_fdm.Flight)
+    return thawed
+
+
+@settings(max_examples=150, deadline=None)
 @given(
     model=st.sampled_from(["palmer", "bourg"]),
     start=starts,
     fps=st.integers(5, 120),
     before=st.integers(0, 150),
     after=st.integers(0, 150),
+    how=st.sampled_from(["copy", 2, 3, 4, 5]),
     data=st.data(),
 )
-def test_a_copy_flies_on_to_the_bits_of_the_flight_it_was_copied_from(model, start, fps, before, after, data) -> None:
-    """A copy taken after ``before`` frames, stepped ``after`` more with the
-    same key presses, is where one flight stepped ``before + after`` frames
-    is, bit for bit, every frame; the flight it was copied from is not moved
-    by stepping the copy, and a reset of the copy goes back to the same
-    start. The tolerance is none: the copy is the same numbers, and a step
-    of the same numbers is the same step."""
+def test_a_copy_or_a_pickled_flight_flies_on_to_the_bits_of_the_flight_it_came_from(
+    model, start, fps, before, after, how, data
+) -> None:
+    """A copy (``Flight.copy``, or a ``pickle`` round trip with every
+    protocol from 2) taken after ``before`` frames, stepped ``after`` more
+    with the same key presses, is where one flight stepped ``before +
+    after`` frames is, bit for bit, every frame (the script too: its text
+    goes through the pickle); the flight it came from is not moved by
+    stepping the copy, and a reset of the copy goes back to the same start.
+    The tolerance is none: the copy is the same numbers, and a step of the
+    same numbers is the same step."""
     actions = afit_fdm.MODELS[model]["actions"]
     script = data.draw(scripts(actions))
     presses = data.draw(st.lists(st.sampled_from(actions), max_size=3))
@@ -150,13 +166,13 @@ def test_a_copy_flies_on_to_the_bits_of_the_flight_it_was_copied_from(model, sta
     alone, branched = make(), make()
     for flight in (alone, branched):
         flight.step(before)
-    copied = branched.copy()
+    copied = _branch(branched, how)
     assert _bits(copied) == _bits(branched)
     for _ in range(after):
         alone.step(1, presses)
         copied.step(1, presses)
         assert _bits(copied) == _bits(alone)
-    assert _bits(branched)[0] == before, "stepping the copy moved the flight it was copied from"
+    assert _bits(branched)[0] == before, "stepping the copy moved the flight it came from"
     copied.reset()
     fresh = make()
     assert _bits(copied) == _bits(fresh)
@@ -185,37 +201,6 @@ def test_copy_copy_and_deepcopy_are_copies_without_the_outputs(tmp_path: pathlib
     rows = (tmp_path / "f.csv").read_text(encoding="utf-8").splitlines()
     # The model line, the header, frame 0 and the flight's ten frames: none of the copies'.
     assert len(rows) == 2 + 1 + 10, rows[-1]
-
-
-@settings(max_examples=100, deadline=None)
-@given(
-    model=st.sampled_from(["palmer", "bourg"]),
-    start=starts,
-    fps=st.integers(5, 120),
-    before=st.integers(0, 150),
-    after=st.integers(0, 60),
-    protocol=st.integers(2, 5),
-    data=st.data(),
-)
-def test_a_pickled_flight_flies_on_to_the_same_bits(model, start, fps, before, after, protocol, data) -> None:
-    """``pickle`` round trip of a flight after ``before`` frames (every
-    protocol from 2): the same numbers, bit for bit, and the same frames
-    after it as the flight itself flies; the script too (its text goes
-    through the pickle)."""
-    import pickle
-
-    actions = afit_fdm.MODELS[model]["actions"]
-    script = data.draw(scripts(actions))
-    flight = afit_fdm.Flight(model, fps=fps, script=script, **start)
-    flight.step(before)
-    thawed = pickle.loads(pickle.dumps(flight, protocol=protocol))
-    assert isinstance(thawed, afit_fdm.Flight) and _bits(thawed) == _bits(flight)
-    for _ in range(after):
-        flight.step(1)
-        thawed.step(1)
-        assert _bits(thawed) == _bits(flight)
-    thawed.reset()
-    assert _bits(thawed) == _bits(afit_fdm.Flight(model, fps=fps, script=script, **start))
 
 
 def test_bytes_that_are_not_a_pickled_flight_are_refused() -> None:
