@@ -19,8 +19,6 @@ pub mod study;
 pub mod task;
 pub mod task_io;
 
-use std::sync::Arc;
-
 use fdm_core::model::ScriptAction;
 use fdm_fleet::Precision;
 use numpy::PyArray1;
@@ -144,10 +142,9 @@ impl PyFlight {
     /// writing), its exception (Ctrl-C's `KeyboardInterrupt`) is what the
     /// call raises, not the output's error it caused.
     fn writing<T>(&mut self, call: impl FnOnce(&mut dyn AnyFlight) -> PyResult<T>) -> PyResult<T> {
-        let watch = Arc::clone(self.inner.signal_watch());
-        watch.arm();
+        self.inner.signal_watch().arm();
         let result = call(&mut *self.inner);
-        match watch.take_raised() {
+        match self.inner.signal_watch().take_raised() {
             Some(raised) => Err(raised),
             None => result,
         }

@@ -198,14 +198,20 @@ pub struct SignalWatch {
 
 impl SignalWatch {
     /// Writing allowed again, at the start of a call that writes (the
-    /// previous call's stop, if any, was raised by it).
+    /// previous call's stop, if any, was raised by it). Without a stop, one
+    /// atomic load: every `Flight.step` arms the watch.
     pub fn arm(&self) {
-        self.stopped.store(false, Ordering::SeqCst);
-        *self.raised.lock().unwrap_or_else(PoisonError::into_inner) = None;
+        if self.stopped.swap(false, Ordering::SeqCst) {
+            *self.raised.lock().unwrap_or_else(PoisonError::into_inner) = None;
+        }
     }
 
-    /// The exception of the handler that stopped the writing, once.
+    /// The exception of the handler that stopped the writing, once. Without
+    /// a stop, one atomic load (the exception is stored before the stop).
     pub fn take_raised(&self) -> Option<PyErr> {
+        if !self.stopped.load(Ordering::SeqCst) {
+            return None;
+        }
         self.raised
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
