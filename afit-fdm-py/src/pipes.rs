@@ -201,7 +201,9 @@ impl SignalWatch {
     /// previous call's stop, if any, was raised by it). Without a stop, one
     /// atomic load: every `Flight.step` arms the watch.
     pub fn arm(&self) {
-        if self.stopped.swap(false, Ordering::SeqCst) {
+        // A load, not a swap (a locked instruction), in the usual case.
+        if self.stopped.load(Ordering::SeqCst) {
+            self.stopped.store(false, Ordering::SeqCst);
             *self.raised.lock().unwrap_or_else(PoisonError::into_inner) = None;
         }
     }
