@@ -517,9 +517,7 @@ impl<M: BindModel> AnyFlight for Single<M> {
         M::STATE_FIELDS.iter().copied().zip(values).collect()
     }
     fn controls(&self) -> Vec<(&'static str, f64)> {
-        let mut values = vec![0.0; M::CONTROL_FIELDS.len()];
-        M::control_values(&self.controls, &mut values);
-        M::CONTROL_FIELDS.iter().map(|c| c.0).zip(values).collect()
+        named_values::<M>(&self.controls)
     }
     fn set_controls(&mut self, values: &[(String, f64)]) -> Result<(), (bool, String)> {
         if let Some(recorder) = &self.recorder {
@@ -781,11 +779,8 @@ fn restore_model<M: BindModel>(data: &[u8]) -> Result<Box<dyn AnyFlight>, String
         }
         // Each control as `set_controls` would take it: finite, in its
         // range, and one of its settings (Palmer's flaps 0, 20 or 40).
-        let mut values = vec![0.0; M::CONTROL_FIELDS.len()];
-        M::control_values(&controls, &mut values);
-        let named: Vec<(String, f64)> = (M::CONTROL_FIELDS.iter())
-            .map(|c| c.0.to_owned())
-            .zip(values)
+        let named: Vec<(String, f64)> = (named_values::<M>(&controls).into_iter())
+            .map(|(name, value)| (name.to_owned(), value))
             .collect();
         apply_named::<M>(M::initial_controls(), &named)
             .map_err(|(_, e)| format!("the controls ({what}): {e}"))?;
@@ -798,6 +793,13 @@ fn restore_model<M: BindModel>(data: &[u8]) -> Result<Box<dyn AnyFlight>, String
     flight.flown = p.flown;
     flight.controls_set = p.controls_set;
     Ok(Box::new(flight))
+}
+
+/// `controls` by name, in [`RunModel`]'s `CONTROL_FIELDS` order.
+fn named_values<M: BindModel>(controls: &M::Controls) -> Vec<(&'static str, f64)> {
+    let mut values = vec![0.0; M::CONTROL_FIELDS.len()];
+    M::control_values(controls, &mut values);
+    M::CONTROL_FIELDS.iter().map(|c| c.0).zip(values).collect()
 }
 
 /// A `(is_type_error, message)` as a Python exception.
