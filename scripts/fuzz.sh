@@ -16,6 +16,7 @@
 # by git; copy an interesting input into fuzz/corpus/ to keep it).
 #
 # FUZZ_STABLE=1 skips nightly and uses the stable toolchain with RUSTC_BOOTSTRAP=1.
+# FUZZ_JOBS=N runs N targets at a time (default: the number of CPUs).
 #
 # Exit status: 0 no finding, 1 a target crashed or failed an invariant,
 # 3 fuzzing could not run here (the reason is printed on a line starting
@@ -83,13 +84,26 @@ if ! cargo "${toolchain[@]}" fuzz build -O -s "$sanitizer" 2>/tmp/fuzz-build.$$.
 fi
 rm -f /tmp/fuzz-build.$$.log
 
-status=0
-for target in "${targets[@]}"; do
-  work="fuzz/.work/corpus/$target"
+# The targets run side by side, FUZZ_JOBS at a time (default: the number of
+# CPUs): each libFuzzer process is one thread, so on the 2-core machine two
+# targets each get a core for their SECONDS, as one did alone before, in half
+# the wall time.
+jobs="${FUZZ_JOBS:-$(nproc)}"
+case "$jobs" in
+  ''|*[!0-9]*|0) echo "FUZZ_JOBS must be a positive whole number" >&2; exit 2 ;;
+esac
+
+fuzz_one() {
+  local target="$1"
+  local work="fuzz/.work/corpus/$target"
   mkdir -p "$work" "fuzz/artifacts/$target"
-  echo "== fuzzing $target for ${seconds}s (seeds: fuzz/corpus/$target)"
-  if cargo "${toolchain[@]}" fuzz run -O -s "$sanitizer" "$target" "$work" "fuzz/corpus/$target" -- \
-       -max_total_time="$seconds" -print_final_stats=1 2>"fuzz/.work/$target.log"; then
+  cargo "${toolchain[@]}" fuzz run -O -s "$sanitizer" "$target" "$work" "fuzz/corpus/$target" -- \
+    -max_total_time="$seconds" -print_final_stats=1 2>"fuzz/.work/$target.log"
+}
+
+report() {
+  local target="$1" target_status="$2"
+  if [ "$target_status" -eq 0 ]; then
     grep -E "stat::number_of_executed_units|stat::new_units_added" "fuzz/.work/$target.log" | sed "s/^/   $target: /"
     echo "   $target: no crash, no failed invariant"
   else
@@ -97,5 +111,27 @@ for target in "${targets[@]}"; do
     tail -40 "fuzz/.work/$target.log"
     echo "FUZZ FINDING in $target: see fuzz/artifacts/$target/ and fuzz/.work/$target.log"
   fi
+}
+
+status=0
+running=()
+pids=()
+finish_running() {
+  local i
+  for i in "${!pids[@]}"; do
+    if wait "${pids[$i]}"; then report "${running[$i]}" 0; else report "${running[$i]}" 1; fi
+  done
+  running=()
+  pids=()
+}
+for target in "${targets[@]}"; do
+  echo "== fuzzing $target for ${seconds}s (seeds: fuzz/corpus/$target)"
+  fuzz_one "$target" &
+  pids+=("$!")
+  running+=("$target")
+  if [ "${#pids[@]}" -ge "$jobs" ]; then
+    finish_running
+  fi
 done
+finish_running
 exit "$status"
