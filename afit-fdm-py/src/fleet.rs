@@ -29,6 +29,8 @@ use crate::models::{status_code, BindModel, ControlRange, FleetOps};
 use crate::start::StartSpec;
 use crate::task;
 
+pub mod pickle;
+
 /// A per-aircraft argument: one number for every aircraft, or one each.
 #[derive(Debug, Clone)]
 pub enum Column {
@@ -219,6 +221,15 @@ pub trait AnyFleet: Send + Sync {
     ) -> PyResult<()>;
     /// The kernel's instruction set.
     fn instruction_set(&self) -> &'static str;
+    /// Frames per second.
+    fn fps(&self) -> f64;
+    /// The maths the kernel flies with.
+    fn precision(&self) -> Precision;
+    /// An independent copy: every aircraft's state, controls and status, bit
+    /// for bit, with the same frame rate, precision and threading.
+    fn duplicate(&self) -> Box<dyn AnyFleet>;
+    /// The fleet as `pickle` holds it ([`pickle::restore`] reads it back).
+    fn pickled(&self) -> Vec<u8>;
     /// Actions per aircraft of the Gymnasium tasks.
     fn task_actions(&self) -> usize;
     /// Observations per aircraft of the Gymnasium tasks.
@@ -595,6 +606,24 @@ where
     }
     fn instruction_set(&self) -> &'static str {
         self.fleet.instruction_set()
+    }
+    fn fps(&self) -> f64 {
+        self.fps
+    }
+    fn precision(&self) -> Precision {
+        self.precision
+    }
+    fn duplicate(&self) -> Box<dyn AnyFleet> {
+        Box::new(Self {
+            fleet: self.fleet.clone(),
+            len: self.len,
+            fps: self.fps,
+            precision: self.precision,
+            parallel: self.parallel,
+        })
+    }
+    fn pickled(&self) -> Vec<u8> {
+        pickle::pickled(self)
     }
     fn task_actions(&self) -> usize {
         M::TASK_ACTIONS

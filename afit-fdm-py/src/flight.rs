@@ -701,7 +701,7 @@ const PICKLE_FORMAT: u32 = 1;
 /// The bytes' encoding: bincode's standard one (floats as their bits, so
 /// the state comes back bit for bit), with a limit that keeps a damaged
 /// length field from asking for more memory than any flight needs.
-fn pickle_config() -> bincode::config::Configuration<
+pub(crate) fn pickle_config() -> bincode::config::Configuration<
     bincode::config::LittleEndian,
     bincode::config::Varint,
     bincode::config::Limit<{ 1 << 24 }>,
@@ -777,13 +777,7 @@ fn restore_model<M: BindModel>(data: &[u8]) -> Result<Box<dyn AnyFlight>, String
         if !M::is_finite(&state) {
             return Err(format!("the state ({what}) is not finite"));
         }
-        // Each control as `set_controls` would take it: finite, in its
-        // range, and one of its settings (Palmer's flaps 0, 20 or 40).
-        let named: Vec<(String, f64)> = (named_values::<M>(&controls).into_iter())
-            .map(|(name, value)| (name.to_owned(), value))
-            .collect();
-        apply_named::<M>(M::initial_controls(), &named)
-            .map_err(|(_, e)| format!("the controls ({what}): {e}"))?;
+        check_controls::<M>(&controls).map_err(|e| format!("the controls ({what}): {e}"))?;
     }
     let mut flight = Single::<M>::new(M::default_aircraft(), p.start.0, p.start.1, script, p.fps);
     flight.controls = p.controls;
@@ -793,6 +787,22 @@ fn restore_model<M: BindModel>(data: &[u8]) -> Result<Box<dyn AnyFlight>, String
     flight.flown = p.flown;
     flight.controls_set = p.controls_set;
     Ok(Box::new(flight))
+}
+
+/// Checks each of `controls` as `set_controls` would take it: finite, in
+/// its range, and one of its settings (Palmer's flaps 0, 20 or 40). For
+/// controls read from outside (a pickle), which `M::Controls` alone cannot
+/// vouch for.
+///
+/// # Errors
+/// The first control refused, named, and why.
+pub(crate) fn check_controls<M: BindModel>(controls: &M::Controls) -> Result<(), String> {
+    let named: Vec<(String, f64)> = (named_values::<M>(controls).into_iter())
+        .map(|(name, value)| (name.to_owned(), value))
+        .collect();
+    apply_named::<M>(M::initial_controls(), &named)
+        .map(|_| ())
+        .map_err(|(_, e)| e)
 }
 
 /// `controls` by name, in [`RunModel`]'s `CONTROL_FIELDS` order.

@@ -569,6 +569,29 @@ fn read_mask(mask: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Option<Vec<b
     Ok(Some(array.as_array().iter().copied().collect()))
 }
 
+impl PyFleet {
+    /// The Python fleet around `inner`: its state views made and filled.
+    fn from_inner(py: Python<'_>, inner: Box<dyn AnyFleet>) -> PyResult<Self> {
+        let fields = inner.state_fields();
+        let buffers = Buffers::new(py, fields.len(), inner.len())?;
+        buffers.with_mut(py, |c, s| inner.gather(c, s))?;
+        let views = PyDict::new(py);
+        let columns = buffers.columns_view.bind(py);
+        for (i, name) in fields.iter().enumerate() {
+            views.set_item(*name, columns.get_item(i)?)?;
+        }
+        let (fps, precision) = (inner.fps(), inner.precision().name());
+        Ok(Self {
+            inner,
+            buffers,
+            views: views.unbind(),
+            last_step: (0.0, 0.0),
+            fps,
+            precision,
+        })
+    }
+}
+
 #[pymethods]
 impl PyFleet {
     /// See `_afit_fdm.pyi`.
@@ -593,10 +616,6 @@ impl PyFleet {
         let precision_value: Precision = precision
             .parse()
             .map_err(|e| PyValueError::new_err(format!("precision: {e}")))?;
-        let precision = match precision_value {
-            Precision::Exact => "exact",
-            Precision::Fast => "fast",
-        };
         let start = [
             ("altitude_ft", altitude_ft),
             ("speed_kt", speed_kt),
@@ -635,22 +654,48 @@ impl PyFleet {
             controls,
         };
         let inner = with_model(model, job).ok_or_else(|| unknown_model(model))??;
-        let fields = inner.state_fields();
-        let buffers = Buffers::new(py, fields.len(), n)?;
-        buffers.with_mut(py, |c, s| inner.gather(c, s))?;
-        let views = PyDict::new(py);
-        let columns = buffers.columns_view.bind(py);
-        for (i, name) in fields.iter().enumerate() {
-            views.set_item(*name, columns.get_item(i)?)?;
-        }
-        Ok(Self {
-            inner,
-            buffers,
-            views: views.unbind(),
-            last_step: (0.0, 0.0),
-            fps,
-            precision,
-        })
+        Self::from_inner(py, inner)
+    }
+
+    /// An independent copy of the fleet (see `_afit_fdm.pyi`).
+    fn copy(&self, py: Python<'_>) -> PyResult<Self> {
+        Self::from_inner(py, self.inner.duplicate())
+    }
+
+    /// `copy.copy(fleet)`: [`PyFleet::copy`].
+    fn __copy__(&self, py: Python<'_>) -> PyResult<Self> {
+        self.copy(py)
+    }
+
+    /// `copy.deepcopy(fleet)`: [`PyFleet::copy`] (the copy's state views
+    /// are its own arrays, as a deep copy's are).
+    fn __deepcopy__(&self, py: Python<'_>, memo: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let _ = memo;
+        self.copy(py)
+    }
+
+    /// `pickle`'s recipe: `Fleet._from_pickle` of the fleet's bytes
+    /// ([`fleet::pickle`]): the copy [`PyFleet::copy`] makes, across
+    /// processes (`multiprocessing`, Ray).
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, pyo3::types::PyBytes>,))> {
+        let restore = py.get_type::<Self>().getattr("_from_pickle")?;
+        let inner = &self.inner;
+        let data = py.detach(|| inner.pickled());
+        Ok((restore, (pyo3::types::PyBytes::new(py, &data),)))
+    }
+
+    /// The fleet `pickle` made of `data` ([`fleet::pickle::restore`]).
+    #[classmethod]
+    fn _from_pickle(
+        _cls: &Bound<'_, pyo3::types::PyType>,
+        py: Python<'_>,
+        data: &[u8],
+    ) -> PyResult<Self> {
+        let inner = py.detach(|| fleet::pickle::restore(data))?;
+        Self::from_inner(py, inner)
     }
 
     /// Steps every aircraft `frames` frames with the GIL released, then

@@ -18,7 +18,7 @@ pub use fdm_run::model::{with_model, ModelJob, RegisteredModel, MODELS};
 /// its fleet kernel), with its fleet behind the binding's one adapter.
 pub trait BindModel: RegisteredModel {
     /// The model's fleet kernel behind the one adapter the binding uses.
-    type Fleet: FleetOps<Self> + Sync;
+    type Fleet: FleetOps<Self> + Sync + Clone;
 }
 
 /// Every model of the registry, its fleet `fdm-fleet`'s one generic
@@ -53,6 +53,11 @@ pub trait FleetOps<M: FleetKernel>: Send + Sized {
     /// # Errors
     /// Out of range.
     fn set_controls(&mut self, index: usize, controls: M::Controls) -> Result<(), FleetError>;
+    /// Replaces aircraft `index`'s flight status.
+    ///
+    /// # Errors
+    /// Out of range.
+    fn set_status(&mut self, index: usize, status: FlightStatus) -> Result<(), FleetError>;
     /// Aircraft `index`'s controls.
     fn controls(&self, index: usize) -> Option<M::Controls>;
     /// Aircraft `index`'s state.
@@ -136,6 +141,9 @@ where
     }
     fn set_controls(&mut self, index: usize, controls: M::Controls) -> Result<(), FleetError> {
         Self::set_controls(self, index, controls)
+    }
+    fn set_status(&mut self, index: usize, status: FlightStatus) -> Result<(), FleetError> {
+        Self::set_status(self, index, status)
     }
     fn controls(&self, index: usize) -> Option<M::Controls> {
         Self::controls(self, index)

@@ -258,3 +258,41 @@ def test_a_fleet_stepped_by_another_thread_is_busy_not_corrupted() -> None:
         errors.append(e)
     t.join()
     assert errors or fleet.status is not None
+
+
+def test_bytes_that_are_not_a_pickled_fleet_are_refused() -> None:
+    """Damaged, cut, foreign or impossible bytes raise ``ValueError`` saying
+    why, never a fleet with a NaN state, a crash, or an allocation the
+    bytes cannot back."""
+    import struct
+
+    altitude = np.array([1000.0, 2000.0, 3000.0])
+    fleet = afit_fdm.Fleet("palmer", 3, altitude_ft=altitude, speed_kt=100.0, throttle=0.625)
+    restore, (good,) = fleet.__reduce__()
+    assert restore(good).columns.tobytes() == fleet.columns.tobytes()
+
+    def refused(data: bytes, words: str) -> None:
+        with pytest.raises(ValueError, match="cannot restore a pickled fleet: " + words):
+            restore(data)
+
+    def once(old: bytes, new: bytes) -> bytes:
+        assert good.count(old) == 1, old
+        return good.replace(old, new)
+
+    refused(b"", "not a pickled fleet")
+    refused(good[:-3], "aircraft 2: damaged")
+    refused(good + b"\0", "1 byte after the fleet")
+    refused(b"\x02" + good[1:], "it has format 2, this package reads format 1")
+    refused(once(b"palmer", b"pumper"), "`pumper` is not a model")
+    refused(once(b"exact", b"exakt"), "precision")
+    refused(once(struct.pack("<d", 30.0), struct.pack("<d", 0.0)), "fps 0 is not a whole number")
+    refused(once(struct.pack("<d", 30.0), struct.pack("<d", 29.97)), "fps 29.97 is not a whole number")
+    # The count of aircraft (bincode's variable-length integer: 0xfd, then
+    # eight bytes) made a trillion: refused before anything is allocated.
+    refused(once(b"exact\x01\x03", b"exact\x01\xfd" + struct.pack("<Q", 10**12)), "1000000000000 aircraft in")
+    # Aircraft 1's height made NaN, its throttle (all three's) out of range.
+    height = struct.pack("<d", fleet["z_m"][1])
+    refused(once(height, struct.pack("<d", float("nan"))), "aircraft 1: the state is not finite")
+    throttle = struct.pack("<d", 0.625)
+    assert good.count(throttle) == 3
+    refused(good.replace(throttle, struct.pack("<d", 1.5)), "aircraft 0: the controls: throttle")

@@ -484,6 +484,28 @@ class Fleet:
         self, mask: Optional[npt.NDArray[np.bool_]] = None, **controls: _PerAircraft
     ) -> None:
         """Sets controls of the aircraft where ``mask`` is true (all without it)."""
+    def copy(self) -> "Fleet":
+        """An independent fleet where this one is: the same model, size,
+        ``fps``, precision and threading, every aircraft's state, controls
+        and status bit for bit. Stepped alike, the two fly the same bits as
+        this fleet alone would (a branch point for Monte Carlo studies or
+        tree search). The copy's views are its own arrays, filled with the
+        aircraft's current state (also after a ``task_step`` with
+        ``views=False``); its :attr:`last_step_interval` is ``(0.0, 0.0)``.
+        ``copy.copy`` and ``copy.deepcopy`` give this copy, and :mod:`pickle`
+        (protocol 2 or later) carries it to another process (a Ray task, a
+        ``multiprocessing`` worker). Unpickling checks what it reads and
+        raises ``ValueError`` saying why for bytes that are not a pickled
+        fleet of this package (cut or damaged bytes, another format, an
+        unknown model or precision, a frame rate out of range, a state that
+        is not finite, controls out of their ranges), and ``MemoryError``
+        for more aircraft than this process can hold. As with any pickle,
+        unpickle only data you trust."""
+    def __copy__(self) -> "Fleet": ...
+    def __deepcopy__(self, memo: Any) -> "Fleet": ...
+    def __reduce__(self) -> Tuple[Any, Tuple[bytes]]: ...
+    @classmethod
+    def _from_pickle(cls, data: bytes) -> "Fleet": ...
     @property
     def state(self) -> Dict[str, npt.NDArray[np.float64]]:
         """State columns by name (read-only float64 views of shape ``(n,)``;
