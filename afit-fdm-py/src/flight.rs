@@ -739,14 +739,7 @@ pub fn restore(data: &[u8]) -> PyResult<Box<dyn AnyFlight>> {
     let refused = |why: String| {
         PyValueError::new_err(format!("Flight: cannot restore a pickled flight: {why}"))
     };
-    let ((format, model), used): ((u32, String), usize) =
-        bincode::serde::decode_from_slice(data, pickle_config())
-            .map_err(|e| refused(format!("not a pickled flight ({e})")))?;
-    if format != PICKLE_FORMAT {
-        return Err(refused(format!(
-            "it has format {format}, this package reads format {PICKLE_FORMAT}"
-        )));
-    }
+    let (model, body) = pickle_header(data, "flight", PICKLE_FORMAT).map_err(refused)?;
     struct Restore<'a>(&'a [u8]);
     impl crate::models::ModelJob for Restore<'_> {
         type Output = Result<Box<dyn AnyFlight>, String>;
@@ -754,9 +747,31 @@ pub fn restore(data: &[u8]) -> PyResult<Box<dyn AnyFlight>> {
             restore_model::<M>(self.0)
         }
     }
-    crate::models::with_model(&model, Restore(&data[used..]))
+    crate::models::with_model(&model, Restore(body))
         .unwrap_or_else(|| Err(format!("`{}` is not a model", Echo::short(&model))))
         .map_err(refused)
+}
+
+/// The start of a pickle of this package (a flight's or a fleet's, `what`):
+/// its format version, which must be `format`, and its model's name;
+/// returns the name and the bytes after it.
+///
+/// # Errors
+/// Bytes that do not start so, or another format version, saying which.
+pub(crate) fn pickle_header<'a>(
+    data: &'a [u8],
+    what: &str,
+    format: u32,
+) -> Result<(String, &'a [u8]), String> {
+    let ((found, model), used): ((u32, String), usize) =
+        bincode::serde::decode_from_slice(data, pickle_config())
+            .map_err(|e| format!("not a pickled {what} ({e})"))?;
+    if found != format {
+        return Err(format!(
+            "it has format {found}, this package reads format {format}"
+        ));
+    }
+    Ok((model, &data[used..]))
 }
 
 /// [`restore`] of model `M`, from the bytes after the model's name.

@@ -16,7 +16,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::{check_memory, AnyFleet, Lanes};
-use crate::flight::{check_controls, pickle_config};
+use crate::flight::{check_controls, pickle_config, pickle_header};
 use crate::models::{BindModel, FleetOps};
 
 /// The version of the bytes, their first field: a fleet pickled by another
@@ -69,14 +69,7 @@ pub(super) fn pickled<M: BindModel>(lanes: &Lanes<M>) -> Vec<u8> {
 /// ranges); `MemoryError` for more aircraft than this process can hold
 /// ([`check_memory`]).
 pub fn restore(data: &[u8]) -> PyResult<Box<dyn AnyFleet>> {
-    let ((format, model), used): ((u32, String), usize) =
-        bincode::serde::decode_from_slice(data, pickle_config())
-            .map_err(|e| refused(format!("not a pickled fleet ({e})")))?;
-    if format != FORMAT {
-        return Err(refused(format!(
-            "it has format {format}, this package reads format {FORMAT}"
-        )));
-    }
+    let (model, body) = pickle_header(data, "fleet", FORMAT).map_err(refused)?;
     struct Restore<'a>(&'a [u8]);
     impl crate::models::ModelJob for Restore<'_> {
         type Output = PyResult<Box<dyn AnyFleet>>;
@@ -84,7 +77,7 @@ pub fn restore(data: &[u8]) -> PyResult<Box<dyn AnyFleet>> {
             restore_model::<M>(self.0)
         }
     }
-    crate::models::with_model(&model, Restore(&data[used..]))
+    crate::models::with_model(&model, Restore(body))
         .unwrap_or_else(|| Err(refused(format!("`{}` is not a model", Echo::short(&model)))))
 }
 
