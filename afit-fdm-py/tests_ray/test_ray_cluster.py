@@ -2,10 +2,10 @@
 machine with Ray's own cluster utility (``ray.cluster_utils.Cluster``: a
 head and a worker node, each with its own raylet and object store, on the
 loopback address): shards spread over both nodes merge to the bits of the
-one-machine run for several shard counts, a ``Flight`` pickled into a task on
-each node flies on there to the bits it flies here, and a study whose worker
-node is killed while it flies one of its shards still completes, with the
-same bits.
+one-machine run for several shard counts, a ``Flight`` and a ``Fleet``
+pickled into a task on each node fly on there to the bits they fly here, and
+a study whose worker node is killed while it flies one of its shards still
+completes, with the same bits.
 
 Run by ``afit-fdm-py/tests/ray_suite.rs`` in its own pinned virtualenv (Ray
 is large; the main suite does not need it).
@@ -162,6 +162,46 @@ def test_a_flight_sent_to_each_node_flies_on_to_the_same_bits(cluster: Tuple[Clu
             again = here.copy()
             again.step(30)
             assert exact(back) == exact(again), model
+
+
+@ray.remote(num_cpus=1)
+def _fly_fleet_on(fleet: afit_fdm.Fleet, frames: int) -> Tuple[afit_fdm.Fleet, bytes, str]:
+    """Flies a fleet that came pickled ``frames`` more and sends it back
+    (pickled again), with its state columns and statuses as bytes and the
+    node it flew on."""
+    fleet.step(frames)
+    return fleet, fleet.columns.tobytes() + fleet.status.tobytes(), ray.get_runtime_context().get_node_id()
+
+
+def test_a_fleet_sent_to_each_node_flies_on_to_the_same_bits(cluster: Tuple[Cluster, Any]) -> None:
+    """A ``Fleet`` (37 aircraft of each model, from the ground up, with
+    spread controls: some crash or land on the way), pickled into a task
+    pinned to each node and back: it flies on there to the bits it flies
+    here, statuses included, and the fleet that comes back is at those
+    bits."""
+    import numpy as np
+    from ray.util.scheduling_strategies import NodeAffinitySchedulingStrategy
+
+    c, worker = cluster
+    n = 37
+    bits = lambda f: f.columns.tobytes() + f.status.tobytes()
+    spread = {
+        "palmer": dict(throttle=np.linspace(0.2, 1.0, n), bank_deg=np.linspace(-20.0, 20.0, n)),
+        "bourg": dict(thrust_lb=np.linspace(500.0, 3000.0, n), pitch_trim=np.linspace(-1.0, 1.0, n)),
+    }
+    for model, controls in spread.items():
+        fleet = afit_fdm.Fleet(model, n, altitude_ft=np.linspace(0.0, 4000.0, n), speed_kt=100.0, **controls)
+        fleet.step(50)
+        here = fleet.copy()
+        here.step(120)
+        for node in (c.head_node.node_id, worker.node_id):
+            pinned = NodeAffinitySchedulingStrategy(node_id=node, soft=False)
+            back, state, flown_on = ray.get(
+                _fly_fleet_on.options(scheduling_strategy=pinned).remote(fleet, 120), timeout=120
+            )
+            assert flown_on == node
+            assert state == bits(here), model
+            assert bits(back) == bits(here) and len(back) == n
 
 
 def test_a_node_killed_mid_study_its_shards_rerun_with_the_same_bits(
