@@ -461,6 +461,7 @@ const TASK_CHUNK_MIN: usize = 512;
 const TASK_GROUP: usize = 1;
 
 /// A fleet of model `M` and how it steps.
+#[derive(Clone)]
 pub struct Lanes<M: BindModel> {
     fleet: M::Fleet,
     len: usize,
@@ -614,13 +615,7 @@ where
         self.precision
     }
     fn duplicate(&self) -> Box<dyn AnyFleet> {
-        Box::new(Self {
-            fleet: self.fleet.clone(),
-            len: self.len,
-            fps: self.fps,
-            precision: self.precision,
-            parallel: self.parallel,
-        })
+        Box::new(self.clone())
     }
     fn pickled(&self) -> Vec<u8> {
         pickle::pickled(self)

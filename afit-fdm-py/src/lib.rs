@@ -546,8 +546,6 @@ pub struct PyFleet {
     buffers: Buffers,
     views: Py<PyDict>,
     last_step: (f64, f64),
-    fps: f64,
-    precision: &'static str,
 }
 
 fn read_mask(mask: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Option<Vec<bool>>> {
@@ -580,14 +578,11 @@ impl PyFleet {
         for (i, name) in fields.iter().enumerate() {
             views.set_item(*name, columns.get_item(i)?)?;
         }
-        let (fps, precision) = (inner.fps(), inner.precision().name());
         Ok(Self {
             inner,
             buffers,
             views: views.unbind(),
             last_step: (0.0, 0.0),
-            fps,
-            precision,
         })
     }
 }
@@ -958,13 +953,13 @@ impl PyFleet {
     /// Frames per second.
     #[getter]
     fn fps(&self) -> f64 {
-        self.fps
+        self.inner.fps()
     }
 
     /// `"exact"` or `"fast"`.
     #[getter]
     fn precision(&self) -> &'static str {
-        self.precision
+        self.inner.precision().name()
     }
 
     /// The instruction set the kernel runs on.
@@ -989,8 +984,8 @@ impl PyFleet {
             "Fleet(model={:?}, n={}, fps={}, precision={:?})",
             self.inner.model(),
             self.inner.len(),
-            self.fps,
-            self.precision
+            self.inner.fps(),
+            self.inner.precision().name()
         )
     }
 }
