@@ -4,7 +4,9 @@ semantics) in all three modes, bit for bit, and seeding."""
 
 from __future__ import annotations
 
+import copy
 import pathlib
+import pickle
 import subprocess
 import sys
 
@@ -13,6 +15,8 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 from gymnasium.vector import AutoresetMode, SyncVectorEnv
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import afit_fdm  # noqa: F401  (registers the ids)
 from afit_fdm.gym import AircraftEnv, AircraftVectorEnv
@@ -54,6 +58,8 @@ def actions_for(space: gym.Space, num_envs: int, steps: int, seed: int) -> np.nd
 def same(x, y) -> bool:
     if isinstance(x, dict):
         return x.keys() == y.keys() and all(same(x[k], y[k]) for k in x)
+    if isinstance(x, tuple):
+        return isinstance(y, tuple) and len(x) == len(y) and all(same(a, b) for a, b in zip(x, y))
     if x is None or y is None:
         return x is y
     x, y = np.asarray(x), np.asarray(y)
@@ -88,6 +94,89 @@ def test_vector_env_is_sync_vector_env_bit_for_bit(mode: AutoresetMode, model: s
                 o2, i2 = sync.reset(options={"reset_mask": done.copy()})
                 assert same(o1, o2) and same(i1, i2)
     assert ended_by_status > 0 and truncated_seen > 0  # both kinds of ending happened
+
+
+def copied(env, how):
+    """``env`` deep-copied, or pickled with protocol ``how`` and unpickled."""
+    return copy.deepcopy(env) if how == "deepcopy" else pickle.loads(pickle.dumps(env, protocol=how))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    model=st.sampled_from(["palmer", "bourg"]),
+    task=st.sampled_from(["heading-altitude", "climb"]),
+    mode=st.sampled_from([AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP, AutoresetMode.DISABLED]),
+    n=st.integers(1, 6),
+    before=st.integers(0, 40),
+    after=st.integers(1, 40),
+    max_steps=st.integers(1, 30),
+    seed=st.integers(0, 2**32 - 1),
+    how=st.sampled_from(["deepcopy", 2, 3, 4, 5]),
+)
+def test_a_pickled_or_deepcopied_vector_env_steps_on_to_the_bits_of_the_env_it_came_from(
+    model, task, mode, n, before, after, max_steps, seed, how
+) -> None:
+    """A vector env copied mid-rollout (``copy.deepcopy``, or ``pickle`` as
+    Ray, ``multiprocessing`` and the vector wrappers send an env) is the env:
+    its fleet (``Fleet``'s pickle), episode counters, pending autoresets,
+    per-aircraft generators (the starts and targets of the next episodes)
+    and its action space's generator come along. Stepped with the same
+    actions it gives what the original gives, bit for bit (observations,
+    rewards, flags and infos, resets included), and the original still gives
+    what a twin that was never copied gives. No tolerance: the same
+    operations on the same bits."""
+    kw = dict(model=model, task=task, num_envs=n, frame_skip=30, max_episode_steps=max_steps,
+              autoreset_mode=mode, parallel=False)
+    env, twin = AircraftVectorEnv(**kw), AircraftVectorEnv(**kw)
+    assert same(env.reset(seed=seed), twin.reset(seed=seed))
+    env.action_space.seed(seed)
+    actions = actions_for(env.single_action_space, n, before + after, seed % 1000)
+
+    def advance(e, a):
+        out = e.step(a)
+        if mode == AutoresetMode.DISABLED:
+            done = out[2] | out[3]
+            if done.any():
+                out = out + e.reset(options={"reset_mask": done.copy()})
+        return out
+
+    for a in actions[:before]:
+        assert same(advance(env, a), advance(twin, a))
+    other = copied(env, how)
+    assert other.metadata == env.metadata and other.num_envs == n
+    from_copy = [advance(other, a) for a in actions[before:]]
+    for a, theirs in zip(actions[before:], from_copy):
+        ours = advance(env, a)
+        assert same(ours, advance(twin, a))
+        assert same(ours, theirs)
+    assert same(other.action_space.sample(), env.action_space.sample())
+
+
+@pytest.mark.parametrize("how", ["deepcopy", 2, 5])
+@pytest.mark.parametrize("model", ["palmer", "bourg"])
+@pytest.mark.parametrize("task", ["heading-altitude", "climb"])
+def test_a_pickled_or_deepcopied_single_env_steps_on_to_the_same_bits(model: str, task: str, how) -> None:
+    """The single env, unwrapped and as ``gymnasium.make`` wraps it, copied
+    mid-episode: it steps on to the original's bits, through the end of its
+    episode and the next reset without a seed (its generator came along)."""
+    env_id = f"afit_fdm/{model.capitalize()}{'Climb' if task == 'climb' else 'HeadingAltitude'}-v0"
+    kw = dict(frame_skip=30, max_episode_steps=20)
+    for env in (AircraftEnv(model, task, **kw), gym.make(env_id, **kw)):
+        env.reset(seed=11)
+        env.action_space.seed(11)
+        for _ in range(7):
+            env.step(env.action_space.sample())
+        other = copied(env, how)
+        resets = 0
+        for _ in range(30):
+            a = env.action_space.sample()
+            assert same(other.action_space.sample(), a)
+            ours = env.step(a)
+            assert same(ours, other.step(a))
+            if ours[2] or ours[3]:
+                assert same(env.reset(), other.reset())
+                resets += 1
+        assert resets > 0
 
 
 def test_seeding_repeats_rollouts_bit_for_bit() -> None:

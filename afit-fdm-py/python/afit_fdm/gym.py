@@ -86,6 +86,14 @@ the ``OrderEnforcing`` wrapper of ``gymnasium.make`` does), and so does a
 vector env's ``step`` while some aircraft were never reset (a first
 ``reset`` with a ``reset_mask`` that leaves some out): an aircraft has no
 episode, no start and no target, before its first reset.
+
+**Copies**: ``copy.deepcopy`` and ``pickle`` of either env (also as
+``gymnasium.make`` wraps it) give an independent env at the same point:
+the fleet (``Fleet``'s pickle, every aircraft's bits), each aircraft's
+step count, target and generator, pending autoresets and the action space's
+generator. Stepped with the same actions, it gives what the original gives,
+bit for bit (``tests/test_gym.py``). ``copy.copy`` is shallow and shares
+the fleet.
 """
 
 from __future__ import annotations
