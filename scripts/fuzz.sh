@@ -18,9 +18,12 @@
 # FUZZ_STABLE=1 skips nightly and uses the stable toolchain with RUSTC_BOOTSTRAP=1.
 # FUZZ_JOBS=N runs N targets at a time (default: the number of CPUs).
 #
-# Exit status: 0 no finding, 1 a target crashed or failed an invariant,
-# 3 fuzzing could not run here (the reason is printed on a line starting
-# "FUZZING NOT RUN").
+# Exit status: 0 no finding, 1 a target crashed or failed an invariant (libFuzzer
+# saved the input in fuzz/artifacts/<target>/), 2 a usage error (a target that
+# does not exist), 3 fuzzing could not run here (the reason is printed on a line
+# starting "FUZZING NOT RUN"), 4 a target's run failed without saving an input
+# (printed on a line starting "FUZZ TARGET DID NOT RUN": not a finding, but
+# the target was not fuzzed).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -33,6 +36,15 @@ fi
 case "$seconds" in
   ''|*[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]" >&2; exit 2 ;;
 esac
+# A target is a file of fuzz/fuzz_targets/ (a misspelt name is a usage error,
+# said before anything is built, not a finding).
+for target in "${targets[@]}"; do
+  if [ ! -f "fuzz/fuzz_targets/$target.rs" ]; then
+    known=$(cd fuzz/fuzz_targets && for f in *.rs; do printf '%s ' "${f%.rs}"; done)
+    echo "usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]: no target '$target' (targets: ${known% })" >&2
+    exit 2
+  fi
+done
 
 cannot_run() {
   echo "FUZZING NOT RUN: $*"
@@ -97,35 +109,60 @@ fuzz_one() {
   local target="$1"
   local work="fuzz/.work/corpus/$target"
   mkdir -p "$work" "fuzz/artifacts/$target"
-  cargo "${toolchain[@]}" fuzz run -O -s "$sanitizer" "$target" "$work" "fuzz/corpus/$target" -- \
+  # The seeds, where the target has some (libFuzzer refuses a directory that
+  # does not exist).
+  local seeds=()
+  if [ -d "fuzz/corpus/$target" ]; then seeds=("fuzz/corpus/$target"); fi
+  cargo "${toolchain[@]}" fuzz run -O -s "$sanitizer" "$target" "$work" "${seeds[@]}" -- \
     -max_total_time="$seconds" -print_final_stats=1 2>"fuzz/.work/$target.log"
 }
 
+# The inputs libFuzzer has saved for a target (crash-, timeout-, oom-,
+# leak-...): a failed run that saved none is not a finding.
+artifacts() {
+  find "fuzz/artifacts/$1" -type f 2>/dev/null | wc -l
+}
+
 report() {
-  local target="$1" target_status="$2"
+  local target="$1" target_status="$2" saved_before="$3"
   if [ "$target_status" -eq 0 ]; then
     grep -E "stat::number_of_executed_units|stat::new_units_added" "fuzz/.work/$target.log" | sed "s/^/   $target: /"
     echo "   $target: no crash, no failed invariant"
-  else
+  elif [ "$(artifacts "$target")" -gt "$saved_before" ]; then
     status=1
     tail -40 "fuzz/.work/$target.log"
     echo "FUZZ FINDING in $target: see fuzz/artifacts/$target/ and fuzz/.work/$target.log"
+  else
+    [ "$status" -eq 1 ] || status=4
+    tail -20 "fuzz/.work/$target.log"
+    echo "FUZZ TARGET DID NOT RUN: $target failed without saving an input (not a finding; see fuzz/.work/$target.log)"
   fi
 }
 
 status=0
 running=()
 pids=()
+saved=()
 finish_running() {
   local i
   for i in "${!pids[@]}"; do
-    if wait "${pids[$i]}"; then report "${running[$i]}" 0; else report "${running[$i]}" 1; fi
+    if wait "${pids[$i]}"; then
+      report "${running[$i]}" 0 "${saved[$i]}"
+    else
+      report "${running[$i]}" 1 "${saved[$i]}"
+    fi
   done
   running=()
   pids=()
+  saved=()
 }
 for target in "${targets[@]}"; do
-  echo "== fuzzing $target for ${seconds}s (seeds: fuzz/corpus/$target)"
+  if [ -d "fuzz/corpus/$target" ]; then
+    echo "== fuzzing $target for ${seconds}s (seeds: fuzz/corpus/$target)"
+  else
+    echo "== fuzzing $target for ${seconds}s (no seeds: fuzz/corpus/$target does not exist)"
+  fi
+  saved+=("$(artifacts "$target")")
   fuzz_one "$target" &
   pids+=("$!")
   running+=("$target")
