@@ -657,12 +657,109 @@ mod tests {
         assert_eq!(s, "0 -0.0483 12345.67 -0.05 1 0.033333 ");
     }
 
+    /// A sink that records the length of every write it is handed.
+    #[derive(Clone, Default)]
+    struct Writes(std::sync::Arc<std::sync::Mutex<Vec<usize>>>);
+
+    impl Write for Writes {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            self.0.lock().unwrap().push(buf.len());
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// The text goes to the sink in pieces of at least [`CHUNK_BYTES`]
+    /// (one write per 64 KiB, not one per line), every byte of it by the
+    /// end; after `finish` a write is refused.
+    #[test]
+    fn text_goes_out_in_chunks() {
+        use fdm_core::geodesy::Attitude;
+        let writes = Writes::default();
+        let header = AcmiHeader {
+            reference_time: ReferenceTime::default(),
+            title: "chunks".to_owned(),
+            origin: Geodetic {
+                lat_deg: 39.8,
+                lon_deg: -84.0,
+                alt_m: 251.0,
+            },
+        };
+        let mut w = AcmiWriter::new(writes.clone(), &header, 30).unwrap();
+        w.declare(
+            0,
+            ObjectInfo {
+                name: "C172".into(),
+                type_tags: "Air".into(),
+                callsign: "C-1".into(),
+            },
+        );
+        let placement = |k: u32| Placement {
+            geodetic: Geodetic {
+                lat_deg: 39.8 + f64::from(k) * 1e-6,
+                lon_deg: -84.0 - f64::from(k) * 1e-6,
+                alt_m: 300.0 + f64::from(k),
+            },
+            attitude: Attitude {
+                roll_deg: 1.0,
+                pitch_deg: 2.0,
+                heading_deg: f64::from(k % 360),
+            },
+        };
+        let mut k = 0;
+        while w.bytes_written() < (CHUNK_BYTES as u64).saturating_sub(100) {
+            w.begin_frame(u64::from(k));
+            w.sample(0, &placement(k)).unwrap();
+            k += 1;
+        }
+        assert!(
+            writes.0.lock().unwrap().is_empty(),
+            "nothing written before 64 KiB"
+        );
+        while w.bytes_written() < 3 * CHUNK_BYTES as u64 {
+            w.begin_frame(u64::from(k));
+            w.sample(0, &placement(k)).unwrap();
+            k += 1;
+        }
+        w.finish().unwrap();
+        let lengths = writes.0.lock().unwrap().clone();
+        assert!(lengths.len() >= 3, "{lengths:?}");
+        let (last, full) = lengths.split_last().unwrap();
+        assert!(full.iter().all(|&n| n >= CHUNK_BYTES), "{lengths:?}");
+        assert!(*last > 0);
+        let total: usize = lengths.iter().sum();
+        assert_eq!(total as u64, w.bytes_written());
+        w.finish().unwrap();
+        assert_eq!(
+            writes.0.lock().unwrap().len(),
+            lengths.len(),
+            "a second finish writes nothing"
+        );
+        // Samples after the end gather text until a chunk would go out, and
+        // that is refused: nothing reaches the sink.
+        let refused = (k..k + 100_000).find_map(|k| {
+            w.begin_frame(u64::from(k));
+            w.sample(0, &placement(k)).err()
+        });
+        assert!(matches!(refused, Some(AcmiError::Finished)), "{refused:?}");
+        assert_eq!(writes.0.lock().unwrap().len(), lengths.len());
+    }
+
     #[test]
     fn reference_times() {
         for ok in [
             "2000-01-01T00:00:00Z",
             "2024-02-29T23:59:59Z",
             "2011-06-02T05:00:00.5Z",
+            // The longest taken: nine digits of fraction, 30 bytes.
+            "2011-06-02T05:00:00.123456789Z",
+            // The last day of each month length, and the ends of each field.
+            "2000-02-29T00:00:00Z",
+            "2001-04-30T00:00:00Z",
+            "2001-12-31T23:59:59Z",
+            "0001-01-01T00:00:00Z",
         ] {
             assert_eq!(ok.parse::<ReferenceTime>().unwrap().as_str(), ok);
         }
@@ -676,6 +773,17 @@ mod tests {
             "2000-01-01T00:00:00.Z",
             "2000-01-01T00:00:00+01:00",
             "0000-01-01T00:00:00Z",
+            // 31 bytes: one digit of fraction too many.
+            "2011-06-02T05:00:00.1234567890Z",
+            // Not ASCII (a full-width digit), though of the right length.
+            "2000-01-01T00:00:0\u{ff11}Z",
+            "1900-02-29T00:00:00Z",
+            "2001-04-31T00:00:00Z",
+            "2001-01-00T00:00:00Z",
+            "2001-00-01T00:00:00Z",
+            "2001-01-01T00:60:00Z",
+            "2001-01-01T00:00:60Z",
+            "2001-01-01T00:00:00.5",
         ] {
             assert!(bad.parse::<ReferenceTime>().is_err(), "{bad}");
         }

@@ -93,20 +93,8 @@ impl Write for WatchedFile {
         let Some(watch) = &self.watch else {
             return self.file.write(buf);
         };
-        if let Some(stopped) = watch.stopped() {
-            return Err(stopped);
-        }
-        let written = self.file.write(buf);
-        match &written {
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => watch.interrupted()?,
-            // Bytes went out before the signal: they are counted, and a
-            // stop (by the contract) fails the write of the rest.
-            Ok(n) if *n < buf.len() => {
-                let _ = watch.interrupted();
-            }
-            _ => {}
-        }
-        written
+        let file = &mut self.file;
+        watched_write(watch.as_ref(), buf.len(), || file.write(buf))
     }
 
     fn flush(&mut self) -> io::Result<()> {
@@ -118,6 +106,32 @@ impl Seek for WatchedFile {
     fn seek(&mut self, position: SeekFrom) -> io::Result<u64> {
         self.file.seek(position)
     }
+}
+
+/// One write of `len` bytes (`write`) under `watch`: refused before it is
+/// tried once writing has stopped; a write a signal interrupted (`EINTR`,
+/// nothing written) asks the watch, whose error fails it (and whose `Ok`
+/// lets the caller retry it, as [`Write::write_all`] does); a write cut
+/// short tells the watch, and its bytes are counted.
+fn watched_write(
+    watch: &dyn WriteWatch,
+    len: usize,
+    write: impl FnOnce() -> io::Result<usize>,
+) -> io::Result<usize> {
+    if let Some(stopped) = watch.stopped() {
+        return Err(stopped);
+    }
+    let written = write();
+    match &written {
+        Err(e) if e.kind() == io::ErrorKind::Interrupted => watch.interrupted()?,
+        // Bytes went out before the signal: they are counted, and a
+        // stop (by the contract) fails the write of the rest.
+        Ok(n) if *n < len => {
+            let _ = watch.interrupted();
+        }
+        _ => {}
+    }
+    written
 }
 
 /// Creates `path` for writing, as [`File::create`] does, but refuses a file
@@ -299,6 +313,55 @@ mod tests {
         assert_eq!(std::fs::read(&path).unwrap(), b"row 1\n");
         assert_eq!(watch.seen.load(std::sync::atomic::Ordering::SeqCst), 0);
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The interruptions a real signal causes, as the OS reports them
+    /// (`EINTR` with nothing written; fewer bytes written than asked), and
+    /// the watch's answers: each case as `watched_write` meets it. (Real
+    /// signals are the Python package's `test_interrupt.py`: see
+    /// [`CountingWatch`].)
+    #[test]
+    fn an_interrupted_write_asks_the_watch_and_a_stop_fails_the_writes_after_it() {
+        use std::sync::atomic::Ordering::SeqCst;
+        let interrupted = || Err(io::Error::from(io::ErrorKind::Interrupted));
+        // "Go on": the interruption is handed back for the caller to retry.
+        let go_on = CountingWatch {
+            go_on: usize::MAX,
+            ..CountingWatch::default()
+        };
+        let err = watched_write(&go_on, 6, interrupted).unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::Interrupted);
+        assert_eq!(go_on.seen.load(SeqCst), 1);
+        assert!(go_on.stopped().is_none());
+        // A write cut short is counted as written, and the watch told.
+        assert_eq!(watched_write(&go_on, 6, || Ok(4)).unwrap(), 4);
+        assert_eq!(go_on.seen.load(SeqCst), 2);
+        // A whole write, or another error, does not ask the watch.
+        assert_eq!(watched_write(&go_on, 6, || Ok(6)).unwrap(), 6);
+        let broken = watched_write(&go_on, 6, || Err(io::ErrorKind::BrokenPipe.into()));
+        assert_eq!(broken.unwrap_err().kind(), io::ErrorKind::BrokenPipe);
+        assert_eq!(go_on.seen.load(SeqCst), 2);
+
+        // "Stop": the watch's error fails the interrupted write, and every
+        // later one before it is tried.
+        let stop = CountingWatch::default();
+        let err = watched_write(&stop, 6, interrupted).unwrap_err();
+        assert_eq!(err.to_string(), "stopped by the watch");
+        let mut tried = false;
+        let err = watched_write(&stop, 6, || {
+            tried = true;
+            Ok(6)
+        })
+        .unwrap_err();
+        assert_eq!(err.to_string(), "stopped by the watch");
+        assert!(!tried, "a stopped watch refuses a write before it is tried");
+        assert_eq!(stop.seen.load(SeqCst), 1);
+
+        // A write cut short under a watch that stops: its bytes still
+        // count, and the next write is refused.
+        let cut = CountingWatch::default();
+        assert_eq!(watched_write(&cut, 6, || Ok(2)).unwrap(), 2);
+        assert!(watched_write(&cut, 4, || Ok(4)).is_err());
     }
 
     /// A pipe (what `/dev/stdout` is when the output is piped into another
