@@ -718,6 +718,12 @@ mod tests {
             writes.0.lock().unwrap().is_empty(),
             "nothing written before 64 KiB"
         );
+        // Its `Debug` says where it is (the text is not printed).
+        let shown = format!("{w:?}");
+        let bytes = format!("bytes: {}", w.bytes_written());
+        for part in ["AcmiWriter", "fps: 30", "objects: 1", &bytes] {
+            assert!(shown.contains(part), "{shown}");
+        }
         while w.bytes_written() < 3 * CHUNK_BYTES as u64 {
             w.begin_frame(u64::from(k));
             w.sample(0, &placement(k)).unwrap();
