@@ -710,6 +710,7 @@ mod tests {
         };
         let mut k = 0;
         while w.bytes_written() < (CHUNK_BYTES as u64).saturating_sub(100) {
+            assert!(k < 100_000, "the samples write no text");
             w.begin_frame(u64::from(k));
             w.sample(0, &placement(k)).unwrap();
             k += 1;
@@ -725,6 +726,7 @@ mod tests {
             assert!(shown.contains(part), "{shown}");
         }
         while w.bytes_written() < 3 * CHUNK_BYTES as u64 {
+            assert!(k < 100_000, "the samples write no text");
             w.begin_frame(u64::from(k));
             w.sample(0, &placement(k)).unwrap();
             k += 1;
