@@ -755,6 +755,74 @@ mod tests {
         assert_eq!(writes.0.lock().unwrap().len(), lengths.len());
     }
 
+    /// A sink that keeps the bytes.
+    #[derive(Clone, Default)]
+    struct Bytes(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
+
+    impl Write for Bytes {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            self.0.lock().unwrap().extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// An object's first sample is written whole with its declaration, even
+    /// at the reference point with every field 0; an unchanged placement
+    /// writes nothing, not even its frame's time line; a changed one writes
+    /// only the fields that changed.
+    #[test]
+    fn only_what_changed_is_written() {
+        use fdm_core::geodesy::Attitude;
+        let out = Bytes::default();
+        let header = AcmiHeader {
+            reference_time: ReferenceTime::default(),
+            title: "t".to_owned(),
+            origin: Geodetic {
+                lat_deg: 0.0,
+                lon_deg: 0.0,
+                alt_m: 0.0,
+            },
+        };
+        let mut w = AcmiWriter::new(out.clone(), &header, 2).unwrap();
+        w.declare(
+            0,
+            ObjectInfo {
+                name: "C172".into(),
+                type_tags: "Air".into(),
+                callsign: "C-1".into(),
+            },
+        );
+        let at = |alt_m: f64, heading_deg: f64| Placement {
+            geodetic: Geodetic {
+                lat_deg: 0.0,
+                lon_deg: 0.0,
+                alt_m,
+            },
+            attitude: Attitude {
+                roll_deg: 0.0,
+                pitch_deg: 0.0,
+                heading_deg,
+            },
+        };
+        for (frame, (alt_m, heading_deg)) in [(0.0, 0.0), (0.0, 0.0), (5.0, 0.0), (5.0, 90.0)]
+            .into_iter()
+            .enumerate()
+        {
+            w.begin_frame(frame as u64);
+            w.sample(0, &at(alt_m, heading_deg)).unwrap();
+        }
+        w.finish().unwrap();
+        let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+        let body = text.split_once("0,Title=t\n").unwrap().1;
+        assert_eq!(
+            body,
+            "#0\n1,T=0|0|0|0|0|0,Name=C172,Type=Air,CallSign=C-1\n#1\n1,T=||5|||\n#1.5\n1,T=|||||90\n"
+        );
+    }
+
     #[test]
     fn reference_times() {
         for ok in [
