@@ -823,6 +823,93 @@ mod tests {
         );
     }
 
+    /// A fleet's frames: each aircraft declared (callsign by its index) at
+    /// its first frame that has it, `None` skipped, a crashed one written
+    /// once more and removed, a diverged one removed (with no line if it
+    /// was never written), a removed one skipped after; a frame where
+    /// nothing moved writes nothing but, as the file's end, its time.
+    #[test]
+    fn fleet_frames_declare_sample_and_remove() {
+        use fdm_core::model::Model;
+        use fdm_core::palmer::Palmer;
+        let out = Bytes::default();
+        let origin = GeodeticOrigin::new(39.8, -84.0, 251.0).unwrap();
+        let header = AcmiHeader {
+            reference_time: ReferenceTime::default(),
+            title: "fleet".to_owned(),
+            origin: origin.geodetic(),
+        };
+        let mut w = AcmiWriter::new(out.clone(), &header, 30).unwrap();
+        let (aircraft, controls) = (Palmer::default_aircraft(), Palmer::initial_controls());
+        // In the air at 60 m/s, then 50 m further north and 10 m higher.
+        let mut state = Palmer::initial_state();
+        state.position_m = nalgebra::Vector3::new(0.0, 0.0, 500.0);
+        state.velocity_mps = nalgebra::Vector3::new(60.0, 0.0, 0.0);
+        let view = Palmer::view(&aircraft, &controls, &state);
+        state.position_m += nalgebra::Vector3::new(50.0, 0.0, 10.0);
+        let moved = Palmer::view(&aircraft, &controls, &state);
+        let (up, crash) = (
+            FlightStatus::Airborne,
+            FlightStatus::Landed(LandingState::Crash),
+        );
+        let frames = [
+            vec![
+                Some((view, up)),
+                None,
+                Some((view, up)),
+                Some((view, FlightStatus::Diverged)),
+            ],
+            vec![
+                Some((moved, up)),
+                Some((view, up)),
+                Some((moved, crash)),
+                Some((view, up)),
+            ],
+            vec![
+                Some((moved, up)),
+                Some((view, up)),
+                Some((moved, up)),
+                Some((view, up)),
+            ],
+        ];
+        for (flown, frame) in frames.into_iter().enumerate() {
+            w.fleet_frame::<Palmer>(flown as u64, &origin, frame)
+                .unwrap();
+        }
+        w.finish().unwrap();
+        let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+        let lines: Vec<&str> = text
+            .split_once("0,Title=fleet\n")
+            .unwrap()
+            .1
+            .lines()
+            .collect();
+        let ids: Vec<String> = lines
+            .iter()
+            .map(|l| {
+                let (id, rest) = l.split_once(',').unwrap_or((l, ""));
+                let named = rest.split(',').find_map(|p| p.strip_prefix("CallSign="));
+                named.map_or_else(|| id.to_owned(), |c| format!("{id} {c}"))
+            })
+            .collect();
+        assert_eq!(
+            ids,
+            [
+                "#0",
+                "1 C172-1",
+                "3 C172-3",
+                "#0.033333",
+                "1",
+                "2 C172-2",
+                "3",
+                "-3",
+                // The end: the last frame's time (nothing moved in it).
+                "#0.066667",
+            ],
+            "{text}"
+        );
+    }
+
     #[test]
     fn reference_times() {
         for ok in [
