@@ -876,6 +876,8 @@ mod tests {
             w.fleet_frame::<Palmer>(flown as u64, &origin, frame)
                 .unwrap();
         }
+        let removed: Vec<bool> = (0..5).map(|i| w.is_removed(i)).collect();
+        assert_eq!(removed, [false, false, true, true, false]);
         w.finish().unwrap();
         let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
         let lines: Vec<&str> = text
