@@ -912,6 +912,27 @@ mod tests {
         );
     }
 
+    /// A single flight's output shows its writer in `Debug`, and hands it out.
+    #[test]
+    fn an_acmi_output_shows_its_writer() {
+        let header = AcmiHeader {
+            reference_time: ReferenceTime::default(),
+            title: "one".to_owned(),
+            origin: Geodetic {
+                lat_deg: 0.0,
+                lon_deg: 0.0,
+                alt_m: 0.0,
+            },
+        };
+        let writer = AcmiWriter::new(Bytes::default(), &header, 25).unwrap();
+        let output = AcmiOutput::<fdm_core::palmer::Palmer>::new(writer);
+        // The header is gathered, not yet written: counted all the same.
+        assert!(output.writer().bytes_written() > 100);
+        let shown = format!("{output:?}");
+        assert!(shown.starts_with("AcmiOutput(AcmiWriter {"), "{shown}");
+        assert!(shown.contains("fps: 25"), "{shown}");
+    }
+
     #[test]
     fn reference_times() {
         for ok in [
