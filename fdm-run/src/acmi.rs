@@ -933,6 +933,79 @@ mod tests {
         assert!(shown.contains("fps: 25"), "{shown}");
     }
 
+    /// A single flight's frames: declared and written at the start, a step
+    /// written, a divergence removes it (no sample of the diverged frame,
+    /// nothing while it is removed), a reset declares it again (at time 0:
+    /// the run's clock starts again); a crash is written once more and
+    /// removed.
+    #[test]
+    fn a_flights_frames_declare_sample_remove_and_reset() {
+        use fdm_core::model::Model;
+        use fdm_core::palmer::Palmer;
+        let out = Bytes::default();
+        let header = AcmiHeader {
+            reference_time: ReferenceTime::default(),
+            title: "one".to_owned(),
+            origin: Geodetic {
+                lat_deg: 0.0,
+                lon_deg: 0.0,
+                alt_m: 0.0,
+            },
+        };
+        let mut output =
+            AcmiOutput::<Palmer>::new(AcmiWriter::new(out.clone(), &header, 1).unwrap());
+        let (controls, state) = (Palmer::initial_controls(), Palmer::initial_state());
+        let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
+        let at = |alt_m: f64| Placement {
+            geodetic: Geodetic {
+                lat_deg: 0.0,
+                lon_deg: 0.0,
+                alt_m,
+            },
+            attitude: fdm_core::geodesy::Attitude {
+                roll_deg: 0.0,
+                pitch_deg: 0.0,
+                heading_deg: 0.0,
+            },
+        };
+        let up = FlightStatus::Airborne;
+        let crash = FlightStatus::Landed(LandingState::Crash);
+        for (flown, event, alt_m, status) in [
+            (0, Event::Start, 1.0, up),
+            (1, Event::Step, 2.0, up),
+            (2, Event::Step, 3.0, FlightStatus::Diverged),
+            (3, Event::Step, 4.0, up),
+            (0, Event::Reset, 1.0, up),
+            (1, Event::Step, 0.0, crash),
+        ] {
+            let placement = at(alt_m);
+            let frame = Frame::<Palmer> {
+                event,
+                number: flown,
+                flown,
+                fps: 1,
+                actions: &[],
+                controls: &controls,
+                state: &state,
+                view: &view,
+                placement: &placement,
+                status,
+            };
+            output.frame(&frame).unwrap();
+        }
+        Output::<Palmer>::finish(&mut output).unwrap();
+        let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+        let body = text.split_once("0,Title=one\n").unwrap().1;
+        assert_eq!(
+            body,
+            "#0\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
+             #1\n1,T=||2|||\n#2\n-1\n\
+             #0\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
+             #1\n1,T=||0|||\n-1\n",
+            "{body}"
+        );
+    }
+
     #[test]
     fn reference_times() {
         for ok in [
