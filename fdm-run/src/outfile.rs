@@ -169,15 +169,25 @@ pub fn create_locked(path: &Path) -> io::Result<File> {
     Ok(file)
 }
 
+/// The major and minor numbers of a device number as `stat` gives it
+/// (glibc's `gnu_dev_major` and `gnu_dev_minor`: the major's low 12 bits at
+/// bit 8 and the rest from bit 44, the minor's low 8 bits at bit 0 and the
+/// rest from bit 20), as `/proc/locks` prints them.
+#[cfg(target_os = "linux")]
+fn major_minor(dev: u64) -> (u64, u64) {
+    let major = ((dev >> 8) & 0xfff) | ((dev >> 32) & !0xfff);
+    // The minor's high part is bits 20..44 only: above them lies the
+    // major's (a mask of `!0xff` took those bits into the minor).
+    let minor = (dev & 0xff) | ((dev >> 12) & 0xffff_ff00);
+    (major, minor)
+}
+
 /// The process holding a `flock` lock on `file`, from `/proc/locks` (Linux).
 #[cfg(target_os = "linux")]
 fn holder_of(file: &File) -> Option<u32> {
     use std::os::unix::fs::MetadataExt as _;
     let meta = file.metadata().ok()?;
-    let dev = meta.dev();
-    // The kernel's encoding of a device number (glibc's gnu_dev_major/minor).
-    let major = ((dev >> 8) & 0xfff) | ((dev >> 32) & !0xfff);
-    let minor = (dev & 0xff) | ((dev >> 12) & !0xff);
+    let (major, minor) = major_minor(meta.dev());
     let wanted = format!("{major:02x}:{minor:02x}:{}", meta.ino());
     let locks = std::fs::read_to_string("/proc/locks").ok()?;
     // "1: FLOCK  ADVISORY  WRITE 12345 fd:01:1234567 0 EOF"
@@ -362,6 +372,38 @@ mod tests {
         let cut = CountingWatch::default();
         assert_eq!(watched_write(&cut, 6, || Ok(2)).unwrap(), 2);
         assert!(watched_write(&cut, 4, || Ok(4)).is_err());
+    }
+
+    /// Device numbers decode to the major and minor they were made of
+    /// (glibc's `gnu_dev_makedev`, written out here), the large ones too:
+    /// a major from 4096 or a minor from 256 has bits in the high parts (NVMe
+    /// and device-mapper minors, the anonymous devices of overlay and FUSE
+    /// file systems), which the files of this machine's tests may not.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn device_numbers_decode_to_their_major_and_minor() {
+        let makedev = |major: u64, minor: u64| {
+            ((major & 0xfff) << 8)
+                | ((major & !0xfff) << 32)
+                | (minor & 0xff)
+                | ((minor & !0xff) << 12)
+        };
+        for (major, minor) in [
+            (0, 0),
+            (8, 1),
+            (0, 46),
+            (259, 3),
+            (4095, 255),
+            (4096, 256),
+            (0xfff_ffff, 0xfff_ffff),
+            (0x12_3456, 0xab_cdef),
+        ] {
+            assert_eq!(
+                major_minor(makedev(major, minor)),
+                (major, minor),
+                "{major}:{minor}"
+            );
+        }
     }
 
     /// A pipe (what `/dev/stdout` is when the output is piped into another
