@@ -189,8 +189,15 @@ fn holder_of(file: &File) -> Option<u32> {
     let meta = file.metadata().ok()?;
     let (major, minor) = major_minor(meta.dev());
     let wanted = format!("{major:02x}:{minor:02x}:{}", meta.ino());
-    let locks = std::fs::read_to_string("/proc/locks").ok()?;
-    // "1: FLOCK  ADVISORY  WRITE 12345 fd:01:1234567 0 EOF"
+    flock_holder(&std::fs::read_to_string("/proc/locks").ok()?, &wanted)
+}
+
+/// The pid of the `FLOCK` line of `locks` (the text of `/proc/locks`) on the
+/// file `wanted` (`MAJOR:MINOR:INODE`, as the kernel prints it).
+#[cfg(target_os = "linux")]
+fn flock_holder(locks: &str, wanted: &str) -> Option<u32> {
+    // "1: FLOCK  ADVISORY  WRITE 12345 fd:01:1234567 0 EOF"; a process
+    // waiting for the lock has a line "1: -> FLOCK ...", which is skipped.
     locks.lines().find_map(|line| {
         let fields: Vec<&str> = line.split_whitespace().collect();
         let (kind, pid, id) = (fields.get(1)?, fields.get(4)?, fields.get(5)?);
@@ -372,6 +379,22 @@ mod tests {
         let cut = CountingWatch::default();
         assert_eq!(watched_write(&cut, 6, || Ok(2)).unwrap(), 2);
         assert!(watched_write(&cut, 4, || Ok(4)).is_err());
+    }
+
+    /// The holder is the pid of the `FLOCK` line on the file: not a POSIX
+    /// or OFD lock's, not another file's, not a waiter's (`->`).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_holder_is_the_flock_line_on_the_file() {
+        let locks = "1: POSIX  ADVISORY  WRITE 111 fd:01:1234 0 EOF\n\
+                     2: FLOCK  ADVISORY  WRITE 222 fd:01:9999 0 EOF\n\
+                     3: OFDLCK ADVISORY  READ  -1 fd:01:1234 0 EOF\n\
+                     4: FLOCK  ADVISORY  WRITE 444 fd:01:1234 0 EOF\n\
+                     4: -> FLOCK  ADVISORY  WRITE 555 fd:01:1234 0 EOF\n";
+        assert_eq!(flock_holder(locks, "fd:01:1234"), Some(444));
+        assert_eq!(flock_holder(locks, "fd:01:9999"), Some(222));
+        assert_eq!(flock_holder(locks, "fd:02:1234"), None);
+        assert_eq!(flock_holder("", "fd:01:1234"), None);
     }
 
     /// Device numbers decode to the major and minor they were made of
