@@ -657,17 +657,43 @@ mod tests {
         assert_eq!(s, "0 -0.0483 12345.67 -0.05 1 0.033333 ");
     }
 
-    /// A sink that records the length of every write it is handed.
+    /// A sink that keeps every write it is handed: its length and its bytes.
     #[derive(Clone, Default)]
-    struct Writes(std::sync::Arc<std::sync::Mutex<Vec<usize>>>);
+    struct Recorder(std::sync::Arc<std::sync::Mutex<(Vec<usize>, Vec<u8>)>>);
 
-    impl Write for Writes {
+    impl Recorder {
+        /// The length of each write, in order.
+        fn lengths(&self) -> Vec<usize> {
+            self.0.lock().unwrap().0.clone()
+        }
+        /// Every byte written, as text.
+        fn text(&self) -> String {
+            String::from_utf8(self.0.lock().unwrap().1.clone()).unwrap()
+        }
+    }
+
+    impl Write for Recorder {
         fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-            self.0.lock().unwrap().push(buf.len());
+            let mut kept = self.0.lock().unwrap();
+            kept.0.push(buf.len());
+            kept.1.extend_from_slice(buf);
             Ok(buf.len())
         }
         fn flush(&mut self) -> io::Result<()> {
             Ok(())
+        }
+    }
+
+    /// A file's header: `title`, its origin at `lat_deg`, `lon_deg`, `alt_m`.
+    fn header(title: &str, lat_deg: f64, lon_deg: f64, alt_m: f64) -> AcmiHeader {
+        AcmiHeader {
+            reference_time: ReferenceTime::default(),
+            title: title.to_owned(),
+            origin: Geodetic {
+                lat_deg,
+                lon_deg,
+                alt_m,
+            },
         }
     }
 
@@ -677,16 +703,8 @@ mod tests {
     #[test]
     fn text_goes_out_in_chunks() {
         use fdm_core::geodesy::Attitude;
-        let writes = Writes::default();
-        let header = AcmiHeader {
-            reference_time: ReferenceTime::default(),
-            title: "chunks".to_owned(),
-            origin: Geodetic {
-                lat_deg: 39.8,
-                lon_deg: -84.0,
-                alt_m: 251.0,
-            },
-        };
+        let writes = Recorder::default();
+        let header = header("chunks", 39.8, -84.0, 251.0);
         let mut w = AcmiWriter::new(writes.clone(), &header, 30).unwrap();
         w.declare(
             0,
@@ -715,10 +733,7 @@ mod tests {
             w.sample(0, &placement(k)).unwrap();
             k += 1;
         }
-        assert!(
-            writes.0.lock().unwrap().is_empty(),
-            "nothing written before 64 KiB"
-        );
+        assert!(writes.lengths().is_empty(), "nothing written before 64 KiB");
         // Its `Debug` says where it is (the text is not printed).
         let shown = format!("{w:?}");
         let bytes = format!("bytes: {}", w.bytes_written());
@@ -732,7 +747,7 @@ mod tests {
             k += 1;
         }
         w.finish().unwrap();
-        let lengths = writes.0.lock().unwrap().clone();
+        let lengths = writes.lengths();
         assert!(lengths.len() >= 3, "{lengths:?}");
         let (last, full) = lengths.split_last().unwrap();
         assert!(full.iter().all(|&n| n >= CHUNK_BYTES), "{lengths:?}");
@@ -741,7 +756,7 @@ mod tests {
         assert_eq!(total as u64, w.bytes_written());
         w.finish().unwrap();
         assert_eq!(
-            writes.0.lock().unwrap().len(),
+            writes.lengths().len(),
             lengths.len(),
             "a second finish writes nothing"
         );
@@ -752,21 +767,7 @@ mod tests {
             w.sample(0, &placement(k)).err()
         });
         assert!(matches!(refused, Some(AcmiError::Finished)), "{refused:?}");
-        assert_eq!(writes.0.lock().unwrap().len(), lengths.len());
-    }
-
-    /// A sink that keeps the bytes.
-    #[derive(Clone, Default)]
-    struct Bytes(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
-
-    impl Write for Bytes {
-        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-            self.0.lock().unwrap().extend_from_slice(buf);
-            Ok(buf.len())
-        }
-        fn flush(&mut self) -> io::Result<()> {
-            Ok(())
-        }
+        assert_eq!(writes.lengths().len(), lengths.len());
     }
 
     /// An object's first sample is written whole with its declaration, even
@@ -776,16 +777,8 @@ mod tests {
     #[test]
     fn only_what_changed_is_written() {
         use fdm_core::geodesy::Attitude;
-        let out = Bytes::default();
-        let header = AcmiHeader {
-            reference_time: ReferenceTime::default(),
-            title: "t".to_owned(),
-            origin: Geodetic {
-                lat_deg: 0.0,
-                lon_deg: 0.0,
-                alt_m: 0.0,
-            },
-        };
+        let out = Recorder::default();
+        let header = header("t", 0.0, 0.0, 0.0);
         let mut w = AcmiWriter::new(out.clone(), &header, 2).unwrap();
         w.declare(
             0,
@@ -815,7 +808,7 @@ mod tests {
             w.sample(0, &at(alt_m, heading_deg)).unwrap();
         }
         w.finish().unwrap();
-        let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+        let text = out.text();
         let body = text.split_once("0,Title=t\n").unwrap().1;
         assert_eq!(
             body,
@@ -832,7 +825,7 @@ mod tests {
     fn fleet_frames_declare_sample_and_remove() {
         use fdm_core::model::Model;
         use fdm_core::palmer::Palmer;
-        let out = Bytes::default();
+        let out = Recorder::default();
         let origin = GeodeticOrigin::new(39.8, -84.0, 251.0).unwrap();
         let header = AcmiHeader {
             reference_time: ReferenceTime::default(),
@@ -879,7 +872,7 @@ mod tests {
         let removed: Vec<bool> = (0..5).map(|i| w.is_removed(i)).collect();
         assert_eq!(removed, [false, false, true, true, false]);
         w.finish().unwrap();
-        let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+        let text = out.text();
         let lines: Vec<&str> = text
             .split_once("0,Title=fleet\n")
             .unwrap()
@@ -915,16 +908,8 @@ mod tests {
     /// A single flight's output shows its writer in `Debug`, and hands it out.
     #[test]
     fn an_acmi_output_shows_its_writer() {
-        let header = AcmiHeader {
-            reference_time: ReferenceTime::default(),
-            title: "one".to_owned(),
-            origin: Geodetic {
-                lat_deg: 0.0,
-                lon_deg: 0.0,
-                alt_m: 0.0,
-            },
-        };
-        let writer = AcmiWriter::new(Bytes::default(), &header, 25).unwrap();
+        let header = header("one", 0.0, 0.0, 0.0);
+        let writer = AcmiWriter::new(Recorder::default(), &header, 25).unwrap();
         let output = AcmiOutput::<fdm_core::palmer::Palmer>::new(writer);
         // The header is gathered, not yet written: counted all the same.
         assert!(output.writer().bytes_written() > 100);
@@ -942,16 +927,8 @@ mod tests {
     fn a_flights_frames_declare_sample_remove_and_reset() {
         use fdm_core::model::Model;
         use fdm_core::palmer::Palmer;
-        let out = Bytes::default();
-        let header = AcmiHeader {
-            reference_time: ReferenceTime::default(),
-            title: "one".to_owned(),
-            origin: Geodetic {
-                lat_deg: 0.0,
-                lon_deg: 0.0,
-                alt_m: 0.0,
-            },
-        };
+        let out = Recorder::default();
+        let header = header("one", 0.0, 0.0, 0.0);
         let mut output =
             AcmiOutput::<Palmer>::new(AcmiWriter::new(out.clone(), &header, 1).unwrap());
         let (controls, state) = (Palmer::initial_controls(), Palmer::initial_state());
@@ -994,7 +971,7 @@ mod tests {
             output.frame(&frame).unwrap();
         }
         Output::<Palmer>::finish(&mut output).unwrap();
-        let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+        let text = out.text();
         let body = text.split_once("0,Title=one\n").unwrap().1;
         assert_eq!(
             body,
