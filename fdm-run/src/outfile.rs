@@ -176,8 +176,9 @@ pub fn create_locked(path: &Path) -> io::Result<File> {
 #[cfg(target_os = "linux")]
 fn major_minor(dev: u64) -> (u64, u64) {
     let major = ((dev >> 8) & 0xfff) | ((dev >> 32) & !0xfff);
-    // The minor's high part is bits 20..44 only: above them lies the
-    // major's (a mask of `!0xff` took those bits into the minor).
+    // glibc's masks: the minor's high part is bits 20..44, the major's from
+    // 44. (Linux's own numbers, 12-bit majors and 20-bit minors, never reach
+    // bit 32; glibc's encoding, and this decoding, allow 32 bits of each.)
     let minor = (dev & 0xff) | ((dev >> 12) & 0xffff_ff00);
     (major, minor)
 }
@@ -398,10 +399,11 @@ mod tests {
     }
 
     /// Device numbers decode to the major and minor they were made of
-    /// (glibc's `gnu_dev_makedev`, written out here), the large ones too:
-    /// a major from 4096 or a minor from 256 has bits in the high parts (NVMe
-    /// and device-mapper minors, the anonymous devices of overlay and FUSE
-    /// file systems), which the files of this machine's tests may not.
+    /// (glibc's `gnu_dev_makedev`, written out here), the large ones too: a
+    /// minor from 256 has bits in the high part (device-mapper and NVMe
+    /// partitions, the anonymous devices of overlay and FUSE file systems),
+    /// which the files of this machine's tests may not; a major from 4096
+    /// is glibc's encoding only (Linux's majors have 12 bits).
     #[cfg(target_os = "linux")]
     #[test]
     fn device_numbers_decode_to_their_major_and_minor() {
