@@ -697,42 +697,46 @@ mod tests {
         }
     }
 
+    /// A level placement (no roll, no pitch) at `lat_deg`, `lon_deg`,
+    /// `alt_m`, heading `heading_deg`.
+    fn level(lat_deg: f64, lon_deg: f64, alt_m: f64, heading_deg: f64) -> Placement {
+        Placement {
+            geodetic: Geodetic {
+                lat_deg,
+                lon_deg,
+                alt_m,
+            },
+            attitude: fdm_core::geodesy::Attitude {
+                roll_deg: 0.0,
+                pitch_deg: 0.0,
+                heading_deg,
+            },
+        }
+    }
+
     /// The text goes to the sink in pieces of at least [`CHUNK_BYTES`]
     /// (one write per 64 KiB, not one per line), every byte of it by the
     /// end; after `finish` a write is refused.
     #[test]
     fn text_goes_out_in_chunks() {
-        use fdm_core::geodesy::Attitude;
         let writes = Recorder::default();
         let header = header("chunks", 39.8, -84.0, 251.0);
         let mut w = AcmiWriter::new(writes.clone(), &header, 30).unwrap();
-        w.declare(
-            0,
-            ObjectInfo {
-                name: "C172".into(),
-                type_tags: "Air".into(),
-                callsign: "C-1".into(),
-            },
-        );
-        let placement = |k: u32| Placement {
-            geodetic: Geodetic {
-                lat_deg: 39.8 + f64::from(k) * 1e-6,
-                lon_deg: -84.0 - f64::from(k) * 1e-6,
-                alt_m: 300.0 + f64::from(k),
-            },
-            attitude: Attitude {
-                roll_deg: 1.0,
-                pitch_deg: 2.0,
-                heading_deg: f64::from(k % 360),
-            },
-        };
+        w.declare(0, ObjectInfo::of::<fdm_core::palmer::Palmer>(0));
+        let placement =
+            |k: u32| level(39.8 + f64::from(k) * 1e-6, -84.0, 300.0 + f64::from(k), 0.0);
+        // Frame k samples placement(k) (every one moved) until `bytes`
+        // bytes of text have been written or gathered.
         let mut k = 0;
-        while w.bytes_written() < (CHUNK_BYTES as u64).saturating_sub(100) {
-            assert!(k < 100_000, "the samples write no text");
-            w.begin_frame(u64::from(k));
-            w.sample(0, &placement(k)).unwrap();
-            k += 1;
-        }
+        let mut fly_to = |w: &mut AcmiWriter, bytes: u64| {
+            while w.bytes_written() < bytes {
+                assert!(k < 100_000, "the samples write no text");
+                w.begin_frame(u64::from(k));
+                w.sample(0, &placement(k)).unwrap();
+                k += 1;
+            }
+        };
+        fly_to(&mut w, (CHUNK_BYTES as u64).saturating_sub(100));
         assert!(writes.lengths().is_empty(), "nothing written before 64 KiB");
         // Its `Debug` says where it is (the text is not printed).
         let shown = format!("{w:?}");
@@ -740,12 +744,7 @@ mod tests {
         for part in ["AcmiWriter", "fps: 30", "objects: 1", &bytes] {
             assert!(shown.contains(part), "{shown}");
         }
-        while w.bytes_written() < 3 * CHUNK_BYTES as u64 {
-            assert!(k < 100_000, "the samples write no text");
-            w.begin_frame(u64::from(k));
-            w.sample(0, &placement(k)).unwrap();
-            k += 1;
-        }
+        fly_to(&mut w, 3 * CHUNK_BYTES as u64);
         w.finish().unwrap();
         let lengths = writes.lengths();
         assert!(lengths.len() >= 3, "{lengths:?}");
@@ -762,7 +761,7 @@ mod tests {
         );
         // Samples after the end gather text until a chunk would go out, and
         // that is refused: nothing reaches the sink.
-        let refused = (k..k + 100_000).find_map(|k| {
+        let refused = (1_000_000..1_100_000).find_map(|k| {
             w.begin_frame(u64::from(k));
             w.sample(0, &placement(k)).err()
         });
@@ -776,43 +775,24 @@ mod tests {
     /// only the fields that changed.
     #[test]
     fn only_what_changed_is_written() {
-        use fdm_core::geodesy::Attitude;
         let out = Recorder::default();
         let header = header("t", 0.0, 0.0, 0.0);
         let mut w = AcmiWriter::new(out.clone(), &header, 2).unwrap();
-        w.declare(
-            0,
-            ObjectInfo {
-                name: "C172".into(),
-                type_tags: "Air".into(),
-                callsign: "C-1".into(),
-            },
-        );
-        let at = |alt_m: f64, heading_deg: f64| Placement {
-            geodetic: Geodetic {
-                lat_deg: 0.0,
-                lon_deg: 0.0,
-                alt_m,
-            },
-            attitude: Attitude {
-                roll_deg: 0.0,
-                pitch_deg: 0.0,
-                heading_deg,
-            },
-        };
+        w.declare(0, ObjectInfo::of::<fdm_core::palmer::Palmer>(0));
         for (frame, (alt_m, heading_deg)) in [(0.0, 0.0), (0.0, 0.0), (5.0, 0.0), (5.0, 90.0)]
             .into_iter()
             .enumerate()
         {
             w.begin_frame(frame as u64);
-            w.sample(0, &at(alt_m, heading_deg)).unwrap();
+            w.sample(0, &level(0.0, 0.0, alt_m, heading_deg)).unwrap();
         }
         w.finish().unwrap();
         let text = out.text();
         let body = text.split_once("0,Title=t\n").unwrap().1;
         assert_eq!(
             body,
-            "#0\n1,T=0|0|0|0|0|0,Name=C172,Type=Air,CallSign=C-1\n#1\n1,T=||5|||\n#1.5\n1,T=|||||90\n"
+            "#0\n1,T=0|0|0|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
+             #1\n1,T=||5|||\n#1.5\n1,T=|||||90\n"
         );
     }
 
@@ -827,11 +807,7 @@ mod tests {
         use fdm_core::palmer::Palmer;
         let out = Recorder::default();
         let origin = GeodeticOrigin::new(39.8, -84.0, 251.0).unwrap();
-        let header = AcmiHeader {
-            reference_time: ReferenceTime::default(),
-            title: "fleet".to_owned(),
-            origin: origin.geodetic(),
-        };
+        let header = header("fleet", 39.8, -84.0, 251.0);
         let mut w = AcmiWriter::new(out.clone(), &header, 30).unwrap();
         let (aircraft, controls) = (Palmer::default_aircraft(), Palmer::initial_controls());
         // In the air at 60 m/s, then 50 m further north and 10 m higher.
@@ -933,18 +909,6 @@ mod tests {
             AcmiOutput::<Palmer>::new(AcmiWriter::new(out.clone(), &header, 1).unwrap());
         let (controls, state) = (Palmer::initial_controls(), Palmer::initial_state());
         let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
-        let at = |alt_m: f64| Placement {
-            geodetic: Geodetic {
-                lat_deg: 0.0,
-                lon_deg: 0.0,
-                alt_m,
-            },
-            attitude: fdm_core::geodesy::Attitude {
-                roll_deg: 0.0,
-                pitch_deg: 0.0,
-                heading_deg: 0.0,
-            },
-        };
         let up = FlightStatus::Airborne;
         let crash = FlightStatus::Landed(LandingState::Crash);
         for (flown, event, alt_m, status) in [
@@ -955,7 +919,7 @@ mod tests {
             (0, Event::Reset, 1.0, up),
             (1, Event::Step, 0.0, crash),
         ] {
-            let placement = at(alt_m);
+            let placement = level(0.0, 0.0, alt_m, 0.0);
             let frame = Frame::<Palmer> {
                 event,
                 number: flown,
