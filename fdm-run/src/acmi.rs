@@ -894,10 +894,12 @@ mod tests {
         assert!(shown.contains("fps: 25"), "{shown}");
     }
 
-    /// A single flight's frames: declared and written at the start, a step
-    /// written, a divergence removes it (no sample of the diverged frame,
-    /// nothing while it is removed), a reset declares it again (at time 0:
-    /// the run's clock starts again); a crash is written once more and
+    /// A single flight's frames, numbered as a [`Run`](crate::Run) numbers
+    /// them: declared and written at the start, a step written, a
+    /// divergence removes it (no sample of the diverged frame, nothing while
+    /// it is removed), a reset declares it again at the clock of the frame
+    /// before it (the run's clock, `flown`, goes on across a reset: the
+    /// file's time never goes back), and a crash is written once more and
     /// removed.
     #[test]
     fn a_flights_frames_declare_sample_remove_and_reset() {
@@ -911,18 +913,19 @@ mod tests {
         let view = Palmer::view(&Palmer::default_aircraft(), &controls, &state);
         let up = FlightStatus::Airborne;
         let crash = FlightStatus::Landed(LandingState::Crash);
-        for (flown, event, alt_m, status) in [
-            (0, Event::Start, 1.0, up),
-            (1, Event::Step, 2.0, up),
-            (2, Event::Step, 3.0, FlightStatus::Diverged),
-            (3, Event::Step, 4.0, up),
-            (0, Event::Reset, 1.0, up),
-            (1, Event::Step, 0.0, crash),
+        // (frame number since the start or the reset, frames flown, ...)
+        for (number, flown, event, alt_m, status) in [
+            (0, 0, Event::Start, 1.0, up),
+            (1, 1, Event::Step, 2.0, up),
+            (2, 2, Event::Step, 3.0, FlightStatus::Diverged),
+            (3, 3, Event::Step, 4.0, up),
+            (0, 3, Event::Reset, 1.0, up),
+            (1, 4, Event::Step, 0.0, crash),
         ] {
             let placement = level(0.0, 0.0, alt_m, 0.0);
             let frame = Frame::<Palmer> {
                 event,
-                number: flown,
+                number,
                 flown,
                 fps: 1,
                 actions: &[],
@@ -941,8 +944,8 @@ mod tests {
             body,
             "#0\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
              #1\n1,T=||2|||\n#2\n-1\n\
-             #0\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
-             #1\n1,T=||0|||\n-1\n",
+             #3\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
+             #4\n1,T=||0|||\n-1\n",
             "{body}"
         );
     }
