@@ -8,8 +8,9 @@ import csv
 import json
 import pathlib
 import pickle
+import statistics
 import subprocess
-from typing import Dict, List
+from typing import Dict, List, Sequence
 
 import numpy as np
 import pytest
@@ -127,6 +128,96 @@ def test_the_table_is_sim_cli_studys_runs_csv_and_summary(
     # The study exercises both sides of "applies".
     applies = whole.applies("touchdown_x_m")
     assert applies.any() and not applies.all()
+
+
+# An independent Philox4x32-10 (Random123's description; docs/studies.md,
+# "Random numbers"), to check the study's draws from outside the Rust code.
+_PHILOX_M = (0xD2511F53, 0xCD9E8D57)
+_PHILOX_W = (0x9E3779B9, 0xBB67AE85)
+_U32 = 0xFFFFFFFF
+
+
+def philox4x32_10(counter: Sequence[int], key: Sequence[int]) -> List[int]:
+    x, k = list(counter), list(key)
+    for round_ in range(10):
+        if round_:
+            k = [(k[0] + _PHILOX_W[0]) & _U32, (k[1] + _PHILOX_W[1]) & _U32]
+        p0, p1 = _PHILOX_M[0] * x[0], _PHILOX_M[1] * x[2]
+        x = [(p1 >> 32) ^ x[1] ^ k[0], p1 & _U32, (p0 >> 32) ^ x[3] ^ k[1], p0 & _U32]
+    return x
+
+
+def study_uniform(seed: int, run: int, draw: int) -> float:
+    """The uniform of dispersion ``draw`` of run ``run``: 53 bits of the
+    block at counter (run's words, draw, 0) under the seed's words, as
+    (bits + 1/2) / 2^53."""
+    block = philox4x32_10([run & _U32, run >> 32, draw, 0], [seed & _U32, seed >> 32])
+    bits = ((block[0] << 32) | block[1]) >> 11
+    return (bits + 0.5) / 2.0**53
+
+
+def test_an_independent_philox_gives_random123s_answer() -> None:
+    assert philox4x32_10([0, 0, 0, 0], [0, 0]) == [0x6627E8D5, 0xE169C58D, 0xBC57AC4C, 0x9B00DBD8]
+    assert philox4x32_10([_U32] * 4, [_U32] * 2) == [0x408F276D, 0x41C83B0E, 0xA20BC7C6, 0x6D5451FD]
+
+
+def test_dispersions_are_their_distributions_quantiles(whole: afit_fdm.RunTable) -> None:
+    """Each run's inputs are the documented draws, computed here without the
+    package: the independent Philox's uniform u, then the distribution's
+    quantile at u from Python's own ``statistics.NormalDist`` (its ``cdf``
+    through ``erf``, its ``inv_cdf`` its own code of Wichura's AS 241): the
+    normal's mean + sd·Φ⁻¹(u), the truncated normal's Φ⁻¹(Φ(α) + u·(Φ(β) −
+    Φ(α))) (interval around its mean: not mirrored), the choice's value
+    whose cumulative weight first exceeds u. Tolerance 1e-12 relative: the
+    two Φ differ by an ulp or two (erf against erfc), and Φ⁻¹'s slope here
+    (at most 1/φ(2.5) = 57) keeps that far below it, while any change to a
+    distribution's formula moves a draw by far more. The choice exactly."""
+    nd = statistics.NormalDist()
+    a, b = nd.cdf((950.0 - 1050.0) / 40.0), nd.cdf((1114.0 - 1050.0) / 40.0)
+    speed = whole.input("input.initial.speed_kt")
+    mass = whole.input("input.aircraft.mass_kg")
+    altitude = whole.input("input.initial.altitude_ft")
+    for run in range(len(whole)):
+        u = [study_uniform(7, run, draw) for draw in range(3)]
+        want_speed = 65.0 + 2.5 * nd.inv_cdf(u[0])
+        want_mass = 1050.0 + 40.0 * nd.inv_cdf(a + u[1] * (b - a))
+        want_altitude = next(v for v, c in zip((150.0, 300.0, 900.0), (1 / 3, 2 / 3, 1.0)) if u[2] < c)
+        assert speed[run] == pytest.approx(want_speed, rel=1e-12, abs=0.0), run
+        assert mass[run] == pytest.approx(want_mass, rel=1e-12, abs=0.0), run
+        assert 950.0 <= mass[run] <= 1114.0
+        assert altitude[run] == want_altitude, run
+    # The draws spread: the three choices all occur in 24 runs.
+    assert set(altitude.tolist()) == {150.0, 300.0, 900.0}
+
+
+def test_the_summary_is_numpys_statistics_of_the_table(whole: afit_fdm.RunTable) -> None:
+    """``summary.json``'s numbers against NumPy's of the same values: count,
+    min and max exactly; the mean, the sample standard deviation
+    (``ddof=1``), the 95 % interval mean ± 1.96·sd/√n and the percentiles
+    (``method="linear"``, NumPy's default) within 1e-12 relative to the
+    values' scale (NumPy sums pairwise, the summary in run order, and its
+    interpolation rounds differently for fractions above 1/2: a few ulps)."""
+    summary = whole.summarize()
+    for name in whole.measure_names:
+        values = whole.values(name)[whole.applies(name)]
+        got = summary["measures"][name]
+        assert got["count"] == len(values)
+        assert len(values) >= 2, name
+        scale = float(np.max(np.abs(values)))
+
+        def close(x: float, want: float) -> bool:
+            return abs(x - want) <= 1e-12 * scale
+
+        mean, sd = float(np.mean(values)), float(np.std(values, ddof=1))
+        assert close(got["mean"], mean), (name, got["mean"], mean)
+        assert close(got["sd"], sd), (name, got["sd"], sd)
+        half = 1.96 * sd / np.sqrt(len(values))
+        assert close(got["ci95"][0], mean - half) and close(got["ci95"][1], mean + half), name
+        assert got["min"] == float(np.min(values)) and got["max"] == float(np.max(values)), name
+        for key, q in (("p1", 1), ("p5", 5), ("p50", 50), ("p95", 95), ("p99", 99)):
+            want = float(np.percentile(values, q, method="linear"))
+            assert close(got[key], want), (name, key, got[key], want)
+    assert sum(summary["statuses"].values()) == len(whole)
 
 
 def test_a_path_a_study_and_the_text_give_the_same_table(

@@ -265,3 +265,197 @@ impl Tracker {
 pub fn needs_view(measures: &[Measure]) -> bool {
     measures.contains(&Measure::MaxBankDeg)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdm_core::model::{FlightStatus, LandingState, Model};
+    use fdm_core::palmer::{Palmer, PalmerControls, PalmerState};
+
+    /// A Palmer state at `time_s`, `position_m`, `velocity_mps`.
+    fn state(time_s: f64, position_m: [f64; 3], velocity_mps: [f64; 3]) -> PalmerState {
+        PalmerState {
+            time_s,
+            position_m: position_m.into(),
+            velocity_mps: velocity_mps.into(),
+        }
+    }
+
+    /// The controls banked `bank_deg`.
+    fn banked(bank_deg: f64) -> PalmerControls {
+        PalmerControls {
+            bank_deg,
+            ..Palmer::initial_controls()
+        }
+    }
+
+    /// A made-up flight at 10 frames per second whose measures are worked
+    /// out by hand below: it reaches the target height of 120 m exactly at
+    /// frame 2, tops out at frame 3, touches down at frame 4, bounces and
+    /// touches down again at frame 6. Every number a mutant of the tracker
+    /// could move (the touchdown's frame and the frame before it, `>=`
+    /// against `>` at the target, the start's position, Δt) shows in one of
+    /// the measures. The touchdown's own change of velocity is the largest
+    /// of the flight (a load factor of about 510, from the ground's
+    /// reaction), so a load factor taken over a frame on the ground would
+    /// show.
+    fn flight() -> Vec<(PalmerState, f64, FlightStatus)> {
+        let up = FlightStatus::Airborne;
+        let down = FlightStatus::Landed(LandingState::Safe);
+        vec![
+            (state(0.0, [1.0, 2.0, 100.0], [50.0, 0.0, 0.0]), 0.0, up),
+            (state(0.1, [6.0, 2.0, 90.0], [50.0, 0.0, -1.0]), -10.0, up),
+            (state(0.2, [10.0, 6.0, 120.0], [30.0, 40.0, 0.0]), 15.0, up),
+            (state(0.3, [12.0, 4.0, 200.0], [3.0, 4.0, -5.0]), -20.0, up),
+            (
+                state(0.4, [13.0, 5.0, 0.0], [-300.0, 400.0, 0.0]),
+                5.0,
+                down,
+            ),
+            (state(0.5, [14.0, 6.0, 50.0], [1.0, 1.0, 1.0]), 0.0, up),
+            (state(0.6, [15.0, 7.0, 0.0], [0.0, 0.0, -2.0]), 0.0, down),
+        ]
+    }
+
+    /// The tracker after `frames` (numbered from 0).
+    fn tracked(
+        frames: &[(PalmerState, f64, FlightStatus)],
+        target_height_m: Option<f64>,
+        needs_bank: bool,
+    ) -> Tracker {
+        let aircraft = Palmer::default_aircraft();
+        let mut tracker = Tracker::new(10, target_height_m, needs_bank);
+        for (number, (state, bank_deg, status)) in frames.iter().enumerate() {
+            tracker.observe::<Palmer>(number as u64, &aircraft, &banked(*bank_deg), state, *status);
+        }
+        tracker
+    }
+
+    /// Every measure of the made-up flight, against the numbers worked out
+    /// by hand. The tolerance is 1e-12 relative where the tracker divides
+    /// by Δt = 1/10 (not exact in binary: the accelerations carry a
+    /// rounding of about 1e-16 relative) and none elsewhere (the positions
+    /// and times are copied, the ground speeds are `hypot`s of 3-4-5
+    /// triangles, exact).
+    #[test]
+    fn measures_of_a_made_up_flight_are_the_hand_worked_ones() {
+        let tracker = tracked(&flight(), Some(120.0), true);
+        let value = |m: Measure| tracker.value(m);
+        assert_eq!(value(Measure::FinalTimeS), Some(0.6));
+        assert_eq!(value(Measure::FinalXM), Some(15.0));
+        assert_eq!(value(Measure::FinalYM), Some(7.0));
+        assert_eq!(value(Measure::FinalHeightM), Some(0.0));
+        assert_eq!(value(Measure::FinalGroundSpeedMps), Some(0.0));
+        assert_eq!(value(Measure::MinHeightM), Some(0.0));
+        assert_eq!(value(Measure::MaxHeightM), Some(200.0));
+        // The first touchdown (frame 4), with frame 3's velocity (3, 4, -5).
+        assert_eq!(value(Measure::TouchdownTimeS), Some(0.4));
+        assert_eq!(value(Measure::TouchdownXM), Some(13.0));
+        assert_eq!(value(Measure::TouchdownYM), Some(5.0));
+        assert_eq!(value(Measure::TouchdownGroundSpeedMps), Some(5.0));
+        assert_eq!(value(Measure::TouchdownSinkRateMps), Some(5.0));
+        // 120 m is reached at frame 2 (exactly: `>=`), hypot(9, 4) = √97 m
+        // from the start (1, 2) horizontally.
+        assert_eq!(value(Measure::TimeToHeightS), Some(0.2));
+        assert_eq!(
+            value(Measure::DistanceToHeightM),
+            Some(fdm_core::math::hypot(9.0, 4.0))
+        );
+        assert!((fdm_core::math::hypot(9.0, 4.0) - 97.0_f64.sqrt()).abs() < 1e-12);
+        // The largest |bank| is frame 3's 20 degrees (the view's roll,
+        // through a rotation matrix: within 1e-9 degrees).
+        let bank = value(Measure::MaxBankDeg).unwrap();
+        assert!((bank - 20.0).abs() < 1e-9, "{bank}");
+        // The load factor of the airborne pairs (0, 1), (1, 2), (2, 3) and
+        // not (3, 4) (landed) nor (4, 5) (from the ground): Δv/Δt + g ẑ.
+        // (0, 1): (0, 0, -10 + g); (1, 2): (-200, 400, 10 + g);
+        // (2, 3): (-270, -360, -50 + g), the largest: sqrt(270² + 360² +
+        // (g - 50)²) / g, with 270² + 360² = 450².
+        let g = STANDARD_GRAVITY_MPS2;
+        let want = (450.0_f64 * 450.0 + (g - 50.0) * (g - 50.0)).sqrt() / g;
+        let n = value(Measure::MaxLoadFactor).unwrap();
+        assert!((n - want).abs() <= 1e-12 * want, "{n} against {want}");
+        assert!(want > 46.0 && want < 46.1);
+        assert!(tracker.touched_down());
+        assert_eq!(tracker.frames(), 6);
+        assert_eq!(tracker.status(), FlightStatus::Landed(LandingState::Safe));
+    }
+
+    /// Before anything lands or climbs: no touchdown, no height reached
+    /// (and none without a target height), no load factor from frame 0
+    /// alone; the bank is 0 when it is not measured.
+    #[test]
+    fn measures_that_do_not_apply_are_none() {
+        let frames = flight();
+        let start = tracked(&frames[..1], Some(120.0), false);
+        for m in [
+            Measure::TouchdownTimeS,
+            Measure::TouchdownXM,
+            Measure::TouchdownYM,
+            Measure::TouchdownGroundSpeedMps,
+            Measure::TouchdownSinkRateMps,
+            Measure::TimeToHeightS,
+            Measure::DistanceToHeightM,
+            Measure::MaxLoadFactor,
+        ] {
+            assert_eq!(start.value(m), None, "{}", m.name());
+        }
+        assert!(!start.touched_down());
+        assert_eq!(start.frames(), 0);
+        assert_eq!(start.status(), FlightStatus::Airborne);
+        assert_eq!(start.value(Measure::MinHeightM), Some(100.0));
+        assert_eq!(start.value(Measure::MaxHeightM), Some(100.0));
+        assert_eq!(start.value(Measure::FinalGroundSpeedMps), Some(50.0));
+        // Frame 1's load factor: (0, 0, -10 + g) / g.
+        let two = tracked(&frames[..2], None, false);
+        let g = STANDARD_GRAVITY_MPS2;
+        let n = two.value(Measure::MaxLoadFactor).unwrap();
+        let want = (10.0 - g) / g;
+        assert!((n - want).abs() <= 1e-12, "{n} against {want}");
+        // The whole flight without a target height, without the bank.
+        let all = tracked(&frames, None, false);
+        assert_eq!(all.value(Measure::TimeToHeightS), None);
+        assert_eq!(all.value(Measure::DistanceToHeightM), None);
+        assert_eq!(all.value(Measure::MaxBankDeg), Some(0.0));
+    }
+
+    /// A state that is not finite leaves the load factor and the bank as
+    /// they were, and a measure that is not finite is `None`, never NaN.
+    #[test]
+    fn non_finite_frames_give_none_not_nan() {
+        let mut frames = flight()[..3].to_vec();
+        frames.push((
+            state(0.3, [f64::NAN, 4.0, 200.0], [f64::NAN, 4.0, -5.0]),
+            f64::NAN,
+            FlightStatus::Airborne,
+        ));
+        let tracker = tracked(&frames, Some(120.0), true);
+        assert_eq!(tracker.value(Measure::FinalXM), None);
+        assert_eq!(tracker.value(Measure::FinalGroundSpeedMps), None);
+        // The bank and load factor of frames 0 to 2 stand.
+        let bank = tracker.value(Measure::MaxBankDeg).unwrap();
+        assert!((bank - 15.0).abs() < 1e-9, "{bank}");
+        let g = STANDARD_GRAVITY_MPS2;
+        let want = (200.0_f64 * 200.0 + 400.0 * 400.0 + (10.0 + g) * (10.0 + g)).sqrt() / g;
+        let n = tracker.value(Measure::MaxLoadFactor).unwrap();
+        assert!((n - want).abs() <= 1e-12 * want, "{n} against {want}");
+        assert_eq!(tracker.value(Measure::MaxHeightM), Some(200.0));
+    }
+
+    #[test]
+    fn names_and_needs() {
+        for &m in Measure::ALL {
+            assert_eq!(Measure::from_name(m.name()), Some(m));
+            assert_eq!(
+                m.needs_target_height(),
+                matches!(m, Measure::TimeToHeightS | Measure::DistanceToHeightM)
+            );
+        }
+        assert_eq!(Measure::from_name("final_time"), None);
+        let names: std::collections::HashSet<_> = Measure::ALL.iter().map(|m| m.name()).collect();
+        assert_eq!(names.len(), Measure::ALL.len());
+        assert!(needs_view(&[Measure::FinalXM, Measure::MaxBankDeg]));
+        assert!(!needs_view(&[Measure::FinalXM, Measure::MaxLoadFactor]));
+        assert!(!needs_view(&[]));
+    }
+}

@@ -1308,6 +1308,258 @@ mod tests {
         Study::from_toml_str(text).unwrap_err().to_string()
     }
 
+    /// What a study file says, as the study's accessors give it back.
+    #[test]
+    fn a_study_gives_back_what_its_file_says() {
+        let text = format!(
+            "{BASE}seed = 99\nfps = 50\ntarget_height_m = 150.0\nscript_delay_s = 2.5\n\
+             [origin]\nlat_deg = 47.5\nlon_deg = 11.25\nalt_m = 700.0\n\
+             [[dispersion]]\nkey = \"initial.speed_kt\"\ndistribution = \"uniform\"\n\
+             low = 60.0\nhigh = 70.0\n"
+        );
+        let study = Study::from_toml_str(&text).unwrap();
+        assert_eq!((study.runs(), study.seed(), study.fps()), (10, 99, 50));
+        // 1 s at 50 frames per second.
+        assert_eq!(study.frames(), 50);
+        assert_eq!(study.target_height_m(), Some(150.0));
+        let origin = study.origin().geodetic();
+        assert_eq!(
+            (origin.lat_deg, origin.lon_deg, origin.alt_m),
+            (47.5, 11.25, 700.0)
+        );
+        assert!(!study.disperses_aircraft());
+        let values = study.dispersed_values(3);
+        assert_eq!(values.len(), 1);
+        assert_eq!(values[0].0, "initial.speed_kt");
+        let want = 60.0 + 10.0 * uniform(99, 3, 0);
+        assert_eq!(values[0].1.to_bits(), want.to_bits());
+        // Without them: no target height, the default origin.
+        let plain = Study::from_toml_str(BASE).unwrap();
+        assert_eq!(plain.target_height_m(), None);
+        assert_eq!(plain.origin(), GeodeticOrigin::default());
+        assert_eq!(plain.frames(), 30);
+        assert!(plain.dispersed_values(0).is_empty());
+        let mass = format!(
+            "{BASE}[[dispersion]]\nkey = \"aircraft.mass_kg\"\ndistribution = \"uniform\"\n\
+             low = 1000.0\nhigh = 1100.0\n"
+        );
+        assert!(Study::from_toml_str(&mass).unwrap().disperses_aircraft());
+        // The number of runs, within 1 to MAX_RUNS.
+        assert_eq!(plain.clone().with_runs(5).unwrap().runs(), 5);
+        assert_eq!(plain.clone().with_runs(MAX_RUNS).unwrap().runs(), MAX_RUNS);
+        for bad in [0, MAX_RUNS + 1] {
+            assert!(matches!(
+                plain.clone().with_runs(bad),
+                Err(StudyError::Runs(r)) if r == bad
+            ));
+        }
+    }
+
+    /// The numbers a study file gives are refused when out of their range:
+    /// a duration that is not finite or flies no frame or too many, a
+    /// target height or script delay that is not a finite height or delay
+    /// (a negative delay too), a key dispersed twice.
+    #[test]
+    fn numbers_out_of_range_are_refused() {
+        for (line, key) in [
+            ("duration_s = nan", "duration_s"),
+            ("duration_s = inf", "duration_s"),
+            ("duration_s = 0.01", "duration_s"),
+            ("duration_s = 1e12", "duration_s"),
+            ("target_height_m = inf", "target_height_m"),
+            ("target_height_m = nan", "target_height_m"),
+            ("script_delay_s = -1.0", "script_delay_s"),
+            ("script_delay_s = nan", "script_delay_s"),
+            ("script_delay_s = inf", "script_delay_s"),
+        ] {
+            let text = BASE.replace("duration_s = 1.0\n", "") + line + "\n";
+            let text = if key == "duration_s" {
+                text
+            } else {
+                text + "duration_s = 1.0\n"
+            };
+            let e = error(&text);
+            assert!(e.contains(&format!("`{key}`")), "{line}: {e}");
+        }
+        for ok in [
+            "script_delay_s = 0.0",
+            "script_delay_s = 2.5",
+            "target_height_m = -5.0",
+        ] {
+            assert!(
+                Study::from_toml_str(&format!("{BASE}{ok}\n")).is_ok(),
+                "{ok}"
+            );
+        }
+        let uniform = "[[dispersion]]\nkey = \"initial.speed_kt\"\ndistribution = \"uniform\"\n\
+                       low = 60.0\nhigh = 70.0\n";
+        let e = error(&format!("{BASE}{uniform}{uniform}"));
+        assert!(e.contains("initial.speed_kt"), "{e}");
+    }
+
+    /// Each distribution's value for a given u: the normal's mean + sd ·
+    /// Φ⁻¹(u), the uniform's low + (high − low) · u, the choice's value i
+    /// for u in [cumulative[i − 1], cumulative[i]) (the last for u at 1,
+    /// never a panic), and a truncated normal with no mass in `f64` its
+    /// interval's middle. Exact: each is the formula's own rounding.
+    #[test]
+    fn each_distribution_maps_u_as_documented() {
+        let normal = Distribution::Normal {
+            mean: 10.0,
+            sd: 2.0,
+        };
+        for u in [0.025, 0.3, 0.975] {
+            assert_eq!(normal.sample(u), 10.0 + 2.0 * normal_quantile(u));
+        }
+        assert!((normal.sample(0.975) - (10.0 + 2.0 * 1.959_963_984_540_054)).abs() < 1e-13);
+        let flat = Distribution::Uniform {
+            low: 2.0,
+            high: 10.0,
+        };
+        assert_eq!(flat.sample(0.25), 4.0);
+        assert_eq!(flat.sample(0.5), 6.0);
+        let choice = Distribution::Choice {
+            values: vec![1.0, 2.0, 3.0],
+            cumulative: vec![0.25, 0.5, 1.0],
+        };
+        assert_eq!(choice.sample(0.25), 2.0);
+        assert_eq!(choice.sample(0.5), 3.0);
+        assert_eq!(choice.sample(1.0), 3.0);
+        let empty_in_f64 = Distribution::TruncatedNormal {
+            mean: 0.0,
+            sd: 1.0,
+            low: 50.0,
+            high: 60.0,
+        };
+        assert_eq!(empty_in_f64.sample(0.5), 55.0);
+    }
+
+    /// What a dispersion's key sets: the three initial conditions by name,
+    /// any named control or aircraft parameter (checked against the model
+    /// later), the script's delay; nothing else.
+    #[test]
+    fn dispersion_keys_name_their_targets() {
+        let cases = [
+            ("initial.altitude_ft", Some(Target::Initial("altitude_ft"))),
+            ("initial.speed_kt", Some(Target::Initial("speed_kt"))),
+            ("initial.heading_deg", Some(Target::Initial("heading_deg"))),
+            (
+                "controls.throttle",
+                Some(Target::Control("throttle".into())),
+            ),
+            ("aircraft.mass_kg", Some(Target::Aircraft("mass_kg".into()))),
+            ("script_delay_s", Some(Target::ScriptDelay)),
+            ("initial.trim", None),
+            ("controls.", None),
+            ("aircraft.", None),
+            ("speed_kt", None),
+            ("script_delay_s.x", None),
+        ];
+        for (key, want) in cases {
+            assert_eq!(parse_target(key), want, "{key}");
+        }
+        // A parameter the model does not have is refused with the model's.
+        let e = error(&format!(
+            "{BASE}[[dispersion]]\nkey = \"aircraft.wing_furlongs\"\n\
+             distribution = \"uniform\"\nlow = 1.0\nhigh = 2.0\n"
+        ));
+        assert!(
+            e.contains("aircraft.NAME with NAME among wing_area_m2"),
+            "{e}"
+        );
+        assert_ne!(StudyEntry::of::<Palmer>(), StudyEntry::of::<Bourg>());
+    }
+
+    /// A distribution's numbers are refused outside their ranges: an sd of
+    /// 0, an empty interval, an empty or non-finite list of values.
+    #[test]
+    fn distributions_refuse_degenerate_numbers() {
+        let dispersion =
+            |body: &str| format!("{BASE}[[dispersion]]\nkey = \"initial.speed_kt\"\n{body}\n");
+        for (body, field) in [
+            (
+                "distribution = \"normal\"\nmean = 60.0\nsd = 0.0",
+                "dispersion.sd",
+            ),
+            (
+                "distribution = \"uniform\"\nlow = 60.0\nhigh = 60.0",
+                "dispersion.high",
+            ),
+            (
+                "distribution = \"choice\"\nvalues = []",
+                "dispersion.values",
+            ),
+            (
+                "distribution = \"choice\"\nvalues = [60.0, nan]",
+                "dispersion.values",
+            ),
+        ] {
+            let e = error(&dispersion(body));
+            assert!(e.contains(field), "{body}: {e}");
+        }
+        for body in [
+            "distribution = \"normal\"\nmean = 60.0\nsd = 1e-300",
+            "distribution = \"uniform\"\nlow = 60.0\nhigh = 60.000001",
+            "distribution = \"choice\"\nvalues = [60.0]",
+        ] {
+            assert!(Study::from_toml_str(&dispersion(body)).is_ok(), "{body}");
+        }
+    }
+
+    /// A run's values: a dispersed control replaces the file's value of
+    /// that control and no other; a run set up without `[initial]` starts
+    /// at the model's own initial state; the script's delay shifts its
+    /// rules by delay × fps frames, and a delay drawn below 0 refuses the
+    /// start.
+    #[test]
+    fn a_runs_setup_takes_its_draws() {
+        let text = format!(
+            "{BASE}seed = 5\nscript = \"1-5 throttle-down\\n10-10 flaps-down\"\n\
+             script_delay_s = 2.0\n[controls]\nalpha_deg = 4.0\nthrottle = 0.5\n\
+             [[dispersion]]\nkey = \"controls.throttle\"\ndistribution = \"uniform\"\n\
+             low = 0.6\nhigh = 0.9\n"
+        );
+        let study = Study::from_toml_str(&text).unwrap();
+        let values = study.run_values(2);
+        let drawn = 0.6 + (0.9 - 0.6) * uniform(5, 2, 0);
+        assert_eq!(
+            values.controls,
+            [
+                ("alpha_deg".to_owned(), 4.0),
+                ("throttle".to_owned(), drawn)
+            ]
+        );
+        assert_eq!(study.script_rules::<Palmer>(), 2);
+        assert_eq!(
+            Study::from_toml_str(BASE).unwrap().script_rules::<Palmer>(),
+            0
+        );
+        let setup = study.setup::<Palmer>(2).unwrap();
+        assert_eq!(setup.start.state, Palmer::initial_state());
+        assert_eq!(setup.start.controls.throttle, drawn);
+        assert_eq!(setup.start.controls.alpha_deg, 4.0);
+        // 2 s at 30 frames per second: 60 frames later.
+        let rules: Vec<(u64, u64)> = setup
+            .script
+            .rules()
+            .iter()
+            .map(|r| (r.first_frame, r.last_frame))
+            .collect();
+        assert_eq!(rules, [(61, 65), (70, 70)]);
+        let mut late = values.clone();
+        late.script_delay_s = -0.5;
+        let e = study.setup_from::<Palmer>(&late).err().unwrap();
+        assert!(e.starts_with("script_delay_s = -0.5"), "{e}");
+        late.script_delay_s = 0.0;
+        let setup = study.setup_from::<Palmer>(&late).unwrap();
+        assert_eq!(setup.script.rules()[0].first_frame, 1);
+        // Bourg, without `[initial]`: its own initial state and controls.
+        let bourg = Study::from_toml_str(&BASE.replace("palmer", "bourg")).unwrap();
+        let setup = bourg.setup::<Bourg>(0).unwrap();
+        assert_eq!(setup.start.state, Bourg::initial_state());
+        assert_eq!(setup.start.controls, Bourg::initial_controls());
+    }
+
     #[test]
     fn the_files_go_beside_the_study_file_by_default() {
         use std::path::{Path, PathBuf};

@@ -341,6 +341,7 @@ pub fn summarize(table: &RunTable) -> Summary {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fdm_core::model::{FlightStatus, LandingState};
 
     /// Percentiles as NumPy's `percentile(..., method="linear")` gives them
     /// for 1..=10 (hand-computed: h = 9p/100): exact to 1e-12.
@@ -357,6 +358,120 @@ mod tests {
         assert!(close(s.mean, 5.5));
         // sd of 1..=10 is sqrt(55/6).
         assert!(close(s.sd, (55.0f64 / 6.0).sqrt()));
+    }
+
+    /// The same for values unevenly spaced and out of order (the squares
+    /// 1..=100 shuffled, with a missing and a non-finite value left out),
+    /// so that the interpolation's `frac · (high − low)` and the sort show:
+    /// h = 9p/100 between the sorted squares, worked by hand. The mean is
+    /// 385/10; the sample sd is √((Σi⁴ − 10·38.5²)/9) = √(10510.5/9),
+    /// worked by the other formula than the summary's Σ(v − mean)²; the
+    /// interval mean ± 1.96·sd/√10. Within 1e-12 (a few roundings of
+    /// numbers below 100).
+    #[test]
+    fn statistics_of_unevenly_spaced_values_in_run_order() {
+        let mut values: Vec<Option<f64>> = [49, 1, 100, 16, 81, 4, 64, 9, 36, 25]
+            .iter()
+            .map(|&v| Some(f64::from(v)))
+            .collect();
+        values.insert(3, None);
+        values.insert(7, Some(f64::NAN));
+        let s = summarize_values(&values);
+        let close = |a: Option<f64>, b: f64| (a.unwrap() - b).abs() < 1e-12;
+        assert_eq!(s.count, 10);
+        assert_eq!((s.min, s.max), (Some(1.0), Some(100.0)));
+        assert!(close(s.p1, 1.0 + 0.09 * 3.0), "{:?}", s.p1);
+        assert!(close(s.p5, 1.0 + 0.45 * 3.0), "{:?}", s.p5);
+        assert!(close(s.p50, 25.0 + 0.5 * 11.0), "{:?}", s.p50);
+        assert!(close(s.p95, 81.0 + 0.55 * 19.0), "{:?}", s.p95);
+        assert!(close(s.p99, 81.0 + 0.91 * 19.0), "{:?}", s.p99);
+        assert!(close(s.mean, 38.5));
+        let sd = (10_510.5f64 / 9.0).sqrt();
+        assert!(close(s.sd, sd), "{:?} against {sd}", s.sd);
+        let half = 1.96 * sd / 10f64.sqrt();
+        let [low, high] = s.ci95.unwrap();
+        assert!(close(Some(low), 38.5 - half) && close(Some(high), 38.5 + half));
+        // Values far from 0 and close together, whose mean 1e9 + 2/3 is
+        // rounded (by up to 6e-8): the squared deviations from the rounded
+        // mean give the sd √(1/3) to about 1e-14, where Σ(v² − mean²)
+        // (mathematically the same sum) adds 2·mean·Σ(v − mean), about 2e9
+        // times the mean's rounding, and loses every digit.
+        let offset = summarize_values(&[Some(1e9), Some(1e9 + 1.0), Some(1e9 + 1.0)]);
+        let sd = offset.sd.unwrap();
+        assert!((sd - (1.0f64 / 3.0).sqrt()).abs() < 1e-12, "{sd}");
+        // One value: a mean, its percentiles, no sd nor interval.
+        let one = summarize_values(&[Some(2.5)]);
+        assert_eq!(
+            (one.count, one.mean, one.p1, one.p99),
+            (1, Some(2.5), Some(2.5), Some(2.5))
+        );
+        assert_eq!((one.sd, one.ci95), (None, None));
+    }
+
+    /// A table of the statuses and measures below, in two blocks or whole.
+    fn table(runs: std::ops::Range<u64>) -> RunTable {
+        let status = |run: u64| match run % 3 {
+            0 => RunStatus::Flown(FlightStatus::Airborne),
+            1 => RunStatus::Flown(FlightStatus::Landed(LandingState::Safe)),
+            _ => RunStatus::StartRefused,
+        };
+        RunTable {
+            run: runs.clone().collect(),
+            status: runs.clone().map(status).collect(),
+            frames: runs.clone().map(|_| 10).collect(),
+            measures: vec![(
+                "max_height_m".into(),
+                runs.map(|r| (r % 3 != 2).then_some(r as f64)).collect(),
+            )],
+            ..RunTable::default()
+        }
+    }
+
+    /// The builder counts each status and keeps the present values in run
+    /// order, and two blocks added in order are the whole table's summary.
+    #[test]
+    fn the_builder_counts_statuses_and_blocks_make_the_whole() {
+        let mut builder = SummaryBuilder::new();
+        builder.add(&table(0..4));
+        builder.add(&table(4..7));
+        assert_eq!(
+            builder.measure_values(),
+            &[("max_height_m".to_owned(), vec![0.0, 1.0, 3.0, 4.0, 6.0])]
+        );
+        let summary = builder.finish();
+        assert_eq!(summary, summarize(&table(0..7)));
+        assert_eq!(summary.runs, 7);
+        let count = |code: &str| summary.statuses.iter().find(|(c, _)| *c == code).unwrap().1;
+        assert_eq!(count("airborne"), 3);
+        assert_eq!(count("landed_safe"), 2);
+        assert_eq!(count("start_refused"), 2);
+        assert_eq!(count("crashed"), 0);
+        assert_eq!(summary.statuses.len(), RunStatus::CODES.len());
+        assert_eq!(summary.measures[0].1.count, 5);
+        // An empty table keeps its measures' names, with nothing in them.
+        let empty = summarize(&RunTable::empty(&[crate::Measure::MaxBankDeg]));
+        assert_eq!(empty.measures.len(), 1);
+        assert_eq!(empty.measures[0].0, "max_bank_deg");
+        assert_eq!(empty.measures[0].1.count, 0);
+    }
+
+    /// The terminal text: the statuses that occur (not those at 0), then a
+    /// line per measure with its count, mean, interval and percentiles.
+    #[test]
+    fn the_text_lists_the_statuses_that_occur_and_each_measure() {
+        let text = summarize(&table(0..7)).with_seed(42).to_text();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "7 runs, seed 42");
+        assert_eq!(
+            lines[1],
+            "status: airborne 3, landed_safe 2, start_refused 2"
+        );
+        assert!(lines[2].starts_with("measure"), "{text}");
+        let cells: Vec<&str> = lines[3].split_whitespace().collect();
+        // 0, 1, 3, 4, 6: mean 2.8, p50 3.
+        assert_eq!(&cells[..3], ["max_height_m", "5", "2.8000"], "{text}");
+        assert_eq!(cells[6], "3.0000", "{text}");
+        assert_eq!(lines.len(), 4, "{text}");
     }
 
     /// A stopped study's summary says so, in JSON right after `runs` and

@@ -251,6 +251,44 @@ mod tests {
     use super::*;
     use fdm_core::model::FlightStatus;
 
+    /// Empty tables carry their columns' names; a status serialises as its
+    /// code; `write_csv` is the header and the rows.
+    #[test]
+    fn empty_tables_statuses_and_whole_files() {
+        let measures = [Measure::MaxHeightM, Measure::FinalTimeS];
+        let empty = RunTable::empty(&measures);
+        assert_eq!(empty.column_names(), ["max_height_m", "final_time_s"]);
+        assert!(empty.is_empty() && empty.inputs.is_empty());
+        let inputs = [input_column_name("aircraft.mass_kg")];
+        let with = RunTable::empty_with_inputs(&measures, &inputs);
+        assert_eq!(
+            with.column_names(),
+            ["max_height_m", "final_time_s", "input.aircraft.mass_kg"]
+        );
+        for status in [
+            RunStatus::Flown(FlightStatus::Landed(fdm_core::model::LandingState::Crash)),
+            RunStatus::StartRefused,
+        ] {
+            let code: &str = status.into();
+            assert_eq!(code, status.code());
+            assert!(RunStatus::CODES.contains(&code));
+        }
+        let table = RunTable {
+            run: vec![0],
+            status: vec![RunStatus::StartRefused],
+            frames: vec![0],
+            measures: vec![("max_height_m".into(), vec![None])],
+            inputs: vec![("input.aircraft.mass_kg".into(), vec![1000.5])],
+            fingerprint: vec![None],
+        };
+        let mut out = Vec::new();
+        write_csv(&mut out, &table).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "run,status,max_height_m,input.aircraft.mass_kg,fingerprint\n0,start_refused,,1000.5,\n"
+        );
+    }
+
     #[test]
     fn rows_round_trip_and_leave_missing_cells_empty() {
         let table = RunTable {
