@@ -341,26 +341,27 @@ mod tests {
     fn measures_of_a_made_up_flight_are_the_hand_worked_ones() {
         let tracker = tracked(&flight(), Some(120.0), true);
         let value = |m: Measure| tracker.value(m);
-        assert_eq!(value(Measure::FinalTimeS), Some(0.6));
-        assert_eq!(value(Measure::FinalXM), Some(15.0));
-        assert_eq!(value(Measure::FinalYM), Some(7.0));
-        assert_eq!(value(Measure::FinalHeightM), Some(0.0));
-        assert_eq!(value(Measure::FinalGroundSpeedMps), Some(0.0));
-        assert_eq!(value(Measure::MinHeightM), Some(0.0));
-        assert_eq!(value(Measure::MaxHeightM), Some(200.0));
-        // The first touchdown (frame 4), with frame 3's velocity (3, 4, -5).
-        assert_eq!(value(Measure::TouchdownTimeS), Some(0.4));
-        assert_eq!(value(Measure::TouchdownXM), Some(13.0));
-        assert_eq!(value(Measure::TouchdownYM), Some(5.0));
-        assert_eq!(value(Measure::TouchdownGroundSpeedMps), Some(5.0));
-        assert_eq!(value(Measure::TouchdownSinkRateMps), Some(5.0));
-        // 120 m is reached at frame 2 (exactly: `>=`), hypot(9, 4) = √97 m
-        // from the start (1, 2) horizontally.
-        assert_eq!(value(Measure::TimeToHeightS), Some(0.2));
-        assert_eq!(
-            value(Measure::DistanceToHeightM),
-            Some(fdm_core::math::hypot(9.0, 4.0))
-        );
+        for (measure, want) in [
+            (Measure::FinalTimeS, 0.6),
+            (Measure::FinalXM, 15.0),
+            (Measure::FinalYM, 7.0),
+            (Measure::FinalHeightM, 0.0),
+            (Measure::FinalGroundSpeedMps, 0.0),
+            (Measure::MinHeightM, 0.0),
+            (Measure::MaxHeightM, 200.0),
+            // The first touchdown (frame 4), with frame 3's velocity (3, 4, -5).
+            (Measure::TouchdownTimeS, 0.4),
+            (Measure::TouchdownXM, 13.0),
+            (Measure::TouchdownYM, 5.0),
+            (Measure::TouchdownGroundSpeedMps, 5.0),
+            (Measure::TouchdownSinkRateMps, 5.0),
+            // 120 m is reached at frame 2 (exactly: `>=`), hypot(9, 4) = √97
+            // m from the start (1, 2) horizontally.
+            (Measure::TimeToHeightS, 0.2),
+            (Measure::DistanceToHeightM, fdm_core::math::hypot(9.0, 4.0)),
+        ] {
+            assert_eq!(value(measure), Some(want), "{}", measure.name());
+        }
         assert!((fdm_core::math::hypot(9.0, 4.0) - 97.0_f64.sqrt()).abs() < 1e-12);
         // The largest |bank| is frame 3's 20 degrees (the view's roll,
         // through a rotation matrix: within 1e-9 degrees).

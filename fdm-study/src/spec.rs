@@ -1398,10 +1398,9 @@ mod tests {
     }
 
     /// Each distribution's value for a given u: the normal's mean + sd ·
-    /// Φ⁻¹(u), the uniform's low + (high − low) · u, the choice's value i
-    /// for u in [cumulative[i − 1], cumulative[i]) (the last for u at 1,
-    /// never a panic), and a truncated normal with no mass in `f64` its
-    /// interval's middle. Exact: each is the formula's own rounding.
+    /// Φ⁻¹(u), the uniform's low + (high − low) · u, and a truncated normal
+    /// with no mass in `f64` its interval's middle (the choice's below).
+    /// Exact: each is the formula's own rounding.
     #[test]
     fn each_distribution_maps_u_as_documented() {
         let normal = Distribution::Normal {
@@ -1418,13 +1417,6 @@ mod tests {
         };
         assert_eq!(flat.sample(0.25), 4.0);
         assert_eq!(flat.sample(0.5), 6.0);
-        let choice = Distribution::Choice {
-            values: vec![1.0, 2.0, 3.0],
-            cumulative: vec![0.25, 0.5, 1.0],
-        };
-        assert_eq!(choice.sample(0.25), 2.0);
-        assert_eq!(choice.sample(0.5), 3.0);
-        assert_eq!(choice.sample(1.0), 3.0);
         let empty_in_f64 = Distribution::TruncatedNormal {
             mean: 0.0,
             sd: 1.0,
@@ -1747,6 +1739,11 @@ mod tests {
         assert_eq!(choice.sample(0.1), 1.0);
         assert_eq!(choice.sample(0.3), 2.0);
         assert_eq!(choice.sample(0.999), 3.0);
+        // Value i for u in [cumulative[i - 1], cumulative[i]); the last for u
+        // at 1 (outside the uniforms' range), never a panic.
+        assert_eq!(choice.sample(0.25), 2.0);
+        assert_eq!(choice.sample(0.5), 3.0);
+        assert_eq!(choice.sample(1.0), 3.0);
         let t = Distribution::TruncatedNormal {
             mean: 0.0,
             sd: 1.0,
