@@ -347,6 +347,69 @@ mod tests {
         assert_eq!(String::from_utf8(csv).unwrap().lines().count(), 3);
     }
 
+    /// What the batch keeps for the plots, against the table of the same
+    /// runs: the touchdown scatter is each touched-down run's `(east,
+    /// north)` = `(−touchdown_y_m, touchdown_x_m)`, in run order, at most
+    /// `max_touchdowns`; every run of a study of 4 is tracked from frame 0
+    /// every `frame_step` frames to its last frame, where (the study stops
+    /// at touchdown) it is at its touchdown point. A chunk is
+    /// `BLOCK_RUNS × BLOCKS_PER_THREAD_PER_CHUNK` runs per thread.
+    #[test]
+    fn the_scatter_and_the_tracks_are_the_runs_touchdowns_and_frames() {
+        let study = Study::from_toml_str(
+            "model = \"palmer\"\nruns = 4\nseed = 3\nduration_s = 40.0\nstop = \"touchdown\"\n\
+             measures = [\"touchdown_x_m\", \"touchdown_y_m\"]\n\
+             script = \"1-20 throttle-down\"\n\
+             [initial]\naltitude_ft = 150.0\nspeed_kt = 65.0\nheading_deg = 30.0\ntrim = true\n\
+             [[dispersion]]\nkey = \"initial.speed_kt\"\ndistribution = \"uniform\"\n\
+             low = 60.0\nhigh = 70.0\n",
+        )
+        .unwrap();
+        let options = FlyOptions {
+            threads: 1,
+            ..FlyOptions::default()
+        };
+        let table = study.fly_runs(0..4, &options).unwrap();
+        let mut batch = Batch::new(&study, options, 3);
+        let (mut csv, mut arrow) = (Vec::new(), batch.arrow_writer(Vec::new()).unwrap());
+        while batch.fly_chunk(&mut csv, &mut arrow, || false).unwrap() {}
+        let (x, y) = (&table.measures[0].1, &table.measures[1].1);
+        let points: Vec<(f64, f64)> = x
+            .iter()
+            .zip(y)
+            .filter_map(|(x, y)| Some((-(*y)?, (*x)?)))
+            .collect();
+        assert_eq!(points.len(), 4, "every run touches down");
+        // Heading 30 degrees: north and east of the start, both non-zero.
+        assert!(
+            points.iter().all(|&(e, n)| e > 0.0 && n > 0.0),
+            "{points:?}"
+        );
+        assert_eq!(batch.touchdowns(), &points[..3]);
+        let step = TrackPlan::spread(4, study.frames(), 50, 300).frame_step();
+        assert_eq!((batch.frame_step(), step), (4, 4));
+        assert_eq!(batch.tracks().len(), 4);
+        for (run, track) in batch.tracks().iter().enumerate() {
+            assert_eq!(track.run, run as u64);
+            let last = table.frames[run];
+            let mut want: Vec<u64> = (0..=last).step_by(4).collect();
+            if want.last() != Some(&last) {
+                want.push(last);
+            }
+            assert_eq!(track.frames, want, "run {run}");
+            let [px, py, _] = *track.position_m.last().unwrap();
+            assert_eq!((px, py), (x[run].unwrap(), y[run].unwrap()), "run {run}");
+        }
+        assert_eq!(
+            Batch::chunk_runs(1),
+            BLOCK_RUNS * BLOCKS_PER_THREAD_PER_CHUNK
+        );
+        assert_eq!(
+            Batch::chunk_runs(3),
+            3 * BLOCK_RUNS * BLOCKS_PER_THREAD_PER_CHUNK
+        );
+    }
+
     /// The scenario of a run flown alone has the frames the batch flew.
     #[test]
     fn a_run_alone_stops_where_the_batch_does() {

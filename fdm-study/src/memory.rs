@@ -85,3 +85,46 @@ impl MemoryEstimate {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A study that needs exactly the limit, or exactly what is available,
+    /// fits; one byte more is refused, with its numbers.
+    #[test]
+    fn a_study_of_exactly_the_limit_fits() {
+        let estimate = |total: u64| MemoryEstimate {
+            kept_per_run: 8,
+            flying_per_run: 1000,
+            chunk_runs: 8192,
+            total,
+        };
+        let mib = 1024 * 1024;
+        assert_eq!(estimate(3 * mib).check(10, 3, None), Ok(()));
+        assert!(matches!(
+            estimate(3 * mib + 1).check(10, 3, None),
+            Err(MemoryRefused::OverLimit {
+                limit_mib: 3,
+                runs: 10,
+                ..
+            })
+        ));
+        assert_eq!(estimate(5000).check(10, 3, Some(5000)), Ok(()));
+        assert!(matches!(
+            estimate(5001).check(10, 3, Some(5000)),
+            Err(MemoryRefused::Unavailable {
+                available_bytes: 5000,
+                ..
+            })
+        ));
+        let text = estimate(3 * mib + 1)
+            .check(10, 3, None)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            text.starts_with("the study needs about 4 MiB (10 runs × 8 bytes kept + 10 runs in flight × 1000 bytes)"),
+            "{text}"
+        );
+    }
+}

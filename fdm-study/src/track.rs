@@ -141,11 +141,35 @@ mod tests {
         // between two multiples.
         let kept = (0..=1000).filter(|&f| odd.keeps(f, f == 1000)).count();
         assert!(kept <= 302, "{kept}");
+        // No run tracked: every frame would be kept (a step of 1).
+        let none = TrackPlan::none();
+        assert!(none.runs().is_empty() && !none.tracks(0));
+        assert_eq!(none.frame_step(), 1);
+        assert!(none.keeps(7, false));
         // 2^40 runs do not overflow.
         let huge = TrackPlan::spread(crate::MAX_RUNS, 1, 50, 300);
         assert_eq!(
             u128::from(huge.runs()[49]),
             49 * u128::from(crate::MAX_RUNS) / 50
         );
+    }
+
+    /// A track keeps each frame once: a stop on a frame the step already
+    /// kept is not a second point. A point is a frame and three `f64`s:
+    /// 32 bytes (the module's bound).
+    #[test]
+    fn a_track_keeps_each_frame_once() {
+        let mut track = GroundTrack::new(9);
+        track.keep(0, [0.0, 0.0, 1.0]);
+        track.keep(6, [1.0, 2.0, 3.0]);
+        track.keep(6, [1.0, 2.0, 3.0]);
+        track.keep(8, [4.0, 5.0, 0.0]);
+        assert_eq!(track.run, 9);
+        assert_eq!(track.frames, [0, 6, 8]);
+        assert_eq!(
+            track.position_m,
+            [[0.0, 0.0, 1.0], [1.0, 2.0, 3.0], [4.0, 5.0, 0.0]]
+        );
+        assert_eq!(GroundTrack::BYTES_PER_POINT, 32);
     }
 }
