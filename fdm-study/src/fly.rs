@@ -625,6 +625,40 @@ mod tests {
              available memory, the address-space limit and the cgroup's memory limit)"
         );
         assert_eq!(estimate.check(10, 4, Some(estimate.total)), Ok(()));
+        // Exactly the limit fits.
+        let at_limit = MemoryEstimate {
+            total: 3 * 1024 * 1024,
+            ..estimate
+        };
+        assert_eq!(at_limit.check(10, 3, None), Ok(()));
+    }
+
+    /// A range of runs is refused when it ends before it starts or past the
+    /// study's runs; an empty range within them flies nothing.
+    #[test]
+    fn a_range_of_runs_is_within_the_study() {
+        let study = Study::from_toml_str(
+            "model = \"palmer\"\nruns = 3\nduration_s = 0.5\nmeasures = [\"final_x_m\"]\n",
+        )
+        .unwrap();
+        let options = FlyOptions::default();
+        for empty in [0..0, 2..2, 3..3] {
+            assert_eq!(
+                study.fly_runs(empty.clone(), &options).unwrap().len(),
+                0,
+                "{empty:?}"
+            );
+        }
+        assert_eq!(study.fly_runs(1..3, &options).unwrap().run, [1, 2]);
+        for bad in [(2, 1), (0, 4), (3, 4)] {
+            assert!(
+                matches!(
+                    study.fly_runs(bad.0..bad.1, &options),
+                    Err(StudyError::Range { start, end, runs: 3 }) if (start, end) == bad
+                ),
+                "{bad:?}"
+            );
+        }
     }
 
     /// Two measures, one dispersion: 8 (run) + 8 (frames) + the status +
