@@ -458,3 +458,80 @@ impl<W: Write> ArrowWriter<W> {
         Ok(self.out)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::table::RunStatus;
+    use fdm_core::model::FlightStatus;
+
+    /// A vector of structs is placed so that its structs, after the 4-byte
+    /// count, start 8-aligned (the flatbuffer rule for 8-byte structs),
+    /// from any length of what comes before it, with at most 7 bytes of
+    /// padding.
+    #[test]
+    fn a_vector_of_structs_starts_its_structs_8_aligned() {
+        for before in 4..24 {
+            let mut buf = vec![0xaa; before];
+            let node = Node::Structs {
+                count: 1,
+                bytes: vec![1; 16],
+            };
+            let at = emit(&mut buf, &node);
+            assert_eq!((at + 4) % 8, 0, "{before}");
+            assert!(at >= before && at - before < 8, "{before}: {at}");
+            assert_eq!(buf[at..at + 4], 1u32.to_le_bytes());
+            assert_eq!(buf.len(), at + 4 + 16);
+        }
+    }
+
+    /// One run of a table with measure `a` and input `input.x`.
+    fn one_row() -> RunTable {
+        RunTable {
+            run: vec![0],
+            status: vec![RunStatus::Flown(FlightStatus::Airborne)],
+            frames: vec![1],
+            measures: vec![("a".into(), vec![Some(1.0)])],
+            inputs: vec![("input.x".into(), vec![2.0])],
+            fingerprint: vec![Some(3)],
+        }
+    }
+
+    /// A batch whose measures or inputs are not the file's, or whose
+    /// columns differ in length (each column alone), is refused, and
+    /// nothing of it is written.
+    #[test]
+    fn a_table_unlike_the_files_columns_is_refused() {
+        let mut writer = ArrowWriter::new(Vec::new(), &one_row()).unwrap();
+        writer.write(&one_row()).unwrap();
+        let written = writer.out.len();
+        let mut other_measure = one_row();
+        other_measure.measures[0].0 = "b".into();
+        let mut other_input = one_row();
+        other_input.inputs[0].0 = "input.y".into();
+        let mut short_fingerprint = one_row();
+        short_fingerprint.fingerprint.clear();
+        let mut short_measure = one_row();
+        short_measure.measures[0].1.clear();
+        let mut short_input = one_row();
+        short_input.inputs[0].1.clear();
+        for (table, message) in [
+            (
+                other_measure,
+                "the table's measures or inputs are not the file's",
+            ),
+            (
+                other_input,
+                "the table's measures or inputs are not the file's",
+            ),
+            (short_fingerprint, "the table's columns differ in length"),
+            (short_measure, "the table's columns differ in length"),
+            (short_input, "the table's columns differ in length"),
+        ] {
+            let e = writer.write(&table).unwrap_err();
+            assert_eq!(e.kind(), io::ErrorKind::InvalidInput);
+            assert_eq!(e.to_string(), message);
+            assert_eq!(writer.out.len(), written);
+        }
+    }
+}
