@@ -1372,11 +1372,10 @@ mod tests {
             ("script_delay_s = nan", "script_delay_s"),
             ("script_delay_s = inf", "script_delay_s"),
         ] {
-            let text = BASE.replace("duration_s = 1.0\n", "") + line + "\n";
             let text = if key == "duration_s" {
-                text
+                BASE.replace("duration_s = 1.0", line)
             } else {
-                text + "duration_s = 1.0\n"
+                format!("{BASE}{line}\n")
             };
             let e = error(&text);
             assert!(e.contains(&format!("`{key}`")), "{line}: {e}");
