@@ -456,6 +456,22 @@ mod tests {
         );
     }
 
+    /// `has_header` is false on a new writer (also after the model line)
+    /// and true once the header is out.
+    #[test]
+    fn has_header_follows_the_header_line() {
+        let mut w = CsvWriter::new(Vec::new(), "mem");
+        assert!(!w.has_header());
+        w.write_model_line("palmer").unwrap();
+        assert!(!w.has_header());
+        w.write_header(&["x"]).unwrap();
+        assert!(w.has_header());
+        w.write_row(0, 0.5, &[2.0]).unwrap();
+        assert!(w.has_header());
+        let text = String::from_utf8(w.finish().unwrap()).unwrap();
+        assert_eq!(text, "# model: palmer\nframe,time_s,x\n0,0.5,2\n");
+    }
+
     struct Failing;
     impl Write for Failing {
         fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
@@ -464,6 +480,52 @@ mod tests {
         fn flush(&mut self) -> std::io::Result<()> {
             Ok(())
         }
+    }
+
+    /// Takes every byte; its flush fails (a file whose buffered bytes
+    /// cannot reach the disk) and is counted.
+    #[derive(Default)]
+    struct FlushFails {
+        bytes: Vec<u8>,
+        flushes: usize,
+    }
+    impl Write for FlushFails {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.bytes.extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            self.flushes += 1;
+            Err(std::io::Error::other("no space left"))
+        }
+    }
+
+    /// A failing flush is the caller's error, not lost: from the writer's
+    /// `flush` and `finish`, and from the output's `finish` (the run's end),
+    /// which flushes once.
+    #[test]
+    fn a_failing_flush_is_reported() {
+        let mut w = CsvWriter::new(FlushFails::default(), "out.csv");
+        w.write_header(&["a"]).unwrap();
+        let err = w.flush().unwrap_err();
+        assert_eq!(err.to_string(), "writing CSV file out.csv");
+        assert!(matches!(w.finish(), Err(CsvError::Io { .. })));
+
+        let mut run = Run::new(Scenario::<Palmer>::new(Start::thesis(), 30, 2).unwrap()).unwrap();
+        let csv = SharedOutput::new(CsvOutput::new(
+            CsvWriter::new(FlushFails::default(), "out.csv"),
+            FlightRow::<Palmer>::of,
+        ));
+        run.attach(csv.clone()).unwrap();
+        run.run_to_end().unwrap();
+        let err = run.finish().unwrap_err();
+        assert!(err.to_string().contains("out.csv"), "{err}");
+        let inner = csv.take().unwrap().into_inner();
+        assert_eq!(inner.out.flushes, 1);
+        assert_eq!(
+            String::from_utf8_lossy(&inner.out.bytes).lines().count(),
+            2 + 3
+        );
     }
 
     #[test]
@@ -590,6 +652,59 @@ mod tests {
             w.write_model_line("palmer"),
             Err(CsvError::HeaderTwice(_))
         ));
+    }
+
+    /// A flight's CSV through [`FlightRow`]: `time_s` is the model's clock
+    /// (frame / fps as the run's view has it, to the bit), and the step that
+    /// diverges writes no row: the file ends with the last finite frame. The
+    /// start (huge but finite, as in `run_flightgear`'s test) overflows on
+    /// its first step.
+    #[test]
+    fn flight_rows_carry_the_clock_and_no_diverged_frame() {
+        fn fly(start: Start<Palmer>, frames: u64) -> (Vec<Vec<f64>>, Vec<f64>) {
+            let mut run = Run::new(Scenario::new(start, 30, frames).unwrap()).unwrap();
+            let csv = SharedOutput::new(CsvOutput::new(
+                CsvWriter::new(Vec::new(), "mem"),
+                FlightRow::<Palmer>::of,
+            ));
+            run.attach(csv.clone()).unwrap();
+            let mut clock = vec![run.view().time_s];
+            for _ in 0..frames {
+                if run.step_frame(&[]).is_err() {
+                    break;
+                }
+                clock.push(run.view().time_s);
+            }
+            let _ = run.finish();
+            let bytes = csv.take().unwrap().into_inner().finish().unwrap();
+            let text = String::from_utf8(bytes).unwrap();
+            let rows = text
+                .lines()
+                .skip(2)
+                .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+                .collect();
+            (rows, clock)
+        }
+        let (rows, clock) = fly(Start::thesis(), 4);
+        assert_eq!(rows.len(), 5);
+        for (k, (row, t)) in rows.iter().zip(&clock).enumerate() {
+            assert_eq!(row[0], k as f64);
+            assert_eq!(row[1].to_bits(), t.to_bits(), "frame {k}");
+        }
+        assert!(clock[4] > 0.13 && clock[4] < 0.134, "{clock:?}");
+
+        let diverging = Start::<Palmer> {
+            state: fdm_core::palmer::PalmerState {
+                position_m: nalgebra::Vector3::new(0.0, 0.0, 30.0),
+                velocity_mps: nalgebra::Vector3::new(1e150, 0.0, 0.0),
+                ..fdm_core::palmer::PalmerState::at_rest()
+            },
+            ..Start::thesis()
+        };
+        let (rows, clock) = fly(diverging, 3);
+        assert_eq!((rows.len(), clock.len()), (1, 1), "{rows:?}");
+        assert_eq!(rows[0][0], 0.0);
+        assert!(rows[0].iter().all(|v| v.is_finite()), "{rows:?}");
     }
 
     /// A [`FlightRow`] has one value per column for both models, `status`

@@ -370,6 +370,54 @@ mod tests {
         fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// The scripts' limit is the 16 MiB that docs/cli.md promises: a
+    /// script of exactly 16 MiB is read, one byte more is refused by its
+    /// size. (Sparse files: nothing is written to the disk.)
+    #[test]
+    fn a_script_of_16_mib_is_read_and_one_byte_more_refused() {
+        let dir = temp_dir("16mib");
+        let path = dir.join("s.txt");
+        let file = File::create(&path).unwrap();
+        file.set_len(16 * 1024 * 1024).unwrap();
+        let text = read_text(&path, "script", MAX_INPUT_BYTES, drop).unwrap();
+        assert_eq!(text.len(), 16 * 1024 * 1024);
+        file.set_len(16 * 1024 * 1024 + 1).unwrap();
+        let err = read_text(&path, "script", MAX_INPUT_BYTES, drop).unwrap_err();
+        assert!(
+            err.to_string().ends_with("is larger than the 16 MiB limit"),
+            "{err}"
+        );
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A pipe is read to its end, up to the limit; a producer that goes on
+    /// past it is refused after limit + 1 bytes. (An anonymous pipe opened
+    /// by its `/dev/fd` path, as a shell's `<(...)` hands one over.)
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn pipes_are_read_up_to_the_limit() {
+        use std::io::Write as _;
+        use std::os::fd::AsRawFd as _;
+        fn through_a_pipe(bytes: &'static [u8], limit: u64) -> Result<String, InputError> {
+            let (reader, mut writer) = io::pipe().unwrap();
+            let path = std::path::PathBuf::from(format!("/dev/fd/{}", reader.as_raw_fd()));
+            let producer = std::thread::spawn(move || {
+                // The reader may stop early (the limit): a broken pipe is fine.
+                let _ = writer.write_all(bytes);
+            });
+            let text = read_text(&path, "script", limit, drop);
+            drop(reader);
+            producer.join().unwrap();
+            text
+        }
+        assert_eq!(
+            through_a_pipe(b"1-2 thrust-up\n", 14).unwrap(),
+            "1-2 thrust-up\n"
+        );
+        let err = through_a_pipe(&[b'x'; 1 << 20], 1 << 19).unwrap_err();
+        assert!(matches!(err, InputError::TooLarge { .. }), "{err}");
+    }
+
     #[cfg(unix)]
     #[test]
     fn character_devices_and_directories_are_refused_unread() {
