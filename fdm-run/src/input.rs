@@ -418,6 +418,124 @@ mod tests {
         assert!(matches!(err, InputError::TooLarge { .. }), "{err}");
     }
 
+    /// A named pipe made by `mkfifo` in a fresh directory.
+    #[cfg(unix)]
+    fn fifo(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+        let dir = temp_dir(name);
+        let path = dir.join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        (dir, path)
+    }
+
+    /// What `waiting` was told, collected from its thread.
+    #[cfg(unix)]
+    fn notes() -> (impl FnOnce(String) + Send + 'static, mpsc::Receiver<String>) {
+        let (tx, rx) = mpsc::channel();
+        (
+            move |note| {
+                let _ = tx.send(note);
+            },
+            rx,
+        )
+    }
+
+    /// Reading a named pipe whose writer comes late waits for it, and past
+    /// [`FIFO_NOTE_AFTER`] says so once; a regular file and a pipe whose
+    /// writer is there at once are read without a note.
+    #[cfg(unix)]
+    #[test]
+    fn a_named_pipe_read_before_its_writer_comes_is_noted_once() {
+        let (dir, path) = fifo("late-writer");
+        let writer_path = path.clone();
+        let writer = std::thread::spawn(move || {
+            std::thread::sleep(FIFO_NOTE_AFTER + Duration::from_millis(500));
+            fs::write(writer_path, "1-2 thrust-up\n").unwrap();
+        });
+        let (waiting, told) = notes();
+        let text = read_text(&path, "script", MAX_INPUT_BYTES, waiting).unwrap();
+        writer.join().unwrap();
+        assert_eq!(text, "1-2 thrust-up\n");
+        let told: Vec<String> = told.try_iter().collect();
+        assert_eq!(told.len(), 1, "{told:?}");
+        assert!(
+            told[0].starts_with("waiting for a program to open the pipe ")
+                && told[0].ends_with(" for writing (script); Ctrl-C stops"),
+            "{told:?}"
+        );
+
+        let file = dir.join("s.txt");
+        fs::write(&file, "x").unwrap();
+        let (waiting, told) = notes();
+        assert_eq!(read_text(&file, "script", 1, waiting).unwrap(), "x");
+        assert_eq!(told.try_iter().count(), 0);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// An output that is a named pipe waits for its reader (noted past
+    /// [`FIFO_NOTE_AFTER`]) and is held open for writing; anything else is
+    /// `None`, opened for nothing, and nothing is noted.
+    #[cfg(unix)]
+    #[test]
+    fn an_output_pipe_waits_for_its_reader() {
+        let (dir, path) = fifo("late-reader");
+        let reader_path = path.clone();
+        let reader = std::thread::spawn(move || {
+            std::thread::sleep(FIFO_NOTE_AFTER + Duration::from_millis(500));
+            fs::read_to_string(reader_path).unwrap()
+        });
+        let (waiting, told) = notes();
+        let mut held = await_pipe_reader(&path, "--csv", waiting)
+            .unwrap()
+            .expect("a pipe is held open");
+        io::Write::write_all(&mut held, b"frame\n").unwrap();
+        drop(held);
+        assert_eq!(reader.join().unwrap(), "frame\n");
+        let told: Vec<String> = told.try_iter().collect();
+        assert_eq!(told.len(), 1, "{told:?}");
+        assert!(
+            told[0].ends_with(" for reading (--csv); Ctrl-C stops"),
+            "{told:?}"
+        );
+
+        let file = dir.join("out.csv");
+        fs::write(&file, "kept").unwrap();
+        for path in [
+            file.as_path(),
+            &dir.join("missing.csv"),
+            Path::new("/dev/null"),
+        ] {
+            let (waiting, told) = notes();
+            assert!(await_pipe_reader(path, "--csv", waiting).unwrap().is_none());
+            assert_eq!(told.try_iter().count(), 0);
+        }
+        assert_eq!(fs::read_to_string(&file).unwrap(), "kept");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Two outputs given the same path clash even before the file exists
+    /// (no canonical path yet), and so do two spellings of an existing one.
+    #[test]
+    fn the_same_new_path_twice_clashes() {
+        let dir = temp_dir("new");
+        let new = dir.join("out.csv");
+        assert_eq!(clash(&new, &[(Some(&new), "--csv")]), Some("--csv"));
+        assert_eq!(
+            clash(
+                &new,
+                &[(None, "--dis"), (Some(&dir.join("b.csv")), "--acmi")]
+            ),
+            None
+        );
+        fs::write(&new, "x").unwrap();
+        let dotted = dir.join(".").join("out.csv");
+        assert_eq!(clash(&new, &[(Some(&dotted), "--acmi")]), Some("--acmi"));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[cfg(unix)]
     #[test]
     fn character_devices_and_directories_are_refused_unread() {
