@@ -185,4 +185,111 @@ mod tests {
         let links = Links::open::<Palmer>(&settings, origin, 30).unwrap();
         assert_eq!(links.fg_stats(), Some(LinkStats::default()));
     }
+
+    /// An address on loopback where nobody listens (a port just freed):
+    /// sends to it fail (the ICMP answer comes back as the next send's error).
+    fn nobody() -> std::net::SocketAddrV4 {
+        let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let std::net::SocketAddr::V4(addr) = socket.local_addr().unwrap() else {
+            unreachable!("bound to IPv4")
+        };
+        addr
+    }
+
+    /// A receiver on loopback and its address.
+    fn listener() -> (std::net::UdpSocket, std::net::SocketAddrV4) {
+        let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let std::net::SocketAddr::V4(addr) = socket.local_addr().unwrap() else {
+            unreachable!("bound to IPv4")
+        };
+        (socket, addr)
+    }
+
+    /// The links of a 30-frame Palmer run with the FlightGear link to `fg`
+    /// and (feature `dis`) DIS, every frame, to `dis`; attached and flown.
+    #[cfg_attr(not(feature = "dis"), allow(unused_variables))]
+    fn flown(fg: std::net::SocketAddrV4, dis: std::net::SocketAddrV4) -> Links {
+        let scenario = crate::Scenario::<Palmer>::new(crate::Start::thesis(), 30, 30).unwrap();
+        let settings = LinkSettings {
+            fg: Some(fg),
+            #[cfg(feature = "dis")]
+            dis: Some(FlightDis {
+                settings: crate::dis::DisSettings {
+                    target: dis.into(),
+                    site: 1,
+                    application: 1,
+                    exercise: 1,
+                    version: fdm_dis::DisVersion::V7,
+                    dr: fdm_dis::DrAlgorithm::Rvw,
+                    thresholds: fdm_dis::DrThresholds::default(),
+                    every_frame: true,
+                },
+                entity: 7,
+                callsign: None,
+            }),
+        };
+        let links = Links::open::<Palmer>(&settings, scenario.origin, 30).unwrap();
+        let mut run = Run::new(scenario).unwrap();
+        links.attach_to(&mut run).unwrap();
+        assert_eq!(run.run_to_end().unwrap().frames, 30);
+        links
+    }
+
+    /// `attach_to` attaches every link (each sends once per flown frame,
+    /// counted in its stats or report); with listeners there, no failure.
+    #[test]
+    fn attached_links_send_every_frame_and_report() {
+        let ((_fg_rx, fg), (_dis_rx, dis)) = (listener(), listener());
+        let links = flown(fg, dis);
+        assert_eq!(
+            links.fg_stats(),
+            Some(LinkStats {
+                sent: 30,
+                failed: 0
+            })
+        );
+        #[cfg(feature = "dis")]
+        {
+            let report = links.dis_report().expect("a DIS output");
+            assert_eq!((report.pdus, report.failed, report.frames), (30, 0, 30));
+            assert_eq!(report.first_entity, "1:1:7");
+        }
+        assert_eq!(links.take_failure(), None);
+    }
+
+    /// A link's first failure is given once, the FlightGear link's before
+    /// DIS's, then DIS's; then nothing. The FlightGear link's socket is
+    /// connected, so a port where nobody listens fails its sends; DIS's is
+    /// not (it may broadcast), so its failing target is port 0, which the OS
+    /// refuses for every send (`sim-cli --dis` refuses it before: a library
+    /// caller gets the failures counted and the first one told).
+    #[test]
+    fn each_links_first_failure_is_taken_once() {
+        let (_fg_rx, fg) = listener();
+        let dead = nobody();
+        let port_0 = std::net::SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, 0);
+        let links = flown(dead, port_0);
+        let first = links.take_failure().expect("the FlightGear link failed");
+        assert!(
+            first.starts_with(&format!("sending to {dead} failed on frame ")),
+            "{first}"
+        );
+        #[cfg(feature = "dis")]
+        {
+            assert_eq!(links.dis_report().unwrap().failed, 30);
+            let second = links.take_failure().expect("DIS failed too");
+            assert!(second.contains("127.0.0.1:0"), "{second}");
+        }
+        assert_eq!(links.take_failure(), None);
+
+        // DIS failing alone is still told.
+        #[cfg(feature = "dis")]
+        {
+            let links = flown(fg, port_0);
+            assert_eq!(links.fg_stats().unwrap().failed, 0);
+            let only = links.take_failure().expect("DIS failed");
+            assert!(only.contains("127.0.0.1:0"), "{only}");
+            assert_eq!(links.take_failure(), None);
+        }
+    }
 }

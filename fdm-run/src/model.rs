@@ -476,6 +476,26 @@ mod tests {
         check::<Bourg>();
     }
 
+    /// `with_model` calls the job with the model of that name, every name
+    /// of [`MODELS`], and nothing for another name.
+    #[test]
+    fn with_model_picks_the_model_named() {
+        struct Name;
+        impl ModelJob for Name {
+            type Output = &'static str;
+            fn call<M: RegisteredModel>(self) -> &'static str {
+                M::NAME
+            }
+        }
+        assert_eq!(MODELS, ["palmer", "bourg"]);
+        for &name in MODELS {
+            assert_eq!(with_model(name, Name), Some(name));
+        }
+        for other in ["", "glider", "Palmer", "palmer "] {
+            assert_eq!(with_model(other, Name), None, "{other:?}");
+        }
+    }
+
     #[test]
     fn parameters_are_set_and_checked() {
         let a = Palmer::aircraft_with(&[("mass_kg", 1000.0)]).unwrap();
