@@ -190,6 +190,45 @@ mod tests {
         assert!(!message("1,2").contains("named"));
     }
 
+    /// The named origins are docs/cli.md's table ("Named origins"), row by
+    /// row: the name, the threshold's latitude, longitude and altitude (as
+    /// written there, from FlightGear's own airport data), and whether
+    /// Debian's scenery has it.
+    #[test]
+    fn named_origins_are_the_documented_ones() {
+        let doc = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/cli.md"),
+        )
+        .unwrap();
+        let table = doc
+            .split_once("### Named origins")
+            .and_then(|(_, rest)| rest.split_once("\n\n|"))
+            .map(|(_, table)| table.split("\n\n").next().unwrap_or(""))
+            .unwrap();
+        let rows: Vec<Vec<String>> = table
+            .lines()
+            .filter(|l| l.starts_with("| `"))
+            .map(|l| {
+                l.trim_matches('|')
+                    .split('|')
+                    .map(|cell| cell.trim().replace('\u{2212}', "-"))
+                    .collect()
+            })
+            .collect();
+        assert_eq!(rows.len(), NAMED_ORIGINS.len(), "{table}");
+        for (row, named) in rows.iter().zip(NAMED_ORIGINS) {
+            assert_eq!(row[0], format!("`{}`", named.name));
+            let (lat, lon) = row[2].split_once(", ").unwrap();
+            let number = |text: &str| text.parse::<f64>().unwrap();
+            assert_eq!(
+                (number(lat), number(lon), number(&row[3])),
+                (named.lat_deg, named.lon_deg, named.alt_m),
+                "{row:?}"
+            );
+            assert_eq!(row[5] == "yes", named.scenery_offline, "{row:?}");
+        }
+    }
+
     #[test]
     fn the_default_origin_is_the_thesis_runway() {
         assert_eq!(

@@ -165,7 +165,48 @@ pub trait Output<M: Model> {
 
 #[cfg(test)]
 mod tests {
-    use super::error_text;
+    use super::{error_text, Event, Frame, Output, OutputError};
+    use crate::{Run, Scenario, SharedOutput, Start};
+    use fdm_core::model::Model as _;
+    use fdm_core::palmer::Palmer;
+
+    /// Each frame's clock, as an output sees it.
+    #[derive(Default)]
+    struct Clocks(Vec<(Event, u64, f64)>);
+
+    impl Output<Palmer> for Clocks {
+        fn frame(&mut self, frame: &Frame<'_, Palmer>) -> Result<(), OutputError> {
+            self.0.push((frame.event, frame.number, frame.clock_s()));
+            Ok(())
+        }
+    }
+
+    /// A frame's clock is the frames flown over the frame rate, and it goes
+    /// on across a reset (the model's `time_s` starts again there).
+    #[test]
+    fn the_clock_is_the_frames_flown_over_the_rate() {
+        let mut run = Run::new(Scenario::<Palmer>::new(Start::thesis(), 20, 0).unwrap()).unwrap();
+        let clocks = SharedOutput::new(Clocks::default());
+        run.attach(clocks.clone()).unwrap();
+        for _ in 0..3 {
+            run.step_frame(&[]).unwrap();
+        }
+        run.reset().unwrap();
+        run.step_frame(&[]).unwrap();
+        let seen = clocks.take().unwrap().0;
+        assert_eq!(
+            seen,
+            [
+                (Event::Start, 0, 0.0),
+                (Event::Step, 1, 0.05),
+                (Event::Step, 2, 0.1),
+                (Event::Step, 3, 0.15),
+                (Event::Reset, 0, 0.15),
+                (Event::Step, 1, 0.2),
+            ]
+        );
+        assert_eq!(run.view().time_s, Palmer::time_step(20.0));
+    }
 
     /// An error with a message and, maybe, a source.
     #[derive(Debug)]

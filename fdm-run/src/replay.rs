@@ -436,6 +436,94 @@ mod tests {
         assert_eq!(err.to_string(), "frame 2");
     }
 
+    /// With real-time pacing each frame takes its period of wall-clock
+    /// time: ten frames at 50 per second take at least 200 ms (the pacer's
+    /// sleeps never end early; 150 ms is asserted, below that by a margin
+    /// for the clock's granularity), and the overruns are counted.
+    #[test]
+    fn a_paced_replay_takes_a_period_a_frame() {
+        let mut target = Counter {
+            steps: Vec::new(),
+            resets: 0,
+            fail_at: None,
+        };
+        let events = vec![Ok(Replayed::Frames {
+            count: 10,
+            actions: vec![1],
+        })];
+        let options = ReplayOptions {
+            fps: 50,
+            realtime: true,
+        };
+        let started = Instant::now();
+        let end = replay(&mut target, events, &options, || false, |_| {}).unwrap();
+        let took = started.elapsed();
+        assert_eq!(end.frames, 10);
+        assert!(end.overruns.is_some());
+        assert!(took >= std::time::Duration::from_millis(150), "{took:?}");
+    }
+
+    /// A [`Run`] is a replay target: the recorded frames and resets fed
+    /// through [`replay`] fly it exactly as stepping and resetting it by
+    /// hand does (the same state, to the bit, and the same frames flown).
+    #[test]
+    fn a_run_replays_frames_and_resets() {
+        use crate::model::RunModel as _;
+        use crate::{Scenario, Start};
+        use fdm_core::palmer::{Palmer, PalmerAction};
+        let run = || Run::new(Scenario::<Palmer>::new(Start::thesis(), 30, 0).unwrap()).unwrap();
+        let up = vec![PalmerAction::ThrottleUp];
+        let events = vec![
+            Ok(Replayed::Frames {
+                count: 3,
+                actions: up.clone(),
+            }),
+            Ok(Replayed::Reset),
+            Ok(Replayed::Frames {
+                count: 4,
+                actions: up.clone(),
+            }),
+            Ok(Replayed::Frames {
+                count: 2,
+                actions: vec![],
+            }),
+        ];
+        let mut replayed = run();
+        let end = replay(
+            &mut replayed,
+            events,
+            &ReplayOptions::new(30),
+            || false,
+            |_| {},
+        )
+        .unwrap();
+        assert_eq!(end.frames, 9);
+
+        let mut by_hand = run();
+        for _ in 0..3 {
+            by_hand.step_actions(&up).unwrap();
+        }
+        let before_reset = by_hand.state().unwrap();
+        by_hand.reset().unwrap();
+        for _ in 0..4 {
+            by_hand.step_actions(&up).unwrap();
+        }
+        for _ in 0..2 {
+            by_hand.step_actions(&[]).unwrap();
+        }
+        assert_eq!(replayed.flown(), 9);
+        assert_eq!(replayed.flown(), by_hand.flown());
+        assert_eq!(
+            Palmer::state_fingerprint(&replayed.state().unwrap()),
+            Palmer::state_fingerprint(&by_hand.state().unwrap())
+        );
+        assert_ne!(
+            Palmer::state_fingerprint(&replayed.state().unwrap()),
+            Palmer::state_fingerprint(&before_reset)
+        );
+        assert!(replayed.controls().unwrap().throttle > run().controls().unwrap().throttle);
+    }
+
     #[test]
     fn a_stop_ends_the_replay_before_the_next_frame() {
         let mut target = Counter {
