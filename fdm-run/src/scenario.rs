@@ -488,6 +488,39 @@ mod tests {
         }
     }
 
+    /// The documented ranges' ends are accepted (docs/cli.md: heading
+    /// −360..360, west of north as well as east), just past them refused.
+    #[test]
+    fn the_ranges_ends_are_accepted() {
+        let given = |altitude_ft, speed_kt, heading_deg| StartOptions {
+            altitude_ft: Some(altitude_ft),
+            speed_kt: Some(speed_kt),
+            heading_deg: Some(heading_deg),
+            ..StartOptions::default()
+        };
+        for (alt, kt, hdg) in [
+            (0.0, 0.0, -MAX_HEADING_DEG),
+            (MAX_ALTITUDE_FT, MAX_SPEED_KT, MAX_HEADING_DEG),
+            (5000.0, 100.0, -90.0),
+            (5000.0, 100.0, 0.0),
+        ] {
+            assert_eq!(given(alt, kt, hdg).validate(), Ok(()), "{alt} {kt} {hdg}");
+        }
+        for (alt, kt, hdg, name) in [
+            (-0.1, 100.0, 0.0, "altitude_ft"),
+            (MAX_ALTITUDE_FT + 1.0, 100.0, 0.0, "altitude_ft"),
+            (5000.0, -0.1, 0.0, "speed_kt"),
+            (5000.0, MAX_SPEED_KT + 1.0, 0.0, "speed_kt"),
+            (5000.0, 100.0, -360.5, "heading_deg"),
+            (5000.0, 100.0, f64::INFINITY, "heading_deg"),
+        ] {
+            match given(alt, kt, hdg).validate() {
+                Err(StartRefused::OutOfRange { name: n, .. }) => assert_eq!(n, name),
+                other => panic!("{name}: expected OutOfRange, got {other:?}"),
+            }
+        }
+    }
+
     #[test]
     fn a_huge_value_is_shown_short() {
         let refused = StartOptions {
