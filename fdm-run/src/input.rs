@@ -521,8 +521,8 @@ mod tests {
     }
 
     /// Two outputs given the same path clash even before the file exists
-    /// (no canonical path yet), and so do two spellings of an existing one;
-    /// two existing files do not.
+    /// (no canonical path yet), and so do two spellings of an existing one
+    /// and a hard link to it; two existing files do not.
     #[test]
     fn the_same_new_path_twice_clashes() {
         let dir = temp_dir("new");
@@ -539,6 +539,14 @@ mod tests {
         let other = dir.join("b.csv");
         fs::write(&other, "x").unwrap();
         assert_eq!(clash(&new, &[(Some(&other), "--acmi")]), None);
+        // A hard link is the same file under another canonical path (known
+        // by its inode: unix only).
+        #[cfg(unix)]
+        {
+            let hard = dir.join("hard.csv");
+            fs::hard_link(&new, &hard).unwrap();
+            assert_eq!(clash(&new, &[(Some(&hard), "--acmi")]), Some("--acmi"));
+        }
         let dotted = dir.join(".").join("out.csv");
         assert_eq!(clash(&new, &[(Some(&dotted), "--acmi")]), Some("--acmi"));
         fs::remove_dir_all(&dir).unwrap();
