@@ -368,6 +368,125 @@ mod tests {
         assert!(parse_duration("nan").is_err());
     }
 
+    /// Every parser at the ends of its documented range (accepted, the
+    /// number given) and just past them (refused, with the message a
+    /// command line shows).
+    #[test]
+    fn each_range_is_accepted_to_its_ends() {
+        assert_eq!(parse_finite(" -2.5 "), Ok(-2.5));
+        assert_eq!(
+            parse_finite("inf").unwrap_err().to_string(),
+            "`inf` is not a finite number"
+        );
+        assert_eq!(parse_in_range("0", 0.0, 1.0, ""), Ok(0.0));
+        assert_eq!(parse_in_range(" 1 ", 0.0, 1.0, ""), Ok(1.0));
+        assert_eq!(
+            parse_in_range("-0.5", 0.0, 1.0, " degrees")
+                .unwrap_err()
+                .to_string(),
+            "`-0.5` is outside 0..1 degrees"
+        );
+        assert!(matches!(
+            parse_in_range("nan", 0.0, 1.0, ""),
+            Err(ValueError::NotFinite { .. })
+        ));
+
+        assert_eq!(parse_altitude_ft("0"), Ok(0.0));
+        assert_eq!(parse_altitude_ft("100000"), Ok(100_000.0));
+        assert!(parse_altitude_ft("100000.5").is_err());
+        assert_eq!(parse_speed_kt("0"), Ok(0.0));
+        assert_eq!(parse_speed_kt("1000"), Ok(1000.0));
+        assert_eq!(
+            parse_speed_kt("1000.5").unwrap_err().to_string(),
+            "`1000.5` is not a speed in knots in 0..1000"
+        );
+        assert_eq!(parse_heading_deg("-360"), Ok(-360.0));
+        assert_eq!(parse_heading_deg("360"), Ok(360.0));
+        assert_eq!(
+            parse_heading_deg("-360.5").unwrap_err().to_string(),
+            "`-360.5` is not a heading in degrees in -360..360"
+        );
+        assert!(parse_heading_deg("inf").is_err());
+
+        assert_eq!(parse_whole::<u8>("255", 0, 1000, "a byte"), Ok(255));
+        assert_eq!(
+            parse_whole::<u8>("256", 0, 1000, "a byte")
+                .unwrap_err()
+                .to_string(),
+            "`256` is not a byte in 0..=1000"
+        );
+        assert_eq!(parse_fleet_size("1"), Ok(1));
+        assert_eq!(parse_fleet_size("10000000"), Ok(MAX_FLEET));
+        assert!(parse_fleet_size("10000001").is_err());
+        assert_eq!(parse_fleet_frames("1"), Ok(1));
+        assert_eq!(parse_fleet_frames("1000000000"), Ok(MAX_FRAMES));
+        assert_eq!(
+            parse_fleet_frames("0").unwrap_err().to_string(),
+            "`0` is not a number of frames in 1..=1000000000"
+        );
+        assert!(parse_fleet_frames("1000000001").is_err());
+        assert_eq!(parse_threads("1"), Ok(1));
+        assert_eq!(parse_threads("1024"), Ok(1024));
+        assert_eq!(
+            parse_threads("1025").unwrap_err().to_string(),
+            "`1025` is not a number of threads in 1..=1024"
+        );
+        assert!(parse_threads("0").is_err());
+
+        assert_eq!(parse_positive("1e-300"), Ok(1e-300));
+        for bad in ["0", "-1", "inf", "x"] {
+            assert_eq!(
+                parse_positive(bad).unwrap_err().to_string(),
+                format!("`{bad}` is not a positive finite number")
+            );
+        }
+        assert_eq!(parse_seconds("60", 60.0), Ok(60.0));
+        assert_eq!(parse_seconds("0.001", 60.0), Ok(0.001));
+        for bad in ["0", "60.5", "nan", "-1"] {
+            assert_eq!(
+                parse_seconds(bad, 60.0).unwrap_err().to_string(),
+                format!("`{bad}` is not a number of seconds in (0, 60]")
+            );
+        }
+
+        assert_eq!(
+            parse_fps("0").unwrap_err().to_string(),
+            "must be a whole number from 1 to 10000"
+        );
+        assert_eq!(
+            parse_fps("29.97").unwrap_err().to_string(),
+            "`29.97` is not a whole number of frames per second (1..10000)"
+        );
+        assert_eq!(parse_frames("1000000000"), Ok(MAX_FRAMES));
+        assert_eq!(
+            parse_frames("1000000001").unwrap_err().to_string(),
+            "must be at most 1000000000"
+        );
+        assert_eq!(
+            parse_frames("x").unwrap_err().to_string(),
+            "`x` is not a whole number of frames (0..1000000000)"
+        );
+        assert_eq!(parse_duration("0"), Ok(0.0));
+        assert_eq!(parse_duration("2.5"), Ok(2.5));
+        assert_eq!(
+            parse_duration("-0.1").unwrap_err().to_string(),
+            "must not be negative"
+        );
+
+        assert_eq!(parse_mp_port("1"), Ok(1));
+        assert_eq!(parse_mp_port("32766"), Ok(MAX_MP_PORT));
+        assert!(parse_mp_port("32767")
+            .unwrap_err()
+            .to_string()
+            .starts_with("`32767` is too large: FlightGear 2020.3 stores multiplayer ports"));
+        for bad in ["0", "65536", "-1", "x"] {
+            assert_eq!(
+                parse_mp_port(bad).unwrap_err().to_string(),
+                format!("`{bad}` is not a port number (1..32766)")
+            );
+        }
+    }
+
     #[test]
     fn values_are_echoed_short_and_without_control_characters() {
         let err = parse_fps("\u{1b}[31mred").unwrap_err().to_string();
