@@ -455,15 +455,20 @@ mod tests {
     fn a_named_pipe_read_before_its_writer_comes_is_noted_once() {
         let (dir, path) = fifo("late-writer");
         let writer_path = path.clone();
-        let writer = std::thread::spawn(move || {
-            std::thread::sleep(FIFO_NOTE_AFTER + Duration::from_millis(500));
-            fs::write(writer_path, "1-2 thrust-up\n").unwrap();
-        });
         let (waiting, told) = notes();
+        // The writer comes once the note is out (so no timing can race
+        // them), or after 30 s without one.
+        let writer = std::thread::spawn(move || {
+            let first = told.recv_timeout(Duration::from_secs(30));
+            fs::write(writer_path, "1-2 thrust-up\n").unwrap();
+            first
+                .into_iter()
+                .chain(told.try_iter())
+                .collect::<Vec<String>>()
+        });
         let text = read_text(&path, "script", MAX_INPUT_BYTES, waiting).unwrap();
-        writer.join().unwrap();
+        let told = writer.join().unwrap();
         assert_eq!(text, "1-2 thrust-up\n");
-        let told: Vec<String> = told.try_iter().collect();
         assert_eq!(told.len(), 1, "{told:?}");
         assert!(
             told[0].starts_with("waiting for a program to open the pipe ")
@@ -487,18 +492,21 @@ mod tests {
     fn an_output_pipe_waits_for_its_reader() {
         let (dir, path) = fifo("late-reader");
         let reader_path = path.clone();
-        let reader = std::thread::spawn(move || {
-            std::thread::sleep(FIFO_NOTE_AFTER + Duration::from_millis(500));
-            fs::read_to_string(reader_path).unwrap()
-        });
         let (waiting, told) = notes();
+        // The reader comes once the note is out, or after 30 s without one.
+        let reader = std::thread::spawn(move || {
+            let first = told.recv_timeout(Duration::from_secs(30));
+            let text = fs::read_to_string(reader_path).unwrap();
+            let told: Vec<String> = first.into_iter().chain(told.try_iter()).collect();
+            (text, told)
+        });
         let mut held = await_pipe_reader(&path, "--csv", waiting)
             .unwrap()
             .expect("a pipe is held open");
         io::Write::write_all(&mut held, b"frame\n").unwrap();
         drop(held);
-        assert_eq!(reader.join().unwrap(), "frame\n");
-        let told: Vec<String> = told.try_iter().collect();
+        let (text, told) = reader.join().unwrap();
+        assert_eq!(text, "frame\n");
         assert_eq!(told.len(), 1, "{told:?}");
         assert!(
             told[0].ends_with(" for reading (--csv); Ctrl-C stops"),
