@@ -174,26 +174,13 @@ mod tests {
             .origin;
         let none = Links::open::<Palmer>(&LinkSettings::default(), origin, 30).unwrap();
         assert!(none.fg.is_none() && none.fg_stats().is_none());
-        let receiver = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
-        let std::net::SocketAddr::V4(target) = receiver.local_addr().unwrap() else {
-            unreachable!("bound to IPv4")
-        };
+        let (_receiver, target) = listener();
         let settings = LinkSettings {
             fg: Some(target),
             ..LinkSettings::default()
         };
         let links = Links::open::<Palmer>(&settings, origin, 30).unwrap();
         assert_eq!(links.fg_stats(), Some(LinkStats::default()));
-    }
-
-    /// An address on loopback where nobody listens (a port just freed):
-    /// sends to it fail (the ICMP answer comes back as the next send's error).
-    fn nobody() -> std::net::SocketAddrV4 {
-        let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
-        let std::net::SocketAddr::V4(addr) = socket.local_addr().unwrap() else {
-            unreachable!("bound to IPv4")
-        };
-        addr
     }
 
     /// A receiver on loopback and its address.
@@ -266,7 +253,9 @@ mod tests {
     #[test]
     fn each_links_first_failure_is_taken_once() {
         let (_fg_rx, fg) = listener();
-        let dead = nobody();
+        // Nobody listens on a port just freed: the ICMP answer comes back
+        // as the next send's error.
+        let dead = listener().1;
         let port_0 = std::net::SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, 0);
         let links = flown(dead, port_0);
         let first = links.take_failure().expect("the FlightGear link failed");
