@@ -500,6 +500,24 @@ mod tests {
         }
     }
 
+    /// How a flight CSV's rows are made ([`FlightRow::of`]).
+    type RowOf<M> = fn(&Frame<'_, M>) -> FlightRow<M>;
+
+    /// A run of model `M` from `start` at 30 frames a second for `frames`
+    /// frames, a flight CSV to `out` attached (named `out.csv`), and the
+    /// handle to that output.
+    fn flight_csv<M: CsvModel, W: Write + 'static>(
+        start: Start<M>,
+        frames: u64,
+        out: W,
+    ) -> (Run<M>, SharedOutput<CsvOutput<W, RowOf<M>>>) {
+        let mut run = Run::new(Scenario::new(start, 30, frames).unwrap()).unwrap();
+        let row: RowOf<M> = FlightRow::<M>::of;
+        let csv = SharedOutput::new(CsvOutput::new(CsvWriter::new(out, "out.csv"), row));
+        run.attach(csv.clone()).unwrap();
+        (run, csv)
+    }
+
     /// A failing flush is the caller's error, not lost: from the writer's
     /// `flush` and `finish`, and from the output's `finish` (the run's end),
     /// which flushes once.
@@ -511,12 +529,7 @@ mod tests {
         assert_eq!(err.to_string(), "writing CSV file out.csv");
         assert!(matches!(w.finish(), Err(CsvError::Io { .. })));
 
-        let mut run = Run::new(Scenario::<Palmer>::new(Start::thesis(), 30, 2).unwrap()).unwrap();
-        let csv = SharedOutput::new(CsvOutput::new(
-            CsvWriter::new(FlushFails::default(), "out.csv"),
-            FlightRow::<Palmer>::of,
-        ));
-        run.attach(csv.clone()).unwrap();
+        let (mut run, csv) = flight_csv(Start::<Palmer>::thesis(), 2, FlushFails::default());
         run.run_to_end().unwrap();
         let err = run.finish().unwrap_err();
         assert!(err.to_string().contains("out.csv"), "{err}");
@@ -623,12 +636,7 @@ mod tests {
     #[test]
     fn a_flight_csv_names_its_model_first() {
         fn text<M: CsvModel>() -> String {
-            let mut run = Run::new(Scenario::<M>::new(Start::thesis(), 30, 1).unwrap()).unwrap();
-            let csv = SharedOutput::new(CsvOutput::new(
-                CsvWriter::new(Vec::new(), "mem"),
-                FlightRow::<M>::of,
-            ));
-            run.attach(csv.clone()).unwrap();
+            let (mut run, csv) = flight_csv(Start::<M>::thesis(), 1, Vec::new());
             run.run_to_end().unwrap();
             run.finish().unwrap();
             String::from_utf8(csv.take().unwrap().into_inner().finish().unwrap()).unwrap()
@@ -662,12 +670,7 @@ mod tests {
     #[test]
     fn flight_rows_carry_the_clock_and_no_diverged_frame() {
         fn fly(start: Start<Palmer>, frames: u64) -> (Vec<Vec<f64>>, Vec<f64>) {
-            let mut run = Run::new(Scenario::new(start, 30, frames).unwrap()).unwrap();
-            let csv = SharedOutput::new(CsvOutput::new(
-                CsvWriter::new(Vec::new(), "mem"),
-                FlightRow::<Palmer>::of,
-            ));
-            run.attach(csv.clone()).unwrap();
+            let (mut run, csv) = flight_csv(start, frames, Vec::new());
             let mut clock = vec![run.view().time_s];
             for _ in 0..frames {
                 if run.step_frame(&[]).is_err() {

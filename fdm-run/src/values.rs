@@ -349,6 +349,11 @@ pub fn parse_heading_deg(text: &str) -> Result<f64, ValueError> {
 mod tests {
     use super::*;
 
+    /// The message of a refused value, as a command line shows it.
+    fn refused<T: std::fmt::Debug>(parsed: Result<T, ValueError>) -> String {
+        parsed.unwrap_err().to_string()
+    }
+
     #[test]
     fn value_parsers() {
         assert!(parse_fps("0").is_err());
@@ -374,16 +379,11 @@ mod tests {
     #[test]
     fn each_range_is_accepted_to_its_ends() {
         assert_eq!(parse_finite(" -2.5 "), Ok(-2.5));
-        assert_eq!(
-            parse_finite("inf").unwrap_err().to_string(),
-            "`inf` is not a finite number"
-        );
+        assert_eq!(refused(parse_finite("inf")), "`inf` is not a finite number");
         assert_eq!(parse_in_range("0", 0.0, 1.0, ""), Ok(0.0));
         assert_eq!(parse_in_range(" 1 ", 0.0, 1.0, ""), Ok(1.0));
         assert_eq!(
-            parse_in_range("-0.5", 0.0, 1.0, " degrees")
-                .unwrap_err()
-                .to_string(),
+            refused(parse_in_range("-0.5", 0.0, 1.0, " degrees")),
             "`-0.5` is outside 0..1 degrees"
         );
         assert!(matches!(
@@ -397,22 +397,20 @@ mod tests {
         assert_eq!(parse_speed_kt("0"), Ok(0.0));
         assert_eq!(parse_speed_kt("1000"), Ok(1000.0));
         assert_eq!(
-            parse_speed_kt("1000.5").unwrap_err().to_string(),
+            refused(parse_speed_kt("1000.5")),
             "`1000.5` is not a speed in knots in 0..1000"
         );
         assert_eq!(parse_heading_deg("-360"), Ok(-360.0));
         assert_eq!(parse_heading_deg("360"), Ok(360.0));
         assert_eq!(
-            parse_heading_deg("-360.5").unwrap_err().to_string(),
+            refused(parse_heading_deg("-360.5")),
             "`-360.5` is not a heading in degrees in -360..360"
         );
         assert!(parse_heading_deg("inf").is_err());
 
         assert_eq!(parse_whole::<u8>("255", 0, 1000, "a byte"), Ok(255));
         assert_eq!(
-            parse_whole::<u8>("256", 0, 1000, "a byte")
-                .unwrap_err()
-                .to_string(),
+            refused(parse_whole::<u8>("256", 0, 1000, "a byte")),
             "`256` is not a byte in 0..=1000"
         );
         assert_eq!(parse_fleet_size("1"), Ok(1));
@@ -421,14 +419,14 @@ mod tests {
         assert_eq!(parse_fleet_frames("1"), Ok(1));
         assert_eq!(parse_fleet_frames("1000000000"), Ok(MAX_FRAMES));
         assert_eq!(
-            parse_fleet_frames("0").unwrap_err().to_string(),
+            refused(parse_fleet_frames("0")),
             "`0` is not a number of frames in 1..=1000000000"
         );
         assert!(parse_fleet_frames("1000000001").is_err());
         assert_eq!(parse_threads("1"), Ok(1));
         assert_eq!(parse_threads("1024"), Ok(1024));
         assert_eq!(
-            parse_threads("1025").unwrap_err().to_string(),
+            refused(parse_threads("1025")),
             "`1025` is not a number of threads in 1..=1024"
         );
         assert!(parse_threads("0").is_err());
@@ -436,7 +434,7 @@ mod tests {
         assert_eq!(parse_positive("1e-300"), Ok(1e-300));
         for bad in ["0", "-1", "inf", "x"] {
             assert_eq!(
-                parse_positive(bad).unwrap_err().to_string(),
+                refused(parse_positive(bad)),
                 format!("`{bad}` is not a positive finite number")
             );
         }
@@ -444,44 +442,39 @@ mod tests {
         assert_eq!(parse_seconds("0.001", 60.0), Ok(0.001));
         for bad in ["0", "60.5", "nan", "-1"] {
             assert_eq!(
-                parse_seconds(bad, 60.0).unwrap_err().to_string(),
+                refused(parse_seconds(bad, 60.0)),
                 format!("`{bad}` is not a number of seconds in (0, 60]")
             );
         }
 
         assert_eq!(
-            parse_fps("0").unwrap_err().to_string(),
+            refused(parse_fps("0")),
             "must be a whole number from 1 to 10000"
         );
         assert_eq!(
-            parse_fps("29.97").unwrap_err().to_string(),
+            refused(parse_fps("29.97")),
             "`29.97` is not a whole number of frames per second (1..10000)"
         );
         assert_eq!(parse_frames("1000000000"), Ok(MAX_FRAMES));
         assert_eq!(
-            parse_frames("1000000001").unwrap_err().to_string(),
+            refused(parse_frames("1000000001")),
             "must be at most 1000000000"
         );
         assert_eq!(
-            parse_frames("x").unwrap_err().to_string(),
+            refused(parse_frames("x")),
             "`x` is not a whole number of frames (0..1000000000)"
         );
         assert_eq!(parse_duration("0"), Ok(0.0));
         assert_eq!(parse_duration("2.5"), Ok(2.5));
-        assert_eq!(
-            parse_duration("-0.1").unwrap_err().to_string(),
-            "must not be negative"
-        );
+        assert_eq!(refused(parse_duration("-0.1")), "must not be negative");
 
         assert_eq!(parse_mp_port("1"), Ok(1));
         assert_eq!(parse_mp_port("32766"), Ok(MAX_MP_PORT));
-        assert!(parse_mp_port("32767")
-            .unwrap_err()
-            .to_string()
+        assert!(refused(parse_mp_port("32767"))
             .starts_with("`32767` is too large: FlightGear 2020.3 stores multiplayer ports"));
         for bad in ["0", "65536", "-1", "x"] {
             assert_eq!(
-                parse_mp_port(bad).unwrap_err().to_string(),
+                refused(parse_mp_port(bad)),
                 format!("`{bad}` is not a port number (1..32766)")
             );
         }
