@@ -137,7 +137,8 @@ def test_pyacmi_reads_the_flight_the_csv_shows(tmp_path, model) -> None:
     """pyacmi reads every frame of the Python-written ACMI file within the
     file's rounding (1e-7 degrees, 1 cm, 0.01 degrees) of the CSV written
     beside it, as sim-cli's own interop test reads ``--acmi``; the clock goes
-    on across a reset."""
+    on across a reset, and the flight after it is an object of its own
+    (``100000001``: the first flight, ``1``, is removed at the reset)."""
     _, flight, frames = cli_args(model, tmp_path)
     flight.acmi_to(tmp_path / "f.acmi")
     flight.csv_to(tmp_path / "f.csv")
@@ -151,7 +152,8 @@ def test_pyacmi_reads_the_flight_the_csv_shows(tmp_path, model) -> None:
     assert header["FileVersion"] == "2.2"
     name = "C172" if model == "palmer" else "Bourg 6-DoF"
     callsign = "C172-1" if model == "palmer" else "BRG-1"
-    assert objects == {"1": [name, "Air+FixedWing", callsign]}
+    assert objects == {"1": [name, "Air+FixedWing", callsign],
+                       "100000001": [name, "Air+FixedWing", callsign]}
     # The CSV row of each flown frame (rows after the reset's frame 0 follow
     # on the clock): row k is clock frame k, the reset's row shares the clock
     # of the frame before it.

@@ -32,6 +32,14 @@
 //!   fields changed gets no line at all.
 //! * `Name` (the aircraft type), `Type` and `CallSign` on the object's first
 //!   line; `-id` when the aircraft crashes or diverges.
+//! * A single flight's reset ([`AcmiOutput`], [`AcmiWriter::renew`]) starts a
+//!   new object: the flight the reset ends is removed (if it was not
+//!   already), and the next flight's id is the same index + 1 plus its flight
+//!   number times 2^32 (`100000001`, `200000001`, … for the aircraft of id
+//!   `1`). An id is never written again after its removal: a reader may keep
+//!   the removal (pyacmi does, so a flight after a crash under the old id
+//!   would never show), and a reset would otherwise join the old flight's
+//!   last place to the new start with a line at one instant.
 //! * Times `#t` are the run's clock: frames flown / fps, in seconds rounded to
 //!   the microsecond; a time line is written only before a line that needs it.
 //! * No wall-clock time anywhere: the same flight gives the same bytes
@@ -174,12 +182,20 @@ impl ObjectInfo {
 /// One object's track as written so far.
 #[derive(Debug, Clone)]
 struct Track {
+    /// How many times the object was renewed ([`AcmiWriter::renew`]): its
+    /// id is `index + 1 + generation · 2^32`.
+    generation: u64,
     info: ObjectInfo,
     /// Its declaration (name, type, callsign) is still to be written.
     fresh: bool,
     removed: bool,
     /// The fields of its last line, in their written units (fixed point).
     last: [i64; 6],
+}
+
+/// The ACMI id of object `index` after `generation` renewals.
+fn object_id(index: usize, generation: u64) -> u64 {
+    (index as u64 + 1).wrapping_add(generation << 32)
 }
 
 /// Where the text goes.
@@ -321,13 +337,81 @@ impl AcmiWriter {
 
     /// Declares object `index` (0-based; its ACMI id is `index + 1`): its
     /// name, type and callsign go out with its first sample. Declaring an
-    /// index again (e.g. after a reset brought a removed aircraft back)
-    /// starts its track anew.
+    /// index again starts its track anew under the same id; to fly an
+    /// aircraft again after a reset, [`Self::renew`] it instead.
     pub fn declare(&mut self, index: usize, info: ObjectInfo) {
+        self.declare_generation(index, 0, info);
+    }
+
+    /// Starts object `index` over as a new ACMI object (a flight after a
+    /// reset), declared with `info`: the old object, if its track was
+    /// written and it is not removed yet, is removed in the current frame,
+    /// and the new one takes the next id of the index, `index + 1 + k ·
+    /// 2^32` for its `k`-th renewal (an id whose track was never written is
+    /// kept). No id is written again after its removal (see the [module
+    /// docs](self)). An index never declared is declared.
+    ///
+    /// ```
+    /// use fdm_core::geodesy::{Attitude, Geodetic};
+    /// use fdm_run::acmi::{AcmiHeader, AcmiWriter, ObjectInfo, ReferenceTime};
+    /// use fdm_run::Placement;
+    ///
+    /// # let at = |alt_m| Placement {
+    /// #     geodetic: Geodetic { lat_deg: 0.0, lon_deg: 0.0, alt_m },
+    /// #     attitude: Attitude { roll_deg: 0.0, pitch_deg: 0.0, heading_deg: 0.0 },
+    /// # };
+    /// let info = ObjectInfo {
+    ///     name: "C172".into(),
+    ///     type_tags: "Air+FixedWing".into(),
+    ///     callsign: "C172-1".into(),
+    /// };
+    /// let header = AcmiHeader {
+    ///     reference_time: ReferenceTime::default(),
+    ///     title: "reset".into(),
+    ///     origin: Geodetic { lat_deg: 0.0, lon_deg: 0.0, alt_m: 0.0 },
+    /// };
+    /// let path = std::env::temp_dir().join(format!("renew-{}.acmi", std::process::id()));
+    /// let mut w = AcmiWriter::create(&path, &header, 1)?;
+    /// w.declare(0, info.clone());
+    /// w.sample(0, &at(100.0))?;
+    /// w.begin_frame(1);
+    /// w.sample(0, &at(200.0))?;
+    /// w.renew(0, info)?; // a reset: back to the start in the same frame
+    /// w.sample(0, &at(100.0))?;
+    /// w.finish()?;
+    /// let text = std::fs::read_to_string(&path)?;
+    /// # std::fs::remove_file(&path)?;
+    /// assert!(text.ends_with(
+    ///     "#1\n1,T=||200|||\n-1\n100000001,T=0|0|100|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n"
+    /// ));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Writing the removal fails.
+    pub fn renew(&mut self, index: usize, info: ObjectInfo) -> Result<(), AcmiError> {
+        let (written, generation) = match self.tracks.get(index) {
+            Some(Some(track)) => (!track.fresh, track.generation),
+            _ => (false, 0),
+        };
+        if written {
+            self.remove(index)?;
+        }
+        let next = if written {
+            generation.wrapping_add(1)
+        } else {
+            generation
+        };
+        self.declare_generation(index, next, info);
+        Ok(())
+    }
+
+    fn declare_generation(&mut self, index: usize, generation: u64, info: ObjectInfo) {
         if self.tracks.len() <= index {
             self.tracks.resize(index + 1, None);
         }
         self.tracks[index] = Some(Track {
+            generation,
             info,
             fresh: true,
             removed: false,
@@ -357,7 +441,7 @@ impl AcmiWriter {
         if track.removed {
             return Ok(());
         }
-        let fresh = track.fresh;
+        let (fresh, generation) = (track.fresh, track.generation);
         if !fresh && fields == track.last {
             return Ok(());
         }
@@ -367,7 +451,7 @@ impl AcmiWriter {
         let info = fresh.then(|| track.info.clone());
         self.time_line();
         let t = &mut self.text;
-        let _ = write!(t, "{:x},T=", index + 1);
+        let _ = write!(t, "{:x},T=", object_id(index, generation));
         for (k, (&value, decimals)) in fields.iter().zip([7, 7, 2, 2, 2, 2]).enumerate() {
             if k > 0 {
                 t.push('|');
@@ -401,10 +485,10 @@ impl AcmiWriter {
             return Ok(());
         }
         track.removed = true;
-        let written = !track.fresh;
+        let (written, generation) = (!track.fresh, track.generation);
         if written {
             self.time_line();
-            let _ = writeln!(self.text, "-{:x}", index + 1);
+            let _ = writeln!(self.text, "-{:x}", object_id(index, generation));
         }
         self.flush_text(false)
     }
@@ -581,7 +665,9 @@ fn escape_into(out: &mut String, text: &str) {
 
 /// The ACMI output of a single-aircraft [`Run`](crate::Run): object 1, the
 /// model's name, type and callsign `{CALLSIGN}-1`; removed on a crash or a
-/// divergence, declared again by a reset.
+/// divergence. A reset removes the flight it ends (if it flies on) and
+/// starts the next as a new object ([`AcmiWriter::renew`]: ids `100000001`,
+/// `200000001`, …, the same callsign).
 pub struct AcmiOutput<M> {
     writer: AcmiWriter,
     _model: PhantomData<fn() -> M>,
@@ -615,8 +701,12 @@ impl<M: RunModel> Output<M> for AcmiOutput<M> {
         let w = &mut self.writer;
         w.begin_frame(frame.flown);
         match frame.event {
-            Event::Start | Event::Reset => {
+            Event::Start => {
                 w.declare(0, ObjectInfo::of::<M>(0));
+                w.sample(0, frame.placement)?;
+            }
+            Event::Reset => {
+                w.renew(0, ObjectInfo::of::<M>(0))?;
                 w.sample(0, frame.placement)?;
             }
             Event::Step => match frame.status {
@@ -897,10 +987,11 @@ mod tests {
     /// A single flight's frames, numbered as a [`Run`](crate::Run) numbers
     /// them: declared and written at the start, a step written, a
     /// divergence removes it (no sample of the diverged frame, nothing while
-    /// it is removed), a reset declares it again at the clock of the frame
-    /// before it (the run's clock, `flown`, goes on across a reset: the
-    /// file's time never goes back), and a crash is written once more and
-    /// removed.
+    /// it is removed), a reset starts a new object (the next id) at the
+    /// clock of the frame before it (the run's clock, `flown`, goes on
+    /// across a reset: the file's time never goes back), a crash is written
+    /// once more and removed, and a reset of a flight still flying removes
+    /// it first.
     #[test]
     fn a_flights_frames_declare_sample_remove_and_reset() {
         use fdm_core::model::Model;
@@ -921,6 +1012,9 @@ mod tests {
             (3, 3, Event::Step, 4.0, up),
             (0, 3, Event::Reset, 1.0, up),
             (1, 4, Event::Step, 0.0, crash),
+            (0, 4, Event::Reset, 1.0, up),
+            (1, 5, Event::Step, 2.0, up),
+            (0, 5, Event::Reset, 1.0, up),
         ] {
             let placement = level(0.0, 0.0, alt_m, 0.0);
             let frame = Frame::<Palmer> {
@@ -944,8 +1038,11 @@ mod tests {
             body,
             "#0\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
              #1\n1,T=||2|||\n#2\n-1\n\
-             #3\n1,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
-             #4\n1,T=||0|||\n-1\n",
+             #3\n100000001,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
+             #4\n100000001,T=||0|||\n-100000001\n\
+             200000001,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
+             #5\n200000001,T=||2|||\n-200000001\n\
+             300000001,T=0|0|1|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n",
             "{body}"
         );
     }

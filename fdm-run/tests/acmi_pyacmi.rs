@@ -305,6 +305,111 @@ fn a_fleet_of_10000_over_60_s_reads_back_every_track() {
     fleet(10_000, 1800, &temp("fleet10000.zip.acmi")).check();
 }
 
+/// What a flight with resets looks like to pyacmi: Palmer flies 60 frames,
+/// is reset while flying and flies 45 more; Bourg dives until it crashes
+/// (and is removed), is reset and flies 30 more. Each flight is its own
+/// object (ids `1`, `100000001`, `200000001`: the flight's number above bit
+/// 32), each read back against the run's placements of its own frames; the
+/// flight a reset ends is removed at the reset's time, so no track joins
+/// one flight's last place to the next one's start, and a flight after a
+/// crash is not lost to a reader that keeps an id's removal (pyacmi does:
+/// a removed id stays removed when it is written again).
+#[test]
+fn each_flight_after_a_reset_is_an_object_of_its_own() {
+    fn flights<M: RunModel>(
+        scenario: Scenario<M>,
+        path: &Path,
+        legs: &[Option<u64>],
+    ) -> (Vec<MaxError>, Read, Vec<u64>) {
+        let fps = scenario.fps;
+        let writer = AcmiWriter::create(path, &header(M::NAME, &scenario.origin), fps).unwrap();
+        let mut run = Run::new(scenario).unwrap();
+        let truth = SharedOutput::new(Truth::default());
+        run.attach(truth.clone()).unwrap();
+        run.attach(AcmiOutput::<M>::new(writer)).unwrap();
+        // Each leg: a number of frames, or (None) until it lands.
+        let mut resets = Vec::new();
+        for (k, leg) in legs.iter().enumerate() {
+            if k > 0 {
+                run.reset().unwrap();
+                resets.push(run.flown());
+            }
+            match *leg {
+                Some(frames) => (0..frames).for_each(|_| run.step_frame(&[]).unwrap()),
+                None => {
+                    while !matches!(run.status(), FlightStatus::Landed(_)) {
+                        run.step_frame(&[]).unwrap();
+                    }
+                }
+            }
+        }
+        run.finish().unwrap();
+        // The truth of flight f: its frames, by time (a reset's frame shares
+        // its time with the frame before it, which belongs to the flight
+        // before).
+        let truth = truth.take().unwrap();
+        let mut by_flight: Vec<HashMap<u64, Placement>> = vec![HashMap::new(); legs.len()];
+        let mut flight = 0;
+        for (k, &(flown, p, _)) in truth.frames.iter().enumerate() {
+            if k > 0 && truth.frames[k - 1].0 == flown {
+                flight += 1;
+            }
+            by_flight[flight].insert(micros(flown, fps), p);
+        }
+        let mut errors = vec![MaxError::default(); legs.len()];
+        let read = read(path, |t, id, v| {
+            let id = u64::from_str_radix(id, 16).unwrap();
+            let flight = usize::try_from(id >> 32).unwrap();
+            assert_eq!(id & 0xffff_ffff, 1, "{id:x}");
+            let want = by_flight[flight]
+                .get(&((t * 1e6).round() as u64))
+                .unwrap_or_else(|| panic!("flight {flight} has no frame at {t}"));
+            errors[flight].add(v, want);
+        });
+        (errors, read, resets)
+    }
+
+    let script = Script::parse("1-20 throttle-up\n1-6 alpha-up\n").unwrap();
+    let scenario = Scenario::<Palmer>::new(Start::thesis(), 30, 1800)
+        .unwrap()
+        .with_script(script);
+    let (errors, read, resets) = flights(
+        scenario,
+        &temp("palmer_reset.txt.acmi"),
+        &[Some(60), Some(45)],
+    );
+    errors.iter().for_each(MaxError::check);
+    assert_eq!(resets, [60]);
+    let call = ["C172", "Air+FixedWing", "C172-1"];
+    assert_eq!(read.objects["1"], call);
+    assert_eq!(read.objects["100000001"], call);
+    assert_eq!(read.removed.len(), 1, "{:?}", read.removed);
+    assert_eq!(read.removed["1"], 2.0);
+
+    let script = Script::parse("1-200 pitch-down\n").unwrap();
+    let scenario = Scenario::<Bourg>::new(Start::thesis(), 30, 900)
+        .unwrap()
+        .with_script(script);
+    let (errors, read, resets) = flights(
+        scenario,
+        &temp("bourg_reset.txt.acmi"),
+        &[None, Some(30), Some(10)],
+    );
+    errors.iter().for_each(MaxError::check);
+    let crash = resets[0];
+    assert!(crash > 30, "{resets:?}");
+    // The crash removes the first; the second reset the second; the third
+    // flies on.
+    assert_eq!(read.objects.len(), 3, "{:?}", read.objects);
+    assert_eq!(read.removed.len(), 2, "{:?}", read.removed);
+    assert_eq!(read.removed["1"], micros(crash, 30) as f64 / 1e6);
+    assert_eq!(
+        read.removed["100000001"],
+        micros(crash + 30, 30) as f64 / 1e6
+    );
+    assert!(errors[2].samples >= 10, "{errors:?}");
+}
+
 #[test]
 fn files_are_reproducible() {
     let scenario = Scenario::<Palmer>::new(Start::thesis(), 30, 300).unwrap();

@@ -230,7 +230,9 @@ class Flight:
         bytes ``sim-cli MODEL --acmi path`` writes for the same flight
         (docs/cli.md, "Tacview ACMI"): object 1 with the model's name and
         callsign (``C172-1``, ``BRG-1``), times frames flown / fps (a reset
-        does not turn the clock back). ``reference_time``: an ISO 8601 UTC
+        does not turn the clock back; the flight after a reset is a new
+        object, ``100000001``, then ``200000001``, ..., and the one it ends
+        is removed). ``reference_time``: an ISO 8601 UTC
         time ``YYYY-MM-DDTHH:MM:SS[.f]Z`` (default 2000-01-01T00:00:00Z);
         ``title`` defaults to the model's name. ``OSError`` when the file
         cannot be created, ``ValueError`` for a bad ``reference_time``."""
