@@ -150,3 +150,51 @@ impl<M: Model> Output<M> for FlightGearOutput {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Run, Scenario, SharedOutput, Start};
+    use fdm_core::palmer::Palmer;
+
+    /// Each flown frame's datagram, as FlightGear receives it, is the
+    /// frame's `fgnet::bridge::display` packet (the run's own view and
+    /// origin, placed again from scratch), and `last_packet` is the last one
+    /// sent; none is sent at the start or a reset.
+    #[test]
+    fn each_flown_frame_sends_the_display_packet_of_its_view() {
+        let fg = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        fg.set_read_timeout(Some(std::time::Duration::from_secs(5)))
+            .unwrap();
+        let scenario = Scenario::<Palmer>::new(Start::thesis(), 30, 3).unwrap();
+        let origin = scenario.origin;
+        let link = SharedOutput::new(
+            FlightGearOutput::connect(&fg.local_addr().unwrap().to_string(), origin).unwrap(),
+        );
+        let mut run = Run::new(scenario).unwrap();
+        run.attach(link.clone()).unwrap();
+        assert!(link.with(|o| o.unwrap().last_packet().is_none()));
+        let mut buf = [0_u8; 512];
+        for flown in 1..=4 {
+            if flown == 3 {
+                run.reset().unwrap();
+            }
+            run.step_frame(&[]).unwrap();
+            let n = fg.recv(&mut buf).unwrap();
+            let got = FgNetFdm::decode(&buf[..n]).unwrap();
+            let want = fgnet::bridge::display(&run.view(), &origin).packet;
+            assert_eq!(got.encode(), want.encode(), "frame {flown}");
+            let last = link.with(|o| o.unwrap().last_packet().copied()).unwrap();
+            assert_eq!(last.encode(), want.encode(), "frame {flown}");
+            assert_eq!(
+                FlightGearOutput::packet(&run.view(), &origin, &run.placement()).encode(),
+                want.encode()
+            );
+        }
+        // Four flown frames, four datagrams: the reset sent none.
+        fg.set_nonblocking(true).unwrap();
+        assert!(fg.recv(&mut buf).is_err());
+        let stats = link.with(|o| o.unwrap().stats());
+        assert_eq!((stats.sent, stats.failed), (4, 0));
+    }
+}

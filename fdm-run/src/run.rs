@@ -369,3 +369,67 @@ impl<M: Model> Run<M> {
         self.entity
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Start;
+    use fdm_core::palmer::Palmer;
+
+    /// An output that takes every frame and keeps nothing.
+    struct Quiet;
+
+    impl<M: Model> Output<M> for Quiet {
+        fn frame(&mut self, _: &Frame<'_, M>) -> Result<(), OutputError> {
+            Ok(())
+        }
+    }
+
+    /// `frame` counts frames since the start or the last reset and `flown`
+    /// every frame; a run shows both, its model, entity and how many outputs
+    /// are attached (not the outputs themselves, which need not be `Debug`).
+    #[test]
+    fn debug_shows_the_model_and_the_counts() {
+        let mut run = Run::new(Scenario::<Palmer>::new(Start::thesis(), 30, 5).unwrap()).unwrap();
+        run.attach(Quiet).unwrap();
+        run.step_frame(&[]).unwrap();
+        run.step_frame(&[]).unwrap();
+        assert_eq!((run.frame(), run.flown()), (2, 2));
+        run.reset().unwrap();
+        assert_eq!((run.frame(), run.flown()), (0, 2));
+        run.step_frame(&[]).unwrap();
+        assert_eq!((run.frame(), run.flown()), (1, 3));
+        let shown = format!("{run:?}");
+        let entity = format!("{:?}", run.entity());
+        assert_eq!(
+            shown,
+            format!(
+                "Run {{ model: \"palmer\", entity: {entity}, frame: 1, flown: 3, outputs: 1, .. }}"
+            )
+        );
+    }
+
+    /// `run_to_end` with real-time pacing takes a period a frame (10 frames
+    /// at 50 fps: at least 150 ms, allowing for the first frame, which is
+    /// not waited for, and the timer's granularity) and counts overruns;
+    /// headless it counts none (`None`).
+    #[test]
+    fn a_paced_run_takes_a_period_a_frame() {
+        let scenario = Scenario::<Palmer>::new(Start::thesis(), 50, 10).unwrap();
+        let mut paced = Run::new(scenario.clone()).unwrap().with_realtime(true);
+        let started = Instant::now();
+        let end = paced.run_to_end().unwrap();
+        let took = started.elapsed();
+        assert_eq!(end.frames, 10);
+        assert!(end.overruns.is_some());
+        assert!(took >= std::time::Duration::from_millis(150), "{took:?}");
+        let headless = Run::new(scenario).unwrap().run_to_end().unwrap();
+        assert_eq!(
+            headless,
+            End {
+                frames: 10,
+                overruns: None
+            }
+        );
+    }
+}
