@@ -939,6 +939,90 @@ mod tests {
         }
     }
 
+    /// Each DIS number's parser at the ends of its documented range and
+    /// just past them, with the message a command line shows.
+    #[test]
+    fn dis_numbers_at_the_ends_of_their_ranges() {
+        let refused = |parsed: Result<u16, ValueError>| parsed.unwrap_err().to_string();
+        assert_eq!(parse_site_or_application("1"), Ok(1));
+        assert_eq!(parse_site_or_application("65534"), Ok(0xFFFE));
+        for text in ["0", "65535"] {
+            let message = refused(parse_site_or_application(text));
+            assert!(
+                message.contains("a DIS number") && message.contains("1..=65534"),
+                "{message}"
+            );
+        }
+        assert_eq!(parse_entity("1"), Ok(1));
+        assert_eq!(parse_entity("65533"), Ok(0xFFFD));
+        for text in ["0", "65534"] {
+            let message = refused(parse_entity(text));
+            assert!(
+                message.contains("a DIS entity number") && message.contains("1..=65533"),
+                "{message}"
+            );
+        }
+        assert_eq!(parse_exercise("1"), Ok(1));
+        assert_eq!(parse_exercise("255"), Ok(255));
+        assert!(parse_exercise("0")
+            .unwrap_err()
+            .to_string()
+            .contains("a DIS exercise id"));
+        assert!(parse_exercise("256").is_err());
+        assert_eq!(parse_version("6"), Ok(6));
+        assert_eq!(parse_version("7"), Ok(7));
+        for text in ["5", "8"] {
+            let message = parse_version(text).unwrap_err().to_string();
+            assert!(message.contains("a DIS version"), "{message}");
+        }
+    }
+
+    /// A marking is kept as given when DIS can carry it (at most 11
+    /// printable ASCII characters), refused otherwise, the text shown on
+    /// one line.
+    #[test]
+    fn callsigns_are_kept_or_refused() {
+        assert_eq!(parse_callsign("VIPER-1").as_deref(), Ok("VIPER-1"));
+        assert_eq!(parse_callsign("ABCDEFGHIJK").as_deref(), Ok("ABCDEFGHIJK"));
+        for text in ["ABCDEFGHIJKL", "CAFÉ", "TAB\tBED"] {
+            let Err(ValueError::NotMarking { text: shown }) = parse_callsign(text) else {
+                panic!("{text:?} accepted");
+            };
+            assert!(!shown.contains('\t'), "{shown}");
+        }
+    }
+
+    /// A DIS target is the first address its text names; port 0 and the
+    /// unspecified address name no receiver and are refused, by kind.
+    #[test]
+    fn targets_need_a_port_and_a_host() {
+        assert_eq!(
+            resolve_target("127.0.0.1:3000"),
+            Ok("127.0.0.1:3000".parse().unwrap())
+        );
+        assert_eq!(
+            resolve_target("[::1]:3000"),
+            Ok("[::1]:3000".parse().unwrap())
+        );
+        assert!(resolve_target("255.255.255.255:3000").is_ok());
+        assert!(matches!(
+            resolve_target("127.0.0.1:0"),
+            Err(DisTargetError::PortZero { .. })
+        ));
+        assert!(matches!(
+            resolve_target("0.0.0.0:3000"),
+            Err(DisTargetError::Unspecified { .. })
+        ));
+        assert!(matches!(
+            resolve_target("[::]:3000"),
+            Err(DisTargetError::Unspecified { .. })
+        ));
+        assert!(matches!(
+            resolve_target("127.0.0.1"),
+            Err(DisTargetError::NotAnAddress { .. })
+        ));
+    }
+
     #[test]
     fn fleet_numbering_spills_into_the_next_application() {
         let id = |base, i| fleet_identity(1, 1, base, i).unwrap().to_string();
@@ -1178,5 +1262,64 @@ mod tests {
         run.step_frame(&[]).unwrap();
         assert_eq!(counts(), (3, 3, 2, 1));
         assert_eq!(report().dr_algorithm, "DRM(R,V,W)");
+    }
+
+    /// The report's rates are per simulated second (frames over the frame
+    /// rate), none for a run of no frame; the protocol version is the one
+    /// written; the summary line says what was sent, where and why.
+    #[test]
+    fn the_report_gives_rates_per_simulated_second_and_a_summary() {
+        let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let target = socket.local_addr().unwrap();
+        for (version, every_frame) in [(DisVersion::V7, true), (DisVersion::V6, false)] {
+            let config = FlightDis {
+                settings: DisSettings {
+                    version,
+                    ..settings(target, every_frame)
+                },
+                entity: 3,
+                callsign: None,
+            };
+            let scenario = Scenario::<Palmer>::new(Start::thesis(), 20, 50).unwrap();
+            let origin = scenario.origin;
+            let mut run = Run::new(scenario).unwrap();
+            let dis = SharedOutput::new(DisOutput::open::<Palmer>(&config, origin, 20).unwrap());
+            run.attach(dis.clone()).unwrap();
+            let report = || dis.with(|o| o.map(|o| o.report())).unwrap();
+            let none = report();
+            assert_eq!((none.frames, none.sim_seconds), (0, 0.0));
+            assert_eq!((none.pdus_per_sim_s, none.bytes_per_sim_s), (None, None));
+            run.run_to_end().unwrap();
+            let r = report();
+            assert_eq!(r.protocol_version, if every_frame { 7 } else { 6 });
+            assert_eq!((r.frames, r.sim_seconds), (50, 2.5));
+            #[allow(clippy::cast_precision_loss)] // small counts
+            let (pdus, bytes) = (r.pdus as f64, r.bytes as f64);
+            assert_eq!(r.pdus_per_sim_s, Some(pdus / 2.5));
+            assert_eq!(r.bytes_per_sim_s, Some(bytes / 2.5));
+            let reasons = &r.reasons;
+            assert_eq!(
+                reasons.first + reasons.position + reasons.orientation + reasons.heartbeat,
+                r.pdus
+            );
+            let when = if every_frame {
+                "every frame".to_owned()
+            } else {
+                r.dr_algorithm.clone()
+            };
+            assert_eq!(
+                r.summary(),
+                format!(
+                    "dis  {} PDUs ({} bytes) to {target} for 1 entity, 0 failed; {when} \
+                     (first 1, position {}, orientation {}, heartbeat {})",
+                    r.pdus, r.bytes, reasons.position, reasons.orientation, reasons.heartbeat
+                )
+            );
+            if every_frame {
+                assert_eq!((r.pdus, r.bytes), (50, 50 * 144));
+            } else {
+                assert!(r.pdus < 50, "{}", r.pdus);
+            }
+        }
     }
 }

@@ -136,14 +136,18 @@ pub fn address_space_left() -> Option<u64> {
     Some(limit.saturating_sub(used))
 }
 
-#[cfg(unix)]
+/// `RLIMIT_AS`'s soft limit (`None`: unlimited, or not a unix system). One
+/// function with the platforms inside: a body per platform would make
+/// mutants the other platform cannot build.
 fn address_space_limit() -> Option<u64> {
-    rustix::process::getrlimit(rustix::process::Resource::As).current
-}
-
-#[cfg(not(unix))]
-fn address_space_limit() -> Option<u64> {
-    None
+    #[cfg(unix)]
+    {
+        rustix::process::getrlimit(rustix::process::Resource::As).current
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
 }
 
 /// `VmSize` of `/proc/self/status`, bytes.
@@ -160,7 +164,12 @@ fn status_vm_size(status: &str) -> Option<u64> {
 #[must_use]
 pub fn cgroup_left() -> Option<u64> {
     let cgroups = std::fs::read_to_string("/proc/self/cgroup").ok()?;
-    let read = |path: String| std::fs::read_to_string(path).ok();
+    cgroup_left_in(&cgroups, |path| std::fs::read_to_string(path).ok())
+}
+
+/// [`cgroup_left`] for `cgroups`, the text of `/proc/self/cgroup`, reading
+/// the cgroup's files through `read` (a path under `/sys/fs/cgroup`).
+fn cgroup_left_in(cgroups: &str, read: impl Fn(String) -> Option<String>) -> Option<u64> {
     for line in cgroups.lines() {
         let mut fields = line.splitn(3, ':');
         let (_, controllers, path) = (fields.next()?, fields.next()?, fields.next()?);
@@ -237,6 +246,154 @@ mod tests {
         // A lean entity: a few dozen bytes of state and controls, well under
         // the kilobyte a full aircraft with its datagram takes.
         assert!((100..200).contains(&per), "{per}");
+    }
+
+    /// The estimate is what its documentation adds up: the five components
+    /// and 16 bytes of hecs's bookkeeping.
+    #[test]
+    fn the_estimate_is_the_components_and_the_bookkeeping() {
+        use std::mem::size_of;
+        type P = Palmer;
+        let components = size_of::<Params<P>>()
+            + size_of::<<P as Model>::Controls>()
+            + size_of::<<P as Model>::State>()
+            + size_of::<FrameInput<<P as Model>::Action>>()
+            + size_of::<FlightStatus>();
+        assert_eq!(estimated_bytes_per_aircraft::<P>(), components as u64 + 16);
+    }
+
+    /// A fleet whose doubled size is exactly what is available fits; one
+    /// whose estimate fits but whose address space the allocator will not
+    /// reserve is refused, saying so.
+    #[test]
+    fn the_limit_is_inclusive_and_the_allocator_has_the_last_word() {
+        assert_eq!(check_fleet(Palmer::NAME, 1_000, 100, Some(200_000)), Ok(()));
+        assert!(check_fleet(Palmer::NAME, 1_000, 100, Some(199_999)).is_err());
+        // 2^61 bytes: below the u64 "available", beyond any address space.
+        let err = check_fleet(Palmer::NAME, 1 << 40, 1 << 20, Some(u64::MAX)).unwrap_err();
+        assert!(err.allocator_refused);
+        assert_eq!(err.needed_bytes, 1 << 61);
+        assert!(
+            err.to_string()
+                .ends_with(", but the allocator refuses that much"),
+            "{err}"
+        );
+    }
+
+    /// This process's resident memory is `/proc/self/status`'s `VmRSS`
+    /// (in pages rather than kB): within a factor of two of it, read a
+    /// moment apart while other tests run, and above a megabyte.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn resident_memory_is_the_processs() {
+        let resident = resident_bytes().expect("Linux has /proc/self/statm");
+        let status = std::fs::read_to_string("/proc/self/status").unwrap();
+        let line = status.lines().find(|l| l.starts_with("VmRSS:")).unwrap();
+        let rss: u64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        let rss = rss * 1024;
+        assert!(resident > 1 << 20, "{resident}");
+        assert!(
+            resident / 2 <= rss && rss <= resident * 2,
+            "{resident} {rss}"
+        );
+    }
+
+    /// The address-space limit is the soft limit `/proc/self/limits`
+    /// shows ("unlimited": none).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_address_space_limit_is_the_soft_rlimit() {
+        let limits = std::fs::read_to_string("/proc/self/limits").unwrap();
+        let line = limits
+            .lines()
+            .find(|l| l.starts_with("Max address space"))
+            .unwrap();
+        let soft = line["Max address space".len()..]
+            .split_whitespace()
+            .next()
+            .unwrap();
+        let want = (soft != "unlimited").then(|| soft.parse::<u64>().unwrap());
+        assert_eq!(address_space_limit(), want, "{line}");
+        assert_eq!(address_space_left().is_some(), want.is_some());
+    }
+
+    /// The cgroup's room is read where `/proc/self/cgroup` says: v2's
+    /// `memory.max` and `memory.current` for the unified line (`0::PATH`),
+    /// v1's `memory.limit_in_bytes` and `memory.usage_in_bytes` under the
+    /// memory controller's line (alone or among others), no other
+    /// controller's; the first line with a limit answers.
+    #[test]
+    fn the_cgroup_is_found_from_proc_self_cgroup() {
+        let files = |pairs: &'static [(&'static str, &'static str)]| {
+            move |path: String| {
+                pairs
+                    .iter()
+                    .find(|(p, _)| *p == path)
+                    .map(|(_, text)| (*text).to_owned())
+            }
+        };
+        let v2 = files(&[
+            ("/sys/fs/cgroup/user.slice/a/memory.max", "4096\n"),
+            ("/sys/fs/cgroup/user.slice/a/memory.current", "1000\n"),
+        ]);
+        assert_eq!(cgroup_left_in("0::/user.slice/a\n", v2), Some(3096));
+        let v1 = files(&[
+            (
+                "/sys/fs/cgroup/memory/docker/b/memory.limit_in_bytes",
+                "8192\n",
+            ),
+            (
+                "/sys/fs/cgroup/memory/docker/b/memory.usage_in_bytes",
+                "192\n",
+            ),
+            ("/sys/fs/cgroup/cpu/docker/b/memory.limit_in_bytes", "1\n"),
+        ]);
+        let v1_lines = "3:cpu,cpuacct:/docker/b\n4:memory:/docker/b\n0::/\n";
+        assert_eq!(cgroup_left_in(v1_lines, v1), Some(8000));
+        assert_eq!(cgroup_left_in("4:blkio,memory:/docker/b\n", v1), Some(8000));
+        // Another controller's line is not the memory cgroup's.
+        assert_eq!(cgroup_left_in("3:cpu,cpuacct:/docker/b\n", v1), None);
+        // No limit anywhere, or no cgroup file: nothing known.
+        let unlimited = files(&[
+            ("/sys/fs/cgroup/memory.max", "max\n"),
+            ("/sys/fs/cgroup/memory.current", "5\n"),
+        ]);
+        assert_eq!(cgroup_left_in("0::/\n", unlimited), None);
+        assert_eq!(cgroup_left_in("0::/gone\n", unlimited), None);
+    }
+
+    /// Under an address-space limit (`ulimit -v` in a child process: the
+    /// limit is the process's), the limit is known, what is left of it is
+    /// less than it and more than nothing, and nothing is said to be
+    /// available beyond it.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn an_address_space_limit_bounds_what_is_available() {
+        const LIMIT_KIB: u64 = 64 * 1024 * 1024; // 64 GiB
+        const NAME: &str = "memory::tests::an_address_space_limit_bounds_what_is_available";
+        if std::env::var_os("FDM_RUN_MEMORY_CHILD").is_some() {
+            assert_eq!(address_space_limit(), Some(LIMIT_KIB * 1024));
+            let left = address_space_left().unwrap();
+            assert!(0 < left && left < LIMIT_KIB * 1024, "{left}");
+            assert!(available_bytes().is_some_and(|a| a <= left));
+            return;
+        }
+        let exe = std::env::current_exe().unwrap();
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v {LIMIT_KIB} && exec \"$0\" --exact {NAME} --test-threads 1"
+            ))
+            .arg(exe)
+            .env("FDM_RUN_MEMORY_CHILD", "1")
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("1 passed"),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
 
     #[test]
