@@ -66,6 +66,12 @@ pub const DEFAULT_REFERENCE_TIME: &str = "2000-01-01T00:00:00Z";
 /// A file name ending that asks for a zip-compressed ACMI file.
 pub const ZIP_SUFFIX: &str = ".zip.acmi";
 
+/// How many objects a writer holds: indices `0..MAX_OBJECTS`. An object's
+/// id is its index + 1 in the id's low 32 bits and its flight number
+/// ([`AcmiWriter::renew`]) in the high 32, so the largest index is the one
+/// whose id still fits the low half.
+pub const MAX_OBJECTS: usize = u32::MAX as usize;
+
 /// Bytes of text gathered before they go to the file (or the compressor).
 const CHUNK_BYTES: usize = 1 << 16;
 
@@ -252,6 +258,20 @@ pub enum AcmiError {
     /// Written after [`AcmiWriter::finish`].
     #[error("the ACMI file is already finished")]
     Finished,
+    /// An object index at or beyond [`MAX_OBJECTS`]: its id would take the
+    /// place of another object's after a reset.
+    #[error("ACMI object index {index} is out of range (an ACMI file holds objects 0 to {})", MAX_OBJECTS - 1)]
+    ObjectIndex {
+        /// The index asked for.
+        index: usize,
+    },
+    /// The table of objects could not grow to `objects` entries: the
+    /// allocator refused the memory.
+    #[error("no memory for a table of {objects} ACMI objects")]
+    OutOfMemory {
+        /// The entries the table needed.
+        objects: usize,
+    },
 }
 
 impl AcmiWriter {
@@ -338,9 +358,14 @@ impl AcmiWriter {
     /// Declares object `index` (0-based; its ACMI id is `index + 1`): its
     /// name, type and callsign go out with its first sample. Declaring an
     /// index again starts its track anew under the same id; to fly an
-    /// aircraft again after a reset, [`Self::renew`] it instead.
-    pub fn declare(&mut self, index: usize, info: ObjectInfo) {
-        self.declare_generation(index, 0, info);
+    /// aircraft again after a reset, [`Self::renew`] it instead. The writer
+    /// keeps a table entry for every index up to the largest declared.
+    ///
+    /// # Errors
+    /// [`AcmiError::ObjectIndex`] for an index at or beyond [`MAX_OBJECTS`];
+    /// [`AcmiError::OutOfMemory`] when the table cannot grow to it.
+    pub fn declare(&mut self, index: usize, info: ObjectInfo) -> Result<(), AcmiError> {
+        self.declare_generation(index, 0, info)
     }
 
     /// Starts object `index` over as a new ACMI object (a flight after a
@@ -372,7 +397,7 @@ impl AcmiWriter {
     /// };
     /// let path = std::env::temp_dir().join(format!("renew-{}.acmi", std::process::id()));
     /// let mut w = AcmiWriter::create(&path, &header, 1)?;
-    /// w.declare(0, info.clone());
+    /// w.declare(0, info.clone())?;
     /// w.sample(0, &at(100.0))?;
     /// w.begin_frame(1);
     /// w.sample(0, &at(200.0))?;
@@ -388,7 +413,7 @@ impl AcmiWriter {
     /// ```
     ///
     /// # Errors
-    /// Writing the removal fails.
+    /// Writing the removal fails, or [`Self::declare`]'s errors.
     pub fn renew(&mut self, index: usize, info: ObjectInfo) -> Result<(), AcmiError> {
         let (written, generation) = match self.tracks.get(index) {
             Some(Some(track)) => (!track.fresh, track.generation),
@@ -402,13 +427,25 @@ impl AcmiWriter {
         } else {
             generation
         };
-        self.declare_generation(index, next, info);
-        Ok(())
+        self.declare_generation(index, next, info)
     }
 
-    fn declare_generation(&mut self, index: usize, generation: u64, info: ObjectInfo) {
-        if self.tracks.len() <= index {
-            self.tracks.resize(index + 1, None);
+    fn declare_generation(
+        &mut self,
+        index: usize,
+        generation: u64,
+        info: ObjectInfo,
+    ) -> Result<(), AcmiError> {
+        if index >= MAX_OBJECTS {
+            return Err(AcmiError::ObjectIndex { index });
+        }
+        let objects = index + 1;
+        if let Some(more) = objects.checked_sub(self.tracks.len()) {
+            // A refusal is an error, not the allocator's abort.
+            self.tracks
+                .try_reserve(more)
+                .map_err(|_| AcmiError::OutOfMemory { objects })?;
+            self.tracks.resize(objects, None);
         }
         self.tracks[index] = Some(Track {
             generation,
@@ -417,6 +454,7 @@ impl AcmiWriter {
             removed: false,
             last: [0; 6],
         });
+        Ok(())
     }
 
     /// The samples that follow belong to the run's frame `flown` (time =
@@ -513,7 +551,7 @@ impl AcmiWriter {
                 continue;
             };
             if !matches!(self.tracks.get(i), Some(Some(_))) {
-                self.declare(i, ObjectInfo::of::<M>(i));
+                self.declare(i, ObjectInfo::of::<M>(i))?;
             }
             if self.is_removed(i) {
                 continue;
@@ -702,7 +740,7 @@ impl<M: RunModel> Output<M> for AcmiOutput<M> {
         w.begin_frame(frame.flown);
         match frame.event {
             Event::Start => {
-                w.declare(0, ObjectInfo::of::<M>(0));
+                w.declare(0, ObjectInfo::of::<M>(0))?;
                 w.sample(0, frame.placement)?;
             }
             Event::Reset => {
@@ -812,7 +850,8 @@ mod tests {
         let writes = Recorder::default();
         let header = header("chunks", 39.8, -84.0, 251.0);
         let mut w = AcmiWriter::new(writes.clone(), &header, 30).unwrap();
-        w.declare(0, ObjectInfo::of::<fdm_core::palmer::Palmer>(0));
+        w.declare(0, ObjectInfo::of::<fdm_core::palmer::Palmer>(0))
+            .unwrap();
         let placement =
             |k: u32| level(39.8 + f64::from(k) * 1e-6, -84.0, 300.0 + f64::from(k), 0.0);
         // Frame k samples placement(k) (every one moved) until `bytes`
@@ -868,7 +907,8 @@ mod tests {
         let out = Recorder::default();
         let header = header("t", 0.0, 0.0, 0.0);
         let mut w = AcmiWriter::new(out.clone(), &header, 2).unwrap();
-        w.declare(0, ObjectInfo::of::<fdm_core::palmer::Palmer>(0));
+        w.declare(0, ObjectInfo::of::<fdm_core::palmer::Palmer>(0))
+            .unwrap();
         for (frame, (alt_m, heading_deg)) in [(0.0, 0.0), (0.0, 0.0), (5.0, 0.0), (5.0, 90.0)]
             .into_iter()
             .enumerate()
@@ -884,6 +924,40 @@ mod tests {
             "#0\n1,T=0|0|0|0|0|0,Name=C172,Type=Air+FixedWing,CallSign=C172-1\n\
              #1\n1,T=||5|||\n#1.5\n1,T=|||||90\n"
         );
+    }
+
+    /// An index whose id would leave the low 32 bits is refused with its
+    /// message, by declare and by renew, and writes nothing; the table does
+    /// not grow for it, and the last index there is taken (its id is
+    /// `ffffffff`, the high half still the flight number's).
+    #[test]
+    fn an_index_beyond_the_ids_is_refused() {
+        let out = Recorder::default();
+        let header = header("t", 0.0, 0.0, 0.0);
+        let mut w = AcmiWriter::new(out.clone(), &header, 1).unwrap();
+        let info = || ObjectInfo::of::<fdm_core::palmer::Palmer>(0);
+        for index in [MAX_OBJECTS, MAX_OBJECTS + 1, usize::MAX] {
+            let err = w.declare(index, info()).unwrap_err();
+            assert!(matches!(err, AcmiError::ObjectIndex { index: i } if i == index));
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "ACMI object index {index} is out of range (an ACMI file holds objects 0 to 4294967294)"
+                )
+            );
+            assert!(matches!(
+                w.renew(index, info()),
+                Err(AcmiError::ObjectIndex { index: i }) if i == index
+            ));
+            w.sample(index, &level(0.0, 0.0, 1.0, 0.0)).unwrap();
+        }
+        assert!(w.tracks.is_empty());
+        assert_eq!(object_id(MAX_OBJECTS - 1, 0), 0xffff_ffff);
+        assert_eq!(object_id(MAX_OBJECTS - 1, 1), 0x1_ffff_ffff);
+        w.declare(3, info()).unwrap();
+        assert_eq!(w.tracks.len(), 4);
+        w.finish().unwrap();
+        assert!(out.text().ends_with("0,Title=t\n#0\n"), "{}", out.text());
     }
 
     /// A fleet's frames: each aircraft declared (callsign by its index) at

@@ -254,7 +254,7 @@ fn fleet(n: usize, frames: u64, path: &Path) -> MaxError {
     };
     let mut truth: Vec<Vec<Placement>> = Vec::with_capacity(frames as usize + 1);
     for (i, _) in entities.iter().enumerate() {
-        writer.declare(i, ObjectInfo::of::<Palmer>(i));
+        writer.declare(i, ObjectInfo::of::<Palmer>(i)).unwrap();
     }
     for flown in 0..=frames {
         if flown > 0 {
