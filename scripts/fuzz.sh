@@ -15,6 +15,12 @@
 # fuzz/.work/corpus/<target>/ and crashes to fuzz/artifacts/<target>/ (both ignored
 # by git; copy an interesting input into fuzz/corpus/ to keep it).
 #
+# Runs of up to 60 s a target (CI's 30 s) build with `cargo fuzz build --dev`, the
+# fuzz crate's dev profile: the release settings but fdm-core unoptimised
+# (fuzz/Cargo.toml says why: optimising its fleet kernels, which no target
+# reaches, took 9 of the 10 build minutes). Longer runs build with -O, fdm-core
+# optimised too, for about twice script_parse's executions a second.
+#
 # FUZZ_STABLE=1 skips nightly and uses the stable toolchain with RUSTC_BOOTSTRAP=1.
 # FUZZ_JOBS=N runs N targets at a time (default: the number of CPUs).
 #
@@ -81,14 +87,21 @@ else
   echo "== toolchain: nightly cannot be installed here; using $(rustc --version) with RUSTC_BOOTSTRAP=1"
 fi
 
+# The build: quick for short runs, fully optimised for long ones (above).
+if [ "$seconds" -le 60 ]; then
+  profile=(--dev)
+else
+  profile=(-O)
+fi
+
 # AddressSanitizer if the toolchain can build with it, else none.
 sanitizer=address
-echo "== building the targets (sanitizer: $sanitizer)"
-if ! cargo "${toolchain[@]}" fuzz build -O -s "$sanitizer" 2>/tmp/fuzz-build.$$.log; then
+echo "== building the targets (sanitizer: $sanitizer, ${profile[*]})"
+if ! cargo "${toolchain[@]}" fuzz build "${profile[@]}" -s "$sanitizer" 2>/tmp/fuzz-build.$$.log; then
   tail -5 /tmp/fuzz-build.$$.log
   sanitizer=none
   echo "== AddressSanitizer build failed; building without a sanitizer"
-  if ! cargo "${toolchain[@]}" fuzz build -O -s none 2>/tmp/fuzz-build.$$.log; then
+  if ! cargo "${toolchain[@]}" fuzz build "${profile[@]}" -s none 2>/tmp/fuzz-build.$$.log; then
     tail -20 /tmp/fuzz-build.$$.log
     rm -f /tmp/fuzz-build.$$.log
     cannot_run "the fuzz targets do not build with this toolchain (see the log above)"
@@ -113,7 +126,7 @@ fuzz_one() {
   # does not exist).
   local seeds=()
   if [ -d "fuzz/corpus/$target" ]; then seeds=("fuzz/corpus/$target"); fi
-  cargo "${toolchain[@]}" fuzz run -O -s "$sanitizer" "$target" "$work" "${seeds[@]}" -- \
+  cargo "${toolchain[@]}" fuzz run "${profile[@]}" -s "$sanitizer" "$target" "$work" "${seeds[@]}" -- \
     -max_total_time="$seconds" -print_final_stats=1 2>"fuzz/.work/$target.log"
 }
 
