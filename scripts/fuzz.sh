@@ -15,7 +15,7 @@
 # fuzz/.work/corpus/<target>/ and crashes to fuzz/artifacts/<target>/ (both ignored
 # by git; copy an interesting input into fuzz/corpus/ to keep it).
 #
-# Runs of up to 60 s a target (CI's 30 s) build with `cargo fuzz build --dev`, the
+# Runs of up to 60 s a target (CI's 60 s) build with `cargo fuzz build --dev`, the
 # fuzz crate's dev profile: the release settings but fdm-core unoptimised
 # (fuzz/Cargo.toml says why: optimising its fleet kernels, which no target
 # reaches, took 9 of the 10 build minutes). Longer runs build with -O, fdm-core
