@@ -8,11 +8,15 @@ use std::process::Command;
 pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 
 /// A `sim-cli` built from this checkout, in the target directory this test
-/// runs from (the parent of `CARGO_TARGET_TMPDIR`), where `cargo test
-/// --workspace` has built the workspace's dependencies already: only the
-/// crates whose features differ in a build of `sim-cli` alone are compiled
-/// (cargo holds no lock on the directory while tests run). A build of its own
-/// directory compiled all of them again.
+/// runs from (the parent of `CARGO_TARGET_TMPDIR`), by what the README's test
+/// command builds (`cargo test --workspace --no-run`; cargo holds no lock on
+/// the directory while tests run). Run from that command, everything is
+/// built already and this only checks it. A build of `sim-cli` alone
+/// (`cargo build -p afit-fdm-cli`) resolves other features for the crates it
+/// shares with the tests (the tests' dev-dependencies turn some on), so it
+/// compiled 31 crates again (about 40 s of CI's tests step); a build of its
+/// own directory compiled all of them again. Run alone, this suite builds the
+/// workspace's tests first.
 ///
 /// A debug build: the comparisons fly a few thousand frames at most. The
 /// wheel is a release build, so every bit-for-bit comparison of the suite
@@ -23,13 +27,12 @@ pub fn sim_cli() -> PathBuf {
         .expect("CARGO_TARGET_TMPDIR is inside the target directory");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     let status = Command::new(cargo)
-        // (The package is `afit-fdm-cli`.)
-        .args(["build", "-q", "-p", "afit-fdm-cli", "--bin", "sim-cli"])
+        .args(["test", "-q", "--workspace", "--no-run"])
         .current_dir(CRATE_DIR)
         .env("CARGO_TARGET_DIR", target_dir)
         .status()
         .expect("cannot run cargo to build sim-cli");
-    assert!(status.success(), "cargo build -p afit-fdm-cli failed");
+    assert!(status.success(), "cargo test --workspace --no-run failed");
     let sim_cli = target_dir
         .join("debug")
         .join(format!("sim-cli{}", std::env::consts::EXE_SUFFIX));
