@@ -14,9 +14,8 @@ pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 /// built already and this only checks it. A build of `sim-cli` alone
 /// (`cargo build -p afit-fdm-cli`) resolves other features for the crates it
 /// shares with the tests (the tests' dev-dependencies turn some on), so it
-/// compiled 31 crates again (about 40 s of CI's tests step); a build of its
-/// own directory compiled all of them again. Run alone, this suite builds the
-/// workspace's tests first.
+/// compiled 31 crates again; a build of its own directory compiled all of
+/// them again. Run alone, this suite builds the workspace's tests first.
 ///
 /// A debug build: the comparisons fly a few thousand frames at most. The
 /// wheel is a release build, so every bit-for-bit comparison of the suite
