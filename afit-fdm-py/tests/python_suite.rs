@@ -20,6 +20,11 @@
 //! `AFIT_FDM_PYTHON` can name a ready Python that has the pinned packages
 //! (the package is still installed into it). Nothing is skipped: a missing
 //! Python, PyPI or Rust toolchain fails the test with what to do.
+//!
+//! An ignored second test, [`warm_up_for_ci`], does steps 1 and 2 alone
+//! (and builds the interop tests' virtualenvs): `.ci/run` runs it in the
+//! background while steps that keep one core busy run, so that the tests
+//! step finds the wheel's release build done (`docs/testing.md`, "CI time").
 
 use std::path::Path;
 
@@ -67,4 +72,28 @@ fn python_package_installs_and_its_suite_passes() {
         ],
         &["tests"],
     );
+}
+
+/// Steps 1 and 2 of [`python_package_installs_and_its_suite_passes`] and
+/// the interop tests' virtualenvs, nothing tested: what `.ci/run` starts in
+/// the background (`--ignored --exact warm_up_for_ci`). The wheel's release
+/// build spends most of its time compiling fdm-core's lane kernels on one
+/// core; beside the aarch64 cross-build, which does the same, it fills the
+/// core that would be idle. The suite itself still runs `pip install` (the
+/// command a user runs): it finds the build up to date in the same
+/// directory and packs the wheel.
+#[test]
+#[ignore = "CI's warm-up (.ci/run): the suite's virtualenvs and the wheel's release build, nothing tested"]
+fn warm_up_for_ci() {
+    let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let python = SUITE.ready(tmp);
+    let bin = python.parent().expect("venv bin").to_path_buf();
+    common::install(
+        &python,
+        &common::with_path(&bin),
+        &tmp.join("afit-fdm-py-build"),
+    );
+    for env in [PYACMI, OPENDIS, FGPY] {
+        let _ = env.ready(tmp);
+    }
 }

@@ -44,3 +44,12 @@ fn python_package_studies_on_a_two_node_ray_cluster() {
     let sim_cli = common::sim_cli();
     common::pytest(&python, &path, &sim_cli, &[], &["-s", "tests_ray"]);
 }
+
+/// The Ray suite's virtualenv alone, nothing tested: `.ci/run` builds it in
+/// the background (`--ignored --exact warm_up_for_ci`) with the main suite's
+/// warm-up, so the tests step does not wait for Ray's download.
+#[test]
+#[ignore = "CI's warm-up (.ci/run): the Ray suite's virtualenv, nothing tested"]
+fn warm_up_for_ci() {
+    let _ = RAY_SUITE.ready(Path::new(env!("CARGO_TARGET_TMPDIR")));
+}
