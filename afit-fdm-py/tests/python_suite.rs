@@ -23,7 +23,7 @@
 //!
 //! An ignored second test, [`warm_up_for_ci`], does steps 1 and 2 alone
 //! (and builds the interop tests' virtualenvs): `.ci/run` runs it in the
-//! background while steps that keep one core busy run, so that the tests
+//! background beside the steps before the tests step, so that the tests
 //! step finds the wheel's release build done (`docs/testing.md`, "CI time").
 
 use std::path::Path;
@@ -76,12 +76,11 @@ fn python_package_installs_and_its_suite_passes() {
 
 /// Steps 1 and 2 of [`python_package_installs_and_its_suite_passes`] and
 /// the interop tests' virtualenvs, nothing tested: what `.ci/run` starts in
-/// the background (`--ignored --exact warm_up_for_ci`). The wheel's release
-/// build spends most of its time compiling fdm-core's lane kernels on one
-/// core; beside the aarch64 cross-build, which does the same, it fills the
-/// core that would be idle. The suite itself still runs `pip install` (the
-/// command a user runs): it finds the build up to date in the same
-/// directory and packs the wheel.
+/// the background (`--ignored --exact warm_up_for_ci`), so that its work
+/// (about 450 s of the tests step, which keeps about 1.3 of the 2 cores
+/// busy) is done beside the steps before the tests step. The suite itself
+/// still runs `pip install` (the command a user runs): it finds the build
+/// up to date in the same directory and packs the wheel.
 #[test]
 #[ignore = "CI's warm-up (.ci/run): the suite's virtualenvs and the wheel's release build, nothing tested"]
 fn warm_up_for_ci() {
