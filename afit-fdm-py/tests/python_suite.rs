@@ -52,11 +52,7 @@ const SUITE: PythonEnv = PythonEnv {
 #[test]
 fn python_package_installs_and_its_suite_passes() {
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let python = SUITE.ready(tmp);
-    let bin = python.parent().expect("venv bin").to_path_buf();
-    let build_dir = tmp.join("afit-fdm-py-build");
-    let path = common::with_path(&bin);
-    common::install(&python, &path, &build_dir);
+    let (python, path) = common::installed(&SUITE, tmp);
     let sim_cli = common::sim_cli();
     let acmi_python = PYACMI.ready(tmp);
     let dis_python = OPENDIS.ready(tmp);
@@ -85,13 +81,7 @@ fn python_package_installs_and_its_suite_passes() {
 #[ignore = "CI's warm-up (.ci/run): the suite's virtualenvs and the wheel's release build, nothing tested"]
 fn warm_up_for_ci() {
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let python = SUITE.ready(tmp);
-    let bin = python.parent().expect("venv bin").to_path_buf();
-    common::install(
-        &python,
-        &common::with_path(&bin),
-        &tmp.join("afit-fdm-py-build"),
-    );
+    let _ = common::installed(&SUITE, tmp);
     for env in [PYACMI, OPENDIS, FGPY] {
         let _ = env.ready(tmp);
     }

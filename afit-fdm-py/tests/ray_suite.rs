@@ -36,11 +36,7 @@ const RAY_SUITE: PythonEnv = PythonEnv {
 #[test]
 fn python_package_studies_on_a_two_node_ray_cluster() {
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let python = RAY_SUITE.ready(tmp);
-    let bin = python.parent().expect("venv bin").to_path_buf();
-    let build_dir = tmp.join("afit-fdm-py-build");
-    let path = common::with_path(&bin);
-    common::install(&python, &path, &build_dir);
+    let (python, path) = common::installed(&RAY_SUITE, tmp);
     let sim_cli = common::sim_cli();
     common::pytest(&python, &path, &sim_cli, &[], &["-s", "tests_ray"]);
 }

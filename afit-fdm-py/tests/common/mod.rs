@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use fdm_tests::python::PythonEnv;
+
 /// This crate's directory (the Python package's project).
 pub const CRATE_DIR: &str = env!("CARGO_MANIFEST_DIR");
 
@@ -75,6 +77,18 @@ pub fn install(python: &Path, path: &std::ffi::OsStr, build_dir: &Path) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// `env`'s pinned virtualenv (built once per target directory, under
+/// `tmp`), with this directory installed into it ([`install`], building in
+/// `tmp/afit-fdm-py-build`, which the suites share): its Python and the
+/// `PATH` with its `bin` first.
+pub fn installed(env: &PythonEnv, tmp: &Path) -> (PathBuf, std::ffi::OsString) {
+    let python = env.ready(tmp);
+    let bin = python.parent().expect("venv bin").to_path_buf();
+    let path = with_path(&bin);
+    install(&python, &path, &tmp.join("afit-fdm-py-build"));
+    (python, path)
 }
 
 /// `pytest -q ARGS` in this directory with `AFIT_FDM_SIM_CLI` and `env`
