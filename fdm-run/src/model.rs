@@ -182,8 +182,9 @@ pub trait FleetModel: RunModel {
     /// publisher's screen reads them
     /// ([`fdm_dis::ScreenedPiece::publish_lanes`]): the same rough frames,
     /// bit for bit. The default makes them with [`FleetModel::dis_rough`]
-    /// and puts them in the lanes; a model can make them lane by lane
-    /// instead, without a [`fdm_dis::Rough`] per aircraft (Palmer's does).
+    /// and puts them in the lanes (the lanes past `states` not `ok`); a
+    /// model can make them lane by lane instead, without a
+    /// [`fdm_dis::Rough`] per aircraft (Palmer's and Bourg's do).
     #[cfg(feature = "dis")]
     #[inline]
     fn dis_rough_lanes(
@@ -191,12 +192,26 @@ pub trait FleetModel: RunModel {
         states: &[Option<Self::State>],
         out: &mut fdm_dis::RoughLanes,
     ) {
-        let n = states.len().min(fdm_dis::ROUGH_LANES);
-        let mut roughs = [None; fdm_dis::ROUGH_LANES];
-        Self::dis_rough(first, &states[..n], &mut roughs[..n]);
-        for (k, r) in roughs[..n].iter().enumerate() {
-            out.set(k, r.as_ref());
-        }
+        rough_lanes_by_frames::<Self>(first, states, out);
+    }
+}
+
+/// [`FleetModel::dis_rough_lanes`]'s default: model `M`'s rough frames
+/// ([`FleetModel::dis_rough`]) put in the lanes, every lane past `states`
+/// not `ok`. A function of its own so that its tests can run it for models
+/// that make their lanes themselves, against those.
+#[cfg(feature = "dis")]
+#[inline]
+pub(crate) fn rough_lanes_by_frames<M: FleetModel>(
+    first: usize,
+    states: &[Option<M::State>],
+    out: &mut fdm_dis::RoughLanes,
+) {
+    let n = states.len().min(fdm_dis::ROUGH_LANES);
+    let mut roughs = [None; fdm_dis::ROUGH_LANES];
+    M::dis_rough(first, &states[..n], &mut roughs[..n]);
+    for (k, r) in roughs.iter().enumerate() {
+        out.set(k, r.as_ref());
     }
 }
 
@@ -425,6 +440,17 @@ pub(crate) mod test_support {
         states: &[Option<M::State>],
         want: &[Option<fdm_dis::Rough>],
     ) -> (usize, usize) {
+        lanes_against_frames_by::<M>(M::dis_rough_lanes, states, want)
+    }
+
+    /// [`lanes_against_frames`] for `lanes`, which makes the lanes as
+    /// `M::dis_rough_lanes` does (its default, for one).
+    #[cfg(feature = "dis")]
+    pub(crate) fn lanes_against_frames_by<M: super::FleetModel>(
+        lanes_of: fn(usize, &[Option<M::State>], &mut fdm_dis::RoughLanes),
+        states: &[Option<M::State>],
+        want: &[Option<fdm_dis::Rough>],
+    ) -> (usize, usize) {
         const L: usize = fdm_dis::ROUGH_LANES;
         let (mut made, mut none) = (0, 0);
         for (g, group) in states.chunks(L).enumerate() {
@@ -433,7 +459,7 @@ pub(crate) mod test_support {
                 ok: [true; L],
                 ..Default::default()
             };
-            M::dis_rough_lanes(at, group, &mut lanes);
+            lanes_of(at, group, &mut lanes);
             for k in 0..group.len() {
                 match (lanes.get(k), want[at + k]) {
                     (Some(got), Some(w)) => {
