@@ -36,7 +36,9 @@
 //!   new object: the flight the reset ends is removed (if it was not
 //!   already), and the next flight's id is the same index + 1 plus its flight
 //!   number times 2^32 (`100000001`, `200000001`, … for the aircraft of id
-//!   `1`). An id is never written again after its removal: a reader may keep
+//!   `1`), up to [`MAX_RENEWALS`] renewals of an index (a renewal more is
+//!   refused: [`AcmiError::Renewals`]). An id is never written again after
+//!   its removal: a reader may keep
 //!   the removal (pyacmi does, so a flight after a crash under the old id
 //!   would never show), and a reset would otherwise join the old flight's
 //!   last place to the new start with a line at one instant.
@@ -199,9 +201,12 @@ struct Track {
     last: [i64; 6],
 }
 
-/// The ACMI id of object `index` after `generation` renewals.
+/// The ACMI id of object `index` after `generation` renewals: with `index`
+/// below [`MAX_OBJECTS`] and `generation` at most [`MAX_RENEWALS`], a
+/// different id for each pair (the low 32 bits `index + 1`, the high ones
+/// `generation`).
 fn object_id(index: usize, generation: u64) -> u64 {
-    (index as u64 + 1).wrapping_add(generation << 32)
+    (index as u64 + 1) | (generation << 32)
 }
 
 /// Where the text goes.
@@ -272,7 +277,24 @@ pub enum AcmiError {
         /// The entries the table needed.
         objects: usize,
     },
+    /// Object `index` was renewed [`MAX_RENEWALS`] times: every id it can
+    /// take is used (a renewal more would write an id again, that of its
+    /// first object).
+    #[error(
+        "ACMI object index {index} was renewed {} times: every id it can take is used",
+        MAX_RENEWALS
+    )]
+    Renewals {
+        /// The index renewed.
+        index: usize,
+    },
 }
+
+/// How many times one object index can be renewed ([`AcmiWriter::renew`]):
+/// its ids are `index + 1 + k · 2^32` for `k` from 0 to this, every one a
+/// 64-bit ACMI id of its own (one a frame, 30 frames a second: about 4.5
+/// years).
+pub const MAX_RENEWALS: u64 = u32::MAX as u64;
 
 impl AcmiWriter {
     /// An ACMI file at `path` for a run at `fps`: zip-compressed (one entry,
@@ -413,17 +435,20 @@ impl AcmiWriter {
     /// ```
     ///
     /// # Errors
-    /// Writing the removal fails, or [`Self::declare`]'s errors.
+    /// [`AcmiError::Renewals`] after [`MAX_RENEWALS`] renewals of the index
+    /// (the object is then left as it was); writing the removal fails; or
+    /// [`Self::declare`]'s errors.
     pub fn renew(&mut self, index: usize, info: ObjectInfo) -> Result<(), AcmiError> {
         let (written, generation) = match self.tracks.get(index) {
             Some(Some(track)) => (!track.fresh, track.generation),
             _ => (false, 0),
         };
-        if written {
-            self.remove(index)?;
-        }
         let next = if written {
-            generation.wrapping_add(1)
+            if generation >= MAX_RENEWALS {
+                return Err(AcmiError::Renewals { index });
+            }
+            self.remove(index)?;
+            generation + 1
         } else {
             generation
         };
@@ -840,6 +865,44 @@ mod tests {
                 heading_deg,
             },
         }
+    }
+
+    /// An index renewed [`MAX_RENEWALS`] times has used every id it can
+    /// take: the renewal after is refused and the object left as it was
+    /// (not removed), where a wrapping id would have written the first
+    /// object's id again. The last id's high 32 bits are all ones.
+    #[test]
+    fn renewals_end_before_an_id_comes_back() {
+        let writes = Recorder::default();
+        let header = header("renewals", 39.8, -84.0, 251.0);
+        let mut w = AcmiWriter::new(writes.clone(), &header, 30).unwrap();
+        let info = ObjectInfo::of::<fdm_core::palmer::Palmer>(0);
+        let index = 0;
+        w.declare(index, info.clone()).unwrap();
+        w.sample(index, &level(39.8, -84.0, 300.0, 0.0)).unwrap();
+        // As after MAX_RENEWALS - 1 renewals, each written.
+        w.tracks[index].as_mut().unwrap().generation = MAX_RENEWALS - 1;
+        w.begin_frame(1);
+        w.renew(index, info.clone()).unwrap();
+        w.sample(index, &level(39.8, -84.0, 310.0, 0.0)).unwrap();
+        w.begin_frame(2);
+        let refused = w.renew(index, info.clone()).unwrap_err();
+        assert!(matches!(refused, AcmiError::Renewals { index: i } if i == index));
+        assert_eq!(
+            refused.to_string(),
+            format!("ACMI object index {index} was renewed 4294967295 times: every id it can take is used")
+        );
+        // The object flies on under its last id.
+        w.sample(index, &level(39.8, -84.0, 320.0, 0.0)).unwrap();
+        w.finish().unwrap();
+        let text = writes.text();
+        let (last, before) = ("ffffffff00000001", "fffffffe00000001");
+        assert!(text.contains(&format!("\n-{before}\n{last},T=")), "{text}");
+        assert!(
+            text.ends_with(&format!("#0.066667\n{last},T=||320|||\n")),
+            "{text}"
+        );
+        assert_eq!(text.matches(&format!("-{last}")).count(), 0, "{text}");
     }
 
     /// The text goes to the sink in pieces of at least [`CHUNK_BYTES`]
