@@ -443,7 +443,7 @@ pub(crate) mod test_support {
         lanes_against_frames_by::<M>(M::dis_rough_lanes, states, want)
     }
 
-    /// [`lanes_against_frames`] for `lanes`, which makes the lanes as
+    /// [`lanes_against_frames`] for `lanes_of`, which makes the lanes as
     /// `M::dis_rough_lanes` does (its default, for one).
     #[cfg(feature = "dis")]
     pub(crate) fn lanes_against_frames_by<M: super::FleetModel>(
