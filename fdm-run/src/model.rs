@@ -434,19 +434,27 @@ pub(crate) mod test_support {
     /// earlier group may leave it) against `want`, the one-at-a-time rough
     /// frames: each aircraft's lane is its frame bit for bit or none where
     /// it has none, and the lanes past a short last group are not `ok`.
+    /// The trait's default ([`super::rough_lanes_by_frames`], which a
+    /// model without lanes of its own gets) is checked the same way.
     /// Returns how many aircraft had a frame and how many had none.
     #[cfg(feature = "dis")]
     pub(crate) fn lanes_against_frames<M: super::FleetModel>(
         states: &[Option<M::State>],
         want: &[Option<fdm_dis::Rough>],
     ) -> (usize, usize) {
-        lanes_against_frames_by::<M>(M::dis_rough_lanes, states, want)
+        let counts = lanes_against_frames_by::<M>(M::dis_rough_lanes, states, want);
+        let by_frames = super::rough_lanes_by_frames::<M>;
+        assert_eq!(
+            lanes_against_frames_by::<M>(by_frames, states, want),
+            counts
+        );
+        counts
     }
 
     /// [`lanes_against_frames`] for `lanes_of`, which makes the lanes as
-    /// `M::dis_rough_lanes` does (its default, for one).
+    /// `M::dis_rough_lanes` does.
     #[cfg(feature = "dis")]
-    pub(crate) fn lanes_against_frames_by<M: super::FleetModel>(
+    fn lanes_against_frames_by<M: super::FleetModel>(
         lanes_of: fn(usize, &[Option<M::State>], &mut fdm_dis::RoughLanes),
         states: &[Option<M::State>],
         want: &[Option<fdm_dis::Rough>],

@@ -816,9 +816,7 @@ impl AgentModel for Bourg {
 mod tests {
     use super::*;
     #[cfg(feature = "dis")]
-    use crate::model::test_support::{
-        lanes_against_frames, lanes_against_frames_by, rough_bits, uniform_in_plus_minus_one,
-    };
+    use crate::model::test_support::{lanes_against_frames, rough_bits, uniform_in_plus_minus_one};
     use fdm_core::bourg::BourgAction;
 
     /// The tasks' surfaces (`afit_fdm.gym`'s `_surface`): an action above
@@ -1370,12 +1368,5 @@ mod tests {
         bourg_rough(&states, &mut want);
         let (made, none) = lanes_against_frames::<Bourg>(&states, &want);
         assert_eq!((made, none), (states.len() - 4, 4));
-        // The trait's default, which a model without lanes of its own
-        // gets, puts the same frames in the same lanes.
-        let by_frames = crate::model::rough_lanes_by_frames::<Bourg>;
-        assert_eq!(
-            lanes_against_frames_by::<Bourg>(by_frames, &states, &want),
-            (made, none)
-        );
     }
 }

@@ -914,9 +914,7 @@ impl LaneAgent for Palmer {
 mod tests {
     use super::*;
     #[cfg(feature = "dis")]
-    use crate::model::test_support::{
-        lanes_against_frames, lanes_against_frames_by, uniform_in_plus_minus_one,
-    };
+    use crate::model::test_support::{lanes_against_frames, uniform_in_plus_minus_one};
     use fdm_core::message::ShortNumber;
     use fdm_core::model::Model;
 
@@ -1987,12 +1985,5 @@ mod tests {
         let (made, none) = lanes_against_frames::<Palmer>(&states, &want);
         let no = no_rough().len() + 1;
         assert_eq!((made, none), (states.len() - no, no));
-        // The trait's default, which a model without lanes of its own
-        // gets, puts the same frames in the same lanes.
-        let by_frames = crate::model::rough_lanes_by_frames::<Palmer>;
-        assert_eq!(
-            lanes_against_frames_by::<Palmer>(by_frames, &states, &want),
-            (made, none)
-        );
     }
 }
